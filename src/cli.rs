@@ -1,0 +1,273 @@
+//! The native command line. Every subcommand drives the core; nothing here computes
+//! geometry itself.
+//!
+//! Exit status: 0 success; 1 `check` found an error above the tolerance; 2 a bad scene,
+//! an unreadable file, or a crease that cannot be started or continued (one line on
+//! standard error naming the problem, where, and what to change; rows computed before are
+//! still written).
+
+use std::fs;
+use std::io::{self, BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand, ValueEnum};
+
+use interpolab::crease::{diagnose, CreaseJob, InterpOptions, Interpolator, Method, Step};
+use interpolab::report::{fmt_num, Format, RowWriter};
+use interpolab::scene::Scene;
+
+#[derive(Parser)]
+#[command(
+    name = "interpolab",
+    version,
+    about = "CNC tool-path interpolation lab: crease interpolation of two surfaces (seed 000)",
+    long_about = "CNC tool-path interpolation lab.\n\nWithout a subcommand (and built with the `app` feature) it opens the app in a window."
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum OutFormat {
+    Csv,
+    Json,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum MethodArg {
+    /// Seed 000's track–correct–re-solve step (no iteration).
+    Seed000,
+    /// Newton projection onto the exact crease (precise mode).
+    Exact,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Interpolate the crease of a scene: one row per period (k, t_ms, x, y, z, u1, v1, u2, v2).
+    Run {
+        /// Scene file (interpolab-scene/1 JSON).
+        scene: PathBuf,
+        /// Output format.
+        #[arg(long, value_enum, default_value = "csv")]
+        format: OutFormat,
+        /// Write to this file instead of standard output.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Add measured errors e1, e2 and the paper's estimates (11), (12), (16) as columns (mm).
+        #[arg(long)]
+        errors: bool,
+        /// Stepper.
+        #[arg(long, value_enum, default_value = "seed000")]
+        method: MethodArg,
+        /// Full turns of a closed crease before stopping.
+        #[arg(long, default_value_t = 1)]
+        turns: u32,
+    },
+    /// Validate a scene, run it and print a summary (length, periods, curvatures, errors).
+    Check {
+        /// Scene file.
+        scene: PathBuf,
+    },
+}
+
+/// A failure that ends the program with status 2 and one line on stderr.
+struct Fatal(String);
+
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        None => open_app(),
+        Some(Command::Run { scene, format, out, errors, method, turns }) => {
+            run(&scene, format, out.as_deref(), errors, method, turns)
+        }
+        Some(Command::Check { scene }) => check(&scene),
+    };
+    match result {
+        Ok(code) => code,
+        Err(Fatal(msg)) => {
+            let _ = writeln!(io::stderr(), "interpolab: {msg}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+#[cfg(feature = "app")]
+fn open_app() -> Result<ExitCode, Fatal> {
+    interpolab::app::native::run().map_err(|e| Fatal(format!("cannot open the app window: {e}")))?;
+    Ok(ExitCode::SUCCESS)
+}
+
+#[cfg(not(feature = "app"))]
+fn open_app() -> Result<ExitCode, Fatal> {
+    use clap::CommandFactory;
+    let _ = Cli::command().print_help();
+    Ok(ExitCode::SUCCESS)
+}
+
+fn load(path: &Path) -> Result<(Scene, CreaseJob), Fatal> {
+    let text = fs::read_to_string(path).map_err(|e| Fatal(format!("cannot read scene file {}: {e}", path.display())))?;
+    let scene = Scene::from_json(&text).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
+    let job = CreaseJob::from_scene(&scene).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
+    Ok((scene, job))
+}
+
+fn run(
+    path: &Path,
+    format: OutFormat,
+    out: Option<&Path>,
+    errors: bool,
+    method: MethodArg,
+    turns: u32,
+) -> Result<ExitCode, Fatal> {
+    let (scene, job) = load(path)?;
+    let sink: Box<dyn Write> = match out {
+        Some(p) => Box::new(BufWriter::new(
+            fs::File::create(p).map_err(|e| Fatal(format!("cannot create {}: {e}", p.display())))?,
+        )),
+        None => Box::new(BufWriter::new(io::stdout().lock())),
+    };
+    let format = match format {
+        OutFormat::Csv => Format::Csv,
+        OutFormat::Json => Format::Json,
+    };
+    let io_err = |e: io::Error| {
+        if e.kind() == io::ErrorKind::BrokenPipe {
+            std::process::exit(0);
+        }
+        Fatal(format!("cannot write the output: {e}"))
+    };
+    let mut writer = RowWriter::new(sink, format, errors, &job, &scene.name).map_err(io_err)?;
+    let opts = InterpOptions {
+        method: match method {
+            MethodArg::Seed000 => Method::Seed000,
+            MethodArg::Exact => Method::Exact,
+        },
+        turns: turns.max(1),
+        ..InterpOptions::default()
+    };
+    let outcome = Interpolator::new(job.clone(), opts).and_then(|mut it| {
+        let mut emit = |row: &interpolab::crease::Row| -> Result<(), io::Error> {
+            let d = if errors { diagnose(&job, row) } else { None };
+            writer.row(&job, row, d.as_ref())
+        };
+        if let Err(e) = emit(&it.first_row()) {
+            write_failed(&e);
+        }
+        loop {
+            match it.step()? {
+                Step::Row(r) => {
+                    if let Err(e) = emit(&r) {
+                        write_failed(&e);
+                    }
+                }
+                Step::Stopped(reason) => return Ok(reason),
+            }
+        }
+    });
+    writer.finish(&outcome).map_err(io_err)?;
+    match outcome {
+        Ok(reason) => {
+            let _ = writeln!(io::stderr(), "interpolab: {}: stopped: {reason}", path.display());
+            Ok(ExitCode::SUCCESS)
+        }
+        Err(e) => Err(Fatal(format!("{}: {e}", path.display()))),
+    }
+}
+
+/// Ends the program when the output cannot be written. A closed pipe (`| head`) is the
+/// reader's choice, not an error: exit quietly.
+fn write_failed(e: &io::Error) -> ! {
+    if e.kind() == io::ErrorKind::BrokenPipe {
+        std::process::exit(0);
+    }
+    let _ = writeln!(io::stderr(), "interpolab: cannot write the output: {e}");
+    std::process::exit(2);
+}
+
+fn check(path: &Path) -> Result<ExitCode, Fatal> {
+    let (scene, job) = load(path)?;
+    let mut it = Interpolator::new(job.clone(), InterpOptions::default()).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
+    let start_shift = (it.first_row().p - job.start).length();
+    let mut n = 0u64;
+    let mut k_range = [[f64::INFINITY, f64::NEG_INFINITY]; 2];
+    let mut worst_est = [0.0f64; 2];
+    let mut est_missing = [false; 2];
+    let mut worst_meas = [0.0f64; 2];
+    let mut angle = [f64::INFINITY, f64::NEG_INFINITY];
+    let mut observe = |row: &interpolab::crease::Row| {
+        if let Some(d) = diagnose(&job, row) {
+            for i in 0..2 {
+                k_range[i][0] = k_range[i][0].min(d.k_t[i]);
+                k_range[i][1] = k_range[i][1].max(d.k_t[i]);
+                worst_meas[i] = worst_meas[i].max(d.measured[i].abs());
+                match d.est16[i] {
+                    Some(e) => worst_est[i] = worst_est[i].max(e),
+                    None => est_missing[i] = true,
+                }
+            }
+            angle[0] = angle[0].min(d.crease_angle_deg);
+            angle[1] = angle[1].max(d.crease_angle_deg);
+        }
+    };
+    let outcome = it.run(|r| {
+        n = r.k;
+        observe(r);
+    });
+    let f = job.feed_per_period_mm;
+    let mut o = io::stdout().lock();
+    let w = |o: &mut io::StdoutLock<'_>, s: String| {
+        let _ = writeln!(o, "{s}");
+    };
+    w(&mut o, format!("scene        {} ({})", if scene.name.is_empty() { "(unnamed)" } else { &scene.name }, path.display()));
+    w(&mut o, format!(
+        "surfaces     S1 {}, S2 {}; ball R = {} mm, allowance C = {} mm, R' = {} mm",
+        job.surfaces[0].type_name(),
+        job.surfaces[1].type_name(),
+        fmt_num(job.ball_radius_mm),
+        fmt_num(scene.tool.allowance),
+        fmt_num(job.r_eff_mm)
+    ));
+    w(&mut o, format!(
+        "motion       F = {} mm/min, Ts = {} ms, feed per period f = {} mm",
+        fmt_num(job.feed_mm_per_min),
+        fmt_num(job.period_ms),
+        fmt_num(f)
+    ));
+    w(&mut o, format!("start        moved {start_shift:.6} mm onto the crease"));
+    let status = match &outcome {
+        Ok(reason) => format!("stopped: {reason}"),
+        Err(e) => format!("ERROR: {e}"),
+    };
+    w(&mut o, format!("periods      {n} ({status})"));
+    w(&mut o, format!("length       {:.4} mm, machining time {:.3} s", n as f64 * f, n as f64 * job.period_ms / 1000.0));
+    w(&mut o, format!("crease angle {:.3}° to {:.3}° between the normals", angle[0], angle[1]));
+    let mut exceeded = false;
+    for i in 0..2 {
+        let allowed = job.allowed_error_mm(i);
+        w(&mut o, format!(
+            "S{}           normal curvature along the crease {:.6} to {:.6} 1/mm",
+            i + 1,
+            k_range[i][0],
+            k_range[i][1]
+        ));
+        let est = if est_missing[i] { "unbounded (outside the validity of (16))".to_owned() } else { format!("{:.3e} mm", worst_est[i]) };
+        let ok_est = !est_missing[i] && worst_est[i] <= allowed;
+        let ok_meas = worst_meas[i] <= allowed;
+        exceeded |= !(ok_est && ok_meas);
+        w(&mut o, format!(
+            "             worst estimate (16) {est}, worst measured |e{}| {:.3e} mm, allowed b·T{} = {} mm: {}",
+            i + 1,
+            worst_meas[i],
+            i + 1,
+            fmt_num(allowed),
+            if ok_est && ok_meas { "within" } else { "EXCEEDED" }
+        ));
+    }
+    drop(o);
+    if let Err(e) = outcome {
+        return Err(Fatal(format!("{}: {e}", path.display())));
+    }
+    Ok(if exceeded { ExitCode::from(1) } else { ExitCode::SUCCESS })
+}

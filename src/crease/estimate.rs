@@ -1,0 +1,113 @@
+//! Measured interpolation errors and the paper's error estimates, per period.
+//!
+//! *Measured* (the truth): `e_i = dist(p, S_i) − R'`, the signed distance from the centre to
+//! S_i by foot-point projection minus R'. Negative: the ball cuts into S_i by |e_i|;
+//! positive: it leaves |e_i| of stock. Requirement (1) of seed 000 is `|e_i| ≤ b·T_i`.
+//!
+//! *Estimated* (seed 000, §3–4), with k_i the normal curvature along the crease tangent t,
+//! k_max, k_min the principal curvatures, Δk = k_max − k_min, τ_i the geodesic torsion along
+//! t, R the cutter radius (we use R'), f the feed per period, ε_i = (q_i + R'n_i) − p the
+//! initial error vector and |mp| the radius of the circle where the two tangency spheres
+//! meet:
+//!
+//! - (11), one step without initial error:
+//!   `Δ ≈ τ²Rf² / (2(1+|k|R)²) + |τ|f³ / (2(1+|k|R)²·|mp|)`
+//! - (12), one step with initial error:
+//!   `Δ < (|Δk| + Δk²R + τ²R) / (2(1+|k|R)²) · (f + |ε|)²`
+//! - (16), steady state:
+//!   `Δ_ω < (|Δk| + Δk²R + τ²R)·f² / (2(1+|k|R)(1 + R|k| − R√(Δk² + τ²)))`,
+//!   meaningful only while the last factor is positive (else `None`: no steady state is
+//!   guaranteed).
+//!
+//! `|mp| = D1·D2·√(1 − (n1·n2)²)/|o1o2|` with `D_i = (1 − R'k_i)/|k_i|` the distance from
+//! the centre to the osculating sphere's centre; multiplied through by |k1 k2| it becomes
+//! `(1 − R'k1)(1 − R'k2)√(1 − (n1·n2)²) / |k1k2(q1 − q2) + k2 n1 − k1 n2|`, which is finite
+//! for flat surfaces (|mp| = ∞ when both are flat: the f³ term vanishes).
+
+use glam::DVec3;
+
+use super::{CreaseJob, Row};
+use crate::geom::{project_point, LocalGeometry, ParametricSurface, ProjectOptions};
+
+/// Errors and estimates at one row. Lengths in mm, curvatures in 1/mm.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Diagnostics {
+    /// Measured signed deviation e_i = dist(p, S_i) − R' (mm; negative = gouge).
+    pub measured: [f64; 2],
+    /// Estimate (11) per surface (mm).
+    pub est11: [f64; 2],
+    /// Bound (12) per surface (mm).
+    pub est12: [f64; 2],
+    /// Steady-state bound (16) per surface (mm); `None` outside its validity.
+    pub est16: [Option<f64>; 2],
+    /// Normal curvature along the crease tangent, k_i (1/mm).
+    pub k_t: [f64; 2],
+    /// Principal curvatures (k_max, k_min) per surface (1/mm).
+    pub principal: [(f64, f64); 2],
+    /// Geodesic torsion along the crease tangent, τ_i (1/mm).
+    pub tau: [f64; 2],
+    /// |ε_i|, the initial error of the row (mm).
+    pub eps: [f64; 2],
+    /// |mp| (mm; infinite when both surfaces are flat along t).
+    pub mp: f64,
+    /// Angle between the two normals (deg).
+    pub crease_angle_deg: f64,
+}
+
+/// Evaluates measured errors and estimates at a row. `None` at a singular point.
+#[must_use]
+pub fn diagnose(job: &CreaseJob, row: &Row) -> Option<Diagnostics> {
+    let r = job.r_eff_mm;
+    let f = job.feed_per_period_mm;
+    let mut geo = [None, None];
+    let mut measured = [0.0; 2];
+    for i in 0..2 {
+        let s = &job.surfaces[i];
+        geo[i] = LocalGeometry::try_new(s.derivatives_at(row.uv[i]));
+        let foot = project_point(s, row.p, row.uv[i], ProjectOptions::default());
+        measured[i] = foot.signed_distance - r;
+    }
+    let [Some(g1), Some(g2)] = geo else { return None };
+    let (n1, n2) = (g1.d.normal, g2.d.normal);
+    let cross = n1.cross(n2);
+    let sin = cross.length();
+    let t = if sin > 0.0 { cross / sin } else { DVec3::ZERO };
+    let k_t = [g1.normal_curvature(t), g2.normal_curvature(t)];
+    let principal = [g1.principal_curvatures(), g2.principal_curvatures()];
+    let tau = [g1.geodesic_torsion(t), g2.geodesic_torsion(t)];
+    let eps = [
+        (g1.d.point + r * n1 - row.p).length(),
+        (g2.d.point + r * n2 - row.p).length(),
+    ];
+    let denom = (k_t[0] * k_t[1] * (g1.d.point - g2.d.point) + k_t[1] * n1 - k_t[0] * n2).length();
+    let numer = (1.0 - r * k_t[0]) * (1.0 - r * k_t[1]) * sin;
+    let mp = if denom > 0.0 { numer / denom } else { f64::INFINITY };
+
+    let mut est11 = [0.0; 2];
+    let mut est12 = [0.0; 2];
+    let mut est16 = [None; 2];
+    for i in 0..2 {
+        let k = k_t[i].abs();
+        let dk = (principal[i].0 - principal[i].1).abs();
+        let tau2 = tau[i] * tau[i];
+        let a = 1.0 + k * r;
+        let third = if mp.is_finite() { tau[i].abs() * f.powi(3) / (2.0 * a * a * mp) } else { 0.0 };
+        est11[i] = tau2 * r * f * f / (2.0 * a * a) + third;
+        let coeff = dk + dk * dk * r + tau2 * r;
+        est12[i] = coeff / (2.0 * a * a) * (f + eps[i]).powi(2);
+        let stab = 1.0 + r * k - r * (dk * dk + tau2).sqrt();
+        est16[i] = (stab > 0.0).then(|| coeff * f * f / (2.0 * a * stab));
+    }
+    Some(Diagnostics {
+        measured,
+        est11,
+        est12,
+        est16,
+        k_t,
+        principal,
+        tau,
+        eps,
+        mp,
+        crease_angle_deg: sin.min(1.0).asin().to_degrees(),
+    })
+}

@@ -1,0 +1,260 @@
+//! Seed 000 (Zhou, Zhou, Zhou & Zhou, 1994): interpolating the cutter-centre path of a
+//! ball-end mill along the *crease* where two surfaces meet, one period at a time.
+//!
+//! Glossary:
+//! - *crease*: the curve where the two offset surfaces `S_i + R'·n_i` meet — the path of the
+//!   centre of a ball of radius R' = R + C touching both surfaces;
+//! - *period*: one interpolation period Ts; per period the centre advances by the *feed per
+//!   period* f = F·Ts (eq. 2);
+//! - *contact points* q1, q2 with parameters (u_i, v_i): where the ball touches S1, S2;
+//! - *interpolation error* e_i: signed distance from the centre to S_i minus R'
+//!   (negative: the ball cuts into S_i; positive: stock is left).
+//!
+//! Modules: [`newton`] finds exact crease points (start, end, the precise mode, the
+//! truth the interpolator is measured against); [`interpolator`] is the per-period stepper
+//! of the paper (track, correct, re-solve contacts) and the precise stepper; [`estimate`]
+//! measures errors and evaluates the paper's estimates (11), (12) and (16).
+
+pub mod estimate;
+pub mod interpolator;
+pub mod newton;
+
+use std::fmt;
+
+use glam::{DVec2, DVec3};
+use thiserror::Error;
+
+use crate::geom::{ParametricSurface, Surface};
+use crate::scene::{build_surface, Scene, SceneError};
+
+pub use estimate::{diagnose, Diagnostics};
+pub use interpolator::{run_to_end, InterpOptions, Interpolator, Method, RunResult, Step};
+pub use newton::{crease_deviation, locate_crease_point, CreasePoint, NewtonOptions};
+
+/// Everything the crease interpolator needs, in internal units (mm, s, rad).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CreaseJob {
+    /// S1 and S2.
+    pub surfaces: [Surface; 2],
+    /// Ball radius R (mm).
+    pub ball_radius_mm: f64,
+    /// Effective radius R' = R + C: the centre's offset from both surfaces (mm).
+    pub r_eff_mm: f64,
+    /// Programmed feed F (mm/min), as in the scene.
+    pub feed_mm_per_min: f64,
+    /// Interpolation period Ts (ms), as in the scene.
+    pub period_ms: f64,
+    /// Feed per period f = F·Ts (mm).
+    pub feed_per_period_mm: f64,
+    /// Tolerances T1, T2 (mm).
+    pub tol_mm: [f64; 2],
+    /// Share b of the tolerance given to interpolation.
+    pub share: f64,
+    /// Approximate start (mm).
+    pub start: DVec3,
+    /// Approximate end (mm), or run until closed / out of domain / `max_steps`.
+    pub end: Option<DVec3>,
+    /// Sense of travel at the start, or the sense of n1 × n2.
+    pub direction: Option<DVec3>,
+    /// Most periods to run.
+    pub max_steps: u64,
+}
+
+impl CreaseJob {
+    /// Validates the scene and converts it to internal units.
+    ///
+    /// # Errors
+    /// The scene's first problem, with its key path.
+    pub fn from_scene(scene: &Scene) -> Result<Self, SceneError> {
+        scene.validate()?;
+        let s0 = build_surface(&scene.surfaces[0], "surfaces[0]")?;
+        let s1 = build_surface(&scene.surfaces[1], "surfaces[1]")?;
+        let v = DVec3::from_array;
+        Ok(Self {
+            surfaces: [s0, s1],
+            ball_radius_mm: scene.tool.radius,
+            r_eff_mm: scene.effective_radius_mm(),
+            feed_mm_per_min: scene.motion.feed,
+            period_ms: scene.motion.period,
+            feed_per_period_mm: scene.feed_per_period_mm(),
+            tol_mm: [scene.tolerance.t1, scene.tolerance.t2],
+            share: scene.tolerance.share,
+            start: v(scene.path.start),
+            end: scene.path.end.map(v),
+            direction: scene.path.direction.map(v),
+            max_steps: scene.path.max_steps,
+        })
+    }
+
+    /// The interpolation's error budget on surface i, b·T_i (mm).
+    #[must_use]
+    pub fn allowed_error_mm(&self, i: usize) -> f64 {
+        self.share * self.tol_mm[i]
+    }
+
+    /// Parameters of a row in file units (degrees for angles).
+    #[must_use]
+    pub fn params_to_file(&self, uv: [DVec2; 2]) -> [DVec2; 2] {
+        [self.surfaces[0].domain().to_file(uv[0]), self.surfaces[1].domain().to_file(uv[1])]
+    }
+}
+
+/// One interpolation period's output: the cutter centre and both contact parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Row {
+    /// Period index, 0 for the corrected start point.
+    pub k: u64,
+    /// Time k·Ts (ms).
+    pub t_ms: f64,
+    /// Cutter centre (mm).
+    pub p: DVec3,
+    /// Contact parameters on S1 and S2 (internal units: rad for angles).
+    pub uv: [DVec2; 2],
+}
+
+/// Where on the path something happened, for messages.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Location {
+    /// While bringing `path.start` onto the crease.
+    Start,
+    /// While bringing `path.end` onto the crease.
+    End,
+    /// In the period that would produce row `k`.
+    Period {
+        /// Row index.
+        k: u64,
+        /// Its time (ms).
+        t_ms: f64,
+    },
+}
+
+impl fmt::Display for Location {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Start => write!(f, "path.start"),
+            Self::End => write!(f, "path.end"),
+            Self::Period { k, t_ms } => write!(f, "period {k} (t = {t_ms} ms)"),
+        }
+    }
+}
+
+/// Why a run ended normally.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum StopReason {
+    /// Stopped at the row nearest `path.end`.
+    ReachedEnd,
+    /// A closed crease came back to its start the requested number of times.
+    Closed {
+        /// Full turns made.
+        turns: u32,
+    },
+    /// The next contact point on a surface would leave its parameter domain.
+    LeftDomain {
+        /// 0 for S1, 1 for S2.
+        surface: usize,
+        /// `'u'` or `'v'`.
+        param: char,
+        /// The value it would have had (file units).
+        value: f64,
+        /// The domain's range (file units).
+        range: [f64; 2],
+    },
+    /// `path.max_steps` periods were run.
+    MaxSteps,
+}
+
+impl StopReason {
+    /// Short machine-readable tag (`reached_end`, `closed`, `left_domain`, `max_steps`).
+    #[must_use]
+    pub fn tag(&self) -> &'static str {
+        match self {
+            Self::ReachedEnd => "reached_end",
+            Self::Closed { .. } => "closed",
+            Self::LeftDomain { .. } => "left_domain",
+            Self::MaxSteps => "max_steps",
+        }
+    }
+}
+
+impl fmt::Display for StopReason {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::ReachedEnd => write!(f, "reached the point nearest path.end"),
+            Self::Closed { turns: 1 } => write!(f, "the crease closed on itself after one full turn"),
+            Self::Closed { turns } => write!(f, "the crease closed on itself; {turns} turns made"),
+            Self::LeftDomain { surface, param, value, range } => write!(
+                f,
+                "the contact point on surface {} would leave its domain ({param} = {value:.6} outside [{}, {}])",
+                surface + 1,
+                range[0],
+                range[1]
+            ),
+            Self::MaxSteps => write!(f, "path.max_steps periods were run"),
+        }
+    }
+}
+
+/// Why the crease could not be started or continued. Every message names the problem,
+/// where it arose and what to change.
+#[derive(Clone, Debug, Error, PartialEq)]
+pub enum CreaseError {
+    /// Newton could not bring a point onto the crease.
+    #[error("no crease near {at} ({detail}); move {at} to where the two surfaces meet (within a few mm), and check that the cutter is on the normal side of both surfaces")]
+    NoCrease {
+        /// `path.start` or `path.end`.
+        at: Location,
+        /// What Newton saw.
+        detail: String,
+    },
+    /// The surfaces touch tangentially: n1 × n2 vanishes.
+    #[error("at {at} the surfaces touch tangentially (angle between their normals {angle_deg:.3}°, below {min_deg}°): the crease is not defined there; end the path before this point (path.end) or change the surfaces so they meet at an angle")]
+    Tangential {
+        /// Where.
+        at: Location,
+        /// Angle between the normals (deg).
+        angle_deg: f64,
+        /// The limit (deg).
+        min_deg: f64,
+    },
+    /// A concave curvature radius smaller than R': the offset surface folds.
+    #[error("at {at} surface {} is concave with radius {radius_mm:.4} mm, not larger than the cutter radius R' = {r_eff_mm} mm (1 − k·R' ≤ 0): the ball would gouge; use a tool.radius below {radius_mm:.4} mm or a surface with a larger fillet", surface + 1)]
+    Fold {
+        /// Where.
+        at: Location,
+        /// 0 for S1, 1 for S2.
+        surface: usize,
+        /// Smallest concave radius of curvature there (mm).
+        radius_mm: f64,
+        /// R' (mm).
+        r_eff_mm: f64,
+    },
+    /// The parametrisation is singular at a contact point (sphere pole, collapsed edge).
+    #[error("at {at} the contact point on surface {} is a singular point of its parametrisation (e.g. a sphere's pole), where no normal is defined; turn the surface's axis so the path does not cross it", surface + 1)]
+    Singular {
+        /// Where.
+        at: Location,
+        /// 0 for S1, 1 for S2.
+        surface: usize,
+    },
+    /// The correction was too large relative to the feed per period.
+    #[error("at {at} the crease bends too sharply for a feed per period of {feed_mm} mm (correction {correction_mm:.4} mm); lower motion.feed or motion.period")]
+    StepTooLong {
+        /// Where.
+        at: Location,
+        /// f (mm).
+        feed_mm: f64,
+        /// |δp| (mm).
+        correction_mm: f64,
+    },
+    /// `path.direction` is perpendicular to the crease.
+    #[error("path.direction is perpendicular to the crease at the start, so it does not choose a sense of travel; give a direction along the crease")]
+    DirectionAmbiguous,
+    /// The precise (Newton) mode could not converge.
+    #[error("at {at} Newton's method did not converge on the crease ({detail}); lower motion.feed or motion.period")]
+    NewtonFailed {
+        /// Where.
+        at: Location,
+        /// What Newton saw.
+        detail: String,
+    },
+}

@@ -1,0 +1,173 @@
+//! Differential geometry at one point of a surface: fundamental forms, normal curvature,
+//! principal curvatures and directions, geodesic torsion, Weingarten derivatives.
+//!
+//! Sign convention (the seeds' and the scene format's): the second fundamental form is taken
+//! with the *oriented* normal n, `L = r_uu·n, M = r_uv·n, N = r_vv·n`, so the normal
+//! curvature `k(t) = II(t, t) / I(t, t)` is **negative where the surface bends away from its
+//! normal** — convex toward the cutter (the outside of a sphere with outward normal has
+//! k = −1/ρ) — and positive where it is concave toward the cutter (a bore seen from inside).
+//!
+//! With the shape operator `S = I⁻¹·II` (so that `⟨S x, y⟩ = II(x, y)` and `dn = −S dr`,
+//! Weingarten), the geodesic torsion along a unit tangent t is `τ_g(t) = II(t, n × t)`;
+//! for `t = cos φ·d_max + sin φ·d_min` (principal directions, `d_min = n × d_max`) this is
+//! `τ_g = (k_min − k_max)·sin φ·cos φ` (seed 000, ref. [4]: |τ| = |(k_max − k_min) sin φ cos φ|).
+
+use glam::{DVec2, DVec3};
+
+use super::surface::SurfaceDerivs;
+use crate::linalg;
+use crate::tolerance;
+
+/// Principal curvatures (1/mm, signed as in the module docs) and unit principal directions.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Principal {
+    /// Larger principal curvature.
+    pub k_max: f64,
+    /// Smaller principal curvature.
+    pub k_min: f64,
+    /// Unit tangent direction of `k_max`.
+    pub dir_max: DVec3,
+    /// Unit tangent direction of `k_min` (`n × dir_max`).
+    pub dir_min: DVec3,
+}
+
+/// Fundamental forms at a regular point, from which every local quantity follows.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LocalGeometry {
+    /// The derivatives this was built from.
+    pub d: SurfaceDerivs,
+    /// First fundamental form `E = r_u·r_u`.
+    pub e: f64,
+    /// `F = r_u·r_v`.
+    pub f: f64,
+    /// `G = r_v·r_v`.
+    pub g: f64,
+    /// Second fundamental form `L = r_uu·n`.
+    pub l: f64,
+    /// `M = r_uv·n`.
+    pub m: f64,
+    /// `N = r_vv·n`.
+    pub n: f64,
+    /// `EG − F²` (> 0 at a regular point).
+    pub det_i: f64,
+}
+
+impl LocalGeometry {
+    /// Builds the forms; `None` at a singular point of the parametrisation (`|r_u × r_v| ≈ 0`,
+    /// e.g. a sphere pole) where the first fundamental form cannot be inverted.
+    #[must_use]
+    pub fn try_new(d: SurfaceDerivs) -> Option<Self> {
+        let e = d.du.dot(d.du);
+        let f = d.du.dot(d.dv);
+        let g = d.dv.dot(d.dv);
+        let det_i = e * g - f * f;
+        if !(det_i > tolerance::MIN_AREA_ELEMENT * tolerance::MIN_AREA_ELEMENT)
+            || d.normal == DVec3::ZERO
+        {
+            return None;
+        }
+        let nrm = d.normal;
+        Some(Self { d, e, f, g, l: d.duu.dot(nrm), m: d.duv.dot(nrm), n: d.dvv.dot(nrm), det_i })
+    }
+
+    /// Coordinates `(a, b)` of the tangent-plane projection of `t` in the basis `(r_u, r_v)`:
+    /// the solution of `I·(a, b) = (t·r_u, t·r_v)`.
+    #[must_use]
+    pub fn tangent_coords(&self, t: DVec3) -> DVec2 {
+        let (tu, tv) = (t.dot(self.d.du), t.dot(self.d.dv));
+        DVec2::new(self.g * tu - self.f * tv, self.e * tv - self.f * tu) / self.det_i
+    }
+
+    /// `II(x, y)` for tangent coordinates x, y.
+    #[must_use]
+    pub fn second_form(&self, x: DVec2, y: DVec2) -> f64 {
+        self.l * x.x * y.x + self.m * (x.x * y.y + x.y * y.x) + self.n * x.y * y.y
+    }
+
+    /// `I(x, y)` for tangent coordinates x, y.
+    #[must_use]
+    pub fn first_form(&self, x: DVec2, y: DVec2) -> f64 {
+        self.e * x.x * y.x + self.f * (x.x * y.y + x.y * y.x) + self.g * x.y * y.y
+    }
+
+    /// Normal curvature `k(t) = II(t, t)/I(t, t)` in the direction of the tangent t
+    /// (1/mm; only t's tangential part matters).
+    #[must_use]
+    pub fn normal_curvature(&self, t: DVec3) -> f64 {
+        let c = self.tangent_coords(t);
+        self.second_form(c, c) / self.first_form(c, c)
+    }
+
+    /// Geodesic torsion `τ_g(t) = II(t, n × t) / I(t, t)` along the tangent t (1/mm).
+    #[must_use]
+    pub fn geodesic_torsion(&self, t: DVec3) -> f64 {
+        let c = self.tangent_coords(t);
+        let w = self.tangent_coords(self.d.normal.cross(t));
+        self.second_form(c, w) / self.first_form(c, c)
+    }
+
+    /// Mean curvature `H = (k_max + k_min)/2` (1/mm).
+    #[must_use]
+    pub fn mean_curvature(&self) -> f64 {
+        (self.e * self.n + self.g * self.l - 2.0 * self.f * self.m) / (2.0 * self.det_i)
+    }
+
+    /// Gaussian curvature `K = k_max·k_min` (1/mm²).
+    #[must_use]
+    pub fn gaussian_curvature(&self) -> f64 {
+        (self.l * self.n - self.m * self.m) / self.det_i
+    }
+
+    /// Principal curvatures only (cheaper than [`Self::principal`]): `(k_max, k_min)`.
+    #[must_use]
+    pub fn principal_curvatures(&self) -> (f64, f64) {
+        let h = self.mean_curvature();
+        let k = self.gaussian_curvature();
+        let disc = (h * h - k).max(0.0).sqrt();
+        (h + disc, h - disc)
+    }
+
+    /// Principal curvatures and directions. At an umbilic (all directions principal) the
+    /// directions are `r_u` normalised and `n × r_u`.
+    #[must_use]
+    pub fn principal(&self) -> Principal {
+        let (k_max, k_min) = self.principal_curvatures();
+        // Eigenvector of (II − k I): rows (L − kE, M − kF) and (M − kF, N − kG).
+        let r0 = DVec2::new(self.l - k_max * self.e, self.m - k_max * self.f);
+        let r1 = DVec2::new(self.m - k_max * self.f, self.n - k_max * self.g);
+        let row = if r0.length_squared() >= r1.length_squared() { r0 } else { r1 };
+        let scale = (self.l.abs() + self.m.abs() + self.n.abs()) * (self.e + self.g);
+        let coords = if row.length_squared() > (1e-12 * scale).powi(2) && (k_max - k_min) > 1e-12 {
+            DVec2::new(-row.y, row.x)
+        } else {
+            DVec2::new(1.0, 0.0)
+        };
+        let dir_max = (coords.x * self.d.du + coords.y * self.d.dv).normalize();
+        let dir_min = self.d.normal.cross(dir_max);
+        Principal { k_max, k_min, dir_max, dir_min }
+    }
+
+    /// Derivatives of the unit normal, `(n_u, n_v)`, by the Weingarten equations
+    /// `n_u = ((FM − GL) r_u + (FL − EM) r_v)/(EG − F²)`,
+    /// `n_v = ((FN − GM) r_u + (FM − EN) r_v)/(EG − F²)`.
+    #[must_use]
+    pub fn normal_derivatives(&self) -> (DVec3, DVec3) {
+        let (e, f, g, l, m, n) = (self.e, self.f, self.g, self.l, self.m, self.n);
+        let nu = ((f * m - g * l) * self.d.du + (f * l - e * m) * self.d.dv) / self.det_i;
+        let nv = ((f * n - g * m) * self.d.du + (f * m - e * n) * self.d.dv) / self.det_i;
+        (nu, nv)
+    }
+
+    /// Solves for the parameter increments whose tangent `r_u δu + r_v δv` equals the
+    /// tangential part of `t` (mm → parameter units). Same as [`Self::tangent_coords`].
+    #[must_use]
+    pub fn param_step(&self, t: DVec3) -> DVec2 {
+        self.tangent_coords(t)
+    }
+}
+
+/// Solves `(r_u δu + r_v δv)·a = α, (r_u δu + r_v δv)·b = β` for `(δu, δv)`.
+#[must_use]
+pub(crate) fn solve_tangent(d: &SurfaceDerivs, a: DVec3, alpha: f64, b: DVec3, beta: f64) -> Option<DVec2> {
+    linalg::solve2(d.du.dot(a), d.dv.dot(a), d.du.dot(b), d.dv.dot(b), DVec2::new(alpha, beta))
+}

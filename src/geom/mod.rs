@@ -1,0 +1,29 @@
+//! Geometry of the part: parametric surfaces with derivatives, NURBS, differential
+//! geometry and foot-point projection.
+//!
+//! Glossary used throughout the core:
+//! - *surface* S(u, v): a part face, parametrised over a rectangular [`Domain`];
+//! - *normal rule*: every surface has an oriented unit normal n; the cutter is on the side n
+//!   points to;
+//! - *offset surface*: S(u, v) + R'·n(u, v), where a ball of radius R' touching S has its
+//!   centre;
+//! - *contact point* (CC point) q: where the ball touches a surface; *cutter centre*
+//!   (CL point for a ball end mill) p = q + R'·n.
+//!
+//! Internal units: mm for lengths, radians for angular parameters, knot units for NURBS.
+//! Degrees appear only at the edges (scene files, UI), converted by [`ParamUnit`].
+
+mod diffgeo;
+mod domain;
+mod frame;
+pub mod nurbs;
+mod project;
+mod surface;
+
+pub(crate) use diffgeo::solve_tangent;
+pub use diffgeo::{LocalGeometry, Principal};
+pub use domain::{Domain, ParamRange, ParamUnit};
+pub use frame::{any_perpendicular, Frame};
+pub use nurbs::{NurbsCurve, NurbsError, NurbsSurface};
+pub use project::{project_point, project_point_global, Foot, ProjectOptions};
+pub use surface::{Cylinder, ParametricSurface, Plane, Sphere, Surface, SurfaceDerivs, Torus};

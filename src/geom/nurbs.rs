@@ -1,0 +1,514 @@
+//! Rational B-splines (NURBS): basis functions with derivatives, curves and tensor-product
+//! surfaces, evaluated by the standard algorithms (knot-span search, the triangular table of
+//! basis functions and their derivatives, then the rational quotient rule) — never by finite
+//! differences.
+//!
+//! A NURBS is stored in homogeneous form `Pw = (w·x, w·y, w·z, w)`. With `A(u)` the
+//! B-spline combination of the first three coordinates and `w(u)` that of the fourth,
+//! `C = A / w` and the quotient rule gives
+//!
+//! - `C' = (A' − w'·C) / w`
+//! - `C'' = (A'' − 2w'·C' − w''·C) / w`
+//!
+//! and for surfaces, with subscripts for partial derivatives,
+//! `S_uv = (A_uv − w_u·S_v − w_v·S_u − w_uv·S) / w`.
+
+use glam::{DVec2, DVec3, DVec4};
+use thiserror::Error;
+
+use super::domain::{Domain, ParamRange, ParamUnit};
+use super::surface::{ParametricSurface, SurfaceDerivs};
+use crate::tolerance;
+
+/// Highest supported degree. Basis tables live on the stack in fixed arrays of this order.
+pub const MAX_DEGREE: usize = 9;
+const MAX_ORDER: usize = MAX_DEGREE + 1;
+
+/// What is wrong with a NURBS definition. Indices are 0-based, as in the JSON arrays.
+#[derive(Clone, Debug, Error, PartialEq)]
+pub enum NurbsError {
+    /// Degree outside 1..=MAX_DEGREE.
+    #[error("degree {0} is not supported (use 1 to {MAX_DEGREE})")]
+    Degree(usize),
+    /// Fewer control points than degree + 1.
+    #[error("{got} control points are too few for degree {degree} (need at least {})", degree + 1)]
+    TooFewPoints {
+        /// Points given.
+        got: usize,
+        /// The degree.
+        degree: usize,
+    },
+    /// Knot count does not match points + degree + 1.
+    #[error("{got} knots given, but {points} control points of degree {degree} need {expected}")]
+    KnotCount {
+        /// Knots given.
+        got: usize,
+        /// Knots needed.
+        expected: usize,
+        /// Control points.
+        points: usize,
+        /// Degree.
+        degree: usize,
+    },
+    /// A knot is smaller than its predecessor.
+    #[error("knot {index} ({value}) is smaller than the knot before it; knots must be non-decreasing")]
+    Decreasing {
+        /// Index of the offending knot.
+        index: usize,
+        /// Its value.
+        value: f64,
+    },
+    /// The first or last degree + 1 knots are not all equal.
+    #[error("the knot vector is not clamped at its {end}: the {end} {count} knots must be equal")]
+    NotClamped {
+        /// "start" or "end".
+        end: &'static str,
+        /// degree + 1.
+        count: usize,
+    },
+    /// An interior knot repeats more than degree times (the curve would break apart).
+    #[error("interior knot {value} repeats {multiplicity} times; at most the degree ({degree}) is allowed")]
+    Multiplicity {
+        /// Knot value.
+        value: f64,
+        /// How often it repeats.
+        multiplicity: usize,
+        /// The degree.
+        degree: usize,
+    },
+    /// An end knot repeats more than degree + 1 times.
+    #[error("the knot vector repeats its {end} value more than degree + 1 = {count} times")]
+    EndRepeated {
+        /// "start" or "end".
+        end: &'static str,
+        /// degree + 1.
+        count: usize,
+    },
+    /// First and last knot coincide.
+    #[error("the knot range is empty (first and last knot are equal)")]
+    EmptyRange,
+    /// A weight is not a positive finite number.
+    #[error("weight {index} is {value}; weights must be > 0")]
+    Weight {
+        /// Flat index of the weight.
+        index: usize,
+        /// Its value.
+        value: f64,
+    },
+    /// Shapes of points and weights differ.
+    #[error("weights have a different shape than the control points")]
+    WeightShape,
+    /// A row of the control net has the wrong length.
+    #[error("row {row} has {got} points but row 0 has {expected}; the control net must be rectangular")]
+    Ragged {
+        /// Row index.
+        row: usize,
+        /// Its length.
+        got: usize,
+        /// Length of row 0.
+        expected: usize,
+    },
+}
+
+/// Checks a knot vector for `n_points` control points of degree `p`.
+///
+/// # Errors
+/// The first rule the vector breaks, as a [`NurbsError`].
+pub fn validate_knots(knots: &[f64], n_points: usize, p: usize) -> Result<(), NurbsError> {
+    if p == 0 || p > MAX_DEGREE {
+        return Err(NurbsError::Degree(p));
+    }
+    if n_points < p + 1 {
+        return Err(NurbsError::TooFewPoints { got: n_points, degree: p });
+    }
+    let expected = n_points + p + 1;
+    if knots.len() != expected {
+        return Err(NurbsError::KnotCount { got: knots.len(), expected, points: n_points, degree: p });
+    }
+    for i in 1..knots.len() {
+        if knots[i] < knots[i - 1] {
+            return Err(NurbsError::Decreasing { index: i, value: knots[i] });
+        }
+    }
+    let lo = knots[0];
+    let hi = knots[knots.len() - 1];
+    if !(hi > lo) {
+        return Err(NurbsError::EmptyRange);
+    }
+    let eq = tolerance::KNOT_EQUAL_REL * (hi - lo);
+    if knots[..=p].iter().any(|&k| (k - lo).abs() > eq) {
+        return Err(NurbsError::NotClamped { end: "start", count: p + 1 });
+    }
+    if knots[knots.len() - p - 1..].iter().any(|&k| (k - hi).abs() > eq) {
+        return Err(NurbsError::NotClamped { end: "end", count: p + 1 });
+    }
+    if knots[p + 1] <= lo + eq {
+        return Err(NurbsError::EndRepeated { end: "start", count: p + 1 });
+    }
+    if knots[n_points - 1] >= hi - eq {
+        return Err(NurbsError::EndRepeated { end: "end", count: p + 1 });
+    }
+    let mut i = p + 1;
+    while i < n_points {
+        let mut j = i;
+        while j + 1 < n_points && (knots[j + 1] - knots[i]).abs() <= eq {
+            j += 1;
+        }
+        let mult = j - i + 1;
+        if mult > p {
+            return Err(NurbsError::Multiplicity { value: knots[i], multiplicity: mult, degree: p });
+        }
+        i = j + 1;
+    }
+    Ok(())
+}
+
+/// The knot span index `s` with `knots[s] <= u < knots[s + 1]` (the last non-empty span at
+/// the end of the range), for `n_points` control points of degree `p`. Values outside the
+/// range are clamped to the first or last span.
+#[must_use]
+pub fn find_span(knots: &[f64], n_points: usize, p: usize, u: f64) -> usize {
+    let n = n_points - 1;
+    if u >= knots[n + 1] {
+        return n;
+    }
+    if u <= knots[p] {
+        return p;
+    }
+    let (mut low, mut high) = (p, n + 1);
+    let mut mid = (low + high) / 2;
+    while u < knots[mid] || u >= knots[mid + 1] {
+        if u < knots[mid] {
+            high = mid;
+        } else {
+            low = mid;
+        }
+        mid = (low + high) / 2;
+    }
+    mid
+}
+
+/// Basis functions `N_{span−p+j, p}` and their first and second derivatives at `u`:
+/// `ders[k][j]` is the k-th derivative, `j = 0..=p`. Derivatives above the degree are zero.
+#[must_use]
+pub fn basis_derivatives(knots: &[f64], span: usize, p: usize, u: f64) -> [[f64; MAX_ORDER]; 3] {
+    let mut ndu = [[0.0; MAX_ORDER]; MAX_ORDER];
+    let mut left = [0.0; MAX_ORDER];
+    let mut right = [0.0; MAX_ORDER];
+    ndu[0][0] = 1.0;
+    for j in 1..=p {
+        left[j] = u - knots[span + 1 - j];
+        right[j] = knots[span + j] - u;
+        let mut saved = 0.0;
+        for r in 0..j {
+            // Lower triangle: knot differences; upper: basis functions.
+            ndu[j][r] = right[r + 1] + left[j - r];
+            let temp = ndu[r][j - 1] / ndu[j][r];
+            ndu[r][j] = saved + right[r + 1] * temp;
+            saved = left[j - r] * temp;
+        }
+        ndu[j][j] = saved;
+    }
+    let mut ders = [[0.0; MAX_ORDER]; 3];
+    for j in 0..=p {
+        ders[0][j] = ndu[j][p];
+    }
+    let nd = p.min(2);
+    let mut a = [[0.0; 3]; 2];
+    for r in 0..=p {
+        let (mut s1, mut s2) = (0usize, 1usize);
+        a[0][0] = 1.0;
+        for k in 1..=nd {
+            let mut d = 0.0;
+            let pk = p - k;
+            // rk = r − k may be negative; keep it signed.
+            let rk = r as isize - k as isize;
+            if rk >= 0 {
+                a[s2][0] = a[s1][0] / ndu[pk + 1][rk as usize];
+                d = a[s2][0] * ndu[rk as usize][pk];
+            }
+            let j1 = if rk >= -1 { 1 } else { (-rk) as usize };
+            let j2 = if r as isize - 1 <= pk as isize { k - 1 } else { p - r };
+            let mut j = j1;
+            while j <= j2 {
+                let idx = (rk + j as isize) as usize;
+                a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][idx];
+                d += a[s2][j] * ndu[idx][pk];
+                j += 1;
+            }
+            if r <= pk {
+                a[s2][k] = -a[s1][k - 1] / ndu[pk + 1][r];
+                d += a[s2][k] * ndu[r][pk];
+            }
+            ders[k][r] = d;
+            std::mem::swap(&mut s1, &mut s2);
+        }
+    }
+    let mut factor = p as f64;
+    for (k, row) in ders.iter_mut().enumerate().take(nd + 1).skip(1) {
+        for v in row.iter_mut().take(p + 1) {
+            *v *= factor;
+        }
+        factor *= (p - k) as f64;
+    }
+    ders
+}
+
+/// A NURBS curve of any degree up to [`MAX_DEGREE`] in 3D (mm).
+#[derive(Clone, Debug, PartialEq)]
+pub struct NurbsCurve {
+    degree: usize,
+    knots: Vec<f64>,
+    /// Homogeneous control points (w·P, w).
+    control: Vec<DVec4>,
+}
+
+impl NurbsCurve {
+    /// A curve from its degree, clamped knot vector, control points (mm) and optional
+    /// weights (all 1 when `None`).
+    ///
+    /// # Errors
+    /// [`NurbsError`] naming the first broken rule.
+    pub fn try_new(
+        degree: usize,
+        knots: Vec<f64>,
+        points: &[DVec3],
+        weights: Option<&[f64]>,
+    ) -> Result<Self, NurbsError> {
+        validate_knots(&knots, points.len(), degree)?;
+        if let Some(w) = weights {
+            if w.len() != points.len() {
+                return Err(NurbsError::WeightShape);
+            }
+            if let Some((index, &value)) =
+                w.iter().enumerate().find(|(_, w)| !(w.is_finite() && **w > 0.0))
+            {
+                return Err(NurbsError::Weight { index, value });
+            }
+        }
+        let control = points
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                let w = weights.map_or(1.0, |w| w[i]);
+                (*p * w).extend(w)
+            })
+            .collect();
+        Ok(Self { degree, knots, control })
+    }
+
+    /// The degree p.
+    #[must_use]
+    pub fn degree(&self) -> usize {
+        self.degree
+    }
+    /// The knot vector.
+    #[must_use]
+    pub fn knots(&self) -> &[f64] {
+        &self.knots
+    }
+    /// Number of control points.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.control.len()
+    }
+    /// Never true: a valid curve has at least degree + 1 control points.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.control.is_empty()
+    }
+    /// Control point `i` in mm (Euclidean, not homogeneous).
+    #[must_use]
+    pub fn control_point(&self, i: usize) -> DVec3 {
+        self.control[i].truncate() / self.control[i].w
+    }
+    /// Weight of control point `i`.
+    #[must_use]
+    pub fn weight(&self, i: usize) -> f64 {
+        self.control[i].w
+    }
+    /// Parameter range `[knots[p], knots[n+1]]`.
+    #[must_use]
+    pub fn range(&self) -> (f64, f64) {
+        (self.knots[self.degree], self.knots[self.control.len()])
+    }
+
+    /// C(u) (mm).
+    #[must_use]
+    pub fn point_at(&self, u: f64) -> DVec3 {
+        self.derivatives_at(u)[0]
+    }
+
+    /// `[C, C', C'']` at u (mm, mm per unit u, mm per unit u²).
+    #[must_use]
+    pub fn derivatives_at(&self, u: f64) -> [DVec3; 3] {
+        let p = self.degree;
+        let span = find_span(&self.knots, self.control.len(), p, u);
+        let n = basis_derivatives(&self.knots, span, p, u);
+        let mut aw = [DVec4::ZERO; 3];
+        for j in 0..=p {
+            let cp = self.control[span - p + j];
+            for (k, acc) in aw.iter_mut().enumerate() {
+                *acc += n[k][j] * cp;
+            }
+        }
+        let w = aw[0].w;
+        let c0 = aw[0].truncate() / w;
+        let c1 = (aw[1].truncate() - aw[1].w * c0) / w;
+        let c2 = (aw[2].truncate() - 2.0 * aw[1].w * c1 - aw[2].w * c0) / w;
+        [c0, c1, c2]
+    }
+}
+
+/// A tensor-product NURBS surface. `points[i][j]`: i runs along u, j along v.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NurbsSurface {
+    degree: [usize; 2],
+    knots_u: Vec<f64>,
+    knots_v: Vec<f64>,
+    n_u: usize,
+    n_v: usize,
+    /// Homogeneous control net, row-major: index `i * n_v + j`.
+    control: Vec<DVec4>,
+    /// −1 when the normal is reversed (`flip_normal`), else +1.
+    sign: f64,
+}
+
+impl NurbsSurface {
+    /// A surface from degrees `[p, q]`, clamped knot vectors, the control net
+    /// (`points[i][j]`, i along u) and optional weights of the same shape.
+    ///
+    /// # Errors
+    /// [`NurbsError`] naming the first broken rule.
+    pub fn try_new(
+        degree: [usize; 2],
+        knots_u: Vec<f64>,
+        knots_v: Vec<f64>,
+        points: &[Vec<DVec3>],
+        weights: Option<&[Vec<f64>]>,
+        flip_normal: bool,
+    ) -> Result<Self, NurbsError> {
+        let n_u = points.len();
+        let n_v = points.first().map_or(0, Vec::len);
+        if let Some((row, r)) = points.iter().enumerate().find(|(_, r)| r.len() != n_v) {
+            return Err(NurbsError::Ragged { row, got: r.len(), expected: n_v });
+        }
+        validate_knots(&knots_u, n_u, degree[0])?;
+        validate_knots(&knots_v, n_v, degree[1])?;
+        if let Some(w) = weights {
+            if w.len() != n_u || w.iter().any(|r| r.len() != n_v) {
+                return Err(NurbsError::WeightShape);
+            }
+            for (index, &value) in w.iter().flatten().enumerate() {
+                if !(value.is_finite() && value > 0.0) {
+                    return Err(NurbsError::Weight { index, value });
+                }
+            }
+        }
+        let mut control = Vec::with_capacity(n_u * n_v);
+        for (i, row) in points.iter().enumerate() {
+            for (j, p) in row.iter().enumerate() {
+                let w = weights.map_or(1.0, |w| w[i][j]);
+                control.push((*p * w).extend(w));
+            }
+        }
+        Ok(Self {
+            degree,
+            knots_u,
+            knots_v,
+            n_u,
+            n_v,
+            control,
+            sign: if flip_normal { -1.0 } else { 1.0 },
+        })
+    }
+
+    /// Degrees `[p, q]`.
+    #[must_use]
+    pub fn degree(&self) -> [usize; 2] {
+        self.degree
+    }
+    /// Knot vector in u.
+    #[must_use]
+    pub fn knots_u(&self) -> &[f64] {
+        &self.knots_u
+    }
+    /// Knot vector in v.
+    #[must_use]
+    pub fn knots_v(&self) -> &[f64] {
+        &self.knots_v
+    }
+    /// Control net size `(n_u, n_v)`.
+    #[must_use]
+    pub fn net_size(&self) -> (usize, usize) {
+        (self.n_u, self.n_v)
+    }
+    /// Control point `(i, j)` (mm).
+    #[must_use]
+    pub fn control_point(&self, i: usize, j: usize) -> DVec3 {
+        let c = self.control[i * self.n_v + j];
+        c.truncate() / c.w
+    }
+    /// Weight of control point `(i, j)`.
+    #[must_use]
+    pub fn weight(&self, i: usize, j: usize) -> f64 {
+        self.control[i * self.n_v + j].w
+    }
+    /// Whether the normal is reversed relative to r_u × r_v.
+    #[must_use]
+    pub fn flipped(&self) -> bool {
+        self.sign < 0.0
+    }
+}
+
+impl ParametricSurface for NurbsSurface {
+    fn point_at(&self, uv: DVec2) -> DVec3 {
+        self.derivatives_at(uv).point
+    }
+
+    fn derivatives_at(&self, uv: DVec2) -> SurfaceDerivs {
+        let [p, q] = self.degree;
+        let su = find_span(&self.knots_u, self.n_u, p, uv.x);
+        let sv = find_span(&self.knots_v, self.n_v, q, uv.y);
+        let nu = basis_derivatives(&self.knots_u, su, p, uv.x);
+        let nv = basis_derivatives(&self.knots_v, sv, q, uv.y);
+        // Homogeneous sums A^(k,l) = Σ_i Σ_j N_i^(k) N_j^(l) Pw_ij.
+        let (mut a00, mut a10, mut a01) = (DVec4::ZERO, DVec4::ZERO, DVec4::ZERO);
+        let (mut a20, mut a11, mut a02) = (DVec4::ZERO, DVec4::ZERO, DVec4::ZERO);
+        for i in 0..=p {
+            let row = (su - p + i) * self.n_v + (sv - q);
+            let (mut t0, mut t1, mut t2) = (DVec4::ZERO, DVec4::ZERO, DVec4::ZERO);
+            for j in 0..=q {
+                let cp = self.control[row + j];
+                t0 += nv[0][j] * cp;
+                t1 += nv[1][j] * cp;
+                t2 += nv[2][j] * cp;
+            }
+            a00 += nu[0][i] * t0;
+            a10 += nu[1][i] * t0;
+            a20 += nu[2][i] * t0;
+            a01 += nu[0][i] * t1;
+            a11 += nu[1][i] * t1;
+            a02 += nu[0][i] * t2;
+        }
+        let w = a00.w;
+        let s = a00.truncate() / w;
+        let su_ = (a10.truncate() - a10.w * s) / w;
+        let sv_ = (a01.truncate() - a01.w * s) / w;
+        let suu = (a20.truncate() - 2.0 * a10.w * su_ - a20.w * s) / w;
+        let suv = (a11.truncate() - a10.w * sv_ - a01.w * su_ - a11.w * s) / w;
+        let svv = (a02.truncate() - 2.0 * a01.w * sv_ - a02.w * s) / w;
+        let cross = su_.cross(sv_);
+        let len = cross.length();
+        let normal = if len > tolerance::MIN_AREA_ELEMENT { self.sign * cross / len } else { DVec3::ZERO };
+        SurfaceDerivs { point: s, du: su_, dv: sv_, duu: suu, duv: suv, dvv: svv, normal }
+    }
+
+    fn domain(&self) -> Domain {
+        let [p, q] = self.degree;
+        Domain {
+            u: ParamRange::new(self.knots_u[p], self.knots_u[self.n_u], ParamUnit::Knot),
+            v: ParamRange::new(self.knots_v[q], self.knots_v[self.n_v], ParamUnit::Knot),
+        }
+    }
+}

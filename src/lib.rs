@@ -1,0 +1,28 @@
+//! # interpolab
+//!
+//! A CNC tool-path interpolation lab. The **core** (everything except `app` and `render`)
+//! is plain Rust on `f64` with no GUI dependency; it builds for `wasm32-unknown-unknown` and
+//! natively with `--no-default-features`. The **app** (feature `app`, on by default) draws
+//! the core's results with egui/eframe and wgpu.
+//!
+//! Layers, bottom up:
+//! - [`linalg`], [`tolerance`]: small solves and named tolerances;
+//! - [`geom`]: surfaces, NURBS, differential geometry, projection;
+//! - [`scene`]: the `interpolab-scene/1` JSON format (parse, validate, write);
+//! - [`crease`]: seed 000 — interpolation along the crease of two surfaces, the exact
+//!   Newton crease, measured errors and the paper's estimates;
+//! - [`report`]: CSV/JSON output of runs (what the command line prints).
+//!
+//! Units: mm, seconds and radians inside; mm/min, ms and degrees only in files and UI.
+
+pub mod crease;
+pub mod geom;
+pub mod linalg;
+pub mod report;
+pub mod scene;
+pub mod tolerance;
+
+#[cfg(feature = "app")]
+pub mod app;
+#[cfg(feature = "app")]
+pub mod render;

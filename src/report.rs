@@ -1,0 +1,143 @@
+//! What a run prints: CSV and JSON rows in file units (scene-format output section).
+//!
+//! One number formatter for every output ([`fmt_num`]): the shortest decimal that reads back
+//! to the same f64, so files are exact and deterministic.
+
+use std::io::{self, Write};
+
+use crate::crease::{CreaseError, CreaseJob, Diagnostics, Row, StopReason};
+
+/// Output format of `interpolab run`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// Comma-separated, header line first.
+    Csv,
+    /// One JSON document.
+    Json,
+}
+
+/// The nine columns every run prints.
+pub const COLUMNS: [&str; 9] = ["k", "t_ms", "x", "y", "z", "u1", "v1", "u2", "v2"];
+
+/// Extra columns printed with `--errors` (all mm): measured e1, e2 and the estimates.
+pub const ERROR_COLUMNS: [&str; 8] = ["e1", "e2", "est11_1", "est11_2", "est12_1", "est12_2", "est16_1", "est16_2"];
+
+/// Formats a number as the shortest decimal that parses back to the same value
+/// (`4` for 4.0, `0.1` for 0.1, `2.5e-10` for tiny magnitudes); non-finite values print as an
+/// empty field.
+#[must_use]
+pub fn fmt_num(x: f64) -> String {
+    if !x.is_finite() {
+        return String::new();
+    }
+    if x == 0.0 {
+        return "0".to_owned();
+    }
+    let a = x.abs();
+    if !(1e-5..1e16).contains(&a) { format!("{x:e}") } else { format!("{x}") }
+}
+
+fn row_values(job: &CreaseJob, row: &Row) -> [f64; 8] {
+    let uv = job.params_to_file(row.uv);
+    [row.t_ms, row.p.x, row.p.y, row.p.z, uv[0].x, uv[0].y, uv[1].x, uv[1].y]
+}
+
+fn diag_values(d: &Diagnostics) -> [f64; 8] {
+    [
+        d.measured[0],
+        d.measured[1],
+        d.est11[0],
+        d.est11[1],
+        d.est12[0],
+        d.est12[1],
+        d.est16[0].unwrap_or(f64::NAN),
+        d.est16[1].unwrap_or(f64::NAN),
+    ]
+}
+
+/// Streams rows as they are computed.
+pub struct RowWriter<W: Write> {
+    out: W,
+    format: Format,
+    errors: bool,
+    first: bool,
+}
+
+impl<W: Write> RowWriter<W> {
+    /// Starts the output (CSV header, or the opening of the JSON document).
+    ///
+    /// # Errors
+    /// I/O errors of `out`.
+    pub fn new(mut out: W, format: Format, errors: bool, job: &CreaseJob, name: &str) -> io::Result<Self> {
+        match format {
+            Format::Csv => {
+                let mut cols: Vec<&str> = COLUMNS.to_vec();
+                if errors {
+                    cols.extend(ERROR_COLUMNS);
+                }
+                writeln!(out, "{}", cols.join(","))?;
+            }
+            Format::Json => {
+                write!(
+                    out,
+                    "{{\n  \"format\": \"interpolab-run/1\",\n  \"scene\": {},\n  \"feed_per_period_mm\": {},\n  \"columns\": [",
+                    serde_json::to_string(name).unwrap_or_default(),
+                    fmt_num(job.feed_per_period_mm)
+                )?;
+                let mut cols: Vec<&str> = COLUMNS.to_vec();
+                if errors {
+                    cols.extend(ERROR_COLUMNS);
+                }
+                let quoted: Vec<String> = cols.iter().map(|c| format!("\"{c}\"")).collect();
+                write!(out, "{}],\n  \"rows\": [", quoted.join(", "))?;
+            }
+        }
+        Ok(Self { out, format, errors, first: true })
+    }
+
+    /// Writes one row (with its diagnostics when the writer prints errors).
+    ///
+    /// # Errors
+    /// I/O errors of `out`.
+    pub fn row(&mut self, job: &CreaseJob, row: &Row, diag: Option<&Diagnostics>) -> io::Result<()> {
+        let mut vals: Vec<String> = vec![row.k.to_string()];
+        vals.extend(row_values(job, row).iter().map(|&v| fmt_num(v)));
+        if self.errors {
+            let d = diag.map_or([f64::NAN; 8], diag_values);
+            vals.extend(d.iter().map(|&v| fmt_num(v)));
+        }
+        match self.format {
+            Format::Csv => writeln!(self.out, "{}", vals.join(","))?,
+            Format::Json => {
+                let sep = if self.first { "\n    " } else { ",\n    " };
+                let json: Vec<String> = vals.iter().map(|v| if v.is_empty() { "null".to_owned() } else { v.clone() }).collect();
+                write!(self.out, "{sep}[{}]", json.join(", "))?;
+            }
+        }
+        self.first = false;
+        Ok(())
+    }
+
+    /// Ends the output with the run's outcome (JSON only; CSV has no footer).
+    ///
+    /// # Errors
+    /// I/O errors of `out`.
+    pub fn finish(mut self, outcome: &Result<StopReason, CreaseError>) -> io::Result<W> {
+        if self.format == Format::Json {
+            let stop = match outcome {
+                Ok(r) => format!(
+                    "{{ \"ok\": true, \"reason\": \"{}\", \"message\": {} }}",
+                    r.tag(),
+                    serde_json::to_string(&r.to_string()).unwrap_or_default()
+                ),
+                Err(e) => format!(
+                    "{{ \"ok\": false, \"reason\": \"error\", \"message\": {} }}",
+                    serde_json::to_string(&e.to_string()).unwrap_or_default()
+                ),
+            };
+            write!(self.out, "\n  ],\n  \"stop\": {stop}\n}}\n")?;
+        }
+        self.out.flush()?;
+        Ok(self.out)
+    }
+}

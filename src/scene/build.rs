@@ -1,0 +1,274 @@
+//! Range and consistency checks of a [`Scene`], and conversion of its surfaces to the
+//! internal [`Surface`] types (radians, unit frames).
+
+use glam::{DVec2, DVec3};
+
+use super::{DomainSpec, Scene, SceneError, SurfaceSpec};
+use crate::geom::{
+    nurbs::NurbsError, Cylinder, Domain, Frame, NurbsSurface, ParamRange, ParamUnit, Plane, Sphere, Surface, Torus,
+};
+use crate::tolerance;
+
+fn v3(a: [f64; 3]) -> DVec3 {
+    DVec3::from_array(a)
+}
+
+fn positive(path: &str, x: f64, what: &str) -> Result<(), SceneError> {
+    if x > 0.0 {
+        Ok(())
+    } else {
+        Err(SceneError::new(path, format!("must be > 0, got {x}"), format!("give {what}")))
+    }
+}
+
+fn direction(path: &str, a: [f64; 3]) -> Result<DVec3, SceneError> {
+    let d = v3(a);
+    if d.length() < tolerance::MIN_DIRECTION_LENGTH {
+        return Err(SceneError::new(
+            path,
+            format!("the direction {a:?} has (almost) zero length"),
+            "give a non-zero direction vector (it need not be unit length)",
+        ));
+    }
+    Ok(d.normalize())
+}
+
+fn perpendicular(path: &str, d: DVec3, to: DVec3, to_name: &str) -> Result<(), SceneError> {
+    let c = d.dot(to);
+    if c.abs() > tolerance::PERPENDICULAR_COS {
+        return Err(SceneError::new(
+            path,
+            format!("must be perpendicular to {to_name}, but makes {:.4}° with it", c.clamp(-1.0, 1.0).acos().to_degrees()),
+            format!("give a direction at 90° to {to_name}"),
+        ));
+    }
+    Ok(())
+}
+
+fn range(path: &str, r: [f64; 2], unit: &str, max_width: Option<f64>) -> Result<(), SceneError> {
+    if !(r[1] > r[0]) {
+        return Err(SceneError::new(
+            path,
+            format!("the range [{}, {}] is empty or reversed", r[0], r[1]),
+            format!("give [from, to] in {unit} with from < to"),
+        ));
+    }
+    if let Some(w) = max_width {
+        if r[1] - r[0] > w + 1e-9 {
+            return Err(SceneError::new(
+                path,
+                format!("the range [{}, {}] spans {}°, more than one turn", r[0], r[1], r[1] - r[0]),
+                "give at most 360° (exactly 360° makes the parameter wrap around)",
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn angle_domain(path: &str, d: &DomainSpec) -> Result<(), SceneError> {
+    range(&format!("{path}.u"), d.u, "degrees", Some(360.0))?;
+    range(&format!("{path}.v"), d.v, "degrees", Some(360.0))
+}
+
+/// Checks every value of the scene; the first problem is returned with its key path.
+pub(super) fn validate(s: &Scene) -> Result<(), SceneError> {
+    for (i, spec) in s.surfaces.iter().enumerate() {
+        build_surface(spec, &format!("surfaces[{i}]"))?;
+    }
+    positive("tool.radius", s.tool.radius, "the ball radius in mm")?;
+    if !(s.tool.radius + s.tool.allowance > 0.0) {
+        return Err(SceneError::new(
+            "tool.allowance",
+            format!("R' = radius + allowance = {} mm is not positive", s.tool.radius + s.tool.allowance),
+            "use an allowance greater than minus the radius",
+        ));
+    }
+    positive("motion.feed", s.motion.feed, "the feed in mm/min")?;
+    positive("motion.period", s.motion.period, "the interpolation period in ms")?;
+    positive("tolerance.t1", s.tolerance.t1, "the tolerance on surface 1 in mm")?;
+    positive("tolerance.t2", s.tolerance.t2, "the tolerance on surface 2 in mm")?;
+    if !(s.tolerance.share > 0.0 && s.tolerance.share <= 1.0) {
+        return Err(SceneError::new(
+            "tolerance.share",
+            format!("must lie in (0, 1], got {}", s.tolerance.share),
+            "give the interpolation's share of the tolerance, e.g. 0.5",
+        ));
+    }
+    for (key, v) in [("path.start", Some(s.path.start)), ("path.end", s.path.end), ("path.direction", s.path.direction)] {
+        if let Some(v) = v {
+            if v.iter().any(|x| !x.is_finite()) {
+                return Err(SceneError::new(key, "holds a non-finite number", "give finite coordinates in mm"));
+            }
+        }
+    }
+    if s.path.max_steps == 0 {
+        return Err(SceneError::new("path.max_steps", "must be at least 1", "give the largest number of periods to run"));
+    }
+    if let Some(d) = s.path.direction {
+        direction("path.direction", d)?;
+    }
+    Ok(())
+}
+
+fn map_nurbs(path: &str, e: NurbsError) -> SceneError {
+    let (key, fix) = match &e {
+        NurbsError::Degree(_) => ("degree", "use degrees between 1 and 9"),
+        NurbsError::TooFewPoints { .. } => ("points", "add control points or lower the degree"),
+        NurbsError::KnotCount { .. } | NurbsError::Decreasing { .. } | NurbsError::NotClamped { .. }
+        | NurbsError::EndRepeated { .. } | NurbsError::Multiplicity { .. } | NurbsError::EmptyRange => {
+            ("knots", "give a clamped, non-decreasing knot vector with (points + degree + 1) values")
+        }
+        NurbsError::Weight { .. } => ("weights", "make every weight a positive number"),
+        NurbsError::WeightShape => ("weights", "give one weight per control point, in the same nested shape"),
+        NurbsError::Ragged { .. } => ("points", "give every row of the control net the same number of points"),
+    };
+    SceneError::new(format!("{path}.{key}"), e.to_string(), fix)
+}
+
+/// Validates one surface and converts it to internal units. `path` names it in errors
+/// (`surfaces[0]`).
+///
+/// # Errors
+/// The first problem, with its key path.
+pub fn build_surface(spec: &SurfaceSpec, path: &str) -> Result<Surface, SceneError> {
+    let p = |k: &str| format!("{path}.{k}");
+    let deg = |r: [f64; 2]| ParamRange::new(r[0].to_radians(), r[1].to_radians(), ParamUnit::Angle);
+    let finite = |key: &str, vals: &[f64]| -> Result<(), SceneError> {
+        if vals.iter().all(|x| x.is_finite()) {
+            Ok(())
+        } else {
+            Err(SceneError::new(p(key), "holds a non-finite number", "give finite numbers"))
+        }
+    };
+    match spec {
+        SurfaceSpec::Plane { origin, normal, u_axis, domain } => {
+            finite("origin", origin)?;
+            let n = direction(&p("normal"), *normal)?;
+            let u = direction(&p("u_axis"), *u_axis)?;
+            perpendicular(&p("u_axis"), u, n, "the plane's normal")?;
+            range(&p("domain.u"), domain.u, "mm", None)?;
+            range(&p("domain.v"), domain.v, "mm", None)?;
+            Ok(Surface::Plane(Plane::new(v3(*origin), n, u, domain.u, domain.v)))
+        }
+        SurfaceSpec::Cylinder { origin, axis, radius, ref_dir, domain, normal } => {
+            finite("origin", origin)?;
+            let a = direction(&p("axis"), *axis)?;
+            positive(&p("radius"), *radius, "the radius in mm")?;
+            let r = ref_dir.map(|r| direction(&p("ref_dir"), r)).transpose()?;
+            if let Some(r) = r {
+                perpendicular(&p("ref_dir"), r, a, "the axis")?;
+            }
+            range(&p("domain.u"), domain.u, "degrees", Some(360.0))?;
+            range(&p("domain.v"), domain.v, "mm", None)?;
+            Ok(Surface::Cylinder(Cylinder {
+                origin: v3(*origin),
+                frame: Frame::from_axis(a, r),
+                radius: *radius,
+                sign: normal.sign(),
+                domain: Domain { u: deg(domain.u), v: ParamRange::new(domain.v[0], domain.v[1], ParamUnit::Length) },
+            }))
+        }
+        SurfaceSpec::Sphere { center, radius, axis, ref_dir, domain, normal } => {
+            finite("center", center)?;
+            positive(&p("radius"), *radius, "the radius in mm")?;
+            let a = axis.map(|a| direction(&p("axis"), a)).transpose()?.unwrap_or(DVec3::Z);
+            let r = ref_dir.map(|r| direction(&p("ref_dir"), r)).transpose()?;
+            if let Some(r) = r {
+                perpendicular(&p("ref_dir"), r, a, "the axis")?;
+            }
+            let d = domain.unwrap_or(DomainSpec { u: [-180.0, 180.0], v: [-90.0, 90.0] });
+            angle_domain(&p("domain"), &d)?;
+            if d.v[0] < -90.0 - 1e-9 || d.v[1] > 90.0 + 1e-9 {
+                return Err(SceneError::new(
+                    p("domain.v"),
+                    format!("latitude range [{}, {}] leaves [-90, 90]", d.v[0], d.v[1]),
+                    "give latitudes between -90 and 90 degrees",
+                ));
+            }
+            Ok(Surface::Sphere(Sphere {
+                center: v3(*center),
+                frame: Frame::from_axis(a, r),
+                radius: *radius,
+                sign: normal.sign(),
+                domain: Domain { u: deg(d.u), v: ParamRange::new(d.v[0].to_radians(), d.v[1].to_radians(), ParamUnit::Angle) },
+            }))
+        }
+        SurfaceSpec::Torus { center, axis, major_radius, minor_radius, ref_dir, domain, normal } => {
+            finite("center", center)?;
+            let a = direction(&p("axis"), *axis)?;
+            positive(&p("minor_radius"), *minor_radius, "the tube radius in mm")?;
+            positive(&p("major_radius"), *major_radius, "the axis-to-tube distance in mm")?;
+            if major_radius <= minor_radius {
+                return Err(SceneError::new(
+                    p("major_radius"),
+                    format!("{major_radius} mm is not larger than minor_radius {minor_radius} mm (the torus would cross its axis)"),
+                    "make major_radius larger than minor_radius",
+                ));
+            }
+            let r = ref_dir.map(|r| direction(&p("ref_dir"), r)).transpose()?;
+            if let Some(r) = r {
+                perpendicular(&p("ref_dir"), r, a, "the axis")?;
+            }
+            let d = domain.unwrap_or(DomainSpec { u: [-180.0, 180.0], v: [-180.0, 180.0] });
+            angle_domain(&p("domain"), &d)?;
+            Ok(Surface::Torus(Torus {
+                center: v3(*center),
+                frame: Frame::from_axis(a, r),
+                major_radius: *major_radius,
+                minor_radius: *minor_radius,
+                sign: normal.sign(),
+                domain: Domain { u: deg(d.u), v: deg(d.v) },
+            }))
+        }
+        SurfaceSpec::Nurbs { degree, knots_u, knots_v, points, weights, flip_normal } => {
+            for (key, k) in [("knots_u", knots_u), ("knots_v", knots_v)] {
+                finite(key, k)?;
+            }
+            for (i, row) in points.iter().enumerate() {
+                for (j, pt) in row.iter().enumerate() {
+                    finite(&format!("points[{i}][{j}]"), pt)?;
+                }
+            }
+            let pts: Vec<Vec<DVec3>> = points.iter().map(|r| r.iter().map(|&x| v3(x)).collect()).collect();
+            // Map knot problems to the vector that has them.
+            let n_u = points.len();
+            let n_v = points.first().map_or(0, Vec::len);
+            if let Some((row, r)) = points.iter().enumerate().find(|(_, r)| r.len() != n_v) {
+                return Err(map_nurbs(path, NurbsError::Ragged { row, got: r.len(), expected: n_v }));
+            }
+            crate::geom::nurbs::validate_knots(knots_u, n_u, degree[0]).map_err(|e| {
+                let mut err = map_nurbs(path, e);
+                if err.path.ends_with(".knots") {
+                    err.path = p("knots_u");
+                } else if err.path.ends_with(".degree") {
+                    err.path = p("degree[0]");
+                } else if err.path.ends_with(".points") {
+                    err.problem = format!("along u: {}", err.problem);
+                }
+                err
+            })?;
+            crate::geom::nurbs::validate_knots(knots_v, n_v, degree[1]).map_err(|e| {
+                let mut err = map_nurbs(path, e);
+                if err.path.ends_with(".knots") {
+                    err.path = p("knots_v");
+                } else if err.path.ends_with(".degree") {
+                    err.path = p("degree[1]");
+                } else if err.path.ends_with(".points") {
+                    err.problem = format!("along v (each row): {}", err.problem);
+                }
+                err
+            })?;
+            let surface = NurbsSurface::try_new(*degree, knots_u.clone(), knots_v.clone(), &pts, weights.as_deref(), *flip_normal)
+                .map_err(|e| map_nurbs(path, e))?;
+            Ok(Surface::Nurbs(surface))
+        }
+    }
+}
+
+/// Parameters of a point given in file units on `surface`, converted to internal units.
+#[must_use]
+pub fn params_from_file(surface: &Surface, uv_file: DVec2) -> DVec2 {
+    use crate::geom::ParametricSurface;
+    let d = surface.domain();
+    DVec2::new(d.u.unit.from_file(uv_file.x), d.v.unit.from_file(uv_file.y))
+}

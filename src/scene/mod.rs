@@ -1,0 +1,272 @@
+//! Scenes: the `interpolab-scene/1` JSON format (see `docs/scene-format.md`).
+//!
+//! A [`Scene`] holds the file's values in the file's units (mm, mm/min, ms, degrees) and is
+//! what the app edits and saves. [`Scene::from_json`] parses and validates, naming the key
+//! path of every problem and what to change; [`Scene::to_json`] writes it back (parse ∘ write
+//! is the identity); [`Scene::build`] converts it to the internal geometry of a
+//! [`crate::crease::CreaseJob`] (radians, unit frames, NURBS in homogeneous form).
+
+mod build;
+mod parse;
+mod write;
+
+use thiserror::Error;
+
+pub use build::{build_surface, params_from_file};
+
+/// The format tag this version reads and writes.
+pub const FORMAT: &str = "interpolab-scene/1";
+
+/// Default of `path.max_steps` when the key is absent.
+pub const DEFAULT_MAX_STEPS: u64 = 200_000;
+
+/// A problem in a scene: where (`path`, e.g. `surfaces[1].radius`), what, and how to fix it.
+#[derive(Clone, Debug, Error, PartialEq, Eq)]
+#[error("{path}: {problem}; {fix}")]
+pub struct SceneError {
+    /// Key path in the JSON document (`surfaces[0].domain.u`), or `(file)` for syntax errors.
+    pub path: String,
+    /// What is wrong, in the user's terms.
+    pub problem: String,
+    /// What to change.
+    pub fix: String,
+}
+
+impl SceneError {
+    pub(crate) fn new(path: impl Into<String>, problem: impl Into<String>, fix: impl Into<String>) -> Self {
+        Self { path: path.into(), problem: problem.into(), fix: fix.into() }
+    }
+}
+
+/// Which side of a closed analytic surface the cutter is on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Orientation {
+    /// Normal points away from the axis or centre (cutter outside).
+    Outward,
+    /// Normal points toward the axis or centre (cutter inside).
+    Inward,
+}
+
+impl Orientation {
+    /// The JSON spelling.
+    #[must_use]
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Outward => "outward",
+            Self::Inward => "inward",
+        }
+    }
+    /// +1 or −1.
+    #[must_use]
+    pub fn sign(self) -> f64 {
+        match self {
+            Self::Outward => 1.0,
+            Self::Inward => -1.0,
+        }
+    }
+}
+
+/// A parameter rectangle in file units: `u: [a, b]`, `v: [a, b]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DomainSpec {
+    /// Range of u (degrees for angles, mm for lengths).
+    pub u: [f64; 2],
+    /// Range of v (degrees for angles, mm for lengths).
+    pub v: [f64; 2],
+}
+
+/// One surface as written in a scene file (file units).
+#[derive(Clone, Debug, PartialEq)]
+pub enum SurfaceSpec {
+    /// `r = o + u·e1 + v·e2`, `e1 = u_axis`, `e2 = normal × e1`.
+    Plane {
+        /// A point of the plane (mm).
+        origin: [f64; 3],
+        /// Normal, the cutter's side (any length > 0).
+        normal: [f64; 3],
+        /// Direction of u, in the plane.
+        u_axis: [f64; 3],
+        /// u, v ranges (mm).
+        domain: DomainSpec,
+    },
+    /// A circular cylinder.
+    Cylinder {
+        /// A point on the axis, v = 0 (mm).
+        origin: [f64; 3],
+        /// Axis direction.
+        axis: [f64; 3],
+        /// Radius (mm).
+        radius: f64,
+        /// Direction of u = 0, ⊥ axis.
+        ref_dir: Option<[f64; 3]>,
+        /// u range (degrees), v range (mm along the axis).
+        domain: DomainSpec,
+        /// Cutter side.
+        normal: Orientation,
+    },
+    /// A sphere.
+    Sphere {
+        /// Centre (mm).
+        center: [f64; 3],
+        /// Radius (mm).
+        radius: f64,
+        /// Polar axis (default +z).
+        axis: Option<[f64; 3]>,
+        /// Direction of u = 0, ⊥ axis.
+        ref_dir: Option<[f64; 3]>,
+        /// u (longitude), v (latitude) ranges in degrees; default the whole sphere.
+        domain: Option<DomainSpec>,
+        /// Cutter side.
+        normal: Orientation,
+    },
+    /// A ring torus.
+    Torus {
+        /// Centre (mm).
+        center: [f64; 3],
+        /// Axis.
+        axis: [f64; 3],
+        /// Axis to tube centre (mm).
+        major_radius: f64,
+        /// Tube radius (mm).
+        minor_radius: f64,
+        /// Direction of u = 0, ⊥ axis.
+        ref_dir: Option<[f64; 3]>,
+        /// u, v ranges in degrees; default the whole torus.
+        domain: Option<DomainSpec>,
+        /// Cutter side.
+        normal: Orientation,
+    },
+    /// A tensor-product NURBS.
+    Nurbs {
+        /// Degrees `[p, q]` in u and v.
+        degree: [usize; 2],
+        /// Clamped knot vector in u.
+        knots_u: Vec<f64>,
+        /// Clamped knot vector in v.
+        knots_v: Vec<f64>,
+        /// Control net, `points[i][j]`, i along u (mm).
+        points: Vec<Vec<[f64; 3]>>,
+        /// Weights, same shape, > 0 (all 1 when absent).
+        weights: Option<Vec<Vec<f64>>>,
+        /// Reverse the normal r_u × r_v.
+        flip_normal: bool,
+    },
+}
+
+impl SurfaceSpec {
+    /// The JSON `type`.
+    #[must_use]
+    pub fn type_name(&self) -> &'static str {
+        match self {
+            Self::Plane { .. } => "plane",
+            Self::Cylinder { .. } => "cylinder",
+            Self::Sphere { .. } => "sphere",
+            Self::Torus { .. } => "torus",
+            Self::Nurbs { .. } => "nurbs",
+        }
+    }
+}
+
+/// `tool`: the ball-end cutter.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ToolSpec {
+    /// Ball radius R (mm).
+    pub radius: f64,
+    /// Stock C left on both surfaces (mm); the centre runs at R' = R + C. May be negative
+    /// (undersize) as long as R' > 0.
+    pub allowance: f64,
+}
+
+/// `motion`: feed and interpolation period.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MotionSpec {
+    /// Programmed feed F (mm/min).
+    pub feed: f64,
+    /// Interpolation period Ts (ms).
+    pub period: f64,
+}
+
+/// `tolerance`: allowed machining errors and the interpolation's share of them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ToleranceSpec {
+    /// T1, allowed error on surface 1 (mm).
+    pub t1: f64,
+    /// T2, allowed error on surface 2 (mm).
+    pub t2: f64,
+    /// b, share of the tolerance given to interpolation, 0 < b ≤ 1.
+    pub share: f64,
+}
+
+/// `path`: where the cut starts and ends.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PathSpec {
+    /// Approximate cutter-centre start point (mm).
+    pub start: [f64; 3],
+    /// Approximate end point (mm), or `None` (JSON `null`).
+    pub end: Option<[f64; 3]>,
+    /// Most periods to run (default [`DEFAULT_MAX_STEPS`]).
+    pub max_steps: u64,
+    /// Sense of travel at the start (default: the sense of n1 × n2).
+    pub direction: Option<[f64; 3]>,
+}
+
+/// A whole scene in file units.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    /// Display name.
+    pub name: String,
+    /// S1 and S2.
+    pub surfaces: [SurfaceSpec; 2],
+    /// The cutter.
+    pub tool: ToolSpec,
+    /// Feed and period.
+    pub motion: MotionSpec,
+    /// Tolerances.
+    pub tolerance: ToleranceSpec,
+    /// Start and end.
+    pub path: PathSpec,
+}
+
+impl Scene {
+    /// Parses and validates a scene document.
+    ///
+    /// # Errors
+    /// The first problem found, with its key path and a fix.
+    pub fn from_json(text: &str) -> Result<Self, SceneError> {
+        let scene = parse::parse(text)?;
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// Writes the scene as pretty-printed JSON (keys in the format's order).
+    #[must_use]
+    pub fn to_json(&self) -> String {
+        write::to_json(self)
+    }
+
+    /// Writes the scene as one-line JSON (for share links).
+    #[must_use]
+    pub fn to_json_compact(&self) -> String {
+        write::to_json_compact(self)
+    }
+
+    /// Checks every value's range (radii > 0, tolerances > 0, knot vectors, …).
+    ///
+    /// # Errors
+    /// The first problem found, with its key path and a fix.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        build::validate(self)
+    }
+
+    /// Feed per period f = F·Ts/60000 (mm).
+    #[must_use]
+    pub fn feed_per_period_mm(&self) -> f64 {
+        self.motion.feed * self.motion.period / 60_000.0
+    }
+
+    /// Effective cutter radius R' = R + C (mm).
+    #[must_use]
+    pub fn effective_radius_mm(&self) -> f64 {
+        self.tool.radius + self.tool.allowance
+    }
+}

@@ -1,0 +1,70 @@
+//! Named numerical tolerances, one per kind of quantity.
+//!
+//! Lengths are in millimetres, angles in radians, parameters in the surface's internal
+//! parameter units (radians for angular parameters, mm for plane parameters, knot units for
+//! NURBS). Nothing else in the core hard-codes a small number: a solver that needs one takes
+//! it from here (or from its options struct, whose defaults come from here).
+
+/// Convergence of Newton solves on positions: a crease point or foot point is accepted when
+/// its residual is below this length (mm). One picometre is ~1e-14 relative to a 100 mm part,
+/// about a hundred times the f64 rounding floor, so Newton reaches it in a few iterations.
+pub const NEWTON_LENGTH_MM: f64 = 1e-9;
+
+/// Target of the Newton residual once converged; iterations continue (cheaply) until the
+/// residual stops improving or drops below this (mm).
+pub const NEWTON_LENGTH_FLOOR_MM: f64 = 1e-12;
+
+/// Smallest usable length of a direction vector given in a scene (axis, normal, ref_dir).
+pub const MIN_DIRECTION_LENGTH: f64 = 1e-9;
+
+/// Largest cosine between two vectors that must be perpendicular in a scene
+/// (`ref_dir` ⊥ `axis`, `u_axis` ⊥ `normal`). A looser value would silently bend the user's
+/// frame; a tighter one would reject values typed with six decimals.
+pub const PERPENDICULAR_COS: f64 = 1e-6;
+
+/// Smallest angle between the two surface normals at which the crease is still considered
+/// well defined (rad, 0.5°). Below it the surfaces touch tangentially: the crease direction
+/// n1 × n2 is lost in rounding and the correction system (4) is singular.
+pub const MIN_CREASE_ANGLE_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;
+
+/// |r_u × r_v| below this (mm² per parameter unit²) marks a singular point of a
+/// parametrisation (a sphere pole, a collapsed NURBS edge), where no normal is defined.
+pub const MIN_AREA_ELEMENT: f64 = 1e-12;
+
+/// How far (relative to the domain width) a parameter may lie outside its range before a
+/// contact point is said to have left the domain. Absorbs rounding at an exact edge.
+pub const DOMAIN_SLACK: f64 = 1e-12;
+
+/// Knots closer than this (knot units, relative to the knot range) are treated as equal.
+pub const KNOT_EQUAL_REL: f64 = 1e-12;
+
+/// Floor of the measured interpolation error (mm) below which the paper's error bounds are
+/// not resolvable: the rounding of a foot-point projection on parts ~100 mm in size.
+pub const MEASUREMENT_FLOOR_MM: f64 = 1e-9;
+
+/// Checks `|a - b| <= tol` and panics with both values and the difference otherwise.
+/// For tests and debug assertions.
+#[macro_export]
+macro_rules! assert_near {
+    ($a:expr, $b:expr, $tol:expr $(,)?) => {{
+        let (a, b, tol): (f64, f64, f64) = ($a, $b, $tol);
+        assert!(
+            (a - b).abs() <= tol,
+            "assert_near failed: {} = {a:e}, {} = {b:e}, |diff| = {:e} > tol {tol:e}",
+            stringify!($a),
+            stringify!($b),
+            (a - b).abs()
+        );
+    }};
+    ($a:expr, $b:expr, $tol:expr, $($msg:tt)+) => {{
+        let (a, b, tol): (f64, f64, f64) = ($a, $b, $tol);
+        assert!(
+            (a - b).abs() <= tol,
+            "assert_near failed ({}): {} = {a:e}, {} = {b:e}, |diff| = {:e} > tol {tol:e}",
+            format!($($msg)+),
+            stringify!($a),
+            stringify!($b),
+            (a - b).abs()
+        );
+    }};
+}
