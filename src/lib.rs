@@ -11,13 +11,21 @@
 //! - [`scene`]: the `interpolab-scene/1` JSON format (parse, validate, write);
 //! - [`crease`]: seed 000 — interpolation along the crease of two surfaces, the exact
 //!   Newton crease, measured errors and the paper's estimates;
+//! - [`fiveaxis`]: seed 002 — 5-axis machines, nonlinear error, tool-step selection;
+//! - [`chords`]: seed 003 — equal-error chords;
+//! - [`nurbs_path`]: seed 004 — NURBS fitting and real-time NURBS interpolation;
+//! - [`gcode`]: G01/G02/G03/G06.2 programs out and in;
 //! - [`report`]: CSV/JSON output of runs (what the command line prints).
 //!
 //! Units: mm, seconds and radians inside; mm/min, ms and degrees only in files and UI.
 
+pub mod chords;
 pub mod crease;
+pub mod fiveaxis;
+pub mod gcode;
 pub mod geom;
 pub mod linalg;
+pub mod nurbs_path;
 pub mod report;
 pub mod scene;
 pub mod tolerance;

@@ -15,6 +15,7 @@
 //! of the paper (track, correct, re-solve contacts) and the precise stepper; [`estimate`]
 //! measures errors and evaluates the paper's estimates (11), (12) and (16).
 
+pub mod curve;
 pub mod estimate;
 pub mod interpolator;
 pub mod newton;
@@ -27,6 +28,7 @@ use thiserror::Error;
 use crate::geom::{ParametricSurface, Surface};
 use crate::scene::{build_surface, Scene, SceneError};
 
+pub use curve::{CreaseCurve, CreaseFrame};
 pub use estimate::{diagnose, Diagnostics};
 pub use interpolator::{run_to_end, InterpOptions, Interpolator, Method, RunResult, Step};
 pub use newton::{crease_deviation, locate_crease_point, CreasePoint, NewtonOptions};

@@ -13,6 +13,7 @@
 //! Internal units: mm for lengths, radians for angular parameters, knot units for NURBS.
 //! Degrees appear only at the edges (scene files, UI), converted by [`ParamUnit`].
 
+mod curve;
 mod diffgeo;
 mod domain;
 mod frame;
@@ -21,6 +22,7 @@ mod project;
 mod surface;
 
 pub(crate) use diffgeo::solve_tangent;
+pub use curve::{Curve3, HermitePath};
 pub use diffgeo::{LocalGeometry, Principal};
 pub use domain::{Domain, ParamRange, ParamUnit};
 pub use frame::{any_perpendicular, Frame};

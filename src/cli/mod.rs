@@ -1,0 +1,108 @@
+//! The native command line. Every subcommand drives the core; nothing here computes
+//! geometry itself.
+//!
+//! Exit status: 0 success; 1 `check` found an error above the tolerance; 2 a bad scene,
+//! an unreadable file, or a crease that cannot be started or continued (one line on
+//! standard error naming the problem, where, and what to change; rows computed before are
+//! still written).
+//!
+//! One file per area: [`crease`] (`run`, `check`).
+
+mod crease;
+
+use std::io::{self, Write};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand, ValueEnum};
+
+#[derive(Parser)]
+#[command(
+    name = "interpolab",
+    version,
+    about = "CNC tool-path interpolation lab: crease interpolation of two surfaces (seed 000)",
+    long_about = "CNC tool-path interpolation lab.\n\nWithout a subcommand (and built with the `app` feature) it opens the app in a window."
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum OutFormat {
+    Csv,
+    Json,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum MethodArg {
+    /// Seed 000's track–correct–re-solve step (no iteration).
+    Seed000,
+    /// Newton projection onto the exact crease (precise mode).
+    Exact,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Interpolate the crease of a scene: one row per period (k, t_ms, x, y, z, u1, v1, u2, v2).
+    Run {
+        /// Scene file (interpolab-scene/1 JSON).
+        scene: PathBuf,
+        /// Output format.
+        #[arg(long, value_enum, default_value = "csv")]
+        format: OutFormat,
+        /// Write to this file instead of standard output.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Add measured errors e1, e2 and the paper's estimates (11), (12), (16) as columns (mm).
+        #[arg(long)]
+        errors: bool,
+        /// Stepper.
+        #[arg(long, value_enum, default_value = "seed000")]
+        method: MethodArg,
+        /// Full turns of a closed crease before stopping.
+        #[arg(long, default_value_t = 1)]
+        turns: u32,
+    },
+    /// Validate a scene, run it and print a summary (length, periods, curvatures, errors).
+    Check {
+        /// Scene file.
+        scene: PathBuf,
+    },
+}
+
+/// A failure that ends the program with status 2 and one line on stderr.
+pub(crate) struct Fatal(pub(crate) String);
+
+/// Parses the arguments and runs the subcommand.
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        None => open_app(),
+        Some(Command::Run { scene, format, out, errors, method, turns }) => {
+            crease::run(&scene, format, out.as_deref(), errors, method, turns)
+        }
+        Some(Command::Check { scene }) => crease::check(&scene),
+    };
+    match result {
+        Ok(code) => code,
+        Err(Fatal(msg)) => {
+            let _ = writeln!(io::stderr(), "interpolab: {msg}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+#[cfg(feature = "app")]
+fn open_app() -> Result<ExitCode, Fatal> {
+    interpolab::app::native::run().map_err(|e| Fatal(format!("cannot open the app window: {e}")))?;
+    Ok(ExitCode::SUCCESS)
+}
+
+#[cfg(not(feature = "app"))]
+fn open_app() -> Result<ExitCode, Fatal> {
+    use clap::CommandFactory;
+    let _ = Cli::command().print_help();
+    Ok(ExitCode::SUCCESS)
+}
+
