@@ -180,6 +180,12 @@ impl Interpolator {
         self.prev_t
     }
 
+    /// Full turns of a closed crease completed so far.
+    #[must_use]
+    pub fn turns_completed(&self) -> u32 {
+        self.turns
+    }
+
     /// Why the run stopped, once it has.
     #[must_use]
     pub fn stopped(&self) -> Option<StopReason> {
@@ -394,7 +400,7 @@ impl Interpolator {
             &self.job,
             guess,
             Constraint::AtDistance { from: self.row.p, dist: f },
-            NewtonOptions { max_step_mm: f, ..NewtonOptions::default() },
+            NewtonOptions { max_step_mm: f, stay_in_domain: false, ..NewtonOptions::default() },
         )
         .map_err(|e| e.into_error(at, &self.job))?;
         if (cp.p - self.row.p).dot(t) <= 0.0 {

@@ -30,11 +30,15 @@ pub struct NewtonOptions {
     /// Largest move of the centre in one iteration (mm; default 5). Keeps a far start from
     /// jumping to an unrelated branch.
     pub max_step_mm: f64,
+    /// Clamp non-periodic parameters to the domains (default true). The precise stepper
+    /// turns it off so a crease point just past a domain edge is found and then reported as
+    /// a domain stop rather than as a convergence failure.
+    pub stay_in_domain: bool,
 }
 
 impl Default for NewtonOptions {
     fn default() -> Self {
-        Self { max_iterations: 60, tol_mm: tolerance::NEWTON_LENGTH_MM, max_step_mm: 5.0 }
+        Self { max_iterations: 60, tol_mm: tolerance::NEWTON_LENGTH_MM, max_step_mm: 5.0, stay_in_domain: true }
     }
 }
 
@@ -72,8 +76,9 @@ pub struct CreasePoint {
 pub(crate) enum NewtonFail {
     /// No convergence; the last residual (mm).
     NoConvergence(f64),
-    /// Normals (anti)parallel at the iterate; angle (deg).
-    Tangential(f64),
+    /// Normals (anti)parallel at the iterate: angle (deg) and the gap |P1 − P2| (mm)
+    /// between the offset points there.
+    Tangential(f64, f64),
     /// Singular parametrisation on a surface.
     Singular(usize),
 }
@@ -91,15 +96,34 @@ impl NewtonFail {
                     CreaseError::NewtonFailed { at, detail: format!("residual {res:.3e} mm") }
                 }
             },
-            Self::Tangential(angle_deg) => CreaseError::Tangential {
+            // Parallel normals where the offset surfaces actually meet: tangential contact.
+            Self::Tangential(angle_deg, gap) if gap <= TOUCHING_GAP_MM => CreaseError::Tangential {
                 at,
                 angle_deg,
                 min_deg: tolerance::MIN_CREASE_ANGLE_RAD.to_degrees(),
+            },
+            // Parallel normals with the offsets apart: Newton was drawn to where the surfaces
+            // face each other, which means they do not meet here at all.
+            Self::Tangential(angle_deg, gap) => match at {
+                Location::Start | Location::End => CreaseError::NoCrease {
+                    at,
+                    detail: format!(
+                        "the offset surfaces face each other {gap:.3} mm apart (normals {angle_deg:.3}° from parallel) instead of crossing"
+                    ),
+                },
+                Location::Period { .. } => CreaseError::NewtonFailed {
+                    at,
+                    detail: format!("normals parallel with the offsets {gap:.3e} mm apart"),
+                },
             },
             Self::Singular(surface) => CreaseError::Singular { at, surface },
         }
     }
 }
+
+/// Below this gap (mm) between the two offset points, parallel normals mean the surfaces
+/// touch tangentially; above it, that they do not meet.
+const TOUCHING_GAP_MM: f64 = 1e-3;
 
 /// Local data of one surface at its contact parameters.
 pub(crate) struct Contact {
@@ -127,7 +151,8 @@ pub(crate) fn solve(
     opts: NewtonOptions,
 ) -> Result<CreasePoint, NewtonFail> {
     let domains = [job.surfaces[0].domain(), job.surfaces[1].domain()];
-    let mut uv = [domains[0].clamp(uv0[0]), domains[1].clamp(uv0[1])];
+    let keep = |i: usize, x: DVec2| if opts.stay_in_domain { domains[i].clamp(x) } else { domains[i].wrap(x) };
+    let mut uv = [keep(0, uv0[0]), keep(1, uv0[1])];
     let min_sin = tolerance::MIN_CREASE_ANGLE_RAD.sin();
     let mut last_res = f64::INFINITY;
     for it in 0..=opts.max_iterations {
@@ -151,7 +176,7 @@ pub(crate) fn solve(
         if res <= opts.tol_mm && (res <= tolerance::NEWTON_LENGTH_FLOOR_MM || res >= 0.25 * last_res) {
             // Converged, and either at the floor or no longer improving quickly.
             if sin < min_sin {
-                return Err(NewtonFail::Tangential(sin.asin().to_degrees()));
+                return Err(NewtonFail::Tangential(sin.min(1.0).asin().to_degrees(), g.length()));
             }
             return Ok(CreasePoint { p: mid, uv, n: [n1, n2], tangent: t, iterations: it });
         }
@@ -159,7 +184,7 @@ pub(crate) fn solve(
             break;
         }
         if !(sin >= 1e-3 * min_sin) {
-            return Err(NewtonFail::Tangential(sin.asin().to_degrees()));
+            return Err(NewtonFail::Tangential(sin.min(1.0).asin().to_degrees(), g.length()));
         }
         last_res = res;
         // Rows: P1 − P2 = 0 (3) and the constraint. Unknowns: Δu1, Δv1, Δu2, Δv2.
@@ -172,7 +197,7 @@ pub(crate) fn solve(
             [0.5 * dir.dot(a[0]), 0.5 * dir.dot(a[1]), 0.5 * dir.dot(b[0]), 0.5 * dir.dot(b[1])],
         ];
         let Some(delta) = linalg::solve4(m, [-g.x, -g.y, -g.z, -h]) else {
-            return Err(NewtonFail::Tangential(sin.asin().to_degrees()));
+            return Err(NewtonFail::Tangential(sin.min(1.0).asin().to_degrees(), g.length()));
         };
         let mut d1 = DVec2::new(delta[0], delta[1]);
         let mut d2 = DVec2::new(delta[2], delta[3]);
@@ -182,7 +207,7 @@ pub(crate) fn solve(
             d1 *= s;
             d2 *= s;
         }
-        uv = [domains[0].clamp(uv[0] + d1), domains[1].clamp(uv[1] + d2)];
+        uv = [keep(0, uv[0] + d1), keep(1, uv[1] + d2)];
     }
     Err(NewtonFail::NoConvergence(last_res))
 }

@@ -118,33 +118,42 @@ impl LocalGeometry {
         (self.l * self.n - self.m * self.m) / self.det_i
     }
 
-    /// Principal curvatures only (cheaper than [`Self::principal`]): `(k_max, k_min)`.
+    /// The shape operator in the orthonormal tangent frame `e1 = r_u/|r_u|`, `e2 = n × e1`:
+    /// the symmetric matrix `[[a, b], [b, c]]` with `a = II(e1, e1)`, `b = II(e1, e2)`,
+    /// `c = II(e2, e2)`, and the frame.
+    fn shape_matrix(&self) -> (f64, f64, f64, DVec3, DVec3) {
+        let e1 = self.d.du / self.e.sqrt();
+        let e2 = self.d.normal.cross(e1);
+        let c1 = DVec2::new(1.0 / self.e.sqrt(), 0.0);
+        let c2 = self.tangent_coords(e2);
+        (self.second_form(c1, c1), self.second_form(c1, c2), self.second_form(c2, c2), e1, e2)
+    }
+
+    /// Principal curvatures only: `(k_max, k_min)`, the eigenvalues of the shape operator
+    /// `(a + c)/2 ± √(((a − c)/2)² + b²)` in an orthonormal frame. The discriminant is a sum
+    /// of squares, so umbilics (spheres) come out exact instead of √(rounding) apart.
     #[must_use]
     pub fn principal_curvatures(&self) -> (f64, f64) {
-        let h = self.mean_curvature();
-        let k = self.gaussian_curvature();
-        let disc = (h * h - k).max(0.0).sqrt();
-        (h + disc, h - disc)
+        let (a, b, c, _, _) = self.shape_matrix();
+        let mean = 0.5 * (a + c);
+        let half = 0.5 * (a - c);
+        let disc = half.hypot(b);
+        (mean + disc, mean - disc)
     }
 
     /// Principal curvatures and directions. At an umbilic (all directions principal) the
     /// directions are `r_u` normalised and `n × r_u`.
     #[must_use]
     pub fn principal(&self) -> Principal {
-        let (k_max, k_min) = self.principal_curvatures();
-        // Eigenvector of (II − k I): rows (L − kE, M − kF) and (M − kF, N − kG).
-        let r0 = DVec2::new(self.l - k_max * self.e, self.m - k_max * self.f);
-        let r1 = DVec2::new(self.m - k_max * self.f, self.n - k_max * self.g);
-        let row = if r0.length_squared() >= r1.length_squared() { r0 } else { r1 };
-        let scale = (self.l.abs() + self.m.abs() + self.n.abs()) * (self.e + self.g);
-        let coords = if row.length_squared() > (1e-12 * scale).powi(2) && (k_max - k_min) > 1e-12 {
-            DVec2::new(-row.y, row.x)
-        } else {
-            DVec2::new(1.0, 0.0)
-        };
-        let dir_max = (coords.x * self.d.du + coords.y * self.d.dv).normalize();
+        let (a, b, c, e1, e2) = self.shape_matrix();
+        let mean = 0.5 * (a + c);
+        let half = 0.5 * (a - c);
+        let disc = half.hypot(b);
+        // Rotation taking e1 to the k_max direction: tan 2θ = 2b / (a − c).
+        let theta = 0.5 * b.atan2(half);
+        let dir_max = theta.cos() * e1 + theta.sin() * e2;
         let dir_min = self.d.normal.cross(dir_max);
-        Principal { k_max, k_min, dir_max, dir_min }
+        Principal { k_max: mean + disc, k_min: mean - disc, dir_max, dir_min }
     }
 
     /// Derivatives of the unit normal, `(n_u, n_v)`, by the Weingarten equations
