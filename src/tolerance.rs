@@ -42,6 +42,59 @@ pub const KNOT_EQUAL_REL: f64 = 1e-12;
 /// not resolvable: the rounding of a foot-point projection on parts ~100 mm in size.
 pub const MEASUREMENT_FLOOR_MM: f64 = 1e-9;
 
+/// Acceptance window ε of a step search (mm): a node is accepted when its segment's error
+/// lies in `[E − ε, E]` for the tolerance E. Seed 002 stops its iterations at |δ − E| < 1e-6;
+/// we keep the same width but place it below E so no accepted segment exceeds E.
+pub const STEP_WINDOW_MM: f64 = 1e-6;
+
+/// Relative cap of [`STEP_WINDOW_MM`]: for tolerances below 1 µm the window is this fraction
+/// of E instead, so it stays meaningful (E = 1e-4 mm → ε = 1e-7 mm).
+pub const STEP_WINDOW_REL: f64 = 1e-3;
+
+/// Relative resolution (of the chord's parameter span) to which the peak of a chord's
+/// deviation is located. The deviation is quadratic at its peak, so the peak value is found
+/// to about the square of this, far below any machining tolerance.
+pub const PEAK_PARAM_REL: f64 = 1e-5;
+
+/// Smallest bracket, relative to the parameter scale, a step search may shrink to before it
+/// reports that the error jumps across the tolerance (a step that underflows).
+pub const STEP_PARAM_REL: f64 = 1e-13;
+
+// --- NURBS paths and G-code (seed 004) ---
+
+/// Default machine resolution of G-code output (mm): the least input increment of IS-B, to
+/// which every coordinate, arc-centre offset and knot of a written program is rounded.
+pub const GCODE_RESOLUTION_MM: f64 = 0.001;
+
+/// Consecutive points closer than this (mm) count as the same point when fitting a curve
+/// through them: the chord-length parameter would not advance.
+pub const FIT_DUPLICATE_MM: f64 = 1e-9;
+
+/// Pivot threshold of the banded linear solves of curve fitting, relative to the largest
+/// entry of the matrix. A smaller pivot means the knot vector leaves a basis function without
+/// data (Schoenberg–Whitney condition broken).
+pub const FIT_PIVOT_REL: f64 = 1e-13;
+
+/// Convergence of a point's projection onto a curve (mm): Newton stops when the step moves
+/// the foot point by less than this. Far below any output resolution.
+pub const CURVE_PROJECT_MM: f64 = 1e-10;
+
+/// Relative accuracy of arc-length tables (of the total length).
+pub const ARC_LENGTH_REL: f64 = 1e-10;
+
+/// Largest difference (mm) between the radii at the start and end of a G02/G03 arc that the
+/// G-code reader accepts (and at least [`ARC_RADIUS_MISMATCH_REL`] of the radius). Written
+/// arcs stay within about one resolution step; hand-written ones may be coarser.
+pub const ARC_RADIUS_MISMATCH_MM: f64 = 0.002;
+
+/// Relative radius mismatch of a G02/G03 arc the reader accepts (see
+/// [`ARC_RADIUS_MISMATCH_MM`]).
+pub const ARC_RADIUS_MISMATCH_REL: f64 = 1e-3;
+
+/// Arcs flatter than this (sagitta over chord) are written as straight lines: their radius
+/// would be too large to round to the resolution meaningfully.
+pub const ARC_MIN_BULGE: f64 = 1e-6;
+
 /// Checks `|a - b| <= tol` and panics with both values and the difference otherwise.
 /// For tests and debug assertions.
 #[macro_export]
