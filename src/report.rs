@@ -37,6 +37,35 @@ pub fn fmt_num(x: f64) -> String {
     if !(1e-5..1e16).contains(&a) { format!("{x:e}") } else { format!("{x}") }
 }
 
+/// Formats a number rounded to `decimals` digits after the point, for G-code and other
+/// fixed-resolution output: trailing zeros are dropped but one digit after the point is always
+/// kept, so every value carries a decimal point (`10.0`, `-0.125`, `1.5`) — a controller
+/// reading `X10` without a point may take it as 10 least input increments. A value that rounds
+/// to zero prints as `0.0`, never `-0.0`. Rounding is that of the exact binary value (Rust's
+/// `{:.N}`), so the same f64 always gives the same text. Non-finite values print as an empty
+/// field.
+#[must_use]
+pub fn fmt_fixed(x: f64, decimals: usize) -> String {
+    if !x.is_finite() {
+        return String::new();
+    }
+    let mut s = format!("{x:.decimals$}");
+    if s.contains('.') {
+        while s.ends_with('0') {
+            s.pop();
+        }
+        if s.ends_with('.') {
+            s.push('0');
+        }
+    } else {
+        s.push_str(".0");
+    }
+    if s.starts_with('-') && s[1..].bytes().all(|b| b == b'0' || b == b'.') {
+        s.remove(0);
+    }
+    s
+}
+
 fn row_values(job: &CreaseJob, row: &Row) -> [f64; 8] {
     let uv = job.params_to_file(row.uv);
     [row.t_ms, row.p.x, row.p.y, row.p.z, uv[0].x, uv[0].y, uv[1].x, uv[1].y]

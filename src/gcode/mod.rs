@@ -1,2 +1,36 @@
 //! G-code out (G01 chords, G02/G03 arcs, FANUC-style G06.2 NURBS) and in (parsing and
-//! replaying programs against the design path).
+//! replaying programs against the design path) — seed 004's comparison of line, line-and-arc
+//! and NURBS programs.
+//!
+//! Glossary:
+//! - *design path*: the curve the program must follow, by default the crease's ball-centre
+//!   path ([`design::crease_design`]);
+//! - *programmed point*: the point of the tool the coordinates carry (ball centre, or the
+//!   ball tip of a 3-axis ball end mill);
+//! - *resolution*: the machine's least input increment; every written number is rounded to
+//!   it, and programs are checked after that rounding;
+//! - *path blocks*: the blocks describing the cut (G01/G02/G03 moves; for G06.2 one block per
+//!   control point plus `order` closing knot blocks);
+//! - *deviation*: the two-sided distance between a program's cutting moves and the design
+//!   path ([`replay::deviation`]).
+//!
+//! Modules: [`path`] the geometry of moves; [`arcs`] tolerance-driven arc fitting;
+//! [`write`] the three program writers with the rounding check; [`parse`] the reader;
+//! [`replay`] deviation and summary; [`compare`] the comparison table; [`design`] the design
+//! path of a scene. All are pure functions of (curve, tolerance, options), for the command
+//! line and the app alike.
+
+pub mod arcs;
+pub mod compare;
+pub mod design;
+pub mod parse;
+pub mod path;
+pub mod replay;
+pub mod write;
+
+pub use compare::{compare, format_comparison, CompareOptions, CompareRow, Comparison, TableStyle};
+pub use design::{crease_design, DesignError};
+pub use parse::{parse_program, ParseError, ParsedProgram, Unsupported};
+pub use path::{ArcMove, LineMove, Motion, PathBlock, Plane, Segment, Toolpath};
+pub use replay::{deviation, summarize, Deviation, DeviationOptions, ProgramSummary, ReplayError};
+pub use write::{write_program, Program, ProgramError, ProgramKind, ProgramOptions, ProgrammedPoint};

@@ -1,0 +1,235 @@
+//! Seed 004's comparison, for any design curve and tolerance: the G01, G02/G03 and G06.2
+//! programs' size (path blocks, bytes), their worst deviation after rounding, and the
+//! smoothness of the feed they allow; and the real-time interpolation of the G06.2 curve by
+//! each parameter update. One function for the app's table and the command line.
+//!
+//! Feed smoothness of a program, at its junctions between consecutive cutting moves:
+//! - the largest **turn** θ between the end tangent of one move and the start tangent of the
+//!   next: at feed F the velocity jumps by `2F·sin(θ/2)` there, so the control must slow
+//!   down (a polyline turns at every block);
+//! - the largest **curvature jump** Δκ: the centripetal acceleration jumps by `F²·Δκ`
+//!   (infinite jerk) — lines and arcs meet with different curvatures, a C² cubic NURBS is one
+//!   block without junctions.
+//!
+//! and, for the G06.2 curve, the feed fluctuation of real-time interpolation (see
+//! [`crate::nurbs_path::realtime`]).
+
+use glam::DVec3;
+
+use super::path::{PathBlock, Toolpath};
+use super::write::{write_program, Program, ProgramError, ProgramKind, ProgramOptions};
+use crate::geom::Curve3;
+use crate::nurbs_path::realtime::{interpolate_realtime, FeedStats, RealtimeOptions, Update};
+use crate::report::fmt_fixed;
+
+/// Options of [`compare`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct CompareOptions {
+    /// Options of the three programs (resolution, feed, point, …).
+    pub program: ProgramOptions,
+    /// Period of the real-time runs (ms, default 4); the feed is the program's.
+    pub period_ms: f64,
+    /// Chord tolerance of the real-time runs' feed limit (mm); `None` (default) runs at F.
+    pub chord_tol_mm: Option<f64>,
+}
+
+impl Default for CompareOptions {
+    fn default() -> Self {
+        Self { program: ProgramOptions::default(), period_ms: 4.0, chord_tol_mm: None }
+    }
+}
+
+/// Tangent and curvature continuity at the junctions of a program's cutting moves.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Junctions {
+    /// Junctions between consecutive cutting moves.
+    pub count: usize,
+    /// Largest turn of the tangent (deg).
+    pub max_turn_deg: f64,
+    /// Largest jump of the curvature (1/mm).
+    pub max_curvature_jump: f64,
+}
+
+impl Junctions {
+    /// Largest velocity jump at feed F (mm/min): `2F·sin(θ/2)`.
+    #[must_use]
+    pub fn velocity_jump(&self, feed_mm_per_min: f64) -> f64 {
+        2.0 * feed_mm_per_min * (0.5 * self.max_turn_deg.to_radians()).sin()
+    }
+    /// Largest centripetal-acceleration jump at feed F (mm/s²): `(F/60)²·Δκ`.
+    #[must_use]
+    pub fn acceleration_jump(&self, feed_mm_per_min: f64) -> f64 {
+        (feed_mm_per_min / 60.0).powi(2) * self.max_curvature_jump
+    }
+}
+
+fn end_state(b: &PathBlock, at_end: bool) -> (DVec3, f64) {
+    let c = b.segment.curve();
+    let (lo, hi) = c.range();
+    let [_, d1, _] = c.derivatives_at(if at_end { hi } else { lo });
+    (d1.normalize_or_zero(), c.curvature_at(if at_end { hi } else { lo }))
+}
+
+/// Measures the junctions of a toolpath's cutting moves.
+#[must_use]
+pub fn junctions(path: &Toolpath) -> Junctions {
+    let cuts: Vec<&PathBlock> = path.cuts().collect();
+    let mut j = Junctions::default();
+    for w in cuts.windows(2) {
+        let (t0, k0) = end_state(w[0], true);
+        let (t1, k1) = end_state(w[1], false);
+        let turn = t0.dot(t1).clamp(-1.0, 1.0).acos().to_degrees();
+        j.count += 1;
+        j.max_turn_deg = j.max_turn_deg.max(turn);
+        j.max_curvature_jump = j.max_curvature_jump.max((k1 - k0).abs());
+    }
+    j
+}
+
+/// One row of the comparison.
+#[derive(Clone, Debug)]
+pub struct CompareRow {
+    /// The kind.
+    pub kind: ProgramKind,
+    /// Blocks describing the path.
+    pub path_blocks: usize,
+    /// Blocks of the whole program (with header, approach and end).
+    pub total_blocks: usize,
+    /// Bytes of the program.
+    pub bytes: usize,
+    /// Worst two-sided deviation after rounding (mm).
+    pub deviation_mm: f64,
+    /// Junction continuity.
+    pub junctions: Junctions,
+    /// The program.
+    pub program: Program,
+}
+
+/// A comparison at one tolerance.
+#[derive(Clone, Debug)]
+pub struct Comparison {
+    /// Tolerance (mm).
+    pub tol_mm: f64,
+    /// Feed (mm/min).
+    pub feed_mm_per_min: f64,
+    /// One row per program kind.
+    pub rows: Vec<CompareRow>,
+    /// Real-time interpolation of the (rounded) G06.2 curve, one per update.
+    pub realtime: Vec<FeedStats>,
+}
+
+/// Writes the three programs for `design` at `tol_mm`, checks them, and runs the G06.2 curve
+/// with each real-time update.
+///
+/// # Errors
+/// The first program that cannot be written ([`ProgramError`]).
+pub fn compare(design: &dyn Curve3, tol_mm: f64, opts: &CompareOptions) -> Result<Comparison, ProgramError> {
+    let mut rows = Vec::new();
+    let mut realtime = Vec::new();
+    for kind in ProgramKind::ALL {
+        let program = write_program(kind, design, tol_mm, &opts.program)?;
+        let junctions = junctions(&program.parsed.toolpath);
+        if kind == ProgramKind::Nurbs {
+            for b in program.parsed.toolpath.cuts() {
+                if let super::path::Segment::Nurbs(c) = &b.segment {
+                    for update in Update::ALL {
+                        let ro = RealtimeOptions::default()
+                            .with_feed(opts.program.feed_mm_per_min, opts.period_ms)
+                            .with_update(update)
+                            .with_chord_tol(opts.chord_tol_mm)
+                            .with_samples(false);
+                        if let Ok(run) = interpolate_realtime(c, &ro) {
+                            realtime.push(run.stats);
+                        }
+                    }
+                }
+            }
+        }
+        rows.push(CompareRow {
+            kind,
+            path_blocks: program.path_blocks,
+            total_blocks: program.parsed.blocks,
+            bytes: program.bytes(),
+            deviation_mm: program.deviation.max_mm(),
+            junctions,
+            program,
+        });
+    }
+    Ok(Comparison { tol_mm, feed_mm_per_min: opts.program.feed_mm_per_min, rows, realtime })
+}
+
+/// Output style of [`format_comparison`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TableStyle {
+    /// A Markdown table (docs).
+    Markdown,
+    /// Comma-separated values with a header line.
+    Csv,
+}
+
+/// The comparison as text: the programs table, then the real-time table.
+#[must_use]
+pub fn format_comparison(c: &Comparison, style: TableStyle) -> String {
+    let lines_blocks = c.rows.iter().find(|r| r.kind == ProgramKind::Lines).map(|r| r.path_blocks);
+    let mut head: Vec<String> = ["program", "path blocks", "vs G01", "bytes", "max deviation mm", "junctions", "max turn deg", "velocity jump mm/min", "max curvature jump 1/mm", "accel jump mm/s2"].iter().map(|s| (*s).to_owned()).collect();
+    let mut rows: Vec<Vec<String>> = Vec::new();
+    for r in &c.rows {
+        let vs = match lines_blocks {
+            Some(l) if l > 0 => format!("{:+.0}%", 100.0 * (r.path_blocks as f64 - l as f64) / l as f64),
+            _ => String::new(),
+        };
+        rows.push(vec![
+            r.kind.label().to_owned(),
+            r.path_blocks.to_string(),
+            vs,
+            r.bytes.to_string(),
+            fmt_fixed(r.deviation_mm, 6),
+            r.junctions.count.to_string(),
+            fmt_fixed(r.junctions.max_turn_deg, 3),
+            fmt_fixed(r.junctions.velocity_jump(c.feed_mm_per_min), 1),
+            fmt_fixed(r.junctions.max_curvature_jump, 4),
+            fmt_fixed(r.junctions.acceleration_jump(c.feed_mm_per_min), 2),
+        ]);
+    }
+    let mut out = table(&head, &rows, style);
+    out.push('\n');
+    head = ["G06.2 update", "periods", "max feed fluctuation", "RMS feed fluctuation", "max chord error mm", "feed-limited periods"].iter().map(|s| (*s).to_owned()).collect();
+    let rt: Vec<Vec<String>> = c
+        .realtime
+        .iter()
+        .map(|s| {
+            vec![
+                s.update.as_str().to_owned(),
+                s.periods.to_string(),
+                format!("{:.2e}", s.max_fluctuation),
+                format!("{:.2e}", s.rms_fluctuation),
+                format!("{:.2e}", s.max_chord_error_mm),
+                s.limited_periods.to_string(),
+            ]
+        })
+        .collect();
+    out.push_str(&table(&head, &rt, style));
+    out
+}
+
+fn table(head: &[String], rows: &[Vec<String>], style: TableStyle) -> String {
+    let mut out = String::new();
+    match style {
+        TableStyle::Csv => {
+            out.push_str(&head.iter().map(|h| h.replace(' ', "_")).collect::<Vec<_>>().join(","));
+            out.push('\n');
+            for r in rows {
+                out.push_str(&r.join(","));
+                out.push('\n');
+            }
+        }
+        TableStyle::Markdown => {
+            out.push_str(&format!("| {} |\n", head.join(" | ")));
+            out.push_str(&format!("|{}\n", head.iter().map(|_| "---|").collect::<String>()));
+            for r in rows {
+                out.push_str(&format!("| {} |\n", r.join(" | ")));
+            }
+        }
+    }
+    out
+}

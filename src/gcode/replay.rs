@@ -1,0 +1,363 @@
+//! Replaying a program against the design path: how far the cutting moves stray from the
+//! design curve and how far the design curve is from the cutting moves.
+//!
+//! The deviation is two-sided (Hausdorff-style), so a program that leaves the path and one
+//! that stops short or skips a part are both caught:
+//!
+//! - program → design: every cutting move is sampled (per line, per arc, per NURBS knot
+//!   span), the distance of each sample to the design curve found by a coarse nearest sample
+//!   and Newton's foot point, and the worst sample of every piece refined by golden section;
+//! - design → program: the design curve is sampled densely, each sample's distance to the
+//!   program found the same way on the moves next to the nearest program sample, and every
+//!   local maximum refined by golden section.
+//!
+//! Rapid moves (G00) are positioning, not part of the cut, and are left out.
+
+#![expect(clippy::neg_cmp_op_on_partial_ord, reason = "`!(x > 0.0)` is deliberately true for NaN: bad input is rejected, never passed on")]
+
+use glam::DVec3;
+use thiserror::Error;
+
+use super::path::{sample_params, Motion, PathBlock, Segment, Toolpath};
+use crate::geom::Curve3;
+use crate::nurbs_path::measure::{max_on_interval, nearest_on_curve, ArcLengthTable};
+
+/// Options of [`deviation`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DeviationOptions {
+    /// Samples per program piece (line, arc, NURBS knot span) before refinement (default 16).
+    pub samples_per_piece: usize,
+    /// Golden-section refinements of each worst sample (default 16: the peak to 1e-3 of the
+    /// sample spacing, its value far below the output resolution).
+    pub refine: usize,
+    /// Spacing of the design-curve samples (mm, default 0.2).
+    pub design_spacing_mm: f64,
+}
+
+impl Default for DeviationOptions {
+    fn default() -> Self {
+        Self { samples_per_piece: 16, refine: 16, design_spacing_mm: 0.2 }
+    }
+}
+
+/// Why a program could not be compared.
+#[derive(Clone, Debug, Error, PartialEq)]
+pub enum ReplayError {
+    /// No cutting moves.
+    #[error("the program has no cutting moves (G01, G02, G03 or G06.2) to compare with the design path")]
+    NoCuts,
+    /// Empty design curve.
+    #[error("the design curve has no length")]
+    EmptyDesign,
+}
+
+/// The two-sided deviation of a program from a design curve.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Deviation {
+    /// Largest distance from a point of the cutting moves to the design curve (mm).
+    pub program_to_design_mm: f64,
+    /// Where it occurs on the program (mm).
+    pub program_point: DVec3,
+    /// The program line of that move.
+    pub program_line: usize,
+    /// Largest distance from a point of the design curve to the cutting moves (mm).
+    pub design_to_program_mm: f64,
+    /// Where it occurs on the design curve (mm).
+    pub design_point: DVec3,
+    /// Arc length along the design curve of that point (mm).
+    pub design_s_mm: f64,
+    /// Distance between the first cutting point and the design start (mm).
+    pub start_gap_mm: f64,
+    /// Distance between the last cutting point and the design end (mm).
+    pub end_gap_mm: f64,
+    /// Length of the design curve (mm).
+    pub design_length_mm: f64,
+}
+
+impl Deviation {
+    /// The larger of the two directions (mm).
+    #[must_use]
+    pub fn max_mm(&self) -> f64 {
+        self.program_to_design_mm.max(self.design_to_program_mm)
+    }
+}
+
+/// Samples of a curve with their parameters, for nearest-sample searches.
+struct Cloud {
+    pts: Vec<DVec3>,
+    /// (owner block, parameter, window low, window high): the window spans the neighbouring
+    /// samples of the same owner, where the foot point of a near point must lie.
+    at: Vec<(usize, f64, f64, f64)>,
+    /// Largest distance between consecutive samples (mm).
+    spacing: f64,
+    grid: Grid,
+}
+
+/// Points bucketed in cubic cells: a sorted list of (cell, point index), searched ring by
+/// ring around the query's cell. Deterministic (no hashing).
+struct Grid {
+    cell: f64,
+    keys: Vec<([i64; 3], usize)>,
+}
+
+impl Grid {
+    fn key(&self, p: DVec3) -> [i64; 3] {
+        let c = (p / self.cell).floor();
+        [c.x as i64, c.y as i64, c.z as i64]
+    }
+
+    fn new(pts: &[DVec3], cell: f64) -> Self {
+        let mut g = Self { cell, keys: Vec::with_capacity(pts.len()) };
+        for (i, p) in pts.iter().enumerate() {
+            let k = g.key(*p);
+            g.keys.push((k, i));
+        }
+        g.keys.sort_unstable();
+        g
+    }
+
+    /// Indices of the points in one cell.
+    fn cell_items(&self, k: [i64; 3]) -> &[([i64; 3], usize)] {
+        let lo = self.keys.partition_point(|e| e.0 < k);
+        let hi = lo + self.keys[lo..].partition_point(|e| e.0 == k);
+        &self.keys[lo..hi]
+    }
+}
+
+impl Cloud {
+    fn from_samples(samples: Vec<(usize, f64, DVec3)>) -> Self {
+        let n = samples.len();
+        let mut pts = Vec::with_capacity(n);
+        let mut at = Vec::with_capacity(n);
+        let mut spacing = 0.0_f64;
+        for i in 0..n {
+            let (b, t, p) = samples[i];
+            let lo = if i > 0 && samples[i - 1].0 == b { samples[i - 1].1 } else { t };
+            let hi = if i + 1 < n && samples[i + 1].0 == b { samples[i + 1].1 } else { t };
+            if i > 0 {
+                spacing = spacing.max((p - samples[i - 1].2).length());
+            }
+            pts.push(p);
+            at.push((b, t, lo, hi));
+        }
+        let cell = (2.0 * spacing).max(1e-3);
+        let grid = Grid::new(&pts, cell);
+        Self { pts, at, spacing, grid }
+    }
+
+    /// The nearest sample, and the nearest one more than `sep` samples away from it (another
+    /// branch of the curve, e.g. the other end of a closed loop) among those within one
+    /// sample spacing of the nearest distance.
+    fn nearest_two(&self, x: DVec3, sep: usize) -> (usize, Option<usize>) {
+        const MAX_RINGS: i64 = 6;
+        let c = self.grid.key(x);
+        let mut cands: Vec<(f64, usize)> = Vec::new();
+        let mut best = f64::INFINITY;
+        let mut r = 0i64;
+        loop {
+            for dx in -r..=r {
+                for dy in -r..=r {
+                    for dz in -r..=r {
+                        if dx.abs().max(dy.abs()).max(dz.abs()) != r {
+                            continue;
+                        }
+                        for &(_, i) in self.grid.cell_items([c[0] + dx, c[1] + dy, c[2] + dz]) {
+                            let d = (self.pts[i] - x).length();
+                            best = best.min(d);
+                            cands.push((d, i));
+                        }
+                    }
+                }
+            }
+            // Unscanned cells are at least r·cell away.
+            if best.is_finite() && (r as f64) * self.grid.cell > best + self.spacing {
+                break;
+            }
+            r += 1;
+            if r > MAX_RINGS {
+                // Far from the cloud: scan everything.
+                cands = self.pts.iter().enumerate().map(|(i, p)| ((*p - x).length(), i)).collect();
+                break;
+            }
+        }
+        let first = cands.iter().copied().min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1))).map_or(0, |c| c.1);
+        let second = cands
+            .iter()
+            .copied()
+            .filter(|c| c.1.abs_diff(first) > sep)
+            .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
+            .map(|c| c.1);
+        (first, second)
+    }
+}
+
+/// Samples of one curve (owner 0) at `n + 1` parameters equally spaced in arc length.
+fn design_cloud(design: &dyn Curve3, table: &ArcLengthTable, n: usize) -> Cloud {
+    let (ta, tb) = design.range();
+    let length = table.length();
+    let samples = (0..=n)
+        .map(|i| {
+            let t = if i == 0 {
+                ta
+            } else if i == n {
+                tb
+            } else {
+                table.t_at(design, length * i as f64 / n as f64)
+            };
+            (0, t, design.point_at(t))
+        })
+        .collect();
+    Cloud::from_samples(samples)
+}
+
+/// Distance from x to a curve sampled by `cloud`: foot points by Newton inside the windows
+/// of the nearest sample and its two neighbours (which may belong to the next or previous
+/// move, so junctions are covered), and of the nearest sample of another branch; the
+/// smallest counts.
+fn distance_via<'c>(cloud: &Cloud, curve_of: &dyn Fn(usize) -> &'c dyn Curve3, x: DVec3) -> f64 {
+    let (i, j) = cloud.nearest_two(x, 3);
+    let mut best = f64::INFINITY;
+    for k in std::iter::once(i).chain(j) {
+        for m in k.saturating_sub(1)..=(k + 1).min(cloud.at.len() - 1) {
+            let (b, t, lo, hi) = cloud.at[m];
+            best = best.min(nearest_on_curve(curve_of(b), x, t, lo, hi).dist);
+        }
+    }
+    best
+}
+
+/// Measures the two-sided deviation of the cutting moves of `path` from `design`.
+///
+/// # Errors
+/// [`ReplayError`] if the program has no cutting moves or the design curve no length.
+pub fn deviation(path: &Toolpath, design: &dyn Curve3, opts: &DeviationOptions) -> Result<Deviation, ReplayError> {
+    let cuts: Vec<&PathBlock> = path.cuts().collect();
+    if cuts.is_empty() {
+        return Err(ReplayError::NoCuts);
+    }
+    let (ta, tb) = design.range();
+    let table = ArcLengthTable::new(design, 64);
+    let length = table.length();
+    if !(length > 0.0) {
+        return Err(ReplayError::EmptyDesign);
+    }
+    // Design samples, equally spaced in arc length.
+    let spacing = opts.design_spacing_mm.max(1e-3);
+    let n_d = ((length / spacing).ceil() as usize).max(8);
+    let dcloud = design_cloud(design, &table, n_d);
+    // Program samples, at most `spacing` apart.
+    let mut samples = Vec::new();
+    for (b, blk) in cuts.iter().enumerate() {
+        let c = blk.segment.curve();
+        let params = sample_params(&blk.segment, 1);
+        samples.push((b, params[0], c.point_at(params[0])));
+        for w in params.windows(2) {
+            let len = (c.point_at(w[1]) - c.point_at(w[0])).length() + (c.point_at(0.5 * (w[0] + w[1])) - c.point_at(w[0])).length();
+            let n = opts.samples_per_piece.max((len / spacing).ceil() as usize).max(1);
+            for k in 1..=n {
+                let t = w[0] + (w[1] - w[0]) * k as f64 / n as f64;
+                samples.push((b, t, c.point_at(t)));
+            }
+        }
+    }
+    let pcloud = Cloud::from_samples(samples);
+    let design_of = |_: usize| -> &dyn Curve3 { design };
+    let cut_of = |b: usize| -> &dyn Curve3 { cuts[b].segment.curve() };
+    // Program → design, per piece.
+    let mut p2d = (0.0_f64, DVec3::ZERO, cuts[0].line);
+    for blk in &cuts {
+        let c = blk.segment.curve();
+        let params = sample_params(&blk.segment, 1);
+        for w in params.windows(2) {
+            let mut f = |t: f64| distance_via(&dcloud, &design_of, c.point_at(t));
+            let (d, t) = max_on_interval(&mut f, w[0], w[1], opts.samples_per_piece, opts.refine);
+            if d > p2d.0 {
+                p2d = (d, c.point_at(t), blk.line);
+            }
+        }
+    }
+    // Design → program, samples then local maxima refined.
+    let dists: Vec<f64> = dcloud.pts.iter().map(|&x| distance_via(&pcloud, &cut_of, x)).collect();
+    let coarse_max = dists.iter().copied().fold(0.0_f64, f64::max);
+    let mut d2p = (0.0_f64, dcloud.pts[0], 0.0_f64);
+    for i in 0..dists.len() {
+        let left = if i > 0 { dists[i - 1] } else { f64::NEG_INFINITY };
+        let right = if i + 1 < dists.len() { dists[i + 1] } else { f64::NEG_INFINITY };
+        if dists[i] > d2p.0 {
+            d2p = (dists[i], dcloud.pts[i], length * i as f64 / n_d as f64);
+        }
+        if dists[i] >= left && dists[i] >= right && dists[i] >= 0.5 * coarse_max {
+            let (_, _, lo, hi) = dcloud.at[i];
+            let mut f = |t: f64| distance_via(&pcloud, &cut_of, design.point_at(t));
+            let (d, t) = max_on_interval(&mut f, lo, hi, 2, opts.refine);
+            if d > d2p.0 {
+                d2p = (d, design.point_at(t), table.s_at(design, t));
+            }
+        }
+    }
+    let first = cuts[0].segment.start();
+    let last = cuts[cuts.len() - 1].segment.end();
+    Ok(Deviation {
+        program_to_design_mm: p2d.0,
+        program_point: p2d.1,
+        program_line: p2d.2,
+        design_to_program_mm: d2p.0,
+        design_point: d2p.1,
+        design_s_mm: d2p.2,
+        start_gap_mm: (first - design.point_at(ta)).length(),
+        end_gap_mm: (last - design.point_at(tb)).length(),
+        design_length_mm: length,
+    })
+}
+
+/// What a program holds, without a design path.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProgramSummary {
+    /// Blocks per motion: G00, G01, G02, G03, G06.2 curves.
+    pub moves: [usize; 5],
+    /// Control points of all G06.2 curves.
+    pub nurbs_control_points: usize,
+    /// Length of the cutting moves (mm).
+    pub cut_length_mm: f64,
+    /// Length of the rapid moves (mm).
+    pub rapid_length_mm: f64,
+    /// Bounding box of the cutting moves (mm).
+    pub bounds: Option<(DVec3, DVec3)>,
+    /// Lowest and highest feed of the cutting moves (mm/min).
+    pub feed_range: Option<(f64, f64)>,
+}
+
+/// Summarises a toolpath.
+#[must_use]
+pub fn summarize(path: &Toolpath) -> ProgramSummary {
+    let mut moves = [0usize; 5];
+    let mut ncp = 0;
+    let mut feed: Option<(f64, f64)> = None;
+    for b in &path.blocks {
+        let i = match b.motion {
+            Motion::Rapid => 0,
+            Motion::Linear => 1,
+            Motion::ArcCw => 2,
+            Motion::ArcCcw => 3,
+            Motion::Nurbs => 4,
+        };
+        moves[i] += 1;
+        if let Segment::Nurbs(c) = &b.segment {
+            ncp += c.len();
+        }
+        if let Some(f) = b.feed_mm_per_min {
+            feed = Some(match feed {
+                None => (f, f),
+                Some((lo, hi)) => (lo.min(f), hi.max(f)),
+            });
+        }
+    }
+    ProgramSummary {
+        moves,
+        nurbs_control_points: ncp,
+        cut_length_mm: path.cut_length(),
+        rapid_length_mm: path.rapid_length(),
+        bounds: path.cut_bounds(),
+        feed_range: feed,
+    }
+}

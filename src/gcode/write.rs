@@ -1,0 +1,582 @@
+//! Writing programs: G01 lines by equal-error chords, G02/G03 arcs by tolerance-driven arc
+//! fitting, and FANUC-style G06.2 NURBS from a tolerance fit — each rounded to the machine
+//! resolution and **checked after rounding** by reading the text back and measuring its
+//! two-sided deviation from the design curve.
+//!
+//! Tolerance budget: rounding moves a point by at most `res·√3/2` (half a resolution step
+//! per axis). A chord's end points, or a B-spline's control points (whose basis functions
+//! are non-negative and sum to 1), move the whole piece by no more than that, so lines and
+//! NURBS are fitted to `E − res·√3/2`; an arc's centre offsets are rounded as well, so arcs
+//! get `E − res·√3`. If the measured deviation after rounding still exceeds E, the fit
+//! tolerance is lowered by 10 % and the program rewritten (a few times at most). The
+//! tolerance must be at least twice the resolution.
+//!
+//! Every program: a header of comments (what it is, the programmed point, tolerance,
+//! resolution and the deviation achieved), `G21 G90 G94 G17`, a rapid to the safe height,
+//! rapids above and down to the start point, the path, a rapid back to the safe height,
+//! `M30`. The path begins exactly at the rapid's end point; all feed moves are the path.
+
+use glam::DVec3;
+use thiserror::Error;
+
+use super::arcs::{fit_arcs, ArcFitError, ArcFitOptions, Piece};
+use super::parse::{parse_program, ParseError, ParsedProgram};
+use super::path::Plane;
+use super::replay::{deviation, Deviation, DeviationOptions, ReplayError};
+use crate::chords::{equal_error_chords, ChordError};
+use crate::geom::{Curve3, NurbsCurve};
+use crate::nurbs_path::measure::Translated;
+use crate::nurbs_path::{approximate_curve, ApproxOptions, FitError};
+use crate::report::fmt_fixed;
+use crate::tolerance;
+
+/// The three program kinds of seed 004's comparison.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ProgramKind {
+    /// G01 straight lines (equal-error chords).
+    Lines,
+    /// G02/G03 arcs and G01 lines.
+    Arcs,
+    /// G06.2 NURBS.
+    Nurbs,
+}
+
+impl ProgramKind {
+    /// All three, in the comparison's order.
+    pub const ALL: [Self; 3] = [Self::Lines, Self::Arcs, Self::Nurbs];
+
+    /// Command-line name: `g01`, `arcs`, `nurbs`.
+    #[must_use]
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Lines => "g01",
+            Self::Arcs => "arcs",
+            Self::Nurbs => "nurbs",
+        }
+    }
+
+    /// Table label: `G01`, `G02/G03`, `G06.2`.
+    #[must_use]
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::Lines => "G01",
+            Self::Arcs => "G02/G03",
+            Self::Nurbs => "G06.2",
+        }
+    }
+}
+
+/// Which point of the tool the program carries.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ProgrammedPoint {
+    /// The ball centre (cutter centre), as `interpolab run` prints it.
+    BallCentre,
+    /// The ball tip of a 3-axis ball end mill: centre − R·ẑ.
+    BallTip {
+        /// Ball radius R (mm).
+        radius_mm: f64,
+    },
+}
+
+impl ProgrammedPoint {
+    /// Translation from the ball centre to the programmed point (mm).
+    #[must_use]
+    pub fn offset(self) -> DVec3 {
+        match self {
+            Self::BallCentre => DVec3::ZERO,
+            Self::BallTip { radius_mm } => DVec3::new(0.0, 0.0, -radius_mm),
+        }
+    }
+
+    /// The header comment naming the point (read back by [`ProgrammedPoint::from_comments`]).
+    #[must_use]
+    pub fn comment(self) -> String {
+        match self {
+            Self::BallCentre => "PROGRAMMED POINT: BALL CENTRE".to_owned(),
+            Self::BallTip { radius_mm } => format!("PROGRAMMED POINT: BALL TIP = BALL CENTRE - Z {}", fmt_fixed(radius_mm, 6)),
+        }
+    }
+
+    /// The programmed point named by a header comment of ours, if any.
+    #[must_use]
+    pub fn from_comments(comments: &[(usize, String)]) -> Option<Self> {
+        for (_, c) in comments {
+            let c = c.trim();
+            let Some(rest) = c.strip_prefix("PROGRAMMED POINT:") else {
+                continue;
+            };
+            if rest.contains("BALL TIP") {
+                let r = rest.rsplit("- Z").next().and_then(|v| v.trim().parse::<f64>().ok())?;
+                return Some(Self::BallTip { radius_mm: r });
+            }
+            if rest.contains("BALL CENTRE") {
+                return Some(Self::BallCentre);
+            }
+        }
+        None
+    }
+}
+
+/// Options of [`write_program`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProgramOptions {
+    /// Machine resolution (mm, default [`tolerance::GCODE_RESOLUTION_MM`]); a power of ten
+    /// from 1e-6 to 0.1. Coordinates, offsets and knots are rounded to it.
+    pub resolution_mm: f64,
+    /// Feed F (mm/min, default 1500).
+    pub feed_mm_per_min: f64,
+    /// Height of the safe plane above the highest point of the path (mm, default 5).
+    pub clearance_mm: f64,
+    /// Absolute safe height (mm); overrides the clearance when given.
+    pub safe_z_mm: Option<f64>,
+    /// Programmed point (default the ball centre).
+    pub point: ProgrammedPoint,
+    /// Title written into the header (default empty).
+    pub title: String,
+    /// Degree of G06.2 curves, 1 to 3 (default 3: order P4).
+    pub degree: usize,
+    /// Number the blocks N10, N20, … (default false).
+    pub line_numbers: bool,
+    /// Arc fitting options.
+    pub arcs: ArcFitOptions,
+    /// NURBS approximation options (the knot quantum is set to the resolution).
+    pub approx: ApproxOptions,
+    /// How the written program is checked.
+    pub check: DeviationOptions,
+    /// Most writes with a lowered fit tolerance before giving up (default 4).
+    pub attempts: usize,
+}
+
+impl Default for ProgramOptions {
+    fn default() -> Self {
+        Self {
+            resolution_mm: tolerance::GCODE_RESOLUTION_MM,
+            feed_mm_per_min: 1500.0,
+            clearance_mm: 5.0,
+            safe_z_mm: None,
+            point: ProgrammedPoint::BallCentre,
+            title: String::new(),
+            degree: 3,
+            line_numbers: false,
+            arcs: ArcFitOptions::default(),
+            approx: ApproxOptions::default(),
+            check: DeviationOptions::default(),
+            attempts: 4,
+        }
+    }
+}
+
+impl ProgramOptions {
+    /// Sets the resolution (mm).
+    #[must_use]
+    pub fn with_resolution(mut self, mm: f64) -> Self {
+        self.resolution_mm = mm;
+        self
+    }
+    /// Sets the feed (mm/min).
+    #[must_use]
+    pub fn with_feed(mut self, mm_per_min: f64) -> Self {
+        self.feed_mm_per_min = mm_per_min;
+        self
+    }
+    /// Sets the programmed point.
+    #[must_use]
+    pub fn with_point(mut self, point: ProgrammedPoint) -> Self {
+        self.point = point;
+        self
+    }
+    /// Sets the title.
+    #[must_use]
+    pub fn with_title(mut self, title: &str) -> Self {
+        self.title = title.to_owned();
+        self
+    }
+    /// Sets the G06.2 degree.
+    #[must_use]
+    pub fn with_degree(mut self, degree: usize) -> Self {
+        self.degree = degree;
+        self
+    }
+    /// Sets an absolute safe height (mm).
+    #[must_use]
+    pub fn with_safe_z(mut self, z: Option<f64>) -> Self {
+        self.safe_z_mm = z;
+        self
+    }
+    /// Sets block numbering.
+    #[must_use]
+    pub fn with_line_numbers(mut self, on: bool) -> Self {
+        self.line_numbers = on;
+        self
+    }
+}
+
+/// Why a program could not be written. Every message says what to change.
+#[derive(Clone, Debug, Error, PartialEq)]
+pub enum ProgramError {
+    /// Tolerance not positive.
+    #[error("the tolerance must be a positive length in mm, got {0}; give e.g. --tolerance 0.01")]
+    BadTolerance(f64),
+    /// Resolution not a power of ten.
+    #[error("the resolution must be a power of ten from 0.000001 to 0.1 mm, got {0}; give e.g. --resolution 0.001")]
+    BadResolution(f64),
+    /// Tolerance too small for the resolution.
+    #[error("the tolerance {tol_mm} mm is below twice the resolution {resolution_mm} mm: rounding alone moves points by up to {:.6} mm; raise --tolerance to at least {} or use a finer --resolution", resolution_mm * 3f64.sqrt() / 2.0, 2.0 * resolution_mm)]
+    BelowResolution {
+        /// Tolerance.
+        tol_mm: f64,
+        /// Resolution.
+        resolution_mm: f64,
+    },
+    /// Feed not positive.
+    #[error("the feed must be positive, got {0} mm/min")]
+    BadFeed(f64),
+    /// G06.2 degree out of range.
+    #[error("G06.2 takes order P2 to P4 (degree 1 to 3), not degree {0}; use --degree 3")]
+    Degree(usize),
+    /// Chords failed.
+    #[error("G01 chords: {0}")]
+    Chords(ChordError),
+    /// Arcs failed.
+    #[error("G02/G03 arcs: {0}")]
+    Arcs(ArcFitError),
+    /// NURBS fit failed.
+    #[error("G06.2 fit: {0}")]
+    Fit(FitError),
+    /// The program could not be read back (a bug).
+    #[error("the written program does not read back ({0}); please report this")]
+    ReadBack(ParseError),
+    /// The deviation could not be measured.
+    #[error("checking the program: {0}")]
+    Check(ReplayError),
+    /// The tolerance was not met after rounding.
+    #[error("the {kind} program deviates {achieved_mm:.6} mm after rounding, more than the tolerance {tol_mm} mm, after {attempts} attempts; raise --tolerance or use a finer --resolution")]
+    NotMet {
+        /// Kind label.
+        kind: &'static str,
+        /// Tolerance.
+        tol_mm: f64,
+        /// Best deviation achieved.
+        achieved_mm: f64,
+        /// Attempts made.
+        attempts: usize,
+    },
+}
+
+/// A written and checked program.
+#[derive(Clone, Debug)]
+pub struct Program {
+    /// Kind.
+    pub kind: ProgramKind,
+    /// The program text.
+    pub text: String,
+    /// The text read back.
+    pub parsed: ParsedProgram,
+    /// Two-sided deviation of the rounded program from the design curve (mm).
+    pub deviation: Deviation,
+    /// The tolerance asked for (mm).
+    pub tol_mm: f64,
+    /// The tolerance the geometry was fitted to before rounding (mm).
+    pub fit_tol_mm: f64,
+    /// Blocks describing the path (G01/G02/G03 moves; G06.2: control points + closing knots).
+    pub path_blocks: usize,
+    /// The fitted NURBS before rounding (G06.2 only).
+    pub nurbs: Option<NurbsCurve>,
+    /// Writes made (1 when the first met the tolerance).
+    pub attempts: usize,
+}
+
+impl Program {
+    /// Size of the text in bytes.
+    #[must_use]
+    pub fn bytes(&self) -> usize {
+        self.text.len()
+    }
+}
+
+/// Decimal places of a power-of-ten resolution.
+fn decimals(res: f64) -> Option<usize> {
+    if !(res.is_finite() && res > 0.0) {
+        return None;
+    }
+    let d = -res.log10();
+    let di = d.round();
+    if !(0.0..=6.0).contains(&di) || (10f64.powf(-di) - res).abs() > 1e-9 * res || di < 1.0 {
+        return None;
+    }
+    Some(di as usize)
+}
+
+/// Text lines with optional block numbers, numbers at a fixed resolution, and modal axis
+/// words (an axis is written only when its rounded value changes).
+struct Emitter {
+    d: usize,
+    numbered: bool,
+    n: u32,
+    text: String,
+    /// Last written axis values as text.
+    axes: [String; 3],
+}
+
+impl Emitter {
+    fn num(&self, x: f64) -> String {
+        fmt_fixed(x, self.d)
+    }
+    /// The f64 a reader gets back from the written text of x.
+    fn q(&self, x: f64) -> f64 {
+        self.num(x).parse().unwrap_or(x)
+    }
+    fn qv(&self, p: DVec3) -> DVec3 {
+        DVec3::new(self.q(p.x), self.q(p.y), self.q(p.z))
+    }
+    fn comment(&mut self, c: &str) {
+        let clean: String = c.chars().map(|ch| if ch.is_ascii_graphic() || ch == ' ' { if matches!(ch, '(' | ')' | ';') { '_' } else { ch } } else { '_' }).collect();
+        self.text.push('(');
+        self.text.push_str(&clean.to_ascii_uppercase());
+        self.text.push_str(")\n");
+    }
+    fn raw(&mut self, s: &str) {
+        self.text.push_str(s);
+        self.text.push('\n');
+    }
+    fn block(&mut self, s: &str) {
+        if self.numbered {
+            self.n += 10;
+            self.text.push_str(&format!("N{} ", self.n));
+        }
+        self.raw(s);
+    }
+    /// Axis words for p: only changed axes unless `all`.
+    fn axis_words(&mut self, p: DVec3, all: bool) -> String {
+        let mut w = Vec::new();
+        for (i, l) in ["X", "Y", "Z"].iter().enumerate() {
+            let v = self.num(p[i]);
+            if all || v != self.axes[i] {
+                w.push(format!("{l}{v}"));
+            }
+            self.axes[i] = v;
+        }
+        w.join(" ")
+    }
+}
+
+/// The body of a program (path blocks), with the first point of the path.
+struct Body {
+    start: DVec3,
+    text: Emitter,
+    path_blocks: usize,
+    top_z: f64,
+}
+
+fn sample_top(design: &dyn Curve3) -> f64 {
+    let (a, b) = design.range();
+    (0..=256).map(|i| design.point_at(a + (b - a) * i as f64 / 256.0).z).fold(f64::NEG_INFINITY, f64::max)
+}
+
+/// Writes a program of `kind` for `design` (ball-centre path) within `tol_mm`.
+///
+/// # Errors
+/// [`ProgramError`]: bad tolerance, resolution, feed or degree; a failed fit; or the
+/// tolerance not met after rounding.
+pub fn write_program(kind: ProgramKind, design: &dyn Curve3, tol_mm: f64, opts: &ProgramOptions) -> Result<Program, ProgramError> {
+    if !(tol_mm.is_finite() && tol_mm > 0.0) {
+        return Err(ProgramError::BadTolerance(tol_mm));
+    }
+    let res = opts.resolution_mm;
+    let d = decimals(res).ok_or(ProgramError::BadResolution(res))?;
+    if tol_mm < 2.0 * res * (1.0 - 1e-9) {
+        return Err(ProgramError::BelowResolution { tol_mm, resolution_mm: res });
+    }
+    if !(opts.feed_mm_per_min.is_finite() && opts.feed_mm_per_min > 0.0) {
+        return Err(ProgramError::BadFeed(opts.feed_mm_per_min));
+    }
+    if kind == ProgramKind::Nurbs && !(1..=3).contains(&opts.degree) {
+        return Err(ProgramError::Degree(opts.degree));
+    }
+    let moved = Translated { inner: design, offset: opts.point.offset() };
+    let design: &dyn Curve3 = &moved;
+    let allowance = match kind {
+        ProgramKind::Arcs => res * 3f64.sqrt(),
+        _ => res * 3f64.sqrt() / 2.0,
+    };
+    let mut fit_tol = tol_mm - allowance;
+    let mut best: Option<f64> = None;
+    for attempt in 1..=opts.attempts.max(1) {
+        let (body, nurbs) = match kind {
+            ProgramKind::Lines => (lines_body(design, fit_tol, d, opts)?, None),
+            ProgramKind::Arcs => (arcs_body(design, fit_tol, d, opts)?, None),
+            ProgramKind::Nurbs => {
+                let (b, c) = nurbs_body(design, fit_tol, d, opts)?;
+                (b, Some(c))
+            }
+        };
+        let text_without = assemble(kind, &body, tol_mm, fit_tol, None, d, opts);
+        let parsed = parse_program(&text_without).map_err(ProgramError::ReadBack)?;
+        let dev = deviation(&parsed.toolpath, design, &opts.check).map_err(ProgramError::Check)?;
+        if dev.max_mm() <= tol_mm {
+            let text = assemble(kind, &body, tol_mm, fit_tol, Some(&dev), d, opts);
+            let parsed = parse_program(&text).map_err(ProgramError::ReadBack)?;
+            return Ok(Program { kind, text, parsed, deviation: dev, tol_mm, fit_tol_mm: fit_tol, path_blocks: body.path_blocks, nurbs, attempts: attempt });
+        }
+        best = Some(best.map_or(dev.max_mm(), |b: f64| b.min(dev.max_mm())));
+        fit_tol *= 0.9;
+    }
+    Err(ProgramError::NotMet { kind: kind.label(), tol_mm, achieved_mm: best.unwrap_or(f64::NAN), attempts: opts.attempts.max(1) })
+}
+
+fn new_emitter(d: usize, opts: &ProgramOptions) -> Emitter {
+    Emitter { d, numbered: opts.line_numbers, n: 0, text: String::new(), axes: Default::default() }
+}
+
+fn assemble(kind: ProgramKind, body: &Body, tol_mm: f64, fit_tol: f64, dev: Option<&Deviation>, d: usize, opts: &ProgramOptions) -> String {
+    let mut e = new_emitter(d, opts);
+    e.raw("%");
+    if !opts.title.is_empty() {
+        e.comment(&opts.title);
+    }
+    e.comment(&format!(
+        "INTERPOLAB {} PROGRAM: {}",
+        kind.label(),
+        match kind {
+            ProgramKind::Lines => "EQUAL-ERROR CHORDS",
+            ProgramKind::Arcs => "TOLERANCE-FITTED ARCS AND LINES",
+            ProgramKind::Nurbs => "FANUC-STYLE NURBS, KNOTS IN MM OF ARC LENGTH",
+        }
+    ));
+    e.comment(&opts.point.comment());
+    e.comment(&format!("TOLERANCE {} MM, RESOLUTION {} MM, FIT TOLERANCE {} MM", fmt_fixed(tol_mm, 6), fmt_fixed(opts.resolution_mm, 6), fmt_fixed(fit_tol, 6)));
+    if let Some(dev) = dev {
+        e.comment(&format!("MAX DEVIATION AFTER ROUNDING {} MM, PATH BLOCKS {}", fmt_fixed(dev.max_mm(), 6), body.path_blocks));
+    }
+    e.block("G21 G90 G94 G17");
+    let safe = opts.safe_z_mm.unwrap_or(body.top_z + opts.clearance_mm);
+    let start = body.start;
+    e.block(&format!("G00 Z{}", e.num(safe)));
+    e.block(&format!("G00 X{} Y{}", e.num(start.x), e.num(start.y)));
+    e.block(&format!("G00 Z{}", e.num(start.z)));
+    if e.numbered {
+        for l in body.text.text.lines() {
+            e.block(l);
+        }
+    } else {
+        e.text.push_str(&body.text.text);
+    }
+    e.block(&format!("G00 Z{}", e.num(safe)));
+    e.block("M30");
+    e.raw("%");
+    e.text
+}
+
+fn lines_body(design: &dyn Curve3, fit_tol: f64, d: usize, opts: &ProgramOptions) -> Result<Body, ProgramError> {
+    let nodes = equal_error_chords(design, fit_tol).map_err(ProgramError::Chords)?;
+    let mut e = new_emitter(d, opts);
+    e.numbered = false;
+    let pts: Vec<DVec3> = nodes.iter().map(|&t| design.point_at(t)).collect();
+    let start = pts[0];
+    e.axis_words(start, true);
+    let mut blocks = 0;
+    let mut first = true;
+    for p in &pts[1..] {
+        let words = e.axis_words(*p, false);
+        if words.is_empty() {
+            continue;
+        }
+        let f = if first { format!(" F{}", e.num(opts.feed_mm_per_min)) } else { String::new() };
+        first = false;
+        e.block(&format!("G01 {words}{f}"));
+        blocks += 1;
+    }
+    let top = pts.iter().map(|p| p.z).fold(sample_top(design), f64::max);
+    Ok(Body { start, text: e, path_blocks: blocks, top_z: top })
+}
+
+fn arcs_body(design: &dyn Curve3, fit_tol: f64, d: usize, opts: &ProgramOptions) -> Result<Body, ProgramError> {
+    let pieces = fit_arcs(design, fit_tol, &opts.arcs).map_err(ProgramError::Arcs)?;
+    let mut e = new_emitter(d, opts);
+    e.numbered = false;
+    let (ta, _) = design.range();
+    let start = design.point_at(ta);
+    e.axis_words(start, true);
+    let mut pos = e.qv(start);
+    let mut plane = Plane::Xy;
+    let mut blocks = 0;
+    let mut first = true;
+    for fp in &pieces {
+        let end = e.qv(fp.piece.end());
+        if end == pos {
+            continue;
+        }
+        let f = if first { format!(" F{}", e.num(opts.feed_mm_per_min)) } else { String::new() };
+        match &fp.piece {
+            Piece::Line(_) => {
+                let words = e.axis_words(end, false);
+                e.block(&format!("G01 {words}{f}"));
+            }
+            Piece::Arc(arc) => {
+                // Centre moved onto the bisector of the rounded chord, then rounded.
+                let (sa, sb, _) = arc.plane.split(pos);
+                let (ea, eb, _) = arc.plane.split(end);
+                let (ca, cb, _) = arc.plane.split(arc.center);
+                let (ma, mb) = (0.5 * (sa + ea), 0.5 * (sb + eb));
+                let (va, vb) = (eb - sb, -(ea - sa));
+                let l = va.hypot(vb);
+                let (ca, cb) = if l > 0.0 {
+                    let k = ((ca - ma) * va + (cb - mb) * vb) / (l * l);
+                    (ma + k * va, mb + k * vb)
+                } else {
+                    (ca, cb)
+                };
+                let (ia, ib, _) = arc.plane.axes();
+                let letters = ['I', 'J', 'K'];
+                let plane_word = if arc.plane != plane {
+                    plane = arc.plane;
+                    format!("{} ", arc.plane.gcode())
+                } else {
+                    String::new()
+                };
+                let words = e.axis_words(end, false);
+                let code = if arc.ccw { "G03" } else { "G02" };
+                let off_a = e.num(ca - sa);
+                let off_b = e.num(cb - sb);
+                // Offsets in X, Y, Z order.
+                let mut offs = [(ia, letters[ia], off_a), (ib, letters[ib], off_b)];
+                offs.sort_by_key(|o| o.0);
+                e.block(&format!("{plane_word}{code} {words} {}{} {}{}{f}", offs[0].1, offs[0].2, offs[1].1, offs[1].2));
+            }
+        }
+        first = false;
+        blocks += 1;
+        pos = end;
+    }
+    Ok(Body { start, text: e, path_blocks: blocks, top_z: sample_top(design) })
+}
+
+fn nurbs_body(design: &dyn Curve3, fit_tol: f64, d: usize, opts: &ProgramOptions) -> Result<(Body, NurbsCurve), ProgramError> {
+    let res = opts.resolution_mm;
+    let approx = opts.approx.with_degree(opts.degree).with_knot_quantum(Some(res));
+    let fit = approximate_curve(design, fit_tol, &approx).map_err(ProgramError::Fit)?;
+    let c = fit.curve;
+    let mut e = new_emitter(d, opts);
+    e.numbered = false;
+    let order = c.degree() + 1;
+    let knots = c.knots();
+    let n = c.len();
+    for (i, &knot) in knots.iter().enumerate().take(n) {
+        let p = c.control_point(i);
+        let words = e.axis_words(p, true);
+        let k = e.num(knot);
+        let w = e.num(c.weight(i));
+        if i == 0 {
+            e.block(&format!("G06.2 P{order} K{k} {words} R{w} F{}", e.num(opts.feed_mm_per_min)));
+        } else {
+            e.block(&format!("K{k} {words} R{w}"));
+        }
+    }
+    for &k in &knots[n..] {
+        let k = e.num(k);
+        e.block(&format!("K{k}"));
+    }
+    let top = (0..n).map(|i| c.control_point(i).z).fold(sample_top(design), f64::max);
+    let start = c.control_point(0);
+    Ok((Body { start, text: e, path_blocks: n + order, top_z: top }, c))
+}
