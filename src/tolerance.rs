@@ -95,6 +95,14 @@ pub const ARC_RADIUS_MISMATCH_REL: f64 = 1e-3;
 /// would be too large to round to the resolution meaningfully.
 pub const ARC_MIN_BULGE: f64 = 1e-6;
 
+/// Rotary angles this far outside a travel limit (rad, ~2e-7°) still count as within it and
+/// are clamped onto it: absorbs the rounding of an angle computed exactly at a limit.
+pub const ANGLE_LIMIT_SLACK_RAD: f64 = 1e-9;
+
+/// A tool axis whose sine to the C axis is below this is *on* the C axis (the kinematic
+/// singularity): C is then free and keeps its previous value.
+pub const SINGULAR_AXIS_SIN: f64 = 1e-12;
+
 /// Checks `|a - b| <= tol` and panics with both values and the difference otherwise.
 /// For tests and debug assertions.
 #[macro_export]

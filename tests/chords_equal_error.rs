@@ -1,6 +1,11 @@
 //! `equal_error_chords` on curves with closed forms (circle, helix, the crease of a floor and
 //! a round wall), on curves with inflections and narrow bulges checked by dense re-sampling,
 //! and on bad input.
+#![allow(
+    clippy::unwrap_used,
+    clippy::float_cmp,
+    reason = "tests: an error should fail the test; exact float equality is what some assert"
+)]
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 

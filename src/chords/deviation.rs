@@ -10,13 +10,16 @@
 //!    sub-chord, i.e. the sub-arc's sagitta), or while the tangent turns by more than
 //!    `max_turn_rad` across it. Between samples the arc then stays within a small fraction of
 //!    the answer of the sampled polyline, so no bulge of that size is missed.
-//! 2. **Refine.** Around every sampled local maximum that could hold the peak, golden-section
-//!    search for the largest distance down to [`DeviationOptions::peak_param_rel`] of the
+//! 2. **Refine.** Around every sampled local maximum that could hold the peak, Brent's
+//!    parabolic/golden-section search for the largest distance down to [`DeviationOptions::peak_param_rel`] of the
 //!    span. The distance is quadratic at a smooth peak, so its value is found to about the
 //!    square of that.
 
+use std::convert::Infallible;
+
 use glam::DVec3;
 
+use super::maximise::brent_max;
 use crate::geom::Curve3;
 use crate::tolerance;
 
@@ -145,43 +148,6 @@ fn cover(
     }
 }
 
-/// Largest of `g` on `[lo, hi]` by golden-section search (g unimodal there), with the best
-/// sample `(s, g)` already known inside.
-fn golden_max(
-    chord: &mut Chord<'_>,
-    mut lo: f64,
-    mut hi: f64,
-    width: f64,
-    mut best: (f64, f64),
-) -> (f64, f64) {
-    let r = (5f64.sqrt() - 1.0) / 2.0;
-    let mut x1 = hi - r * (hi - lo);
-    let mut x2 = lo + r * (hi - lo);
-    let mut g1 = chord.g(x1);
-    let mut g2 = chord.g(x2);
-    while hi - lo > width {
-        if g1 >= g2 {
-            hi = x2;
-            x2 = x1;
-            g2 = g1;
-            x1 = hi - r * (hi - lo);
-            g1 = chord.g(x1);
-        } else {
-            lo = x1;
-            x1 = x2;
-            g1 = g2;
-            x2 = lo + r * (hi - lo);
-            g2 = chord.g(x2);
-        }
-    }
-    for (s, g) in [(x1, g1), (x2, g2)] {
-        if g > best.1 {
-            best = (s, g);
-        }
-    }
-    best
-}
-
 /// The largest distance from the arc `C(s)`, `s ∈ [s0, s1]`, to the segment `C(s0)–C(s1)`
 /// (module docs). `s0 > s1` is allowed (the same chord).
 ///
@@ -244,15 +210,11 @@ pub fn chord_deviation(
         })
         .collect();
     for i in candidates {
-        let found = golden_max(
-            &mut chord,
-            samples[i - 1].s,
-            samples[i + 1].s,
-            width,
-            (samples[i].s, samples[i].g),
-        );
-        if found.1 > top.1 {
-            top = found;
+        let g = |s: f64| -> Result<f64, Infallible> { Ok(chord.g(s)) };
+        let seed = (samples[i].s, samples[i].g);
+        let Ok((s, v, _)) = brent_max(g, samples[i - 1].s, samples[i + 1].s, width, seed);
+        if v > top.1 {
+            top = (s, v);
         }
     }
     ChordDeviation {

@@ -83,7 +83,9 @@ pub struct SearchOptions {
     /// Cap of ε relative to E (default [`tolerance::STEP_WINDOW_REL`]): ε = min(window_mm,
     /// window_rel·E).
     pub window_rel: f64,
-    /// Most error evaluations for one node before giving up (default 400).
+    /// Most error evaluations for one node before giving up (default 2000: plain regula
+    /// falsi may crawl for hundreds of steps from a bracket whose far end errs by orders of
+    /// magnitude more than E).
     pub max_evaluations: u32,
 }
 
@@ -94,7 +96,7 @@ impl Default for SearchOptions {
             growth: 2.0,
             window_mm: tolerance::STEP_WINDOW_MM,
             window_rel: tolerance::STEP_WINDOW_REL,
-            max_evaluations: 400,
+            max_evaluations: 2000,
         }
     }
 }
