@@ -9,6 +9,7 @@
 //! One file per area: [`crease`] (`run`, `check`).
 
 mod crease;
+mod gcode;
 
 use std::io::{self, Write};
 use std::path::PathBuf;
@@ -69,6 +70,14 @@ enum Command {
         /// Scene file.
         scene: PathBuf,
     },
+    /// Write a G01, G02/G03 or G06.2 program for a scene's crease within a tolerance (seed 004).
+    Gcode(gcode::GcodeArgs),
+    /// Read a G-code program; with --scene, report its deviation from the design crease.
+    Replay(gcode::ReplayArgs),
+    /// Compare the G01, G02/G03 and G06.2 programs at a tolerance (blocks, bytes, deviation, smoothness).
+    Compare(gcode::CompareArgs),
+    /// Real-time interpolation of the fitted G06.2 curve: one CSV row per period.
+    Nurbs(gcode::NurbsArgs),
 }
 
 /// A failure that ends the program with status 2 and one line on stderr.
@@ -83,6 +92,10 @@ pub fn main() -> ExitCode {
             crease::run(&scene, format, out.as_deref(), errors, method, turns)
         }
         Some(Command::Check { scene }) => crease::check(&scene),
+        Some(Command::Gcode(a)) => gcode::gcode(&a),
+        Some(Command::Replay(a)) => gcode::replay(&a),
+        Some(Command::Compare(a)) => gcode::compare_cmd(&a),
+        Some(Command::Nurbs(a)) => gcode::nurbs(&a),
     };
     match result {
         Ok(code) => code,

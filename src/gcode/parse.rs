@@ -318,6 +318,9 @@ fn tokenize(line_no: usize, raw: &str, comments: &mut Vec<(usize, String)>) -> R
         while i < chars.len() && (chars[i] == ' ' || chars[i] == '\t') {
             i += 1;
         }
+        if i < chars.len() && matches!(chars[i], '#' | '[') {
+            return Err(ParseError::UnexpectedChar { line: line_no, col: i + 1, ch: chars[i] });
+        }
         let start = i;
         while i < chars.len() && (chars[i].is_ascii_digit() || chars[i] == '.' || ((chars[i] == '-' || chars[i] == '+') && i == start)) {
             i += 1;
@@ -431,6 +434,9 @@ fn block(line: usize, words: &[Word], st: &mut State, out: &mut ParsedProgram) -
     let mut dwell = false;
     let mut consumes_p = false;
     let mut consumes_q = false;
+    // An unmodelled code that moves the tool by itself (cycle, reference return, machine
+    // coordinates) or redefines coordinates: its block's axis words are left out with it.
+    let mut skip_axes = false;
     for w in words {
         let li = (w.letter as u8 - b'A') as usize;
         match w.letter {
@@ -463,7 +469,10 @@ fn block(line: usize, words: &[Word], st: &mut State, out: &mut ParsedProgram) -
                     50 => consumes_p = true,
                     51 => consumes_q = true,
                     _ if HARMLESS_G.contains(&t) => {}
-                    _ => out.unsupported.push(Unsupported { line, word: format!("G{}", w.text), reason: unsupported_g(t) }),
+                    _ => {
+                        skip_axes |= matches!(t, 280 | 290 | 300 | 530 | 520 | 730 | 740 | 760 | 810..=890 | 920 | 921);
+                        out.unsupported.push(Unsupported { line, word: format!("G{}", w.text), reason: unsupported_g(t) });
+                    }
                 }
             }
             'M' => {
@@ -500,8 +509,8 @@ fn block(line: usize, words: &[Word], st: &mut State, out: &mut ParsedProgram) -
             out.unsupported.push(Unsupported { line, word: format!("{}{}", w.letter, w.text), reason });
         }
     }
-    if dwell {
-        // G04 X/P is a time, not a move.
+    if dwell || skip_axes {
+        // G04 X/P is a time, not a move; a skipped code takes its block's words with it.
         return Ok(());
     }
     let nurbs_mode = st.nurbs.is_some();

@@ -295,7 +295,7 @@ pub fn interpolate_realtime(curve: &dyn Curve3, opts: &RealtimeOptions) -> Resul
             n_f += 1;
         }
         let mut dev = |t: f64| distance_to_segment(curve.point_at(t), p, pn);
-        let (chord, _) = max_on_interval(&mut dev, u, un, 4, 12);
+        let (chord, _) = max_on_interval(&mut dev, u, un, 4, 20);
         max_chord = max_chord.max(chord);
         length += step;
         if opts.keep_samples {

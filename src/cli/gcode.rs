@@ -1,0 +1,377 @@
+//! `gcode`, `replay`, `compare`, `nurbs`: seed 004's programs and real-time NURBS
+//! interpolation on the design path of a scene (its ball-centre crease) or on the
+//! parabola-like comparison profile.
+//!
+//! Exit status: 0 success; 1 `replay` found a deviation above `--tolerance` or words it
+//! does not model; 2 bad input (one line on standard error naming the problem and the fix).
+
+use std::fs;
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Args, ValueEnum};
+
+use super::Fatal;
+
+use interpolab::gcode::{
+    compare, crease_design, deviation, format_comparison, parse_program, summarize, write_program, CompareOptions, DeviationOptions, ProgramKind, ProgramOptions,
+    ProgrammedPoint, Segment, TableStyle,
+};
+use interpolab::geom::Curve3;
+use interpolab::nurbs_path::measure::Translated;
+use interpolab::nurbs_path::{interpolate_realtime, Parabola, RealtimeOptions, Update};
+use interpolab::report::{fmt_fixed, fmt_num};
+
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum KindArg {
+    /// G01 lines by equal-error chords.
+    G01,
+    /// G02/G03 arcs (G17/G18/G19, helical where valid) and G01 lines.
+    Arcs,
+    /// FANUC-style G06.2 NURBS.
+    Nurbs,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum ProfileArg {
+    /// y = x²/40 for x from −60 to 60 mm (z = 0): a parabola-like profile like seed 004's.
+    Parabola,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum PointArg {
+    /// The ball centre (the x, y, z of `interpolab run`).
+    Centre,
+    /// The ball tip of a 3-axis ball end mill: centre − R·ẑ.
+    Tip,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum UpdateArg {
+    /// First-order Taylor update.
+    First,
+    /// Second-order Taylor update.
+    Second,
+    /// Second order corrected by a Newton step on the chord length.
+    Corrected,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum TableArg {
+    /// Markdown tables.
+    Markdown,
+    /// CSV.
+    Csv,
+}
+
+/// The design path: a scene's crease or a built-in profile.
+#[derive(Args)]
+pub(crate) struct DesignArgs {
+    /// Scene file (interpolab-scene/1 JSON); its ball-centre crease is the design path.
+    scene: Option<PathBuf>,
+    /// A built-in profile instead of a scene.
+    #[arg(long, value_enum, conflicts_with = "scene")]
+    profile: Option<ProfileArg>,
+}
+
+/// Options shared by the program writers.
+#[derive(Args)]
+pub(crate) struct ProgramArgs {
+    /// Tolerance E (mm): every program stays within E of the design path after rounding.
+    #[arg(long)]
+    tolerance: f64,
+    /// Machine resolution (mm), a power of ten; numbers are rounded to it.
+    #[arg(long, default_value_t = 0.001)]
+    resolution: f64,
+    /// Programmed point.
+    #[arg(long, value_enum, default_value = "centre")]
+    point: PointArg,
+    /// Feed F (mm/min); default the scene's motion.feed (1500 for a profile).
+    #[arg(long)]
+    feed: Option<f64>,
+    /// Ball radius R for `--point tip` with a profile (mm); a scene gives its tool.radius.
+    #[arg(long)]
+    tool_radius: Option<f64>,
+    /// Absolute safe height (mm); default 5 mm above the highest point of the path.
+    #[arg(long)]
+    safe_z: Option<f64>,
+    /// Degree of G06.2 curves (1 to 3).
+    #[arg(long, default_value_t = 3)]
+    degree: usize,
+}
+
+#[derive(Args)]
+pub(crate) struct GcodeArgs {
+    #[command(flatten)]
+    design: DesignArgs,
+    /// Program kind.
+    #[arg(long, value_enum)]
+    kind: KindArg,
+    #[command(flatten)]
+    program: ProgramArgs,
+    /// Number the blocks N10, N20, …
+    #[arg(long)]
+    line_numbers: bool,
+    /// Write to this file instead of standard output.
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+#[derive(Args)]
+pub(crate) struct CompareArgs {
+    #[command(flatten)]
+    design: DesignArgs,
+    #[command(flatten)]
+    program: ProgramArgs,
+    /// Table format.
+    #[arg(long, value_enum, default_value = "markdown")]
+    format: TableArg,
+}
+
+#[derive(Args)]
+pub(crate) struct ReplayArgs {
+    /// The program to read.
+    program: PathBuf,
+    /// Compare with this scene's ball-centre crease.
+    #[arg(long)]
+    scene: Option<PathBuf>,
+    /// Compare with a built-in profile.
+    #[arg(long, value_enum, conflicts_with = "scene")]
+    profile: Option<ProfileArg>,
+    /// Programmed point of the program; default: as its header says (ours), else the centre.
+    #[arg(long, value_enum)]
+    point: Option<PointArg>,
+    /// Ball radius for `--point tip` with a profile (mm).
+    #[arg(long)]
+    tool_radius: Option<f64>,
+    /// Report whether the deviation is within this tolerance (mm); exit 1 if not.
+    #[arg(long)]
+    tolerance: Option<f64>,
+}
+
+#[derive(Args)]
+pub(crate) struct NurbsArgs {
+    #[command(flatten)]
+    design: DesignArgs,
+    #[command(flatten)]
+    program: ProgramArgs,
+    /// Parameter update of each period.
+    #[arg(long, value_enum, default_value = "corrected")]
+    update: UpdateArg,
+    /// Interpolation period Ts (ms); default the scene's motion.period (4 for a profile).
+    #[arg(long)]
+    period: Option<f64>,
+    /// Chord tolerance of the curvature-based feed limit (mm); default none.
+    #[arg(long)]
+    chord_tol: Option<f64>,
+    /// Write the per-period CSV to this file instead of standard output.
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+/// A loaded design path with the scene's motion and tool.
+struct Design {
+    curve: Box<dyn Curve3>,
+    title: String,
+    feed: f64,
+    period_ms: f64,
+    ball_radius: Option<f64>,
+}
+
+fn load_design(scene: Option<&Path>, profile: Option<ProfileArg>) -> Result<Design, Fatal> {
+    match (scene, profile) {
+        (Some(path), _) => {
+            let (scene, job) = super::crease::load(path)?;
+            let curve = crease_design(&job).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
+            let title = if scene.name.is_empty() { path.display().to_string() } else { scene.name.clone() };
+            Ok(Design { curve: Box::new(curve), title, feed: job.feed_mm_per_min, period_ms: job.period_ms, ball_radius: Some(job.ball_radius_mm) })
+        }
+        (None, Some(ProfileArg::Parabola)) => Ok(Design {
+            curve: Box::new(Parabola::paper_like()),
+            title: "parabola y = x^2/40, x from -60 to 60 mm".to_owned(),
+            feed: 1500.0,
+            period_ms: 4.0,
+            ball_radius: None,
+        }),
+        (None, None) => Err(Fatal("give a scene file, or --profile parabola".to_owned())),
+    }
+}
+
+fn point_of(arg: PointArg, tool_radius: Option<f64>, design: &Design) -> Result<ProgrammedPoint, Fatal> {
+    match arg {
+        PointArg::Centre => Ok(ProgrammedPoint::BallCentre),
+        PointArg::Tip => {
+            let r = tool_radius.or(design.ball_radius).ok_or_else(|| Fatal("--point tip needs the ball radius: give --tool-radius (mm)".to_owned()))?;
+            if !(r.is_finite() && r > 0.0) {
+                return Err(Fatal(format!("--tool-radius must be a positive length in mm, got {r}")));
+            }
+            Ok(ProgrammedPoint::BallTip { radius_mm: r })
+        }
+    }
+}
+
+fn program_options(a: &ProgramArgs, design: &Design) -> Result<ProgramOptions, Fatal> {
+    let feed = a.feed.unwrap_or(design.feed);
+    Ok(ProgramOptions::default()
+        .with_resolution(a.resolution)
+        .with_feed(feed)
+        .with_point(point_of(a.point, a.tool_radius, design)?)
+        .with_title(&design.title)
+        .with_degree(a.degree)
+        .with_safe_z(a.safe_z))
+}
+
+fn kind_of(k: KindArg) -> ProgramKind {
+    match k {
+        KindArg::G01 => ProgramKind::Lines,
+        KindArg::Arcs => ProgramKind::Arcs,
+        KindArg::Nurbs => ProgramKind::Nurbs,
+    }
+}
+
+fn write_out(out: Option<&Path>, text: &str) -> Result<(), Fatal> {
+    match out {
+        Some(p) => fs::write(p, text).map_err(|e| Fatal(format!("cannot write {}: {e}", p.display()))),
+        None => {
+            let mut o = io::stdout().lock();
+            match o.write_all(text.as_bytes()).and_then(|()| o.flush()) {
+                Ok(()) => Ok(()),
+                Err(e) if e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
+                Err(e) => Err(Fatal(format!("cannot write the output: {e}"))),
+            }
+        }
+    }
+}
+
+pub(super) fn gcode(a: &GcodeArgs) -> Result<ExitCode, Fatal> {
+    let design = load_design(a.design.scene.as_deref(), a.design.profile)?;
+    let opts = program_options(&a.program, &design)?.with_line_numbers(a.line_numbers);
+    let kind = kind_of(a.kind);
+    let p = write_program(kind, design.curve.as_ref(), a.program.tolerance, &opts).map_err(|e| Fatal(e.to_string()))?;
+    write_out(a.out.as_deref(), &p.text)?;
+    let _ = writeln!(
+        io::stderr(),
+        "interpolab: {} program: {} path blocks, {} bytes, max deviation {} mm after rounding to {} mm (tolerance {} mm)",
+        kind.label(),
+        p.path_blocks,
+        p.bytes(),
+        fmt_fixed(p.deviation.max_mm(), 6),
+        fmt_num(a.program.resolution),
+        fmt_num(a.program.tolerance)
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+pub(super) fn compare_cmd(a: &CompareArgs) -> Result<ExitCode, Fatal> {
+    let design = load_design(a.design.scene.as_deref(), a.design.profile)?;
+    let opts = CompareOptions { program: program_options(&a.program, &design)?, period_ms: design.period_ms, chord_tol_mm: None };
+    let c = compare(design.curve.as_ref(), a.program.tolerance, &opts).map_err(|e| Fatal(e.to_string()))?;
+    let style = match a.format {
+        TableArg::Markdown => TableStyle::Markdown,
+        TableArg::Csv => TableStyle::Csv,
+    };
+    write_out(None, &format_comparison(&c, style))?;
+    Ok(ExitCode::SUCCESS)
+}
+
+fn v3(p: glam::DVec3) -> String {
+    format!("({}, {}, {})", fmt_fixed(p.x, 4), fmt_fixed(p.y, 4), fmt_fixed(p.z, 4))
+}
+
+pub(super) fn replay(a: &ReplayArgs) -> Result<ExitCode, Fatal> {
+    let text = fs::read_to_string(&a.program).map_err(|e| Fatal(format!("cannot read program {}: {e}", a.program.display())))?;
+    let parsed = parse_program(&text).map_err(|e| Fatal(format!("{}: {e}", a.program.display())))?;
+    let s = summarize(&parsed.toolpath);
+    let mut lines = vec![
+        format!("program      {} ({} lines, {} blocks)", a.program.display(), parsed.lines, parsed.blocks),
+        format!("moves        G00 {}, G01 {}, G02 {}, G03 {}, G06.2 curves {} ({} control points); path blocks {}", s.moves[0], s.moves[1], s.moves[2], s.moves[3], s.moves[4], s.nurbs_control_points, parsed.path_blocks()),
+        format!("length       cutting {:.4} mm, rapid {:.4} mm", s.cut_length_mm, s.rapid_length_mm),
+    ];
+    if let Some((lo, hi)) = s.bounds {
+        lines.push(format!("bounds       {} to {} mm", v3(lo), v3(hi)));
+    }
+    if let Some((lo, hi)) = s.feed_range {
+        lines.push(format!("feed         {} to {} mm/min", fmt_num(lo), fmt_num(hi)));
+    }
+    for u in &parsed.unsupported {
+        lines.push(format!("UNSUPPORTED  line {}: {} ({}); its effect is left out", u.line, u.word, u.reason));
+    }
+    let mut failed = !parsed.unsupported.is_empty();
+    if a.scene.is_some() || a.profile.is_some() {
+        let design = load_design(a.scene.as_deref(), a.profile)?;
+        let point = match a.point {
+            Some(p) => point_of(p, a.tool_radius, &design)?,
+            None => ProgrammedPoint::from_comments(&parsed.comments).unwrap_or(ProgrammedPoint::BallCentre),
+        };
+        let moved = Translated { inner: design.curve.as_ref(), offset: point.offset() };
+        let d = deviation(&parsed.toolpath, &moved, &DeviationOptions::default()).map_err(|e| Fatal(format!("{}: {e}", a.program.display())))?;
+        lines.push(format!("design       {} ({:.4} mm), programmed point: {}", design.title, d.design_length_mm, point.comment().trim_start_matches("PROGRAMMED POINT: ").to_lowercase()));
+        lines.push(format!("program → design  max {} mm at {} (line {})", fmt_fixed(d.program_to_design_mm, 6), v3(d.program_point), d.program_line));
+        lines.push(format!("design → program  max {} mm at {} (s = {:.3} mm along the design)", fmt_fixed(d.design_to_program_mm, 6), v3(d.design_point), d.design_s_mm));
+        lines.push(format!("gaps         start {} mm, end {} mm", fmt_fixed(d.start_gap_mm, 6), fmt_fixed(d.end_gap_mm, 6)));
+        match a.tolerance {
+            Some(t) => {
+                let ok = d.max_mm() <= t;
+                failed |= !ok;
+                lines.push(format!("deviation    {} mm: {} the tolerance {} mm", fmt_fixed(d.max_mm(), 6), if ok { "within" } else { "EXCEEDS" }, fmt_num(t)));
+            }
+            None => lines.push(format!("deviation    {} mm", fmt_fixed(d.max_mm(), 6))),
+        }
+    } else if a.tolerance.is_some() {
+        return Err(Fatal("--tolerance needs a design path to compare with: give --scene SCENE or --profile parabola".to_owned()));
+    }
+    write_out(None, &(lines.join("\n") + "\n"))?;
+    Ok(if failed { ExitCode::from(1) } else { ExitCode::SUCCESS })
+}
+
+pub(super) fn nurbs(a: &NurbsArgs) -> Result<ExitCode, Fatal> {
+    let design = load_design(a.design.scene.as_deref(), a.design.profile)?;
+    let opts = program_options(&a.program, &design)?;
+    let p = write_program(ProgramKind::Nurbs, design.curve.as_ref(), a.program.tolerance, &opts).map_err(|e| Fatal(e.to_string()))?;
+    let curve = p
+        .parsed
+        .toolpath
+        .cuts()
+        .find_map(|b| if let Segment::Nurbs(c) = &b.segment { Some(c.clone()) } else { None })
+        .ok_or_else(|| Fatal("the G06.2 program holds no curve (a bug; please report it)".to_owned()))?;
+    let update = match a.update {
+        UpdateArg::First => Update::FirstOrder,
+        UpdateArg::Second => Update::SecondOrder,
+        UpdateArg::Corrected => Update::Corrected,
+    };
+    let period = a.period.unwrap_or(design.period_ms);
+    let ro = RealtimeOptions::default().with_feed(opts.feed_mm_per_min, period).with_update(update).with_chord_tol(a.chord_tol);
+    let run = interpolate_realtime(&curve, &ro).map_err(|e| Fatal(e.to_string()))?;
+    let mut csv = String::from("k,t_ms,u,x,y,z,target_mm,step_mm,fluctuation,chord_error_mm,limited\n");
+    for s in &run.samples {
+        csv.push_str(&format!(
+            "{},{},{},{},{},{},{},{},{},{},{}\n",
+            s.k,
+            fmt_num(s.k as f64 * period),
+            fmt_num(s.u),
+            fmt_num(s.point.x),
+            fmt_num(s.point.y),
+            fmt_num(s.point.z),
+            fmt_num(s.target_mm),
+            fmt_num(s.step_mm),
+            fmt_num(s.fluctuation),
+            fmt_num(s.chord_error_mm),
+            u8::from(s.limited)
+        ));
+    }
+    write_out(a.out.as_deref(), &csv)?;
+    let st = run.stats;
+    let _ = writeln!(
+        io::stderr(),
+        "interpolab: G06.2 curve of {} control points, {} update: {} periods, feed fluctuation max {:.3e} RMS {:.3e}, max chord error {:.3e} mm, {} feed-limited periods",
+        curve.len(),
+        update.as_str(),
+        st.periods,
+        st.max_fluctuation,
+        st.rms_fluctuation,
+        st.max_chord_error_mm,
+        st.limited_periods
+    );
+    Ok(ExitCode::SUCCESS)
+}
