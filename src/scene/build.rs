@@ -3,7 +3,8 @@
 
 use glam::{DVec2, DVec3};
 
-use super::{DomainSpec, Scene, SceneError, SurfaceSpec};
+use super::{DomainSpec, MachineSpec, Scene, SceneError, SurfaceSpec, ToolAxisSpec};
+use crate::fiveaxis::{Machine, ToolAxisRule};
 use crate::geom::{
     nurbs::NurbsError, Cylinder, Domain, Frame, NurbsSurface, ParamRange, ParamUnit, Plane, Sphere, Surface, Torus,
 };
@@ -107,7 +108,93 @@ pub(super) fn validate(s: &Scene) -> Result<(), SceneError> {
     if let Some(d) = s.path.direction {
         direction("path.direction", d)?;
     }
+    if let Some(m) = &s.machine {
+        validate_machine(m)?;
+    }
+    if let Some(t) = &s.tool_axis {
+        build_tool_axis_checked(t)?;
+    }
     Ok(())
+}
+
+/// Range checks of `machine`.
+fn validate_machine(m: &MachineSpec) -> Result<(), SceneError> {
+    let names = m.kind.axis_names().map(str::to_ascii_lowercase);
+    for (i, has) in m.kind.has_pivot().into_iter().enumerate() {
+        if has && m.pivots[i].iter().any(|x| !x.is_finite()) {
+            return Err(SceneError::new(format!("machine.pivots.{}", names[i]), "holds a non-finite number", "give finite coordinates in mm"));
+        }
+    }
+    if !(m.tool_length.is_finite() && m.tool_length >= 0.0) {
+        return Err(SceneError::new(
+            "machine.tool_length",
+            format!("must be a length ≥ 0 in mm, got {}", m.tool_length),
+            "give the distance from the last head axis to the tool tip in mm",
+        ));
+    }
+    if m.kind.uses_tool_length() && !(m.tool_length > 0.0) {
+        return Err(SceneError::new(
+            "machine.tool_length",
+            format!("a {} machine swings the tool about its head axes, so it needs the tool length; got {}", m.kind.as_str(), m.tool_length),
+            "give the distance from the last head axis to the tool tip in mm, e.g. 150",
+        ));
+    }
+    for (i, lim) in m.limits.iter().enumerate() {
+        if let Some([lo, hi]) = *lim {
+            if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+                return Err(SceneError::new(
+                    format!("machine.limits.{}", names[i]),
+                    format!("the travel [{lo}, {hi}] is empty, reversed or not finite"),
+                    "give [min, max] in degrees with min < max, or null for unlimited travel",
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Validates `tool_axis` and converts it (degrees → radians, unit vector).
+fn build_tool_axis_checked(t: &ToolAxisSpec) -> Result<ToolAxisRule, SceneError> {
+    match *t {
+        ToolAxisSpec::Bisector => Ok(ToolAxisRule::Bisector),
+        ToolAxisSpec::Normal1 { lead, tilt } => {
+            for (key, a) in [("lead", lead), ("tilt", tilt)] {
+                if !(a.is_finite() && a.abs() < 90.0) {
+                    return Err(SceneError::new(
+                        format!("tool_axis.{key}"),
+                        format!("{a}° would lay the tool axis into or past the surface's tangent plane"),
+                        "give an angle between -90 and 90 degrees",
+                    ));
+                }
+            }
+            Ok(ToolAxisRule::Normal1 { lead_rad: lead.to_radians(), tilt_rad: tilt.to_radians() })
+        }
+        ToolAxisSpec::Fixed { vector } => {
+            if vector.iter().any(|x| !x.is_finite()) {
+                return Err(SceneError::new("tool_axis.vector", "holds a non-finite number", "give a finite direction [i, j, k]"));
+            }
+            Ok(ToolAxisRule::Fixed { axis: direction("tool_axis.vector", vector)? })
+        }
+    }
+}
+
+/// The machine of a `machine` entry in internal units (radians). Call after validation.
+#[must_use]
+pub fn build_machine(m: &MachineSpec) -> Machine {
+    Machine {
+        kind: m.kind,
+        pivots_mm: m.pivots.map(v3),
+        tool_length_mm: m.tool_length,
+        limits_rad: m.limits.map(|l| l.map(|[lo, hi]| [lo.to_radians(), hi.to_radians()])),
+    }
+}
+
+/// The tool-axis rule of a `tool_axis` entry in internal units.
+///
+/// # Errors
+/// An angle outside (−90°, 90°) or a zero vector, with its key path.
+pub fn build_tool_axis(t: &ToolAxisSpec) -> Result<ToolAxisRule, SceneError> {
+    build_tool_axis_checked(t)
 }
 
 fn map_nurbs(path: &str, e: NurbsError) -> SceneError {

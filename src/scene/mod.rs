@@ -12,7 +12,7 @@ mod write;
 
 use thiserror::Error;
 
-pub use build::{build_surface, params_from_file};
+pub use build::{build_machine, build_surface, build_tool_axis, params_from_file};
 
 /// The format tag this version reads and writes.
 pub const FORMAT: &str = "interpolab-scene/1";
@@ -210,6 +210,46 @@ pub struct PathSpec {
     pub direction: Option<[f64; 3]>,
 }
 
+/// Default travel of the tilting axis (A or B) when `machine.limits` does not give one
+/// (degrees).
+pub const DEFAULT_TILT_LIMITS_DEG: [f64; 2] = [-120.0, 120.0];
+
+/// `machine` (optional): the five-axis machine the tool-step selection plans for, in file
+/// units (mm, degrees). See `docs/scene-format.md` and `docs/fiveaxis.md`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MachineSpec {
+    /// Structure (`table-ac`, `table-bc`, `head-bc`, `head-a-table-c`).
+    pub kind: crate::fiveaxis::MachineKind,
+    /// Pivots of the tilting axis and of C (mm; `[0, 0, 0]` when absent). `head-bc` has no C
+    /// pivot.
+    pub pivots: [[f64; 3]; 2],
+    /// Distance from the last head axis to the tool tip (mm); head machines need it > 0.
+    pub tool_length: f64,
+    /// Travel of the tilting axis and of C (degrees), `None` for unlimited. Absent keys
+    /// default to [`DEFAULT_TILT_LIMITS_DEG`] and unlimited C.
+    pub limits: [Option<[f64; 2]>; 2],
+}
+
+/// `tool_axis` (optional): how the tool axis is chosen along the crease.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ToolAxisSpec {
+    /// `{ "rule": "bisector" }`: the bisector of the two contact normals.
+    Bisector,
+    /// `{ "rule": "normal1", "lead": deg, "tilt": deg }`: the normal of surface 1 turned by
+    /// lead (toward the travel) and tilt (sideways), both default 0.
+    Normal1 {
+        /// Lead angle (degrees).
+        lead: f64,
+        /// Tilt angle (degrees).
+        tilt: f64,
+    },
+    /// `{ "rule": "fixed", "vector": [i, j, k] }`: a constant direction.
+    Fixed {
+        /// The direction (any length > 0).
+        vector: [f64; 3],
+    },
+}
+
 /// A whole scene in file units.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
@@ -225,6 +265,10 @@ pub struct Scene {
     pub tolerance: ToleranceSpec,
     /// Start and end.
     pub path: PathSpec,
+    /// The five-axis machine (`None`: the key is absent).
+    pub machine: Option<MachineSpec>,
+    /// The tool-axis rule (`None`: the key is absent).
+    pub tool_axis: Option<ToolAxisSpec>,
 }
 
 impl Scene {

@@ -4,9 +4,10 @@
 use serde_json::{Map, Value};
 
 use super::{
-    DomainSpec, MotionSpec, Orientation, PathSpec, Scene, SceneError, SurfaceSpec, ToleranceSpec, ToolSpec,
-    DEFAULT_MAX_STEPS, FORMAT,
+    DomainSpec, MachineSpec, MotionSpec, Orientation, PathSpec, Scene, SceneError, SurfaceSpec, ToleranceSpec,
+    ToolAxisSpec, ToolSpec, DEFAULT_MAX_STEPS, DEFAULT_TILT_LIMITS_DEG, FORMAT,
 };
+use crate::fiveaxis::MachineKind;
 
 /// A JSON object being read: remembers which keys were taken so the rest can be reported
 /// as unknown.
@@ -187,7 +188,7 @@ impl<'a> At<'a> {
     }
 }
 
-const TOP_KEYS: &[&str] = &["format", "name", "surfaces", "tool", "motion", "tolerance", "path"];
+const TOP_KEYS: &[&str] = &["format", "name", "surfaces", "tool", "motion", "tolerance", "path", "machine", "tool_axis"];
 
 /// Parses the document's structure and types.
 pub(super) fn parse(text: &str) -> Result<Scene, SceneError> {
@@ -263,7 +264,94 @@ pub(super) fn parse(text: &str) -> Result<Scene, SceneError> {
             None => None,
         },
     };
-    Ok(Scene { name, surfaces: [s0, s1], tool, motion, tolerance, path })
+    let machine = o.opt_non_null("machine").map(|m| parse_machine(&m)).transpose()?;
+    let tool_axis = o.opt_non_null("tool_axis").map(|t| parse_tool_axis(&t)).transpose()?;
+    Ok(Scene { name, surfaces: [s0, s1], tool, motion, tolerance, path, machine, tool_axis })
+}
+
+const KINDS: &str = "\"table-ac\", \"table-bc\", \"head-bc\" or \"head-a-table-c\"";
+
+/// The required string `key` of an object, read before the object's other keys are checked
+/// (it decides which keys are allowed).
+fn tag<'a>(at: &At<'a>, key: &str, what: &str) -> Result<&'a str, SceneError> {
+    let Value::Object(map) = at.v else {
+        return Err(SceneError::new(
+            display_path(&at.path),
+            format!("expected an object, got {}", kind(at.v)),
+            format!("write it as {{ \"{key}\": …, … }} with {key} {what}"),
+        ));
+    };
+    match map.get(key) {
+        Some(v) => At { v, path: join(&at.path, key) }.string(what),
+        None => Err(SceneError::new(join(&at.path, key), "missing key", format!("add \"{key}\": {what}"))),
+    }
+}
+
+/// `machine`: kind, pivots (keys named by the kind's axes), tool length, travel limits.
+fn parse_machine(at: &At<'_>) -> Result<MachineSpec, SceneError> {
+    let name = tag(at, "kind", KINDS)?;
+    let kind = MachineKind::from_name(name).ok_or_else(|| {
+        SceneError::new(join(&at.path, "kind"), format!("\"{name}\" is not a machine kind"), format!("use one of {KINDS}"))
+    })?;
+    let o = Obj::new(at, &["kind", "pivots", "tool_length", "limits"])?;
+    let (pivot_keys, limit_keys): (&'static [&'static str], &'static [&'static str]) = match kind {
+        MachineKind::TableAC | MachineKind::HeadATableC => (&["a", "c"], &["a", "c"]),
+        MachineKind::TableBC => (&["b", "c"], &["b", "c"]),
+        MachineKind::HeadBC => (&["b"], &["b", "c"]),
+    };
+    let mut pivots = [[0.0; 3]; 2];
+    if let Some(p) = o.opt_non_null("pivots") {
+        let po = Obj::new(&p, pivot_keys)?;
+        for (i, key) in pivot_keys.iter().enumerate() {
+            if let Some(v) = po.opt_non_null(key) {
+                pivots[i] = v.vec3("a point on that axis in mm")?;
+            }
+        }
+    }
+    let tool_length = match o.opt_non_null("tool_length") {
+        Some(t) => t.num("the tool length in mm")?,
+        None => 0.0,
+    };
+    let mut limits = [Some(DEFAULT_TILT_LIMITS_DEG), None];
+    if let Some(l) = o.opt_non_null("limits") {
+        let lo = Obj::new(&l, limit_keys)?;
+        for (i, key) in limit_keys.iter().enumerate() {
+            match lo.opt(key) {
+                None => {}
+                Some(At { v: Value::Null, .. }) => limits[i] = None,
+                Some(r) => limits[i] = Some(r.fixed::<2>("[min, max] in degrees, or null for unlimited travel")?),
+            }
+        }
+    }
+    Ok(MachineSpec { kind, pivots, tool_length, limits })
+}
+
+const RULES: &str = "\"bisector\", \"normal1\" or \"fixed\"";
+
+/// `tool_axis`: a rule and its parameters.
+fn parse_tool_axis(at: &At<'_>) -> Result<ToolAxisSpec, SceneError> {
+    match tag(at, "rule", RULES)? {
+        "bisector" => {
+            Obj::new(at, &["rule"])?;
+            Ok(ToolAxisSpec::Bisector)
+        }
+        "normal1" => {
+            let o = Obj::new(at, &["rule", "lead", "tilt"])?;
+            let angle = |key: &str| -> Result<f64, SceneError> {
+                o.opt_non_null(key).map_or(Ok(0.0), |a| a.num(&format!("the {key} angle in degrees")))
+            };
+            Ok(ToolAxisSpec::Normal1 { lead: angle("lead")?, tilt: angle("tilt")? })
+        }
+        "fixed" => {
+            let o = Obj::new(at, &["rule", "vector"])?;
+            Ok(ToolAxisSpec::Fixed { vector: o.req("vector", "[i, j, k]")?.vec3("the tool axis direction")? })
+        }
+        other => Err(SceneError::new(
+            join(&at.path, "rule"),
+            format!("\"{other}\" is not a tool-axis rule"),
+            format!("use one of {RULES}"),
+        )),
+    }
 }
 
 const TYPES: &str = "plane, cylinder, sphere, torus or nurbs";

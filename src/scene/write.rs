@@ -3,7 +3,7 @@
 
 use serde_json::{json, Map, Value};
 
-use super::{DomainSpec, Scene, SurfaceSpec, FORMAT};
+use super::{DomainSpec, MachineSpec, Scene, SurfaceSpec, ToolAxisSpec, FORMAT};
 
 fn domain(d: &DomainSpec) -> Value {
     json!({ "u": d.u, "v": d.v })
@@ -91,7 +91,41 @@ pub(super) fn to_value(s: &Scene) -> Value {
         json!({ "t1": s.tolerance.t1, "t2": s.tolerance.t2, "share": s.tolerance.share }),
     );
     m.insert("path".into(), Value::Object(path));
+    if let Some(machine) = &s.machine {
+        m.insert("machine".into(), machine_value(machine));
+    }
+    if let Some(t) = &s.tool_axis {
+        m.insert("tool_axis".into(), tool_axis_value(t));
+    }
     Value::Object(m)
+}
+
+fn machine_value(mc: &MachineSpec) -> Value {
+    let names = mc.kind.axis_names().map(str::to_ascii_lowercase);
+    let mut pivots = Map::new();
+    for (i, has) in mc.kind.has_pivot().into_iter().enumerate() {
+        if has {
+            pivots.insert(names[i].clone(), json!(mc.pivots[i]));
+        }
+    }
+    let mut limits = Map::new();
+    for i in 0..2 {
+        limits.insert(names[i].clone(), mc.limits[i].map_or(Value::Null, |l| json!(l)));
+    }
+    let mut m = Map::new();
+    m.insert("kind".into(), mc.kind.as_str().into());
+    m.insert("pivots".into(), Value::Object(pivots));
+    m.insert("tool_length".into(), json!(mc.tool_length));
+    m.insert("limits".into(), Value::Object(limits));
+    Value::Object(m)
+}
+
+fn tool_axis_value(t: &ToolAxisSpec) -> Value {
+    match t {
+        ToolAxisSpec::Bisector => json!({ "rule": "bisector" }),
+        ToolAxisSpec::Normal1 { lead, tilt } => json!({ "rule": "normal1", "lead": lead, "tilt": tilt }),
+        ToolAxisSpec::Fixed { vector } => json!({ "rule": "fixed", "vector": vector }),
+    }
 }
 
 pub(super) fn to_json(s: &Scene) -> String {
