@@ -401,8 +401,8 @@ pub fn approximate_curve(design: &dyn Curve3, tol_mm: f64, opts: &ApproxOptions)
         knots = new_knots;
     };
     if opts.prune {
-        // Try each interior knot, smallest neighbouring error first (those are the likeliest
-        // to be unnecessary); a removal stands when the whole refit still holds E.
+        // Try each interior knot from the start; a removal stands when the whole refit still
+        // holds E (the next knot is then tried at the same index).
         let mut i = p + 1;
         while i < knots.len() - p - 1 {
             let mut trial = knots.clone();
