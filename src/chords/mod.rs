@@ -14,6 +14,7 @@
 
 pub mod deviation;
 pub mod maximise;
+pub mod planar;
 pub mod search;
 
 use thiserror::Error;
