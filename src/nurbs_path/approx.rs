@@ -10,9 +10,13 @@
 //!    Σ_k N_i(u_k) R_k` for the free ones, a banded symmetric system of bandwidth p;
 //! 3. measure the error of every knot span as a true distance (foot points by Newton, not
 //!    the parametric difference |C(u_k) − Q_k|, which overstates it);
-//! 4. insert a knot into every span whose error exceeds E and go to 2; stop when none does.
-//!    Optionally (`prune`), then try to remove each interior knot again, keeping the removal
-//!    when the refit still holds E.
+//! 4. insert a knot into every span whose error exceeds E and go to 2; stop when none does;
+//! 5. optionally (`equidistribute`), move the knots so every span carries an equal share of
+//!    the error: a span of length h of a degree-p fit errs by about c·h^{p+1}, so with the
+//!    measured errors e_i the density ρ_i = e_i^{1/(p+1)} / h_i is integrated and the
+//!    fewest spans N with ∫ρ ≤ N·(γE)^{1/(p+1)} (γ = 0.85, a margin) are placed at equal
+//!    shares of ∫ρ (de Boor's error equidistribution); kept if the refit holds E, repeated
+//!    while it saves spans.
 //!
 //! For a design curve ([`approximate_curve`]) the parameter is the design curve's arc length
 //! (the limit of cumulative chord length, seed 004's parametrisation, as the points become
@@ -54,9 +58,9 @@ pub struct ApproxOptions {
     /// Knots are multiples of this (mm) when given: a G06.2 program writes knots at the
     /// machine resolution, so the fit is made with the knots the program will carry.
     pub knot_quantum_mm: Option<f64>,
-    /// After refinement, try removing interior knots one by one (default true): fewer
-    /// control points for the same tolerance.
-    pub prune: bool,
+    /// After refinement, redistribute the knots so every span errs about equally
+    /// (default true): fewer control points for the same tolerance.
+    pub equidistribute: bool,
 }
 
 impl Default for ApproxOptions {
@@ -70,7 +74,7 @@ impl Default for ApproxOptions {
             check_samples: 16,
             max_control_points: 20_000,
             knot_quantum_mm: None,
-            prune: true,
+            equidistribute: true,
         }
     }
 }
@@ -94,10 +98,10 @@ impl ApproxOptions {
         self.knot_quantum_mm = quantum_mm;
         self
     }
-    /// Sets knot pruning.
+    /// Sets knot equidistribution.
     #[must_use]
-    pub fn with_prune(mut self, on: bool) -> Self {
-        self.prune = on;
+    pub fn with_equidistribution(mut self, on: bool) -> Self {
+        self.equidistribute = on;
         self
     }
     /// Sets the initial span length (mm).
@@ -322,6 +326,46 @@ fn validate_degree(p: usize) -> Result<(), FitError> {
     if p == 0 || p > MAX_DEGREE { Err(FitError::Degree(p)) } else { Ok(()) }
 }
 
+/// The error-density shares e_i^{1/(p+1)} of the spans.
+fn error_shares(errs: &[f64], p: usize, tol_mm: f64) -> Vec<f64> {
+    let ex = 1.0 / (p as f64 + 1.0);
+    errs.iter().map(|&e| e.max(1e-6 * tol_mm).powf(ex)).collect()
+}
+
+/// The fewest spans whose equidistributed errors would stay at 0.85·E by the h^{p+1} model,
+/// or `None` if that is not fewer than now.
+fn predicted_spans(errs: &[f64], p: usize, tol_mm: f64) -> Option<usize> {
+    let total: f64 = error_shares(errs, p, tol_mm).iter().sum();
+    let unit = (0.85 * tol_mm).powf(1.0 / (p as f64 + 1.0));
+    let n = (total / unit).ceil().max(1.0) as usize;
+    (n < errs.len()).then_some(n)
+}
+
+/// `n` spans placed at equal shares of the error density (see the module notes).
+fn equidistributed_knots(bps: &[f64], errs: &[f64], p: usize, n: usize, quantum: Option<f64>) -> Vec<f64> {
+    let shares = error_shares(errs, p, errs.iter().copied().fold(0.0, f64::max).max(f64::MIN_POSITIVE));
+    let total: f64 = shares.iter().sum();
+    let end = bps[bps.len() - 1];
+    let mut knots = vec![bps[0]; p + 1];
+    let mut acc = 0.0;
+    let mut span = 0;
+    for k in 1..n {
+        let goal = total * k as f64 / n as f64;
+        while span < shares.len() && acc + shares[span] < goal {
+            acc += shares[span];
+            span += 1;
+        }
+        let span = span.min(shares.len() - 1);
+        let frac = if shares[span] > 0.0 { ((goal - acc) / shares[span]).clamp(0.0, 1.0) } else { 0.5 };
+        let u = quantize(bps[span] + frac * (bps[span + 1] - bps[span]), quantum);
+        if u > knots[knots.len() - 1] && u < end {
+            knots.push(u);
+        }
+    }
+    knots.extend(std::iter::repeat_n(end, p + 1));
+    knots
+}
+
 /// Fits a B-spline to a design curve within `tol_mm` (two-sided distance), parametrised by
 /// arc length (mm). The end points are the design curve's, exactly.
 ///
@@ -400,24 +444,33 @@ pub fn approximate_curve(design: &dyn Curve3, tol_mm: f64, opts: &ApproxOptions)
         }
         knots = new_knots;
     };
-    if opts.prune {
-        // Try each interior knot from the start; a removal stands when the whole refit still
-        // holds E (the next knot is then tried at the same index).
-        let mut i = p + 1;
-        while i < knots.len() - p - 1 {
-            let mut trial = knots.clone();
-            trial.remove(i);
-            if trial.len() - p - 1 < if opts.end_tangents { 4 } else { p + 1 } {
+    if opts.equidistribute {
+        // At most 10 refits: each round tries the predicted span count, then one more, …,
+        // up to one fewer than now; the first that holds E is kept and the next round
+        // starts from its errors.
+        let mut budget = 10;
+        'rounds: while budget > 0 {
+            let bps = breakpoints(&knots, p);
+            let spans_now = bps.len() - 1;
+            let Some(first) = predicted_spans(&errs, p, tol_mm) else {
                 break;
-            }
-            match fit_with(&trial) {
-                Ok((c, e)) if e.iter().all(|&x| x <= tol_mm) => {
+            };
+            for n in first.max(min_spans)..spans_now {
+                if budget == 0 {
+                    break 'rounds;
+                }
+                budget -= 1;
+                let trial = equidistributed_knots(&bps, &errs, p, n, opts.knot_quantum_mm);
+                if let Ok((c, e)) = fit_with(&trial)
+                    && e.iter().all(|&x| x <= tol_mm)
+                {
                     knots = trial;
                     curve = c;
                     errs = e;
+                    continue 'rounds;
                 }
-                _ => i += 1,
             }
+            break;
         }
     }
     let max_deviation_mm = errs.iter().copied().fold(0.0_f64, f64::max);
