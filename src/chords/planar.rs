@@ -377,6 +377,11 @@ pub fn spacing_nodes(
         ..opts.deviation
     };
     let (lo, hi) = curve.range();
+    // Length of the curve (a 256-chord polyline; enough to cap a step).
+    let length: f64 = equal_interval_nodes(curve, (hi - lo) / 256.0)
+        .windows(2)
+        .map(|w| (curve.point_at(w[1]) - curve.point_at(w[0])).length())
+        .sum();
     let min_radius_chord = || {
         let (s, rho) = min_radius(curve);
         let l = if rho.is_finite() && rho > 0.5 * d {
@@ -384,14 +389,7 @@ pub fn spacing_nodes(
         } else {
             2.0 * d
         };
-        (
-            s,
-            l.min(
-                (curve.point_at(hi) - curve.point_at(lo))
-                    .length()
-                    .max(2.0 * d),
-            ),
-        )
+        (s, l.min(length.max(2.0 * d)))
     };
     let guard = |n: f64| {
         if n > opts.max_nodes as f64 {
@@ -458,8 +456,7 @@ pub fn spacing_nodes(
                 guard((hi - lo) / ok)?;
             }
             let mut bad = ok * 2.0;
-            let span = (curve.point_at(hi) - curve.point_at(lo)).length().max(ok);
-            while worst(bad)? <= d && bad < 4.0 * span {
+            while worst(bad)? <= d && bad < 2.0 * length {
                 ok = bad;
                 bad *= 2.0;
             }

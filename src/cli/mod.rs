@@ -9,6 +9,7 @@
 //! One file per area: [`crease`] (`run`, `check`).
 
 mod crease;
+mod fiveaxis;
 mod gcode;
 
 use std::io::{self, Write};
@@ -78,6 +79,14 @@ enum Command {
     Compare(gcode::CompareArgs),
     /// Real-time interpolation of the fitted G06.2 curve: one CSV row per period.
     Nurbs(gcode::NurbsArgs),
+    /// Five-axis tool steps (seed 002): nodes with joint values so every segment's |δt + δn| = E.
+    Steps(fiveaxis::StepsArgs),
+    /// Seed 002's Example 1: the gouge of one block, then the steps the method inserts.
+    Example1(fiveaxis::Example1Args),
+    /// Seed 002's Table 1: iterations and time per step-selection method at 0.1, 0.01, 0.001 mm.
+    Table1(fiveaxis::Table1Args),
+    /// Equal-error chords (seed 003) of a planar curve or a scene's crease; --table compares spacings.
+    Chords(fiveaxis::ChordsArgs),
 }
 
 /// A failure that ends the program with status 2 and one line on stderr.
@@ -96,6 +105,10 @@ pub fn main() -> ExitCode {
         Some(Command::Replay(a)) => gcode::replay(&a),
         Some(Command::Compare(a)) => gcode::compare_cmd(&a),
         Some(Command::Nurbs(a)) => gcode::nurbs(&a),
+        Some(Command::Steps(a)) => fiveaxis::steps(&a),
+        Some(Command::Example1(a)) => fiveaxis::example1_cmd(&a),
+        Some(Command::Table1(a)) => fiveaxis::table1(&a),
+        Some(Command::Chords(a)) => fiveaxis::chords(&a),
     };
     match result {
         Ok(code) => code,

@@ -132,7 +132,8 @@ fn validate_machine(m: &MachineSpec) -> Result<(), SceneError> {
             "give the distance from the last head axis to the tool tip in mm",
         ));
     }
-    if m.kind.uses_tool_length() && !(m.tool_length > 0.0) {
+    // Finite and ≥ 0 by now.
+    if m.kind.uses_tool_length() && m.tool_length <= 0.0 {
         return Err(SceneError::new(
             "machine.tool_length",
             format!("a {} machine swings the tool about its head axes, so it needs the tool length; got {}", m.kind.as_str(), m.tool_length),
@@ -140,14 +141,14 @@ fn validate_machine(m: &MachineSpec) -> Result<(), SceneError> {
         ));
     }
     for (i, lim) in m.limits.iter().enumerate() {
-        if let Some([lo, hi]) = *lim {
-            if !(lo.is_finite() && hi.is_finite() && lo < hi) {
-                return Err(SceneError::new(
-                    format!("machine.limits.{}", names[i]),
-                    format!("the travel [{lo}, {hi}] is empty, reversed or not finite"),
-                    "give [min, max] in degrees with min < max, or null for unlimited travel",
-                ));
-            }
+        if let Some([lo, hi]) = *lim
+            && !(lo.is_finite() && hi.is_finite() && lo < hi)
+        {
+            return Err(SceneError::new(
+                format!("machine.limits.{}", names[i]),
+                format!("the travel [{lo}, {hi}] is empty, reversed or not finite"),
+                "give [min, max] in degrees with min < max, or null for unlimited travel",
+            ));
         }
     }
     Ok(())
@@ -186,6 +187,19 @@ pub fn build_machine(m: &MachineSpec) -> Machine {
         pivots_mm: m.pivots.map(v3),
         tool_length_mm: m.tool_length,
         limits_rad: m.limits.map(|l| l.map(|[lo, hi]| [lo.to_radians(), hi.to_radians()])),
+    }
+}
+
+/// The `machine` entry describing a machine (the inverse of [`build_machine`]; angles rounded
+/// to 1e-9° so limits typed in whole degrees come back whole).
+#[must_use]
+pub fn machine_spec(m: &Machine) -> MachineSpec {
+    let deg = |r: f64| (r.to_degrees() * 1e9).round() / 1e9;
+    MachineSpec {
+        kind: m.kind,
+        pivots: m.pivots_mm.map(|p| p.to_array()),
+        tool_length: m.tool_length_mm,
+        limits: m.limits_rad.map(|l| l.map(|[lo, hi]| [deg(lo), deg(hi)])),
     }
 }
 

@@ -12,7 +12,8 @@ mod write;
 
 use thiserror::Error;
 
-pub use build::{build_machine, build_surface, build_tool_axis, params_from_file};
+pub use build::{build_machine, build_surface, build_tool_axis, machine_spec, params_from_file};
+pub use write::machine_value;
 
 /// The format tag this version reads and writes.
 pub const FORMAT: &str = "interpolab-scene/1";

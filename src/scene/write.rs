@@ -100,7 +100,9 @@ pub(super) fn to_value(s: &Scene) -> Value {
     Value::Object(m)
 }
 
-fn machine_value(mc: &MachineSpec) -> Value {
+/// A `machine` entry as the scene format writes it.
+#[must_use]
+pub fn machine_value(mc: &MachineSpec) -> Value {
     let names = mc.kind.axis_names().map(str::to_ascii_lowercase);
     let mut pivots = Map::new();
     for (i, has) in mc.kind.has_pivot().into_iter().enumerate() {
@@ -109,8 +111,8 @@ fn machine_value(mc: &MachineSpec) -> Value {
         }
     }
     let mut limits = Map::new();
-    for i in 0..2 {
-        limits.insert(names[i].clone(), mc.limits[i].map_or(Value::Null, |l| json!(l)));
+    for (name, lim) in names.iter().zip(mc.limits) {
+        limits.insert(name.clone(), lim.map_or(Value::Null, |l| json!(l)));
     }
     let mut m = Map::new();
     m.insert("kind".into(), mc.kind.as_str().into());
