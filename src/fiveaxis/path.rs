@@ -155,12 +155,18 @@ impl DesignPath for CreasePath {
     ) -> [Option<f64>; 2] {
         let r_eff = self.effective_radius_mm();
         let job = self.curve.job();
+        // The signed distance is stationary in the foot point, so a foot to 1e-9 mm gives it
+        // to far below that; one Newton iteration fewer than the default 1e-11 mm.
+        let opts = ProjectOptions {
+            step_tol_mm: crate::tolerance::NEWTON_LENGTH_MM,
+            ..ProjectOptions::default()
+        };
         let e = |i: usize| {
             let foot = project_point(
                 &job.surfaces[i],
                 p,
                 mix_hint(a.hints[i], b.hints[i], tau),
-                ProjectOptions::default(),
+                opts,
             );
             r_eff - foot.signed_distance
         };
