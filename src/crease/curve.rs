@@ -48,7 +48,11 @@ impl CreaseCurve {
             let n1 = job.surfaces[0].derivatives_at(r.uv[0]).normal;
             let n2 = job.surfaces[1].derivatives_at(r.uv[1]).normal;
             let mut t = n1.cross(n2).normalize_or_zero();
-            let travel = if i + 1 < rows.len() { rows[i + 1].p - r.p } else { r.p - rows[i - 1].p };
+            let travel = if i + 1 < rows.len() {
+                rows[i + 1].p - r.p
+            } else {
+                r.p - rows[i - 1].p
+            };
             if t.dot(travel) < 0.0 {
                 t = -t;
             }
@@ -59,7 +63,11 @@ impl CreaseCurve {
             tangents.push(t);
         }
         let path = HermitePath::new(points, tangents)?;
-        Some(Self { job: job.clone(), path, uv: rows.iter().map(|r| r.uv).collect() })
+        Some(Self {
+            job: job.clone(),
+            path,
+            uv: rows.iter().map(|r| r.uv).collect(),
+        })
     }
 
     /// The job the rows came from.
@@ -96,7 +104,13 @@ impl CreaseCurve {
             guess
         };
         let target = self.path.point_at(s);
-        let cp = newton::solve(&self.job, guess, Constraint::NearestTo(target), NewtonOptions::default()).ok()?;
+        let cp = newton::solve(
+            &self.job,
+            guess,
+            Constraint::NearestTo(target),
+            NewtonOptions::default(),
+        )
+        .ok()?;
         let d = [
             self.job.surfaces[0].derivatives_at(cp.uv[0]),
             self.job.surfaces[1].derivatives_at(cp.uv[1]),
@@ -105,7 +119,13 @@ impl CreaseCurve {
         if t.dot(self.path.derivatives_at(s)[1]) < 0.0 {
             t = -t;
         }
-        Some(CreaseFrame { center: cp.p, contact: [d[0].point, d[1].point], normal: cp.n, tangent: t, uv: cp.uv })
+        Some(CreaseFrame {
+            center: cp.p,
+            contact: [d[0].point, d[1].point],
+            normal: cp.n,
+            tangent: t,
+            uv: cp.uv,
+        })
     }
 }
 

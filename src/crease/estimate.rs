@@ -27,7 +27,7 @@
 use glam::DVec3;
 
 use super::{CreaseJob, Row};
-use crate::geom::{project_point, LocalGeometry, ParametricSurface, ProjectOptions};
+use crate::geom::{LocalGeometry, ParametricSurface, ProjectOptions, project_point};
 
 /// Errors and estimates at one row. Lengths in mm, curvatures in 1/mm.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -67,7 +67,9 @@ pub fn diagnose(job: &CreaseJob, row: &Row) -> Option<Diagnostics> {
         let foot = project_point(s, row.p, row.uv[i], ProjectOptions::default());
         measured[i] = foot.signed_distance - r;
     }
-    let [Some(g1), Some(g2)] = geo else { return None };
+    let [Some(g1), Some(g2)] = geo else {
+        return None;
+    };
     let (n1, n2) = (g1.d.normal, g2.d.normal);
     let cross = n1.cross(n2);
     let sin = cross.length();
@@ -81,7 +83,11 @@ pub fn diagnose(job: &CreaseJob, row: &Row) -> Option<Diagnostics> {
     ];
     let denom = (k_t[0] * k_t[1] * (g1.d.point - g2.d.point) + k_t[1] * n1 - k_t[0] * n2).length();
     let numer = (1.0 - r * k_t[0]) * (1.0 - r * k_t[1]) * sin;
-    let mp = if denom > 0.0 { numer / denom } else { f64::INFINITY };
+    let mp = if denom > 0.0 {
+        numer / denom
+    } else {
+        f64::INFINITY
+    };
 
     let mut est11 = [0.0; 2];
     let mut est12 = [0.0; 2];
@@ -91,7 +97,11 @@ pub fn diagnose(job: &CreaseJob, row: &Row) -> Option<Diagnostics> {
         let dk = (principal[i].0 - principal[i].1).abs();
         let tau2 = tau[i] * tau[i];
         let a = 1.0 + k * r;
-        let third = if mp.is_finite() { tau[i].abs() * f.powi(3) / (2.0 * a * a * mp) } else { 0.0 };
+        let third = if mp.is_finite() {
+            tau[i].abs() * f.powi(3) / (2.0 * a * a * mp)
+        } else {
+            0.0
+        };
         est11[i] = tau2 * r * f * f / (2.0 * a * a) + third;
         let coeff = dk + dk * dk * r + tau2 * r;
         est12[i] = coeff / (2.0 * a * a) * (f + eps[i]).powi(2);

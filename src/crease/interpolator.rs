@@ -32,10 +32,9 @@
 
 use glam::{DVec2, DVec3};
 
-use super::newton::{self, locate_crease_point, Constraint, CreasePoint, NewtonOptions};
+use super::newton::{self, Constraint, CreasePoint, NewtonOptions, locate_crease_point};
 use super::{CreaseError, CreaseJob, Location, Row, StopReason};
 use crate::geom::{Domain, LocalGeometry, ParametricSurface};
-use crate::linalg;
 use crate::tolerance;
 
 /// Which stepper runs each period.
@@ -64,7 +63,12 @@ pub struct InterpOptions {
 
 impl Default for InterpOptions {
     fn default() -> Self {
-        Self { method: Method::Seed000, exact_feed: true, turns: 1, max_correction_ratio: 0.5 }
+        Self {
+            method: Method::Seed000,
+            exact_feed: true,
+            turns: 1,
+            max_correction_ratio: 0.5,
+        }
     }
 }
 
@@ -102,6 +106,11 @@ pub struct Interpolator {
     prev_t: DVec3,
     stopped: Option<StopReason>,
     capture: f64,
+    /// Local geometry at the current row's contacts when the last step already computed it
+    /// (the precise stepper's final Newton evaluation).
+    cached: Option<[LocalGeometry; 2]>,
+    /// Geometry of the step being taken, moved to `cached` when the step is committed.
+    pending: Option<[LocalGeometry; 2]>,
 }
 
 impl Interpolator {
@@ -128,17 +137,30 @@ impl Interpolator {
         };
         let capture = 2.0 * job.feed_per_period_mm + 1e-6;
         let domains = [job.surfaces[0].domain(), job.surfaces[1].domain()];
-        let row = Row { k: 0, t_ms: 0.0, p: start.p, uv: start.uv };
+        let row = Row {
+            k: 0,
+            t_ms: 0.0,
+            p: start.p,
+            uv: start.uv,
+        };
         Ok(Self {
             opts,
             domains,
-            end: end.map(|e| Target { point: e.p, left: false }),
-            home: Target { point: start.p, left: false },
+            end: end.map(|e| Target {
+                point: e.p,
+                left: false,
+            }),
+            home: Target {
+                point: start.p,
+                left: false,
+            },
             turns: 0,
             row,
             prev_t: sense * start.tangent,
             stopped: None,
             capture,
+            cached: None,
+            pending: None,
             start,
             job,
         })
@@ -159,7 +181,12 @@ impl Interpolator {
     /// Row 0: the start point brought onto the crease.
     #[must_use]
     pub fn first_row(&self) -> Row {
-        Row { k: 0, t_ms: 0.0, p: self.start.p, uv: self.start.uv }
+        Row {
+            k: 0,
+            t_ms: 0.0,
+            p: self.start.p,
+            uv: self.start.uv,
+        }
     }
 
     /// The exact crease point of `path.start`.
@@ -205,9 +232,15 @@ impl Interpolator {
             return Ok(self.stop(StopReason::MaxSteps));
         }
         let k = self.row.k + 1;
-        let at = Location::Period { k, t_ms: k as f64 * self.job.period_ms };
-        let (p_next, uv_next, t) = match self.opts.method {
-            Method::Seed000 => self.seed000_step(at)?,
+        let at = Location::Period {
+            k,
+            t_ms: k as f64 * self.job.period_ms,
+        };
+        let (p_next, uv_next, t, geo_next) = match self.opts.method {
+            Method::Seed000 => {
+                let (p, uv, t) = self.seed000_step(at)?;
+                (p, uv, t, None)
+            }
             Method::Exact => self.exact_step(at)?,
         };
         // Domain check before anything is committed.
@@ -224,8 +257,18 @@ impl Interpolator {
                 }
             }
         }
-        let uv_next = [self.domains[0].wrap(uv_next[0]), self.domains[1].wrap(uv_next[1])];
-        let next = Row { k, t_ms: at_time(at), p: p_next, uv: uv_next };
+        let uv_next = [
+            self.domains[0].wrap(uv_next[0]),
+            self.domains[1].wrap(uv_next[1]),
+        ];
+        // Wrapping a periodic parameter does not change the point, so the geometry holds.
+        self.pending = geo_next;
+        let next = Row {
+            k,
+            t_ms: at_time(at),
+            p: p_next,
+            uv: uv_next,
+        };
         let prev = self.row;
 
         // Passing path.end or, on a closed crease, the start again.
@@ -256,6 +299,7 @@ impl Interpolator {
     fn commit(&mut self, row: Row, t: DVec3) {
         self.row = row;
         self.prev_t = t;
+        self.cached = self.pending.take();
     }
 
     fn stop(&mut self, reason: StopReason) -> Step {
@@ -289,13 +333,22 @@ impl Interpolator {
     /// Evaluates both surfaces at the current contacts: local geometry, the oriented unit
     /// crease tangent and the normal curvatures along it.
     fn local(&self, at: Location) -> Result<([LocalGeometry; 2], DVec3), CreaseError> {
-        let mut geo = [None, None];
-        for i in 0..2 {
-            let d = self.job.surfaces[i].derivatives_at(self.row.uv[i]);
-            geo[i] = Some(LocalGeometry::try_new(d).ok_or(CreaseError::Singular { at, surface: i })?);
-        }
-        let [Some(g1), Some(g2)] = geo else {
-            return Err(CreaseError::Singular { at, surface: 0 });
+        let [g1, g2] = match self.cached {
+            Some(geo) => geo,
+            None => {
+                let mut geo = [None, None];
+                for i in 0..2 {
+                    let d = self.job.surfaces[i].derivatives_at(self.row.uv[i]);
+                    geo[i] = Some(
+                        LocalGeometry::try_new(d)
+                            .ok_or(CreaseError::Singular { at, surface: i })?,
+                    );
+                }
+                let [Some(g1), Some(g2)] = geo else {
+                    return Err(CreaseError::Singular { at, surface: 0 });
+                };
+                [g1, g2]
+            }
         };
         let cross = g1.d.normal.cross(g2.d.normal);
         let sin = cross.length();
@@ -316,9 +369,14 @@ impl Interpolator {
     fn fold_check(&self, geo: &[LocalGeometry; 2], at: Location) -> Result<(), CreaseError> {
         let r = self.job.r_eff_mm;
         for (i, g) in geo.iter().enumerate() {
-            let (k_max, _) = g.principal_curvatures();
-            if 1.0 - k_max * r <= 0.0 {
-                return Err(CreaseError::Fold { at, surface: i, radius_mm: 1.0 / k_max, r_eff_mm: r });
+            if !g.offset_is_regular(r) {
+                let (k_max, _) = g.principal_curvatures();
+                return Err(CreaseError::Fold {
+                    at,
+                    surface: i,
+                    radius_mm: 1.0 / k_max,
+                    r_eff_mm: r,
+                });
             }
         }
         Ok(())
@@ -348,16 +406,25 @@ impl Interpolator {
             w[i] = (ki * d - n) / s;
             c[i] = (2.0 * (h - r) + ki * (r * r - dd)) / ((1.0 - r * ki) + s);
         }
+        // The rows w1, w2 are unit vectors (|k d − n| = s by the definition of s), so with
+        // m = w1 × w2 the system's inverse has columns w2 × m, m × w1, m over det = |m|².
         let m = w[0].cross(w[1]);
-        let Some(dp) = linalg::solve3_rows(w[0], w[1], m, DVec3::new(c[0], c[1], 0.0)) else {
+        let det = m.length_squared();
+        if !(det > 1e-18) {
             return Err(CreaseError::Tangential {
                 at,
-                angle_deg: m.length().min(1.0).asin().to_degrees(),
+                angle_deg: det.sqrt().min(1.0).asin().to_degrees(),
                 min_deg: tolerance::MIN_CREASE_ANGLE_RAD.to_degrees(),
             });
-        };
-        if !(dp.length() <= self.opts.max_correction_ratio * f + 1e-9) {
-            return Err(CreaseError::StepTooLong { at, feed_mm: f, correction_mm: dp.length() });
+        }
+        let dp = (c[0] * w[1].cross(m) + c[1] * m.cross(w[0])) / det;
+        let max_dp = self.opts.max_correction_ratio * f + 1e-9;
+        if !(dp.length_squared() <= max_dp * max_dp) {
+            return Err(CreaseError::StepTooLong {
+                at,
+                feed_mm: f,
+                correction_mm: dp.length(),
+            });
         }
         let mut p_e = p_star + dp;
         if self.opts.exact_feed {
@@ -372,21 +439,29 @@ impl Interpolator {
             let len = dr.length();
             if len > 0.0 {
                 let e = dr / len;
-                let Some(duv) = crate::geom::solve_tangent(&geo[i].d, n.cross(e), 0.0, e, len) else {
+                let Some(duv) = crate::geom::solve_tangent(&geo[i].d, n.cross(e), 0.0, e, len)
+                else {
                     return Err(CreaseError::Singular { at, surface: i });
                 };
                 uv[i] += duv;
             }
         }
         if !(p_e.is_finite() && uv[0].is_finite() && uv[1].is_finite()) {
-            return Err(CreaseError::StepTooLong { at, feed_mm: f, correction_mm: f64::INFINITY });
+            return Err(CreaseError::StepTooLong {
+                at,
+                feed_mm: f,
+                correction_mm: f64::INFINITY,
+            });
         }
         Ok((p_e, uv, t))
     }
 
     /// The precise stepper: predictor along the tangent, Newton onto the exact crease at
     /// distance f.
-    fn exact_step(&self, at: Location) -> Result<(DVec3, [DVec2; 2], DVec3), CreaseError> {
+    fn exact_step(
+        &self,
+        at: Location,
+    ) -> Result<(DVec3, [DVec2; 2], DVec3, Option<[LocalGeometry; 2]>), CreaseError> {
         let (geo, t) = self.local(at)?;
         self.fold_check(&geo, at)?;
         let r = self.job.r_eff_mm;
@@ -396,17 +471,27 @@ impl Interpolator {
             let ki = geo[i].normal_curvature(t);
             guess[i] += geo[i].tangent_coords(f * t) / (1.0 - ki * r);
         }
-        let cp = newton::solve(
+        let (cp, geo_next) = newton::solve_with_geometry(
             &self.job,
             guess,
-            Constraint::AtDistance { from: self.row.p, dist: f },
-            NewtonOptions { max_step_mm: f, stay_in_domain: false, ..NewtonOptions::default() },
+            Constraint::AtDistance {
+                from: self.row.p,
+                dist: f,
+            },
+            NewtonOptions {
+                max_step_mm: f,
+                stay_in_domain: false,
+                ..NewtonOptions::default()
+            },
         )
         .map_err(|e| e.into_error(at, &self.job))?;
         if (cp.p - self.row.p).dot(t) <= 0.0 {
-            return Err(CreaseError::NewtonFailed { at, detail: "the step turned back along the crease".into() });
+            return Err(CreaseError::NewtonFailed {
+                at,
+                detail: "the step turned back along the crease".into(),
+            });
         }
-        Ok((cp.p, cp.uv, t))
+        Ok((cp.p, cp.uv, t, Some(geo_next)))
     }
 }
 
@@ -420,15 +505,16 @@ fn at_time(at: Location) -> f64 {
 /// Whether the step `a → b` passes the target (crosses its normal plane while within the
 /// capture distance, after having been away). `Some(true)` if `b` is the nearer of the two.
 fn passes(target: &mut Target, a: DVec3, b: DVec3, capture: f64) -> Option<bool> {
-    let db = (b - target.point).length();
+    // Squared distances: this runs every period.
+    let db = (b - target.point).length_squared();
     if !target.left {
-        if db > 2.0 * capture {
+        if db > 4.0 * capture * capture {
             target.left = true;
         }
         return None;
     }
-    let da = (a - target.point).length();
-    if da.min(db) > capture {
+    let da = (a - target.point).length_squared();
+    if da.min(db) > capture * capture {
         return None;
     }
     let dir = b - a;

@@ -26,12 +26,12 @@ use glam::{DVec2, DVec3};
 use thiserror::Error;
 
 use crate::geom::{ParametricSurface, Surface};
-use crate::scene::{build_surface, Scene, SceneError};
+use crate::scene::{Scene, SceneError, build_surface};
 
 pub use curve::{CreaseCurve, CreaseFrame};
-pub use estimate::{diagnose, Diagnostics};
-pub use interpolator::{run_to_end, InterpOptions, Interpolator, Method, RunResult, Step};
-pub use newton::{crease_deviation, locate_crease_point, CreasePoint, NewtonOptions};
+pub use estimate::{Diagnostics, diagnose};
+pub use interpolator::{InterpOptions, Interpolator, Method, RunResult, Step, run_to_end};
+pub use newton::{CreasePoint, NewtonOptions, crease_deviation, locate_crease_point};
 
 /// Everything the crease interpolator needs, in internal units (mm, s, rad).
 #[derive(Clone, Debug, PartialEq)]
@@ -97,7 +97,10 @@ impl CreaseJob {
     /// Parameters of a row in file units (degrees for angles).
     #[must_use]
     pub fn params_to_file(&self, uv: [DVec2; 2]) -> [DVec2; 2] {
-        [self.surfaces[0].domain().to_file(uv[0]), self.surfaces[1].domain().to_file(uv[1])]
+        [
+            self.surfaces[0].domain().to_file(uv[0]),
+            self.surfaces[1].domain().to_file(uv[1]),
+        ]
     }
 }
 
@@ -182,9 +185,16 @@ impl fmt::Display for StopReason {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::ReachedEnd => write!(f, "reached the point nearest path.end"),
-            Self::Closed { turns: 1 } => write!(f, "the crease closed on itself after one full turn"),
+            Self::Closed { turns: 1 } => {
+                write!(f, "the crease closed on itself after one full turn")
+            }
             Self::Closed { turns } => write!(f, "the crease closed on itself; {turns} turns made"),
-            Self::LeftDomain { surface, param, value, range } => write!(
+            Self::LeftDomain {
+                surface,
+                param,
+                value,
+                range,
+            } => write!(
                 f,
                 "the contact point on surface {} would leave its domain ({param} = {value:.6} outside [{}, {}])",
                 surface + 1,
@@ -201,7 +211,9 @@ impl fmt::Display for StopReason {
 #[derive(Clone, Debug, Error, PartialEq)]
 pub enum CreaseError {
     /// Newton could not bring a point onto the crease.
-    #[error("no crease near {at} ({detail}); move {at} to where the two surfaces meet (within a few mm), and check that the cutter is on the normal side of both surfaces")]
+    #[error(
+        "no crease near {at} ({detail}); move {at} to where the two surfaces meet (within a few mm), and check that the cutter is on the normal side of both surfaces"
+    )]
     NoCrease {
         /// `path.start` or `path.end`.
         at: Location,
@@ -209,7 +221,9 @@ pub enum CreaseError {
         detail: String,
     },
     /// The surfaces touch tangentially: n1 × n2 vanishes.
-    #[error("at {at} the surfaces touch tangentially (angle between their normals {angle_deg:.3}°, below {min_deg}°): the crease is not defined there; end the path before this point (path.end) or change the surfaces so they meet at an angle")]
+    #[error(
+        "at {at} the surfaces touch tangentially (angle between their normals {angle_deg:.3}°, below {min_deg}°): the crease is not defined there; end the path before this point (path.end) or change the surfaces so they meet at an angle"
+    )]
     Tangential {
         /// Where.
         at: Location,
@@ -239,7 +253,9 @@ pub enum CreaseError {
         surface: usize,
     },
     /// The correction was too large relative to the feed per period.
-    #[error("at {at} the crease bends too sharply for a feed per period of {feed_mm} mm (correction {correction_mm:.4} mm); lower motion.feed or motion.period")]
+    #[error(
+        "at {at} the crease bends too sharply for a feed per period of {feed_mm} mm (correction {correction_mm:.4} mm); lower motion.feed or motion.period"
+    )]
     StepTooLong {
         /// Where.
         at: Location,
@@ -249,10 +265,14 @@ pub enum CreaseError {
         correction_mm: f64,
     },
     /// `path.direction` is perpendicular to the crease.
-    #[error("path.direction is perpendicular to the crease at the start, so it does not choose a sense of travel; give a direction along the crease")]
+    #[error(
+        "path.direction is perpendicular to the crease at the start, so it does not choose a sense of travel; give a direction along the crease"
+    )]
     DirectionAmbiguous,
     /// The precise (Newton) mode could not converge.
-    #[error("at {at} Newton's method did not converge on the crease ({detail}); lower motion.feed or motion.period")]
+    #[error(
+        "at {at} Newton's method did not converge on the crease ({detail}); lower motion.feed or motion.period"
+    )]
     NewtonFailed {
         /// Where.
         at: Location,

@@ -67,7 +67,16 @@ impl LocalGeometry {
             return None;
         }
         let nrm = d.normal;
-        Some(Self { d, e, f, g, l: d.duu.dot(nrm), m: d.duv.dot(nrm), n: d.dvv.dot(nrm), det_i })
+        Some(Self {
+            d,
+            e,
+            f,
+            g,
+            l: d.duu.dot(nrm),
+            m: d.duv.dot(nrm),
+            n: d.dvv.dot(nrm),
+            det_i,
+        })
     }
 
     /// Coordinates `(a, b)` of the tangent-plane projection of `t` in the basis `(r_u, r_v)`:
@@ -94,8 +103,21 @@ impl LocalGeometry {
     /// (1/mm; only t's tangential part matters).
     #[must_use]
     pub fn normal_curvature(&self, t: DVec3) -> f64 {
-        let c = self.tangent_coords(t);
+        // Tangent coordinates up to the common factor 1/(EG − F²), which cancels in the ratio.
+        let (tu, tv) = (t.dot(self.d.du), t.dot(self.d.dv));
+        let c = DVec2::new(self.g * tu - self.f * tv, self.e * tv - self.f * tu);
         self.second_form(c, c) / self.first_form(c, c)
+    }
+
+    /// Whether the offset surface at distance `r` (mm) on the normal side is regular here:
+    /// `1 − k·r > 0` for the normal curvature k of every direction, i.e. the form `I − r·II`
+    /// is positive definite. Cheaper than [`Self::principal_curvatures`] (no square root).
+    #[must_use]
+    pub fn offset_is_regular(&self, r: f64) -> bool {
+        let a = self.e - r * self.l;
+        let b = self.f - r * self.m;
+        let c = self.g - r * self.n;
+        a > 0.0 && a * c - b * b > 0.0
     }
 
     /// Geodesic torsion `τ_g(t) = II(t, n × t) / I(t, t)` along the tangent t (1/mm).
@@ -126,7 +148,13 @@ impl LocalGeometry {
         let e2 = self.d.normal.cross(e1);
         let c1 = DVec2::new(1.0 / self.e.sqrt(), 0.0);
         let c2 = self.tangent_coords(e2);
-        (self.second_form(c1, c1), self.second_form(c1, c2), self.second_form(c2, c2), e1, e2)
+        (
+            self.second_form(c1, c1),
+            self.second_form(c1, c2),
+            self.second_form(c2, c2),
+            e1,
+            e2,
+        )
     }
 
     /// Principal curvatures only: `(k_max, k_min)`, the eigenvalues of the shape operator
@@ -153,7 +181,12 @@ impl LocalGeometry {
         let theta = 0.5 * b.atan2(half);
         let dir_max = theta.cos() * e1 + theta.sin() * e2;
         let dir_min = self.d.normal.cross(dir_max);
-        Principal { k_max: mean + disc, k_min: mean - disc, dir_max, dir_min }
+        Principal {
+            k_max: mean + disc,
+            k_min: mean - disc,
+            dir_max,
+            dir_min,
+        }
     }
 
     /// Derivatives of the unit normal, `(n_u, n_v)`, by the Weingarten equations
@@ -177,6 +210,18 @@ impl LocalGeometry {
 
 /// Solves `(r_u δu + r_v δv)·a = α, (r_u δu + r_v δv)·b = β` for `(δu, δv)`.
 #[must_use]
-pub(crate) fn solve_tangent(d: &SurfaceDerivs, a: DVec3, alpha: f64, b: DVec3, beta: f64) -> Option<DVec2> {
-    linalg::solve2(d.du.dot(a), d.dv.dot(a), d.du.dot(b), d.dv.dot(b), DVec2::new(alpha, beta))
+pub(crate) fn solve_tangent(
+    d: &SurfaceDerivs,
+    a: DVec3,
+    alpha: f64,
+    b: DVec3,
+    beta: f64,
+) -> Option<DVec2> {
+    linalg::solve2(
+        d.du.dot(a),
+        d.dv.dot(a),
+        d.du.dot(b),
+        d.dv.dot(b),
+        DVec2::new(alpha, beta),
+    )
 }

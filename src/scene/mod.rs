@@ -7,12 +7,15 @@
 //! [`crate::crease::CreaseJob`] (radians, unit frames, NURBS in homogeneous form).
 
 mod build;
+pub mod link;
 mod parse;
+pub mod presets;
 mod write;
 
 use thiserror::Error;
 
 pub use build::{build_machine, build_surface, build_tool_axis, machine_spec, params_from_file};
+pub use presets::{PRESETS, Preset};
 pub use write::machine_value;
 
 /// The format tag this version reads and writes.
@@ -34,8 +37,16 @@ pub struct SceneError {
 }
 
 impl SceneError {
-    pub(crate) fn new(path: impl Into<String>, problem: impl Into<String>, fix: impl Into<String>) -> Self {
-        Self { path: path.into(), problem: problem.into(), fix: fix.into() }
+    pub(crate) fn new(
+        path: impl Into<String>,
+        problem: impl Into<String>,
+        fix: impl Into<String>,
+    ) -> Self {
+        Self {
+            path: path.into(),
+            problem: problem.into(),
+            fix: fix.into(),
+        }
     }
 }
 

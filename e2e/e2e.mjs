@@ -1,0 +1,163 @@
+// End-to-end test of the release web app in Debian's headless Chromium (driven by
+// playwright-core; no browser download). Usage: node e2e/e2e.mjs http://127.0.0.1:PORT/
+//
+// Checks, as a new user would meet them: the page loads and draws its first frame (pixels,
+// not just logs), no console error, moving the feed slider changes the number of periods,
+// a bad scene file shows an error and keeps the scene, a share link restores the scene,
+// the last scene survives a reload. Screenshots go to e2e/artifacts/.
+import { chromium } from "playwright-core";
+import { PNG } from "pngjs";
+import fs from "node:fs";
+import path from "node:path";
+import { fileURLToPath } from "node:url";
+
+const here = path.dirname(fileURLToPath(import.meta.url));
+const url = process.argv[2] ?? "http://127.0.0.1:8765/";
+const artifacts = path.join(here, "artifacts");
+fs.mkdirSync(artifacts, { recursive: true });
+const examples = path.join(here, "..", "examples");
+
+const results = [];
+function check(name, ok, detail = "") {
+  results.push({ name, ok });
+  console.log(`${ok ? "ok  " : "FAIL"}  ${name}${detail ? " — " + detail : ""}`);
+}
+
+function base64url(text) {
+  return Buffer.from(text, "utf8").toString("base64").replace(/\+/g, "-").replace(/\//g, "_").replace(/=+$/, "");
+}
+
+async function status(page) {
+  const text = await page.locator("#app-status").textContent();
+  return text ? JSON.parse(text) : null;
+}
+
+async function waitFor(page, what, pred, timeoutMs = 60000) {
+  const t0 = Date.now();
+  let last = null;
+  while (Date.now() - t0 < timeoutMs) {
+    last = await status(page).catch(() => null);
+    if (last && pred(last)) return last;
+    await page.waitForTimeout(100);
+  }
+  throw new Error(`timed out waiting for ${what}; last status: ${JSON.stringify(last)}`);
+}
+
+const settled = (s) => s.frames >= 3 && !s.running && s.periods >= 0 && s.stop !== null;
+
+// Fraction of distinct colours in a region of a screenshot: a blank canvas has one.
+function colourVariety(pngBuffer, region) {
+  const png = PNG.sync.read(pngBuffer);
+  const seen = new Set();
+  const [x0, y0, w, h] = region.map(Math.round);
+  for (let y = y0; y < y0 + h; y += 2) {
+    for (let x = x0; x < x0 + w; x += 2) {
+      const i = (png.width * y + x) << 2;
+      seen.add((png.data[i] >> 3) << 10 | (png.data[i + 1] >> 3) << 5 | (png.data[i + 2] >> 3));
+    }
+  }
+  return seen.size;
+}
+
+const browser = await chromium.launch({
+  executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium",
+  headless: true,
+  args: [
+    "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader", "--disable-quic", "--no-first-run",
+    "--disable-background-networking", "--disable-component-update", "--disable-sync",
+  ],
+});
+const context = await browser.newContext({ viewport: { width: 1400, height: 900 }, deviceScaleFactor: 1 });
+const consoleErrors = [];
+context.on("console", (m) => { if (m.type() === "error") consoleErrors.push(m.text()); });
+context.on("weberror", (e) => consoleErrors.push(String(e.error())));
+
+let failed = false;
+try {
+  // 1. Load, first frame.
+  const page = await context.newPage();
+  const t0 = Date.now();
+  await page.goto(url);
+  const s0 = await waitFor(page, "the first computed path", settled);
+  const loadMs = Date.now() - t0;
+  const shot0 = await page.screenshot({ path: path.join(artifacts, "01-first-frame.png") });
+  const variety = colourVariety(shot0, [420, 60, 900, 520]);
+  check("page loads and computes the preset", s0.periods > 100, `${s0.periods} periods, ${s0.scene}`);
+  check("first frame is drawn (3D view not blank)", variety > 40, `${variety} distinct colours in the view`);
+  check("time to first frame recorded", typeof s0.first_frame_ms === "number", `first frame at ${Math.round(s0.first_frame_ms)} ms after navigation; settled after ${loadMs} ms`);
+
+  // 2. Feed slider.
+  // The slider's rail is its first 100 points; press on it and drag a little to the right.
+  const [x, y, , h] = s0.ui.feed_slider;
+  const handleY = y + h / 2;
+  await page.mouse.move(x + 40, handleY);
+  await page.mouse.down();
+  await page.mouse.move(x + 70, handleY, { steps: 8 });
+  await page.mouse.up();
+  const s1 = await waitFor(page, "the path after moving the feed slider", (s) => s.feed_mm_per_min !== s0.feed_mm_per_min && settled(s));
+  await page.screenshot({ path: path.join(artifacts, "02-after-feed-slider.png") });
+  check("moving the feed slider changes the number of periods", s1.periods !== s0.periods,
+    `feed ${s0.feed_mm_per_min} → ${s1.feed_mm_per_min.toFixed(1)} mm/min, periods ${s0.periods} → ${s1.periods}`);
+
+  // 3. A bad scene file is refused; the scene is kept.
+  const bad = JSON.parse(fs.readFileSync(path.join(examples, "torus-plane.json"), "utf8"));
+  bad.tool.radius = -2;
+  await page.setInputFiles("#scene-file", { name: "bad-scene.json", mimeType: "application/json", buffer: Buffer.from(JSON.stringify(bad)) });
+  const s2 = await waitFor(page, "the error about the bad file", (s) => s.error.includes("bad-scene.json"));
+  await page.screenshot({ path: path.join(artifacts, "03-bad-file.png") });
+  check("a bad scene file shows what is wrong", s2.error.includes("tool.radius") && s2.error.includes("kept"), s2.error);
+  check("… and keeps the current scene", s2.scene === s1.scene && s2.periods === s1.periods);
+
+  // 4. A good file opens.
+  await page.setInputFiles("#scene-file", { name: "torus.json", mimeType: "application/json", buffer: fs.readFileSync(path.join(examples, "torus-plane.json")) });
+  const s3 = await waitFor(page, "the opened file", (s) => s.scene.startsWith("Torus") && settled(s));
+  check("a scene file opens", s3.periods > 100, `${s3.scene}: ${s3.periods} periods`);
+
+  // 5. The app's share link restores the scene in a fresh page.
+  const sb = s3.ui.share_button;
+  await page.mouse.click(sb[0] + sb[2] / 2, sb[1] + sb[3] / 2);
+  await page.waitForTimeout(300);
+  const shared = page.url();
+  check("Share link puts the scene in the URL", shared.includes("#scene="), `${shared.length} characters`);
+  const page2 = await context.newPage();
+  await page2.goto("about:blank");
+  await page2.goto(shared);
+  const s4 = await waitFor(page2, "the shared scene", settled);
+  await page2.screenshot({ path: path.join(artifacts, "04-share-link.png") });
+  check("a share link restores the scene", s4.scene === s3.scene && s4.periods === s3.periods, `${s4.scene}, ${s4.periods} periods`);
+
+  // 6. A link built outside the app (another example) opens too.
+  const dome = JSON.parse(fs.readFileSync(path.join(examples, "sphere-plane.json"), "utf8"));
+  const page3 = await context.newPage();
+  await page3.goto(url + "#scene=" + base64url(JSON.stringify(dome)));
+  const s5 = await waitFor(page3, "the linked dome scene", (s) => s.scene === dome.name && settled(s));
+  check("a hand-made link opens its scene", s5.periods > 100, `${s5.periods} periods`);
+
+  // 7. A broken link shows an error and a usable scene.
+  const page4 = await context.newPage();
+  await page4.goto(url + "#scene=" + base64url('{"format":"interpolab-scene/1"}'));
+  const s6 = await waitFor(page4, "the broken-link error", (s) => s.error !== "" && s.frames >= 3);
+  await page4.screenshot({ path: path.join(artifacts, "05-broken-link.png") });
+  check("a broken link says what is wrong", s6.error.includes("link") && s6.error.includes("missing"), s6.error);
+
+  // 8. The last scene is kept across reloads (eframe stores it in local storage). Only
+  // page3 stays open, so no other page overwrites the stored scene meanwhile.
+  for (const p of [page, page2, page4]) await p.close();
+  await page3.waitForTimeout(6000); // auto-save interval 5 s
+  await page3.goto(url);
+  const s7 = await waitFor(page3, "the reloaded scene", settled);
+  check("the last scene is kept across reloads", s7.scene === dome.name, s7.scene);
+
+  await page3.close();
+} catch (e) {
+  failed = true;
+  console.log(`FAIL  ${e.message}`);
+}
+const unexpected = consoleErrors.filter((t) => !/GPU stall due to ReadPixels/.test(t));
+check("no console error", unexpected.length === 0, unexpected.slice(0, 5).join(" | "));
+await browser.close();
+
+const passed = results.filter((r) => r.ok).length;
+const failedCount = results.length - passed + (failed ? 1 : 0);
+console.log(`\ne2e: ${passed} passed, ${failedCount} failed (screenshots in e2e/artifacts/)`);
+process.exit(failedCount === 0 ? 0 : 1);

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# Runs every check and test of the project; CI runs exactly this (.ci/run).
+#   format, lints (native and wasm32), the core's tests natively and compiled to wasm32
+#   under Node, the app's headless tests, doc tests, the release web build, and the
+#   end-to-end test in headless Chromium.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/setup.sh test
+export PATH="$HOME/.cargo/bin:$PATH"
+export CARGO_TERM_COLOR="${CARGO_TERM_COLOR:-never}"
+start=$(date +%s)
+say() { printf '\n\033[1m== %s (%ss)\033[0m\n' "$*" "$(( $(date +%s) - start ))"; }
+
+say "format"
+cargo fmt --all --check
+
+say "lints: native, with the app"
+cargo clippy --all-targets --locked -- -D warnings
+say "lints: the core for wasm32"
+cargo clippy --no-default-features --target wasm32-unknown-unknown --lib --locked -- -D warnings
+
+say "core tests, native (no GUI dependency)"
+cargo test --no-default-features --locked
+
+say "app tests, native (headless frames)"
+cargo test --locked --test app_headless
+
+say "core tests compiled to wasm32, run under Node (same sources)"
+# Without debuginfo the test modules stay small and load fast (see docs/toolchain notes).
+CARGO_PROFILE_DEV_DEBUG=false cargo test --no-default-features --target wasm32-unknown-unknown --tests --locked
+
+say "release web build (trunk)"
+trunk build --release
+
+say "end-to-end in headless Chromium"
+port="${E2E_PORT:-8797}"
+python3 -m http.server "$port" --bind 127.0.0.1 --directory dist >/dev/null 2>&1 &
+server=$!
+trap 'kill $server 2>/dev/null || true' EXIT
+for _ in $(seq 50); do
+    curl -fs "http://127.0.0.1:$port/" >/dev/null 2>&1 && break
+    sleep 0.1
+done
+node e2e/e2e.mjs "http://127.0.0.1:$port/"
+
+say "all checks passed"

@@ -1,0 +1,673 @@
+//! The app (feature `app`): state, widgets and views over the core. Thin by design: every
+//! number it shows comes from the core; this layer keeps state, lays out widgets and feeds
+//! the renderer.
+//!
+//! Data flow, slider to frame: a control edits the *draft* scene → the draft is validated
+//! (core) → if valid it becomes the scene and the [`compute::Computation`] restarts → each
+//! frame the computation advances within a time budget → views read its periods (rows,
+//! measured errors, estimates, exact crease points) → the 3D view uploads what changed to the
+//! GPU and the plots draw.
+
+mod compute;
+mod controls;
+mod platform;
+mod plots;
+mod view3d;
+
+#[cfg(not(target_arch = "wasm32"))]
+pub mod native;
+#[cfg(target_arch = "wasm32")]
+pub mod web;
+
+use eframe::egui;
+use web_time::{Duration, Instant};
+
+use crate::crease::{InterpOptions, Method, StopReason};
+use crate::scene::{PRESETS, Scene, SceneError};
+use compute::Computation;
+use platform::{Incoming, Platform};
+
+/// Storage key of the last scene (browser local storage / native app data).
+const STORAGE_SCENE: &str = "interpolab.scene";
+/// Wall time per frame given to the computation while a path is being computed.
+const COMPUTE_BUDGET: Duration = Duration::from_millis(12);
+
+/// Severity of a message in the banner.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Level {
+    Info,
+    Error,
+}
+
+/// The banner under the top bar.
+#[derive(Clone, Debug)]
+struct Notice {
+    level: Level,
+    text: String,
+    shown: Instant,
+}
+
+/// Playback of the cutter along the computed path.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Playback {
+    /// Whether time runs.
+    pub playing: bool,
+    /// Position as a (fractional) period index.
+    pub k: f64,
+    /// Multiple of real time (1 = the machine's speed).
+    pub speed: f64,
+}
+
+impl Default for Playback {
+    fn default() -> Self {
+        Self {
+            playing: false,
+            k: 0.0,
+            speed: 1.0,
+        }
+    }
+}
+
+/// The central views.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Tab {
+    Crease,
+}
+
+/// The interpolab app.
+pub struct InterpolabApp {
+    scene: Scene,
+    draft: Scene,
+    draft_error: Option<SceneError>,
+    preset: Option<usize>,
+    opts: InterpOptions,
+    compute: Computation,
+    view: view3d::CreaseView,
+    plots: plots::PlotState,
+    playback: Playback,
+    notice: Option<Notice>,
+    platform: Platform,
+    render_state: Option<eframe::egui_wgpu::RenderState>,
+    tab: Tab,
+    frames: u64,
+    first_frame_ms: Option<f64>,
+    last_status: String,
+    last_fragment: String,
+    show_help: bool,
+    /// Rectangles of key widgets this frame (points), published in the status element.
+    widget_rects: Vec<(&'static str, egui::Rect)>,
+}
+
+fn default_scene() -> Scene {
+    PRESETS
+        .first()
+        .and_then(|p| Scene::from_json(p.json).ok())
+        .unwrap_or_else(|| {
+            // The presets are checked by the tests; this cannot happen in a released build.
+            unreachable_scene()
+        })
+}
+
+#[cold]
+fn unreachable_scene() -> Scene {
+    log::error!("built-in presets failed to parse");
+    Scene::from_json(PRESETS[0].json).unwrap_or_else(|e| panic!("preset: {e}"))
+}
+
+impl InterpolabApp {
+    /// Creates the app: scene from the link, else the last session's, else the first preset.
+    #[must_use]
+    pub fn new(cc: &eframe::CreationContext<'_>) -> Self {
+        let ctx = &cc.egui_ctx;
+        ctx.set_theme(egui::Theme::Dark);
+        let platform = Platform::new(ctx);
+        let render_state = cc.wgpu_render_state.clone();
+        if let Some(rs) = &render_state {
+            crate::render::Renderer3d::install(rs);
+        }
+        let mut notice = None;
+        let fragment = platform.fragment();
+        let from_link = match Scene::from_link_fragment(&fragment) {
+            Ok(s) => s,
+            Err(e) => {
+                notice = Some(Notice {
+                    level: Level::Error,
+                    text: format!("The link's scene was not opened — {e}"),
+                    shown: Instant::now(),
+                });
+                None
+            }
+        };
+        let stored = cc
+            .storage
+            .and_then(|s| s.get_string(STORAGE_SCENE))
+            .and_then(|text| Scene::from_json(&text).ok());
+        let scene = from_link.clone().or(stored).unwrap_or_else(default_scene);
+        let preset = PRESETS
+            .iter()
+            .position(|p| Scene::from_json(p.json).ok().as_ref() == Some(&scene));
+        let mut app = Self {
+            draft: scene.clone(),
+            scene,
+            draft_error: None,
+            preset,
+            opts: InterpOptions::default(),
+            compute: Computation::default(),
+            view: view3d::CreaseView::new(0),
+            plots: plots::PlotState::default(),
+            playback: Playback::default(),
+            notice,
+            platform,
+            render_state,
+            tab: Tab::Crease,
+            frames: 0,
+            first_frame_ms: None,
+            last_status: String::new(),
+            last_fragment: fragment,
+            show_help: false,
+            widget_rects: Vec::new(),
+        };
+        if from_link.is_some() {
+            app.info("Opened the scene from the link.");
+        }
+        app.restart();
+        app
+    }
+
+    fn info(&mut self, text: impl Into<String>) {
+        self.notice = Some(Notice {
+            level: Level::Info,
+            text: text.into(),
+            shown: Instant::now(),
+        });
+    }
+
+    fn error(&mut self, text: impl Into<String>) {
+        self.notice = Some(Notice {
+            level: Level::Error,
+            text: text.into(),
+            shown: Instant::now(),
+        });
+    }
+
+    /// Recomputes the current scene from the start.
+    fn restart(&mut self) {
+        if let Err(e) = self.compute.restart(&self.scene, self.opts) {
+            // The scene was validated before it became current; report rather than panic.
+            self.error(format!("The scene cannot be computed — {e}"));
+        }
+        self.playback.k = 0.0;
+    }
+
+    /// Makes `scene` current (a loaded file, a link, a preset) and frames it.
+    fn load_scene(&mut self, scene: Scene, source: &str) {
+        self.preset = PRESETS
+            .iter()
+            .position(|p| Scene::from_json(p.json).ok().as_ref() == Some(&scene));
+        self.scene = scene.clone();
+        self.draft = scene;
+        self.draft_error = None;
+        self.restart();
+        self.view.request_fit();
+        self.playback = Playback::default();
+        self.info(format!("Opened {source}."));
+    }
+
+    fn handle_files(&mut self, files: Vec<Incoming>) {
+        for f in files {
+            match f.text {
+                Err(e) => self.error(format!("{}: {e} — the current scene is kept.", f.name)),
+                Ok(text) => match Scene::from_json(&text) {
+                    Ok(scene) => self.load_scene(scene, &f.name),
+                    Err(e) => self.error(format!(
+                        "{} is not a usable scene — {e}. The current scene is kept.",
+                        f.name
+                    )),
+                },
+            }
+        }
+    }
+
+    /// Opens a scene pasted into the address bar of an open page.
+    fn handle_fragment(&mut self) {
+        let fragment = self.platform.fragment();
+        if fragment == self.last_fragment {
+            return;
+        }
+        self.last_fragment = fragment.clone();
+        match Scene::from_link_fragment(&fragment) {
+            Ok(Some(scene)) if scene != self.scene => {
+                self.load_scene(scene, "the scene from the link")
+            }
+            Ok(_) => {}
+            Err(e) => self.error(format!(
+                "The link's scene was not opened — {e}. The current scene is kept."
+            )),
+        }
+    }
+
+    /// Applies the draft if it is valid; otherwise keeps computing the last valid scene.
+    fn apply_draft(&mut self) {
+        match self.draft.validate() {
+            Ok(()) => {
+                self.draft_error = None;
+                if self.draft != self.scene {
+                    self.scene = self.draft.clone();
+                    self.preset = None;
+                    self.restart();
+                }
+            }
+            Err(e) => self.draft_error = Some(e),
+        }
+    }
+
+    /// Opens a scene given as text, as if a file of that name had been chosen (an invalid
+    /// scene is reported and the current one kept).
+    pub fn open_text(&mut self, name: &str, text: &str) {
+        self.handle_files(vec![Incoming {
+            name: name.to_owned(),
+            text: Ok(text.to_owned()),
+        }]);
+    }
+
+    /// Edits the draft scene as the controls do, then applies it if valid.
+    pub fn edit_draft(&mut self, edit: impl FnOnce(&mut Scene)) {
+        edit(&mut self.draft);
+        self.apply_draft();
+    }
+
+    /// The current (valid) scene.
+    #[must_use]
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// The state published for tests and assistive tools, as JSON text.
+    #[must_use]
+    pub fn status(&self) -> String {
+        self.status_json()
+    }
+
+    fn share_link(&mut self, ctx: &egui::Context) {
+        let fragment = self.scene.to_link_fragment();
+        let url = self.platform.share_url(&fragment);
+        self.platform.set_fragment(&fragment);
+        self.last_fragment = format!("#{fragment}");
+        ctx.copy_text(url.clone());
+        self.info(format!(
+            "Link copied to the clipboard ({} characters). It opens this exact scene.",
+            url.len()
+        ));
+    }
+
+    fn file_name(&self) -> String {
+        let stem: String = self
+            .scene
+            .name
+            .chars()
+            .map(|c| {
+                if c.is_ascii_alphanumeric() {
+                    c.to_ascii_lowercase()
+                } else {
+                    '-'
+                }
+            })
+            .collect();
+        let stem = stem
+            .split('-')
+            .filter(|s| !s.is_empty())
+            .collect::<Vec<_>>()
+            .join("-");
+        format!(
+            "{}.json",
+            if stem.is_empty() {
+                "scene".to_owned()
+            } else {
+                stem
+            }
+        )
+    }
+
+    fn top_bar(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal_wrapped(|ui| {
+            ui.heading("interpolab");
+            ui.label(egui::RichText::new("crease interpolation lab").weak());
+            ui.separator();
+            let label = match self.preset {
+                Some(i) => preset_title(i),
+                None => "(custom scene)".to_owned(),
+            };
+            let mut chosen = None;
+            egui::ComboBox::from_id_salt("preset")
+                .selected_text(label)
+                .width(300.0)
+                .show_ui(ui, |ui| {
+                    for i in 0..PRESETS.len() {
+                        if ui
+                            .selectable_label(self.preset == Some(i), preset_title(i))
+                            .clicked()
+                        {
+                            chosen = Some(i);
+                        }
+                    }
+                })
+                .response
+                .on_hover_text("Example scenes (examples/*.json)");
+            if let Some(i) = chosen {
+                match Scene::from_json(PRESETS[i].json) {
+                    Ok(s) => self.load_scene(s, &format!("the preset \"{}\"", preset_title(i))),
+                    Err(e) => self.error(format!("preset {}: {e}", PRESETS[i].id)),
+                }
+            }
+            if Platform::can_pick_files() {
+                let open = ui
+                    .button("Open…")
+                    .on_hover_text("Open a scene file (or drop one on the window)");
+                self.widget_rects.push(("open_button", open.rect));
+                if open.clicked() {
+                    self.platform.pick_file();
+                }
+            }
+            if ui
+                .button("Save")
+                .on_hover_text("Download the current scene as JSON")
+                .clicked()
+            {
+                let name = self.file_name();
+                match self.platform.save_text(&name, &self.scene.to_json()) {
+                    Ok(msg) => self.info(msg),
+                    Err(e) => self.error(format!("Saving failed: {e}")),
+                }
+            }
+            let share = ui
+                .button("Share link")
+                .on_hover_text("Copy a link that opens this exact scene");
+            self.widget_rects.push(("share_button", share.rect));
+            if share.clicked() {
+                self.share_link(ui.ctx());
+            }
+            ui.separator();
+            if ui.selectable_label(self.show_help, "Help").clicked() {
+                self.show_help = !self.show_help;
+            }
+        });
+    }
+
+    fn banner(&mut self, ui: &mut egui::Ui) {
+        let Some(n) = &self.notice else { return };
+        if n.level == Level::Info && n.shown.elapsed() > Duration::from_secs(6) {
+            self.notice = None;
+            return;
+        }
+        let (fill, stroke) = match n.level {
+            Level::Info => (
+                egui::Color32::from_rgb(28, 60, 44),
+                egui::Color32::from_rgb(90, 190, 120),
+            ),
+            Level::Error => (
+                egui::Color32::from_rgb(80, 24, 24),
+                egui::Color32::from_rgb(235, 90, 80),
+            ),
+        };
+        let mut close = false;
+        egui::Frame::new()
+            .fill(fill)
+            .stroke(egui::Stroke::new(1.0, stroke))
+            .inner_margin(6.0)
+            .corner_radius(4.0)
+            .show(ui, |ui| {
+                ui.horizontal_wrapped(|ui| {
+                    ui.label(
+                        egui::RichText::new(if n.level == Level::Error {
+                            "⚠"
+                        } else {
+                            "ℹ"
+                        })
+                        .color(stroke),
+                    );
+                    ui.label(egui::RichText::new(&n.text).color(egui::Color32::WHITE));
+                    if ui.small_button("✕").on_hover_text("Dismiss").clicked() {
+                        close = true;
+                    }
+                });
+            });
+        if close {
+            self.notice = None;
+        }
+    }
+
+    fn status_json(&self) -> String {
+        let stop = match &self.compute.outcome {
+            None => serde_json::Value::Null,
+            Some(Ok(r)) => r.tag().into(),
+            Some(Err(_)) => "error".into(),
+        };
+        let error = match (&self.compute.outcome, &self.draft_error, &self.notice) {
+            (Some(Err(e)), _, _) => e.to_string(),
+            (_, Some(e), _) => e.to_string(),
+            (_, _, Some(n)) if n.level == Level::Error => n.text.clone(),
+            _ => String::new(),
+        };
+        let (worst, _) = self.compute.worst();
+        let ui: serde_json::Map<String, serde_json::Value> = self
+            .widget_rects
+            .iter()
+            .map(|(k, r)| {
+                (
+                    (*k).to_owned(),
+                    serde_json::json!([r.min.x, r.min.y, r.width(), r.height()]),
+                )
+            })
+            .collect();
+        serde_json::json!({
+            "scene": self.scene.name,
+            "periods": self.compute.periods.len().saturating_sub(1),
+            "running": self.compute.running(),
+            "stop": stop,
+            "error": error,
+            "feed_mm_per_min": self.scene.motion.feed,
+            "period_ms": self.scene.motion.period,
+            "worst_error_mm": [worst[0], worst[1]],
+            "frames": self.frames,
+            "first_frame_ms": self.first_frame_ms,
+            "playback_k": self.playback.k.floor(),
+            "ui": ui,
+        })
+        .to_string()
+    }
+}
+
+/// Display title of preset `i` (its scene name).
+fn preset_title(i: usize) -> String {
+    Scene::from_json(PRESETS[i].json).map_or_else(|_| PRESETS[i].id.to_owned(), |s| s.name)
+}
+
+impl eframe::App for InterpolabApp {
+    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+        let ctx = ui.ctx().clone();
+        self.frames += 1;
+        self.widget_rects.clear();
+        if self.frames == 2 && self.first_frame_ms.is_none() {
+            // The first frame has been presented by the time the second one starts.
+            self.first_frame_ms = Some(Platform::now_ms());
+        }
+
+        self.platform.accept_dropped(&ctx);
+        let files = self.platform.take_incoming();
+        if !files.is_empty() {
+            self.handle_files(files);
+        }
+        self.handle_fragment();
+        self.platform.ui(&ctx);
+
+        if self.compute.running() {
+            self.compute.advance(COMPUTE_BUDGET);
+            ctx.request_repaint();
+        }
+        let n_periods = self.compute.periods.len();
+        if self.playback.playing && n_periods > 1 {
+            let dt = f64::from(ctx.input(|i| i.stable_dt)).min(0.1);
+            self.playback.k += dt * self.playback.speed * 1000.0 / self.scene.motion.period;
+            let last = (n_periods - 1) as f64;
+            if self.playback.k >= last {
+                self.playback.k = last;
+                if !self.compute.running() {
+                    self.playback.playing = false;
+                }
+            }
+            ctx.request_repaint();
+        }
+        self.playback.k = self
+            .playback
+            .k
+            .clamp(0.0, n_periods.saturating_sub(1) as f64);
+
+        egui::Panel::top("top_bar").show(ui, |ui| {
+            ui.add_space(2.0);
+            self.top_bar(ui);
+            ui.add_space(2.0);
+        });
+
+        let mut changed = false;
+        egui::Panel::left("controls")
+            .resizable(true)
+            .default_size(300.0)
+            .min_size(240.0)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| {
+                    let out = controls::controls(
+                        ui,
+                        &mut self.draft,
+                        self.draft_error.as_ref(),
+                        &mut self.opts,
+                        &mut self.view.settings,
+                    );
+                    changed |= out.scene_changed;
+                    if let Some(r) = out.feed_rect {
+                        self.widget_rects.push(("feed_slider", r));
+                    }
+                    if out.options_changed {
+                        self.restart();
+                    }
+                });
+            });
+        if changed {
+            self.apply_draft();
+        }
+
+        egui::Panel::bottom("plots")
+            .resizable(true)
+            .default_size(260.0)
+            .min_size(140.0)
+            .show(ui, |ui| {
+                plots::playback_bar(
+                    ui,
+                    &mut self.playback,
+                    &self.compute,
+                    self.scene.motion.period,
+                );
+                ui.separator();
+                plots::plots(
+                    ui,
+                    &mut self.plots,
+                    &self.compute,
+                    &self.scene,
+                    self.playback.k,
+                );
+            });
+
+        egui::CentralPanel::default().show(ui, |ui| {
+            self.banner(ui);
+            if self.show_help {
+                help(ui);
+            }
+            match self.tab {
+                Tab::Crease => self.view.ui(
+                    ui,
+                    self.render_state.as_ref(),
+                    &self.scene,
+                    &self.compute,
+                    &self.playback,
+                ),
+            }
+        });
+
+        let status = self.status_json();
+        if status != self.last_status {
+            self.platform.set_status(&status);
+            self.last_status = status;
+        }
+        if self.notice.as_ref().is_some_and(|n| n.level == Level::Info) {
+            ctx.request_repaint_after(Duration::from_millis(500));
+        }
+    }
+
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        storage.set_string(STORAGE_SCENE, self.scene.to_json_compact());
+    }
+
+    fn auto_save_interval(&self) -> std::time::Duration {
+        std::time::Duration::from_secs(5)
+    }
+}
+
+fn help(ui: &mut egui::Ui) {
+    egui::Frame::group(ui.style()).show(ui, |ui| {
+        ui.label(egui::RichText::new("How to use interpolab").strong());
+        ui.label("• Pick an example at the top, or open / drop a scene file. Every change recomputes the path at once.");
+        ui.label("• 3D view: drag to turn, right-drag or shift-drag to pan, wheel or pinch to zoom, double-click to fit.");
+        ui.label("• The ball cutter (R) touches both surfaces; its centre runs on the crease of the two offset surfaces (translucent).");
+        ui.label("• Each period the centre advances by f = F·Ts. The plots show the measured errors e1, e2 against the allowed ±b·T and the paper's steady-state bound (16).");
+        ui.label("• Playback moves the cutter at the machine's speed (× the speed factor); the plots' cursor follows it.");
+        ui.label("• 🔗 Share link copies a URL that opens this exact scene; the last scene is kept across reloads.");
+    });
+}
+
+/// Formats a length in mm with three significant digits in a unit suited to its size
+/// (mm, µm, nm, pm), e.g. `5.00 µm`, `0.206 pm`.
+pub(crate) fn fmt_len(mm: f64) -> String {
+    let a = mm.abs();
+    if !mm.is_finite() {
+        return "—".to_owned();
+    }
+    if a == 0.0 {
+        return "0 µm".to_owned();
+    }
+    let (scale, unit) = if a >= 1.0 {
+        (1.0, "mm")
+    } else if a >= 1e-3 {
+        (1e3, "µm")
+    } else if a >= 1e-6 {
+        (1e6, "nm")
+    } else {
+        (1e9, "pm")
+    };
+    let v = mm * scale;
+    let digits = if v.abs() >= 100.0 {
+        1
+    } else if v.abs() >= 10.0 {
+        2
+    } else {
+        3
+    };
+    format!("{v:.digits$} {unit}")
+}
+
+/// One-line description of how a run ended.
+pub(crate) fn describe_outcome(c: &Computation) -> (bool, String) {
+    match &c.outcome {
+        None if c.running() => (
+            true,
+            format!("computing… {} periods", c.periods.len().saturating_sub(1)),
+        ),
+        None => (false, "not started".to_owned()),
+        Some(Ok(StopReason::Closed { .. })) => (true, "closed crease: one full turn".to_owned()),
+        Some(Ok(r)) => (true, format!("stopped: {r}")),
+        Some(Err(e)) => (false, e.to_string()),
+    }
+}
+
+/// Whether the method in use is the seed-000 stepper.
+pub(crate) fn is_seed000(o: &InterpOptions) -> bool {
+    o.method == Method::Seed000
+}

@@ -1,0 +1,275 @@
+//! What differs between the browser and a native window: opening and saving files, the
+//! page URL (share links), and a machine-readable status for end-to-end tests.
+
+/// A file the user gave the app.
+#[derive(Clone, Debug)]
+pub struct Incoming {
+    /// File name (for messages).
+    pub name: String,
+    /// Its text, or why it could not be read.
+    pub text: Result<String, String>,
+}
+
+#[cfg(target_arch = "wasm32")]
+mod imp {
+    use std::cell::RefCell;
+    use std::rc::Rc;
+
+    use eframe::egui;
+    use wasm_bindgen::JsCast;
+    use wasm_bindgen::prelude::*;
+
+    use super::Incoming;
+
+    /// Id of the hidden `<input type="file">` in `web/index.html`.
+    pub const FILE_INPUT_ID: &str = "scene-file";
+    /// Id of the hidden status element in `web/index.html`.
+    pub const STATUS_ID: &str = "app-status";
+
+    pub struct Platform {
+        inbox: Rc<RefCell<Vec<Incoming>>>,
+    }
+
+    fn document() -> Option<web_sys::Document> {
+        web_sys::window()?.document()
+    }
+
+    impl Platform {
+        pub fn new(ctx: &egui::Context) -> Self {
+            let inbox: Rc<RefCell<Vec<Incoming>>> = Rc::default();
+            if let Some(input) = document()
+                .and_then(|d| d.get_element_by_id(FILE_INPUT_ID))
+                .and_then(|e| e.dyn_into::<web_sys::HtmlInputElement>().ok())
+            {
+                let inbox2 = inbox.clone();
+                let ctx2 = ctx.clone();
+                let input2 = input.clone();
+                let on_change =
+                    Closure::<dyn FnMut(web_sys::Event)>::new(move |_e: web_sys::Event| {
+                        let Some(file) = input2.files().and_then(|f| f.get(0)) else {
+                            return;
+                        };
+                        let name = file.name();
+                        let inbox3 = inbox2.clone();
+                        let ctx3 = ctx2.clone();
+                        let input3 = input2.clone();
+                        wasm_bindgen_futures::spawn_local(async move {
+                            let text = match wasm_bindgen_futures::JsFuture::from(file.text()).await
+                            {
+                                Ok(v) => v
+                                    .as_string()
+                                    .ok_or_else(|| "the file is not text".to_owned()),
+                                Err(e) => Err(format!("{e:?}")),
+                            };
+                            inbox3.borrow_mut().push(Incoming { name, text });
+                            // Allow choosing the same file again.
+                            input3.set_value("");
+                            ctx3.request_repaint();
+                        });
+                    });
+                let _ = input
+                    .add_event_listener_with_callback("change", on_change.as_ref().unchecked_ref());
+                on_change.forget();
+            } else {
+                log::warn!("no #{FILE_INPUT_ID} element: the file picker is unavailable");
+            }
+            Self { inbox }
+        }
+
+        pub fn pick_file(&mut self) {
+            if let Some(input) = document()
+                .and_then(|d| d.get_element_by_id(FILE_INPUT_ID))
+                .and_then(|e| e.dyn_into::<web_sys::HtmlElement>().ok())
+            {
+                input.click();
+            }
+        }
+
+        pub fn take_incoming(&mut self) -> Vec<Incoming> {
+            std::mem::take(&mut *self.inbox.borrow_mut())
+        }
+
+        pub fn save_text(&mut self, name: &str, text: &str) -> Result<String, String> {
+            let err = |e: JsValue| format!("{e:?}");
+            let doc = document().ok_or("no document")?;
+            let parts = js_sys::Array::of1(&JsValue::from_str(text));
+            let opts = web_sys::BlobPropertyBag::new();
+            opts.set_type("application/json");
+            let blob =
+                web_sys::Blob::new_with_str_sequence_and_options(&parts, &opts).map_err(err)?;
+            let url = web_sys::Url::create_object_url_with_blob(&blob).map_err(err)?;
+            let a: web_sys::HtmlAnchorElement = doc
+                .create_element("a")
+                .map_err(err)?
+                .dyn_into()
+                .map_err(|_| "no anchor")?;
+            a.set_href(&url);
+            a.set_download(name);
+            a.click();
+            let _ = web_sys::Url::revoke_object_url(&url);
+            Ok(format!("downloaded {name}"))
+        }
+
+        pub fn fragment(&self) -> String {
+            web_sys::window()
+                .and_then(|w| w.location().hash().ok())
+                .unwrap_or_default()
+        }
+
+        pub fn set_fragment(&mut self, fragment: &str) {
+            if let Some(w) = web_sys::window() {
+                if let Ok(h) = w.history() {
+                    let _ =
+                        h.replace_state_with_url(&JsValue::NULL, "", Some(&format!("#{fragment}")));
+                }
+            }
+        }
+
+        pub fn share_url(&self, fragment: &str) -> String {
+            let loc = web_sys::window().map(|w| w.location());
+            let base = loc
+                .map(|l| {
+                    format!(
+                        "{}{}",
+                        l.origin().unwrap_or_default(),
+                        l.pathname().unwrap_or_default()
+                    )
+                })
+                .unwrap_or_default();
+            format!("{base}#{fragment}")
+        }
+
+        pub fn set_status(&mut self, json: &str) {
+            if let Some(e) = document().and_then(|d| d.get_element_by_id(STATUS_ID)) {
+                e.set_text_content(Some(json));
+            }
+        }
+
+        pub fn now_ms() -> f64 {
+            web_sys::window()
+                .and_then(|w| w.performance())
+                .map_or(0.0, |p| p.now())
+        }
+
+        pub fn ui(&mut self, _ctx: &egui::Context) {}
+
+        pub fn can_pick_files() -> bool {
+            true
+        }
+
+        /// Reads files dropped on the canvas (asynchronously, as browsers require).
+        pub fn accept_dropped(&mut self, ctx: &egui::Context) {
+            for f in ctx.input(|i| i.raw.dropped_files.clone()) {
+                let inbox = self.inbox.clone();
+                let ctx = ctx.clone();
+                wasm_bindgen_futures::spawn_local(async move {
+                    let name = f.path().display().to_string();
+                    let bytes = f.bytes_async().await;
+                    inbox.borrow_mut().push(super::decode(name, bytes));
+                    ctx.request_repaint();
+                });
+            }
+        }
+    }
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+mod imp {
+    use eframe::egui;
+
+    use super::Incoming;
+
+    /// Native: a small window asking for a path replaces the browser's file dialogs.
+    pub struct Platform {
+        open_dialog: Option<String>,
+        inbox: Vec<Incoming>,
+        started: web_time::Instant,
+    }
+
+    impl Platform {
+        pub fn new(_ctx: &egui::Context) -> Self {
+            Self {
+                open_dialog: None,
+                inbox: Vec::new(),
+                started: web_time::Instant::now(),
+            }
+        }
+
+        pub fn pick_file(&mut self) {
+            self.open_dialog = Some(String::new());
+        }
+
+        pub fn take_incoming(&mut self) -> Vec<Incoming> {
+            std::mem::take(&mut self.inbox)
+        }
+
+        pub fn save_text(&mut self, name: &str, text: &str) -> Result<String, String> {
+            std::fs::write(name, text).map_err(|e| format!("cannot write {name}: {e}"))?;
+            let full = std::fs::canonicalize(name)
+                .map_or_else(|_| name.to_owned(), |p| p.display().to_string());
+            Ok(format!("saved {full}"))
+        }
+
+        pub fn fragment(&self) -> String {
+            String::new()
+        }
+
+        pub fn set_fragment(&mut self, _fragment: &str) {}
+
+        pub fn share_url(&self, fragment: &str) -> String {
+            format!("#{fragment}")
+        }
+
+        pub fn set_status(&mut self, _json: &str) {}
+
+        pub fn now_ms() -> f64 {
+            0.0
+        }
+
+        pub fn can_pick_files() -> bool {
+            true
+        }
+
+        pub fn ui(&mut self, ctx: &egui::Context) {
+            let Some(path) = self.open_dialog.as_mut() else {
+                return;
+            };
+            let mut open = true;
+            let mut load = false;
+            egui::Window::new("Open a scene file")
+                .open(&mut open)
+                .collapsible(false)
+                .show(ctx, |ui| {
+                    ui.label("Path of an interpolab-scene/1 JSON file:");
+                    let r = ui.text_edit_singleline(path);
+                    load = ui.button("Open").clicked()
+                        || (r.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter)));
+                });
+            if load {
+                let p = path.clone();
+                let text = std::fs::read_to_string(&p).map_err(|e| format!("cannot read {p}: {e}"));
+                self.inbox.push(Incoming { name: p, text });
+                self.open_dialog = None;
+            } else if !open {
+                self.open_dialog = None;
+            }
+            let _ = self.started;
+        }
+
+        /// Reads files dropped on the window.
+        pub fn accept_dropped(&mut self, ctx: &egui::Context) {
+            for f in ctx.input(|i| i.raw.dropped_files.clone()) {
+                self.inbox
+                    .push(super::decode(f.path().display().to_string(), f.bytes()));
+            }
+        }
+    }
+}
+
+pub use imp::Platform;
+
+fn decode(name: String, bytes: Result<Vec<u8>, String>) -> Incoming {
+    let text = bytes
+        .and_then(|b| String::from_utf8(b).map_err(|_| "the file is not UTF-8 text".to_owned()));
+    Incoming { name, text }
+}

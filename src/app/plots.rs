@@ -1,0 +1,353 @@
+//! Numbers and plots under the 3D view: playback controls, the summary, measured errors
+//! e1, e2 per period against ±b·T and the paper's bound (16), and step length against f.
+//! The plots' cursor follows the playback position.
+
+use eframe::egui;
+use egui_plot::{Corner, HLine, Legend, Line, LineStyle, Plot, PlotPoints, VLine};
+
+use super::compute::Computation;
+use super::controls::SURFACE_COLORS;
+use super::{Playback, describe_outcome, fmt_len};
+use crate::scene::Scene;
+
+/// Which plot is shown.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum PlotTab {
+    /// e1, e2 per period.
+    #[default]
+    Errors,
+    /// Step length − f per period.
+    Steps,
+}
+
+/// Plot options.
+#[derive(Clone, Copy, Debug)]
+pub struct PlotState {
+    /// Which plot.
+    pub tab: PlotTab,
+    /// |e| on a log scale (else signed, linear).
+    pub log: bool,
+}
+
+impl Default for PlotState {
+    fn default() -> Self {
+        Self {
+            tab: PlotTab::Errors,
+            log: true,
+        }
+    }
+}
+
+/// Playback controls: play/pause, step, scrub, speed.
+pub fn playback_bar(ui: &mut egui::Ui, pb: &mut Playback, compute: &Computation, period_ms: f64) {
+    let n = compute.periods.len();
+    let last = n.saturating_sub(1) as f64;
+    ui.horizontal(|ui| {
+        if ui
+            .button(if pb.playing { "⏸ pause" } else { "▶ play" })
+            .clicked()
+        {
+            if !pb.playing && pb.k >= last {
+                pb.k = 0.0;
+            }
+            pb.playing = !pb.playing;
+        }
+        if ui.button("|◀").on_hover_text("back to the start").clicked() {
+            pb.k = 0.0;
+        }
+        if ui.button("◀").on_hover_text("one period back").clicked() {
+            pb.playing = false;
+            pb.k = (pb.k.floor() - 1.0).max(0.0);
+        }
+        if ui
+            .button("▶|")
+            .on_hover_text("one period forward")
+            .clicked()
+        {
+            pb.playing = false;
+            pb.k = (pb.k.floor() + 1.0).min(last);
+        }
+        let mut k = pb.k.floor();
+        ui.spacing_mut().slider_width = (ui.available_width() - 520.0).clamp(120.0, 900.0);
+        if ui
+            .add(
+                egui::Slider::new(&mut k, 0.0..=last.max(1.0))
+                    .step_by(1.0)
+                    .text("period"),
+            )
+            .changed()
+        {
+            pb.k = k;
+            pb.playing = false;
+        }
+        ui.spacing_mut().slider_width = 90.0;
+        ui.add(
+            egui::Slider::new(&mut pb.speed, 0.05..=200.0)
+                .logarithmic(true)
+                .suffix("×")
+                .text("speed"),
+        );
+        ui.label(format!(
+            "t = {:.3} s of {:.3} s",
+            pb.k.floor() * period_ms / 1000.0,
+            last * period_ms / 1000.0
+        ));
+    });
+}
+
+/// Reduces a long series to at most ~2·`buckets` points keeping each bucket's min and max,
+/// so the plot keeps its envelope at any length.
+fn decimate(points: &[[f64; 2]], buckets: usize) -> Vec<[f64; 2]> {
+    if points.len() <= 2 * buckets {
+        return points.to_vec();
+    }
+    let per = points.len().div_ceil(buckets);
+    let mut out = Vec::with_capacity(2 * buckets + 2);
+    for chunk in points.chunks(per) {
+        let (mut lo, mut hi) = (chunk[0], chunk[0]);
+        for p in chunk {
+            if p[1] < lo[1] {
+                lo = *p;
+            }
+            if p[1] > hi[1] {
+                hi = *p;
+            }
+        }
+        if lo[0] <= hi[0] {
+            out.extend([lo, hi]);
+        } else {
+            out.extend([hi, lo]);
+        }
+    }
+    out
+}
+
+/// Floor of the log plot (mm): 0.1 pm, below the rounding of a foot-point projection.
+const LOG_FLOOR_MM: f64 = 1e-10;
+
+fn summary(ui: &mut egui::Ui, compute: &Computation, scene: &Scene) {
+    let n = compute.periods.len().saturating_sub(1);
+    let f = scene.feed_per_period_mm();
+    let (worst, bound) = compute.worst();
+    egui::Grid::new("summary")
+        .num_columns(2)
+        .striped(true)
+        .spacing([12.0, 3.0])
+        .show(ui, |ui| {
+            let (ok, text) = describe_outcome(compute);
+            ui.label("run");
+            ui.label(egui::RichText::new(text).color(if ok {
+                ui.visuals().text_color()
+            } else {
+                egui::Color32::from_rgb(255, 120, 110)
+            }));
+            ui.end_row();
+            ui.label("periods");
+            ui.label(format!("{n}"));
+            ui.end_row();
+            ui.label("path length");
+            let length: f64 = compute
+                .periods
+                .windows(2)
+                .map(|w| (w[1].row.p - w[0].row.p).length())
+                .sum();
+            ui.label(format!("{length:.3} mm  (f = {f:.4} mm)"));
+            ui.end_row();
+            ui.label("machining time");
+            ui.label(format!("{:.3} s", n as f64 * scene.motion.period / 1000.0));
+            ui.end_row();
+            for i in 0..2 {
+                let allowed = scene.tolerance.share
+                    * if i == 0 {
+                        scene.tolerance.t1
+                    } else {
+                        scene.tolerance.t2
+                    };
+                ui.label(format!("worst |e{}|", i + 1));
+                let within = worst[i] <= allowed;
+                ui.label(
+                    egui::RichText::new(format!(
+                        "{}  (b·T{} = {})",
+                        fmt_len(worst[i]),
+                        i + 1,
+                        fmt_len(allowed)
+                    ))
+                    .color(if within {
+                        ui.visuals().text_color()
+                    } else {
+                        egui::Color32::from_rgb(255, 120, 110)
+                    }),
+                );
+                ui.end_row();
+                ui.label(format!("bound (16) on S{}", i + 1));
+                ui.label(bound[i].map_or_else(|| "not applicable".to_owned(), fmt_len));
+                ui.end_row();
+            }
+            ui.label("compute, this device");
+            match compute.us_per_period() {
+                Some(us) => ui.label(format!(
+                    "{us:.2} µs per period; error measurement {:.2} µs",
+                    compute.measure_seconds * 1e6 / compute.periods.len().max(1) as f64
+                )),
+                None => ui.label("—"),
+            };
+            ui.end_row();
+        });
+}
+
+/// The summary and the selected plot, side by side.
+pub fn plots(
+    ui: &mut egui::Ui,
+    state: &mut PlotState,
+    compute: &Computation,
+    scene: &Scene,
+    cursor_k: f64,
+) {
+    ui.horizontal_top(|ui| {
+        ui.vertical(|ui| {
+            ui.set_width(330.0);
+            summary(ui, compute, scene);
+        });
+        ui.separator();
+        ui.vertical(|ui| {
+            ui.horizontal(|ui| {
+                ui.selectable_value(&mut state.tab, PlotTab::Errors, "errors e1, e2");
+                ui.selectable_value(&mut state.tab, PlotTab::Steps, "step length − f");
+                if state.tab == PlotTab::Errors {
+                    ui.separator();
+                    ui.checkbox(&mut state.log, "log scale |e|");
+                }
+            });
+            let period = scene.motion.period;
+            let cursor_t = cursor_k.floor() * period;
+            match state.tab {
+                PlotTab::Errors => errors_plot(ui, state.log, compute, scene, cursor_t),
+                PlotTab::Steps => steps_plot(ui, compute, scene, cursor_t),
+            }
+        });
+    });
+}
+
+fn errors_plot(ui: &mut egui::Ui, log: bool, compute: &Computation, scene: &Scene, cursor_t: f64) {
+    let period = scene.motion.period;
+    let allowed = [
+        scene.tolerance.share * scene.tolerance.t1,
+        scene.tolerance.share * scene.tolerance.t2,
+    ];
+    // Values in µm (linear) or log10 of µm.
+    let y = |mm: f64| {
+        if log {
+            (mm.abs().max(LOG_FLOOR_MM) * 1e3).log10()
+        } else {
+            mm * 1e3
+        }
+    };
+    let mut e = [Vec::new(), Vec::new()];
+    let mut b16 = [Vec::new(), Vec::new()];
+    for p in &compute.periods {
+        let t = p.row.k as f64 * period;
+        if let Some(d) = &p.diag {
+            for i in 0..2 {
+                e[i].push([t, y(d.measured[i])]);
+                if let Some(b) = d.est16[i] {
+                    b16[i].push([t, y(b)]);
+                }
+            }
+        }
+    }
+    let plot = Plot::new("errors")
+        .legend(
+            Legend::default()
+                .position(Corner::LeftTop)
+                .background_alpha(0.6),
+        )
+        .x_axis_label("t (ms)")
+        .y_axis_label(if log { "|e| (µm, log)" } else { "e (µm)" })
+        .allow_scroll(false)
+        .y_axis_formatter(move |mark, _| {
+            if log {
+                format!("1e{:.0}", mark.value)
+            } else {
+                format!("{:.3}", mark.value)
+            }
+        });
+    plot.show(ui, |p| {
+        for i in 0..2 {
+            let color = SURFACE_COLORS[i];
+            p.line(
+                Line::new(
+                    format!("e{} measured", i + 1),
+                    PlotPoints::from(decimate(&e[i], 1500)),
+                )
+                .color(color)
+                .width(1.5),
+            );
+            p.line(
+                Line::new(
+                    format!("bound (16) S{}", i + 1),
+                    PlotPoints::from(decimate(&b16[i], 1500)),
+                )
+                .color(color.gamma_multiply(0.7))
+                .style(LineStyle::dashed_loose()),
+            );
+            let tol = if log {
+                (allowed[i] * 1e3).log10()
+            } else {
+                allowed[i] * 1e3
+            };
+            p.hline(
+                HLine::new(format!("b·T{} = {}", i + 1, fmt_len(allowed[i])), tol)
+                    .color(egui::Color32::from_rgb(235, 90, 80))
+                    .width(1.0),
+            );
+            if !log {
+                p.hline(
+                    HLine::new(format!("−b·T{}", i + 1), -tol)
+                        .color(egui::Color32::from_rgb(235, 90, 80))
+                        .width(1.0),
+                );
+            }
+        }
+        p.vline(
+            VLine::new("playback", cursor_t)
+                .color(egui::Color32::from_gray(200))
+                .width(1.0),
+        );
+    });
+}
+
+fn steps_plot(ui: &mut egui::Ui, compute: &Computation, scene: &Scene, cursor_t: f64) {
+    let f = scene.feed_per_period_mm();
+    let period = scene.motion.period;
+    let pts: Vec<[f64; 2]> = compute
+        .periods
+        .windows(2)
+        .map(|w| {
+            [
+                w[1].row.k as f64 * period,
+                ((w[1].row.p - w[0].row.p).length() - f) * 1e6,
+            ]
+        })
+        .collect();
+    Plot::new("steps")
+        .legend(
+            Legend::default()
+                .position(Corner::LeftTop)
+                .background_alpha(0.6),
+        )
+        .x_axis_label("t (ms)")
+        .y_axis_label("|Δp| − f (nm)")
+        .allow_scroll(false)
+        .show(ui, |p| {
+            p.line(
+                Line::new("step length − f", PlotPoints::from(decimate(&pts, 1500)))
+                    .color(egui::Color32::from_rgb(120, 230, 120)),
+            );
+            p.hline(HLine::new(format!("f = {f:.4} mm"), 0.0).color(egui::Color32::from_gray(160)));
+            p.vline(
+                VLine::new("playback", cursor_t)
+                    .color(egui::Color32::from_gray(200))
+                    .width(1.0),
+            );
+        });
+}

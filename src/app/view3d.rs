@@ -1,0 +1,529 @@
+//! The 3D view of the crease: both surfaces with iso-parameter lines, the translucent offset
+//! surfaces, the exact crease, the interpolated cutter centres, ball cutters along the path
+//! and at the playback position with the contact points and normals; orbit / pan / zoom,
+//! fit, an axis triad and a scale bar.
+
+use eframe::egui;
+use eframe::egui_wgpu::RenderState;
+use glam::{DVec3, Vec3};
+
+use super::Playback;
+use super::compute::Computation;
+use super::controls::SURFACE_COLORS;
+use crate::geom::ParametricSurface;
+use crate::render::geometry::{Origin, bounds, iso_lines, polyline, tessellate};
+use crate::render::gpu::paint_callback;
+use crate::render::{
+    Layer, LineSegment, Mesh, OrbitCamera, Renderer3d, SphereInstance, ViewCallback, ViewId,
+};
+use crate::scene::{Scene, SurfaceSpec};
+
+/// What the view shows (the "Display" section of the controls).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ViewSettings {
+    /// Translucent offset surfaces.
+    pub show_offsets: bool,
+    /// Iso-parameter lines on the surfaces.
+    pub show_iso: bool,
+    /// Translucent balls along the path.
+    pub show_cutters: bool,
+    /// The exact crease line.
+    pub show_exact: bool,
+    /// Exaggeration of the centres' deviation from the exact crease.
+    pub magnify: f64,
+    /// Show surfaces only from the cutter's side (the side their normal points to).
+    pub cutter_side_only: bool,
+}
+
+impl Default for ViewSettings {
+    fn default() -> Self {
+        Self {
+            show_offsets: true,
+            show_iso: true,
+            show_cutters: true,
+            show_exact: true,
+            magnify: 1.0,
+            cutter_side_only: true,
+        }
+    }
+}
+
+fn rgba(c: egui::Color32, a: f32) -> [f32; 4] {
+    [
+        f32::from(c.r()) / 255.0,
+        f32::from(c.g()) / 255.0,
+        f32::from(c.b()) / 255.0,
+        a,
+    ]
+}
+
+const PATH_COLOR: egui::Color32 = egui::Color32::from_rgb(120, 230, 120);
+const EXACT_COLOR: egui::Color32 = egui::Color32::from_rgb(250, 250, 250);
+const BACKGROUND: [f32; 4] = [0.075, 0.08, 0.095, 1.0];
+
+/// State of the crease view.
+pub struct CreaseView {
+    id: ViewId,
+    /// Display options.
+    pub settings: ViewSettings,
+    camera: OrbitCamera,
+    origin: Origin,
+    /// What the static layers were built from: surfaces, R', display options.
+    built_for: Option<([SurfaceSpec; 2], f64, ViewSettings)>,
+    /// Path layers: (generation, periods uploaded, magnification, settings).
+    path_for: (u64, usize, f64, bool),
+    path_cpu: Vec<LineSegment>,
+    exact_cpu: Vec<LineSegment>,
+    cutters_for: (u64, usize, bool),
+    cutters_static: Vec<SphereInstance>,
+    fit_requested: bool,
+    scene_radius: f64,
+}
+
+impl CreaseView {
+    /// A view drawing into GPU view `id`.
+    #[must_use]
+    pub fn new(id: ViewId) -> Self {
+        Self {
+            id,
+            settings: ViewSettings::default(),
+            camera: OrbitCamera::default(),
+            origin: Origin::default(),
+            built_for: None,
+            path_for: (u64::MAX, 0, 1.0, true),
+            path_cpu: Vec::new(),
+            exact_cpu: Vec::new(),
+            cutters_for: (u64::MAX, 0, true),
+            cutters_static: Vec::new(),
+            fit_requested: true,
+            scene_radius: 100.0,
+        }
+    }
+
+    /// Frames the scene at the next frame.
+    pub fn request_fit(&mut self) {
+        self.fit_requested = true;
+    }
+
+    fn rebuild_static(&mut self, rs: &RenderState, scene: &Scene, compute: &Computation) {
+        let Some(job) = &compute.job else { return };
+        let shown = ViewSettings {
+            magnify: 1.0,
+            show_cutters: true,
+            show_exact: true,
+            cutter_side_only: true,
+            ..self.settings
+        };
+        let key = (scene.surfaces.clone(), job.r_eff_mm, shown);
+        if self.built_for.as_ref() == Some(&key) {
+            return;
+        }
+        // Origin and size from the surfaces (sampled), so f32 stays precise near the part.
+        let mut samples = Vec::new();
+        for s in &job.surfaces {
+            let d = s.domain();
+            for i in 0..=16 {
+                for j in 0..=16 {
+                    let uv = glam::DVec2::new(
+                        d.u.min + d.u.width() * f64::from(i) / 16.0,
+                        d.v.min + d.v.width() * f64::from(j) / 16.0,
+                    );
+                    samples.push(s.point_at(uv));
+                }
+            }
+        }
+        let (center, radius) = bounds(samples).unwrap_or((DVec3::ZERO, 100.0));
+        let origin_changed = self
+            .built_for
+            .as_ref()
+            .is_none_or(|(s, _, _)| *s != scene.surfaces);
+        if origin_changed {
+            self.origin = Origin(center);
+            self.scene_radius = radius.max(1.0);
+            // Positions of path layers are relative to the origin: rebuild them too.
+            self.path_for.0 = u64::MAX;
+            self.cutters_for.0 = u64::MAX;
+        }
+        let lift = 1e-3 * self.scene_radius;
+        let mut surfaces = Mesh::default();
+        let mut offsets = Mesh::default();
+        let mut lines = Vec::new();
+        for (i, s) in job.surfaces.iter().enumerate() {
+            let color = SURFACE_COLORS[i];
+            surfaces.extend(&tessellate(s, self.origin, 72, 0.0, rgba(color, 1.0)));
+            if self.settings.show_offsets {
+                offsets.extend(&tessellate(
+                    s,
+                    self.origin,
+                    56,
+                    job.r_eff_mm,
+                    rgba(color, 0.16),
+                ));
+            }
+            if self.settings.show_iso {
+                let dark = rgba(color.gamma_multiply(0.45), 1.0);
+                lines.extend(iso_lines(s, self.origin, 12, 96, lift, 1.2, dark));
+            }
+        }
+        Renderer3d::with(rs, |r| {
+            r.set_mesh(self.id, Layer::Surfaces, &surfaces);
+            r.set_mesh(self.id, Layer::Offsets, &offsets);
+            r.set_lines(self.id, Layer::StaticLines, &lines, 0);
+        });
+        self.built_for = Some(key);
+        if self.fit_requested || origin_changed {
+            self.camera.fit(Vec3::ZERO, self.scene_radius as f32);
+            self.fit_requested = false;
+        }
+    }
+
+    fn centre_drawn(&self, p: &super::compute::Period) -> DVec3 {
+        match p.exact {
+            Some(e) if self.settings.magnify != 1.0 => e + (p.row.p - e) * self.settings.magnify,
+            _ => p.row.p,
+        }
+    }
+
+    fn update_path(&mut self, rs: &RenderState, compute: &Computation) {
+        let n = compute.periods.len();
+        let key = (
+            compute.generation,
+            n,
+            self.settings.magnify,
+            self.settings.show_exact,
+        );
+        if key == self.path_for {
+            return;
+        }
+        let same_run = self.path_for.0 == key.0
+            && self.path_for.2 == key.2
+            && self.path_for.3 == key.3
+            && self.path_for.1 <= n;
+        let from = if same_run {
+            self.path_for.1.saturating_sub(1)
+        } else {
+            0
+        };
+        if !same_run {
+            self.path_cpu.clear();
+            self.exact_cpu.clear();
+        }
+        let unchanged = (self.path_cpu.len(), self.exact_cpu.len());
+        let pts: Vec<DVec3> = compute.periods[from..]
+            .iter()
+            .map(|p| self.centre_drawn(p))
+            .collect();
+        self.path_cpu
+            .extend(polyline(pts, self.origin, 3.0, rgba(PATH_COLOR, 1.0)));
+        if self.settings.show_exact {
+            let ex: Vec<DVec3> = compute.periods[from..]
+                .iter()
+                .filter_map(|p| p.exact)
+                .collect();
+            self.exact_cpu
+                .extend(polyline(ex, self.origin, 1.3, rgba(EXACT_COLOR, 0.95)));
+        }
+        let (path, exact) = (&self.path_cpu, &self.exact_cpu);
+        Renderer3d::with(rs, |r| {
+            r.set_lines(self.id, Layer::PathLines, path, unchanged.0);
+            r.set_lines(self.id, Layer::ExactLines, exact, unchanged.1);
+        });
+        self.path_for = key;
+    }
+
+    fn update_cutters(
+        &mut self,
+        rs: &RenderState,
+        scene: &Scene,
+        compute: &Computation,
+        playback: &Playback,
+    ) {
+        let n = compute.periods.len();
+        let r_ball = scene.tool.radius as f32;
+        let key = (compute.generation, n, self.settings.show_cutters);
+        if key != self.cutters_for {
+            let mut balls = Vec::new();
+            if self.settings.show_cutters && n > 1 {
+                let every = (n / 24).max(1);
+                for p in compute.periods.iter().step_by(every) {
+                    balls.push(SphereInstance {
+                        center: self.origin.local(self.centre_drawn(p)),
+                        radius: r_ball,
+                        color: [0.8, 0.82, 0.86, 0.16],
+                    });
+                }
+            }
+            // The cutter at the playback position is appended every frame (below).
+            self.cutters_for = key;
+            self.cutters_static = balls;
+        }
+        let mut balls = self.cutters_static.clone();
+        let mut markers = Vec::new();
+        let mut dynamic = Vec::new();
+        let k = (playback.k.floor() as usize).min(n.saturating_sub(1));
+        if let (Some(p), Some(job)) = (compute.periods.get(k), &compute.job) {
+            let c = self.centre_drawn(p);
+            balls.push(SphereInstance {
+                center: self.origin.local(c),
+                radius: r_ball,
+                color: [0.95, 0.95, 0.98, 0.55],
+            });
+            let dot = (0.035 * job.r_eff_mm).max(0.02) as f32;
+            markers.push(SphereInstance {
+                center: self.origin.local(c),
+                radius: dot,
+                color: [1.0, 1.0, 1.0, 1.0],
+            });
+            for i in 0..2 {
+                let d = job.surfaces[i].derivatives_at(p.row.uv[i]);
+                let color = rgba(SURFACE_COLORS[i], 1.0);
+                markers.push(SphereInstance {
+                    center: self.origin.local(d.point),
+                    radius: dot * 1.4,
+                    color,
+                });
+                // The contact normal runs from q_i to the centre (length R').
+                dynamic.push(LineSegment::new(
+                    self.origin.local(d.point),
+                    self.origin.local(d.point + job.r_eff_mm * d.normal),
+                    2.5,
+                    color,
+                ));
+            }
+            if let Some(next) = compute
+                .periods
+                .get(k + 1)
+                .or_else(|| compute.periods.get(k.saturating_sub(1)))
+            {
+                let t =
+                    (next.row.p - p.row.p).normalize_or_zero() * if k + 1 < n { 1.0 } else { -1.0 };
+                dynamic.push(LineSegment::new(
+                    self.origin.local(c),
+                    self.origin.local(c + t * 2.0 * job.r_eff_mm),
+                    2.5,
+                    [1.0, 0.9, 0.3, 1.0],
+                ));
+            }
+        }
+        Renderer3d::with(rs, |r| {
+            r.set_spheres(self.id, Layer::Cutters, &balls);
+            r.set_spheres(self.id, Layer::Markers, &markers);
+            r.set_lines(self.id, Layer::DynamicLines, &dynamic, 0);
+        });
+    }
+
+    /// Draws the view into the remaining space of `ui`.
+    pub fn ui(
+        &mut self,
+        ui: &mut egui::Ui,
+        rs: Option<&RenderState>,
+        scene: &Scene,
+        compute: &Computation,
+        playback: &Playback,
+    ) {
+        let (rect, response) = ui.allocate_exact_size(
+            ui.available_size().max(egui::vec2(64.0, 64.0)),
+            egui::Sense::click_and_drag(),
+        );
+        let Some(rs) = rs else {
+            ui.painter().text(
+                rect.center(),
+                egui::Align2::CENTER_CENTER,
+                "3D view unavailable: no GPU device (wgpu)",
+                egui::FontId::proportional(16.0),
+                egui::Color32::LIGHT_RED,
+            );
+            return;
+        };
+        self.rebuild_static(rs, scene, compute);
+        self.update_path(rs, compute);
+        self.update_cutters(rs, scene, compute, playback);
+
+        // Interaction.
+        let shift = ui.input(|i| i.modifiers.shift);
+        let delta = response.drag_delta();
+        if response.dragged_by(egui::PointerButton::Primary) && !shift {
+            self.camera.orbit(delta.x, delta.y);
+        } else if response.dragged_by(egui::PointerButton::Secondary)
+            || response.dragged_by(egui::PointerButton::Middle)
+            || (response.dragged_by(egui::PointerButton::Primary) && shift)
+        {
+            self.camera.pan(delta.x, delta.y, rect.height());
+        }
+        if response.hovered() {
+            let (scroll, zoom) = ui.input(|i| (i.smooth_scroll_delta.y, i.zoom_delta()));
+            if scroll != 0.0 {
+                self.camera.zoom((scroll * 0.0025).exp());
+            }
+            if zoom != 1.0 {
+                self.camera.zoom(zoom);
+            }
+        }
+        if response.double_clicked() {
+            self.fit();
+        }
+
+        let ppp = ui.ctx().pixels_per_point();
+        let size_px = [
+            (rect.width() * ppp).round().max(1.0) as u32,
+            (rect.height() * ppp).round().max(1.0) as u32,
+        ];
+        let clip = self
+            .camera
+            .clip_from_world(rect.width() / rect.height().max(1.0));
+        ui.painter().add(paint_callback(
+            rect,
+            ViewCallback {
+                view: self.id,
+                clip_from_local: clip.to_cols_array_2d(),
+                eye: self.camera.eye().to_array(),
+                size_px,
+                background: BACKGROUND,
+                hide_back_faces: self.settings.cutter_side_only,
+            },
+        ));
+        self.overlays(ui, rect, scene, compute);
+    }
+
+    fn fit(&mut self) {
+        self.camera.fit(Vec3::ZERO, self.scene_radius as f32);
+    }
+
+    fn overlays(
+        &mut self,
+        ui: &mut egui::Ui,
+        rect: egui::Rect,
+        scene: &Scene,
+        compute: &Computation,
+    ) {
+        let painter = ui.painter_at(rect);
+        let font = egui::FontId::proportional(13.0);
+        // Axis triad, bottom left.
+        let eye = self.camera.eye();
+        let forward = (self.camera.target - eye).normalize();
+        let right = forward.cross(Vec3::Z).normalize_or_zero();
+        let up = right.cross(forward);
+        let o = rect.left_bottom() + egui::vec2(46.0, -46.0);
+        for (axis, name, color) in [
+            (Vec3::X, "X", egui::Color32::from_rgb(235, 90, 80)),
+            (Vec3::Y, "Y", egui::Color32::from_rgb(110, 210, 110)),
+            (Vec3::Z, "Z", egui::Color32::from_rgb(100, 150, 255)),
+        ] {
+            let tip = o + egui::vec2(axis.dot(right), -axis.dot(up)) * 32.0;
+            painter.line_segment([o, tip], egui::Stroke::new(2.0, color));
+            painter.text(
+                tip + (tip - o).normalized() * 8.0,
+                egui::Align2::CENTER_CENTER,
+                name,
+                font.clone(),
+                color,
+            );
+        }
+        // Scale bar, bottom right: a round length of 60–150 points at the target's depth.
+        let mm_per_pt = f64::from(self.camera.mm_per_point(rect.height()));
+        let target = 100.0 * mm_per_pt;
+        let pow = 10f64.powf(target.log10().floor());
+        let nice = [1.0, 2.0, 5.0, 10.0]
+            .iter()
+            .map(|m| m * pow)
+            .find(|l| *l / mm_per_pt >= 60.0)
+            .unwrap_or(10.0 * pow);
+        let len_pt = (nice / mm_per_pt) as f32;
+        let end = rect.right_bottom() + egui::vec2(-20.0, -24.0);
+        let start = end - egui::vec2(len_pt, 0.0);
+        let white = egui::Color32::from_gray(220);
+        painter.line_segment([start, end], egui::Stroke::new(2.0, white));
+        for x in [start, end] {
+            painter.line_segment(
+                [x - egui::vec2(0.0, 5.0), x + egui::vec2(0.0, 5.0)],
+                egui::Stroke::new(2.0, white),
+            );
+        }
+        let label = if nice >= 1.0 {
+            format!("{nice} mm")
+        } else {
+            format!("{} µm", nice * 1000.0)
+        };
+        painter.text(
+            start + egui::vec2(len_pt / 2.0, -12.0),
+            egui::Align2::CENTER_CENTER,
+            label,
+            font.clone(),
+            white,
+        );
+        // Legend, top left.
+        let mut y = rect.top() + 10.0;
+        let x = rect.left() + 10.0;
+        let mut entry = |color: egui::Color32, text: String| {
+            painter.rect_filled(
+                egui::Rect::from_min_size(egui::pos2(x, y + 3.0), egui::vec2(12.0, 10.0)),
+                2.0,
+                color,
+            );
+            painter.text(
+                egui::pos2(x + 18.0, y),
+                egui::Align2::LEFT_TOP,
+                text,
+                font.clone(),
+                egui::Color32::from_gray(225),
+            );
+            y += 18.0;
+        };
+        for (i, s) in scene.surfaces.iter().enumerate() {
+            entry(SURFACE_COLORS[i], format!("S{} {}", i + 1, s.type_name()));
+        }
+        let magnify = if self.settings.magnify > 1.0 {
+            format!(" (deviation ×{:.0})", self.settings.magnify)
+        } else {
+            String::new()
+        };
+        entry(
+            PATH_COLOR,
+            format!("cutter centres, one per period{magnify}"),
+        );
+        if self.settings.show_exact {
+            entry(EXACT_COLOR, "exact crease (Newton)".to_owned());
+        }
+        entry(
+            egui::Color32::from_gray(200),
+            format!("ball R = {} mm", scene.tool.radius),
+        );
+        let (ok, text) = super::describe_outcome(compute);
+        painter.text(
+            egui::pos2(rect.right() - 10.0, rect.top() + 10.0),
+            egui::Align2::RIGHT_TOP,
+            text,
+            font,
+            if ok {
+                egui::Color32::from_gray(210)
+            } else {
+                egui::Color32::from_rgb(255, 120, 110)
+            },
+        );
+        // Fit / reset buttons, under the status line.
+        let buttons = egui::Rect::from_min_size(
+            rect.right_top() + egui::vec2(-140.0, 32.0),
+            egui::vec2(130.0, 24.0),
+        );
+        let mut child = ui.new_child(
+            egui::UiBuilder::new()
+                .max_rect(buttons)
+                .layout(egui::Layout::right_to_left(egui::Align::Center)),
+        );
+        if child
+            .small_button("reset")
+            .on_hover_text("Default view angles, fitted")
+            .clicked()
+        {
+            self.camera = OrbitCamera::default();
+            self.fit();
+        }
+        if child
+            .small_button("fit")
+            .on_hover_text("Frame the whole scene (double-click)")
+            .clicked()
+        {
+            self.fit();
+        }
+    }
+}

@@ -1,0 +1,829 @@
+//! GPU resources and the egui-wgpu paint callback of the 3D views.
+//!
+//! One [`Renderer3d`] lives in egui-wgpu's `callback_resources`: the pipelines (created
+//! once), a unit icosphere, and per view ([`ViewId`]) its layer buffers, uniforms and
+//! off-screen targets. The app uploads layers when its data changes
+//! ([`Renderer3d::set_mesh`], [`Renderer3d::set_lines`], [`Renderer3d::set_spheres`]); each
+//! frame a [`ViewCallback`] carries only the camera and size. In `prepare` the view is drawn
+//! off-screen (depth, 4× MSAA where the adapter supports it) and resolved; in `paint` the
+//! resolved image is copied into egui's pass. A missing resource is logged once and the view
+//! skipped — never a panic in the browser.
+
+use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use eframe::egui_wgpu::{
+    self, CallbackResources, CallbackTrait, RenderState, ScreenDescriptor, wgpu,
+};
+use wgpu::util::DeviceExt;
+
+use super::geometry::{LineSegment, Mesh, MeshVertex, SphereInstance, icosphere};
+
+/// Identifies one 3D view (each view keeps its own layers and targets).
+pub type ViewId = u32;
+
+/// The layers of a view, drawn in this order (translucent ones last).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Layer {
+    /// Shaded surfaces (opaque).
+    Surfaces,
+    /// Opaque spheres: markers, the cutter at the playback position.
+    Markers,
+    /// Lines that change with the scene (iso-lines, the exact crease).
+    StaticLines,
+    /// The computed path (grows while computing).
+    PathLines,
+    /// The exact crease (grows with the path; drawn over it).
+    ExactLines,
+    /// Lines that change every frame (normals at the playback position, axes).
+    DynamicLines,
+    /// Translucent offset surfaces.
+    Offsets,
+    /// Translucent spheres: ball cutters along the path.
+    Cutters,
+}
+
+const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth24Plus;
+
+/// Uniforms of one view (matches `Frame` in scene.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+struct FrameUniforms {
+    clip_from_local: [[f32; 4]; 4],
+    eye: [f32; 4],
+    viewport: [f32; 4],
+}
+
+/// A growable GPU buffer of `count` elements.
+struct GpuArray {
+    buffer: wgpu::Buffer,
+    capacity_bytes: u64,
+    count: u32,
+}
+
+impl GpuArray {
+    fn new(
+        device: &wgpu::Device,
+        label: &str,
+        usage: wgpu::BufferUsages,
+        bytes: &[u8],
+        count: u32,
+    ) -> Self {
+        let size = (bytes.len() as u64).max(64).next_multiple_of(4);
+        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size,
+            usage: usage | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Self {
+            buffer,
+            capacity_bytes: size,
+            count,
+        }
+    }
+
+    /// Writes `bytes` (all elements); only bytes from `unchanged_prefix_bytes` on are sent
+    /// when the buffer is large enough (the path grows by appending).
+    fn write(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        label: &str,
+        usage: wgpu::BufferUsages,
+        bytes: &[u8],
+        count: u32,
+        unchanged_prefix_bytes: u64,
+    ) {
+        if bytes.len() as u64 > self.capacity_bytes {
+            let grown = (bytes.len() as u64 * 3 / 2).next_multiple_of(4);
+            *self = Self::new(device, label, usage, &vec![0u8; grown as usize], 0);
+            queue.write_buffer(&self.buffer, 0, bytes);
+        } else {
+            let start = unchanged_prefix_bytes.min(bytes.len() as u64) & !3;
+            let tail = &bytes[start as usize..];
+            if !tail.is_empty() {
+                // write_buffer needs a multiple of 4 bytes; vertex data always is.
+                queue.write_buffer(&self.buffer, start, tail);
+            }
+        }
+        self.count = count;
+    }
+}
+
+struct MeshBuffers {
+    vertices: GpuArray,
+    indices: GpuArray,
+}
+
+/// Off-screen targets of one view at one size.
+struct Targets {
+    size: [u32; 2],
+    msaa: Option<wgpu::TextureView>,
+    depth: wgpu::TextureView,
+    resolved: wgpu::TextureView,
+    composite: wgpu::BindGroup,
+}
+
+#[derive(Default)]
+struct ViewGpu {
+    meshes: BTreeMap<Layer, MeshBuffers>,
+    lines: BTreeMap<Layer, GpuArray>,
+    spheres: BTreeMap<Layer, GpuArray>,
+    uniforms: Option<(wgpu::Buffer, wgpu::BindGroup)>,
+    targets: Option<Targets>,
+}
+
+/// Device-level resources of all 3D views.
+pub struct Renderer3d {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    sample_count: u32,
+    frame_layout: wgpu::BindGroupLayout,
+    composite_layout: wgpu::BindGroupLayout,
+    sampler: wgpu::Sampler,
+    mesh_opaque: wgpu::RenderPipeline,
+    mesh_translucent: wgpu::RenderPipeline,
+    sphere_opaque: wgpu::RenderPipeline,
+    sphere_translucent: wgpu::RenderPipeline,
+    lines: wgpu::RenderPipeline,
+    composite: wgpu::RenderPipeline,
+    sphere_vertices: wgpu::Buffer,
+    sphere_indices: wgpu::Buffer,
+    sphere_index_count: u32,
+    views: BTreeMap<ViewId, ViewGpu>,
+}
+
+static MISSING_LOGGED: AtomicBool = AtomicBool::new(false);
+
+fn log_missing_once(what: &str) {
+    if !MISSING_LOGGED.swap(true, Ordering::Relaxed) {
+        log::error!("3D view skipped: {what}");
+    }
+}
+
+impl Renderer3d {
+    /// Creates the pipelines and stores the renderer in egui-wgpu's callback resources.
+    pub fn install(rs: &RenderState) {
+        let renderer = Self::new(rs);
+        rs.renderer.write().callback_resources.insert(renderer);
+    }
+
+    /// Runs `f` on the installed renderer (no-op if it is missing).
+    pub fn with<R>(rs: &RenderState, f: impl FnOnce(&mut Self) -> R) -> Option<R> {
+        let mut guard = rs.renderer.write();
+        let r = guard.callback_resources.get_mut::<Self>();
+        if r.is_none() {
+            log_missing_once("renderer not installed");
+        }
+        r.map(f)
+    }
+
+    fn new(rs: &RenderState) -> Self {
+        let device = rs.device.clone();
+        let queue = rs.queue.clone();
+        let supports = |f: wgpu::TextureFormat| {
+            rs.adapter
+                .get_texture_format_features(f)
+                .flags
+                .sample_count_supported(4)
+        };
+        let sample_count = if supports(COLOR_FORMAT) && supports(DEPTH_FORMAT) {
+            4
+        } else {
+            1
+        };
+        log::info!(
+            "3D views: {sample_count}× MSAA, target {:?}",
+            rs.target_format
+        );
+
+        let scene_shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("interpolab scene shader"),
+            source: wgpu::ShaderSource::Wgsl(include_str!("shaders/scene.wgsl").into()),
+        });
+        let composite_shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("interpolab composite shader"),
+            source: wgpu::ShaderSource::Wgsl(include_str!("shaders/composite.wgsl").into()),
+        });
+        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("interpolab frame uniforms layout"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            }],
+        });
+        let composite_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("interpolab composite layout"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+            ],
+        });
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("interpolab composite sampler"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        let scene_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("interpolab scene pipeline layout"),
+            bind_group_layouts: &[Some(&frame_layout)],
+            immediate_size: 0,
+        });
+        let composite_pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("interpolab composite pipeline layout"),
+            bind_group_layouts: &[Some(&composite_layout)],
+            immediate_size: 0,
+        });
+
+        let mesh_attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4];
+        let mesh_buffer = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<MeshVertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &mesh_attrs,
+        };
+        let unit_attrs = wgpu::vertex_attr_array![0 => Float32x3];
+        let unit_buffer = wgpu::VertexBufferLayout {
+            array_stride: 12,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &unit_attrs,
+        };
+        let sphere_attrs = wgpu::vertex_attr_array![1 => Float32x4, 2 => Float32x4];
+        let sphere_buffer = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<SphereInstance>() as u64,
+            step_mode: wgpu::VertexStepMode::Instance,
+            attributes: &sphere_attrs,
+        };
+        let line_attrs = wgpu::vertex_attr_array![0 => Float32x4, 1 => Float32x4, 2 => Float32x4];
+        let line_buffer = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<LineSegment>() as u64,
+            step_mode: wgpu::VertexStepMode::Instance,
+            attributes: &line_attrs,
+        };
+
+        let multisample = wgpu::MultisampleState {
+            count: sample_count,
+            mask: !0,
+            alpha_to_coverage_enabled: false,
+        };
+        let depth = |write: bool| {
+            Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(write),
+                depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                stencil: wgpu::StencilState::default(),
+                bias: wgpu::DepthBiasState::default(),
+            })
+        };
+        let target = |blend: Option<wgpu::BlendState>| {
+            [Some(wgpu::ColorTargetState {
+                format: COLOR_FORMAT,
+                blend,
+                write_mask: wgpu::ColorWrites::ALL,
+            })]
+        };
+        let opaque_target = target(None);
+        let blended_target = target(Some(wgpu::BlendState::ALPHA_BLENDING));
+        let pipeline = |label: &str,
+                        vs: &str,
+                        fs: &str,
+                        buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
+                        targets: &[Option<wgpu::ColorTargetState>],
+                        depth_write: bool| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(label),
+                layout: Some(&scene_layout),
+                vertex: wgpu::VertexState {
+                    module: &scene_shader,
+                    entry_point: Some(vs),
+                    compilation_options: wgpu::PipelineCompilationOptions::default(),
+                    buffers,
+                },
+                primitive: wgpu::PrimitiveState {
+                    topology: wgpu::PrimitiveTopology::TriangleList,
+                    cull_mode: None,
+                    ..Default::default()
+                },
+                depth_stencil: depth(depth_write),
+                multisample,
+                fragment: Some(wgpu::FragmentState {
+                    module: &scene_shader,
+                    entry_point: Some(fs),
+                    compilation_options: wgpu::PipelineCompilationOptions::default(),
+                    targets,
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let mesh_opaque = pipeline(
+            "interpolab mesh (opaque)",
+            "vs_mesh",
+            "fs_shaded",
+            &[Some(mesh_buffer.clone())],
+            &opaque_target,
+            true,
+        );
+        let mesh_translucent = pipeline(
+            "interpolab mesh (translucent)",
+            "vs_mesh",
+            "fs_shaded",
+            &[Some(mesh_buffer)],
+            &blended_target,
+            false,
+        );
+        let sphere_opaque = pipeline(
+            "interpolab spheres (opaque)",
+            "vs_sphere",
+            "fs_sphere",
+            &[Some(unit_buffer.clone()), Some(sphere_buffer.clone())],
+            &opaque_target,
+            true,
+        );
+        let sphere_translucent = pipeline(
+            "interpolab spheres (translucent)",
+            "vs_sphere",
+            "fs_sphere",
+            &[Some(unit_buffer), Some(sphere_buffer)],
+            &blended_target,
+            false,
+        );
+        let lines = pipeline(
+            "interpolab lines",
+            "vs_line",
+            "fs_line",
+            &[Some(line_buffer)],
+            &blended_target,
+            true,
+        );
+
+        let composite = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("interpolab composite"),
+            layout: Some(&composite_pl),
+            vertex: wgpu::VertexState {
+                module: &composite_shader,
+                entry_point: Some("vs_fullscreen"),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: None,
+            multisample: wgpu::MultisampleState::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &composite_shader,
+                entry_point: Some(if rs.target_format.is_srgb() {
+                    "fs_linear"
+                } else {
+                    "fs_display"
+                }),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format: rs.target_format,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+
+        let (unit, indices) = icosphere(2);
+        let sphere_vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("interpolab unit sphere vertices"),
+            contents: bytemuck::cast_slice(&unit),
+            usage: wgpu::BufferUsages::VERTEX,
+        });
+        let sphere_indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("interpolab unit sphere indices"),
+            contents: bytemuck::cast_slice(&indices),
+            usage: wgpu::BufferUsages::INDEX,
+        });
+
+        Self {
+            device,
+            queue,
+            sample_count,
+            frame_layout,
+            composite_layout,
+            sampler,
+            mesh_opaque,
+            mesh_translucent,
+            sphere_opaque,
+            sphere_translucent,
+            lines,
+            composite,
+            sphere_vertices,
+            sphere_indices,
+            sphere_index_count: indices.len() as u32,
+            views: BTreeMap::new(),
+        }
+    }
+
+    /// MSAA samples used (4, or 1 where the adapter cannot).
+    #[must_use]
+    pub fn sample_count(&self) -> u32 {
+        self.sample_count
+    }
+
+    /// Replaces a mesh layer of a view.
+    pub fn set_mesh(&mut self, view: ViewId, layer: Layer, mesh: &Mesh) {
+        let (device, queue) = (&self.device, &self.queue);
+        let v = self.views.entry(view).or_default();
+        let vb = bytemuck::cast_slice::<MeshVertex, u8>(&mesh.vertices);
+        let ib = bytemuck::cast_slice::<u32, u8>(&mesh.indices);
+        match v.meshes.get_mut(&layer) {
+            Some(m) => {
+                m.vertices.write(
+                    device,
+                    queue,
+                    "interpolab mesh vertices",
+                    wgpu::BufferUsages::VERTEX,
+                    vb,
+                    mesh.vertices.len() as u32,
+                    0,
+                );
+                m.indices.write(
+                    device,
+                    queue,
+                    "interpolab mesh indices",
+                    wgpu::BufferUsages::INDEX,
+                    ib,
+                    mesh.indices.len() as u32,
+                    0,
+                );
+            }
+            None => {
+                let mut vertices = GpuArray::new(
+                    device,
+                    "interpolab mesh vertices",
+                    wgpu::BufferUsages::VERTEX,
+                    vb,
+                    0,
+                );
+                let mut indices = GpuArray::new(
+                    device,
+                    "interpolab mesh indices",
+                    wgpu::BufferUsages::INDEX,
+                    ib,
+                    0,
+                );
+                vertices.write(
+                    device,
+                    queue,
+                    "interpolab mesh vertices",
+                    wgpu::BufferUsages::VERTEX,
+                    vb,
+                    mesh.vertices.len() as u32,
+                    0,
+                );
+                indices.write(
+                    device,
+                    queue,
+                    "interpolab mesh indices",
+                    wgpu::BufferUsages::INDEX,
+                    ib,
+                    mesh.indices.len() as u32,
+                    0,
+                );
+                v.meshes.insert(layer, MeshBuffers { vertices, indices });
+            }
+        }
+    }
+
+    /// Replaces a line layer; the first `unchanged` segments are known to be on the GPU
+    /// already (pass 0 when unsure).
+    pub fn set_lines(
+        &mut self,
+        view: ViewId,
+        layer: Layer,
+        lines: &[LineSegment],
+        unchanged: usize,
+    ) {
+        let bytes = bytemuck::cast_slice::<LineSegment, u8>(lines);
+        let prefix = (unchanged.min(lines.len()) * std::mem::size_of::<LineSegment>()) as u64;
+        Self::write_instances(
+            &self.device,
+            &self.queue,
+            self.views.entry(view).or_default().lines.entry(layer),
+            bytes,
+            lines.len() as u32,
+            prefix,
+        );
+    }
+
+    /// Replaces a sphere layer.
+    pub fn set_spheres(&mut self, view: ViewId, layer: Layer, spheres: &[SphereInstance]) {
+        let bytes = bytemuck::cast_slice::<SphereInstance, u8>(spheres);
+        Self::write_instances(
+            &self.device,
+            &self.queue,
+            self.views.entry(view).or_default().spheres.entry(layer),
+            bytes,
+            spheres.len() as u32,
+            0,
+        );
+    }
+
+    fn write_instances(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        entry: std::collections::btree_map::Entry<'_, Layer, GpuArray>,
+        bytes: &[u8],
+        count: u32,
+        prefix: u64,
+    ) {
+        let usage = wgpu::BufferUsages::VERTEX;
+        match entry {
+            std::collections::btree_map::Entry::Occupied(mut o) => {
+                o.get_mut().write(
+                    device,
+                    queue,
+                    "interpolab instances",
+                    usage,
+                    bytes,
+                    count,
+                    prefix,
+                );
+            }
+            std::collections::btree_map::Entry::Vacant(v) => {
+                let mut a = GpuArray::new(device, "interpolab instances", usage, bytes, 0);
+                a.write(
+                    device,
+                    queue,
+                    "interpolab instances",
+                    usage,
+                    bytes,
+                    count,
+                    0,
+                );
+                v.insert(a);
+            }
+        }
+    }
+
+    /// Drops everything of a view.
+    pub fn clear_view(&mut self, view: ViewId) {
+        self.views.remove(&view);
+    }
+
+    fn ensure_targets(&mut self, view: ViewId, size: [u32; 2]) {
+        let device = &self.device;
+        let v = self.views.entry(view).or_default();
+        if v.targets.as_ref().is_some_and(|t| t.size == size) {
+            return;
+        }
+        let extent = wgpu::Extent3d {
+            width: size[0],
+            height: size[1],
+            depth_or_array_layers: 1,
+        };
+        let texture = |label: &str, format, samples, usage| {
+            device
+                .create_texture(&wgpu::TextureDescriptor {
+                    label: Some(label),
+                    size: extent,
+                    mip_level_count: 1,
+                    sample_count: samples,
+                    dimension: wgpu::TextureDimension::D2,
+                    format,
+                    usage,
+                    view_formats: &[],
+                })
+                .create_view(&wgpu::TextureViewDescriptor::default())
+        };
+        let resolved = texture(
+            "interpolab view image",
+            COLOR_FORMAT,
+            1,
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        );
+        let msaa = (self.sample_count > 1).then(|| {
+            texture(
+                "interpolab view MSAA colour",
+                COLOR_FORMAT,
+                self.sample_count,
+                wgpu::TextureUsages::RENDER_ATTACHMENT,
+            )
+        });
+        let depth = texture(
+            "interpolab view depth",
+            DEPTH_FORMAT,
+            self.sample_count,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        );
+        let composite = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("interpolab composite bind group"),
+            layout: &self.composite_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&resolved),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::Sampler(&self.sampler),
+                },
+            ],
+        });
+        v.targets = Some(Targets {
+            size,
+            msaa,
+            depth,
+            resolved,
+            composite,
+        });
+    }
+
+    fn draw_view(&mut self, cb: &ViewCallback, encoder: &mut wgpu::CommandEncoder) {
+        self.ensure_targets(cb.view, cb.size_px);
+        let uniforms = FrameUniforms {
+            clip_from_local: cb.clip_from_local,
+            eye: [cb.eye[0], cb.eye[1], cb.eye[2], 1.0],
+            viewport: [
+                cb.size_px[0] as f32,
+                cb.size_px[1] as f32,
+                if cb.hide_back_faces { 1.0 } else { 0.0 },
+                0.0,
+            ],
+        };
+        let (device, queue, layout) = (&self.device, &self.queue, &self.frame_layout);
+        let Some(v) = self.views.get_mut(&cb.view) else {
+            return;
+        };
+        let (ubuf, ubind) = v.uniforms.get_or_insert_with(|| {
+            let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("interpolab frame uniforms"),
+                size: std::mem::size_of::<FrameUniforms>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("interpolab frame bind group"),
+                layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: buffer.as_entire_binding(),
+                }],
+            });
+            (buffer, bind)
+        });
+        queue.write_buffer(ubuf, 0, bytemuck::bytes_of(&uniforms));
+        let Some(t) = v.targets.as_ref() else { return };
+        let (view, resolve) = match &t.msaa {
+            Some(m) => (m, Some(&t.resolved)),
+            None => (&t.resolved, None),
+        };
+        let [r, g, b, a] = cb.background;
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("interpolab view pass"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: resolve,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color {
+                        r: r.into(),
+                        g: g.into(),
+                        b: b.into(),
+                        a: a.into(),
+                    }),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &t.depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Discard,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_bind_group(0, &*ubind, &[]);
+        let draw_mesh =
+            |pass: &mut wgpu::RenderPass<'_>, pipeline: &wgpu::RenderPipeline, layer: Layer| {
+                if let Some(m) = v.meshes.get(&layer).filter(|m| m.indices.count > 0) {
+                    pass.set_pipeline(pipeline);
+                    pass.set_vertex_buffer(0, m.vertices.buffer.slice(..));
+                    pass.set_index_buffer(m.indices.buffer.slice(..), wgpu::IndexFormat::Uint32);
+                    pass.draw_indexed(0..m.indices.count, 0, 0..1);
+                }
+            };
+        let draw_spheres =
+            |pass: &mut wgpu::RenderPass<'_>, pipeline: &wgpu::RenderPipeline, layer: Layer| {
+                if let Some(s) = v.spheres.get(&layer).filter(|s| s.count > 0) {
+                    pass.set_pipeline(pipeline);
+                    pass.set_vertex_buffer(0, self.sphere_vertices.slice(..));
+                    pass.set_vertex_buffer(1, s.buffer.slice(..));
+                    pass.set_index_buffer(self.sphere_indices.slice(..), wgpu::IndexFormat::Uint32);
+                    pass.draw_indexed(0..self.sphere_index_count, 0, 0..s.count);
+                }
+            };
+        draw_mesh(&mut pass, &self.mesh_opaque, Layer::Surfaces);
+        draw_spheres(&mut pass, &self.sphere_opaque, Layer::Markers);
+        for layer in [
+            Layer::StaticLines,
+            Layer::PathLines,
+            Layer::ExactLines,
+            Layer::DynamicLines,
+        ] {
+            if let Some(l) = v.lines.get(&layer).filter(|l| l.count > 0) {
+                pass.set_pipeline(&self.lines);
+                pass.set_vertex_buffer(0, l.buffer.slice(..));
+                pass.draw(0..6, 0..l.count);
+            }
+        }
+        draw_mesh(&mut pass, &self.mesh_translucent, Layer::Offsets);
+        draw_spheres(&mut pass, &self.sphere_translucent, Layer::Cutters);
+    }
+}
+
+/// Per-frame data of one view's paint callback (small and `Copy`).
+#[derive(Clone, Copy, Debug)]
+pub struct ViewCallback {
+    /// Which view.
+    pub view: ViewId,
+    /// `clip_from_local` (column-major).
+    pub clip_from_local: [[f32; 4]; 4],
+    /// Eye position (local mm).
+    pub eye: [f32; 3],
+    /// Size of the view in physical pixels.
+    pub size_px: [u32; 2],
+    /// Clear colour (display RGBA).
+    pub background: [f32; 4],
+    /// Hide the side of surfaces their normal points away from (the material side).
+    pub hide_back_faces: bool,
+}
+
+impl CallbackTrait for ViewCallback {
+    fn prepare(
+        &self,
+        _device: &wgpu::Device,
+        _queue: &wgpu::Queue,
+        _screen: &ScreenDescriptor,
+        encoder: &mut wgpu::CommandEncoder,
+        resources: &mut CallbackResources,
+    ) -> Vec<wgpu::CommandBuffer> {
+        if self.size_px[0] == 0 || self.size_px[1] == 0 {
+            return Vec::new();
+        }
+        match resources.get_mut::<Renderer3d>() {
+            Some(r) => r.draw_view(self, encoder),
+            None => log_missing_once("renderer not installed"),
+        }
+        Vec::new()
+    }
+
+    fn paint(
+        &self,
+        _info: egui::PaintCallbackInfo,
+        pass: &mut wgpu::RenderPass<'static>,
+        resources: &CallbackResources,
+    ) {
+        let Some(r) = resources.get::<Renderer3d>() else {
+            return;
+        };
+        let Some(t) = r.views.get(&self.view).and_then(|v| v.targets.as_ref()) else {
+            return;
+        };
+        if t.size != self.size_px {
+            return;
+        }
+        pass.set_pipeline(&r.composite);
+        pass.set_bind_group(0, &t.composite, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}
+
+/// Wraps a view callback for egui's painter.
+#[must_use]
+pub fn paint_callback(rect: egui::Rect, cb: ViewCallback) -> egui::PaintCallback {
+    egui_wgpu::Callback::new_paint_callback(rect, cb)
+}
+
+use eframe::egui;
