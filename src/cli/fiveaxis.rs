@@ -15,14 +15,12 @@ use serde_json::{Value, json};
 
 use super::{Fatal, OutFormat};
 
-use interpolab::chords::planar::{
-    Spacing, seed003_ellipse, seed003_hyperbola, seed003_parabola, spacing_nodes,
-};
+use interpolab::chords::planar::{Spacing, seed003_ellipse, seed003_hyperbola, seed003_parabola, spacing_nodes};
 use interpolab::chords::{ChordOptions, RootMethod, equal_error_chords_with};
 use interpolab::crease::{CreaseCurve, InterpOptions, run_to_end};
 use interpolab::fiveaxis::{
-    CreasePath, DesignPath, Machine, MachineKind, NacaProfile, StepNode, StepOptions, StepPlan,
-    ToolAxisRule, blade_case, evaluate_nodes, example1, plan_steps, swept_samples,
+    CreasePath, DesignPath, Machine, MachineKind, NacaProfile, StepNode, StepOptions, StepPlan, ToolAxisRule,
+    blade_case, evaluate_nodes, example1, plan_steps, swept_samples,
 };
 use interpolab::geom::Curve3;
 use interpolab::report::fmt_num;
@@ -169,10 +167,7 @@ fn load_crease(path: &Path) -> Result<(CreaseCurve, interpolab::scene::Scene), F
         );
     }
     let curve = CreaseCurve::from_rows(&job, &run.rows).ok_or_else(|| {
-        Fatal(format!(
-            "{}: the crease has fewer than two usable points; check path.start and path.end",
-            path.display()
-        ))
+        Fatal(format!("{}: the crease has fewer than two usable points; check path.start and path.end", path.display()))
     })?;
     Ok((curve, scene))
 }
@@ -181,10 +176,7 @@ fn scene_case(path: &Path) -> Result<Case, Fatal> {
     let (curve, scene) = load_crease(path)?;
     let (machine, machine_note) = match &scene.machine {
         Some(m) => (build_machine(m), ""),
-        None => (
-            Machine::default(),
-            " (the scene has no \"machine\": the default)",
-        ),
+        None => (Machine::default(), " (the scene has no \"machine\": the default)"),
     };
     let rule = match &scene.tool_axis {
         Some(t) => build_tool_axis(t).map_err(|e| Fatal(format!("{}: {e}", path.display())))?,
@@ -217,13 +209,13 @@ fn example1_case() -> Case {
 }
 
 fn blade_case_for(digits: &str) -> Result<Case, Fatal> {
-    let naca = NacaProfile::from_digits(digits, 100.0)
-        .ok_or_else(|| Fatal(format!("--blade {digits}: not a NACA four-digit section; give four digits with a non-zero thickness, e.g. 2412")))?;
-    let (path, machine) = blade_case(naca).ok_or_else(|| {
+    let naca = NacaProfile::from_digits(digits, 100.0).ok_or_else(|| {
         Fatal(format!(
-            "--blade {digits}: the section could not be sampled"
+            "--blade {digits}: not a NACA four-digit section; give four digits with a non-zero thickness, e.g. 2412"
         ))
     })?;
+    let (path, machine) =
+        blade_case(naca).ok_or_else(|| Fatal(format!("--blade {digits}: the section could not be sampled")))?;
     Ok(Case {
         title: format!("NACA {digits} blade section, 100 mm chord, cut all round from outside"),
         rule: "normal1, lead 0°, tilt −30° (the outward normal tipped 30° up)".into(),
@@ -243,18 +235,11 @@ fn describe_rule(r: &ToolAxisRule) -> String {
     match *r {
         ToolAxisRule::Bisector => "bisector of n1 and n2".into(),
         ToolAxisRule::Normal1 { lead_rad, tilt_rad } => {
-            format!(
-                "normal1, lead {}°, tilt {}°",
-                fmt_deg(lead_rad),
-                fmt_deg(tilt_rad)
-            )
+            format!("normal1, lead {}°, tilt {}°", fmt_deg(lead_rad), fmt_deg(tilt_rad))
         }
-        ToolAxisRule::Fixed { axis } => format!(
-            "fixed ({}, {}, {})",
-            fmt_num(axis.x),
-            fmt_num(axis.y),
-            fmt_num(axis.z)
-        ),
+        ToolAxisRule::Fixed { axis } => {
+            format!("fixed ({}, {}, {})", fmt_num(axis.x), fmt_num(axis.y), fmt_num(axis.z))
+        }
         ToolAxisRule::Interpolated { .. } => "interpolated".into(),
     }
 }
@@ -265,11 +250,7 @@ fn describe_machine(m: &Machine) -> String {
     let mut parts = vec![m.kind.as_str().to_owned()];
     for (i, has) in m.kind.has_pivot().into_iter().enumerate() {
         if has {
-            parts.push(format!(
-                "pivot {} {} mm",
-                names[i].to_lowercase(),
-                v(m.pivots_mm[i])
-            ));
+            parts.push(format!("pivot {} {} mm", names[i].to_lowercase(), v(m.pivots_mm[i])));
         }
     }
     if m.kind.uses_tool_length() {
@@ -341,14 +322,7 @@ fn step_values(i: usize, n: &StepNode) -> (Vec<f64>, &'static str) {
         b.location.axis.z,
     ];
     match n.report {
-        Some(r) => v.extend([
-            r.total_mm,
-            r.chord_mm,
-            r.nonlinear_mm,
-            r.tip_deviation_mm,
-            r.gouge_mm,
-            r.stock_mm,
-        ]),
+        Some(r) => v.extend([r.total_mm, r.chord_mm, r.nonlinear_mm, r.tip_deviation_mm, r.gouge_mm, r.stock_mm]),
         None => v.extend([f64::NAN; 6]),
     }
     v.push(f64::from(n.evaluations));
@@ -377,12 +351,8 @@ fn summary(plan: &StepPlan) -> String {
 }
 
 fn plan_case(case: &Case, tol: f64, method: RootMethod) -> Result<StepPlan, Fatal> {
-    plan_steps(
-        &case.machine,
-        case.path.as_ref(),
-        &StepOptions::new(tol).with_method(method),
-    )
-    .map_err(|e| Fatal(format!("{}: {e}", case.title)))
+    plan_steps(&case.machine, case.path.as_ref(), &StepOptions::new(tol).with_method(method))
+        .map_err(|e| Fatal(format!("{}: {e}", case.title)))
 }
 
 pub(super) fn steps(a: &StepsArgs) -> Result<ExitCode, Fatal> {
@@ -391,9 +361,7 @@ pub(super) fn steps(a: &StepsArgs) -> Result<ExitCode, Fatal> {
         (None, true, _) => example1_case(),
         (None, false, Some(d)) => blade_case_for(d)?,
         (None, false, None) => {
-            return Err(Fatal(
-                "steps: give a scene file, --example1 or --blade 2412".into(),
-            ));
+            return Err(Fatal("steps: give a scene file, --example1 or --blade 2412".into()));
         }
     };
     let plan = plan_case(&case, a.tolerance, a.method.method())?;
@@ -403,12 +371,7 @@ pub(super) fn steps(a: &StepsArgs) -> Result<ExitCode, Fatal> {
         match a.format {
             OutFormat::Csv => {
                 writeln!(o, "# interpolab steps: {}", case.title)?;
-                writeln!(
-                    o,
-                    "# machine: {}{}",
-                    describe_machine(&case.machine),
-                    case.machine_note
-                )?;
+                writeln!(o, "# machine: {}{}", describe_machine(&case.machine), case.machine_note)?;
                 writeln!(
                     o,
                     "# tool axis: {}; ball R = {} mm, R' = {} mm; programmed point: tool tip = ball centre - R*axis; s in {}",
@@ -422,6 +385,10 @@ pub(super) fn steps(a: &StepsArgs) -> Result<ExitCode, Fatal> {
                     "# X, Y, Z in mm and {}, {} in degrees; between rows every joint moves linearly (docs/fiveaxis.md); delta = delta_t + delta_n, overcut +",
                     case.machine.axis_names()[0],
                     case.machine.axis_names()[1]
+                )?;
+                writeln!(
+                    o,
+                    "# delta_*, gouge, stock: the ball's signed errors on the surfaces (R' minus distance; what a ball end mill cuts); tip_dev_mm: the tool tip's distance from its programmed chord, for reference"
                 )?;
                 writeln!(o, "{}", cols.join(","))?;
                 for (i, n) in plan.nodes.iter().enumerate() {
@@ -439,15 +406,9 @@ pub(super) fn steps(a: &StepsArgs) -> Result<ExitCode, Fatal> {
                     .enumerate()
                     .map(|(i, n)| {
                         let (v, lim) = step_values(i, n);
-                        let mut row: Vec<Value> = v
-                            .iter()
-                            .map(|x| if x.is_finite() { json!(x) } else { Value::Null })
-                            .collect();
-                        row.push(if lim.is_empty() {
-                            Value::Null
-                        } else {
-                            json!(lim)
-                        });
+                        let mut row: Vec<Value> =
+                            v.iter().map(|x| if x.is_finite() { json!(x) } else { Value::Null }).collect();
+                        row.push(if lim.is_empty() { Value::Null } else { json!(lim) });
                         Value::Array(row)
                     })
                     .collect();
@@ -472,11 +433,7 @@ pub(super) fn steps(a: &StepsArgs) -> Result<ExitCode, Fatal> {
                         "rotary_limited": plan.nodes.iter().filter(|n| n.rotary_limited).count(),
                     },
                 });
-                writeln!(
-                    o,
-                    "{}",
-                    serde_json::to_string_pretty(&doc).unwrap_or_default()
-                )?;
+                writeln!(o, "{}", serde_json::to_string_pretty(&doc).unwrap_or_default())?;
             }
         }
         o.flush()
@@ -507,11 +464,7 @@ pub(super) fn example1_cmd(a: &Example1Args) -> Result<ExitCode, Fatal> {
     };
     line("Seed 002, Example 1 (Ji, Zhou, An & Zhang 2010)".into());
     line("  circle r = 25 mm about the Z axis at z = 50 (a convex boss, tool outside), ball R = 5 mm".into());
-    line(format!(
-        "  machine: {}; tolerance E = {} mm",
-        describe_machine(&ex.machine),
-        fmt_num(a.tolerance)
-    ));
+    line(format!("  machine: {}; tolerance E = {} mm", describe_machine(&ex.machine), fmt_num(a.tolerance)));
     let before = evaluate_nodes(&ex.machine, &ex.path, &[s0, s1], &Default::default())
         .map_err(|e| Fatal(format!("example 1: {e}")))?;
     for (k, n) in before.iter().enumerate() {
@@ -535,37 +488,15 @@ pub(super) fn example1_cmd(a: &Example1Args) -> Result<ExitCode, Fatal> {
             j.rotary_rad[1].to_degrees()
         ));
     }
-    let rep = before[1]
-        .report
-        .ok_or_else(|| Fatal("example 1: no segment report".into()))?;
+    let rep = before[1].report.ok_or_else(|| Fatal("example 1: no segment report".into()))?;
     line(String::new());
     line("Before: one block P1 -> P2, every joint moved linearly".into());
-    line(format!(
-        "  chord error δt of the straight programmed motion   {}",
-        signed(rep.worst_chord_mm)
-    ));
-    line(format!(
-        "  total error δ = δt + δn at its worst (τ = {:.3})   {}",
-        rep.at_tau,
-        signed(rep.total_mm)
-    ));
-    line(format!(
-        "    of which δt {} and δn {}",
-        signed(rep.chord_mm),
-        signed(rep.nonlinear_mm)
-    ));
-    line(format!(
-        "  tool tip's largest distance from its chord        {:.6} mm",
-        rep.tip_deviation_mm
-    ));
+    line(format!("  chord error δt of the straight programmed motion   {}", signed(rep.worst_chord_mm)));
+    line(format!("  total error δ = δt + δn at its worst (τ = {:.3})   {}", rep.at_tau, signed(rep.total_mm)));
+    line(format!("    of which δt {} and δn {}", signed(rep.chord_mm), signed(rep.nonlinear_mm)));
+    line(format!("  tool tip's largest distance from its chord        {:.6} mm", rep.tip_deviation_mm));
     line("  the swept tool (τ: tool tip x y z; ball centre x y z; δ on the cylinder):".into());
-    for p in swept_samples(
-        &ex.machine,
-        &ex.path,
-        &before[0].block,
-        &before[1].block,
-        a.samples.max(1),
-    ) {
+    for p in swept_samples(&ex.machine, &ex.path, &before[0].block, &before[1].block, a.samples.max(1)) {
         line(format!(
             "    τ {:.3}: tip {:9.4} {:9.4} {:9.4}  centre {:9.4} {:9.4} {:9.4}  δ {:+.6}",
             p.tau,
@@ -578,12 +509,8 @@ pub(super) fn example1_cmd(a: &Example1Args) -> Result<ExitCode, Fatal> {
             p.errors_mm[0].unwrap_or(f64::NAN)
         ));
     }
-    let plan = plan_steps(
-        &ex.machine,
-        &ex.path,
-        &StepOptions::new(a.tolerance).with_method(a.method.method()),
-    )
-    .map_err(|e| Fatal(format!("example 1: {e}")))?;
+    let plan = plan_steps(&ex.machine, &ex.path, &StepOptions::new(a.tolerance).with_method(a.method.method()))
+        .map_err(|e| Fatal(format!("example 1: {e}")))?;
     line(String::new());
     line(format!(
         "After: the method inserts {} blocks between P1 and P2 ({} segments, {} iterations with {})",
@@ -599,15 +526,9 @@ pub(super) fn example1_cmd(a: &Example1Args) -> Result<ExitCode, Fatal> {
     for (i, n) in plan.nodes.iter().enumerate() {
         let j = &n.block.joints;
         let ang = 90.0 - n.block.location.s.to_degrees();
-        let (d, dt, dn) = n
-            .report
-            .map_or((String::new(), String::new(), String::new()), |r| {
-                (
-                    format!("{:+.7}", r.total_mm),
-                    format!("{:+.7}", r.chord_mm),
-                    format!("{:+.7}", r.nonlinear_mm),
-                )
-            });
+        let (d, dt, dn) = n.report.map_or((String::new(), String::new(), String::new()), |r| {
+            (format!("{:+.7}", r.total_mm), format!("{:+.7}", r.chord_mm), format!("{:+.7}", r.nonlinear_mm))
+        });
         line(format!(
             "  {i:4}  {:.7}  {:8.4}°     {:9.4}  {:9.4}  {:9.4}  {:8.4}°  {:9.4}°  {d:>11} {dt:>11} {dn:>11}",
             n.block.location.s,
@@ -619,11 +540,7 @@ pub(super) fn example1_cmd(a: &Example1Args) -> Result<ExitCode, Fatal> {
             j.rotary_rad[1].to_degrees()
         ));
     }
-    line(format!(
-        "  worst |δ| after: {} mm (E = {} mm)",
-        fmt_num(plan.worst_mm()),
-        fmt_num(plan.tol_mm)
-    ));
+    line(format!("  worst |δ| after: {} mm (E = {} mm)", fmt_num(plan.worst_mm()), fmt_num(plan.tol_mm)));
     let mut o = io::stdout().lock();
     o.write_all(out.as_bytes()).map_err(|e| fatal_io(&e))?;
     Ok(ExitCode::SUCCESS)
@@ -636,9 +553,7 @@ fn median_ms(mut v: Vec<f64>) -> f64 {
 
 pub(super) fn table1(a: &Table1Args) -> Result<ExitCode, Fatal> {
     if let Some(t) = a.tolerances.iter().find(|t| !(**t > 0.0 && t.is_finite())) {
-        return Err(Fatal(format!(
-            "--tolerances: {t} is not a positive length in mm; give e.g. 0.1,0.01,0.001"
-        )));
+        return Err(Fatal(format!("--tolerances: {t} is not a positive length in mm; give e.g. 0.1,0.01,0.001")));
     }
     let mut cases = Vec::new();
     if !a.no_blade {
@@ -656,20 +571,12 @@ pub(super) fn table1(a: &Table1Args) -> Result<ExitCode, Fatal> {
     for case in &cases {
         w(String::new())?;
         w(format!("### {}", case.title))?;
-        w(format!(
-            "machine: {}{}; tool axis: {}",
-            describe_machine(&case.machine),
-            case.machine_note,
-            case.rule
-        ))?;
+        w(format!("machine: {}{}; tool axis: {}", describe_machine(&case.machine), case.machine_note, case.rule))?;
         w(String::new())?;
         let mut header = "| method |".to_owned();
         let mut rule = "|---|".to_owned();
         for t in &a.tolerances {
-            header.push_str(&format!(
-                " {} mm: iterations | time (ms) | nodes |",
-                fmt_num(*t)
-            ));
+            header.push_str(&format!(" {} mm: iterations | time (ms) | nodes |", fmt_num(*t)));
             rule.push_str("---:|---:|---:|");
         }
         w(header)?;
@@ -677,17 +584,10 @@ pub(super) fn table1(a: &Table1Args) -> Result<ExitCode, Fatal> {
         for m in RootMethod::ALL {
             let mut row = format!(
                 "| {} |",
-                if m == RootMethod::Secant {
-                    "secant (seed 002)".to_owned()
-                } else {
-                    m.as_str().to_owned()
-                }
+                if m == RootMethod::Secant { "secant (seed 002)".to_owned() } else { m.as_str().to_owned() }
             );
             for &t in &a.tolerances {
-                let opts = StepOptions {
-                    reports: false,
-                    ..StepOptions::new(t).with_method(m)
-                };
+                let opts = StepOptions { reports: false, ..StepOptions::new(t).with_method(m) };
                 let mut times = Vec::with_capacity(repeat);
                 let mut last = None;
                 for _ in 0..repeat {
@@ -714,37 +614,26 @@ pub(super) fn table1(a: &Table1Args) -> Result<ExitCode, Fatal> {
 
 fn planar_curve(c: CurveArg) -> (String, Box<dyn Curve3>) {
     match c {
-        CurveArg::Parabola => (
-            "parabola y = 0.025·x², 0 ≤ x ≤ 60 mm (param x)".into(),
-            Box::new(seed003_parabola()),
-        ),
-        CurveArg::Hyperbola => (
-            "hyperbola x·y = 400 mm², 5 ≤ x ≤ 80 mm (param x)".into(),
-            Box::new(seed003_hyperbola()),
-        ),
-        CurveArg::Ellipse => (
-            "quarter ellipse 60 × 30 mm, from (60, 0) to (0, 30) (param t, rad)".into(),
-            Box::new(seed003_ellipse()),
-        ),
-        CurveArg::Naca2412 => (
-            "NACA 2412 section, 100 mm chord (param θ, rad)".into(),
-            Box::new(NacaProfile::naca2412()),
-        ),
+        CurveArg::Parabola => ("parabola y = 0.025·x², 0 ≤ x ≤ 60 mm (param x)".into(), Box::new(seed003_parabola())),
+        CurveArg::Hyperbola => {
+            ("hyperbola x·y = 400 mm², 5 ≤ x ≤ 80 mm (param x)".into(), Box::new(seed003_hyperbola()))
+        }
+        CurveArg::Ellipse => {
+            ("quarter ellipse 60 × 30 mm, from (60, 0) to (0, 30) (param t, rad)".into(), Box::new(seed003_ellipse()))
+        }
+        CurveArg::Naca2412 => {
+            ("NACA 2412 section, 100 mm chord (param θ, rad)".into(), Box::new(NacaProfile::naca2412()))
+        }
     }
 }
 
 fn chord_opts(method: RootArg) -> ChordOptions {
-    ChordOptions {
-        search: ChordOptions::default().search.with_method(method.method()),
-        ..ChordOptions::default()
-    }
+    ChordOptions { search: ChordOptions::default().search.with_method(method.method()), ..ChordOptions::default() }
 }
 
 pub(super) fn chords(a: &ChordsArgs) -> Result<ExitCode, Fatal> {
     if let Some(t) = a.tolerance.iter().find(|t| !(**t > 0.0 && t.is_finite())) {
-        return Err(Fatal(format!(
-            "--tolerance: {t} is not a positive length in mm; give e.g. 0.01"
-        )));
+        return Err(Fatal(format!("--tolerance: {t} is not a positive length in mm; give e.g. 0.01")));
     }
     let opts = chord_opts(a.method);
     if a.table {
@@ -756,29 +645,20 @@ pub(super) fn chords(a: &ChordsArgs) -> Result<ExitCode, Fatal> {
             (
                 format!(
                     "ball-centre crease of {} (param: chord length, mm)",
-                    if scene.name.is_empty() {
-                        p.display().to_string()
-                    } else {
-                        scene.name
-                    }
+                    if scene.name.is_empty() { p.display().to_string() } else { scene.name }
                 ),
                 Box::new(c),
             )
         }
         ([], Some(c)) => planar_curve(c),
         _ => {
-            return Err(Fatal(
-                "chords: give one scene file or --curve (or --table for the comparison)".into(),
-            ));
+            return Err(Fatal("chords: give one scene file or --curve (or --table for the comparison)".into()));
         }
     };
     let [tol] = a.tolerance[..] else {
-        return Err(Fatal(
-            "chords: give one --tolerance in mm, e.g. --tolerance 0.01".into(),
-        ));
+        return Err(Fatal("chords: give one --tolerance in mm, e.g. --tolerance 0.01".into()));
     };
-    let nodes = equal_error_chords_with(curve.as_ref(), tol, &opts)
-        .map_err(|e| Fatal(format!("chords: {e}")))?;
+    let nodes = equal_error_chords_with(curve.as_ref(), tol, &opts).map_err(|e| Fatal(format!("chords: {e}")))?;
     let mut o = BufWriter::new(io::stdout().lock());
     let r = (|| -> io::Result<()> {
         match a.format {
@@ -794,19 +674,9 @@ pub(super) fn chords(a: &ChordsArgs) -> Result<ExitCode, Fatal> {
                     let (e, it) = if i == 0 {
                         (String::new(), String::new())
                     } else {
-                        (
-                            fmt_num(nodes.errors_mm[i - 1]),
-                            nodes.evaluations[i - 1].to_string(),
-                        )
+                        (fmt_num(nodes.errors_mm[i - 1]), nodes.evaluations[i - 1].to_string())
                     };
-                    writeln!(
-                        o,
-                        "{i},{},{},{},{},{e},{it}",
-                        fmt_num(s),
-                        fmt_num(p.x),
-                        fmt_num(p.y),
-                        fmt_num(p.z)
-                    )?;
+                    writeln!(o, "{i},{},{},{},{},{e},{it}", fmt_num(s), fmt_num(p.x), fmt_num(p.y), fmt_num(p.z))?;
                 }
                 writeln!(
                     o,
@@ -818,11 +688,7 @@ pub(super) fn chords(a: &ChordsArgs) -> Result<ExitCode, Fatal> {
                 )?;
             }
             OutFormat::Json => {
-                let pts: Vec<[f64; 3]> = nodes
-                    .params
-                    .iter()
-                    .map(|&s| curve.point_at(s).to_array())
-                    .collect();
+                let pts: Vec<[f64; 3]> = nodes.params.iter().map(|&s| curve.point_at(s).to_array()).collect();
                 let doc = json!({
                     "format": "interpolab-chords/1",
                     "curve": title,
@@ -832,11 +698,7 @@ pub(super) fn chords(a: &ChordsArgs) -> Result<ExitCode, Fatal> {
                     "chord_errors_mm": nodes.errors_mm,
                     "iterations": nodes.evaluations,
                 });
-                writeln!(
-                    o,
-                    "{}",
-                    serde_json::to_string_pretty(&doc).unwrap_or_default()
-                )?;
+                writeln!(o, "{}", serde_json::to_string_pretty(&doc).unwrap_or_default())?;
             }
         }
         o.flush()
@@ -846,29 +708,16 @@ pub(super) fn chords(a: &ChordsArgs) -> Result<ExitCode, Fatal> {
 }
 
 fn chords_table(a: &ChordsArgs, opts: &ChordOptions) -> Result<ExitCode, Fatal> {
-    let tols = if a.tolerance.is_empty() {
-        vec![0.05, 0.01]
-    } else {
-        a.tolerance.clone()
-    };
+    let tols = if a.tolerance.is_empty() { vec![0.05, 0.01] } else { a.tolerance.clone() };
     let mut curves: Vec<(String, Box<dyn Curve3>)> = match a.curve {
         Some(c) => vec![planar_curve(c)],
-        None => [CurveArg::Parabola, CurveArg::Hyperbola, CurveArg::Ellipse]
-            .into_iter()
-            .map(planar_curve)
-            .collect(),
+        None => [CurveArg::Parabola, CurveArg::Hyperbola, CurveArg::Ellipse].into_iter().map(planar_curve).collect(),
     };
     for p in &a.scenes {
         let (c, scene) = load_crease(p)?;
-        let name = if scene.name.is_empty() {
-            p.display().to_string()
-        } else {
-            format!("{} ({})", scene.name, p.display())
-        };
-        curves.push((
-            format!("ball-centre crease of {name} (param: chord length, mm)"),
-            Box::new(c),
-        ));
+        let name =
+            if scene.name.is_empty() { p.display().to_string() } else { format!("{} ({})", scene.name, p.display()) };
+        curves.push((format!("ball-centre crease of {name} (param: chord length, mm)"), Box::new(c)));
     }
     let mut o = BufWriter::new(io::stdout().lock());
     let mut w = |s: String| writeln!(o, "{s}").map_err(|e| fatal_io(&e));
@@ -881,18 +730,9 @@ fn chords_table(a: &ChordsArgs, opts: &ChordOptions) -> Result<ExitCode, Fatal> 
         w("|---:|---|---:|---:|---:|".into())?;
         for &d in &tols {
             for sp in Spacing::ALL {
-                let row = spacing_nodes(curve.as_ref(), d, sp, opts)
-                    .map_err(|e| Fatal(format!("{title}: {e}")))?;
-                let step = if sp == Spacing::EqualError {
-                    "—".to_owned()
-                } else {
-                    format!("{:.5}", row.step)
-                };
-                let flag = if row.worst_mm() > d * (1.0 + 1e-9) {
-                    " (exceeds d)"
-                } else {
-                    ""
-                };
+                let row = spacing_nodes(curve.as_ref(), d, sp, opts).map_err(|e| Fatal(format!("{title}: {e}")))?;
+                let step = if sp == Spacing::EqualError { "—".to_owned() } else { format!("{:.5}", row.step) };
+                let flag = if row.worst_mm() > d * (1.0 + 1e-9) { " (exceeds d)" } else { "" };
                 w(format!(
                     "| {} | {} | {} | {:.6}{flag} | {step} |",
                     fmt_num(d),
