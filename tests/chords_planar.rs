@@ -7,12 +7,11 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use interpolab::assert_near;
 use interpolab::chords::planar::{
-    FnCurve, Sizing, Spacing, min_radius, parabola_paper_nodes, seed003_ellipse, seed003_hyperbola,
-    seed003_parabola, spacing_nodes,
+    FnCurve, Sizing, Spacing, min_radius, parabola_paper_nodes, seed003_ellipse, seed003_hyperbola, seed003_parabola,
+    spacing_nodes,
 };
 use interpolab::chords::{
-    ChordOptions, DeviationOptions, SearchOptions, chord_deviation, distance_to_segment,
-    equal_error_chords, next_node,
+    ChordOptions, DeviationOptions, SearchOptions, chord_deviation, distance_to_segment, equal_error_chords, next_node,
 };
 use interpolab::geom::Curve3;
 
@@ -52,18 +51,11 @@ fn the_general_search_reproduces_the_papers_parabola_nodes() {
         // node to within what its acceptance window [d − ε, d] allows: δL ≈ L·ε/(2d).
         let eps = opts.window_for(d);
         for w in paper.windows(2).take(paper.len() - 2) {
-            let err = |x: f64| -> Result<f64, ()> {
-                Ok(chord_deviation(&par, w[0], x, &DeviationOptions::default()).max_mm)
-            };
+            let err =
+                |x: f64| -> Result<f64, ()> { Ok(chord_deviation(&par, w[0], x, &DeviationOptions::default()).max_mm) };
             let node = next_node(err, w[0], par.x1, 0.5 * (w[1] - w[0]), d, &opts).unwrap();
             let len = w[1] - w[0];
-            assert!(
-                (node.s - w[1]).abs() <= len * eps / d,
-                "from x = {}: {} vs the paper's {}",
-                w[0],
-                node.s,
-                w[1]
-            );
+            assert!((node.s - w[1]).abs() <= len * eps / d, "from x = {}: {} vs the paper's {}", w[0], node.s, w[1]);
         }
     }
 }
@@ -83,16 +75,10 @@ fn test_curves_have_their_closed_form_smallest_radius() {
 #[test]
 fn equal_error_needs_the_fewest_nodes_of_every_spacing_within_d() {
     for d in [0.05, 0.01] {
-        let curves: [&dyn Curve3; 3] = [
-            &seed003_parabola(),
-            &seed003_hyperbola(),
-            &seed003_ellipse(),
-        ];
+        let curves: [&dyn Curve3; 3] = [&seed003_parabola(), &seed003_hyperbola(), &seed003_ellipse()];
         for c in curves {
-            let rows: Vec<_> = Spacing::ALL
-                .iter()
-                .map(|&sp| spacing_nodes(c, d, sp, &ChordOptions::default()).unwrap())
-                .collect();
+            let rows: Vec<_> =
+                Spacing::ALL.iter().map(|&sp| spacing_nodes(c, d, sp, &ChordOptions::default()).unwrap()).collect();
             let ee = &rows[0];
             assert!(ee.worst_mm() <= d);
             for r in &rows[1..] {
@@ -109,10 +95,7 @@ fn equal_error_needs_the_fewest_nodes_of_every_spacing_within_d() {
             // The widest uniform spacings are within d by construction and one part more
             // would not be.
             for r in rows.iter().filter(|r| {
-                matches!(
-                    r.spacing,
-                    Spacing::EqualInterval(Sizing::Widest) | Spacing::EqualStep(Sizing::Widest)
-                )
+                matches!(r.spacing, Spacing::EqualInterval(Sizing::Widest) | Spacing::EqualStep(Sizing::Widest))
             }) {
                 assert!(r.worst_mm() <= d, "{}: {}", r.spacing.label(), r.worst_mm());
             }
@@ -124,23 +107,16 @@ fn equal_error_needs_the_fewest_nodes_of_every_spacing_within_d() {
 fn sizing_by_the_smallest_radius_fails_on_a_steep_hyperbola() {
     // Equal Δx sized at the vertex: at x = 5 the slope is −16, so the same Δx gives a chord
     // 16 times longer on a curve only ~30 times flatter — it deviates by more than d there.
-    let row = spacing_nodes(
-        &seed003_hyperbola(),
-        0.05,
-        Spacing::EqualInterval(Sizing::MinRadius),
-        &ChordOptions::default(),
-    )
-    .unwrap();
+    let row =
+        spacing_nodes(&seed003_hyperbola(), 0.05, Spacing::EqualInterval(Sizing::MinRadius), &ChordOptions::default())
+            .unwrap();
     assert!(row.worst_mm() > 0.05, "{}", row.worst_mm());
 }
 
 #[test]
 fn a_curve_given_as_a_function_matches_its_analytic_twin() {
     let e = seed003_ellipse();
-    let f = FnCurve::new(
-        |t: f64| glam::DVec2::new(60.0 * t.cos(), 30.0 * t.sin()),
-        (e.t0, e.t1),
-    );
+    let f = FnCurve::new(|t: f64| glam::DVec2::new(60.0 * t.cos(), 30.0 * t.sin()), (e.t0, e.t1));
     let a = equal_error_chords(&e, 0.01).unwrap();
     let b = equal_error_chords(&f, 0.01).unwrap();
     assert_eq!(a.len(), b.len());

@@ -11,20 +11,12 @@ use std::process::{Command, Output};
 const BIN: &str = env!("CARGO_BIN_EXE_interpolab");
 
 fn run(args: &[&str]) -> Output {
-    Command::new(BIN)
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap()
+    Command::new(BIN).args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap()
 }
 
 fn stdout_of(args: &[&str]) -> String {
     let out = run(args);
-    assert!(
-        out.status.success(),
-        "{args:?} failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.status.success(), "{args:?} failed: {}", String::from_utf8_lossy(&out.stderr));
     String::from_utf8(out.stdout).unwrap()
 }
 
@@ -56,19 +48,8 @@ fn rz(t: f64, v: V) -> V {
 /// Rows of a `steps` CSV (comment lines skipped) as numbers by column name.
 fn parse_steps(csv: &str) -> (Vec<String>, Vec<Vec<f64>>) {
     let mut lines = csv.lines().filter(|l| !l.starts_with('#'));
-    let header: Vec<String> = lines
-        .next()
-        .unwrap()
-        .split(',')
-        .map(str::to_owned)
-        .collect();
-    let rows = lines
-        .map(|l| {
-            l.split(',')
-                .map(|c| c.parse::<f64>().unwrap_or(f64::NAN))
-                .collect()
-        })
-        .collect();
+    let header: Vec<String> = lines.next().unwrap().split(',').map(str::to_owned).collect();
+    let rows = lines.map(|l| l.split(',').map(|c| c.parse::<f64>().unwrap_or(f64::NAN)).collect()).collect();
     (header, rows)
 }
 
@@ -88,21 +69,12 @@ fn check_steps(csv: &str, tol: f64, forward: impl Fn(V, f64, f64) -> (V, V)) {
     let col = |name: &str| h.iter().position(|c| c == name).unwrap();
     let (x, t, c) = (col("X"), h.len() - 16, h.len() - 15);
     let tip = col("tip_x");
-    let joints = |r: &Vec<f64>| {
-        (
-            [r[x], r[x + 1], r[x + 2]],
-            r[t].to_radians(),
-            r[c].to_radians(),
-        )
-    };
+    let joints = |r: &Vec<f64>| ([r[x], r[x + 1], r[x + 2]], r[t].to_radians(), r[c].to_radians());
     for r in &rows {
         let (q, a, cc) = joints(r);
         let (p, _) = forward(q, a, cc);
         let printed = [r[tip], r[tip + 1], r[tip + 2]];
-        assert!(
-            norm(add(p, scale(printed, -1.0))) < 1e-9,
-            "printed tip {printed:?} vs forward {p:?}"
-        );
+        assert!(norm(add(p, scale(printed, -1.0))) < 1e-9, "printed tip {printed:?} vs forward {p:?}");
     }
     assert!(rows.len() > 10);
     for (k, w) in rows.windows(2).enumerate() {
@@ -130,9 +102,7 @@ fn steps_joints_recompute_to_swept_tools_within_tolerance_on_a_table_machine() {
     // turned by C then A, so tip_W = Rz(−c)·Rx(−a)·(X, Y, Z) and axis_W = Rz(−c)·Rx(−a)·Z.
     let csv = stdout_of(&["steps", "examples/torus-plane.json", "--tolerance", "0.01"]);
     assert!(csv.contains("node,s,X,Y,Z,A,C,"), "{csv}");
-    check_steps(&csv, 0.01, |q, a, c| {
-        (rz(-c, rx(-a, q)), rz(-c, rx(-a, [0.0, 0.0, 1.0])))
-    });
+    check_steps(&csv, 0.01, |q, a, c| (rz(-c, rx(-a, q)), rz(-c, rx(-a, [0.0, 0.0, 1.0]))));
 }
 
 #[test]
@@ -150,23 +120,13 @@ fn steps_joints_recompute_to_swept_tools_within_tolerance_on_a_head_machine() {
     assert!(csv.contains("node,s,X,Y,Z,B,C,"), "{csv}");
     check_steps(&csv, 0.02, |q, b, c| {
         let axis = rz(c, ry(b, [0.0, 0.0, 1.0]));
-        (
-            add(add(q, rz(c, [0.0, 0.0, 40.0])), scale(axis, -160.0)),
-            axis,
-        )
+        (add(add(q, rz(c, [0.0, 0.0, 40.0])), scale(axis, -160.0)), axis)
     });
 }
 
 #[test]
 fn steps_json_carries_the_machine_and_a_summary() {
-    let out = stdout_of(&[
-        "steps",
-        "examples/torus-plate-head-bc.json",
-        "--tolerance",
-        "0.05",
-        "--format",
-        "json",
-    ]);
+    let out = stdout_of(&["steps", "examples/torus-plate-head-bc.json", "--tolerance", "0.05", "--format", "json"]);
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["machine"]["kind"], "head-bc");
     assert_eq!(v["machine"]["tool_length"], 160.0);
@@ -180,17 +140,8 @@ fn steps_json_carries_the_machine_and_a_summary() {
 fn example1_shows_the_gouge_then_the_inserted_steps() {
     let out = stdout_of(&["example1"]);
     assert!(out.contains("Before: one block P1 -> P2"), "{out}");
-    let total = out
-        .lines()
-        .find(|l| l.contains("total error δ = δt + δn"))
-        .unwrap();
-    let gouge: f64 = total
-        .split_whitespace()
-        .rev()
-        .nth(2)
-        .unwrap()
-        .parse()
-        .unwrap();
+    let total = out.lines().find(|l| l.contains("total error δ = δt + δn")).unwrap();
+    let gouge: f64 = total.split_whitespace().rev().nth(2).unwrap().parse().unwrap();
     assert!(gouge > 1.0, "{total}");
     let after = out.lines().find(|l| l.starts_with("After:")).unwrap();
     assert!(after.contains("inserts"), "{after}");
@@ -210,23 +161,13 @@ fn example1_shows_the_gouge_then_the_inserted_steps() {
 fn table1_prints_iterations_and_times_for_every_method() {
     let out = stdout_of(&["table1", "--tolerances", "0.1,0.001", "--repeat", "1"]);
     let iterations = |name: &str| -> Vec<u64> {
-        let row = out
-            .lines()
-            .find(|l| l.starts_with(&format!("| {name}")))
-            .unwrap();
+        let row = out.lines().find(|l| l.starts_with(&format!("| {name}"))).unwrap();
         let cells: Vec<&str> = row.split('|').map(str::trim).collect();
         vec![cells[2].parse().unwrap(), cells[5].parse().unwrap()]
     };
-    let (b, g, s, a) = (
-        iterations("bisection"),
-        iterations("golden"),
-        iterations("secant"),
-        iterations("anderson-bjorck"),
-    );
-    assert!(
-        s[1] < g[1] && g[1] < b[1],
-        "at 0.001 mm: bisection {b:?}, golden {g:?}, secant {s:?}"
-    );
+    let (b, g, s, a) =
+        (iterations("bisection"), iterations("golden"), iterations("secant"), iterations("anderson-bjorck"));
+    assert!(s[1] < g[1] && g[1] < b[1], "at 0.001 mm: bisection {b:?}, golden {g:?}, secant {s:?}");
     assert!(a[1] < s[1]);
     assert!(out.contains("NACA 2412"));
 }
@@ -234,11 +175,7 @@ fn table1_prints_iterations_and_times_for_every_method() {
 #[test]
 fn chords_on_the_parabola_and_the_comparison_table() {
     let csv = stdout_of(&["chords", "--curve", "parabola", "--tolerance", "0.05"]);
-    let rows: Vec<&str> = csv
-        .lines()
-        .filter(|l| !l.starts_with('#'))
-        .skip(1)
-        .collect();
+    let rows: Vec<&str> = csv.lines().filter(|l| !l.starts_with('#')).skip(1).collect();
     assert_eq!(rows.len(), 18, "{csv}");
     let table = stdout_of(&["chords", "--table"]);
     for name in ["parabola", "hyperbola", "ellipse"] {
@@ -250,23 +187,11 @@ fn chords_on_the_parabola_and_the_comparison_table() {
 #[test]
 fn bad_input_exits_2_with_a_message() {
     let cases: [(&[&str], &str); 5] = [
-        (
-            &["steps", "examples/torus-plane.json", "--tolerance", "0"],
-            "tolerance",
-        ),
-        (
-            &["steps", "no-such-scene.json", "--tolerance", "0.01"],
-            "cannot read",
-        ),
+        (&["steps", "examples/torus-plane.json", "--tolerance", "0"], "tolerance"),
+        (&["steps", "no-such-scene.json", "--tolerance", "0.01"], "cannot read"),
         (&["steps", "--blade", "12", "--tolerance", "0.01"], "NACA"),
-        (
-            &["chords", "--curve", "ellipse", "--tolerance", "0"],
-            "tolerance",
-        ),
-        (
-            &["table1", "--tolerances", "0.1,-1", "--repeat", "1"],
-            "tolerances",
-        ),
+        (&["chords", "--curve", "ellipse", "--tolerance", "0"], "tolerance"),
+        (&["table1", "--tolerances", "0.1,-1", "--repeat", "1"], "tolerances"),
     ];
     for (args, needle) in cases {
         let out = run(args);
@@ -275,20 +200,13 @@ fn bad_input_exits_2_with_a_message() {
         assert!(err.contains(needle), "{args:?}: {err}");
     }
     // A machine whose A axis cannot reach the bisector: the error names the axis.
-    let mut scene: serde_json::Value =
-        serde_json::from_str(include_str!("../examples/torus-plane.json")).unwrap();
+    let mut scene: serde_json::Value = serde_json::from_str(include_str!("../examples/torus-plane.json")).unwrap();
     scene["machine"] = serde_json::json!({ "kind": "table-ac", "limits": { "a": [-10, 10] } });
-    let path = std::env::temp_dir().join(format!(
-        "interpolab-out-of-travel-{}.json",
-        std::process::id()
-    ));
+    let path = std::env::temp_dir().join(format!("interpolab-out-of-travel-{}.json", std::process::id()));
     std::fs::write(&path, scene.to_string()).unwrap();
     let out = run(&["steps", path.to_str().unwrap(), "--tolerance", "0.01"]);
     let _ = std::fs::remove_file(&path);
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        err.contains("outside its travel") && err.contains("A ="),
-        "{err}"
-    );
+    assert!(err.contains("outside its travel") && err.contains("A ="), "{err}");
 }

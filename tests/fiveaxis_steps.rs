@@ -11,8 +11,8 @@ use glam::DVec3;
 use interpolab::chords::RootMethod;
 use interpolab::crease::{CreaseCurve, InterpOptions, run_to_end};
 use interpolab::fiveaxis::{
-    CreasePath, FiveAxisError, KinematicsError, Machine, NacaProfile, StepOptions, StepPlan,
-    ToolAxisRule, blade_case, example1, plan_steps,
+    CreasePath, FiveAxisError, KinematicsError, Machine, NacaProfile, StepOptions, StepPlan, ToolAxisRule, blade_case,
+    example1, plan_steps,
 };
 
 /// The torus ring through a tilted plate: torus R0 = 40, r0 = 15 about Z (outward), plane
@@ -54,22 +54,13 @@ fn assert_every_segment_within(
                 worst = worst.max(e.abs());
             }
         }
-        assert!(
-            worst <= tol * (1.0 + 1e-6) + 2e-9,
-            "segment {k}: |δ| = {worst} > E = {tol}"
-        );
+        assert!(worst <= tol * (1.0 + 1e-6) + 2e-9, "segment {k}: |δ| = {worst} > E = {tol}");
         if k + 2 < count && !w[1].rotary_limited {
-            assert!(
-                worst >= 0.9 * tol,
-                "segment {k}: |δ| = {worst} < 0.9·E: nodes denser than needed"
-            );
+            assert!(worst >= 0.9 * tol, "segment {k}: |δ| = {worst} < 0.9·E: nodes denser than needed");
         }
         // The reported δ agrees with the re-computation.
         let reported = w[1].total_mm.unwrap().abs();
-        assert!(
-            (reported - worst).abs() <= 1e-3 * tol + 1e-9,
-            "segment {k}: reported {reported}, re-computed {worst}"
-        );
+        assert!((reported - worst).abs() <= 1e-3 * tol + 1e-9, "segment {k}: reported {reported}, re-computed {worst}");
     }
 }
 
@@ -77,28 +68,18 @@ fn assert_every_segment_within(
 fn crease_segments_are_within_tolerance_by_dense_resampling() {
     let path = torus_plane_path(ToolAxisRule::Bisector);
     // A machine whose axes do not pass through the torus axis, so δn is not trivial.
-    let machine = Machine {
-        pivots_mm: [DVec3::new(0.0, 0.0, -60.0), DVec3::new(12.0, -7.0, 0.0)],
-        ..Machine::default()
-    };
-    for (tol, method) in [
-        (0.05, RootMethod::Secant),
-        (0.01, RootMethod::AndersonBjorck),
-    ] {
+    let machine =
+        Machine { pivots_mm: [DVec3::new(0.0, 0.0, -60.0), DVec3::new(12.0, -7.0, 0.0)], ..Machine::default() };
+    for (tol, method) in [(0.05, RootMethod::Secant), (0.01, RootMethod::AndersonBjorck)] {
         let plan = plan_steps(&machine, &path, &StepOptions::new(tol).with_method(method)).unwrap();
         assert!(plan.nodes.len() > 10);
-        assert_every_segment_within(&plan, &machine, 4.0, 300, |c| {
-            torus_plane_errors(c).to_vec()
-        });
+        assert_every_segment_within(&plan, &machine, 4.0, 300, |c| torus_plane_errors(c).to_vec());
     }
 }
 
 #[test]
 fn crease_segments_with_lead_and_tilt_on_a_head_machine_are_within_tolerance() {
-    let path = torus_plane_path(ToolAxisRule::Normal1 {
-        lead_rad: 10f64.to_radians(),
-        tilt_rad: 25f64.to_radians(),
-    });
+    let path = torus_plane_path(ToolAxisRule::Normal1 { lead_rad: 10f64.to_radians(), tilt_rad: 25f64.to_radians() });
     let machine = Machine {
         kind: interpolab::fiveaxis::MachineKind::HeadBC,
         pivots_mm: [DVec3::new(0.0, 0.0, 40.0), DVec3::ZERO],
@@ -106,9 +87,7 @@ fn crease_segments_with_lead_and_tilt_on_a_head_machine_are_within_tolerance() {
         limits_rad: [Some([-100f64.to_radians(), 100f64.to_radians()]), None],
     };
     let plan = plan_steps(&machine, &path, &StepOptions::new(0.01)).unwrap();
-    assert_every_segment_within(&plan, &machine, 4.0, 300, |c| {
-        torus_plane_errors(c).to_vec()
-    });
+    assert_every_segment_within(&plan, &machine, 4.0, 300, |c| torus_plane_errors(c).to_vec());
 }
 
 #[test]
@@ -116,20 +95,11 @@ fn example1_after_inserting_steps_every_segment_is_within_tolerance() {
     let ex = example1();
     let plan = plan_steps(&ex.machine, &ex.path, &StepOptions::new(ex.tol_mm)).unwrap();
     // On the cylinder of radius 25 (tool outside): e = R' − (|(x, y)| − 25) = 30 − |(x, y)|.
-    assert_every_segment_within(&plan, &ex.machine, 5.0, 2000, |c| {
-        vec![30.0 - c.truncate().length()]
-    });
+    assert_every_segment_within(&plan, &ex.machine, 5.0, 2000, |c| vec![30.0 - c.truncate().length()]);
     // The turn of C (94°) is now spread over the inserted blocks.
     assert!(plan.nodes.len() > 10, "{} nodes", plan.nodes.len());
-    let c: Vec<f64> = plan
-        .nodes
-        .iter()
-        .map(|n| n.block.joints.rotary_rad[1].to_degrees())
-        .collect();
-    assert!(
-        c.windows(2).all(|w| w[1] > w[0] && w[1] - w[0] < 10.0),
-        "{c:?}"
-    );
+    let c: Vec<f64> = plan.nodes.iter().map(|n| n.block.joints.rotary_rad[1].to_degrees()).collect();
+    assert!(c.windows(2).all(|w| w[1] > w[0] && w[1] - w[0] < 10.0), "{c:?}");
 }
 
 /// Distance from p (in z = 0) to the exact NACA 2412 section: nearest of a dense polyline,
@@ -144,10 +114,7 @@ fn naca_distance(naca: &NacaProfile, dense: &[(f64, DVec3)], p: DVec3) -> f64 {
             i = k;
         }
     }
-    let (mut lo, mut hi) = (
-        dense[i.saturating_sub(1)].0,
-        dense[(i + 1).min(dense.len() - 1)].0,
-    );
+    let (mut lo, mut hi) = (dense[i.saturating_sub(1)].0, dense[(i + 1).min(dense.len() - 1)].0);
     let f = |t: f64| (naca.point(t) - p).length();
     let r = (5f64.sqrt() - 1.0) / 2.0;
     for _ in 0..60 {
@@ -169,9 +136,7 @@ fn blade_segments_are_within_tolerance_against_the_exact_section() {
         .collect();
     let plan = plan_steps(&machine, &path, &StepOptions::new(0.01)).unwrap();
     // The ball (R = 5) runs outside the section: e = 5 − distance.
-    assert_every_segment_within(&plan, &machine, 5.0, 60, |c| {
-        vec![5.0 - naca_distance(&naca, &dense, c)]
-    });
+    assert_every_segment_within(&plan, &machine, 5.0, 60, |c| vec![5.0 - naca_distance(&naca, &dense, c)]);
 }
 
 #[test]
@@ -181,21 +146,14 @@ fn modified_secant_needs_fewer_iterations_than_bisection_at_one_micron() {
     let (blade, machine) = blade_case(NacaProfile::naca2412()).unwrap();
     let crease = torus_plane_path(ToolAxisRule::Bisector);
     let default = Machine::default();
-    let cases: [(&dyn interpolab::fiveaxis::DesignPath, &Machine); 2] =
-        [(&blade, &machine), (&crease, &default)];
+    let cases: [(&dyn interpolab::fiveaxis::DesignPath, &Machine); 2] = [(&blade, &machine), (&crease, &default)];
     for (path, m) in cases {
         let evals = |method: RootMethod| {
-            let opts = StepOptions {
-                reports: false,
-                ..StepOptions::new(0.001).with_method(method)
-            };
+            let opts = StepOptions { reports: false, ..StepOptions::new(0.001).with_method(method) };
             plan_steps(m, path, &opts).unwrap().total_evaluations()
         };
         let [bisection, golden, secant, _, ab] = RootMethod::ALL.map(evals);
-        assert!(
-            secant < golden && golden < bisection,
-            "bisection {bisection}, golden {golden}, secant {secant}"
-        );
+        assert!(secant < golden && golden < bisection, "bisection {bisection}, golden {golden}, secant {secant}");
         assert!(ab < secant, "anderson-bjorck {ab}, secant {secant}");
     }
 }
@@ -214,16 +172,12 @@ fn bad_tolerance_is_an_error() {
 #[test]
 fn a_tool_axis_outside_travel_names_the_axis_and_where() {
     let path = torus_plane_path(ToolAxisRule::Bisector);
-    let machine = Machine {
-        limits_rad: [Some([-10f64.to_radians(), 10f64.to_radians()]), None],
-        ..Machine::default()
-    };
+    let machine = Machine { limits_rad: [Some([-10f64.to_radians(), 10f64.to_radians()]), None], ..Machine::default() };
     let err = plan_steps(&machine, &path, &StepOptions::new(0.01)).unwrap_err();
     match &err {
-        FiveAxisError::Kinematics {
-            source: KinematicsError::OutOfTravel { axis_name, .. },
-            ..
-        } => assert_eq!(*axis_name, "A"),
+        FiveAxisError::Kinematics { source: KinematicsError::OutOfTravel { axis_name, .. }, .. } => {
+            assert_eq!(*axis_name, "A")
+        }
         other => panic!("expected an out-of-travel error, got {other:?}"),
     }
     assert!(err.to_string().contains("outside its travel"), "{err}");
@@ -239,16 +193,10 @@ fn a_zero_fixed_axis_is_an_error() {
 #[test]
 fn a_tolerance_below_rounding_ends_with_an_error_not_a_hang() {
     let ex = example1();
-    let opts = StepOptions {
-        max_nodes: 2000,
-        reports: false,
-        ..StepOptions::new(1e-13)
-    };
+    let opts = StepOptions { max_nodes: 2000, reports: false, ..StepOptions::new(1e-13) };
     match plan_steps(&ex.machine, &ex.path, &opts) {
         Err(
-            FiveAxisError::TooManyNodes { .. }
-            | FiveAxisError::Underflow { .. }
-            | FiveAxisError::NoConvergence { .. },
+            FiveAxisError::TooManyNodes { .. } | FiveAxisError::Underflow { .. } | FiveAxisError::NoConvergence { .. },
         ) => {}
         other => panic!("expected an error, got {:?}", other.map(|p| p.nodes.len())),
     }

@@ -73,11 +73,7 @@ pub struct ChordDeviation {
 pub fn distance_to_segment(x: DVec3, a: DVec3, b: DVec3) -> f64 {
     let ab = b - a;
     let l2 = ab.length_squared();
-    let t = if l2 > 0.0 {
-        ((x - a).dot(ab) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
+    let t = if l2 > 0.0 { ((x - a).dot(ab) / l2).clamp(0.0, 1.0) } else { 0.0 };
     (x - (a + ab * t)).length()
 }
 
@@ -100,12 +96,7 @@ impl Chord<'_> {
     fn sample(&mut self, s: f64) -> Sample {
         self.evals += 1;
         let [p, d1, _] = self.curve.derivatives_at(s);
-        Sample {
-            s,
-            p,
-            t: d1,
-            g: distance_to_segment(p, self.a, self.b),
-        }
+        Sample { s, p, t: d1, g: distance_to_segment(p, self.a, self.b) }
     }
 
     fn g(&mut self, s: f64) -> f64 {
@@ -137,8 +128,7 @@ fn cover(
     *best = best.max(m.g);
     let sagitta = distance_to_segment(m.p, x0.p, x1.p);
     let limit = (opts.coverage_rel * *best).max(opts.floor_mm);
-    let split =
-        depth < opts.max_depth && (sagitta > limit || turn_angle(x0.t, x1.t) > opts.max_turn_rad);
+    let split = depth < opts.max_depth && (sagitta > limit || turn_angle(x0.t, x1.t) > opts.max_turn_rad);
     if split {
         cover(chord, x0, m, depth + 1, best, opts, out);
         cover(chord, m, x1, depth + 1, best, opts, out);
@@ -161,31 +151,15 @@ fn cover(
 /// assert!(d.max_mm < 1e-12);
 /// ```
 #[must_use]
-pub fn chord_deviation(
-    curve: &dyn Curve3,
-    s0: f64,
-    s1: f64,
-    opts: &DeviationOptions,
-) -> ChordDeviation {
+pub fn chord_deviation(curve: &dyn Curve3, s0: f64, s1: f64, opts: &DeviationOptions) -> ChordDeviation {
     let (s0, s1) = if s0 <= s1 { (s0, s1) } else { (s1, s0) };
-    let mut chord = Chord {
-        curve,
-        a: curve.point_at(s0),
-        b: curve.point_at(s1),
-        evals: 2,
-    };
+    let mut chord = Chord { curve, a: curve.point_at(s0), b: curve.point_at(s1), evals: 2 };
     if s1.partial_cmp(&s0) != Some(std::cmp::Ordering::Greater) {
-        return ChordDeviation {
-            max_mm: 0.0,
-            at_s: s0,
-            curve_evaluations: chord.evals,
-        };
+        return ChordDeviation { max_mm: 0.0, at_s: s0, curve_evaluations: chord.evals };
     }
     let n = opts.initial_intervals.max(2);
     let h = (s1 - s0) / n as f64;
-    let coarse: Vec<Sample> = (0..=n)
-        .map(|i| chord.sample(if i == n { s1 } else { s0 + h * i as f64 }))
-        .collect();
+    let coarse: Vec<Sample> = (0..=n).map(|i| chord.sample(if i == n { s1 } else { s0 + h * i as f64 })).collect();
     let mut best = coarse.iter().map(|x| x.g).fold(0.0, f64::max);
     let mut samples = Vec::with_capacity(4 * n + 1);
     samples.push(coarse[0]);
@@ -195,18 +169,13 @@ pub fn chord_deviation(
 
     // Refine every local maximum of the samples that could hold the peak: one whose value
     // is within the coverage margin of the best sample.
-    let mut top = samples.iter().fold(
-        (s0, 0.0),
-        |acc, x| if x.g > acc.1 { (x.s, x.g) } else { acc },
-    );
+    let mut top = samples.iter().fold((s0, 0.0), |acc, x| if x.g > acc.1 { (x.s, x.g) } else { acc });
     let margin = (3.0 * opts.coverage_rel * top.1).max(opts.floor_mm);
     let width = opts.peak_param_rel * (s1 - s0);
     let last = samples.len() - 1;
     let candidates: Vec<usize> = (1..last)
         .filter(|&i| {
-            samples[i].g >= samples[i - 1].g
-                && samples[i].g >= samples[i + 1].g
-                && samples[i].g + margin >= top.1
+            samples[i].g >= samples[i - 1].g && samples[i].g >= samples[i + 1].g && samples[i].g + margin >= top.1
         })
         .collect();
     for i in candidates {
@@ -217,9 +186,5 @@ pub fn chord_deviation(
             top = (s, v);
         }
     }
-    ChordDeviation {
-        max_mm: top.1,
-        at_s: top.0,
-        curve_evaluations: chord.evals,
-    }
+    ChordDeviation { max_mm: top.1, at_s: top.0, curve_evaluations: chord.evals }
 }

@@ -37,10 +37,7 @@ impl Default for MaxOptions {
 ///
 /// # Errors
 /// The first error of `f`.
-#[expect(
-    clippy::float_cmp,
-    reason = "Brent's bookkeeping compares stored abscissae for identity, not for nearness"
-)]
+#[expect(clippy::float_cmp, reason = "Brent's bookkeeping compares stored abscissae for identity, not for nearness")]
 pub fn brent_max<E>(
     mut f: impl FnMut(f64) -> Result<f64, E>,
     a: f64,
@@ -92,11 +89,7 @@ pub fn brent_max<E>(
             e = if x < m { hi - x } else { lo - x };
             d = golden * e;
         }
-        let u = if d.abs() >= tol1 {
-            x + d
-        } else {
-            x + tol1.copysign(d)
-        };
+        let u = if d.abs() >= tol1 { x + d } else { x + tol1.copysign(d) };
         let gu = -f(u)?;
         evals += 1;
         if gu <= gx {
@@ -173,18 +166,12 @@ pub fn sampled_max<E>(
         }
     }
     pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut top =
-        pts.iter().copied().fold(
-            (lo, f64::NEG_INFINITY),
-            |acc, p| if p.1 > acc.1 { p } else { acc },
-        );
+    let mut top = pts.iter().copied().fold((lo, f64::NEG_INFINITY), |acc, p| if p.1 > acc.1 { p } else { acc });
     let margin = (3.0 * opts.coverage_rel * top.1.abs()).max(opts.floor);
     let tol_x = opts.peak_rel * (hi - lo);
     let last = pts.len() - 1;
     let candidates: Vec<usize> = (1..last)
-        .filter(|&i| {
-            pts[i].1 >= pts[i - 1].1 && pts[i].1 >= pts[i + 1].1 && pts[i].1 + margin >= top.1
-        })
+        .filter(|&i| pts[i].1 >= pts[i - 1].1 && pts[i].1 >= pts[i + 1].1 && pts[i].1 + margin >= top.1)
         .collect();
     for i in candidates {
         let (x, v, e) = brent_max(&mut f, pts[i - 1].0, pts[i + 1].0, tol_x, pts[i])?;
@@ -193,9 +180,5 @@ pub fn sampled_max<E>(
             top = (x, v);
         }
     }
-    Ok(Peak {
-        x: top.0,
-        value: top.1,
-        evaluations: evals,
-    })
+    Ok(Peak { x: top.0, value: top.1, evaluations: evals })
 }

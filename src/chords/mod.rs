@@ -34,9 +34,7 @@ pub enum ChordError {
         tol_mm: f64,
     },
     /// The curve's parameter range is empty or not finite.
-    #[error(
-        "the curve's parameter range [{start}, {end}] is empty or not finite; give a curve with start < end"
-    )]
+    #[error("the curve's parameter range [{start}, {end}] is empty or not finite; give a curve with start < end")]
     EmptyCurve {
         /// Start of the range.
         start: f64,
@@ -161,11 +159,7 @@ impl ChordNodes {
 pub fn first_step_estimate(curve: &dyn Curve3, s: f64, tol_mm: f64) -> Option<f64> {
     let [_, d1, d2] = curve.derivatives_at(s);
     let speed = d1.length();
-    let kappa = if speed > 0.0 {
-        d1.cross(d2).length() / (speed * speed * speed)
-    } else {
-        0.0
-    };
+    let kappa = if speed > 0.0 { d1.cross(d2).length() / (speed * speed * speed) } else { 0.0 };
     if !(kappa > 0.0 && speed > 0.0) {
         return None;
     }
@@ -204,11 +198,7 @@ pub fn equal_error_chords(curve: &dyn Curve3, tol_mm: f64) -> Result<Vec<f64>, C
 ///
 /// # Errors
 /// As [`equal_error_chords`].
-pub fn equal_error_chords_with(
-    curve: &dyn Curve3,
-    tol_mm: f64,
-    opts: &ChordOptions,
-) -> Result<ChordNodes, ChordError> {
+pub fn equal_error_chords_with(curve: &dyn Curve3, tol_mm: f64, opts: &ChordOptions) -> Result<ChordNodes, ChordError> {
     if !(tol_mm > 0.0 && tol_mm.is_finite()) {
         return Err(ChordError::BadTolerance { tol_mm });
     }
@@ -221,59 +211,28 @@ pub fn equal_error_chords_with(
             return Err(ChordError::NotFinite { s });
         }
     }
-    let dev_opts = DeviationOptions {
-        floor_mm: opts.deviation_floor_rel * tol_mm,
-        ..opts.deviation
-    };
-    let mut out = ChordNodes {
-        params: vec![start],
-        ..ChordNodes::default()
-    };
+    let dev_opts = DeviationOptions { floor_mm: opts.deviation_floor_rel * tol_mm, ..opts.deviation };
+    let mut out = ChordNodes { params: vec![start], ..ChordNodes::default() };
     let mut s = start;
     let mut step = first_step_estimate(curve, start, tol_mm);
     while s < end {
         if out.params.len() >= opts.max_nodes {
-            return Err(ChordError::TooManyNodes {
-                tol_mm,
-                max_nodes: opts.max_nodes,
-                s,
-                start,
-                end,
-            });
+            return Err(ChordError::TooManyNodes { tol_mm, max_nodes: opts.max_nodes, s, start, end });
         }
         let from = s;
         let error = |x: f64| -> Result<f64, ChordError> {
             let d = chord_deviation(curve, from, x, &dev_opts);
-            if d.max_mm.is_finite() {
-                Ok(d.max_mm)
-            } else {
-                Err(ChordError::NotFinite { s: x })
-            }
+            if d.max_mm.is_finite() { Ok(d.max_mm) } else { Err(ChordError::NotFinite { s: x }) }
         };
-        let node = next_node(
-            error,
-            from,
-            end,
-            step.unwrap_or(end - from),
-            tol_mm,
-            &opts.search,
-        )
-        .map_err(|e| match e {
-            SearchFailure::Eval(e) => e,
-            SearchFailure::NotFinite { s } => ChordError::NotFinite { s },
-            SearchFailure::Underflow { s_from, error_mm } => ChordError::Underflow {
-                s: s_from,
-                error_mm,
-                tol_mm,
-            },
-            SearchFailure::NoConvergence {
-                s_from,
-                evaluations,
-            } => ChordError::NoConvergence {
-                s: s_from,
-                evaluations,
-            },
-        })?;
+        let node =
+            next_node(error, from, end, step.unwrap_or(end - from), tol_mm, &opts.search).map_err(|e| match e {
+                SearchFailure::Eval(e) => e,
+                SearchFailure::NotFinite { s } => ChordError::NotFinite { s },
+                SearchFailure::Underflow { s_from, error_mm } => ChordError::Underflow { s: s_from, error_mm, tol_mm },
+                SearchFailure::NoConvergence { s_from, evaluations } => {
+                    ChordError::NoConvergence { s: s_from, evaluations }
+                }
+            })?;
         out.params.push(node.s);
         out.errors_mm.push(node.error_mm);
         out.evaluations.push(node.evaluations);

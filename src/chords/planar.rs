@@ -49,11 +49,7 @@ impl Curve3 for Hyperbola {
     fn derivatives_at(&self, s: f64) -> [DVec3; 3] {
         let x = s.clamp(self.x0, self.x1);
         let k = self.k;
-        [
-            DVec3::new(x, k / x, 0.0),
-            DVec3::new(1.0, -k / (x * x), 0.0),
-            DVec3::new(0.0, 2.0 * k / (x * x * x), 0.0),
-        ]
+        [DVec3::new(x, k / x, 0.0), DVec3::new(1.0, -k / (x * x), 0.0), DVec3::new(0.0, 2.0 * k / (x * x * x), 0.0)]
     }
     fn range(&self) -> (f64, f64) {
         (self.x0, self.x1)
@@ -78,11 +74,7 @@ impl Curve3 for Ellipse {
     fn derivatives_at(&self, s: f64) -> [DVec3; 3] {
         let (sn, cs) = s.clamp(self.t0, self.t1).sin_cos();
         let (a, b) = (self.a, self.b);
-        [
-            DVec3::new(a * cs, b * sn, 0.0),
-            DVec3::new(-a * sn, b * cs, 0.0),
-            DVec3::new(-a * cs, -b * sn, 0.0),
-        ]
+        [DVec3::new(a * cs, b * sn, 0.0), DVec3::new(-a * sn, b * cs, 0.0), DVec3::new(-a * cs, -b * sn, 0.0)]
     }
     fn range(&self) -> (f64, f64) {
         (self.t0, self.t1)
@@ -99,9 +91,7 @@ pub struct FnCurve {
 
 impl std::fmt::Debug for FnCurve {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("FnCurve")
-            .field("range", &self.range)
-            .finish_non_exhaustive()
+        f.debug_struct("FnCurve").field("range", &self.range).finish_non_exhaustive()
     }
 }
 
@@ -109,11 +99,7 @@ impl FnCurve {
     /// The curve `f` over `range`; derivatives use the step 1e-5 of the range width.
     #[must_use]
     pub fn new(f: impl Fn(f64) -> DVec2 + Send + Sync + 'static, range: (f64, f64)) -> Self {
-        Self {
-            f: Box::new(f),
-            range,
-            h: 1e-5 * (range.1 - range.0).abs(),
-        }
+        Self { f: Box::new(f), range, h: 1e-5 * (range.1 - range.0).abs() }
     }
 }
 
@@ -141,20 +127,12 @@ impl Curve3 for FnCurve {
 /// # Errors
 /// [`ChordError::BadTolerance`] for d ≤ 0; [`ChordError::EmptyCurve`] for an empty range or
 /// a ≤ 0.
-pub fn parabola_paper_nodes(
-    a: f64,
-    x_start: f64,
-    x_end: f64,
-    d: f64,
-) -> Result<Vec<f64>, ChordError> {
+pub fn parabola_paper_nodes(a: f64, x_start: f64, x_end: f64, d: f64) -> Result<Vec<f64>, ChordError> {
     if !(d > 0.0 && d.is_finite()) {
         return Err(ChordError::BadTolerance { tol_mm: d });
     }
     if !(a > 0.0 && x_start >= 0.0 && x_end > x_start && x_end.is_finite()) {
-        return Err(ChordError::EmptyCurve {
-            start: x_start,
-            end: x_end,
-        });
+        return Err(ChordError::EmptyCurve { start: x_start, end: x_end });
     }
     // g(x_T) = a(x_T − x_a)² − d·√(1 + 4a²x_T²): negative at x_a, positive far on.
     let g = |xa: f64, xt: f64| a * (xt - xa) * (xt - xa) - d * (1.0 + 4.0 * a * a * xt * xt).sqrt();
@@ -187,10 +165,7 @@ pub fn parabola_paper_nodes(
 /// Deviation of every chord between consecutive `params` (mm).
 #[must_use]
 pub fn chord_errors(curve: &dyn Curve3, params: &[f64], opts: &DeviationOptions) -> Vec<f64> {
-    params
-        .windows(2)
-        .map(|w| chord_deviation(curve, w[0], w[1], opts).max_mm)
-        .collect()
+    params.windows(2).map(|w| chord_deviation(curve, w[0], w[1], opts).max_mm).collect()
 }
 
 /// The smallest radius of curvature of the curve and where (sampled, then refined).
@@ -213,14 +188,7 @@ pub fn min_radius(curve: &dyn Curve3) -> (f64, f64) {
     if k > best.1 {
         best = (s, k);
     }
-    (
-        best.0,
-        if best.1 > 0.0 {
-            1.0 / best.1
-        } else {
-            f64::INFINITY
-        },
-    )
+    (best.0, if best.1 > 0.0 { 1.0 / best.1 } else { f64::INFINITY })
 }
 
 /// Nodes at the constant parameter step `step` from the start; the last node is the end
@@ -240,11 +208,7 @@ pub fn equal_interval_nodes(curve: &dyn Curve3, step: f64) -> Vec<f64> {
 /// # Errors
 /// [`ChordError::BadTolerance`] for a chord length that is not positive,
 /// [`ChordError::TooManyNodes`] past `max_nodes`.
-pub fn equal_step_nodes(
-    curve: &dyn Curve3,
-    chord_mm: f64,
-    max_nodes: usize,
-) -> Result<Vec<f64>, ChordError> {
+pub fn equal_step_nodes(curve: &dyn Curve3, chord_mm: f64, max_nodes: usize) -> Result<Vec<f64>, ChordError> {
     if !(chord_mm > 0.0 && chord_mm.is_finite()) {
         return Err(ChordError::BadTolerance { tol_mm: chord_mm });
     }
@@ -253,24 +217,14 @@ pub fn equal_step_nodes(
     let mut s = lo;
     while s < hi {
         if nodes.len() >= max_nodes {
-            return Err(ChordError::TooManyNodes {
-                tol_mm: chord_mm,
-                max_nodes,
-                s,
-                start: lo,
-                end: hi,
-            });
+            return Err(ChordError::TooManyNodes { tol_mm: chord_mm, max_nodes, s, start: lo, end: hi });
         }
         let p = curve.point_at(s);
         let dist = |t: f64| (curve.point_at(t) - p).length() - chord_mm;
         // March in steps of a quarter of the chord (as a parameter step) until the distance
         // reaches L, then bisect: the first crossing, not just any.
         let speed = curve.derivatives_at(s)[1].length();
-        let dt = if speed > 0.0 {
-            0.25 * chord_mm / speed
-        } else {
-            (hi - lo) / 64.0
-        };
+        let dt = if speed > 0.0 { 0.25 * chord_mm / speed } else { (hi - lo) / 64.0 };
         let mut a = s;
         let mut b = (s + dt).min(hi);
         while dist(b) < 0.0 && b < hi {
@@ -372,10 +326,7 @@ pub fn spacing_nodes(
     if !(d > 0.0 && d.is_finite()) {
         return Err(ChordError::BadTolerance { tol_mm: d });
     }
-    let dev = DeviationOptions {
-        floor_mm: opts.deviation_floor_rel * d,
-        ..opts.deviation
-    };
+    let dev = DeviationOptions { floor_mm: opts.deviation_floor_rel * d, ..opts.deviation };
     let (lo, hi) = curve.range();
     // Length of the curve (a 256-chord polyline; enough to cap a step).
     let length: f64 = equal_interval_nodes(curve, (hi - lo) / 256.0)
@@ -384,22 +335,12 @@ pub fn spacing_nodes(
         .sum();
     let min_radius_chord = || {
         let (s, rho) = min_radius(curve);
-        let l = if rho.is_finite() && rho > 0.5 * d {
-            2.0 * (2.0 * rho * d - d * d).sqrt()
-        } else {
-            2.0 * d
-        };
+        let l = if rho.is_finite() && rho > 0.5 * d { 2.0 * (2.0 * rho * d - d * d).sqrt() } else { 2.0 * d };
         (s, l.min(length.max(2.0 * d)))
     };
     let guard = |n: f64| {
         if n > opts.max_nodes as f64 {
-            Err(ChordError::TooManyNodes {
-                tol_mm: d,
-                max_nodes: opts.max_nodes,
-                s: lo,
-                start: lo,
-                end: hi,
-            })
+            Err(ChordError::TooManyNodes { tol_mm: d, max_nodes: opts.max_nodes, s: lo, start: lo, end: hi })
         } else {
             Ok(())
         }
@@ -421,9 +362,7 @@ pub fn spacing_nodes(
             // The fewest equal parts of the range with every chord within d.
             let worst = |n: usize| -> f64 {
                 let p = equal_interval_nodes(curve, (hi - lo) / n as f64);
-                chord_errors(curve, &p, &dev)
-                    .into_iter()
-                    .fold(0.0, f64::max)
+                chord_errors(curve, &p, &dev).into_iter().fold(0.0, f64::max)
             };
             let mut n = 1usize;
             let mut w = worst(n);
@@ -445,9 +384,7 @@ pub fn spacing_nodes(
             // does not.
             let worst = |l: f64| -> Result<f64, ChordError> {
                 let p = equal_step_nodes(curve, l, opts.max_nodes)?;
-                Ok(chord_errors(curve, &p, &dev)
-                    .into_iter()
-                    .fold(0.0, f64::max))
+                Ok(chord_errors(curve, &p, &dev).into_iter().fold(0.0, f64::max))
             };
             let (_, l0) = min_radius_chord();
             let mut ok = l0;
@@ -472,45 +409,26 @@ pub fn spacing_nodes(
         }
     };
     let errors_mm = chord_errors(curve, &params, &dev);
-    Ok(SpacingRow {
-        spacing,
-        params,
-        errors_mm,
-        step,
-    })
+    Ok(SpacingRow { spacing, params, errors_mm, step })
 }
 
 /// The seed-003 parabola y = a·x² with a = 0.025 /mm (vertex radius 20 mm) for x from 0 to
 /// 60 mm — the x > 0 half of the project's parabola profile.
 #[must_use]
 pub fn seed003_parabola() -> Parabola {
-    Parabola {
-        a: 0.025,
-        x0: 0.0,
-        x1: 60.0,
-        z: 0.0,
-    }
+    Parabola { a: 0.025, x0: 0.0, x1: 60.0, z: 0.0 }
 }
 
 /// The hyperbola x·y = 400 mm² for x from 5 to 80 mm (vertex radius √800 ≈ 28.3 mm at
 /// (20, 20)).
 #[must_use]
 pub fn seed003_hyperbola() -> Hyperbola {
-    Hyperbola {
-        k: 400.0,
-        x0: 5.0,
-        x1: 80.0,
-    }
+    Hyperbola { k: 400.0, x0: 5.0, x1: 80.0 }
 }
 
 /// A quarter of the ellipse with semi-axes 60 and 30 mm, from (60, 0) to (0, 30) (radius of
 /// curvature 15 to 120 mm).
 #[must_use]
 pub fn seed003_ellipse() -> Ellipse {
-    Ellipse {
-        a: 60.0,
-        b: 30.0,
-        t0: 0.0,
-        t1: std::f64::consts::FRAC_PI_2,
-    }
+    Ellipse { a: 60.0, b: 30.0, t0: 0.0, t1: std::f64::consts::FRAC_PI_2 }
 }

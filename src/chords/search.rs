@@ -41,13 +41,7 @@ pub enum RootMethod {
 
 impl RootMethod {
     /// Every method, in the order the comparison tables print them.
-    pub const ALL: [Self; 5] = [
-        Self::Bisection,
-        Self::Golden,
-        Self::Secant,
-        Self::Illinois,
-        Self::AndersonBjorck,
-    ];
+    pub const ALL: [Self; 5] = [Self::Bisection, Self::Golden, Self::Secant, Self::Illinois, Self::AndersonBjorck];
 
     /// Short name as used on the command line (`bisection`, `golden`, `secant`, `illinois`,
     /// `anderson-bjorck`).
@@ -182,11 +176,7 @@ pub fn next_node<E>(
     let half = 0.5 * window;
     let target = tol_mm - half;
     let remaining = s_end - s_from;
-    let mut step = if first_step > 0.0 && first_step.is_finite() {
-        first_step.min(remaining)
-    } else {
-        remaining
-    };
+    let mut step = if first_step > 0.0 && first_step.is_finite() { first_step.min(remaining) } else { remaining };
     let growth = if opts.growth >= 1.0 { opts.growth } else { 1.0 };
     let scale = s_from.abs().max(s_end.abs()).max(remaining.abs());
     let min_width = tolerance::STEP_PARAM_REL * scale;
@@ -195,11 +185,7 @@ pub fn next_node<E>(
     let mut eval = |s: f64, evals: &mut u32| -> Result<f64, SearchFailure<E>> {
         *evals += 1;
         let d = error(s).map_err(SearchFailure::Eval)?;
-        if d.is_finite() {
-            Ok(d)
-        } else {
-            Err(SearchFailure::NotFinite { s })
-        }
+        if d.is_finite() { Ok(d) } else { Err(SearchFailure::NotFinite { s }) }
     };
     let found = |s: f64, d: f64, evals: u32, bracket: u32, is_end: bool, jumped: bool| FoundNode {
         s,
@@ -233,10 +219,7 @@ pub fn next_node<E>(
         d_lo = d;
         step *= growth;
         if evals >= opts.max_evaluations {
-            return Err(SearchFailure::NoConvergence {
-                s_from,
-                evaluations: evals,
-            });
+            return Err(SearchFailure::NoConvergence { s_from, evaluations: evals });
         }
     };
     let bracket_evals = evals;
@@ -253,16 +236,10 @@ pub fn next_node<E>(
             if lo > s_from {
                 return Ok(found(lo, d_lo, evals, bracket_evals, false, true));
             }
-            return Err(SearchFailure::Underflow {
-                s_from,
-                error_mm: f_hi + target,
-            });
+            return Err(SearchFailure::Underflow { s_from, error_mm: f_hi + target });
         }
         if evals >= opts.max_evaluations {
-            return Err(SearchFailure::NoConvergence {
-                s_from,
-                evaluations: evals,
-            });
+            return Err(SearchFailure::NoConvergence { s_from, evaluations: evals });
         }
         let mut x = match opts.method {
             RootMethod::Bisection => 0.5 * (lo + hi),
@@ -274,9 +251,7 @@ pub fn next_node<E>(
                 }
             }
             RootMethod::Secant => hi - f_hi * (hi - lo) / (f_hi - f_lo),
-            RootMethod::Illinois | RootMethod::AndersonBjorck => {
-                hi - g_hi * (hi - lo) / (g_hi - g_lo)
-            }
+            RootMethod::Illinois | RootMethod::AndersonBjorck => hi - g_hi * (hi - lo) / (g_hi - g_lo),
         };
         if !(x > lo && x < hi) {
             x = 0.5 * (lo + hi);

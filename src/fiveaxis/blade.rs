@@ -39,10 +39,7 @@ impl NacaProfile {
     /// The section named by four digits (`"2412"`), chord `chord_mm`, in the plane z = 0.
     #[must_use]
     pub fn from_digits(digits: &str, chord_mm: f64) -> Option<Self> {
-        let d: Vec<u32> = digits
-            .chars()
-            .map(|c| c.to_digit(10))
-            .collect::<Option<_>>()?;
+        let d: Vec<u32> = digits.chars().map(|c| c.to_digit(10)).collect::<Option<_>>()?;
         if d.len() != 4 || d[2] * 10 + d[3] == 0 {
             return None;
         }
@@ -58,13 +55,7 @@ impl NacaProfile {
     /// NACA 2412 with a 100 mm chord.
     #[must_use]
     pub fn naca2412() -> Self {
-        Self {
-            camber: 0.02,
-            camber_pos: 0.4,
-            thickness: 0.12,
-            chord_mm: 100.0,
-            z_mm: 0.0,
-        }
+        Self { camber: 0.02, camber_pos: 0.4, thickness: 0.12, chord_mm: 100.0, z_mm: 0.0 }
     }
 
     /// The section as a C¹ path through `n` points (equal steps of θ, so denser at the
@@ -78,9 +69,7 @@ impl NacaProfile {
         let n = n.max(2);
         let (a, b) = (1e-3, std::f64::consts::TAU - 1e-3);
         let thetas = (0..n).map(|i| a + (b - a) * i as f64 / (n - 1) as f64);
-        let (points, tangents) = thetas
-            .map(|t| (self.point(t), self.derivatives_at(t)[1]))
-            .unzip();
+        let (points, tangents) = thetas.map(|t| (self.point(t), self.derivatives_at(t)[1])).unzip();
         HermitePath::new(points, tangents)
     }
 
@@ -96,10 +85,7 @@ impl NacaProfile {
         let (yc, slope) = if m == 0.0 || p <= 0.0 {
             (0.0, 0.0)
         } else if x < p {
-            (
-                m / (p * p) * (2.0 * p * x - x * x),
-                2.0 * m / (p * p) * (p - x),
-            )
+            (m / (p * p) * (2.0 * p * x - x * x), 2.0 * m / (p * p) * (p - x))
         } else {
             (
                 m / ((1.0 - p) * (1.0 - p)) * ((1.0 - 2.0 * p) + 2.0 * p * x - x * x),

@@ -51,12 +51,7 @@ pub enum MachineKind {
 
 impl MachineKind {
     /// All kinds.
-    pub const ALL: [Self; 4] = [
-        Self::TableAC,
-        Self::TableBC,
-        Self::HeadBC,
-        Self::HeadATableC,
-    ];
+    pub const ALL: [Self; 4] = [Self::TableAC, Self::TableBC, Self::HeadBC, Self::HeadATableC];
 
     /// The scene-file name (`table-ac`, `table-bc`, `head-bc`, `head-a-table-c`).
     #[must_use]
@@ -280,9 +275,7 @@ impl Machine {
     /// Rotation part of `machine_from_workpiece`.
     fn machine_from_workpiece_rot(&self, angles: [f64; 2]) -> DMat3 {
         match self.kind {
-            MachineKind::TableAC | MachineKind::TableBC => {
-                rot(self.tilt_axis_index(), angles[0]) * rot(2, angles[1])
-            }
+            MachineKind::TableAC | MachineKind::TableBC => rot(self.tilt_axis_index(), angles[0]) * rot(2, angles[1]),
             MachineKind::HeadBC => DMat3::IDENTITY,
             MachineKind::HeadATableC => rot(2, angles[1]),
         }
@@ -302,9 +295,7 @@ impl Machine {
         let l = self.tool_length_mm;
         match self.kind {
             MachineKind::TableAC | MachineKind::TableBC => DVec3::ZERO,
-            MachineKind::HeadBC => {
-                rot(2, angles[1]) * self.pivots_mm[0] - l * self.axis_in_machine(angles)
-            }
+            MachineKind::HeadBC => rot(2, angles[1]) * self.pivots_mm[0] - l * self.axis_in_machine(angles),
             MachineKind::HeadATableC => self.pivots_mm[0] - l * self.axis_in_machine(angles),
         }
     }
@@ -341,11 +332,7 @@ impl Machine {
             // Rx(a)·Z = Rz(c)·T  ⇒ Rz(c)(Tx, Ty) = (0, −sin a).
             MachineKind::HeadATableC => (-half_pi - phi, half_pi - phi),
         };
-        if singular {
-            [[tilt, c_prev], [-tilt, c_prev]]
-        } else {
-            [[tilt, c_plus], [-tilt, c_minus]]
-        }
+        if singular { [[tilt, c_prev], [-tilt, c_prev]] } else { [[tilt, c_plus], [-tilt, c_minus]] }
     }
 
     /// Inverse kinematics: joint values putting the tool tip at `tip_in_workpiece` with unit
@@ -367,9 +354,7 @@ impl Machine {
             return Err(KinematicsError::DegenerateAxis { axis: t.to_array() });
         }
         if !tip_in_workpiece.is_finite() {
-            return Err(KinematicsError::NonFinite {
-                tip: tip_in_workpiece.to_array(),
-            });
+            return Err(KinematicsError::NonFinite { tip: tip_in_workpiece.to_array() });
         }
         let t = t.normalize();
         let prev = previous.map_or([0.0, 0.0], |p| p.rotary_rad);
@@ -392,11 +377,7 @@ impl Machine {
         }
         let Some((angles, _)) = best else {
             let names = self.axis_names();
-            let (i, name) = if tilt_ok {
-                (1, names[1])
-            } else {
-                (0, names[0])
-            };
+            let (i, name) = if tilt_ok { (1, names[1]) } else { (0, names[0]) };
             let needed_deg = branches.iter().map(|b| b[i].to_degrees()).collect();
             let limits = self.limits_rad[i].unwrap_or([f64::NEG_INFINITY, f64::INFINITY]);
             return Err(KinematicsError::OutOfTravel {
@@ -407,10 +388,7 @@ impl Machine {
             });
         };
         let tip_m = self.machine_from_workpiece(angles, tip_in_workpiece);
-        Ok(Joints {
-            xyz_mm: tip_m - self.tip_offset_in_machine(angles),
-            rotary_rad: angles,
-        })
+        Ok(Joints { xyz_mm: tip_m - self.tip_offset_in_machine(angles), rotary_rad: angles })
     }
 
     /// Whether these rotary angles are within travel.

@@ -34,8 +34,7 @@ pub use path::{CreasePath, CutterLocation, DesignPath, ProfilePath, ToolSide};
 pub use presets::{CircleArc, Example1, blade_case, example1};
 pub use stepsel::{StepNode, StepOptions, StepPlan, evaluate_nodes, plan_steps, rotary_step_rad};
 pub use swept::{
-    Block, SegmentReport, SegmentTotal, SweptPoint, block_at, segment_report, segment_total,
-    swept_point, swept_samples,
+    Block, SegmentReport, SegmentTotal, SweptPoint, block_at, segment_report, segment_total, swept_point, swept_samples,
 };
 pub use toolaxis::{AxisFrame, ToolAxisRule};
 
@@ -50,9 +49,7 @@ pub enum FiveAxisError {
         tol_mm: f64,
     },
     /// The path's parameter range is empty.
-    #[error(
-        "the path's parameter range [{start}, {end}] is empty; the crease run produced too few points"
-    )]
+    #[error("the path's parameter range [{start}, {end}] is empty; the crease run produced too few points")]
     EmptyPath {
         /// Start.
         start: f64,
@@ -86,9 +83,7 @@ pub enum FiveAxisError {
         s: f64,
     },
     /// An error value was NaN or infinite.
-    #[error(
-        "the swept error is not finite near s = {s:.4}; check the machine's pivots and the tool-axis rule"
-    )]
+    #[error("the swept error is not finite near s = {s:.4}; check the machine's pivots and the tool-axis rule")]
     NotFinite {
         /// Path parameter.
         s: f64,
@@ -106,9 +101,7 @@ pub enum FiveAxisError {
         tol_mm: f64,
     },
     /// The root search did not converge.
-    #[error(
-        "the step search after s = {s:.6} did not converge in {evaluations} evaluations; raise the tolerance"
-    )]
+    #[error("the step search after s = {s:.6} did not converge in {evaluations} evaluations; raise the tolerance")]
     NoConvergence {
         /// Path parameter.
         s: f64,

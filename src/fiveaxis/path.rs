@@ -59,13 +59,7 @@ pub trait DesignPath {
     /// Signed errors `e_i = R' − d_i(p)` (gouge +) of a ball centred at `p`, a point of the
     /// segment from `a` to `b` at fraction `tau` (for the foot-point guesses). Entries past
     /// [`Self::surface_count`] are `None`.
-    fn surface_errors(
-        &self,
-        p: DVec3,
-        a: &CutterLocation,
-        b: &CutterLocation,
-        tau: f64,
-    ) -> [Option<f64>; 2];
+    fn surface_errors(&self, p: DVec3, a: &CutterLocation, b: &CutterLocation, tau: f64) -> [Option<f64>; 2];
     /// The first trial step of seed 002 at s, `√(8ρE)` as a parameter step, if defined.
     fn first_step(&self, s: f64, tol_mm: f64) -> Option<f64>;
 }
@@ -73,11 +67,7 @@ pub trait DesignPath {
 /// Interpolates foot-point guesses; a jump (a periodic parameter wrapping) takes the nearer
 /// end instead.
 fn mix_hint(a: DVec2, b: DVec2, tau: f64) -> DVec2 {
-    if (b - a).length() > 1.0 {
-        if tau < 0.5 { a } else { b }
-    } else {
-        a.lerp(b, tau)
-    }
+    if (b - a).length() > 1.0 { if tau < 0.5 { a } else { b } } else { a.lerp(b, tau) }
 }
 
 /// The crease of a scene as a design path.
@@ -126,16 +116,8 @@ impl DesignPath for CreasePath {
         let fraction = if b > a { (s - a) / (b - a) } else { 0.0 };
         let axis = self
             .rule
-            .axis(&AxisFrame {
-                n1: frame.normal[0],
-                n2: Some(frame.normal[1]),
-                travel: frame.tangent,
-                fraction,
-            })
-            .ok_or(FiveAxisError::ToolAxis {
-                s,
-                rule: self.rule.name(),
-            })?;
+            .axis(&AxisFrame { n1: frame.normal[0], n2: Some(frame.normal[1]), travel: frame.tangent, fraction })
+            .ok_or(FiveAxisError::ToolAxis { s, rule: self.rule.name() })?;
         Ok(CutterLocation {
             s,
             centre: frame.center,
@@ -146,28 +128,14 @@ impl DesignPath for CreasePath {
             hints: frame.uv,
         })
     }
-    fn surface_errors(
-        &self,
-        p: DVec3,
-        a: &CutterLocation,
-        b: &CutterLocation,
-        tau: f64,
-    ) -> [Option<f64>; 2] {
+    fn surface_errors(&self, p: DVec3, a: &CutterLocation, b: &CutterLocation, tau: f64) -> [Option<f64>; 2] {
         let r_eff = self.effective_radius_mm();
         let job = self.curve.job();
         // The signed distance is stationary in the foot point, so a foot to 1e-9 mm gives it
         // to far below that; one Newton iteration fewer than the default 1e-11 mm.
-        let opts = ProjectOptions {
-            step_tol_mm: crate::tolerance::NEWTON_LENGTH_MM,
-            ..ProjectOptions::default()
-        };
+        let opts = ProjectOptions { step_tol_mm: crate::tolerance::NEWTON_LENGTH_MM, ..ProjectOptions::default() };
         let e = |i: usize| {
-            let foot = project_point(
-                &job.surfaces[i],
-                p,
-                mix_hint(a.hints[i], b.hints[i], tau),
-                opts,
-            );
+            let foot = project_point(&job.surfaces[i], p, mix_hint(a.hints[i], b.hints[i], tau), opts);
             r_eff - foot.signed_distance
         };
         [Some(e(0)), Some(e(1))]
@@ -220,14 +188,7 @@ impl ProfilePath {
         allowance_mm: f64,
         rule: ToolAxisRule,
     ) -> Self {
-        Self {
-            curve,
-            range,
-            side,
-            ball_radius_mm,
-            allowance_mm,
-            rule,
-        }
+        Self { curve, range, side, ball_radius_mm, allowance_mm, rule }
     }
 
     /// The profile curve.
@@ -241,14 +202,7 @@ impl ProfilePath {
         let d1 = self.curve.derivatives_at(s)[1];
         let t = DVec3::new(d1.x, d1.y, 0.0).try_normalize()?;
         let left = DVec3::Z.cross(t);
-        Some((
-            if self.side == ToolSide::Left {
-                left
-            } else {
-                -left
-            },
-            t,
-        ))
+        Some((if self.side == ToolSide::Left { left } else { -left }, t))
     }
 
     /// Foot point of p's projection on the profile (in the plane), by Newton from `guess`:
@@ -299,26 +253,15 @@ impl DesignPath for ProfilePath {
         1
     }
     fn location_at(&self, s: f64) -> Result<CutterLocation, FiveAxisError> {
-        let (n, t) = self.frame(s).ok_or(FiveAxisError::ToolAxis {
-            s,
-            rule: "profile normal",
-        })?;
+        let (n, t) = self.frame(s).ok_or(FiveAxisError::ToolAxis { s, rule: "profile normal" })?;
         let q = self.curve.point_at(s);
         let centre = q + self.effective_radius_mm() * n;
         let (a, b) = self.range;
         let fraction = if b > a { (s - a) / (b - a) } else { 0.0 };
         let axis = self
             .rule
-            .axis(&AxisFrame {
-                n1: n,
-                n2: None,
-                travel: t,
-                fraction,
-            })
-            .ok_or(FiveAxisError::ToolAxis {
-                s,
-                rule: self.rule.name(),
-            })?;
+            .axis(&AxisFrame { n1: n, n2: None, travel: t, fraction })
+            .ok_or(FiveAxisError::ToolAxis { s, rule: self.rule.name() })?;
         Ok(CutterLocation {
             s,
             centre,
@@ -329,18 +272,9 @@ impl DesignPath for ProfilePath {
             hints: [DVec2::new(s, 0.0), DVec2::new(s, 0.0)],
         })
     }
-    fn surface_errors(
-        &self,
-        p: DVec3,
-        a: &CutterLocation,
-        b: &CutterLocation,
-        tau: f64,
-    ) -> [Option<f64>; 2] {
+    fn surface_errors(&self, p: DVec3, a: &CutterLocation, b: &CutterLocation, tau: f64) -> [Option<f64>; 2] {
         let guess = a.hints[0].x + tau * (b.hints[0].x - a.hints[0].x);
-        [
-            Some(self.effective_radius_mm() - self.signed_distance(p, guess)),
-            None,
-        ]
+        [Some(self.effective_radius_mm() - self.signed_distance(p, guess)), None]
     }
     fn first_step(&self, s: f64, tol_mm: f64) -> Option<f64> {
         crate::chords::first_step_estimate(self.curve.as_ref(), s, tol_mm)

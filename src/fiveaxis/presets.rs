@@ -81,10 +81,7 @@ pub fn example1() -> Example1 {
         sweep_rad: sweep,
         clockwise: true,
     };
-    let rule = ToolAxisRule::Interpolated {
-        from: t1.normalize(),
-        to: t2.normalize(),
-    };
+    let rule = ToolAxisRule::Interpolated { from: t1.normalize(), to: t2.normalize() };
     Example1 {
         path: ProfilePath::new(Box::new(arc), (0.0, sweep), ToolSide::Left, 5.0, 0.0, rule),
         machine: Machine::default(),
@@ -105,21 +102,12 @@ pub fn blade_case(profile: NacaProfile) -> Option<(ProfilePath, Machine)> {
     let curve = profile.to_path(4000)?;
     let range = curve.range();
     let mid = 0.5 * profile.chord_mm;
-    let rule = ToolAxisRule::Normal1 {
-        lead_rad: 0.0,
-        tilt_rad: -30f64.to_radians(),
-    };
+    let rule = ToolAxisRule::Normal1 { lead_rad: 0.0, tilt_rad: -30f64.to_radians() };
     let machine = Machine {
         kind: MachineKind::TableAC,
-        pivots_mm: [
-            DVec3::new(mid, 0.0, profile.z_mm - 40.0),
-            DVec3::new(mid, 0.0, profile.z_mm),
-        ],
+        pivots_mm: [DVec3::new(mid, 0.0, profile.z_mm - 40.0), DVec3::new(mid, 0.0, profile.z_mm)],
         tool_length_mm: 0.0,
         limits_rad: [Some([-120f64.to_radians(), 120f64.to_radians()]), None],
     };
-    Some((
-        ProfilePath::new(Box::new(curve), range, ToolSide::Right, 5.0, 0.0, rule),
-        machine,
-    ))
+    Some((ProfilePath::new(Box::new(curve), range, ToolSide::Right, 5.0, 0.0, rule), machine))
 }

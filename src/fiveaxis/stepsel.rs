@@ -64,10 +64,7 @@ impl StepOptions {
     }
 
     fn swept_for_tol(&self) -> MaxOptions {
-        MaxOptions {
-            floor: 1e-3 * self.tol_mm,
-            ..self.swept
-        }
+        MaxOptions { floor: 1e-3 * self.tol_mm, ..self.swept }
     }
 }
 
@@ -122,11 +119,7 @@ impl StepPlan {
     /// The largest |δ| of any segment (mm).
     #[must_use]
     pub fn worst_mm(&self) -> f64 {
-        self.nodes
-            .iter()
-            .filter_map(|n| n.total_mm)
-            .map(f64::abs)
-            .fold(0.0, f64::max)
+        self.nodes.iter().filter_map(|n| n.total_mm).map(f64::abs).fold(0.0, f64::max)
     }
 }
 
@@ -136,11 +129,7 @@ impl StepPlan {
 /// A tolerance that is not positive; a location, tool axis or joint solution that cannot be
 /// computed (out of travel: the message names the axis and angle); steps that underflow or
 /// too many nodes.
-pub fn plan_steps(
-    machine: &Machine,
-    path: &dyn DesignPath,
-    opts: &StepOptions,
-) -> Result<StepPlan, FiveAxisError> {
+pub fn plan_steps(machine: &Machine, path: &dyn DesignPath, opts: &StepOptions) -> Result<StepPlan, FiveAxisError> {
     let tol = opts.tol_mm;
     if !(tol > 0.0 && tol.is_finite()) {
         return Err(FiveAxisError::BadTolerance { tol_mm: tol });
@@ -150,11 +139,7 @@ pub fn plan_steps(
         return Err(FiveAxisError::EmptyPath { start, end });
     }
     let swept = opts.swept_for_tol();
-    let rotary_scale = if opts.max_rotary_step_rad > 0.0 {
-        tol / opts.max_rotary_step_rad
-    } else {
-        0.0
-    };
+    let rotary_scale = if opts.max_rotary_step_rad > 0.0 { tol / opts.max_rotary_step_rad } else { 0.0 };
     let first = block_at(machine, path, start, None)?;
     let mut nodes = vec![StepNode {
         block: first,
@@ -168,11 +153,7 @@ pub fn plan_steps(
     let mut current = first;
     while current.location.s < end {
         if nodes.len() >= opts.max_nodes {
-            return Err(FiveAxisError::TooManyNodes {
-                tol_mm: tol,
-                max_nodes: opts.max_nodes,
-                s: current.location.s,
-            });
+            return Err(FiveAxisError::TooManyNodes { tol_mm: tol, max_nodes: opts.max_nodes, s: current.location.s });
         }
         let from = current.location.s;
         // Every candidate block, so the accepted one is not recomputed.
@@ -183,46 +164,28 @@ pub fn plan_steps(
         // trial step is long (a doubling can reach rotary moves past 90°).
         let mut anchor = (from, current.joints);
         let error = |s: f64| -> Result<f64, FiveAxisError> {
-            let prev = if anchor.0 < s {
-                anchor.1
-            } else {
-                current.joints
-            };
+            let prev = if anchor.0 < s { anchor.1 } else { current.joints };
             let b = block_at(machine, path, s, Some(&prev))?;
             let t = segment_total(machine, path, &current, &b, &swept)?;
             tried.push((s, b, t.total_mm));
-            let v = t
-                .total_mm
-                .abs()
-                .max(rotary_scale * rotary_step_rad(&current, &b));
+            let v = t.total_mm.abs().max(rotary_scale * rotary_step_rad(&current, &b));
             if v < tol && s > anchor.0 {
                 anchor = (s, b.joints);
             }
             Ok(v)
         };
         let first_step = step.unwrap_or((end - from) / 16.0);
-        let found =
-            next_node(error, from, end, first_step, tol, &opts.search).map_err(|e| match e {
-                SearchFailure::Eval(e) => e,
-                SearchFailure::NotFinite { s } => FiveAxisError::NotFinite { s },
-                SearchFailure::Underflow { s_from, error_mm } => FiveAxisError::Underflow {
-                    s: s_from,
-                    error_mm,
-                    tol_mm: tol,
-                },
-                SearchFailure::NoConvergence {
-                    s_from,
-                    evaluations,
-                } => FiveAxisError::NoConvergence {
-                    s: s_from,
-                    evaluations,
-                },
-            })?;
-        let (block, total) = match tried
-            .iter()
-            .rev()
-            .find(|t| t.0.to_bits() == found.s.to_bits())
-        {
+        let found = next_node(error, from, end, first_step, tol, &opts.search).map_err(|e| match e {
+            SearchFailure::Eval(e) => e,
+            SearchFailure::NotFinite { s } => FiveAxisError::NotFinite { s },
+            SearchFailure::Underflow { s_from, error_mm } => {
+                FiveAxisError::Underflow { s: s_from, error_mm, tol_mm: tol }
+            }
+            SearchFailure::NoConvergence { s_from, evaluations } => {
+                FiveAxisError::NoConvergence { s: s_from, evaluations }
+            }
+        })?;
+        let (block, total) = match tried.iter().rev().find(|t| t.0.to_bits() == found.s.to_bits()) {
             Some(&(_, b, e)) => (b, e),
             None => {
                 let b = block_at(machine, path, found.s, Some(&current.joints))?;
@@ -230,11 +193,7 @@ pub fn plan_steps(
                 (b, e)
             }
         };
-        let report = if opts.reports {
-            Some(segment_report(machine, path, &current, &block, &swept)?)
-        } else {
-            None
-        };
+        let report = if opts.reports { Some(segment_report(machine, path, &current, &block, &swept)?) } else { None };
         let rotary_limited = rotary_scale * rotary_step_rad(&current, &block) > total.abs();
         nodes.push(StepNode {
             block,
@@ -247,11 +206,7 @@ pub fn plan_steps(
         step = Some(found.s - from);
         current = block;
     }
-    Ok(StepPlan {
-        nodes,
-        tol_mm: tol,
-        method: opts.search.method,
-    })
+    Ok(StepPlan { nodes, tol_mm: tol, method: opts.search.method })
 }
 
 /// Blocks and segment reports for given node parameters (no search): to check a program —

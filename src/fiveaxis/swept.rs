@@ -100,13 +100,7 @@ fn swept_pose(
 
 /// The swept tool at τ with all its errors.
 #[must_use]
-pub fn swept_point(
-    machine: &Machine,
-    path: &dyn DesignPath,
-    a: &Block,
-    b: &Block,
-    tau: f64,
-) -> SweptPoint {
+pub fn swept_point(machine: &Machine, path: &dyn DesignPath, a: &Block, b: &Block, tau: f64) -> SweptPoint {
     let (joints, tip, axis, centre) = swept_pose(machine, path, a, b, tau);
     let (la, lb) = (&a.location, &b.location);
     let centre_on_chord = la.centre.lerp(lb.centre, tau);
@@ -125,17 +119,9 @@ pub fn swept_point(
 
 /// `n + 1` equally spaced swept points of a segment (for drawing).
 #[must_use]
-pub fn swept_samples(
-    machine: &Machine,
-    path: &dyn DesignPath,
-    a: &Block,
-    b: &Block,
-    n: usize,
-) -> Vec<SweptPoint> {
+pub fn swept_samples(machine: &Machine, path: &dyn DesignPath, a: &Block, b: &Block, n: usize) -> Vec<SweptPoint> {
     let n = n.max(1);
-    (0..=n)
-        .map(|i| swept_point(machine, path, a, b, i as f64 / n as f64))
-        .collect()
+    (0..=n).map(|i| swept_point(machine, path, a, b, i as f64 / n as f64)).collect()
 }
 
 fn largest(e: [Option<f64>; 2]) -> (f64, usize) {
@@ -183,21 +169,12 @@ pub fn segment_total(
     let g = |tau: f64| -> Result<f64, FiveAxisError> {
         let (_, _, _, centre) = swept_pose(machine, path, a, b, tau);
         let v = largest(path.surface_errors(centre, la, lb, tau)).0.abs();
-        if v.is_finite() {
-            Ok(v)
-        } else {
-            Err(not_finite(la.s + tau * (lb.s - la.s)))
-        }
+        if v.is_finite() { Ok(v) } else { Err(not_finite(la.s + tau * (lb.s - la.s))) }
     };
     let peak = sampled_max(g, 0.0, 1.0, opts)?;
     let (_, _, _, centre) = swept_pose(machine, path, a, b, peak.x);
     let (total, surface) = largest(path.surface_errors(centre, la, lb, peak.x));
-    Ok(SegmentTotal {
-        total_mm: total,
-        at_tau: peak.x,
-        surface,
-        evaluations: peak.evaluations + 1,
-    })
+    Ok(SegmentTotal { total_mm: total, at_tau: peak.x, surface, evaluations: peak.evaluations + 1 })
 }
 
 /// Everything about one segment's errors.
@@ -245,39 +222,21 @@ pub fn segment_report(
         |tau| {
             let c = la.centre.lerp(lb.centre, tau);
             let v = largest(path.surface_errors(c, la, lb, tau)).0.abs();
-            if v.is_finite() {
-                Ok(v)
-            } else {
-                Err(not_finite(s_at(tau)))
-            }
+            if v.is_finite() { Ok(v) } else { Err(not_finite(s_at(tau))) }
         },
         0.0,
         1.0,
         opts,
     )?;
-    let worst_chord_mm = largest(path.surface_errors(
-        la.centre.lerp(lb.centre, chord_peak.x),
-        la,
-        lb,
-        chord_peak.x,
-    ))
-    .0;
+    let worst_chord_mm = largest(path.surface_errors(la.centre.lerp(lb.centre, chord_peak.x), la, lb, chord_peak.x)).0;
 
     let signed_peak = |sign: f64| {
         sampled_max(
             |tau| {
                 let (_, _, _, c) = swept_pose(machine, path, a, b, tau);
                 let e = path.surface_errors(c, la, lb, tau);
-                let v = e
-                    .iter()
-                    .flatten()
-                    .map(|x| sign * x)
-                    .fold(f64::NEG_INFINITY, f64::max);
-                if v.is_finite() {
-                    Ok(v)
-                } else {
-                    Err(not_finite(s_at(tau)))
-                }
+                let v = e.iter().flatten().map(|x| sign * x).fold(f64::NEG_INFINITY, f64::max);
+                if v.is_finite() { Ok(v) } else { Err(not_finite(s_at(tau))) }
             },
             0.0,
             1.0,

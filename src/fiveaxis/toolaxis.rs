@@ -84,17 +84,11 @@ impl ToolAxisRule {
                 cb * (cl * n + sl * t) + sb * t.cross(n)
             }
             Self::Fixed { axis } => axis,
-            Self::Interpolated { from, to } => slerp(
-                from.try_normalize()?,
-                to.try_normalize()?,
-                f.fraction.clamp(0.0, 1.0),
-            ),
+            Self::Interpolated { from, to } => {
+                slerp(from.try_normalize()?, to.try_normalize()?, f.fraction.clamp(0.0, 1.0))
+            }
         };
-        if v.length() > tolerance::MIN_DIRECTION_LENGTH {
-            v.try_normalize()
-        } else {
-            None
-        }
+        if v.length() > tolerance::MIN_DIRECTION_LENGTH { v.try_normalize() } else { None }
     }
 
     /// Short name (`bisector`, `normal1`, `fixed`, `interpolated`).

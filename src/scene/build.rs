@@ -6,7 +6,7 @@ use glam::{DVec2, DVec3};
 use super::{DomainSpec, MachineSpec, Scene, SceneError, SurfaceSpec, ToolAxisSpec};
 use crate::fiveaxis::{Machine, ToolAxisRule};
 use crate::geom::{
-    nurbs::NurbsError, Cylinder, Domain, Frame, NurbsSurface, ParamRange, ParamUnit, Plane, Sphere, Surface, Torus,
+    Cylinder, Domain, Frame, NurbsSurface, ParamRange, ParamUnit, Plane, Sphere, Surface, Torus, nurbs::NurbsError,
 };
 use crate::tolerance;
 
@@ -15,11 +15,7 @@ fn v3(a: [f64; 3]) -> DVec3 {
 }
 
 fn positive(path: &str, x: f64, what: &str) -> Result<(), SceneError> {
-    if x > 0.0 {
-        Ok(())
-    } else {
-        Err(SceneError::new(path, format!("must be > 0, got {x}"), format!("give {what}")))
-    }
+    if x > 0.0 { Ok(()) } else { Err(SceneError::new(path, format!("must be > 0, got {x}"), format!("give {what}"))) }
 }
 
 fn direction(path: &str, a: [f64; 3]) -> Result<DVec3, SceneError> {
@@ -39,7 +35,10 @@ fn perpendicular(path: &str, d: DVec3, to: DVec3, to_name: &str) -> Result<(), S
     if c.abs() > tolerance::PERPENDICULAR_COS {
         return Err(SceneError::new(
             path,
-            format!("must be perpendicular to {to_name}, but makes {:.4}° with it", c.clamp(-1.0, 1.0).acos().to_degrees()),
+            format!(
+                "must be perpendicular to {to_name}, but makes {:.4}° with it",
+                c.clamp(-1.0, 1.0).acos().to_degrees()
+            ),
             format!("give a direction at 90° to {to_name}"),
         ));
     }
@@ -47,21 +46,22 @@ fn perpendicular(path: &str, d: DVec3, to: DVec3, to_name: &str) -> Result<(), S
 }
 
 fn range(path: &str, r: [f64; 2], unit: &str, max_width: Option<f64>) -> Result<(), SceneError> {
-    if !(r[1] > r[0]) {
+    // Also refuses NaN ends.
+    if r[1].partial_cmp(&r[0]) != Some(std::cmp::Ordering::Greater) {
         return Err(SceneError::new(
             path,
             format!("the range [{}, {}] is empty or reversed", r[0], r[1]),
             format!("give [from, to] in {unit} with from < to"),
         ));
     }
-    if let Some(w) = max_width {
-        if r[1] - r[0] > w + 1e-9 {
-            return Err(SceneError::new(
-                path,
-                format!("the range [{}, {}] spans {}°, more than one turn", r[0], r[1], r[1] - r[0]),
-                "give at most 360° (exactly 360° makes the parameter wrap around)",
-            ));
-        }
+    if let Some(w) = max_width
+        && r[1] - r[0] > w + 1e-9
+    {
+        return Err(SceneError::new(
+            path,
+            format!("the range [{}, {}] spans {}°, more than one turn", r[0], r[1], r[1] - r[0]),
+            "give at most 360° (exactly 360° makes the parameter wrap around)",
+        ));
     }
     Ok(())
 }
@@ -77,7 +77,8 @@ pub(super) fn validate(s: &Scene) -> Result<(), SceneError> {
         build_surface(spec, &format!("surfaces[{i}]"))?;
     }
     positive("tool.radius", s.tool.radius, "the ball radius in mm")?;
-    if !(s.tool.radius + s.tool.allowance > 0.0) {
+    let r_eff = s.tool.radius + s.tool.allowance;
+    if r_eff.is_nan() || r_eff <= 0.0 {
         return Err(SceneError::new(
             "tool.allowance",
             format!("R' = radius + allowance = {} mm is not positive", s.tool.radius + s.tool.allowance),
@@ -95,15 +96,20 @@ pub(super) fn validate(s: &Scene) -> Result<(), SceneError> {
             "give the interpolation's share of the tolerance, e.g. 0.5",
         ));
     }
-    for (key, v) in [("path.start", Some(s.path.start)), ("path.end", s.path.end), ("path.direction", s.path.direction)] {
-        if let Some(v) = v {
-            if v.iter().any(|x| !x.is_finite()) {
-                return Err(SceneError::new(key, "holds a non-finite number", "give finite coordinates in mm"));
-            }
+    for (key, v) in [("path.start", Some(s.path.start)), ("path.end", s.path.end), ("path.direction", s.path.direction)]
+    {
+        if let Some(v) = v
+            && v.iter().any(|x| !x.is_finite())
+        {
+            return Err(SceneError::new(key, "holds a non-finite number", "give finite coordinates in mm"));
         }
     }
     if s.path.max_steps == 0 {
-        return Err(SceneError::new("path.max_steps", "must be at least 1", "give the largest number of periods to run"));
+        return Err(SceneError::new(
+            "path.max_steps",
+            "must be at least 1",
+            "give the largest number of periods to run",
+        ));
     }
     if let Some(d) = s.path.direction {
         direction("path.direction", d)?;
@@ -122,7 +128,11 @@ fn validate_machine(m: &MachineSpec) -> Result<(), SceneError> {
     let names = m.kind.axis_names().map(str::to_ascii_lowercase);
     for (i, has) in m.kind.has_pivot().into_iter().enumerate() {
         if has && m.pivots[i].iter().any(|x| !x.is_finite()) {
-            return Err(SceneError::new(format!("machine.pivots.{}", names[i]), "holds a non-finite number", "give finite coordinates in mm"));
+            return Err(SceneError::new(
+                format!("machine.pivots.{}", names[i]),
+                "holds a non-finite number",
+                "give finite coordinates in mm",
+            ));
         }
     }
     if !(m.tool_length.is_finite() && m.tool_length >= 0.0) {
@@ -136,7 +146,11 @@ fn validate_machine(m: &MachineSpec) -> Result<(), SceneError> {
     if m.kind.uses_tool_length() && m.tool_length <= 0.0 {
         return Err(SceneError::new(
             "machine.tool_length",
-            format!("a {} machine swings the tool about its head axes, so it needs the tool length; got {}", m.kind.as_str(), m.tool_length),
+            format!(
+                "a {} machine swings the tool about its head axes, so it needs the tool length; got {}",
+                m.kind.as_str(),
+                m.tool_length
+            ),
             "give the distance from the last head axis to the tool tip in mm, e.g. 150",
         ));
     }
@@ -172,7 +186,11 @@ fn build_tool_axis_checked(t: &ToolAxisSpec) -> Result<ToolAxisRule, SceneError>
         }
         ToolAxisSpec::Fixed { vector } => {
             if vector.iter().any(|x| !x.is_finite()) {
-                return Err(SceneError::new("tool_axis.vector", "holds a non-finite number", "give a finite direction [i, j, k]"));
+                return Err(SceneError::new(
+                    "tool_axis.vector",
+                    "holds a non-finite number",
+                    "give a finite direction [i, j, k]",
+                ));
             }
             Ok(ToolAxisRule::Fixed { axis: direction("tool_axis.vector", vector)? })
         }
@@ -215,8 +233,12 @@ fn map_nurbs(path: &str, e: NurbsError) -> SceneError {
     let (key, fix) = match &e {
         NurbsError::Degree(_) => ("degree", "use degrees between 1 and 9"),
         NurbsError::TooFewPoints { .. } => ("points", "add control points or lower the degree"),
-        NurbsError::KnotCount { .. } | NurbsError::Decreasing { .. } | NurbsError::NotClamped { .. }
-        | NurbsError::EndRepeated { .. } | NurbsError::Multiplicity { .. } | NurbsError::EmptyRange => {
+        NurbsError::KnotCount { .. }
+        | NurbsError::Decreasing { .. }
+        | NurbsError::NotClamped { .. }
+        | NurbsError::EndRepeated { .. }
+        | NurbsError::Multiplicity { .. }
+        | NurbsError::EmptyRange => {
             ("knots", "give a clamped, non-decreasing knot vector with (points + degree + 1) values")
         }
         NurbsError::Weight { .. } => ("weights", "make every weight a positive number"),
@@ -291,7 +313,10 @@ pub fn build_surface(spec: &SurfaceSpec, path: &str) -> Result<Surface, SceneErr
                 frame: Frame::from_axis(a, r),
                 radius: *radius,
                 sign: normal.sign(),
-                domain: Domain { u: deg(d.u), v: ParamRange::new(d.v[0].to_radians(), d.v[1].to_radians(), ParamUnit::Angle) },
+                domain: Domain {
+                    u: deg(d.u),
+                    v: ParamRange::new(d.v[0].to_radians(), d.v[1].to_radians(), ParamUnit::Angle),
+                },
             }))
         }
         SurfaceSpec::Torus { center, axis, major_radius, minor_radius, ref_dir, domain, normal } => {
@@ -302,7 +327,9 @@ pub fn build_surface(spec: &SurfaceSpec, path: &str) -> Result<Surface, SceneErr
             if major_radius <= minor_radius {
                 return Err(SceneError::new(
                     p("major_radius"),
-                    format!("{major_radius} mm is not larger than minor_radius {minor_radius} mm (the torus would cross its axis)"),
+                    format!(
+                        "{major_radius} mm is not larger than minor_radius {minor_radius} mm (the torus would cross its axis)"
+                    ),
                     "make major_radius larger than minor_radius",
                 ));
             }
@@ -359,8 +386,15 @@ pub fn build_surface(spec: &SurfaceSpec, path: &str) -> Result<Surface, SceneErr
                 }
                 err
             })?;
-            let surface = NurbsSurface::try_new(*degree, knots_u.clone(), knots_v.clone(), &pts, weights.as_deref(), *flip_normal)
-                .map_err(|e| map_nurbs(path, e))?;
+            let surface = NurbsSurface::try_new(
+                *degree,
+                knots_u.clone(),
+                knots_v.clone(),
+                &pts,
+                weights.as_deref(),
+                *flip_normal,
+            )
+            .map_err(|e| map_nurbs(path, e))?;
             Ok(Surface::Nurbs(surface))
         }
     }

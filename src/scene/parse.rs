@@ -4,8 +4,8 @@
 use serde_json::{Map, Value};
 
 use super::{
-    DomainSpec, MachineSpec, MotionSpec, Orientation, PathSpec, Scene, SceneError, SurfaceSpec, ToleranceSpec,
-    ToolAxisSpec, ToolSpec, DEFAULT_MAX_STEPS, DEFAULT_TILT_LIMITS_DEG, FORMAT,
+    DEFAULT_MAX_STEPS, DEFAULT_TILT_LIMITS_DEG, DomainSpec, FORMAT, MachineSpec, MotionSpec, Orientation, PathSpec,
+    Scene, SceneError, SurfaceSpec, ToleranceSpec, ToolAxisSpec, ToolSpec,
 };
 use crate::fiveaxis::MachineKind;
 
@@ -56,8 +56,7 @@ impl<'a> Obj<'a> {
 
     fn check_unknown(&self) -> Result<(), SceneError> {
         if let Some(key) = self.map.keys().find(|k| !self.allowed.contains(&k.as_str())) {
-            let suggestion = closest(key, self.allowed)
-                .map_or_else(String::new, |s| format!("did you mean \"{s}\"? "));
+            let suggestion = closest(key, self.allowed).map_or_else(String::new, |s| format!("did you mean \"{s}\"? "));
             return Err(SceneError::new(
                 join(&self.path, key),
                 "unknown key",
@@ -68,9 +67,8 @@ impl<'a> Obj<'a> {
     }
 
     fn req(&self, key: &str, what: &str) -> Result<At<'a>, SceneError> {
-        self.opt(key).ok_or_else(|| {
-            SceneError::new(join(&self.path, key), "missing key", format!("add \"{key}\": {what}"))
-        })
+        self.opt(key)
+            .ok_or_else(|| SceneError::new(join(&self.path, key), "missing key", format!("add \"{key}\": {what}")))
     }
 
     fn opt(&self, key: &str) -> Option<At<'a>> {
@@ -114,10 +112,16 @@ impl<'a> At<'a> {
             Value::Number(n) => n.as_f64().filter(|x| x.is_finite()).ok_or_else(|| {
                 SceneError::new(&self.path, format!("{n} is not a finite number"), format!("give {what}"))
             }),
-            Value::String(s) => {
-                Err(SceneError::new(&self.path, format!("expected a number, got the string \"{s}\""), format!("write {what} without quotes")))
-            }
-            other => Err(SceneError::new(&self.path, format!("expected a number, got {}", kind(other)), format!("give {what}"))),
+            Value::String(s) => Err(SceneError::new(
+                &self.path,
+                format!("expected a number, got the string \"{s}\""),
+                format!("write {what} without quotes"),
+            )),
+            other => Err(SceneError::new(
+                &self.path,
+                format!("expected a number, got {}", kind(other)),
+                format!("give {what}"),
+            )),
         }
     }
 
@@ -126,35 +130,55 @@ impl<'a> At<'a> {
             Value::Number(n) => n.as_u64().ok_or_else(|| {
                 SceneError::new(&self.path, format!("{n} is not a whole number ≥ 0"), format!("give {what}"))
             }),
-            other => Err(SceneError::new(&self.path, format!("expected a whole number, got {}", kind(other)), format!("give {what}"))),
+            other => Err(SceneError::new(
+                &self.path,
+                format!("expected a whole number, got {}", kind(other)),
+                format!("give {what}"),
+            )),
         }
     }
 
     fn string(&self, what: &str) -> Result<&'a str, SceneError> {
         match self.v {
             Value::String(s) => Ok(s),
-            other => Err(SceneError::new(&self.path, format!("expected a string, got {}", kind(other)), format!("give {what}"))),
+            other => Err(SceneError::new(
+                &self.path,
+                format!("expected a string, got {}", kind(other)),
+                format!("give {what}"),
+            )),
         }
     }
 
     fn boolean(&self) -> Result<bool, SceneError> {
         match self.v {
             Value::Bool(b) => Ok(*b),
-            other => Err(SceneError::new(&self.path, format!("expected true or false, got {}", kind(other)), "write true or false")),
+            other => Err(SceneError::new(
+                &self.path,
+                format!("expected true or false, got {}", kind(other)),
+                "write true or false",
+            )),
         }
     }
 
     fn array(&self, what: &str) -> Result<&'a Vec<Value>, SceneError> {
         match self.v {
             Value::Array(a) => Ok(a),
-            other => Err(SceneError::new(&self.path, format!("expected an array, got {}", kind(other)), format!("give {what}"))),
+            other => Err(SceneError::new(
+                &self.path,
+                format!("expected an array, got {}", kind(other)),
+                format!("give {what}"),
+            )),
         }
     }
 
     fn fixed<const N: usize>(&self, what: &str) -> Result<[f64; N], SceneError> {
         let arr = self.array(what)?;
         if arr.len() != N {
-            return Err(SceneError::new(&self.path, format!("expected {N} numbers, got {}", arr.len()), format!("give {what}")));
+            return Err(SceneError::new(
+                &self.path,
+                format!("expected {N} numbers, got {}", arr.len()),
+                format!("give {what}"),
+            ));
         }
         let mut out = [0.0; N];
         for (i, v) in arr.iter().enumerate() {
@@ -188,7 +212,8 @@ impl<'a> At<'a> {
     }
 }
 
-const TOP_KEYS: &[&str] = &["format", "name", "surfaces", "tool", "motion", "tolerance", "path", "machine", "tool_axis"];
+const TOP_KEYS: &[&str] =
+    &["format", "name", "surfaces", "tool", "motion", "tolerance", "path", "machine", "tool_axis"];
 
 /// Parses the document's structure and types.
 pub(super) fn parse(text: &str) -> Result<Scene, SceneError> {
@@ -291,7 +316,11 @@ fn tag<'a>(at: &At<'a>, key: &str, what: &str) -> Result<&'a str, SceneError> {
 fn parse_machine(at: &At<'_>) -> Result<MachineSpec, SceneError> {
     let name = tag(at, "kind", KINDS)?;
     let kind = MachineKind::from_name(name).ok_or_else(|| {
-        SceneError::new(join(&at.path, "kind"), format!("\"{name}\" is not a machine kind"), format!("use one of {KINDS}"))
+        SceneError::new(
+            join(&at.path, "kind"),
+            format!("\"{name}\" is not a machine kind"),
+            format!("use one of {KINDS}"),
+        )
     })?;
     let o = Obj::new(at, &["kind", "pivots", "tool_length", "limits"])?;
     let (pivot_keys, limit_keys): (&'static [&'static str], &'static [&'static str]) = match kind {
@@ -358,11 +387,21 @@ const TYPES: &str = "plane, cylinder, sphere, torus or nurbs";
 
 fn parse_surface(at: &At<'_>) -> Result<SurfaceSpec, SceneError> {
     let Value::Object(map) = at.v else {
-        return Err(SceneError::new(&at.path, format!("expected a surface object, got {}", kind(at.v)), format!("give {{ \"type\": …, … }} with type {TYPES}")));
+        return Err(SceneError::new(
+            &at.path,
+            format!("expected a surface object, got {}", kind(at.v)),
+            format!("give {{ \"type\": …, … }} with type {TYPES}"),
+        ));
     };
     let ty = match map.get("type") {
         Some(t) => At { v: t, path: join(&at.path, "type") }.string(TYPES)?,
-        None => return Err(SceneError::new(join(&at.path, "type"), "missing key", format!("add \"type\": one of {TYPES}"))),
+        None => {
+            return Err(SceneError::new(
+                join(&at.path, "type"),
+                "missing key",
+                format!("add \"type\": one of {TYPES}"),
+            ));
+        }
     };
     match ty {
         "plane" => {
@@ -416,7 +455,11 @@ fn parse_surface(at: &At<'_>) -> Result<SurfaceSpec, SceneError> {
             let deg_at = o.req("degree", "[p, q]")?;
             let deg = deg_at.array("[p, q]")?;
             if deg.len() != 2 {
-                return Err(SceneError::new(&deg_at.path, format!("expected 2 degrees, got {}", deg.len()), "give [p, q], the degrees in u and v"));
+                return Err(SceneError::new(
+                    &deg_at.path,
+                    format!("expected 2 degrees, got {}", deg.len()),
+                    "give [p, q], the degrees in u and v",
+                ));
             }
             let p = deg_at.idx(0, &deg[0]).uint("the degree in u")?;
             let q = deg_at.idx(1, &deg[1]).uint("the degree in v")?;

@@ -1,9 +1,9 @@
 //! [`Scene`] → JSON, keys in the format's documented order, optional keys written only when
 //! set, so that parsing the output gives back the same scene.
 
-use serde_json::{json, Map, Value};
+use serde_json::{Map, Value, json};
 
-use super::{DomainSpec, MachineSpec, Scene, SurfaceSpec, ToolAxisSpec, FORMAT};
+use super::{DomainSpec, FORMAT, MachineSpec, Scene, SurfaceSpec, ToolAxisSpec};
 
 fn domain(d: &DomainSpec) -> Value {
     json!({ "u": d.u, "v": d.v })
@@ -86,10 +86,7 @@ pub(super) fn to_value(s: &Scene) -> Value {
     m.insert("surfaces".into(), Value::Array(s.surfaces.iter().map(surface).collect()));
     m.insert("tool".into(), json!({ "radius": s.tool.radius, "allowance": s.tool.allowance }));
     m.insert("motion".into(), json!({ "feed": s.motion.feed, "period": s.motion.period }));
-    m.insert(
-        "tolerance".into(),
-        json!({ "t1": s.tolerance.t1, "t2": s.tolerance.t2, "share": s.tolerance.share }),
-    );
+    m.insert("tolerance".into(), json!({ "t1": s.tolerance.t1, "t2": s.tolerance.t2, "share": s.tolerance.share }));
     m.insert("path".into(), Value::Object(path));
     if let Some(machine) = &s.machine {
         m.insert("machine".into(), machine_value(machine));
