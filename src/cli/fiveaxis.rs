@@ -17,11 +17,12 @@ use super::{Fatal, OutFormat};
 
 use interpolab::chords::planar::{Spacing, seed003_ellipse, seed003_hyperbola, seed003_parabola, spacing_nodes};
 use interpolab::chords::{ChordOptions, RootMethod, equal_error_chords_with};
-use interpolab::crease::{CreaseCurve, InterpOptions, run_to_end};
+use interpolab::crease::CreaseCurve;
 use interpolab::fiveaxis::{
     CreasePath, DesignPath, Machine, MachineKind, NacaProfile, StepNode, StepOptions, StepPlan, ToolAxisRule,
     blade_case, evaluate_nodes, example1, plan_steps, swept_samples,
 };
+use interpolab::gcode::crease_design;
 use interpolab::geom::Curve3;
 use interpolab::report::fmt_num;
 use interpolab::scene::{build_machine, build_tool_axis, machine_spec, machine_value};
@@ -152,23 +153,10 @@ struct Case {
     s_unit: &'static str,
 }
 
+/// A scene and its crease as a design curve (the same run the G-code commands use).
 fn load_crease(path: &Path) -> Result<(CreaseCurve, interpolab::scene::Scene), Fatal> {
     let (scene, job) = super::crease::load(path)?;
-    let run = run_to_end(job.clone(), InterpOptions::default());
-    if let Err(e) = &run.outcome {
-        if run.rows.len() < 2 {
-            return Err(Fatal(format!("{}: {e}", path.display())));
-        }
-        let _ = writeln!(
-            io::stderr(),
-            "interpolab: {}: the crease stopped early ({e}); using the {} rows computed",
-            path.display(),
-            run.rows.len()
-        );
-    }
-    let curve = CreaseCurve::from_rows(&job, &run.rows).ok_or_else(|| {
-        Fatal(format!("{}: the crease has fewer than two usable points; check path.start and path.end", path.display()))
-    })?;
+    let curve = crease_design(&job).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
     Ok((curve, scene))
 }
 
