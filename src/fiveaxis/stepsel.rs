@@ -2,9 +2,9 @@
 //! total error |δ| = |δt + δn| equals the tolerance E (the last at most E).
 //!
 //! From the current node s_a, δ(s) is the error of the segment from s_a to a candidate node
-//! s, with the candidate's joints from inverse kinematics continuing the current block's
-//! branch ([`super::swept::block_at`]) and δ measured on the swept tool
-//! ([`super::swept::segment_total`]). The next node solves δ(s) = E by
+//! s, with the candidate's joints from inverse kinematics nearest the farthest candidate
+//! already found within E ([`super::swept::block_at`]) and δ measured on the swept tool
+//! ([`super::swept::segment_total`]). The next node solves |δ(s)| = E by
 //! [`crate::chords::next_node`]: bracketing from the first step √(8ρE) (later the previous
 //! step), doubling, then the chosen [`RootMethod`]. Each δ counts as one iteration.
 //!
