@@ -14,27 +14,12 @@ use interpolab::scene::Scene;
 const PERIODS: u64 = 500;
 
 const EXAMPLES: [(&str, &str); 6] = [
-    (
-        "floor-round-wall",
-        include_str!("../examples/floor-round-wall.json"),
-    ),
-    (
-        "crossing-cylinders",
-        include_str!("../examples/crossing-cylinders.json"),
-    ),
-    (
-        "sphere-plane",
-        include_str!("../examples/sphere-plane.json"),
-    ),
+    ("floor-round-wall", include_str!("../examples/floor-round-wall.json")),
+    ("crossing-cylinders", include_str!("../examples/crossing-cylinders.json")),
+    ("sphere-plane", include_str!("../examples/sphere-plane.json")),
     ("torus-plane", include_str!("../examples/torus-plane.json")),
-    (
-        "bspline-floor-wall",
-        include_str!("../examples/bspline-floor-wall.json"),
-    ),
-    (
-        "rational-nurbs-vault",
-        include_str!("../examples/rational-nurbs-vault.json"),
-    ),
+    ("bspline-floor-wall", include_str!("../examples/bspline-floor-wall.json")),
+    ("rational-nurbs-vault", include_str!("../examples/rational-nurbs-vault.json")),
 ];
 
 fn periods(c: &mut Criterion) {
@@ -44,14 +29,8 @@ fn periods(c: &mut Criterion) {
         let mut group = c.benchmark_group(name);
         group.throughput(Throughput::Elements(PERIODS));
         for (label, method) in [("seed000", Method::Seed000), ("exact", Method::Exact)] {
-            let fresh = Interpolator::new(
-                job.clone(),
-                InterpOptions {
-                    method,
-                    ..InterpOptions::default()
-                },
-            )
-            .expect("example starts");
+            let fresh = Interpolator::new(job.clone(), InterpOptions { method, ..InterpOptions::default() })
+                .expect("example starts");
             group.bench_function(label, |b| {
                 b.iter_batched(
                     || fresh.clone(),

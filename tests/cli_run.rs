@@ -78,7 +78,8 @@ fn json_output_is_one_valid_document_with_the_stop_reason() {
     let o = run(&["run", path.to_str().expect("utf8"), "--format", "json", "--out", out.to_str().expect("utf8")]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stdout(&o).is_empty(), "--out writes the file, not stdout");
-    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&out).expect("written")).expect("valid JSON");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).expect("written")).expect("valid JSON");
     assert_eq!(v["format"], "interpolab-run/1");
     assert_eq!(v["stop"]["reason"], "reached_end");
     assert_eq!(v["columns"].as_array().expect("columns").len(), 9);
@@ -134,7 +135,8 @@ fn check_summarises_length_periods_curvature_and_errors() {
     assert!(text.contains("0.020000 to 0.020000 1/mm"), "cylinder's normal curvature 1/50 along the crease: {text}");
     assert_eq!(text.matches("within").count(), 2, "{text}");
     // A tolerance tighter than the paper's bound (16) is flagged with exit status 1.
-    let mut v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&path).expect("example")).expect("json");
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).expect("example")).expect("json");
     v["tolerance"]["t1"] = 0.00001.into();
     v["tolerance"]["t2"] = 0.00001.into();
     let p = temp_file("tight.json", &v.to_string());

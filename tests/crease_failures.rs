@@ -6,7 +6,7 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 
 mod support;
 
-use interpolab::crease::{diagnose, CreaseError, InterpOptions, Interpolator, Location, Step};
+use interpolab::crease::{CreaseError, InterpOptions, Interpolator, Location, Step, diagnose};
 
 fn start_error(json: &str) -> CreaseError {
     match Interpolator::new(support::job(json), InterpOptions::default()) {

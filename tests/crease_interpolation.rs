@@ -7,7 +7,8 @@ mod support;
 
 use glam::DVec3;
 use interpolab::crease::{
-    crease_deviation, diagnose, locate_crease_point, run_to_end, Location, CreaseJob, InterpOptions, Interpolator, Method, Row, Step, StopReason,
+    CreaseJob, InterpOptions, Interpolator, Location, Method, Row, Step, StopReason, crease_deviation, diagnose,
+    locate_crease_point, run_to_end,
 };
 use interpolab::tolerance::MEASUREMENT_FLOOR_MM;
 
@@ -161,7 +162,12 @@ fn interpolated_centres_stay_on_the_exact_crease_and_the_exact_mode_sits_on_it()
         }
         assert_steps_equal_feed(name, &job, &exact_rows, 1e-8);
         // Both methods trace the same crease: same number of periods to within one.
-        assert!((exact_rows.len() as i64 - rows.len() as i64).abs() <= 1, "{name}: {} vs {}", exact_rows.len(), rows.len());
+        assert!(
+            (exact_rows.len() as i64 - rows.len() as i64).abs() <= 1,
+            "{name}: {} vs {}",
+            exact_rows.len(),
+            rows.len()
+        );
     }
 }
 
@@ -170,7 +176,8 @@ fn ten_turns_of_a_closed_crease_do_not_accumulate_error() {
     // Crossing cylinders: a closed crease with curvature and torsion on both surfaces, so the
     // per-period error is well above rounding.
     let job = support::job(include_str!("../examples/crossing-cylinders.json"));
-    let mut it = Interpolator::new(job.clone(), InterpOptions { turns: 10, ..InterpOptions::default() }).expect("starts");
+    let mut it =
+        Interpolator::new(job.clone(), InterpOptions { turns: 10, ..InterpOptions::default() }).expect("starts");
     let mut worst = vec![0.0f64; 11];
     let mut record = |row: &Row, turn: usize| {
         let d = diagnose(&job, row).expect("regular");
@@ -196,10 +203,7 @@ fn stops_at_the_period_nearest_path_end() {
     let (rows, reason) = run(&job, InterpOptions::default());
     assert_eq!(reason, StopReason::ReachedEnd);
     let end = locate_crease_point(&job, job.end.expect("has an end"), Location::End).expect("end on the crease").p;
-    let nearest = rows
-        .iter()
-        .min_by(|a, b| (a.p - end).length().total_cmp(&(b.p - end).length()))
-        .expect("rows");
+    let nearest = rows.iter().min_by(|a, b| (a.p - end).length().total_cmp(&(b.p - end).length())).expect("rows");
     assert_eq!(nearest.k, rows[rows.len() - 1].k, "the last row is the one nearest path.end");
     assert!((nearest.p - end).length() <= 0.5 * job.feed_per_period_mm + 1e-9);
 }

@@ -8,7 +8,7 @@ mod support;
 
 use glam::{DVec2, DVec3};
 use interpolab::geom::{LocalGeometry, ParametricSurface, Surface};
-use interpolab::scene::{build_surface, Orientation, SurfaceSpec};
+use interpolab::scene::{Orientation, SurfaceSpec, build_surface};
 use support::Rng;
 
 fn build(spec: SurfaceSpec) -> Surface {
@@ -30,7 +30,14 @@ fn tangent(g: &LocalGeometry, phi: f64) -> DVec3 {
 fn sphere_curvature_is_minus_one_over_radius_in_every_direction_outward() {
     let mut rng = Rng::new(1);
     for (orientation, sign) in [(Orientation::Outward, -1.0), (Orientation::Inward, 1.0)] {
-        let s = build(SurfaceSpec::Sphere { center: [3.0, 1.0, -2.0], radius: 17.0, axis: Some([1.0, 1.0, 0.5]), ref_dir: None, domain: None, normal: orientation });
+        let s = build(SurfaceSpec::Sphere {
+            center: [3.0, 1.0, -2.0],
+            radius: 17.0,
+            axis: Some([1.0, 1.0, 0.5]),
+            ref_dir: None,
+            domain: None,
+            normal: orientation,
+        });
         for _ in 0..100 {
             let uv = DVec2::new(rng.range(-3.0, 3.0), rng.range(-1.4, 1.4));
             let g = geo(&s, uv);
@@ -80,7 +87,15 @@ fn cylinder_follows_eulers_formula_and_the_torsion_formula() {
 #[test]
 fn torus_principal_curvatures_match_the_closed_form() {
     let (big, small) = (40.0, 15.0);
-    let s = build(SurfaceSpec::Torus { center: [0.0; 3], axis: [0.0, 0.0, 1.0], major_radius: big, minor_radius: small, ref_dir: None, domain: None, normal: Orientation::Outward });
+    let s = build(SurfaceSpec::Torus {
+        center: [0.0; 3],
+        axis: [0.0, 0.0, 1.0],
+        major_radius: big,
+        minor_radius: small,
+        ref_dir: None,
+        domain: None,
+        normal: Orientation::Outward,
+    });
     let mut rng = Rng::new(4);
     for _ in 0..200 {
         let uv = DVec2::new(rng.range(-3.1, 3.1), rng.range(-3.1, 3.1));
@@ -89,7 +104,10 @@ fn torus_principal_curvatures_match_the_closed_form() {
         let k_tube = -1.0 / small;
         let k_ring = -uv.y.cos() / (big + small * uv.y.cos());
         let (kmax, kmin) = g.principal_curvatures();
-        assert!((kmax - k_tube.max(k_ring)).abs() < 1e-12 && (kmin - k_tube.min(k_ring)).abs() < 1e-12, "at {uv:?}: {kmax} {kmin}");
+        assert!(
+            (kmax - k_tube.max(k_ring)).abs() < 1e-12 && (kmin - k_tube.min(k_ring)).abs() < 1e-12,
+            "at {uv:?}: {kmax} {kmin}"
+        );
         assert!((g.normal_curvature(g.d.dv) - k_tube).abs() < 1e-12);
         assert!((g.normal_curvature(g.d.du) - k_ring).abs() < 1e-12);
         assert!((g.gaussian_curvature() - k_tube * k_ring).abs() < 1e-14);
@@ -101,18 +119,32 @@ fn weingarten_normal_derivatives_match_finite_differences() {
     let text = include_str!("../examples/bspline-floor-wall.json");
     let scene = support::scene(text);
     let s = build_surface(&scene.surfaces[0], "s").expect("valid");
-    let torus = build(SurfaceSpec::Torus { center: [0.0; 3], axis: [1.0, 2.0, 3.0], major_radius: 20.0, minor_radius: 6.0, ref_dir: None, domain: None, normal: Orientation::Inward });
+    let torus = build(SurfaceSpec::Torus {
+        center: [0.0; 3],
+        axis: [1.0, 2.0, 3.0],
+        major_radius: 20.0,
+        minor_radius: 6.0,
+        ref_dir: None,
+        domain: None,
+        normal: Orientation::Inward,
+    });
     let mut rng = Rng::new(6);
     for surf in [s, torus] {
         let d = surf.domain();
         for _ in 0..100 {
-            let uv = DVec2::new(rng.range(d.u.min + 0.1 * d.u.width(), d.u.max - 0.1 * d.u.width()), rng.range(d.v.min + 0.1 * d.v.width(), d.v.max - 0.1 * d.v.width()));
+            let uv = DVec2::new(
+                rng.range(d.u.min + 0.1 * d.u.width(), d.u.max - 0.1 * d.u.width()),
+                rng.range(d.v.min + 0.1 * d.v.width(), d.v.max - 0.1 * d.v.width()),
+            );
             let g = geo(&surf, uv);
             let (nu, nv) = g.normal_derivatives();
             let h = 1e-6 * d.u.width();
-            let fd_u = (surf.derivatives_at(uv + DVec2::X * h).normal - surf.derivatives_at(uv - DVec2::X * h).normal) / (2.0 * h);
+            let fd_u = (surf.derivatives_at(uv + DVec2::X * h).normal - surf.derivatives_at(uv - DVec2::X * h).normal)
+                / (2.0 * h);
             let hv = 1e-6 * d.v.width();
-            let fd_v = (surf.derivatives_at(uv + DVec2::Y * hv).normal - surf.derivatives_at(uv - DVec2::Y * hv).normal) / (2.0 * hv);
+            let fd_v = (surf.derivatives_at(uv + DVec2::Y * hv).normal
+                - surf.derivatives_at(uv - DVec2::Y * hv).normal)
+                / (2.0 * hv);
             assert!((fd_u - nu).length() < 1e-6 * (1.0 + nu.length()), "n_u {nu:?} vs {fd_u:?}");
             assert!((fd_v - nv).length() < 1e-6 * (1.0 + nv.length()), "n_v {nv:?} vs {fd_v:?}");
         }

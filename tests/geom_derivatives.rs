@@ -8,7 +8,7 @@ mod support;
 
 use glam::{DVec2, DVec3};
 use interpolab::geom::{ParametricSurface, Surface};
-use interpolab::scene::{build_surface, SurfaceSpec};
+use interpolab::scene::{SurfaceSpec, build_surface};
 use support::Rng;
 
 /// One surface of each type, plus a rational NURBS and a non-uniform bicubic.
@@ -95,8 +95,18 @@ fn first_and_second_derivatives_match_central_differences() {
             let tol = 2e-6 * scale.max(d.du.length()).max(d.dv.length());
             let fd_u = central(p, uv, eu, hu);
             let fd_v = central(p, uv, ev, hv);
-            assert!((fd_u - d.du).length() <= tol * (1.0 + d.du.length()), "{name}: r_u {:?} vs fd {:?} at {uv:?}", d.du, fd_u);
-            assert!((fd_v - d.dv).length() <= tol * (1.0 + d.dv.length()), "{name}: r_v {:?} vs fd {:?} at {uv:?}", d.dv, fd_v);
+            assert!(
+                (fd_u - d.du).length() <= tol * (1.0 + d.du.length()),
+                "{name}: r_u {:?} vs fd {:?} at {uv:?}",
+                d.du,
+                fd_u
+            );
+            assert!(
+                (fd_v - d.dv).length() <= tol * (1.0 + d.dv.length()),
+                "{name}: r_v {:?} vs fd {:?} at {uv:?}",
+                d.dv,
+                fd_v
+            );
             // Second derivatives: differences of the analytic first derivatives.
             let du = |x: DVec2| s.derivatives_at(x).du;
             let dv = |x: DVec2| s.derivatives_at(x).dv;

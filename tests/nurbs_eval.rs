@@ -6,17 +6,18 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 mod support;
 
 use glam::{DVec2, DVec3};
-use interpolab::geom::nurbs::{basis_derivatives, find_span, validate_knots, NurbsError};
+use interpolab::geom::nurbs::{NurbsError, basis_derivatives, find_span, validate_knots};
 use interpolab::geom::{NurbsCurve, NurbsSurface, ParametricSurface};
 use support::Rng;
 
 /// The full circle of radius `r` in the xy-plane as a 9-point rational quadratic.
 fn circle(r: f64) -> NurbsCurve {
     let w = std::f64::consts::FRAC_1_SQRT_2;
-    let pts: Vec<DVec3> = [(1., 0.), (1., 1.), (0., 1.), (-1., 1.), (-1., 0.), (-1., -1.), (0., -1.), (1., -1.), (1., 0.)]
-        .iter()
-        .map(|&(x, y)| DVec3::new(x * r, y * r, 0.0))
-        .collect();
+    let pts: Vec<DVec3> =
+        [(1., 0.), (1., 1.), (0., 1.), (-1., 1.), (-1., 0.), (-1., -1.), (0., -1.), (1., -1.), (1., 0.)]
+            .iter()
+            .map(|&(x, y)| DVec3::new(x * r, y * r, 0.0))
+            .collect();
     let weights = [1.0, w, 1.0, w, 1.0, w, 1.0, w, 1.0];
     let knots = vec![0.0, 0.0, 0.0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1.0, 1.0, 1.0];
     NurbsCurve::try_new(2, knots, &pts, Some(&weights)).expect("valid circle")
@@ -42,10 +43,18 @@ fn nurbs_cylinder_patch_lies_on_the_cylinder() {
     // Quarter cylinder, radius 12, axis z, height 30: rational quadratic × linear.
     let w = std::f64::consts::FRAC_1_SQRT_2;
     let arc = [(12.0, 0.0, 1.0), (12.0, 12.0, w), (0.0, 12.0, 1.0)];
-    let points: Vec<Vec<DVec3>> = arc.iter().map(|&(x, y, _)| vec![DVec3::new(x, y, 0.0), DVec3::new(x, y, 30.0)]).collect();
+    let points: Vec<Vec<DVec3>> =
+        arc.iter().map(|&(x, y, _)| vec![DVec3::new(x, y, 0.0), DVec3::new(x, y, 30.0)]).collect();
     let weights: Vec<Vec<f64>> = arc.iter().map(|&(_, _, w)| vec![w, w]).collect();
-    let s = NurbsSurface::try_new([2, 1], vec![0., 0., 0., 1., 1., 1.], vec![0., 0., 1., 1.], &points, Some(&weights), false)
-        .expect("valid");
+    let s = NurbsSurface::try_new(
+        [2, 1],
+        vec![0., 0., 0., 1., 1., 1.],
+        vec![0., 0., 1., 1.],
+        &points,
+        Some(&weights),
+        false,
+    )
+    .expect("valid");
     let mut rng = Rng::new(5);
     for _ in 0..500 {
         let uv = DVec2::new(rng.next_f64(), rng.next_f64());
@@ -60,7 +69,8 @@ fn nurbs_cylinder_patch_lies_on_the_cylinder() {
 
 #[test]
 fn curve_derivatives_match_central_differences() {
-    let pts: Vec<DVec3> = (0..8).map(|i| DVec3::new(i as f64 * 5.0, (i as f64 * 0.9).sin() * 7.0, (i * i) as f64 * 0.3)).collect();
+    let pts: Vec<DVec3> =
+        (0..8).map(|i| DVec3::new(i as f64 * 5.0, (i as f64 * 0.9).sin() * 7.0, (i * i) as f64 * 0.3)).collect();
     let weights = [1.0, 0.5, 2.0, 1.0, 0.7, 1.3, 1.0, 0.9];
     let knots = vec![0.0, 0.0, 0.0, 0.0, 0.1, 0.4, 0.45, 0.8, 1.0, 1.0, 1.0, 1.0];
     let c = NurbsCurve::try_new(3, knots, &pts, Some(&weights)).expect("valid");
@@ -98,12 +108,21 @@ fn bad_knot_vectors_are_named() {
     assert_eq!(validate_knots(&[0., 0., 1., 1.], 2, 1), Ok(()));
     assert!(matches!(validate_knots(&[0., 0., 1.], 2, 1), Err(NurbsError::KnotCount { expected: 4, .. })));
     assert!(matches!(validate_knots(&[0., 0., 0.5, 0.2, 1., 1.], 4, 1), Err(NurbsError::Decreasing { index: 3, .. })));
-    assert!(matches!(validate_knots(&[0., 0.1, 0.5, 1., 1., 1.], 3, 2), Err(NurbsError::NotClamped { end: "start", .. })));
-    assert!(matches!(validate_knots(&[0., 0., 0., 0.5, 0.5, 0.5, 1., 1., 1.], 6, 2), Err(NurbsError::Multiplicity { multiplicity: 3, .. })));
+    assert!(matches!(
+        validate_knots(&[0., 0.1, 0.5, 1., 1., 1.], 3, 2),
+        Err(NurbsError::NotClamped { end: "start", .. })
+    ));
+    assert!(matches!(
+        validate_knots(&[0., 0., 0., 0.5, 0.5, 0.5, 1., 1., 1.], 6, 2),
+        Err(NurbsError::Multiplicity { multiplicity: 3, .. })
+    ));
     assert!(matches!(validate_knots(&[1., 1., 1., 1.], 2, 1), Err(NurbsError::EmptyRange)));
     assert!(matches!(validate_knots(&[0., 0., 0.], 2, 0), Err(NurbsError::Degree(0))));
     assert!(matches!(validate_knots(&[0., 0., 1., 1.], 1, 1), Err(NurbsError::TooFewPoints { .. })));
     let w = [1.0, -1.0];
     let pts = [DVec3::ZERO, DVec3::X];
-    assert!(matches!(NurbsCurve::try_new(1, vec![0., 0., 1., 1.], &pts, Some(&w)), Err(NurbsError::Weight { index: 1, .. })));
+    assert!(matches!(
+        NurbsCurve::try_new(1, vec![0., 0., 1., 1.], &pts, Some(&w)),
+        Err(NurbsError::Weight { index: 1, .. })
+    ));
 }

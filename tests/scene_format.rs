@@ -9,27 +9,12 @@ use interpolab::crease::CreaseJob;
 use interpolab::scene::{Scene, SceneError};
 
 const EXAMPLES: [(&str, &str); 6] = [
-    (
-        "floor-round-wall",
-        include_str!("../examples/floor-round-wall.json"),
-    ),
-    (
-        "crossing-cylinders",
-        include_str!("../examples/crossing-cylinders.json"),
-    ),
-    (
-        "sphere-plane",
-        include_str!("../examples/sphere-plane.json"),
-    ),
+    ("floor-round-wall", include_str!("../examples/floor-round-wall.json")),
+    ("crossing-cylinders", include_str!("../examples/crossing-cylinders.json")),
+    ("sphere-plane", include_str!("../examples/sphere-plane.json")),
     ("torus-plane", include_str!("../examples/torus-plane.json")),
-    (
-        "bspline-floor-wall",
-        include_str!("../examples/bspline-floor-wall.json"),
-    ),
-    (
-        "rational-nurbs-vault",
-        include_str!("../examples/rational-nurbs-vault.json"),
-    ),
+    ("bspline-floor-wall", include_str!("../examples/bspline-floor-wall.json")),
+    ("rational-nurbs-vault", include_str!("../examples/rational-nurbs-vault.json")),
 ];
 
 const BASE: &str = include_str!("../examples/floor-round-wall.json");
@@ -39,8 +24,7 @@ fn every_example_round_trips_through_the_writer() {
     for (name, text) in EXAMPLES {
         let scene = support::scene(text);
         let written = scene.to_json();
-        let again = Scene::from_json(&written)
-            .unwrap_or_else(|e| panic!("{name}: written scene does not parse: {e}"));
+        let again = Scene::from_json(&written).unwrap_or_else(|e| panic!("{name}: written scene does not parse: {e}"));
         assert_eq!(scene, again, "{name}: pretty round trip");
         let compact = Scene::from_json(&scene.to_json_compact()).expect("compact parses");
         assert_eq!(scene, compact, "{name}: compact round trip");
@@ -75,10 +59,7 @@ fn error_after(edit: impl FnOnce(&mut serde_json::Value)) -> SceneError {
 
 fn assert_error(e: &SceneError, path: &str, problem_has: &str) {
     assert_eq!(e.path, path, "wrong key path in: {e}");
-    assert!(
-        e.problem.contains(problem_has),
-        "problem should mention {problem_has:?}: {e}"
-    );
+    assert!(e.problem.contains(problem_has), "problem should mention {problem_has:?}: {e}");
     assert!(!e.fix.is_empty(), "every error says what to change: {e}");
 }
 
@@ -102,17 +83,11 @@ fn unknown_keys_are_refused_with_a_suggestion() {
 #[test]
 fn missing_keys_are_named() {
     let e = error_after(|v| {
-        v["motion"]
-            .as_object_mut()
-            .expect("object")
-            .remove("period");
+        v["motion"].as_object_mut().expect("object").remove("period");
     });
     assert_error(&e, "motion.period", "missing");
     let e = error_after(|v| {
-        v["surfaces"][1]
-            .as_object_mut()
-            .expect("object")
-            .remove("normal");
+        v["surfaces"][1].as_object_mut().expect("object").remove("normal");
     });
     assert_error(&e, "surfaces[1].normal", "missing");
     let e = error_after(|v| {
@@ -142,10 +117,7 @@ fn non_finite_numbers_are_refused() {
     // JSON has no NaN or infinity; a literal that overflows f64 is the way one arrives.
     let text = BASE.replace("\"radius\": 5.0", "\"radius\": 1e999");
     let e = Scene::from_json(&text).expect_err("overflowing number");
-    assert!(
-        e.to_string().contains("line"),
-        "syntax-level errors give the line: {e}"
-    );
+    assert!(e.to_string().contains("line"), "syntax-level errors give the line: {e}");
 }
 
 #[test]
@@ -158,11 +130,7 @@ fn non_positive_values_are_refused() {
         ("tolerance.t1", serde_json::json!(0.0)),
         ("tolerance.t2", serde_json::json!(-0.01)),
     ] {
-        let keys: Vec<String> = path
-            .replace(']', "")
-            .split(['.', '['])
-            .map(str::to_owned)
-            .collect();
+        let keys: Vec<String> = path.replace(']', "").split(['.', '[']).map(str::to_owned).collect();
         let e = error_after(|v| {
             let mut node = v;
             for k in &keys {
@@ -190,10 +158,7 @@ fn share_must_lie_in_zero_one() {
         v["tolerance"]["share"] = 1.0.into();
         v
     };
-    assert!(
-        Scene::from_json(&ok.to_string()).is_ok(),
-        "share = 1 is allowed"
-    );
+    assert!(Scene::from_json(&ok.to_string()).is_ok(), "share = 1 is allowed");
 }
 
 #[test]
@@ -222,12 +187,9 @@ fn nurbs_error(edit: impl FnOnce(&mut serde_json::Value)) -> SceneError {
 
 #[test]
 fn bad_knot_vectors_and_weights_are_refused() {
-    let e =
-        nurbs_error(|v| v["surfaces"][0]["knots_u"] = serde_json::json!([0, 0, 0, 0.5, 1, 1, 1]));
+    let e = nurbs_error(|v| v["surfaces"][0]["knots_u"] = serde_json::json!([0, 0, 0, 0.5, 1, 1, 1]));
     assert_error(&e, "surfaces[0].knots_u", "knots given");
-    let e = nurbs_error(|v| {
-        v["surfaces"][0]["knots_u"] = serde_json::json!([0, 0, 0, 0.7, 0.5, 1, 1, 1])
-    });
+    let e = nurbs_error(|v| v["surfaces"][0]["knots_u"] = serde_json::json!([0, 0, 0, 0.7, 0.5, 1, 1, 1]));
     assert_error(&e, "surfaces[0].knots_u", "non-decreasing");
     let e = nurbs_error(|v| v["surfaces"][0]["knots_v"] = serde_json::json!([0, 0.1, 1, 1]));
     assert_error(&e, "surfaces[0].knots_v", "clamped");
@@ -236,10 +198,7 @@ fn bad_knot_vectors_and_weights_are_refused() {
     let e = nurbs_error(|v| v["surfaces"][0]["weights"][2][1] = (-1.0).into());
     assert_error(&e, "surfaces[0].weights", "weights must be > 0");
     let e = nurbs_error(|v| {
-        v["surfaces"][0]["points"][3]
-            .as_array_mut()
-            .expect("row")
-            .pop();
+        v["surfaces"][0]["points"][3].as_array_mut().expect("row").pop();
     });
     assert_error(&e, "surfaces[0].points", "rectangular");
     let e = nurbs_error(|v| v["surfaces"][0]["degree"] = serde_json::json!([12, 1]));
@@ -248,15 +207,10 @@ fn bad_knot_vectors_and_weights_are_refused() {
 
 #[test]
 fn torus_must_not_cross_its_axis() {
-    let mut v: serde_json::Value =
-        serde_json::from_str(include_str!("../examples/torus-plane.json")).expect("json");
+    let mut v: serde_json::Value = serde_json::from_str(include_str!("../examples/torus-plane.json")).expect("json");
     v["surfaces"][0]["major_radius"] = 10.0.into();
     let e = Scene::from_json(&v.to_string()).expect_err("spindle torus");
-    assert_error(
-        &e,
-        "surfaces[0].major_radius",
-        "not larger than minor_radius",
-    );
+    assert_error(&e, "surfaces[0].major_radius", "not larger than minor_radius");
 }
 
 #[test]
@@ -273,27 +227,15 @@ fn base64url_round_trips_every_length_and_byte() {
     for n in 0..bytes.len() {
         let enc = base64url_encode(&bytes[..n]);
         assert_eq!(enc.len(), (n * 4).div_ceil(3), "no padding");
-        assert!(
-            enc.bytes()
-                .all(|c| c.is_ascii_alphanumeric() || c == b'-' || c == b'_'),
-            "URL-safe: {enc}"
-        );
-        assert_eq!(
-            base64url_decode(&enc).as_deref(),
-            Some(&bytes[..n]),
-            "length {n}"
-        );
+        assert!(enc.bytes().all(|c| c.is_ascii_alphanumeric() || c == b'-' || c == b'_'), "URL-safe: {enc}");
+        assert_eq!(base64url_decode(&enc).as_deref(), Some(&bytes[..n]), "length {n}");
     }
     // RFC 4648 test vector, and padding / standard alphabet accepted on input.
     assert_eq!(base64url_encode(b"foobar"), "Zm9vYmFy");
     assert_eq!(base64url_decode("Zm9vYg==").as_deref(), Some(&b"foob"[..]));
     assert_eq!(base64url_decode("-_+/"), base64url_decode("-_-_"));
     assert_eq!(base64url_decode("abc!"), None);
-    assert_eq!(
-        base64url_decode("abcde"),
-        None,
-        "a lone sixth bit group is impossible"
-    );
+    assert_eq!(base64url_decode("abcde"), None, "a lone sixth bit group is impossible");
 }
 
 #[test]
@@ -302,15 +244,10 @@ fn share_links_carry_every_example_exactly() {
         let scene = support::scene(p.json);
         let frag = scene.to_link_fragment();
         assert!(frag.starts_with("scene="));
-        let back = Scene::from_link_fragment(&format!("#{frag}"))
-            .expect("decodes")
-            .expect("has a scene");
+        let back = Scene::from_link_fragment(&format!("#{frag}")).expect("decodes").expect("has a scene");
         assert_eq!(back, scene, "{}", p.id);
     }
-    assert_eq!(
-        Scene::from_link_fragment("#view=top").expect("no scene"),
-        None
-    );
+    assert_eq!(Scene::from_link_fragment("#view=top").expect("no scene"), None);
     assert_eq!(Scene::from_link_fragment("").expect("no scene"), None);
 }
 

@@ -5,8 +5,7 @@ use glam::DVec3;
 use web_time::{Duration, Instant};
 
 use crate::crease::{
-    CreaseError, CreaseJob, Diagnostics, InterpOptions, Interpolator, Row, Step, StopReason,
-    crease_deviation, diagnose,
+    CreaseError, CreaseJob, Diagnostics, InterpOptions, Interpolator, Row, Step, StopReason, crease_deviation, diagnose,
 };
 use crate::scene::{Scene, SceneError};
 

@@ -20,9 +20,7 @@ pub struct ControlsOutput {
 }
 
 fn section(ui: &mut egui::Ui, title: &str, open: bool, add: impl FnOnce(&mut egui::Ui)) {
-    egui::CollapsingHeader::new(egui::RichText::new(title).strong())
-        .default_open(open)
-        .show(ui, add);
+    egui::CollapsingHeader::new(egui::RichText::new(title).strong()).default_open(open).show(ui, add);
 }
 
 fn slider(
@@ -47,14 +45,7 @@ fn vec3(ui: &mut egui::Ui, label: &str, v: &mut [f64; 3]) -> bool {
     ui.horizontal(|ui| {
         ui.label(label);
         for (c, name) in v.iter_mut().zip(["x", "y", "z"]) {
-            changed |= ui
-                .add(
-                    egui::DragValue::new(c)
-                        .speed(0.1)
-                        .prefix(format!("{name} "))
-                        .suffix(" mm"),
-                )
-                .changed();
+            changed |= ui.add(egui::DragValue::new(c).speed(0.1).prefix(format!("{name} ")).suffix(" mm")).changed();
         }
     });
     changed
@@ -63,13 +54,7 @@ fn vec3(ui: &mut egui::Ui, label: &str, v: &mut [f64; 3]) -> bool {
 fn length(ui: &mut egui::Ui, label: &str, v: &mut f64, min: f64) -> bool {
     ui.horizontal(|ui| {
         ui.label(label);
-        ui.add(
-            egui::DragValue::new(v)
-                .speed(0.05)
-                .range(min..=1.0e4)
-                .suffix(" mm"),
-        )
-        .changed()
+        ui.add(egui::DragValue::new(v).speed(0.05).range(min..=1.0e4).suffix(" mm")).changed()
     })
     .inner
 }
@@ -78,66 +63,40 @@ fn orientation(ui: &mut egui::Ui, id: (&str, usize), o: &mut Orientation) -> boo
     let before = *o;
     ui.horizontal(|ui| {
         ui.label("cutter side");
-        egui::ComboBox::from_id_salt(id)
-            .selected_text(o.as_str())
-            .show_ui(ui, |ui| {
-                ui.selectable_value(o, Orientation::Outward, "outward");
-                ui.selectable_value(o, Orientation::Inward, "inward");
-            });
+        egui::ComboBox::from_id_salt(id).selected_text(o.as_str()).show_ui(ui, |ui| {
+            ui.selectable_value(o, Orientation::Outward, "outward");
+            ui.selectable_value(o, Orientation::Inward, "inward");
+        });
     });
     *o != before
 }
 
 fn surface_ui(ui: &mut egui::Ui, i: usize, s: &mut SurfaceSpec) -> bool {
     let mut c = false;
-    ui.label(
-        egui::RichText::new(format!("S{} — {}", i + 1, s.type_name())).color(if i == 0 {
-            SURFACE_COLORS[0]
-        } else {
-            SURFACE_COLORS[1]
-        }),
-    );
+    ui.label(egui::RichText::new(format!("S{} — {}", i + 1, s.type_name())).color(if i == 0 {
+        SURFACE_COLORS[0]
+    } else {
+        SURFACE_COLORS[1]
+    }));
     match s {
         SurfaceSpec::Plane { origin, .. } => c |= vec3(ui, "origin", origin),
-        SurfaceSpec::Cylinder {
-            origin,
-            radius,
-            normal,
-            ..
-        } => {
+        SurfaceSpec::Cylinder { origin, radius, normal, .. } => {
             c |= length(ui, "radius ρ", radius, 0.01);
             c |= vec3(ui, "axis point", origin);
             c |= orientation(ui, ("orient", i), normal);
         }
-        SurfaceSpec::Sphere {
-            center,
-            radius,
-            normal,
-            ..
-        } => {
+        SurfaceSpec::Sphere { center, radius, normal, .. } => {
             c |= length(ui, "radius ρ", radius, 0.01);
             c |= vec3(ui, "centre", center);
             c |= orientation(ui, ("orient", i), normal);
         }
-        SurfaceSpec::Torus {
-            center,
-            major_radius,
-            minor_radius,
-            normal,
-            ..
-        } => {
+        SurfaceSpec::Torus { center, major_radius, minor_radius, normal, .. } => {
             c |= length(ui, "major radius R0", major_radius, 0.02);
             c |= length(ui, "minor radius r0", minor_radius, 0.01);
             c |= vec3(ui, "centre", center);
             c |= orientation(ui, ("orient", i), normal);
         }
-        SurfaceSpec::Nurbs {
-            degree,
-            points,
-            weights,
-            flip_normal,
-            ..
-        } => {
+        SurfaceSpec::Nurbs { degree, points, weights, flip_normal, .. } => {
             let n_v = points.first().map_or(0, Vec::len);
             ui.label(format!(
                 "degree {}×{}, {}×{} control points, {}",
@@ -145,25 +104,17 @@ fn surface_ui(ui: &mut egui::Ui, i: usize, s: &mut SurfaceSpec) -> bool {
                 degree[1],
                 points.len(),
                 n_v,
-                if weights.is_some() {
-                    "rational"
-                } else {
-                    "non-rational"
-                }
+                if weights.is_some() { "rational" } else { "non-rational" }
             ));
-            c |= ui
-                .checkbox(flip_normal, "flip the normal (cutter on the other side)")
-                .changed();
+            c |= ui.checkbox(flip_normal, "flip the normal (cutter on the other side)").changed();
         }
     }
     c
 }
 
 /// Display colours of S1 and S2 (also used by the 3D view).
-pub const SURFACE_COLORS: [egui::Color32; 2] = [
-    egui::Color32::from_rgb(105, 155, 230),
-    egui::Color32::from_rgb(236, 160, 72),
-];
+pub const SURFACE_COLORS: [egui::Color32; 2] =
+    [egui::Color32::from_rgb(105, 155, 230), egui::Color32::from_rgb(236, 160, 72)];
 
 /// Draws the panel.
 pub fn controls(
@@ -176,96 +127,35 @@ pub fn controls(
     let mut out = ControlsOutput::default();
     let mut c = false;
     if let Some(e) = error {
-        egui::Frame::new()
-            .fill(egui::Color32::from_rgb(80, 24, 24))
-            .inner_margin(6.0)
-            .corner_radius(4.0)
-            .show(ui, |ui| {
-                ui.label(
-                    egui::RichText::new(format!("⚠ Not applied: {e}")).color(egui::Color32::WHITE),
-                );
+        egui::Frame::new().fill(egui::Color32::from_rgb(80, 24, 24)).inner_margin(6.0).corner_radius(4.0).show(
+            ui,
+            |ui| {
+                ui.label(egui::RichText::new(format!("⚠ Not applied: {e}")).color(egui::Color32::WHITE));
                 ui.label(
                     egui::RichText::new("The last valid scene is still shown.")
                         .color(egui::Color32::LIGHT_GRAY)
                         .small(),
                 );
-            });
+            },
+        );
     }
     section(ui, "Motion", true, |ui| {
-        let feed = slider(
-            ui,
-            &mut draft.motion.feed,
-            10.0..=60_000.0,
-            " mm/min",
-            "feed F",
-            true,
-        );
+        let feed = slider(ui, &mut draft.motion.feed, 10.0..=60_000.0, " mm/min", "feed F", true);
         c |= feed.changed();
         out.feed_rect = Some(feed.rect);
-        c |= slider(
-            ui,
-            &mut draft.motion.period,
-            0.1..=50.0,
-            " ms",
-            "period Ts",
-            true,
-        )
-        .changed();
+        c |= slider(ui, &mut draft.motion.period, 0.1..=50.0, " ms", "period Ts", true).changed();
         let f = draft.feed_per_period_mm();
         ui.label(format!("feed per period f = F·Ts = {f:.5} mm"));
     });
     section(ui, "Tool", true, |ui| {
-        c |= slider(
-            ui,
-            &mut draft.tool.radius,
-            0.2..=25.0,
-            " mm",
-            "ball radius R",
-            true,
-        )
-        .changed();
-        c |= slider(
-            ui,
-            &mut draft.tool.allowance,
-            -1.0..=3.0,
-            " mm",
-            "allowance C",
-            false,
-        )
-        .changed();
-        ui.label(format!(
-            "centre offset R' = R + C = {:.4} mm",
-            draft.effective_radius_mm()
-        ));
+        c |= slider(ui, &mut draft.tool.radius, 0.2..=25.0, " mm", "ball radius R", true).changed();
+        c |= slider(ui, &mut draft.tool.allowance, -1.0..=3.0, " mm", "allowance C", false).changed();
+        ui.label(format!("centre offset R' = R + C = {:.4} mm", draft.effective_radius_mm()));
     });
     section(ui, "Tolerance", true, |ui| {
-        c |= slider(
-            ui,
-            &mut draft.tolerance.t1,
-            1e-5..=0.5,
-            " mm",
-            "T1 on S1",
-            true,
-        )
-        .changed();
-        c |= slider(
-            ui,
-            &mut draft.tolerance.t2,
-            1e-5..=0.5,
-            " mm",
-            "T2 on S2",
-            true,
-        )
-        .changed();
-        c |= slider(
-            ui,
-            &mut draft.tolerance.share,
-            0.01..=1.0,
-            "",
-            "share b",
-            false,
-        )
-        .changed();
+        c |= slider(ui, &mut draft.tolerance.t1, 1e-5..=0.5, " mm", "T1 on S1", true).changed();
+        c |= slider(ui, &mut draft.tolerance.t2, 1e-5..=0.5, " mm", "T2 on S2", true).changed();
+        c |= slider(ui, &mut draft.tolerance.share, 0.01..=1.0, "", "share b", false).changed();
         ui.label(format!(
             "interpolation may use b·T1 = {}, b·T2 = {}",
             fmt_len(draft.tolerance.share * draft.tolerance.t1),
@@ -282,13 +172,7 @@ pub fn controls(
         c |= vec3(ui, "start", &mut draft.path.start);
         ui.horizontal(|ui| {
             ui.label("max periods");
-            c |= ui
-                .add(
-                    egui::DragValue::new(&mut draft.path.max_steps)
-                        .range(1..=2_000_000)
-                        .speed(100),
-                )
-                .changed();
+            c |= ui.add(egui::DragValue::new(&mut draft.path.max_steps).range(1..=2_000_000).speed(100)).changed();
         });
         let mut name = draft.name.clone();
         ui.horizontal(|ui| {
@@ -301,29 +185,15 @@ pub fn controls(
     });
     section(ui, "Interpolation", true, |ui| {
         let before = *opts;
-        ui.radio_value(
-            &mut opts.method,
-            Method::Seed000,
-            "seed 000: track, correct, re-solve (no iteration)",
-        );
-        ui.radio_value(
-            &mut opts.method,
-            Method::Exact,
-            "exact: Newton onto the crease (reference)",
-        );
+        ui.radio_value(&mut opts.method, Method::Seed000, "seed 000: track, correct, re-solve (no iteration)");
+        ui.radio_value(&mut opts.method, Method::Exact, "exact: Newton onto the crease (reference)");
         if is_seed000(opts) {
-            ui.checkbox(
-                &mut opts.exact_feed,
-                "rescale each step to exactly f (eq. 2)",
-            );
+            ui.checkbox(&mut opts.exact_feed, "rescale each step to exactly f (eq. 2)");
         }
         out.options_changed = *opts != before;
     });
     section(ui, "Display", true, |ui| {
-        ui.checkbox(
-            &mut view.cutter_side_only,
-            "surfaces from the cutter side only",
-        );
+        ui.checkbox(&mut view.cutter_side_only, "surfaces from the cutter side only");
         ui.checkbox(&mut view.show_offsets, "offset surfaces (translucent)");
         ui.checkbox(&mut view.show_iso, "iso-parameter lines");
         ui.checkbox(&mut view.show_cutters, "ball cutters along the path");

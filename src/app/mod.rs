@@ -60,11 +60,7 @@ pub(crate) struct Playback {
 
 impl Default for Playback {
     fn default() -> Self {
-        Self {
-            playing: false,
-            k: 0.0,
-            speed: 1.0,
-        }
+        Self { playing: false, k: 0.0, speed: 1.0 }
     }
 }
 
@@ -99,13 +95,10 @@ pub struct InterpolabApp {
 }
 
 fn default_scene() -> Scene {
-    PRESETS
-        .first()
-        .and_then(|p| Scene::from_json(p.json).ok())
-        .unwrap_or_else(|| {
-            // The presets are checked by the tests; this cannot happen in a released build.
-            unreachable_scene()
-        })
+    PRESETS.first().and_then(|p| Scene::from_json(p.json).ok()).unwrap_or_else(|| {
+        // The presets are checked by the tests; this cannot happen in a released build.
+        unreachable_scene()
+    })
 }
 
 #[cold]
@@ -138,14 +131,9 @@ impl InterpolabApp {
                 None
             }
         };
-        let stored = cc
-            .storage
-            .and_then(|s| s.get_string(STORAGE_SCENE))
-            .and_then(|text| Scene::from_json(&text).ok());
+        let stored = cc.storage.and_then(|s| s.get_string(STORAGE_SCENE)).and_then(|text| Scene::from_json(&text).ok());
         let scene = from_link.clone().or(stored).unwrap_or_else(default_scene);
-        let preset = PRESETS
-            .iter()
-            .position(|p| Scene::from_json(p.json).ok().as_ref() == Some(&scene));
+        let preset = PRESETS.iter().position(|p| Scene::from_json(p.json).ok().as_ref() == Some(&scene));
         let mut app = Self {
             draft: scene.clone(),
             scene,
@@ -175,19 +163,11 @@ impl InterpolabApp {
     }
 
     fn info(&mut self, text: impl Into<String>) {
-        self.notice = Some(Notice {
-            level: Level::Info,
-            text: text.into(),
-            shown: Instant::now(),
-        });
+        self.notice = Some(Notice { level: Level::Info, text: text.into(), shown: Instant::now() });
     }
 
     fn error(&mut self, text: impl Into<String>) {
-        self.notice = Some(Notice {
-            level: Level::Error,
-            text: text.into(),
-            shown: Instant::now(),
-        });
+        self.notice = Some(Notice { level: Level::Error, text: text.into(), shown: Instant::now() });
     }
 
     /// Recomputes the current scene from the start.
@@ -201,9 +181,7 @@ impl InterpolabApp {
 
     /// Makes `scene` current (a loaded file, a link, a preset) and frames it.
     fn load_scene(&mut self, scene: Scene, source: &str) {
-        self.preset = PRESETS
-            .iter()
-            .position(|p| Scene::from_json(p.json).ok().as_ref() == Some(&scene));
+        self.preset = PRESETS.iter().position(|p| Scene::from_json(p.json).ok().as_ref() == Some(&scene));
         self.scene = scene.clone();
         self.draft = scene;
         self.draft_error = None;
@@ -219,10 +197,7 @@ impl InterpolabApp {
                 Err(e) => self.error(format!("{}: {e} — the current scene is kept.", f.name)),
                 Ok(text) => match Scene::from_json(&text) {
                     Ok(scene) => self.load_scene(scene, &f.name),
-                    Err(e) => self.error(format!(
-                        "{} is not a usable scene — {e}. The current scene is kept.",
-                        f.name
-                    )),
+                    Err(e) => self.error(format!("{} is not a usable scene — {e}. The current scene is kept.", f.name)),
                 },
             }
         }
@@ -236,13 +211,9 @@ impl InterpolabApp {
         }
         self.last_fragment = fragment.clone();
         match Scene::from_link_fragment(&fragment) {
-            Ok(Some(scene)) if scene != self.scene => {
-                self.load_scene(scene, "the scene from the link")
-            }
+            Ok(Some(scene)) if scene != self.scene => self.load_scene(scene, "the scene from the link"),
             Ok(_) => {}
-            Err(e) => self.error(format!(
-                "The link's scene was not opened — {e}. The current scene is kept."
-            )),
+            Err(e) => self.error(format!("The link's scene was not opened — {e}. The current scene is kept.")),
         }
     }
 
@@ -264,10 +235,7 @@ impl InterpolabApp {
     /// Opens a scene given as text, as if a file of that name had been chosen (an invalid
     /// scene is reported and the current one kept).
     pub fn open_text(&mut self, name: &str, text: &str) {
-        self.handle_files(vec![Incoming {
-            name: name.to_owned(),
-            text: Ok(text.to_owned()),
-        }]);
+        self.handle_files(vec![Incoming { name: name.to_owned(), text: Ok(text.to_owned()) }]);
     }
 
     /// Edits the draft scene as the controls do, then applies it if valid.
@@ -294,10 +262,7 @@ impl InterpolabApp {
         self.platform.set_fragment(&fragment);
         self.last_fragment = format!("#{fragment}");
         ctx.copy_text(url.clone());
-        self.info(format!(
-            "Link copied to the clipboard ({} characters). It opens this exact scene.",
-            url.len()
-        ));
+        self.info(format!("Link copied to the clipboard ({} characters). It opens this exact scene.", url.len()));
     }
 
     fn file_name(&self) -> String {
@@ -305,27 +270,10 @@ impl InterpolabApp {
             .scene
             .name
             .chars()
-            .map(|c| {
-                if c.is_ascii_alphanumeric() {
-                    c.to_ascii_lowercase()
-                } else {
-                    '-'
-                }
-            })
+            .map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '-' })
             .collect();
-        let stem = stem
-            .split('-')
-            .filter(|s| !s.is_empty())
-            .collect::<Vec<_>>()
-            .join("-");
-        format!(
-            "{}.json",
-            if stem.is_empty() {
-                "scene".to_owned()
-            } else {
-                stem
-            }
-        )
+        let stem = stem.split('-').filter(|s| !s.is_empty()).collect::<Vec<_>>().join("-");
+        format!("{}.json", if stem.is_empty() { "scene".to_owned() } else { stem })
     }
 
     fn top_bar(&mut self, ui: &mut egui::Ui) {
@@ -343,10 +291,7 @@ impl InterpolabApp {
                 .width(300.0)
                 .show_ui(ui, |ui| {
                     for i in 0..PRESETS.len() {
-                        if ui
-                            .selectable_label(self.preset == Some(i), preset_title(i))
-                            .clicked()
-                        {
+                        if ui.selectable_label(self.preset == Some(i), preset_title(i)).clicked() {
                             chosen = Some(i);
                         }
                     }
@@ -360,28 +305,20 @@ impl InterpolabApp {
                 }
             }
             if Platform::can_pick_files() {
-                let open = ui
-                    .button("Open…")
-                    .on_hover_text("Open a scene file (or drop one on the window)");
+                let open = ui.button("Open…").on_hover_text("Open a scene file (or drop one on the window)");
                 self.widget_rects.push(("open_button", open.rect));
                 if open.clicked() {
                     self.platform.pick_file();
                 }
             }
-            if ui
-                .button("Save")
-                .on_hover_text("Download the current scene as JSON")
-                .clicked()
-            {
+            if ui.button("Save").on_hover_text("Download the current scene as JSON").clicked() {
                 let name = self.file_name();
                 match self.platform.save_text(&name, &self.scene.to_json()) {
                     Ok(msg) => self.info(msg),
                     Err(e) => self.error(format!("Saving failed: {e}")),
                 }
             }
-            let share = ui
-                .button("Share link")
-                .on_hover_text("Copy a link that opens this exact scene");
+            let share = ui.button("Share link").on_hover_text("Copy a link that opens this exact scene");
             self.widget_rects.push(("share_button", share.rect));
             if share.clicked() {
                 self.share_link(ui.ctx());
@@ -400,37 +337,22 @@ impl InterpolabApp {
             return;
         }
         let (fill, stroke) = match n.level {
-            Level::Info => (
-                egui::Color32::from_rgb(28, 60, 44),
-                egui::Color32::from_rgb(90, 190, 120),
-            ),
-            Level::Error => (
-                egui::Color32::from_rgb(80, 24, 24),
-                egui::Color32::from_rgb(235, 90, 80),
-            ),
+            Level::Info => (egui::Color32::from_rgb(28, 60, 44), egui::Color32::from_rgb(90, 190, 120)),
+            Level::Error => (egui::Color32::from_rgb(80, 24, 24), egui::Color32::from_rgb(235, 90, 80)),
         };
         let mut close = false;
-        egui::Frame::new()
-            .fill(fill)
-            .stroke(egui::Stroke::new(1.0, stroke))
-            .inner_margin(6.0)
-            .corner_radius(4.0)
-            .show(ui, |ui| {
+        egui::Frame::new().fill(fill).stroke(egui::Stroke::new(1.0, stroke)).inner_margin(6.0).corner_radius(4.0).show(
+            ui,
+            |ui| {
                 ui.horizontal_wrapped(|ui| {
-                    ui.label(
-                        egui::RichText::new(if n.level == Level::Error {
-                            "⚠"
-                        } else {
-                            "ℹ"
-                        })
-                        .color(stroke),
-                    );
+                    ui.label(egui::RichText::new(if n.level == Level::Error { "⚠" } else { "ℹ" }).color(stroke));
                     ui.label(egui::RichText::new(&n.text).color(egui::Color32::WHITE));
                     if ui.small_button("✕").on_hover_text("Dismiss").clicked() {
                         close = true;
                     }
                 });
-            });
+            },
+        );
         if close {
             self.notice = None;
         }
@@ -452,12 +374,7 @@ impl InterpolabApp {
         let ui: serde_json::Map<String, serde_json::Value> = self
             .widget_rects
             .iter()
-            .map(|(k, r)| {
-                (
-                    (*k).to_owned(),
-                    serde_json::json!([r.min.x, r.min.y, r.width(), r.height()]),
-                )
-            })
+            .map(|(k, r)| ((*k).to_owned(), serde_json::json!([r.min.x, r.min.y, r.width(), r.height()])))
             .collect();
         serde_json::json!({
             "scene": self.scene.name,
@@ -517,10 +434,7 @@ impl eframe::App for InterpolabApp {
             }
             ctx.request_repaint();
         }
-        self.playback.k = self
-            .playback
-            .k
-            .clamp(0.0, n_periods.saturating_sub(1) as f64);
+        self.playback.k = self.playback.k.clamp(0.0, n_periods.saturating_sub(1) as f64);
 
         egui::Panel::top("top_bar").show(ui, |ui| {
             ui.add_space(2.0);
@@ -529,52 +443,33 @@ impl eframe::App for InterpolabApp {
         });
 
         let mut changed = false;
-        egui::Panel::left("controls")
-            .resizable(true)
-            .default_size(300.0)
-            .min_size(240.0)
-            .show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| {
-                    let out = controls::controls(
-                        ui,
-                        &mut self.draft,
-                        self.draft_error.as_ref(),
-                        &mut self.opts,
-                        &mut self.view.settings,
-                    );
-                    changed |= out.scene_changed;
-                    if let Some(r) = out.feed_rect {
-                        self.widget_rects.push(("feed_slider", r));
-                    }
-                    if out.options_changed {
-                        self.restart();
-                    }
-                });
+        egui::Panel::left("controls").resizable(true).default_size(300.0).min_size(240.0).show(ui, |ui| {
+            egui::ScrollArea::vertical().show(ui, |ui| {
+                let out = controls::controls(
+                    ui,
+                    &mut self.draft,
+                    self.draft_error.as_ref(),
+                    &mut self.opts,
+                    &mut self.view.settings,
+                );
+                changed |= out.scene_changed;
+                if let Some(r) = out.feed_rect {
+                    self.widget_rects.push(("feed_slider", r));
+                }
+                if out.options_changed {
+                    self.restart();
+                }
             });
+        });
         if changed {
             self.apply_draft();
         }
 
-        egui::Panel::bottom("plots")
-            .resizable(true)
-            .default_size(260.0)
-            .min_size(140.0)
-            .show(ui, |ui| {
-                plots::playback_bar(
-                    ui,
-                    &mut self.playback,
-                    &self.compute,
-                    self.scene.motion.period,
-                );
-                ui.separator();
-                plots::plots(
-                    ui,
-                    &mut self.plots,
-                    &self.compute,
-                    &self.scene,
-                    self.playback.k,
-                );
-            });
+        egui::Panel::bottom("plots").resizable(true).default_size(260.0).min_size(140.0).show(ui, |ui| {
+            plots::playback_bar(ui, &mut self.playback, &self.compute, self.scene.motion.period);
+            ui.separator();
+            plots::plots(ui, &mut self.plots, &self.compute, &self.scene, self.playback.k);
+        });
 
         egui::CentralPanel::default().show(ui, |ui| {
             self.banner(ui);
@@ -582,13 +477,7 @@ impl eframe::App for InterpolabApp {
                 help(ui);
             }
             match self.tab {
-                Tab::Crease => self.view.ui(
-                    ui,
-                    self.render_state.as_ref(),
-                    &self.scene,
-                    &self.compute,
-                    &self.playback,
-                ),
+                Tab::Crease => self.view.ui(ui, self.render_state.as_ref(), &self.scene, &self.compute, &self.playback),
             }
         });
 
@@ -633,6 +522,9 @@ pub(crate) fn fmt_len(mm: f64) -> String {
     if a == 0.0 {
         return "0 µm".to_owned();
     }
+    if a < 1e-9 {
+        return format!("{mm:.1e} mm");
+    }
     let (scale, unit) = if a >= 1.0 {
         (1.0, "mm")
     } else if a >= 1e-3 {
@@ -656,10 +548,7 @@ pub(crate) fn fmt_len(mm: f64) -> String {
 /// One-line description of how a run ended.
 pub(crate) fn describe_outcome(c: &Computation) -> (bool, String) {
     match &c.outcome {
-        None if c.running() => (
-            true,
-            format!("computing… {} periods", c.periods.len().saturating_sub(1)),
-        ),
+        None if c.running() => (true, format!("computing… {} periods", c.periods.len().saturating_sub(1))),
         None => (false, "not started".to_owned()),
         Some(Ok(StopReason::Closed { .. })) => (true, "closed crease: one full turn".to_owned()),
         Some(Ok(r)) => (true, format!("stopped: {r}")),

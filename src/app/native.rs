@@ -9,14 +9,8 @@ use super::InterpolabApp;
 pub fn run() -> Result<(), eframe::Error> {
     let options = eframe::NativeOptions {
         renderer: eframe::Renderer::Wgpu,
-        viewport: eframe::egui::ViewportBuilder::default()
-            .with_inner_size([1400.0, 900.0])
-            .with_title("interpolab"),
+        viewport: eframe::egui::ViewportBuilder::default().with_inner_size([1400.0, 900.0]).with_title("interpolab"),
         ..Default::default()
     };
-    eframe::run_native(
-        "interpolab",
-        options,
-        Box::new(|cc| Ok(Box::new(InterpolabApp::new(cc)))),
-    )
+    eframe::run_native("interpolab", options, Box::new(|cc| Ok(Box::new(InterpolabApp::new(cc)))))
 }

@@ -44,31 +44,26 @@ mod imp {
                 let inbox2 = inbox.clone();
                 let ctx2 = ctx.clone();
                 let input2 = input.clone();
-                let on_change =
-                    Closure::<dyn FnMut(web_sys::Event)>::new(move |_e: web_sys::Event| {
-                        let Some(file) = input2.files().and_then(|f| f.get(0)) else {
-                            return;
+                let on_change = Closure::<dyn FnMut(web_sys::Event)>::new(move |_e: web_sys::Event| {
+                    let Some(file) = input2.files().and_then(|f| f.get(0)) else {
+                        return;
+                    };
+                    let name = file.name();
+                    let inbox3 = inbox2.clone();
+                    let ctx3 = ctx2.clone();
+                    let input3 = input2.clone();
+                    wasm_bindgen_futures::spawn_local(async move {
+                        let text = match wasm_bindgen_futures::JsFuture::from(file.text()).await {
+                            Ok(v) => v.as_string().ok_or_else(|| "the file is not text".to_owned()),
+                            Err(e) => Err(format!("{e:?}")),
                         };
-                        let name = file.name();
-                        let inbox3 = inbox2.clone();
-                        let ctx3 = ctx2.clone();
-                        let input3 = input2.clone();
-                        wasm_bindgen_futures::spawn_local(async move {
-                            let text = match wasm_bindgen_futures::JsFuture::from(file.text()).await
-                            {
-                                Ok(v) => v
-                                    .as_string()
-                                    .ok_or_else(|| "the file is not text".to_owned()),
-                                Err(e) => Err(format!("{e:?}")),
-                            };
-                            inbox3.borrow_mut().push(Incoming { name, text });
-                            // Allow choosing the same file again.
-                            input3.set_value("");
-                            ctx3.request_repaint();
-                        });
+                        inbox3.borrow_mut().push(Incoming { name, text });
+                        // Allow choosing the same file again.
+                        input3.set_value("");
+                        ctx3.request_repaint();
                     });
-                let _ = input
-                    .add_event_listener_with_callback("change", on_change.as_ref().unchecked_ref());
+                });
+                let _ = input.add_event_listener_with_callback("change", on_change.as_ref().unchecked_ref());
                 on_change.forget();
             } else {
                 log::warn!("no #{FILE_INPUT_ID} element: the file picker is unavailable");
@@ -95,14 +90,10 @@ mod imp {
             let parts = js_sys::Array::of1(&JsValue::from_str(text));
             let opts = web_sys::BlobPropertyBag::new();
             opts.set_type("application/json");
-            let blob =
-                web_sys::Blob::new_with_str_sequence_and_options(&parts, &opts).map_err(err)?;
+            let blob = web_sys::Blob::new_with_str_sequence_and_options(&parts, &opts).map_err(err)?;
             let url = web_sys::Url::create_object_url_with_blob(&blob).map_err(err)?;
-            let a: web_sys::HtmlAnchorElement = doc
-                .create_element("a")
-                .map_err(err)?
-                .dyn_into()
-                .map_err(|_| "no anchor")?;
+            let a: web_sys::HtmlAnchorElement =
+                doc.create_element("a").map_err(err)?.dyn_into().map_err(|_| "no anchor")?;
             a.set_href(&url);
             a.set_download(name);
             a.click();
@@ -111,16 +102,13 @@ mod imp {
         }
 
         pub fn fragment(&self) -> String {
-            web_sys::window()
-                .and_then(|w| w.location().hash().ok())
-                .unwrap_or_default()
+            web_sys::window().and_then(|w| w.location().hash().ok()).unwrap_or_default()
         }
 
         pub fn set_fragment(&mut self, fragment: &str) {
             if let Some(w) = web_sys::window() {
                 if let Ok(h) = w.history() {
-                    let _ =
-                        h.replace_state_with_url(&JsValue::NULL, "", Some(&format!("#{fragment}")));
+                    let _ = h.replace_state_with_url(&JsValue::NULL, "", Some(&format!("#{fragment}")));
                 }
             }
         }
@@ -128,13 +116,7 @@ mod imp {
         pub fn share_url(&self, fragment: &str) -> String {
             let loc = web_sys::window().map(|w| w.location());
             let base = loc
-                .map(|l| {
-                    format!(
-                        "{}{}",
-                        l.origin().unwrap_or_default(),
-                        l.pathname().unwrap_or_default()
-                    )
-                })
+                .map(|l| format!("{}{}", l.origin().unwrap_or_default(), l.pathname().unwrap_or_default()))
                 .unwrap_or_default();
             format!("{base}#{fragment}")
         }
@@ -146,9 +128,7 @@ mod imp {
         }
 
         pub fn now_ms() -> f64 {
-            web_sys::window()
-                .and_then(|w| w.performance())
-                .map_or(0.0, |p| p.now())
+            web_sys::window().and_then(|w| w.performance()).map_or(0.0, |p| p.now())
         }
 
         pub fn ui(&mut self, _ctx: &egui::Context) {}
@@ -188,11 +168,7 @@ mod imp {
 
     impl Platform {
         pub fn new(_ctx: &egui::Context) -> Self {
-            Self {
-                open_dialog: None,
-                inbox: Vec::new(),
-                started: web_time::Instant::now(),
-            }
+            Self { open_dialog: None, inbox: Vec::new(), started: web_time::Instant::now() }
         }
 
         pub fn pick_file(&mut self) {
@@ -205,8 +181,7 @@ mod imp {
 
         pub fn save_text(&mut self, name: &str, text: &str) -> Result<String, String> {
             std::fs::write(name, text).map_err(|e| format!("cannot write {name}: {e}"))?;
-            let full = std::fs::canonicalize(name)
-                .map_or_else(|_| name.to_owned(), |p| p.display().to_string());
+            let full = std::fs::canonicalize(name).map_or_else(|_| name.to_owned(), |p| p.display().to_string());
             Ok(format!("saved {full}"))
         }
 
@@ -236,15 +211,11 @@ mod imp {
             };
             let mut open = true;
             let mut load = false;
-            egui::Window::new("Open a scene file")
-                .open(&mut open)
-                .collapsible(false)
-                .show(ctx, |ui| {
-                    ui.label("Path of an interpolab-scene/1 JSON file:");
-                    let r = ui.text_edit_singleline(path);
-                    load = ui.button("Open").clicked()
-                        || (r.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter)));
-                });
+            egui::Window::new("Open a scene file").open(&mut open).collapsible(false).show(ctx, |ui| {
+                ui.label("Path of an interpolab-scene/1 JSON file:");
+                let r = ui.text_edit_singleline(path);
+                load = ui.button("Open").clicked() || (r.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter)));
+            });
             if load {
                 let p = path.clone();
                 let text = std::fs::read_to_string(&p).map_err(|e| format!("cannot read {p}: {e}"));
@@ -259,8 +230,7 @@ mod imp {
         /// Reads files dropped on the window.
         pub fn accept_dropped(&mut self, ctx: &egui::Context) {
             for f in ctx.input(|i| i.raw.dropped_files.clone()) {
-                self.inbox
-                    .push(super::decode(f.path().display().to_string(), f.bytes()));
+                self.inbox.push(super::decode(f.path().display().to_string(), f.bytes()));
             }
         }
     }
@@ -269,7 +239,6 @@ mod imp {
 pub use imp::Platform;
 
 fn decode(name: String, bytes: Result<Vec<u8>, String>) -> Incoming {
-    let text = bytes
-        .and_then(|b| String::from_utf8(b).map_err(|_| "the file is not UTF-8 text".to_owned()));
+    let text = bytes.and_then(|b| String::from_utf8(b).map_err(|_| "the file is not UTF-8 text".to_owned()));
     Incoming { name, text }
 }

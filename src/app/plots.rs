@@ -31,10 +31,7 @@ pub struct PlotState {
 
 impl Default for PlotState {
     fn default() -> Self {
-        Self {
-            tab: PlotTab::Errors,
-            log: true,
-        }
+        Self { tab: PlotTab::Errors, log: true }
     }
 }
 
@@ -43,10 +40,7 @@ pub fn playback_bar(ui: &mut egui::Ui, pb: &mut Playback, compute: &Computation,
     let n = compute.periods.len();
     let last = n.saturating_sub(1) as f64;
     ui.horizontal(|ui| {
-        if ui
-            .button(if pb.playing { "⏸ pause" } else { "▶ play" })
-            .clicked()
-        {
+        if ui.button(if pb.playing { "⏸ pause" } else { "▶ play" }).clicked() {
             if !pb.playing && pb.k >= last {
                 pb.k = 0.0;
             }
@@ -59,39 +53,19 @@ pub fn playback_bar(ui: &mut egui::Ui, pb: &mut Playback, compute: &Computation,
             pb.playing = false;
             pb.k = (pb.k.floor() - 1.0).max(0.0);
         }
-        if ui
-            .button("▶|")
-            .on_hover_text("one period forward")
-            .clicked()
-        {
+        if ui.button("▶|").on_hover_text("one period forward").clicked() {
             pb.playing = false;
             pb.k = (pb.k.floor() + 1.0).min(last);
         }
         let mut k = pb.k.floor();
         ui.spacing_mut().slider_width = (ui.available_width() - 520.0).clamp(120.0, 900.0);
-        if ui
-            .add(
-                egui::Slider::new(&mut k, 0.0..=last.max(1.0))
-                    .step_by(1.0)
-                    .text("period"),
-            )
-            .changed()
-        {
+        if ui.add(egui::Slider::new(&mut k, 0.0..=last.max(1.0)).step_by(1.0).text("period")).changed() {
             pb.k = k;
             pb.playing = false;
         }
         ui.spacing_mut().slider_width = 90.0;
-        ui.add(
-            egui::Slider::new(&mut pb.speed, 0.05..=200.0)
-                .logarithmic(true)
-                .suffix("×")
-                .text("speed"),
-        );
-        ui.label(format!(
-            "t = {:.3} s of {:.3} s",
-            pb.k.floor() * period_ms / 1000.0,
-            last * period_ms / 1000.0
-        ));
+        ui.add(egui::Slider::new(&mut pb.speed, 0.05..=200.0).logarithmic(true).suffix("×").text("speed"));
+        ui.label(format!("t = {:.3} s of {:.3} s", pb.k.floor() * period_ms / 1000.0, last * period_ms / 1000.0));
     });
 }
 
@@ -129,80 +103,52 @@ fn summary(ui: &mut egui::Ui, compute: &Computation, scene: &Scene) {
     let n = compute.periods.len().saturating_sub(1);
     let f = scene.feed_per_period_mm();
     let (worst, bound) = compute.worst();
-    egui::Grid::new("summary")
-        .num_columns(2)
-        .striped(true)
-        .spacing([12.0, 3.0])
-        .show(ui, |ui| {
-            let (ok, text) = describe_outcome(compute);
-            ui.label("run");
-            ui.label(egui::RichText::new(text).color(if ok {
-                ui.visuals().text_color()
-            } else {
-                egui::Color32::from_rgb(255, 120, 110)
-            }));
+    egui::Grid::new("summary").num_columns(2).striped(true).spacing([12.0, 3.0]).show(ui, |ui| {
+        let (ok, text) = describe_outcome(compute);
+        ui.label("run");
+        ui.label(egui::RichText::new(text).color(if ok {
+            ui.visuals().text_color()
+        } else {
+            egui::Color32::from_rgb(255, 120, 110)
+        }));
+        ui.end_row();
+        ui.label("periods");
+        ui.label(format!("{n}"));
+        ui.end_row();
+        ui.label("path length");
+        let length: f64 = compute.periods.windows(2).map(|w| (w[1].row.p - w[0].row.p).length()).sum();
+        ui.label(format!("{length:.3} mm  (f = {f:.4} mm)"));
+        ui.end_row();
+        ui.label("machining time");
+        ui.label(format!("{:.3} s", n as f64 * scene.motion.period / 1000.0));
+        ui.end_row();
+        for i in 0..2 {
+            let allowed = scene.tolerance.share * if i == 0 { scene.tolerance.t1 } else { scene.tolerance.t2 };
+            ui.label(format!("worst |e{}|", i + 1));
+            let within = worst[i] <= allowed;
+            ui.label(
+                egui::RichText::new(format!("{}  (b·T{} = {})", fmt_len(worst[i]), i + 1, fmt_len(allowed)))
+                    .color(if within { ui.visuals().text_color() } else { egui::Color32::from_rgb(255, 120, 110) }),
+            );
             ui.end_row();
-            ui.label("periods");
-            ui.label(format!("{n}"));
+            ui.label(format!("bound (16) on S{}", i + 1));
+            ui.label(bound[i].map_or_else(|| "not applicable".to_owned(), fmt_len));
             ui.end_row();
-            ui.label("path length");
-            let length: f64 = compute
-                .periods
-                .windows(2)
-                .map(|w| (w[1].row.p - w[0].row.p).length())
-                .sum();
-            ui.label(format!("{length:.3} mm  (f = {f:.4} mm)"));
-            ui.end_row();
-            ui.label("machining time");
-            ui.label(format!("{:.3} s", n as f64 * scene.motion.period / 1000.0));
-            ui.end_row();
-            for i in 0..2 {
-                let allowed = scene.tolerance.share
-                    * if i == 0 {
-                        scene.tolerance.t1
-                    } else {
-                        scene.tolerance.t2
-                    };
-                ui.label(format!("worst |e{}|", i + 1));
-                let within = worst[i] <= allowed;
-                ui.label(
-                    egui::RichText::new(format!(
-                        "{}  (b·T{} = {})",
-                        fmt_len(worst[i]),
-                        i + 1,
-                        fmt_len(allowed)
-                    ))
-                    .color(if within {
-                        ui.visuals().text_color()
-                    } else {
-                        egui::Color32::from_rgb(255, 120, 110)
-                    }),
-                );
-                ui.end_row();
-                ui.label(format!("bound (16) on S{}", i + 1));
-                ui.label(bound[i].map_or_else(|| "not applicable".to_owned(), fmt_len));
-                ui.end_row();
-            }
-            ui.label("compute, this device");
-            match compute.us_per_period() {
-                Some(us) => ui.label(format!(
-                    "{us:.2} µs per period; error measurement {:.2} µs",
-                    compute.measure_seconds * 1e6 / compute.periods.len().max(1) as f64
-                )),
-                None => ui.label("—"),
-            };
-            ui.end_row();
-        });
+        }
+        ui.label("compute, this device");
+        match compute.us_per_period() {
+            Some(us) => ui.label(format!(
+                "{us:.2} µs per period; error measurement {:.2} µs",
+                compute.measure_seconds * 1e6 / compute.periods.len().max(1) as f64
+            )),
+            None => ui.label("—"),
+        };
+        ui.end_row();
+    });
 }
 
 /// The summary and the selected plot, side by side.
-pub fn plots(
-    ui: &mut egui::Ui,
-    state: &mut PlotState,
-    compute: &Computation,
-    scene: &Scene,
-    cursor_k: f64,
-) {
+pub fn plots(ui: &mut egui::Ui, state: &mut PlotState, compute: &Computation, scene: &Scene, cursor_k: f64) {
     ui.horizontal_top(|ui| {
         ui.vertical(|ui| {
             ui.set_width(330.0);
@@ -230,17 +176,10 @@ pub fn plots(
 
 fn errors_plot(ui: &mut egui::Ui, log: bool, compute: &Computation, scene: &Scene, cursor_t: f64) {
     let period = scene.motion.period;
-    let allowed = [
-        scene.tolerance.share * scene.tolerance.t1,
-        scene.tolerance.share * scene.tolerance.t2,
-    ];
+    let allowed = [scene.tolerance.share * scene.tolerance.t1, scene.tolerance.share * scene.tolerance.t2];
     // Values in µm (linear) or log10 of µm.
     let y = |mm: f64| {
-        if log {
-            (mm.abs().max(LOG_FLOOR_MM) * 1e3).log10()
-        } else {
-            mm * 1e3
-        }
+        if log { (mm.abs().max(LOG_FLOOR_MM) * 1e3).log10() } else { mm * 1e3 }
     };
     let mut e = [Vec::new(), Vec::new()];
     let mut b16 = [Vec::new(), Vec::new()];
@@ -256,45 +195,29 @@ fn errors_plot(ui: &mut egui::Ui, log: bool, compute: &Computation, scene: &Scen
         }
     }
     let plot = Plot::new("errors")
-        .legend(
-            Legend::default()
-                .position(Corner::LeftTop)
-                .background_alpha(0.6),
-        )
+        .legend(Legend::default().position(Corner::LeftTop).background_alpha(0.6))
         .x_axis_label("t (ms)")
         .y_axis_label(if log { "|e| (µm, log)" } else { "e (µm)" })
         .allow_scroll(false)
-        .y_axis_formatter(move |mark, _| {
-            if log {
-                format!("1e{:.0}", mark.value)
-            } else {
-                format!("{:.3}", mark.value)
-            }
-        });
+        .y_axis_formatter(
+            move |mark, _| {
+                if log { format!("1e{:.0}", mark.value) } else { format!("{:.3}", mark.value) }
+            },
+        );
     plot.show(ui, |p| {
         for i in 0..2 {
             let color = SURFACE_COLORS[i];
             p.line(
-                Line::new(
-                    format!("e{} measured", i + 1),
-                    PlotPoints::from(decimate(&e[i], 1500)),
-                )
-                .color(color)
-                .width(1.5),
+                Line::new(format!("e{} measured", i + 1), PlotPoints::from(decimate(&e[i], 1500)))
+                    .color(color)
+                    .width(1.5),
             );
             p.line(
-                Line::new(
-                    format!("bound (16) S{}", i + 1),
-                    PlotPoints::from(decimate(&b16[i], 1500)),
-                )
-                .color(color.gamma_multiply(0.7))
-                .style(LineStyle::dashed_loose()),
+                Line::new(format!("bound (16) S{}", i + 1), PlotPoints::from(decimate(&b16[i], 1500)))
+                    .color(color.gamma_multiply(0.7))
+                    .style(LineStyle::dashed_loose()),
             );
-            let tol = if log {
-                (allowed[i] * 1e3).log10()
-            } else {
-                allowed[i] * 1e3
-            };
+            let tol = if log { (allowed[i] * 1e3).log10() } else { allowed[i] * 1e3 };
             p.hline(
                 HLine::new(format!("b·T{} = {}", i + 1, fmt_len(allowed[i])), tol)
                     .color(egui::Color32::from_rgb(235, 90, 80))
@@ -302,17 +225,11 @@ fn errors_plot(ui: &mut egui::Ui, log: bool, compute: &Computation, scene: &Scen
             );
             if !log {
                 p.hline(
-                    HLine::new(format!("−b·T{}", i + 1), -tol)
-                        .color(egui::Color32::from_rgb(235, 90, 80))
-                        .width(1.0),
+                    HLine::new(format!("−b·T{}", i + 1), -tol).color(egui::Color32::from_rgb(235, 90, 80)).width(1.0),
                 );
             }
         }
-        p.vline(
-            VLine::new("playback", cursor_t)
-                .color(egui::Color32::from_gray(200))
-                .width(1.0),
-        );
+        p.vline(VLine::new("playback", cursor_t).color(egui::Color32::from_gray(200)).width(1.0));
     });
 }
 
@@ -322,19 +239,10 @@ fn steps_plot(ui: &mut egui::Ui, compute: &Computation, scene: &Scene, cursor_t:
     let pts: Vec<[f64; 2]> = compute
         .periods
         .windows(2)
-        .map(|w| {
-            [
-                w[1].row.k as f64 * period,
-                ((w[1].row.p - w[0].row.p).length() - f) * 1e6,
-            ]
-        })
+        .map(|w| [w[1].row.k as f64 * period, ((w[1].row.p - w[0].row.p).length() - f) * 1e6])
         .collect();
     Plot::new("steps")
-        .legend(
-            Legend::default()
-                .position(Corner::LeftTop)
-                .background_alpha(0.6),
-        )
+        .legend(Legend::default().position(Corner::LeftTop).background_alpha(0.6))
         .x_axis_label("t (ms)")
         .y_axis_label("|Δp| − f (nm)")
         .allow_scroll(false)
@@ -344,10 +252,6 @@ fn steps_plot(ui: &mut egui::Ui, compute: &Computation, scene: &Scene, cursor_t:
                     .color(egui::Color32::from_rgb(120, 230, 120)),
             );
             p.hline(HLine::new(format!("f = {f:.4} mm"), 0.0).color(egui::Color32::from_gray(160)));
-            p.vline(
-                VLine::new("playback", cursor_t)
-                    .color(egui::Color32::from_gray(200))
-                    .width(1.0),
-            );
+            p.vline(VLine::new("playback", cursor_t).color(egui::Color32::from_gray(200)).width(1.0));
         });
 }

@@ -13,9 +13,7 @@ use super::controls::SURFACE_COLORS;
 use crate::geom::ParametricSurface;
 use crate::render::geometry::{Origin, bounds, iso_lines, polyline, tessellate};
 use crate::render::gpu::paint_callback;
-use crate::render::{
-    Layer, LineSegment, Mesh, OrbitCamera, Renderer3d, SphereInstance, ViewCallback, ViewId,
-};
+use crate::render::{Layer, LineSegment, Mesh, OrbitCamera, Renderer3d, SphereInstance, ViewCallback, ViewId};
 use crate::scene::{Scene, SurfaceSpec};
 
 /// What the view shows (the "Display" section of the controls).
@@ -49,12 +47,7 @@ impl Default for ViewSettings {
 }
 
 fn rgba(c: egui::Color32, a: f32) -> [f32; 4] {
-    [
-        f32::from(c.r()) / 255.0,
-        f32::from(c.g()) / 255.0,
-        f32::from(c.b()) / 255.0,
-        a,
-    ]
+    [f32::from(c.r()) / 255.0, f32::from(c.g()) / 255.0, f32::from(c.b()) / 255.0, a]
 }
 
 const PATH_COLOR: egui::Color32 = egui::Color32::from_rgb(120, 230, 120);
@@ -133,10 +126,7 @@ impl CreaseView {
             }
         }
         let (center, radius) = bounds(samples).unwrap_or((DVec3::ZERO, 100.0));
-        let origin_changed = self
-            .built_for
-            .as_ref()
-            .is_none_or(|(s, _, _)| *s != scene.surfaces);
+        let origin_changed = self.built_for.as_ref().is_none_or(|(s, _, _)| *s != scene.surfaces);
         if origin_changed {
             self.origin = Origin(center);
             self.scene_radius = radius.max(1.0);
@@ -152,13 +142,7 @@ impl CreaseView {
             let color = SURFACE_COLORS[i];
             surfaces.extend(&tessellate(s, self.origin, 72, 0.0, rgba(color, 1.0)));
             if self.settings.show_offsets {
-                offsets.extend(&tessellate(
-                    s,
-                    self.origin,
-                    56,
-                    job.r_eff_mm,
-                    rgba(color, 0.16),
-                ));
+                offsets.extend(&tessellate(s, self.origin, 56, job.r_eff_mm, rgba(color, 0.16)));
             }
             if self.settings.show_iso {
                 let dark = rgba(color.gamma_multiply(0.45), 1.0);
@@ -186,42 +170,23 @@ impl CreaseView {
 
     fn update_path(&mut self, rs: &RenderState, compute: &Computation) {
         let n = compute.periods.len();
-        let key = (
-            compute.generation,
-            n,
-            self.settings.magnify,
-            self.settings.show_exact,
-        );
+        let key = (compute.generation, n, self.settings.magnify, self.settings.show_exact);
         if key == self.path_for {
             return;
         }
-        let same_run = self.path_for.0 == key.0
-            && self.path_for.2 == key.2
-            && self.path_for.3 == key.3
-            && self.path_for.1 <= n;
-        let from = if same_run {
-            self.path_for.1.saturating_sub(1)
-        } else {
-            0
-        };
+        let same_run =
+            self.path_for.0 == key.0 && self.path_for.2 == key.2 && self.path_for.3 == key.3 && self.path_for.1 <= n;
+        let from = if same_run { self.path_for.1.saturating_sub(1) } else { 0 };
         if !same_run {
             self.path_cpu.clear();
             self.exact_cpu.clear();
         }
         let unchanged = (self.path_cpu.len(), self.exact_cpu.len());
-        let pts: Vec<DVec3> = compute.periods[from..]
-            .iter()
-            .map(|p| self.centre_drawn(p))
-            .collect();
-        self.path_cpu
-            .extend(polyline(pts, self.origin, 3.0, rgba(PATH_COLOR, 1.0)));
+        let pts: Vec<DVec3> = compute.periods[from..].iter().map(|p| self.centre_drawn(p)).collect();
+        self.path_cpu.extend(polyline(pts, self.origin, 3.0, rgba(PATH_COLOR, 1.0)));
         if self.settings.show_exact {
-            let ex: Vec<DVec3> = compute.periods[from..]
-                .iter()
-                .filter_map(|p| p.exact)
-                .collect();
-            self.exact_cpu
-                .extend(polyline(ex, self.origin, 1.3, rgba(EXACT_COLOR, 0.95)));
+            let ex: Vec<DVec3> = compute.periods[from..].iter().filter_map(|p| p.exact).collect();
+            self.exact_cpu.extend(polyline(ex, self.origin, 1.3, rgba(EXACT_COLOR, 0.95)));
         }
         let (path, exact) = (&self.path_cpu, &self.exact_cpu);
         Renderer3d::with(rs, |r| {
@@ -231,13 +196,7 @@ impl CreaseView {
         self.path_for = key;
     }
 
-    fn update_cutters(
-        &mut self,
-        rs: &RenderState,
-        scene: &Scene,
-        compute: &Computation,
-        playback: &Playback,
-    ) {
+    fn update_cutters(&mut self, rs: &RenderState, scene: &Scene, compute: &Computation, playback: &Playback) {
         let n = compute.periods.len();
         let r_ball = scene.tool.radius as f32;
         let key = (compute.generation, n, self.settings.show_cutters);
@@ -269,19 +228,11 @@ impl CreaseView {
                 color: [0.95, 0.95, 0.98, 0.55],
             });
             let dot = (0.035 * job.r_eff_mm).max(0.02) as f32;
-            markers.push(SphereInstance {
-                center: self.origin.local(c),
-                radius: dot,
-                color: [1.0, 1.0, 1.0, 1.0],
-            });
+            markers.push(SphereInstance { center: self.origin.local(c), radius: dot, color: [1.0, 1.0, 1.0, 1.0] });
             for i in 0..2 {
                 let d = job.surfaces[i].derivatives_at(p.row.uv[i]);
                 let color = rgba(SURFACE_COLORS[i], 1.0);
-                markers.push(SphereInstance {
-                    center: self.origin.local(d.point),
-                    radius: dot * 1.4,
-                    color,
-                });
+                markers.push(SphereInstance { center: self.origin.local(d.point), radius: dot * 1.4, color });
                 // The contact normal runs from q_i to the centre (length R').
                 dynamic.push(LineSegment::new(
                     self.origin.local(d.point),
@@ -290,13 +241,8 @@ impl CreaseView {
                     color,
                 ));
             }
-            if let Some(next) = compute
-                .periods
-                .get(k + 1)
-                .or_else(|| compute.periods.get(k.saturating_sub(1)))
-            {
-                let t =
-                    (next.row.p - p.row.p).normalize_or_zero() * if k + 1 < n { 1.0 } else { -1.0 };
+            if let Some(next) = compute.periods.get(k + 1).or_else(|| compute.periods.get(k.saturating_sub(1))) {
+                let t = (next.row.p - p.row.p).normalize_or_zero() * if k + 1 < n { 1.0 } else { -1.0 };
                 dynamic.push(LineSegment::new(
                     self.origin.local(c),
                     self.origin.local(c + t * 2.0 * job.r_eff_mm),
@@ -321,10 +267,8 @@ impl CreaseView {
         compute: &Computation,
         playback: &Playback,
     ) {
-        let (rect, response) = ui.allocate_exact_size(
-            ui.available_size().max(egui::vec2(64.0, 64.0)),
-            egui::Sense::click_and_drag(),
-        );
+        let (rect, response) =
+            ui.allocate_exact_size(ui.available_size().max(egui::vec2(64.0, 64.0)), egui::Sense::click_and_drag());
         let Some(rs) = rs else {
             ui.painter().text(
                 rect.center(),
@@ -364,13 +308,8 @@ impl CreaseView {
         }
 
         let ppp = ui.ctx().pixels_per_point();
-        let size_px = [
-            (rect.width() * ppp).round().max(1.0) as u32,
-            (rect.height() * ppp).round().max(1.0) as u32,
-        ];
-        let clip = self
-            .camera
-            .clip_from_world(rect.width() / rect.height().max(1.0));
+        let size_px = [(rect.width() * ppp).round().max(1.0) as u32, (rect.height() * ppp).round().max(1.0) as u32];
+        let clip = self.camera.clip_from_world(rect.width() / rect.height().max(1.0));
         ui.painter().add(paint_callback(
             rect,
             ViewCallback {
@@ -389,13 +328,7 @@ impl CreaseView {
         self.camera.fit(Vec3::ZERO, self.scene_radius as f32);
     }
 
-    fn overlays(
-        &mut self,
-        ui: &mut egui::Ui,
-        rect: egui::Rect,
-        scene: &Scene,
-        compute: &Computation,
-    ) {
+    fn overlays(&mut self, ui: &mut egui::Ui, rect: egui::Rect, scene: &Scene, compute: &Computation) {
         let painter = ui.painter_at(rect);
         let font = egui::FontId::proportional(13.0);
         // Axis triad, bottom left.
@@ -411,55 +344,28 @@ impl CreaseView {
         ] {
             let tip = o + egui::vec2(axis.dot(right), -axis.dot(up)) * 32.0;
             painter.line_segment([o, tip], egui::Stroke::new(2.0, color));
-            painter.text(
-                tip + (tip - o).normalized() * 8.0,
-                egui::Align2::CENTER_CENTER,
-                name,
-                font.clone(),
-                color,
-            );
+            painter.text(tip + (tip - o).normalized() * 8.0, egui::Align2::CENTER_CENTER, name, font.clone(), color);
         }
         // Scale bar, bottom right: a round length of 60–150 points at the target's depth.
         let mm_per_pt = f64::from(self.camera.mm_per_point(rect.height()));
         let target = 100.0 * mm_per_pt;
         let pow = 10f64.powf(target.log10().floor());
-        let nice = [1.0, 2.0, 5.0, 10.0]
-            .iter()
-            .map(|m| m * pow)
-            .find(|l| *l / mm_per_pt >= 60.0)
-            .unwrap_or(10.0 * pow);
+        let nice = [1.0, 2.0, 5.0, 10.0].iter().map(|m| m * pow).find(|l| *l / mm_per_pt >= 60.0).unwrap_or(10.0 * pow);
         let len_pt = (nice / mm_per_pt) as f32;
         let end = rect.right_bottom() + egui::vec2(-20.0, -24.0);
         let start = end - egui::vec2(len_pt, 0.0);
         let white = egui::Color32::from_gray(220);
         painter.line_segment([start, end], egui::Stroke::new(2.0, white));
         for x in [start, end] {
-            painter.line_segment(
-                [x - egui::vec2(0.0, 5.0), x + egui::vec2(0.0, 5.0)],
-                egui::Stroke::new(2.0, white),
-            );
+            painter.line_segment([x - egui::vec2(0.0, 5.0), x + egui::vec2(0.0, 5.0)], egui::Stroke::new(2.0, white));
         }
-        let label = if nice >= 1.0 {
-            format!("{nice} mm")
-        } else {
-            format!("{} µm", nice * 1000.0)
-        };
-        painter.text(
-            start + egui::vec2(len_pt / 2.0, -12.0),
-            egui::Align2::CENTER_CENTER,
-            label,
-            font.clone(),
-            white,
-        );
+        let label = if nice >= 1.0 { format!("{nice} mm") } else { format!("{} µm", nice * 1000.0) };
+        painter.text(start + egui::vec2(len_pt / 2.0, -12.0), egui::Align2::CENTER_CENTER, label, font.clone(), white);
         // Legend, top left.
         let mut y = rect.top() + 10.0;
         let x = rect.left() + 10.0;
         let mut entry = |color: egui::Color32, text: String| {
-            painter.rect_filled(
-                egui::Rect::from_min_size(egui::pos2(x, y + 3.0), egui::vec2(12.0, 10.0)),
-                2.0,
-                color,
-            );
+            painter.rect_filled(egui::Rect::from_min_size(egui::pos2(x, y + 3.0), egui::vec2(12.0, 10.0)), 2.0, color);
             painter.text(
                 egui::pos2(x + 18.0, y),
                 egui::Align2::LEFT_TOP,
@@ -477,52 +383,29 @@ impl CreaseView {
         } else {
             String::new()
         };
-        entry(
-            PATH_COLOR,
-            format!("cutter centres, one per period{magnify}"),
-        );
+        entry(PATH_COLOR, format!("cutter centres, one per period{magnify}"));
         if self.settings.show_exact {
             entry(EXACT_COLOR, "exact crease (Newton)".to_owned());
         }
-        entry(
-            egui::Color32::from_gray(200),
-            format!("ball R = {} mm", scene.tool.radius),
-        );
+        entry(egui::Color32::from_gray(200), format!("ball R = {} mm", scene.tool.radius));
         let (ok, text) = super::describe_outcome(compute);
         painter.text(
             egui::pos2(rect.right() - 10.0, rect.top() + 10.0),
             egui::Align2::RIGHT_TOP,
             text,
             font,
-            if ok {
-                egui::Color32::from_gray(210)
-            } else {
-                egui::Color32::from_rgb(255, 120, 110)
-            },
+            if ok { egui::Color32::from_gray(210) } else { egui::Color32::from_rgb(255, 120, 110) },
         );
         // Fit / reset buttons, under the status line.
-        let buttons = egui::Rect::from_min_size(
-            rect.right_top() + egui::vec2(-140.0, 32.0),
-            egui::vec2(130.0, 24.0),
-        );
+        let buttons = egui::Rect::from_min_size(rect.right_top() + egui::vec2(-140.0, 32.0), egui::vec2(130.0, 24.0));
         let mut child = ui.new_child(
-            egui::UiBuilder::new()
-                .max_rect(buttons)
-                .layout(egui::Layout::right_to_left(egui::Align::Center)),
+            egui::UiBuilder::new().max_rect(buttons).layout(egui::Layout::right_to_left(egui::Align::Center)),
         );
-        if child
-            .small_button("reset")
-            .on_hover_text("Default view angles, fitted")
-            .clicked()
-        {
+        if child.small_button("reset").on_hover_text("Default view angles, fitted").clicked() {
             self.camera = OrbitCamera::default();
             self.fit();
         }
-        if child
-            .small_button("fit")
-            .on_hover_text("Frame the whole scene (double-click)")
-            .clicked()
-        {
+        if child.small_button("fit").on_hover_text("Frame the whole scene (double-click)").clicked() {
             self.fit();
         }
     }

@@ -22,9 +22,7 @@ fn show_failure(message: &str) {
         if let Ok(html) = el.dyn_into::<web_sys::HtmlElement>() {
             let _ = html.style().set_property("display", "block");
         }
-        let _ = doc
-            .document_element()
-            .map(|e| e.class_list().add_1("failed"));
+        let _ = doc.document_element().map(|e| e.class_list().add_1("failed"));
     }
 }
 
@@ -36,21 +34,14 @@ pub fn start() {
         let Some(doc) = web_sys::window().and_then(|w| w.document()) else {
             return;
         };
-        let Some(canvas) = doc
-            .get_element_by_id(CANVAS_ID)
-            .and_then(|e| e.dyn_into::<web_sys::HtmlCanvasElement>().ok())
+        let Some(canvas) =
+            doc.get_element_by_id(CANVAS_ID).and_then(|e| e.dyn_into::<web_sys::HtmlCanvasElement>().ok())
         else {
             show_failure(&format!("the page has no <canvas id=\"{CANVAS_ID}\">"));
             return;
         };
         let runner = eframe::WebRunner::new();
-        let started = runner
-            .start(
-                canvas,
-                web_options,
-                Box::new(|cc| Ok(Box::new(InterpolabApp::new(cc)))),
-            )
-            .await;
+        let started = runner.start(canvas, web_options, Box::new(|cc| Ok(Box::new(InterpolabApp::new(cc))))).await;
         match started {
             Ok(()) => {
                 if let Some(el) = doc.get_element_by_id(LOADING_ID) {
@@ -60,9 +51,7 @@ pub fn start() {
                 // leaving a frozen canvas.
                 watch_for_panic(runner);
             }
-            Err(e) => show_failure(&format!(
-                "It could not start: {e:?}. A browser with WebGPU or WebGL2 is needed."
-            )),
+            Err(e) => show_failure(&format!("It could not start: {e:?}. A browser with WebGPU or WebGL2 is needed.")),
         }
     });
 }
@@ -76,9 +65,7 @@ fn watch_for_panic(runner: eframe::WebRunner) {
     let handle2 = handle.clone();
     let check = Closure::<dyn FnMut()>::new(move || {
         if runner.has_panicked() {
-            let summary = runner
-                .panic_summary()
-                .map_or_else(|| "unknown error".to_owned(), |s| s.message());
+            let summary = runner.panic_summary().map_or_else(|| "unknown error".to_owned(), |s| s.message());
             // Recreate the message element (it was removed after the start).
             if let Some(doc) = web_sys::window().and_then(|w| w.document()) {
                 if doc.get_element_by_id(LOADING_ID).is_none() {
@@ -94,10 +81,8 @@ fn watch_for_panic(runner: eframe::WebRunner) {
             }
         }
     });
-    if let Ok(id) = window.set_interval_with_callback_and_timeout_and_arguments_0(
-        check.as_ref().unchecked_ref(),
-        1000,
-    ) {
+    if let Ok(id) = window.set_interval_with_callback_and_timeout_and_arguments_0(check.as_ref().unchecked_ref(), 1000)
+    {
         handle.set(id);
     }
     check.forget();

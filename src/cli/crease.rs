@@ -7,12 +7,13 @@ use std::process::ExitCode;
 
 use super::{Fatal, MethodArg, OutFormat};
 
-use interpolab::crease::{diagnose, CreaseJob, InterpOptions, Interpolator, Method, Step};
-use interpolab::report::{fmt_num, Format, RowWriter};
+use interpolab::crease::{CreaseJob, InterpOptions, Interpolator, Method, Step, diagnose};
+use interpolab::report::{Format, RowWriter, fmt_num};
 use interpolab::scene::Scene;
 
 pub(super) fn load(path: &Path) -> Result<(Scene, CreaseJob), Fatal> {
-    let text = fs::read_to_string(path).map_err(|e| Fatal(format!("cannot read scene file {}: {e}", path.display())))?;
+    let text =
+        fs::read_to_string(path).map_err(|e| Fatal(format!("cannot read scene file {}: {e}", path.display())))?;
     let scene = Scene::from_json(&text).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
     let job = CreaseJob::from_scene(&scene).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
     Ok((scene, job))
@@ -93,7 +94,8 @@ fn write_failed(e: &io::Error) -> ! {
 
 pub(super) fn check(path: &Path) -> Result<ExitCode, Fatal> {
     let (scene, job) = load(path)?;
-    let mut it = Interpolator::new(job.clone(), InterpOptions::default()).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
+    let mut it = Interpolator::new(job.clone(), InterpOptions::default())
+        .map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
     let start_shift = (it.first_row().p - job.start).length();
     let mut n = 0u64;
     let mut k_range = [[f64::INFINITY, f64::NEG_INFINITY]; 2];
@@ -125,50 +127,72 @@ pub(super) fn check(path: &Path) -> Result<ExitCode, Fatal> {
     let w = |o: &mut io::StdoutLock<'_>, s: String| {
         let _ = writeln!(o, "{s}");
     };
-    w(&mut o, format!("scene        {} ({})", if scene.name.is_empty() { "(unnamed)" } else { &scene.name }, path.display()));
-    w(&mut o, format!(
-        "surfaces     S1 {}, S2 {}; ball R = {} mm, allowance C = {} mm, R' = {} mm",
-        job.surfaces[0].type_name(),
-        job.surfaces[1].type_name(),
-        fmt_num(job.ball_radius_mm),
-        fmt_num(scene.tool.allowance),
-        fmt_num(job.r_eff_mm)
-    ));
-    w(&mut o, format!(
-        "motion       F = {} mm/min, Ts = {} ms, feed per period f = {} mm",
-        fmt_num(job.feed_mm_per_min),
-        fmt_num(job.period_ms),
-        fmt_num(f)
-    ));
+    w(
+        &mut o,
+        format!("scene        {} ({})", if scene.name.is_empty() { "(unnamed)" } else { &scene.name }, path.display()),
+    );
+    w(
+        &mut o,
+        format!(
+            "surfaces     S1 {}, S2 {}; ball R = {} mm, allowance C = {} mm, R' = {} mm",
+            job.surfaces[0].type_name(),
+            job.surfaces[1].type_name(),
+            fmt_num(job.ball_radius_mm),
+            fmt_num(scene.tool.allowance),
+            fmt_num(job.r_eff_mm)
+        ),
+    );
+    w(
+        &mut o,
+        format!(
+            "motion       F = {} mm/min, Ts = {} ms, feed per period f = {} mm",
+            fmt_num(job.feed_mm_per_min),
+            fmt_num(job.period_ms),
+            fmt_num(f)
+        ),
+    );
     w(&mut o, format!("start        moved {start_shift:.6} mm onto the crease"));
     let status = match &outcome {
         Ok(reason) => format!("stopped: {reason}"),
         Err(e) => format!("ERROR: {e}"),
     };
     w(&mut o, format!("periods      {n} ({status})"));
-    w(&mut o, format!("length       {:.4} mm, machining time {:.3} s", n as f64 * f, n as f64 * job.period_ms / 1000.0));
+    w(
+        &mut o,
+        format!("length       {:.4} mm, machining time {:.3} s", n as f64 * f, n as f64 * job.period_ms / 1000.0),
+    );
     w(&mut o, format!("crease angle {:.3}° to {:.3}° between the normals", angle[0], angle[1]));
     let mut exceeded = false;
     for i in 0..2 {
         let allowed = job.allowed_error_mm(i);
-        w(&mut o, format!(
-            "S{}           normal curvature along the crease {:.6} to {:.6} 1/mm",
-            i + 1,
-            k_range[i][0],
-            k_range[i][1]
-        ));
-        let est = if est_missing[i] { "unbounded (outside the validity of (16))".to_owned() } else { format!("{:.3e} mm", worst_est[i]) };
+        w(
+            &mut o,
+            format!(
+                "S{}           normal curvature along the crease {:.6} to {:.6} 1/mm",
+                i + 1,
+                k_range[i][0],
+                k_range[i][1]
+            ),
+        );
+        let est = if est_missing[i] {
+            "unbounded (outside the validity of (16))".to_owned()
+        } else {
+            format!("{:.3e} mm", worst_est[i])
+        };
         let ok_est = !est_missing[i] && worst_est[i] <= allowed;
         let ok_meas = worst_meas[i] <= allowed;
         exceeded |= !(ok_est && ok_meas);
-        w(&mut o, format!(
-            "             worst estimate (16) {est}, worst measured |e{}| {:.3e} mm, allowed b·T{} = {} mm: {}",
-            i + 1,
-            worst_meas[i],
-            i + 1,
-            fmt_num(allowed),
-            if ok_est && ok_meas { "within" } else { "EXCEEDED" }
-        ));
+        w(
+            &mut o,
+            format!(
+                "             worst estimate (16) {est}, worst measured |e{}| {:.3e} mm, allowed b·T{} = {} mm: {}",
+                i + 1,
+                worst_meas[i],
+                i + 1,
+                fmt_num(allowed),
+                if ok_est && ok_meas { "within" } else { "EXCEEDED" }
+            ),
+        );
     }
     drop(o);
     if let Err(e) = outcome {

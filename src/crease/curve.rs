@@ -48,11 +48,7 @@ impl CreaseCurve {
             let n1 = job.surfaces[0].derivatives_at(r.uv[0]).normal;
             let n2 = job.surfaces[1].derivatives_at(r.uv[1]).normal;
             let mut t = n1.cross(n2).normalize_or_zero();
-            let travel = if i + 1 < rows.len() {
-                rows[i + 1].p - r.p
-            } else {
-                r.p - rows[i - 1].p
-            };
+            let travel = if i + 1 < rows.len() { rows[i + 1].p - r.p } else { r.p - rows[i - 1].p };
             if t.dot(travel) < 0.0 {
                 t = -t;
             }
@@ -63,11 +59,7 @@ impl CreaseCurve {
             tangents.push(t);
         }
         let path = HermitePath::new(points, tangents)?;
-        Some(Self {
-            job: job.clone(),
-            path,
-            uv: rows.iter().map(|r| r.uv).collect(),
-        })
+        Some(Self { job: job.clone(), path, uv: rows.iter().map(|r| r.uv).collect() })
     }
 
     /// The job the rows came from.
@@ -91,10 +83,7 @@ impl CreaseCurve {
         let i = self.path.segment(s);
         let params = self.path.params();
         let x = (s - params[i]) / (params[i + 1] - params[i]);
-        let guess = [
-            self.uv[i][0].lerp(self.uv[i + 1][0], x),
-            self.uv[i][1].lerp(self.uv[i + 1][1], x),
-        ];
+        let guess = [self.uv[i][0].lerp(self.uv[i + 1][0], x), self.uv[i][1].lerp(self.uv[i + 1][1], x)];
         // Periodic parameters may wrap between rows; fall back to the nearer row's values.
         let guess = if (self.uv[i + 1][0] - self.uv[i][0]).length() > 1.0
             || (self.uv[i + 1][1] - self.uv[i][1]).length() > 1.0
@@ -104,28 +93,13 @@ impl CreaseCurve {
             guess
         };
         let target = self.path.point_at(s);
-        let cp = newton::solve(
-            &self.job,
-            guess,
-            Constraint::NearestTo(target),
-            NewtonOptions::default(),
-        )
-        .ok()?;
-        let d = [
-            self.job.surfaces[0].derivatives_at(cp.uv[0]),
-            self.job.surfaces[1].derivatives_at(cp.uv[1]),
-        ];
+        let cp = newton::solve(&self.job, guess, Constraint::NearestTo(target), NewtonOptions::default()).ok()?;
+        let d = [self.job.surfaces[0].derivatives_at(cp.uv[0]), self.job.surfaces[1].derivatives_at(cp.uv[1])];
         let mut t = cp.tangent;
         if t.dot(self.path.derivatives_at(s)[1]) < 0.0 {
             t = -t;
         }
-        Some(CreaseFrame {
-            center: cp.p,
-            contact: [d[0].point, d[1].point],
-            normal: cp.n,
-            tangent: t,
-            uv: cp.uv,
-        })
+        Some(CreaseFrame { center: cp.p, contact: [d[0].point, d[1].point], normal: cp.n, tangent: t, uv: cp.uv })
     }
 }
 

@@ -77,17 +77,10 @@ pub fn diagnose(job: &CreaseJob, row: &Row) -> Option<Diagnostics> {
     let k_t = [g1.normal_curvature(t), g2.normal_curvature(t)];
     let principal = [g1.principal_curvatures(), g2.principal_curvatures()];
     let tau = [g1.geodesic_torsion(t), g2.geodesic_torsion(t)];
-    let eps = [
-        (g1.d.point + r * n1 - row.p).length(),
-        (g2.d.point + r * n2 - row.p).length(),
-    ];
+    let eps = [(g1.d.point + r * n1 - row.p).length(), (g2.d.point + r * n2 - row.p).length()];
     let denom = (k_t[0] * k_t[1] * (g1.d.point - g2.d.point) + k_t[1] * n1 - k_t[0] * n2).length();
     let numer = (1.0 - r * k_t[0]) * (1.0 - r * k_t[1]) * sin;
-    let mp = if denom > 0.0 {
-        numer / denom
-    } else {
-        f64::INFINITY
-    };
+    let mp = if denom > 0.0 { numer / denom } else { f64::INFINITY };
 
     let mut est11 = [0.0; 2];
     let mut est12 = [0.0; 2];
@@ -97,11 +90,7 @@ pub fn diagnose(job: &CreaseJob, row: &Row) -> Option<Diagnostics> {
         let dk = (principal[i].0 - principal[i].1).abs();
         let tau2 = tau[i] * tau[i];
         let a = 1.0 + k * r;
-        let third = if mp.is_finite() {
-            tau[i].abs() * f.powi(3) / (2.0 * a * a * mp)
-        } else {
-            0.0
-        };
+        let third = if mp.is_finite() { tau[i].abs() * f.powi(3) / (2.0 * a * a * mp) } else { 0.0 };
         est11[i] = tau2 * r * f * f / (2.0 * a * a) + third;
         let coeff = dk + dk * dk * r + tau2 * r;
         est12[i] = coeff / (2.0 * a * a) * (f + eps[i]).powi(2);

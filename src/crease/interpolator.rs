@@ -63,12 +63,7 @@ pub struct InterpOptions {
 
 impl Default for InterpOptions {
     fn default() -> Self {
-        Self {
-            method: Method::Seed000,
-            exact_feed: true,
-            turns: 1,
-            max_correction_ratio: 0.5,
-        }
+        Self { method: Method::Seed000, exact_feed: true, turns: 1, max_correction_ratio: 0.5 }
     }
 }
 
@@ -137,23 +132,12 @@ impl Interpolator {
         };
         let capture = 2.0 * job.feed_per_period_mm + 1e-6;
         let domains = [job.surfaces[0].domain(), job.surfaces[1].domain()];
-        let row = Row {
-            k: 0,
-            t_ms: 0.0,
-            p: start.p,
-            uv: start.uv,
-        };
+        let row = Row { k: 0, t_ms: 0.0, p: start.p, uv: start.uv };
         Ok(Self {
             opts,
             domains,
-            end: end.map(|e| Target {
-                point: e.p,
-                left: false,
-            }),
-            home: Target {
-                point: start.p,
-                left: false,
-            },
+            end: end.map(|e| Target { point: e.p, left: false }),
+            home: Target { point: start.p, left: false },
             turns: 0,
             row,
             prev_t: sense * start.tangent,
@@ -181,12 +165,7 @@ impl Interpolator {
     /// Row 0: the start point brought onto the crease.
     #[must_use]
     pub fn first_row(&self) -> Row {
-        Row {
-            k: 0,
-            t_ms: 0.0,
-            p: self.start.p,
-            uv: self.start.uv,
-        }
+        Row { k: 0, t_ms: 0.0, p: self.start.p, uv: self.start.uv }
     }
 
     /// The exact crease point of `path.start`.
@@ -232,10 +211,7 @@ impl Interpolator {
             return Ok(self.stop(StopReason::MaxSteps));
         }
         let k = self.row.k + 1;
-        let at = Location::Period {
-            k,
-            t_ms: k as f64 * self.job.period_ms,
-        };
+        let at = Location::Period { k, t_ms: k as f64 * self.job.period_ms };
         let (p_next, uv_next, t, geo_next) = match self.opts.method {
             Method::Seed000 => {
                 let (p, uv, t) = self.seed000_step(at)?;
@@ -257,18 +233,10 @@ impl Interpolator {
                 }
             }
         }
-        let uv_next = [
-            self.domains[0].wrap(uv_next[0]),
-            self.domains[1].wrap(uv_next[1]),
-        ];
+        let uv_next = [self.domains[0].wrap(uv_next[0]), self.domains[1].wrap(uv_next[1])];
         // Wrapping a periodic parameter does not change the point, so the geometry holds.
         self.pending = geo_next;
-        let next = Row {
-            k,
-            t_ms: at_time(at),
-            p: p_next,
-            uv: uv_next,
-        };
+        let next = Row { k, t_ms: at_time(at), p: p_next, uv: uv_next };
         let prev = self.row;
 
         // Passing path.end or, on a closed crease, the start again.
@@ -339,10 +307,7 @@ impl Interpolator {
                 let mut geo = [None, None];
                 for i in 0..2 {
                     let d = self.job.surfaces[i].derivatives_at(self.row.uv[i]);
-                    geo[i] = Some(
-                        LocalGeometry::try_new(d)
-                            .ok_or(CreaseError::Singular { at, surface: i })?,
-                    );
+                    geo[i] = Some(LocalGeometry::try_new(d).ok_or(CreaseError::Singular { at, surface: i })?);
                 }
                 let [Some(g1), Some(g2)] = geo else {
                     return Err(CreaseError::Singular { at, surface: 0 });
@@ -371,12 +336,7 @@ impl Interpolator {
         for (i, g) in geo.iter().enumerate() {
             if !g.offset_is_regular(r) {
                 let (k_max, _) = g.principal_curvatures();
-                return Err(CreaseError::Fold {
-                    at,
-                    surface: i,
-                    radius_mm: 1.0 / k_max,
-                    r_eff_mm: r,
-                });
+                return Err(CreaseError::Fold { at, surface: i, radius_mm: 1.0 / k_max, r_eff_mm: r });
             }
         }
         Ok(())
@@ -420,11 +380,7 @@ impl Interpolator {
         let dp = (c[0] * w[1].cross(m) + c[1] * m.cross(w[0])) / det;
         let max_dp = self.opts.max_correction_ratio * f + 1e-9;
         if !(dp.length_squared() <= max_dp * max_dp) {
-            return Err(CreaseError::StepTooLong {
-                at,
-                feed_mm: f,
-                correction_mm: dp.length(),
-            });
+            return Err(CreaseError::StepTooLong { at, feed_mm: f, correction_mm: dp.length() });
         }
         let mut p_e = p_star + dp;
         if self.opts.exact_feed {
@@ -439,29 +395,21 @@ impl Interpolator {
             let len = dr.length();
             if len > 0.0 {
                 let e = dr / len;
-                let Some(duv) = crate::geom::solve_tangent(&geo[i].d, n.cross(e), 0.0, e, len)
-                else {
+                let Some(duv) = crate::geom::solve_tangent(&geo[i].d, n.cross(e), 0.0, e, len) else {
                     return Err(CreaseError::Singular { at, surface: i });
                 };
                 uv[i] += duv;
             }
         }
         if !(p_e.is_finite() && uv[0].is_finite() && uv[1].is_finite()) {
-            return Err(CreaseError::StepTooLong {
-                at,
-                feed_mm: f,
-                correction_mm: f64::INFINITY,
-            });
+            return Err(CreaseError::StepTooLong { at, feed_mm: f, correction_mm: f64::INFINITY });
         }
         Ok((p_e, uv, t))
     }
 
     /// The precise stepper: predictor along the tangent, Newton onto the exact crease at
     /// distance f.
-    fn exact_step(
-        &self,
-        at: Location,
-    ) -> Result<(DVec3, [DVec2; 2], DVec3, Option<[LocalGeometry; 2]>), CreaseError> {
+    fn exact_step(&self, at: Location) -> Result<(DVec3, [DVec2; 2], DVec3, Option<[LocalGeometry; 2]>), CreaseError> {
         let (geo, t) = self.local(at)?;
         self.fold_check(&geo, at)?;
         let r = self.job.r_eff_mm;
@@ -474,22 +422,12 @@ impl Interpolator {
         let (cp, geo_next) = newton::solve_with_geometry(
             &self.job,
             guess,
-            Constraint::AtDistance {
-                from: self.row.p,
-                dist: f,
-            },
-            NewtonOptions {
-                max_step_mm: f,
-                stay_in_domain: false,
-                ..NewtonOptions::default()
-            },
+            Constraint::AtDistance { from: self.row.p, dist: f },
+            NewtonOptions { max_step_mm: f, stay_in_domain: false, ..NewtonOptions::default() },
         )
         .map_err(|e| e.into_error(at, &self.job))?;
         if (cp.p - self.row.p).dot(t) <= 0.0 {
-            return Err(CreaseError::NewtonFailed {
-                at,
-                detail: "the step turned back along the crease".into(),
-            });
+            return Err(CreaseError::NewtonFailed { at, detail: "the step turned back along the crease".into() });
         }
         Ok((cp.p, cp.uv, t, Some(geo_next)))
     }

@@ -97,10 +97,7 @@ impl CreaseJob {
     /// Parameters of a row in file units (degrees for angles).
     #[must_use]
     pub fn params_to_file(&self, uv: [DVec2; 2]) -> [DVec2; 2] {
-        [
-            self.surfaces[0].domain().to_file(uv[0]),
-            self.surfaces[1].domain().to_file(uv[1]),
-        ]
+        [self.surfaces[0].domain().to_file(uv[0]), self.surfaces[1].domain().to_file(uv[1])]
     }
 }
 
@@ -189,12 +186,7 @@ impl fmt::Display for StopReason {
                 write!(f, "the crease closed on itself after one full turn")
             }
             Self::Closed { turns } => write!(f, "the crease closed on itself; {turns} turns made"),
-            Self::LeftDomain {
-                surface,
-                param,
-                value,
-                range,
-            } => write!(
+            Self::LeftDomain { surface, param, value, range } => write!(
                 f,
                 "the contact point on surface {} would leave its domain ({param} = {value:.6} outside [{}, {}])",
                 surface + 1,
@@ -270,9 +262,7 @@ pub enum CreaseError {
     )]
     DirectionAmbiguous,
     /// The precise (Newton) mode could not converge.
-    #[error(
-        "at {at} Newton's method did not converge on the crease ({detail}); lower motion.feed or motion.period"
-    )]
+    #[error("at {at} Newton's method did not converge on the crease ({detail}); lower motion.feed or motion.period")]
     NewtonFailed {
         /// Where.
         at: Location,

@@ -38,12 +38,7 @@ pub struct NewtonOptions {
 
 impl Default for NewtonOptions {
     fn default() -> Self {
-        Self {
-            max_iterations: 60,
-            tol_mm: tolerance::NEWTON_LENGTH_MM,
-            max_step_mm: 5.0,
-            stay_in_domain: true,
-        }
+        Self { max_iterations: 60, tol_mm: tolerance::NEWTON_LENGTH_MM, max_step_mm: 5.0, stay_in_domain: true }
     }
 }
 
@@ -95,21 +90,14 @@ impl NewtonFail {
             Self::NoConvergence(res) => match at {
                 Location::Start | Location::End => CreaseError::NoCrease {
                     at,
-                    detail: format!(
-                        "the offset surfaces stay {res:.3} mm apart there after Newton's iterations"
-                    ),
+                    detail: format!("the offset surfaces stay {res:.3} mm apart there after Newton's iterations"),
                 },
-                Location::Period { .. } => CreaseError::NewtonFailed {
-                    at,
-                    detail: format!("residual {res:.3e} mm"),
-                },
+                Location::Period { .. } => CreaseError::NewtonFailed { at, detail: format!("residual {res:.3e} mm") },
             },
             // Parallel normals where the offset surfaces actually meet: tangential contact.
-            Self::Tangential(angle_deg, gap) if gap <= TOUCHING_GAP_MM => CreaseError::Tangential {
-                at,
-                angle_deg,
-                min_deg: tolerance::MIN_CREASE_ANGLE_RAD.to_degrees(),
-            },
+            Self::Tangential(angle_deg, gap) if gap <= TOUCHING_GAP_MM => {
+                CreaseError::Tangential { at, angle_deg, min_deg: tolerance::MIN_CREASE_ANGLE_RAD.to_degrees() }
+            }
             // Parallel normals with the offsets apart: Newton was drawn to where the surfaces
             // face each other, which means they do not meet here at all.
             Self::Tangential(angle_deg, gap) => match at {
@@ -147,11 +135,7 @@ pub(crate) fn contact(job: &CreaseJob, i: usize, uv: DVec2) -> Result<Contact, N
     let geo = LocalGeometry::try_new(d).ok_or(NewtonFail::Singular(i))?;
     let (nu, nv) = geo.normal_derivatives();
     let r = job.r_eff_mm;
-    Ok(Contact {
-        offset: d.point + r * d.normal,
-        dp: [d.du + r * nu, d.dv + r * nv],
-        geo,
-    })
+    Ok(Contact { offset: d.point + r * d.normal, dp: [d.du + r * nu, d.dv + r * nv], geo })
 }
 
 /// Solves for the crease point satisfying `constraint`, starting from contact parameters
@@ -175,11 +159,7 @@ pub(crate) fn solve_with_geometry(
 ) -> Result<(CreasePoint, [LocalGeometry; 2]), NewtonFail> {
     let domains = [job.surfaces[0].domain(), job.surfaces[1].domain()];
     let keep = |i: usize, x: DVec2| {
-        if opts.stay_in_domain {
-            domains[i].clamp(x)
-        } else {
-            domains[i].wrap(x)
-        }
+        if opts.stay_in_domain { domains[i].clamp(x) } else { domains[i].wrap(x) }
     };
     let mut uv = [keep(0, uv0[0]), keep(1, uv0[1])];
     let min_sin = tolerance::MIN_CREASE_ANGLE_RAD.sin();
@@ -202,36 +182,19 @@ pub(crate) fn solve_with_geometry(
             }
         };
         let res = g.length().max(h.abs());
-        if res <= opts.tol_mm
-            && (res <= tolerance::NEWTON_LENGTH_FLOOR_MM || res >= 0.25 * last_res)
-        {
+        if res <= opts.tol_mm && (res <= tolerance::NEWTON_LENGTH_FLOOR_MM || res >= 0.25 * last_res) {
             // Converged, and either at the floor or no longer improving quickly.
             if sin < min_sin {
-                return Err(NewtonFail::Tangential(
-                    sin.min(1.0).asin().to_degrees(),
-                    g.length(),
-                ));
+                return Err(NewtonFail::Tangential(sin.min(1.0).asin().to_degrees(), g.length()));
             }
             let [c0, c1] = c;
-            return Ok((
-                CreasePoint {
-                    p: mid,
-                    uv,
-                    n: [n1, n2],
-                    tangent: t,
-                    iterations: it,
-                },
-                [c0.geo, c1.geo],
-            ));
+            return Ok((CreasePoint { p: mid, uv, n: [n1, n2], tangent: t, iterations: it }, [c0.geo, c1.geo]));
         }
         if it == opts.max_iterations {
             break;
         }
         if !(sin >= 1e-3 * min_sin) {
-            return Err(NewtonFail::Tangential(
-                sin.min(1.0).asin().to_degrees(),
-                g.length(),
-            ));
+            return Err(NewtonFail::Tangential(sin.min(1.0).asin().to_degrees(), g.length()));
         }
         last_res = res;
         // Rows: P1 − P2 = 0 (3) and the constraint. Unknowns: Δu1, Δv1, Δu2, Δv2.
@@ -241,24 +204,14 @@ pub(crate) fn solve_with_geometry(
             [a[0].x, a[1].x, -b[0].x, -b[1].x],
             [a[0].y, a[1].y, -b[0].y, -b[1].y],
             [a[0].z, a[1].z, -b[0].z, -b[1].z],
-            [
-                0.5 * dir.dot(a[0]),
-                0.5 * dir.dot(a[1]),
-                0.5 * dir.dot(b[0]),
-                0.5 * dir.dot(b[1]),
-            ],
+            [0.5 * dir.dot(a[0]), 0.5 * dir.dot(a[1]), 0.5 * dir.dot(b[0]), 0.5 * dir.dot(b[1])],
         ];
         let Some(delta) = linalg::solve4(m, [-g.x, -g.y, -g.z, -h]) else {
-            return Err(NewtonFail::Tangential(
-                sin.min(1.0).asin().to_degrees(),
-                g.length(),
-            ));
+            return Err(NewtonFail::Tangential(sin.min(1.0).asin().to_degrees(), g.length()));
         };
         let mut d1 = DVec2::new(delta[0], delta[1]);
         let mut d2 = DVec2::new(delta[2], delta[3]);
-        let moved = (a[0] * d1.x + a[1] * d1.y)
-            .length()
-            .max((b[0] * d2.x + b[1] * d2.y).length());
+        let moved = (a[0] * d1.x + a[1] * d1.y).length().max((b[0] * d2.x + b[1] * d2.y).length());
         if moved > opts.max_step_mm {
             let s = opts.max_step_mm / moved;
             d1 *= s;
@@ -277,44 +230,23 @@ pub(crate) fn solve_with_geometry(
 /// # Errors
 /// [`CreaseError::NoCrease`], [`CreaseError::Tangential`], [`CreaseError::Fold`] or
 /// [`CreaseError::Singular`] at `at`.
-pub fn locate_crease_point(
-    job: &CreaseJob,
-    near: DVec3,
-    at: Location,
-) -> Result<CreasePoint, CreaseError> {
-    let guess = [
-        project_point_global(&job.surfaces[0], near, 24).uv,
-        project_point_global(&job.surfaces[1], near, 24).uv,
-    ];
-    let cp = solve(
-        job,
-        guess,
-        Constraint::NearestTo(near),
-        NewtonOptions::default(),
-    )
-    .map_err(|e| e.into_error(at, job))?;
+pub fn locate_crease_point(job: &CreaseJob, near: DVec3, at: Location) -> Result<CreasePoint, CreaseError> {
+    let guess =
+        [project_point_global(&job.surfaces[0], near, 24).uv, project_point_global(&job.surfaces[1], near, 24).uv];
+    let cp =
+        solve(job, guess, Constraint::NearestTo(near), NewtonOptions::default()).map_err(|e| e.into_error(at, job))?;
     check_fold(job, &cp.uv, at)?;
     Ok(cp)
 }
 
 /// Errors with [`CreaseError::Fold`] if a principal curvature at a contact point is concave
 /// with radius ≤ R' (1 − k_max·R' ≤ 0).
-pub(crate) fn check_fold(
-    job: &CreaseJob,
-    uv: &[DVec2; 2],
-    at: Location,
-) -> Result<(), CreaseError> {
+pub(crate) fn check_fold(job: &CreaseJob, uv: &[DVec2; 2], at: Location) -> Result<(), CreaseError> {
     for (i, s) in job.surfaces.iter().enumerate() {
-        let geo = LocalGeometry::try_new(s.derivatives_at(uv[i]))
-            .ok_or(CreaseError::Singular { at, surface: i })?;
+        let geo = LocalGeometry::try_new(s.derivatives_at(uv[i])).ok_or(CreaseError::Singular { at, surface: i })?;
         let (k_max, _) = geo.principal_curvatures();
         if 1.0 - k_max * job.r_eff_mm <= 0.0 {
-            return Err(CreaseError::Fold {
-                at,
-                surface: i,
-                radius_mm: 1.0 / k_max,
-                r_eff_mm: job.r_eff_mm,
-            });
+            return Err(CreaseError::Fold { at, surface: i, radius_mm: 1.0 / k_max, r_eff_mm: job.r_eff_mm });
         }
     }
     Ok(())

@@ -61,22 +61,11 @@ impl LocalGeometry {
         let f = d.du.dot(d.dv);
         let g = d.dv.dot(d.dv);
         let det_i = e * g - f * f;
-        if !(det_i > tolerance::MIN_AREA_ELEMENT * tolerance::MIN_AREA_ELEMENT)
-            || d.normal == DVec3::ZERO
-        {
+        if !(det_i > tolerance::MIN_AREA_ELEMENT * tolerance::MIN_AREA_ELEMENT) || d.normal == DVec3::ZERO {
             return None;
         }
         let nrm = d.normal;
-        Some(Self {
-            d,
-            e,
-            f,
-            g,
-            l: d.duu.dot(nrm),
-            m: d.duv.dot(nrm),
-            n: d.dvv.dot(nrm),
-            det_i,
-        })
+        Some(Self { d, e, f, g, l: d.duu.dot(nrm), m: d.duv.dot(nrm), n: d.dvv.dot(nrm), det_i })
     }
 
     /// Coordinates `(a, b)` of the tangent-plane projection of `t` in the basis `(r_u, r_v)`:
@@ -148,13 +137,7 @@ impl LocalGeometry {
         let e2 = self.d.normal.cross(e1);
         let c1 = DVec2::new(1.0 / self.e.sqrt(), 0.0);
         let c2 = self.tangent_coords(e2);
-        (
-            self.second_form(c1, c1),
-            self.second_form(c1, c2),
-            self.second_form(c2, c2),
-            e1,
-            e2,
-        )
+        (self.second_form(c1, c1), self.second_form(c1, c2), self.second_form(c2, c2), e1, e2)
     }
 
     /// Principal curvatures only: `(k_max, k_min)`, the eigenvalues of the shape operator
@@ -181,12 +164,7 @@ impl LocalGeometry {
         let theta = 0.5 * b.atan2(half);
         let dir_max = theta.cos() * e1 + theta.sin() * e2;
         let dir_min = self.d.normal.cross(dir_max);
-        Principal {
-            k_max: mean + disc,
-            k_min: mean - disc,
-            dir_max,
-            dir_min,
-        }
+        Principal { k_max: mean + disc, k_min: mean - disc, dir_max, dir_min }
     }
 
     /// Derivatives of the unit normal, `(n_u, n_v)`, by the Weingarten equations
@@ -210,18 +188,6 @@ impl LocalGeometry {
 
 /// Solves `(r_u δu + r_v δv)·a = α, (r_u δu + r_v δv)·b = β` for `(δu, δv)`.
 #[must_use]
-pub(crate) fn solve_tangent(
-    d: &SurfaceDerivs,
-    a: DVec3,
-    alpha: f64,
-    b: DVec3,
-    beta: f64,
-) -> Option<DVec2> {
-    linalg::solve2(
-        d.du.dot(a),
-        d.dv.dot(a),
-        d.du.dot(b),
-        d.dv.dot(b),
-        DVec2::new(alpha, beta),
-    )
+pub(crate) fn solve_tangent(d: &SurfaceDerivs, a: DVec3, alpha: f64, b: DVec3, beta: f64) -> Option<DVec2> {
+    linalg::solve2(d.du.dot(a), d.dv.dot(a), d.du.dot(b), d.dv.dot(b), DVec2::new(alpha, beta))
 }

@@ -21,11 +21,11 @@ pub mod nurbs;
 mod project;
 mod surface;
 
-pub(crate) use diffgeo::solve_tangent;
 pub use curve::{Curve3, HermitePath};
+pub(crate) use diffgeo::solve_tangent;
 pub use diffgeo::{LocalGeometry, Principal};
 pub use domain::{Domain, ParamRange, ParamUnit};
-pub use frame::{any_perpendicular, Frame};
+pub use frame::{Frame, any_perpendicular};
 pub use nurbs::{NurbsCurve, NurbsError, NurbsSurface};
-pub use project::{project_point, project_point_global, Foot, ProjectOptions};
+pub use project::{Foot, ProjectOptions, project_point, project_point_global};
 pub use surface::{Cylinder, ParametricSurface, Plane, Sphere, Surface, SurfaceDerivs, Torus};

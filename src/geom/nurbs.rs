@@ -280,9 +280,7 @@ impl NurbsCurve {
             if w.len() != points.len() {
                 return Err(NurbsError::WeightShape);
             }
-            if let Some((index, &value)) =
-                w.iter().enumerate().find(|(_, w)| !(w.is_finite() && **w > 0.0))
-            {
+            if let Some((index, &value)) = w.iter().enumerate().find(|(_, w)| !(w.is_finite() && **w > 0.0)) {
                 return Err(NurbsError::Weight { index, value });
             }
         }
@@ -412,15 +410,7 @@ impl NurbsSurface {
                 control.push((*p * w).extend(w));
             }
         }
-        Ok(Self {
-            degree,
-            knots_u,
-            knots_v,
-            n_u,
-            n_v,
-            control,
-            sign: if flip_normal { -1.0 } else { 1.0 },
-        })
+        Ok(Self { degree, knots_u, knots_v, n_u, n_v, control, sign: if flip_normal { -1.0 } else { 1.0 } })
     }
 
     /// Degrees `[p, q]`.

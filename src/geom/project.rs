@@ -55,11 +55,8 @@ pub fn project_point(surface: &Surface, p: DVec3, guess: DVec2, opts: ProjectOpt
         let grad = DVec2::new(w.dot(d.du), w.dot(d.dv));
         let (e, f, g) = (d.du.dot(d.du), d.du.dot(d.dv), d.dv.dot(d.dv));
         let (huu, huv, hvv) = (e + w.dot(d.duu), f + w.dot(d.duv), g + w.dot(d.dvv));
-        let newton = if huu > 0.0 && huu * hvv - huv * huv > 0.0 {
-            linalg::solve2(huu, huv, huv, hvv, -grad)
-        } else {
-            None
-        };
+        let newton =
+            if huu > 0.0 && huu * hvv - huv * huv > 0.0 { linalg::solve2(huu, huv, huv, hvv, -grad) } else { None };
         let Some(mut step) = newton.or_else(|| linalg::solve2(e, f, f, g, -grad)) else {
             break;
         };
@@ -92,14 +89,7 @@ pub fn project_point(surface: &Surface, p: DVec3, guess: DVec2, opts: ProjectOpt
         }
     }
     let w = p - d.point;
-    Foot {
-        uv,
-        point: d.point,
-        normal: d.normal,
-        signed_distance: w.dot(d.normal),
-        distance: w.length(),
-        converged,
-    }
+    Foot { uv, point: d.point, normal: d.normal, signed_distance: w.dot(d.normal), distance: w.length(), converged }
 }
 
 /// Projects `p` onto `surface` without a starting guess: samples the domain on a grid,

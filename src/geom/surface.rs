@@ -156,8 +156,7 @@ impl ParametricSurface for Sphere {
     fn point_at(&self, uv: DVec2) -> DVec3 {
         let (su, cu) = uv.x.sin_cos();
         let (sv, cv) = uv.y.sin_cos();
-        self.center
-            + self.radius * (cv * (cu * self.frame.e1 + su * self.frame.e2) + sv * self.frame.a)
+        self.center + self.radius * (cv * (cu * self.frame.e1 + su * self.frame.e2) + sv * self.frame.a)
     }
     fn derivatives_at(&self, uv: DVec2) -> SurfaceDerivs {
         let (su, cu) = uv.x.sin_cos();
@@ -203,9 +202,7 @@ impl ParametricSurface for Torus {
         let (su, cu) = uv.x.sin_cos();
         let (sv, cv) = uv.y.sin_cos();
         let w = self.major_radius + self.minor_radius * cv;
-        self.center
-            + w * (cu * self.frame.e1 + su * self.frame.e2)
-            + self.minor_radius * sv * self.frame.a
+        self.center + w * (cu * self.frame.e1 + su * self.frame.e2) + self.minor_radius * sv * self.frame.a
     }
     fn derivatives_at(&self, uv: DVec2) -> SurfaceDerivs {
         let (su, cu) = uv.x.sin_cos();

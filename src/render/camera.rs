@@ -21,13 +21,7 @@ pub struct OrbitCamera {
 
 impl Default for OrbitCamera {
     fn default() -> Self {
-        Self {
-            target: Vec3::ZERO,
-            yaw: -0.9,
-            pitch: 0.55,
-            distance: 200.0,
-            fov_y: 35f32.to_radians(),
-        }
+        Self { target: Vec3::ZERO, yaw: -0.9, pitch: 0.55, distance: 200.0, fov_y: 35f32.to_radians() }
     }
 }
 
@@ -35,11 +29,7 @@ impl OrbitCamera {
     /// Eye position.
     #[must_use]
     pub fn eye(&self) -> Vec3 {
-        let dir = Vec3::new(
-            self.pitch.cos() * self.yaw.cos(),
-            self.pitch.cos() * self.yaw.sin(),
-            self.pitch.sin(),
-        );
+        let dir = Vec3::new(self.pitch.cos() * self.yaw.cos(), self.pitch.cos() * self.yaw.sin(), self.pitch.sin());
         self.target + dir * self.distance
     }
 
@@ -49,8 +39,7 @@ impl OrbitCamera {
         let near = (self.distance * 0.01).max(1e-3);
         let far = self.distance * 20.0 + 1000.0;
         // WebGPU clip space: z in [0, 1], y up (glam's DirectX/WebGPU convention).
-        directx::perspective(self.fov_y, aspect.max(1e-3), near, far)
-            * look_at_mat4(self.eye(), self.target, Vec3::Z)
+        directx::perspective(self.fov_y, aspect.max(1e-3), near, far) * look_at_mat4(self.eye(), self.target, Vec3::Z)
     }
 
     /// Turns the camera by screen-space drag (points).

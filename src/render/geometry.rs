@@ -78,13 +78,7 @@ impl LineSegment {
     /// A segment between two local points.
     #[must_use]
     pub fn new(a: [f32; 3], b: [f32; 3], width_px: f32, color: [f32; 4]) -> Self {
-        Self {
-            a,
-            width_px,
-            b,
-            _pad: 0.0,
-            color,
-        }
+        Self { a, width_px, b, _pad: 0.0, color }
     }
 }
 
@@ -103,29 +97,16 @@ pub struct SphereInstance {
 /// Samples a surface on an `n × n` grid over its domain into a shaded mesh; with
 /// `offset ≠ 0` the offset surface `r + offset·n` instead.
 #[must_use]
-pub fn tessellate(
-    surface: &Surface,
-    origin: Origin,
-    n: usize,
-    offset: f64,
-    color: [f32; 4],
-) -> Mesh {
+pub fn tessellate(surface: &Surface, origin: Origin, n: usize, offset: f64, color: [f32; 4]) -> Mesh {
     let n = n.max(2);
     let d = surface.domain();
-    let mut mesh = Mesh {
-        vertices: Vec::with_capacity(n * n),
-        indices: Vec::with_capacity(6 * (n - 1) * (n - 1)),
-    };
+    let mut mesh = Mesh { vertices: Vec::with_capacity(n * n), indices: Vec::with_capacity(6 * (n - 1) * (n - 1)) };
     for i in 0..n {
         for j in 0..n {
             let u = d.u.min + d.u.width() * i as f64 / (n - 1) as f64;
             let v = d.v.min + d.v.width() * j as f64 / (n - 1) as f64;
             let s = surface.derivatives_at(DVec2::new(u, v));
-            let normal = if s.normal == DVec3::ZERO {
-                s.du.cross(s.dv).normalize_or_zero()
-            } else {
-                s.normal
-            };
+            let normal = if s.normal == DVec3::ZERO { s.du.cross(s.dv).normalize_or_zero() } else { s.normal };
             let p = s.point + offset * normal;
             mesh.vertices.push(MeshVertex {
                 position: origin.local(p),
@@ -270,10 +251,7 @@ pub fn icosphere(subdivisions: u32) -> (Vec<[f32; 3]>, Vec<u32>) {
         }
         tris = next;
     }
-    (
-        verts.iter().map(|v| v.to_array()).collect(),
-        tris.into_iter().flatten().collect(),
-    )
+    (verts.iter().map(|v| v.to_array()).collect(), tris.into_iter().flatten().collect())
 }
 
 /// Bounding sphere (centre, radius) of world points; `None` for no points.

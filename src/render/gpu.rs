@@ -12,9 +12,7 @@
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use eframe::egui_wgpu::{
-    self, CallbackResources, CallbackTrait, RenderState, ScreenDescriptor, wgpu,
-};
+use eframe::egui_wgpu::{self, CallbackResources, CallbackTrait, RenderState, ScreenDescriptor, wgpu};
 use wgpu::util::DeviceExt;
 
 use super::geometry::{LineSegment, Mesh, MeshVertex, SphereInstance, icosphere};
@@ -63,13 +61,7 @@ struct GpuArray {
 }
 
 impl GpuArray {
-    fn new(
-        device: &wgpu::Device,
-        label: &str,
-        usage: wgpu::BufferUsages,
-        bytes: &[u8],
-        count: u32,
-    ) -> Self {
+    fn new(device: &wgpu::Device, label: &str, usage: wgpu::BufferUsages, bytes: &[u8], count: u32) -> Self {
         let size = (bytes.len() as u64).max(64).next_multiple_of(4);
         let buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some(label),
@@ -77,11 +69,7 @@ impl GpuArray {
             usage: usage | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        Self {
-            buffer,
-            capacity_bytes: size,
-            count,
-        }
+        Self { buffer, capacity_bytes: size, count }
     }
 
     /// Writes `bytes` (all elements); only bytes from `unchanged_prefix_bytes` on are sent
@@ -183,21 +171,10 @@ impl Renderer3d {
     fn new(rs: &RenderState) -> Self {
         let device = rs.device.clone();
         let queue = rs.queue.clone();
-        let supports = |f: wgpu::TextureFormat| {
-            rs.adapter
-                .get_texture_format_features(f)
-                .flags
-                .sample_count_supported(4)
-        };
-        let sample_count = if supports(COLOR_FORMAT) && supports(DEPTH_FORMAT) {
-            4
-        } else {
-            1
-        };
-        log::info!(
-            "3D views: {sample_count}× MSAA, target {:?}",
-            rs.target_format
-        );
+        let supports =
+            |f: wgpu::TextureFormat| rs.adapter.get_texture_format_features(f).flags.sample_count_supported(4);
+        let sample_count = if supports(COLOR_FORMAT) && supports(DEPTH_FORMAT) { 4 } else { 1 };
+        log::info!("3D views: {sample_count}× MSAA, target {:?}", rs.target_format);
 
         let scene_shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("interpolab scene shader"),
@@ -283,11 +260,7 @@ impl Renderer3d {
             attributes: &line_attrs,
         };
 
-        let multisample = wgpu::MultisampleState {
-            count: sample_count,
-            mask: !0,
-            alpha_to_coverage_enabled: false,
-        };
+        let multisample = wgpu::MultisampleState { count: sample_count, mask: !0, alpha_to_coverage_enabled: false };
         let depth = |write: bool| {
             Some(wgpu::DepthStencilState {
                 format: DEPTH_FORMAT,
@@ -298,11 +271,7 @@ impl Renderer3d {
             })
         };
         let target = |blend: Option<wgpu::BlendState>| {
-            [Some(wgpu::ColorTargetState {
-                format: COLOR_FORMAT,
-                blend,
-                write_mask: wgpu::ColorWrites::ALL,
-            })]
+            [Some(wgpu::ColorTargetState { format: COLOR_FORMAT, blend, write_mask: wgpu::ColorWrites::ALL })]
         };
         let opaque_target = target(None);
         let blended_target = target(Some(wgpu::BlendState::ALPHA_BLENDING));
@@ -370,14 +339,7 @@ impl Renderer3d {
             &blended_target,
             false,
         );
-        let lines = pipeline(
-            "interpolab lines",
-            "vs_line",
-            "fs_line",
-            &[Some(line_buffer)],
-            &blended_target,
-            true,
-        );
+        let lines = pipeline("interpolab lines", "vs_line", "fs_line", &[Some(line_buffer)], &blended_target, true);
 
         let composite = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("interpolab composite"),
@@ -393,11 +355,7 @@ impl Renderer3d {
             multisample: wgpu::MultisampleState::default(),
             fragment: Some(wgpu::FragmentState {
                 module: &composite_shader,
-                entry_point: Some(if rs.target_format.is_srgb() {
-                    "fs_linear"
-                } else {
-                    "fs_display"
-                }),
+                entry_point: Some(if rs.target_format.is_srgb() { "fs_linear" } else { "fs_display" }),
                 compilation_options: wgpu::PipelineCompilationOptions::default(),
                 targets: &[Some(wgpu::ColorTargetState {
                     format: rs.target_format,
@@ -475,20 +433,8 @@ impl Renderer3d {
                 );
             }
             None => {
-                let mut vertices = GpuArray::new(
-                    device,
-                    "interpolab mesh vertices",
-                    wgpu::BufferUsages::VERTEX,
-                    vb,
-                    0,
-                );
-                let mut indices = GpuArray::new(
-                    device,
-                    "interpolab mesh indices",
-                    wgpu::BufferUsages::INDEX,
-                    ib,
-                    0,
-                );
+                let mut vertices = GpuArray::new(device, "interpolab mesh vertices", wgpu::BufferUsages::VERTEX, vb, 0);
+                let mut indices = GpuArray::new(device, "interpolab mesh indices", wgpu::BufferUsages::INDEX, ib, 0);
                 vertices.write(
                     device,
                     queue,
@@ -514,13 +460,7 @@ impl Renderer3d {
 
     /// Replaces a line layer; the first `unchanged` segments are known to be on the GPU
     /// already (pass 0 when unsure).
-    pub fn set_lines(
-        &mut self,
-        view: ViewId,
-        layer: Layer,
-        lines: &[LineSegment],
-        unchanged: usize,
-    ) {
+    pub fn set_lines(&mut self, view: ViewId, layer: Layer, lines: &[LineSegment], unchanged: usize) {
         let bytes = bytemuck::cast_slice::<LineSegment, u8>(lines);
         let prefix = (unchanged.min(lines.len()) * std::mem::size_of::<LineSegment>()) as u64;
         Self::write_instances(
@@ -557,27 +497,11 @@ impl Renderer3d {
         let usage = wgpu::BufferUsages::VERTEX;
         match entry {
             std::collections::btree_map::Entry::Occupied(mut o) => {
-                o.get_mut().write(
-                    device,
-                    queue,
-                    "interpolab instances",
-                    usage,
-                    bytes,
-                    count,
-                    prefix,
-                );
+                o.get_mut().write(device, queue, "interpolab instances", usage, bytes, count, prefix);
             }
             std::collections::btree_map::Entry::Vacant(v) => {
                 let mut a = GpuArray::new(device, "interpolab instances", usage, bytes, 0);
-                a.write(
-                    device,
-                    queue,
-                    "interpolab instances",
-                    usage,
-                    bytes,
-                    count,
-                    0,
-                );
+                a.write(device, queue, "interpolab instances", usage, bytes, count, 0);
                 v.insert(a);
             }
         }
@@ -594,11 +518,7 @@ impl Renderer3d {
         if v.targets.as_ref().is_some_and(|t| t.size == size) {
             return;
         }
-        let extent = wgpu::Extent3d {
-            width: size[0],
-            height: size[1],
-            depth_or_array_layers: 1,
-        };
+        let extent = wgpu::Extent3d { width: size[0], height: size[1], depth_or_array_layers: 1 };
         let texture = |label: &str, format, samples, usage| {
             device
                 .create_texture(&wgpu::TextureDescriptor {
@@ -627,33 +547,17 @@ impl Renderer3d {
                 wgpu::TextureUsages::RENDER_ATTACHMENT,
             )
         });
-        let depth = texture(
-            "interpolab view depth",
-            DEPTH_FORMAT,
-            self.sample_count,
-            wgpu::TextureUsages::RENDER_ATTACHMENT,
-        );
+        let depth =
+            texture("interpolab view depth", DEPTH_FORMAT, self.sample_count, wgpu::TextureUsages::RENDER_ATTACHMENT);
         let composite = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("interpolab composite bind group"),
             layout: &self.composite_layout,
             entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(&resolved),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::Sampler(&self.sampler),
-                },
+                wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&resolved) },
+                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::Sampler(&self.sampler) },
             ],
         });
-        v.targets = Some(Targets {
-            size,
-            msaa,
-            depth,
-            resolved,
-            composite,
-        });
+        v.targets = Some(Targets { size, msaa, depth, resolved, composite });
     }
 
     fn draw_view(&mut self, cb: &ViewCallback, encoder: &mut wgpu::CommandEncoder) {
@@ -661,12 +565,7 @@ impl Renderer3d {
         let uniforms = FrameUniforms {
             clip_from_local: cb.clip_from_local,
             eye: [cb.eye[0], cb.eye[1], cb.eye[2], 1.0],
-            viewport: [
-                cb.size_px[0] as f32,
-                cb.size_px[1] as f32,
-                if cb.hide_back_faces { 1.0 } else { 0.0 },
-                0.0,
-            ],
+            viewport: [cb.size_px[0] as f32, cb.size_px[1] as f32, if cb.hide_back_faces { 1.0 } else { 0.0 }, 0.0],
         };
         let (device, queue, layout) = (&self.device, &self.queue, &self.frame_layout);
         let Some(v) = self.views.get_mut(&cb.view) else {
@@ -682,10 +581,7 @@ impl Renderer3d {
             let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("interpolab frame bind group"),
                 layout,
-                entries: &[wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: buffer.as_entire_binding(),
-                }],
+                entries: &[wgpu::BindGroupEntry { binding: 0, resource: buffer.as_entire_binding() }],
             });
             (buffer, bind)
         });
@@ -703,21 +599,13 @@ impl Renderer3d {
                 depth_slice: None,
                 resolve_target: resolve,
                 ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color {
-                        r: r.into(),
-                        g: g.into(),
-                        b: b.into(),
-                        a: a.into(),
-                    }),
+                    load: wgpu::LoadOp::Clear(wgpu::Color { r: r.into(), g: g.into(), b: b.into(), a: a.into() }),
                     store: wgpu::StoreOp::Store,
                 },
             })],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &t.depth,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Discard,
-                }),
+                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
                 stencil_ops: None,
             }),
             timestamp_writes: None,
@@ -725,33 +613,26 @@ impl Renderer3d {
             multiview_mask: None,
         });
         pass.set_bind_group(0, &*ubind, &[]);
-        let draw_mesh =
-            |pass: &mut wgpu::RenderPass<'_>, pipeline: &wgpu::RenderPipeline, layer: Layer| {
-                if let Some(m) = v.meshes.get(&layer).filter(|m| m.indices.count > 0) {
-                    pass.set_pipeline(pipeline);
-                    pass.set_vertex_buffer(0, m.vertices.buffer.slice(..));
-                    pass.set_index_buffer(m.indices.buffer.slice(..), wgpu::IndexFormat::Uint32);
-                    pass.draw_indexed(0..m.indices.count, 0, 0..1);
-                }
-            };
-        let draw_spheres =
-            |pass: &mut wgpu::RenderPass<'_>, pipeline: &wgpu::RenderPipeline, layer: Layer| {
-                if let Some(s) = v.spheres.get(&layer).filter(|s| s.count > 0) {
-                    pass.set_pipeline(pipeline);
-                    pass.set_vertex_buffer(0, self.sphere_vertices.slice(..));
-                    pass.set_vertex_buffer(1, s.buffer.slice(..));
-                    pass.set_index_buffer(self.sphere_indices.slice(..), wgpu::IndexFormat::Uint32);
-                    pass.draw_indexed(0..self.sphere_index_count, 0, 0..s.count);
-                }
-            };
+        let draw_mesh = |pass: &mut wgpu::RenderPass<'_>, pipeline: &wgpu::RenderPipeline, layer: Layer| {
+            if let Some(m) = v.meshes.get(&layer).filter(|m| m.indices.count > 0) {
+                pass.set_pipeline(pipeline);
+                pass.set_vertex_buffer(0, m.vertices.buffer.slice(..));
+                pass.set_index_buffer(m.indices.buffer.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..m.indices.count, 0, 0..1);
+            }
+        };
+        let draw_spheres = |pass: &mut wgpu::RenderPass<'_>, pipeline: &wgpu::RenderPipeline, layer: Layer| {
+            if let Some(s) = v.spheres.get(&layer).filter(|s| s.count > 0) {
+                pass.set_pipeline(pipeline);
+                pass.set_vertex_buffer(0, self.sphere_vertices.slice(..));
+                pass.set_vertex_buffer(1, s.buffer.slice(..));
+                pass.set_index_buffer(self.sphere_indices.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..self.sphere_index_count, 0, 0..s.count);
+            }
+        };
         draw_mesh(&mut pass, &self.mesh_opaque, Layer::Surfaces);
         draw_spheres(&mut pass, &self.sphere_opaque, Layer::Markers);
-        for layer in [
-            Layer::StaticLines,
-            Layer::PathLines,
-            Layer::ExactLines,
-            Layer::DynamicLines,
-        ] {
+        for layer in [Layer::StaticLines, Layer::PathLines, Layer::ExactLines, Layer::DynamicLines] {
             if let Some(l) = v.lines.get(&layer).filter(|l| l.count > 0) {
                 pass.set_pipeline(&self.lines);
                 pass.set_vertex_buffer(0, l.buffer.slice(..));
