@@ -1,6 +1,11 @@
 //! The `gcode`, `replay`, `compare` and `nurbs` commands, run as a user would.
 #![cfg(not(target_arch = "wasm32"))]
-#![allow(missing_docs)]
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::float_cmp,
+    reason = "tests: a failure should fail the test; some values are exact"
+)]
 
 use std::path::PathBuf;
 use std::process::{Command, Output};
@@ -21,17 +26,28 @@ fn tmp(name: &str) -> PathBuf {
 
 fn run(cmd: &mut Command) -> (i32, String, String) {
     let Output { status, stdout, stderr } = cmd.output().expect("the binary runs");
-    (status.code().unwrap_or(-1), String::from_utf8_lossy(&stdout).into_owned(), String::from_utf8_lossy(&stderr).into_owned())
+    (
+        status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&stdout).into_owned(),
+        String::from_utf8_lossy(&stderr).into_owned(),
+    )
 }
 
 #[test]
 fn written_programs_replay_within_their_tolerance() {
     for kind in ["g01", "arcs", "nurbs"] {
         let out = tmp(&format!("vault-{kind}.nc"));
-        let (code, _, err) = run(bin().args(["gcode", &example("rational-nurbs-vault.json"), "--kind", kind, "--tolerance", "0.01", "--out"]).arg(&out));
+        let (code, _, err) = run(bin()
+            .args(["gcode", &example("rational-nurbs-vault.json"), "--kind", kind, "--tolerance", "0.01", "--out"])
+            .arg(&out));
         assert_eq!(code, 0, "{kind}: {err}");
         assert!(err.contains("max deviation"), "{err}");
-        let (code, text, err) = run(bin().arg("replay").arg(&out).args(["--scene", &example("rational-nurbs-vault.json"), "--tolerance", "0.01"]));
+        let (code, text, err) = run(bin().arg("replay").arg(&out).args([
+            "--scene",
+            &example("rational-nurbs-vault.json"),
+            "--tolerance",
+            "0.01",
+        ]));
         assert_eq!(code, 0, "{kind}: {text}{err}");
         assert!(text.contains("within the tolerance 0.01 mm"), "{text}");
         assert!(text.contains("program → design") && text.contains("design → program"), "{text}");
@@ -41,9 +57,16 @@ fn written_programs_replay_within_their_tolerance() {
 #[test]
 fn replay_reports_a_deviation_above_the_tolerance_with_status_1() {
     let out = tmp("vault-g01-coarse.nc");
-    let (code, _, err) = run(bin().args(["gcode", &example("rational-nurbs-vault.json"), "--kind", "g01", "--tolerance", "0.05", "--out"]).arg(&out));
+    let (code, _, err) = run(bin()
+        .args(["gcode", &example("rational-nurbs-vault.json"), "--kind", "g01", "--tolerance", "0.05", "--out"])
+        .arg(&out));
     assert_eq!(code, 0, "{err}");
-    let (code, text, _) = run(bin().arg("replay").arg(&out).args(["--scene", &example("rational-nurbs-vault.json"), "--tolerance", "0.01"]));
+    let (code, text, _) = run(bin().arg("replay").arg(&out).args([
+        "--scene",
+        &example("rational-nurbs-vault.json"),
+        "--tolerance",
+        "0.01",
+    ]));
     assert_eq!(code, 1, "{text}");
     assert!(text.contains("EXCEEDS the tolerance 0.01 mm"), "{text}");
 }
@@ -71,13 +94,16 @@ fn replay_lists_unsupported_words_and_exits_1() {
 fn replay_reads_the_programmed_point_from_the_header() {
     let out = tmp("floor-tip.nc");
     let scene = example("bspline-floor-wall.json");
-    let (code, _, err) = run(bin().args(["gcode", &scene, "--kind", "nurbs", "--tolerance", "0.01", "--point", "tip", "--out"]).arg(&out));
+    let (code, _, err) = run(bin()
+        .args(["gcode", &scene, "--kind", "nurbs", "--tolerance", "0.01", "--point", "tip", "--out"])
+        .arg(&out));
     assert_eq!(code, 0, "{err}");
     let (code, text, _) = run(bin().arg("replay").arg(&out).args(["--scene", &scene, "--tolerance", "0.01"]));
     assert_eq!(code, 0, "{text}");
     assert!(text.contains("ball tip"), "{text}");
     // Read as a centre path it is a ball radius (3 mm) off.
-    let (code, text, _) = run(bin().arg("replay").arg(&out).args(["--scene", &scene, "--tolerance", "0.01", "--point", "centre"]));
+    let (code, text, _) =
+        run(bin().arg("replay").arg(&out).args(["--scene", &scene, "--tolerance", "0.01", "--point", "centre"]));
     assert_eq!(code, 1, "{text}");
 }
 
@@ -88,14 +114,16 @@ fn compare_prints_the_program_and_update_tables() {
     for needle in ["| G01 |", "| G02/G03 |", "| G06.2 |", "| first |", "| second |", "| corrected |"] {
         assert!(text.contains(needle), "{needle} missing:\n{text}");
     }
-    let (code, csv, _) = run(bin().args(["compare", &example("sphere-plane.json"), "--tolerance", "0.01", "--format", "csv"]));
+    let (code, csv, _) =
+        run(bin().args(["compare", &example("sphere-plane.json"), "--tolerance", "0.01", "--format", "csv"]));
     assert_eq!(code, 0);
     assert!(csv.starts_with("program,path_blocks,"), "{csv}");
 }
 
 #[test]
 fn nurbs_prints_one_row_per_period() {
-    let (code, csv, err) = run(bin().args(["nurbs", &example("bspline-floor-wall.json"), "--tolerance", "0.01", "--update", "second"]));
+    let (code, csv, err) =
+        run(bin().args(["nurbs", &example("bspline-floor-wall.json"), "--tolerance", "0.01", "--update", "second"]));
     assert_eq!(code, 0, "{err}");
     let rows = csv.lines().count() - 1;
     assert!(err.contains(&format!("{rows} periods")), "{err}");
@@ -104,13 +132,15 @@ fn nurbs_prints_one_row_per_period() {
 
 #[test]
 fn bad_requests_exit_2_with_the_fix() {
-    let (code, _, err) = run(bin().args(["gcode", &example("sphere-plane.json"), "--kind", "g01", "--tolerance", "0.0015"]));
+    let (code, _, err) =
+        run(bin().args(["gcode", &example("sphere-plane.json"), "--kind", "g01", "--tolerance", "0.0015"]));
     assert_eq!(code, 2);
     assert!(err.contains("at least 0.002"), "{err}");
     let (code, _, err) = run(bin().args(["gcode", "--kind", "nurbs", "--tolerance", "0.01"]));
     assert_eq!(code, 2);
     assert!(err.contains("--profile parabola"), "{err}");
-    let (code, _, err) = run(bin().args(["gcode", "--profile", "parabola", "--kind", "nurbs", "--tolerance", "0.01", "--point", "tip"]));
+    let (code, _, err) =
+        run(bin().args(["gcode", "--profile", "parabola", "--kind", "nurbs", "--tolerance", "0.01", "--point", "tip"]));
     assert_eq!(code, 2);
     assert!(err.contains("--tool-radius"), "{err}");
     let (code, _, err) = run(bin().args(["replay", "/nonexistent/program.nc"]));

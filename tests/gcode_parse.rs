@@ -1,13 +1,18 @@
 //! Reading G-code: hand-written programs (comments, line numbers, modal words, R and IJK
 //! arcs in all three planes, helices, incremental and inch moves, G06.2), unsupported words
 //! reported with their lines, and malformed programs refused with the line and the fix.
-#![allow(missing_docs)]
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::float_cmp,
+    reason = "tests: a failure should fail the test; some values are exact"
+)]
 
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use glam::DVec3;
-use interpolab::gcode::{parse_program, ArcMove, Motion, ParseError, Plane, Segment};
+use interpolab::gcode::{ArcMove, Motion, ParseError, Plane, Segment, parse_program};
 use interpolab::geom::Curve3;
 
 fn arc_of(seg: &Segment) -> ArcMove {
@@ -28,12 +33,18 @@ fn reads_a_hand_written_program() {
     let b = &p.toolpath.blocks;
     let kinds: Vec<Motion> = b.iter().map(|x| x.motion).collect();
     use Motion::*;
-    assert_eq!(kinds, vec![Rapid, Rapid, Linear, Linear, Linear, ArcCw, ArcCcw, Linear, ArcCcw, ArcCw, Linear, Linear, ArcCcw, Rapid]);
+    assert_eq!(
+        kinds,
+        vec![Rapid, Rapid, Linear, Linear, Linear, ArcCw, ArcCcw, Linear, ArcCcw, ArcCw, Linear, Linear, ArcCcw, Rapid]
+    );
     // N80 G2 X30 Y20 R10 from (20, 10, 0): centre (30, 10), a clockwise quarter turn.
     let a = arc_of(&b[5].segment);
     assert!(close(a.center, DVec3::new(30.0, 10.0, 0.0)) && !a.ccw, "{a:?}");
     interpolab::assert_near!(a.sweep(), -std::f64::consts::FRAC_PI_2, 1e-12);
-    assert!(close(a.point_at(0.5), DVec3::new(30.0 - 10.0 * std::f64::consts::FRAC_1_SQRT_2, 10.0 + 10.0 * std::f64::consts::FRAC_1_SQRT_2, 0.0)));
+    assert!(close(
+        a.point_at(0.5),
+        DVec3::new(30.0 - 10.0 * std::f64::consts::FRAC_1_SQRT_2, 10.0 + 10.0 * std::f64::consts::FRAC_1_SQRT_2, 0.0)
+    ));
     // N90 G03 … I10 J0: centre (40, 20).
     let a = arc_of(&b[6].segment);
     assert!(close(a.center, DVec3::new(40.0, 20.0, 0.0)) && a.ccw);
@@ -55,7 +66,10 @@ fn reads_a_hand_written_program() {
     interpolab::assert_near!(a.sweep(), -std::f64::consts::FRAC_PI_2, 1e-12);
     interpolab::assert_near!(a.point_at(0.25).z, 6.0, 1e-12);
     // Block delete: N140 is read (switch off).
-    assert!(close(b[10].segment.start(), DVec3::new(35.0, 30.0, 9.0)) && close(b[10].segment.end(), DVec3::new(36.0, 30.0, 9.0)));
+    assert!(
+        close(b[10].segment.start(), DVec3::new(35.0, 30.0, 9.0))
+            && close(b[10].segment.end(), DVec3::new(36.0, 30.0, 9.0))
+    );
     assert!(close(b[11].segment.end(), DVec3::new(35.0, 35.0, 0.0)));
     // N160 full circle.
     let a = arc_of(&b[12].segment);
@@ -111,7 +125,8 @@ fn incremental_and_inch_programs_become_millimetres() {
 fn g06_2_blocks_follow_the_fanuc_rules() {
     // Order omitted (4), first knot omitted (taken from the second block), axes omitted in a
     // later block keep the previous control point's value, weights default to 1.
-    let text = "G0 X0 Y0 Z9\nG0 Z0\nG06.2 X0 Y0 Z0 F500\nK0 X10 Y5\nK0 X20 Z1 R2\nK0 X30 Y0 Z0\nK1\nK1\nK1\nK1\nG0 Z5\n";
+    let text =
+        "G0 X0 Y0 Z9\nG0 Z0\nG06.2 X0 Y0 Z0 F500\nK0 X10 Y5\nK0 X20 Z1 R2\nK0 X30 Y0 Z0\nK1\nK1\nK1\nK1\nG0 Z5\n";
     let p = parse_program(text).expect("valid");
     let b = &p.toolpath.blocks;
     let Segment::Nurbs(c) = &b[2].segment else { panic!("expected a NURBS") };
@@ -139,7 +154,10 @@ fn unsupported_words_are_reported_with_their_lines() {
 
 #[test]
 fn harmless_words_are_accepted_silently() {
-    let p = parse_program("%\nO0001\nG21 G40 G49 G80 G94 G54 G64\nM3 S1000 T2 M6 M8\nG04 P500\nG05 P10000\nG0 X1\nM9 M5 M30\n%\n").expect("valid");
+    let p = parse_program(
+        "%\nO0001\nG21 G40 G49 G80 G94 G54 G64\nM3 S1000 T2 M6 M8\nG04 P500\nG05 P10000\nG0 X1\nM9 M5 M30\n%\n",
+    )
+    .expect("valid");
     assert!(p.unsupported.is_empty(), "{:?}", p.unsupported);
     assert_eq!(p.toolpath.blocks.len(), 1);
 }
@@ -175,5 +193,8 @@ fn malformed_programs_are_refused_naming_the_line_and_the_fix() {
         assert!(msg.starts_with(&format!("line {line}:")), "{text:?}: {msg}");
         assert!(msg.contains(needle), "{text:?}: {msg} (expected '{needle}')");
     }
-    assert!(matches!(parse_program("G0 X0\nG1 X1 F1\nG2 X1 Y0 I0 J0\n").unwrap_err(), ParseError::ArcNoCentre { .. } | ParseError::ArcDegenerate { .. }));
+    assert!(matches!(
+        parse_program("G0 X0\nG1 X1 F1\nG2 X1 Y0 I0 J0\n").unwrap_err(),
+        ParseError::ArcNoCentre { .. } | ParseError::ArcDegenerate { .. }
+    ));
 }

@@ -2,7 +2,12 @@
 //! (not the library's parser), G06.2 curves are evaluated by the textbook Cox–de Boor
 //! recursion, and the result is measured against closed forms — the way an outside checker
 //! would see our programs.
-#![allow(missing_docs)]
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::float_cmp,
+    reason = "tests: a failure should fail the test; some values are exact"
+)]
 
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
@@ -11,10 +16,13 @@ mod support;
 
 use glam::DVec3;
 use interpolab::chords::equal_error_chords;
-use interpolab::gcode::{compare, crease_design, write_program, CompareOptions, ProgramError, ProgramKind, ProgramOptions, ProgrammedPoint, Segment};
+use interpolab::gcode::{
+    CompareOptions, ProgramError, ProgramKind, ProgramOptions, ProgrammedPoint, Segment, compare, crease_design,
+    write_program,
+};
 use interpolab::geom::Curve3;
-use interpolab::nurbs_path::measure::nearest_on_curve;
 use interpolab::nurbs_path::Parabola;
+use interpolab::nurbs_path::measure::nearest_on_curve;
 
 const RES: f64 = 0.001;
 
@@ -85,7 +93,11 @@ fn read_feed_points(text: &str, step: f64) -> (Vec<DVec3>, Vec<RawNurbs>, Vec<(f
             }
             s
         };
-        let words: Vec<(char, f64)> = line.split_whitespace().filter(|w| w.len() > 1).map(|w| (w.as_bytes()[0] as char, w[1..].parse::<f64>().expect("number"))).collect();
+        let words: Vec<(char, f64)> = line
+            .split_whitespace()
+            .filter(|w| w.len() > 1)
+            .map(|w| (w.as_bytes()[0] as char, w[1..].parse::<f64>().expect("number")))
+            .collect();
         let get = |l: char| words.iter().find(|w| w.0 == l).map(|w| w.1);
         for &(l, v) in &words {
             if l == 'G' {
@@ -223,18 +235,27 @@ fn every_program_is_within_tolerance_of_the_parabola_for_an_outside_reader() {
             let back = design_to_polyline(&para, &pts, 6000);
             assert!(back <= tol, "{} at {tol}: the parabola is {back} mm from the program", kind.label());
             // The library's own measure agrees with the outside one.
-            assert!((p.deviation.max_mm() - worst.max(back)).abs() < 0.05 * tol, "{}: library {} vs outside {}", kind.label(), p.deviation.max_mm(), worst.max(back));
+            assert!(
+                (p.deviation.max_mm() - worst.max(back)).abs() < 0.05 * tol,
+                "{}: library {} vs outside {}",
+                kind.label(),
+                p.deviation.max_mm(),
+                worst.max(back)
+            );
         }
     }
 }
 
 #[test]
 fn every_program_of_a_crease_is_within_tolerance_for_an_outside_reader() {
-    for json in [include_str!("../examples/crossing-cylinders.json"), include_str!("../examples/bspline-floor-wall.json")] {
+    for json in
+        [include_str!("../examples/crossing-cylinders.json"), include_str!("../examples/bspline-floor-wall.json")]
+    {
         let job = support::job(json);
         let design = crease_design(&job).expect("crease");
         let (ta, tb) = design.range();
-        let dense: Vec<(f64, DVec3)> = (0..=4000).map(|i| ta + (tb - ta) * i as f64 / 4000.0).map(|t| (t, design.point_at(t))).collect();
+        let dense: Vec<(f64, DVec3)> =
+            (0..=4000).map(|i| ta + (tb - ta) * i as f64 / 4000.0).map(|t| (t, design.point_at(t))).collect();
         let tol = 0.01;
         for kind in ProgramKind::ALL {
             let p = write_program(kind, &design, tol, &ProgramOptions::default()).expect("program");
@@ -245,7 +266,10 @@ fn every_program_of_a_crease_is_within_tolerance_for_an_outside_reader() {
                 // branch (the crease is closed: its start and end meet).
                 let d = |i: usize| (dense[i].1 - *x).length();
                 let i = (0..dense.len()).min_by(|&a, &b| d(a).total_cmp(&d(b))).expect("samples");
-                let j = (0..dense.len()).filter(|&k| k.abs_diff(i) > 10).min_by(|&a, &b| d(a).total_cmp(&d(b))).expect("samples");
+                let j = (0..dense.len())
+                    .filter(|&k| k.abs_diff(i) > 10)
+                    .min_by(|&a, &b| d(a).total_cmp(&d(b)))
+                    .expect("samples");
                 let foot = |i: usize| {
                     let lo = dense[i.saturating_sub(1)].0;
                     let hi = dense[(i + 1).min(dense.len() - 1)].0;
@@ -284,7 +308,9 @@ fn nurbs_program_read_back_reproduces_the_fitted_curve_to_the_resolution() {
             let u = a + (b - a) * i as f64 / 5000.0;
             worst = worst.max((raw.point(u) - fitted.point_at(u)).length());
             // The library's reader gives the same curve as the textbook evaluation.
-            let Segment::Nurbs(ours) = &p.parsed.toolpath.cuts().next().expect("cut").segment else { panic!("not a NURBS") };
+            let Segment::Nurbs(ours) = &p.parsed.toolpath.cuts().next().expect("cut").segment else {
+                panic!("not a NURBS")
+            };
             assert!((ours.point_at(u) - raw.point(u)).length() < 1e-9);
         }
         assert!(worst <= RES * 3f64.sqrt() / 2.0 + 1e-12, "read-back curve differs by {worst} mm");
@@ -294,12 +320,19 @@ fn nurbs_program_read_back_reproduces_the_fitted_curve_to_the_resolution() {
 
 #[test]
 fn written_g06_2_follows_the_fanuc_rules() {
-    let p = write_program(ProgramKind::Nurbs, &Parabola::paper_like(), 0.01, &ProgramOptions::default()).expect("program");
+    let p =
+        write_program(ProgramKind::Nurbs, &Parabola::paper_like(), 0.01, &ProgramOptions::default()).expect("program");
     let lines: Vec<&str> = p.text.lines().collect();
     let first = lines.iter().position(|l| l.starts_with("G06.2")).expect("a G06.2 block");
-    assert!(lines[first].starts_with("G06.2 P4 K") && lines[first].contains(" F") && lines[first].contains(" R1.0"), "{}", lines[first]);
+    assert!(
+        lines[first].starts_with("G06.2 P4 K") && lines[first].contains(" F") && lines[first].contains(" R1.0"),
+        "{}",
+        lines[first]
+    );
     // The block before positions at the first control point.
-    let xyz = |l: &str| -> Vec<String> { l.split_whitespace().filter(|w| matches!(w.as_bytes()[0], b'X' | b'Y' | b'Z')).map(str::to_owned).collect() };
+    let xyz = |l: &str| -> Vec<String> {
+        l.split_whitespace().filter(|w| matches!(w.as_bytes()[0], b'X' | b'Y' | b'Z')).map(str::to_owned).collect()
+    };
     let approach: Vec<String> = lines[first - 2..first].iter().flat_map(|l| xyz(l)).collect();
     for w in xyz(lines[first]) {
         assert!(approach.contains(&w), "first control point {w} is not the approach position {approach:?}");
@@ -312,7 +345,12 @@ fn written_g06_2_follows_the_fanuc_rules() {
     assert!(k[..4].iter().all(|&x| x == k[0]) && k[k.len() - 4..].iter().all(|&x| x == k[k.len() - 1]), "clamped ends");
     assert!(k[4..k.len() - 4].windows(2).all(|w| w[0] < w[1]) && k[4] > k[0], "interior knots simple");
     // Exactly `order` closing blocks with only K, right after the last control point.
-    let closing: Vec<&&str> = lines.iter().skip(first).take_while(|l| l.starts_with('K') || l.starts_with("G06.2")).filter(|l| !l.contains('X')).collect();
+    let closing: Vec<&&str> = lines
+        .iter()
+        .skip(first)
+        .take_while(|l| l.starts_with('K') || l.starts_with("G06.2"))
+        .filter(|l| !l.contains('X'))
+        .collect();
     assert_eq!(closing.len(), 4);
     assert!(c.weights.iter().all(|&w| w == 1.0));
 }
@@ -334,7 +372,11 @@ fn arc_programs_have_consistent_centres_and_radii() {
     }
     // The crossing cylinders' crease is a space curve: arcs there are helical or in G18/G19.
     let p = write_program(ProgramKind::Arcs, &cyl, 0.01, &ProgramOptions::default()).expect("program");
-    assert!(p.text.contains("G18") || p.text.contains("G19") || p.text.lines().filter(|l| l.contains("G02") || l.contains("G03")).any(|l| l.contains('Z')));
+    assert!(
+        p.text.contains("G18")
+            || p.text.contains("G19")
+            || p.text.lines().filter(|l| l.contains("G02") || l.contains("G03")).any(|l| l.contains('Z'))
+    );
 }
 
 #[test]
@@ -352,7 +394,13 @@ fn tip_program_is_the_centre_program_lowered_by_the_ball_radius() {
     let design = crease_design(&job).expect("crease");
     let r = job.ball_radius_mm;
     let centre = write_program(ProgramKind::Nurbs, &design, 0.01, &ProgramOptions::default()).expect("program");
-    let tip = write_program(ProgramKind::Nurbs, &design, 0.01, &ProgramOptions::default().with_point(ProgrammedPoint::BallTip { radius_mm: r })).expect("program");
+    let tip = write_program(
+        ProgramKind::Nurbs,
+        &design,
+        0.01,
+        &ProgramOptions::default().with_point(ProgrammedPoint::BallTip { radius_mm: r }),
+    )
+    .expect("program");
     let marker = format!("(PROGRAMMED POINT: BALL TIP = BALL CENTRE - Z {})", interpolab::report::fmt_fixed(r, 6));
     assert!(tip.text.contains(&marker), "{}", tip.text);
     let (_, cc, _) = read_feed_points(&centre.text, 0.1);
@@ -394,7 +442,13 @@ fn programs_are_deterministic() {
 
 #[test]
 fn golden_g06_2_program_of_the_parabola() {
-    let p = write_program(ProgramKind::Nurbs, &Parabola::paper_like(), 0.01, &ProgramOptions::default().with_title("parabola y = x^2/40, x from -60 to 60 mm")).expect("program");
+    let p = write_program(
+        ProgramKind::Nurbs,
+        &Parabola::paper_like(),
+        0.01,
+        &ProgramOptions::default().with_title("parabola y = x^2/40, x from -60 to 60 mm"),
+    )
+    .expect("program");
     assert_eq!(p.text, include_str!("data/gcode/parabola/g06_2_tol0.01.nc"));
 }
 
@@ -403,14 +457,16 @@ fn impossible_requests_are_refused_with_the_fix() {
     let para = Parabola::paper_like();
     let e = write_program(ProgramKind::Lines, &para, 0.0015, &ProgramOptions::default()).unwrap_err();
     assert!(matches!(e, ProgramError::BelowResolution { .. }) && e.to_string().contains("at least 0.002"), "{e}");
-    let e = write_program(ProgramKind::Nurbs, &para, 0.01, &ProgramOptions::default().with_resolution(0.002)).unwrap_err();
+    let e =
+        write_program(ProgramKind::Nurbs, &para, 0.01, &ProgramOptions::default().with_resolution(0.002)).unwrap_err();
     assert!(matches!(e, ProgramError::BadResolution(_)), "{e}");
     let e = write_program(ProgramKind::Nurbs, &para, 0.01, &ProgramOptions::default().with_degree(4)).unwrap_err();
     assert!(matches!(e, ProgramError::Degree(4)) && e.to_string().contains("P2 to P4"), "{e}");
     let e = write_program(ProgramKind::Arcs, &para, -1.0, &ProgramOptions::default()).unwrap_err();
     assert!(matches!(e, ProgramError::BadTolerance(_)), "{e}");
     // A finer resolution admits a finer tolerance.
-    let p = write_program(ProgramKind::Nurbs, &para, 0.0015, &ProgramOptions::default().with_resolution(0.0001)).expect("program");
+    let p = write_program(ProgramKind::Nurbs, &para, 0.0015, &ProgramOptions::default().with_resolution(0.0001))
+        .expect("program");
     assert!(p.deviation.max_mm() <= 0.0015);
 }
 
@@ -432,5 +488,8 @@ fn comparison_rows_match_their_programs() {
     assert_eq!(c.rows[2].junctions.count, 0);
     assert!(c.rows[0].junctions.max_turn_deg > 1.0);
     assert_eq!(c.realtime.len(), 3);
-    assert!(c.realtime[2].max_fluctuation < c.realtime[1].max_fluctuation && c.realtime[1].max_fluctuation < c.realtime[0].max_fluctuation);
+    assert!(
+        c.realtime[2].max_fluctuation < c.realtime[1].max_fluctuation
+            && c.realtime[1].max_fluctuation < c.realtime[0].max_fluctuation
+    );
 }

@@ -1,7 +1,12 @@
 //! NURBS fitting (seed 004): interpolation through points, approximation to a tolerance,
 //! checked against closed forms (circle, parabola) by distance computations written here,
 //! independently of the library's own measuring code.
-#![allow(missing_docs)]
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::float_cmp,
+    reason = "tests: a failure should fail the test; some values are exact"
+)]
 
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
@@ -11,7 +16,8 @@ mod support;
 use glam::DVec3;
 use interpolab::geom::{Curve3, NurbsCurve};
 use interpolab::nurbs_path::{
-    approximate_curve, approximate_points, interpolate, parameters, ApproxOptions, EndCondition, FitError, InterpolateOptions, KnotRule, Parabola, Parametrization,
+    ApproxOptions, EndCondition, FitError, InterpolateOptions, KnotRule, Parabola, Parametrization, approximate_curve,
+    approximate_points, interpolate, parameters,
 };
 
 /// A circle of radius r in the plane z = h, centred on the z axis, over [a0, a1] rad.
@@ -26,7 +32,11 @@ impl Curve3 for Arc {
     fn derivatives_at(&self, s: f64) -> [DVec3; 3] {
         let t = s.clamp(self.a0, self.a1);
         let (sn, cs) = t.sin_cos();
-        [DVec3::new(self.r * cs, self.r * sn, self.h), DVec3::new(-self.r * sn, self.r * cs, 0.0), DVec3::new(-self.r * cs, -self.r * sn, 0.0)]
+        [
+            DVec3::new(self.r * cs, self.r * sn, self.h),
+            DVec3::new(-self.r * sn, self.r * cs, 0.0),
+            DVec3::new(-self.r * cs, -self.r * sn, 0.0),
+        ]
     }
     fn range(&self) -> (f64, f64) {
         (self.a0, self.a1)
@@ -64,10 +74,12 @@ fn sample(c: &NurbsCurve, n: usize) -> Vec<DVec3> {
 }
 
 fn helix_points(n: usize) -> Vec<DVec3> {
-    (0..n).map(|i| {
-        let t = i as f64 * 0.37 + 0.05 * (i as f64 * 1.7).sin();
-        DVec3::new(20.0 * t.cos(), 15.0 * t.sin(), 2.0 * t)
-    }).collect()
+    (0..n)
+        .map(|i| {
+            let t = i as f64 * 0.37 + 0.05 * (i as f64 * 1.7).sin();
+            DVec3::new(20.0 * t.cos(), 15.0 * t.sin(), 2.0 * t)
+        })
+        .collect()
 }
 
 #[test]
@@ -75,7 +87,11 @@ fn interpolation_passes_through_every_point() {
     let pts = helix_points(23);
     for degree in 1..=5 {
         for par in [Parametrization::Uniform, Parametrization::ChordLength, Parametrization::Centripetal] {
-            for end in [EndCondition::Free, EndCondition::EstimatedTangents, EndCondition::Tangents { start: DVec3::X, end: DVec3::new(1.0, 1.0, 0.0) }] {
+            for end in [
+                EndCondition::Free,
+                EndCondition::EstimatedTangents,
+                EndCondition::Tangents { start: DVec3::X, end: DVec3::new(1.0, 1.0, 0.0) },
+            ] {
                 if degree == 1 && end != EndCondition::Free {
                     continue;
                 }
@@ -95,7 +111,8 @@ fn interpolation_passes_through_every_point() {
 fn end_tangents_are_the_given_directions() {
     let pts = helix_points(9);
     let (t0, t1) = (DVec3::new(0.0, 1.0, 0.2), DVec3::new(-1.0, 0.3, 0.0));
-    let c = interpolate(&pts, &InterpolateOptions::default().with_end(EndCondition::Tangents { start: t0, end: t1 })).expect("fit");
+    let c = interpolate(&pts, &InterpolateOptions::default().with_end(EndCondition::Tangents { start: t0, end: t1 }))
+        .expect("fit");
     let (a, b) = c.range();
     let d0 = c.derivatives_at(a)[1];
     let d1 = c.derivatives_at(b)[1];
@@ -109,11 +126,15 @@ fn end_tangents_are_the_given_directions() {
 #[test]
 fn papers_cubic_with_knots_at_the_chord_length_parameters() {
     // Seed 004: cubic, cumulative chord length, knots at the parameters, end tangents.
-    let pts: Vec<DVec3> = (0..=8).map(|i| {
-        let x = -40.0 + 10.0 * i as f64;
-        DVec3::new(x, x * x / 40.0, 0.0)
-    }).collect();
-    let o = InterpolateOptions::default().with_knots(KnotRule::AtParameters).with_end(EndCondition::Tangents { start: DVec3::new(1.0, -2.0, 0.0), end: DVec3::new(1.0, 2.0, 0.0) });
+    let pts: Vec<DVec3> = (0..=8)
+        .map(|i| {
+            let x = -40.0 + 10.0 * i as f64;
+            DVec3::new(x, x * x / 40.0, 0.0)
+        })
+        .collect();
+    let o = InterpolateOptions::default()
+        .with_knots(KnotRule::AtParameters)
+        .with_end(EndCondition::Tangents { start: DVec3::new(1.0, -2.0, 0.0), end: DVec3::new(1.0, 2.0, 0.0) });
     let c = interpolate(&pts, &o).expect("cubic spline");
     let u = parameters(&pts, Parametrization::ChordLength).expect("parameters");
     assert_eq!(c.len(), pts.len() + 2, "n + 3 control points");
@@ -129,7 +150,8 @@ fn papers_cubic_with_knots_at_the_chord_length_parameters() {
 #[test]
 fn knots_at_parameters_are_refused_where_they_do_not_fit() {
     let pts = helix_points(10);
-    let e = interpolate(&pts, &InterpolateOptions::default().with_degree(4).with_knots(KnotRule::AtParameters)).unwrap_err();
+    let e = interpolate(&pts, &InterpolateOptions::default().with_degree(4).with_knots(KnotRule::AtParameters))
+        .unwrap_err();
     assert!(matches!(e, FitError::KnotRule { degree: 4, tangents: true }), "{e}");
     assert!(e.to_string().contains("averaging"), "{e}");
 }
@@ -163,19 +185,32 @@ fn parabola_fit_stays_within_tolerance() {
     let para = Parabola::paper_like();
     for tol in [0.01, 0.002] {
         let fit = approximate_curve(&para, tol, &ApproxOptions::default()).expect("fit");
-        let worst = sample(&fit.curve, 3000).iter().map(|p| parabola_distance(para.a, para.x0, para.x1, *p)).fold(0.0, f64::max);
+        let worst = sample(&fit.curve, 3000)
+            .iter()
+            .map(|p| parabola_distance(para.a, para.x0, para.x1, *p))
+            .fold(0.0, f64::max);
         assert!(worst <= tol, "tol {tol}: worst {worst}");
-        assert!(fit.max_deviation_mm <= tol && fit.max_deviation_mm > 0.3 * worst, "reported {} vs independent {worst}", fit.max_deviation_mm);
+        assert!(
+            fit.max_deviation_mm <= tol && fit.max_deviation_mm > 0.3 * worst,
+            "reported {} vs independent {worst}",
+            fit.max_deviation_mm
+        );
         let start = fit.curve.point_at(fit.curve.range().0);
         let end = fit.curve.point_at(fit.curve.range().1);
-        assert!((start - para.point_at(para.x0)).length() < 1e-12 && (end - para.point_at(para.x1)).length() < 1e-12, "ends are interpolated");
+        assert!(
+            (start - para.point_at(para.x0)).length() < 1e-12 && (end - para.point_at(para.x1)).length() < 1e-12,
+            "ends are interpolated"
+        );
     }
 }
 
 #[test]
 fn tighter_tolerance_needs_more_control_points() {
     let para = Parabola::paper_like();
-    let counts: Vec<usize> = [0.1, 0.01, 0.001, 0.0001].iter().map(|&t| approximate_curve(&para, t, &ApproxOptions::default()).expect("fit").curve.len()).collect();
+    let counts: Vec<usize> = [0.1, 0.01, 0.001, 0.0001]
+        .iter()
+        .map(|&t| approximate_curve(&para, t, &ApproxOptions::default()).expect("fit").curve.len())
+        .collect();
     assert!(counts.windows(2).all(|w| w[0] <= w[1]) && counts[0] < counts[3], "{counts:?}");
 }
 
@@ -192,13 +227,20 @@ fn knots_are_multiples_of_the_quantum() {
 
 #[test]
 fn point_approximation_holds_every_point_with_few_control_points() {
-    let pts: Vec<DVec3> = (0..400).map(|i| {
-        let x = i as f64 * 0.25;
-        DVec3::new(x, 8.0 * (x / 9.0).sin(), 0.5 * (x / 15.0).cos())
-    }).collect();
+    let pts: Vec<DVec3> = (0..400)
+        .map(|i| {
+            let x = i as f64 * 0.25;
+            DVec3::new(x, 8.0 * (x / 9.0).sin(), 0.5 * (x / 15.0).cos())
+        })
+        .collect();
     for tol in [0.01, 0.001] {
         let fit = approximate_points(&pts, tol, Parametrization::ChordLength, &ApproxOptions::default()).expect("fit");
-        assert!(!fit.interpolates && fit.curve.len() < pts.len() / 5, "tol {tol}: {} control points for {} points", fit.curve.len(), pts.len());
+        assert!(
+            !fit.interpolates && fit.curve.len() < pts.len() / 5,
+            "tol {tol}: {} control points for {} points",
+            fit.curve.len(),
+            pts.len()
+        );
         // Independent check against a dense polyline of the fit (its own sag is far below tol).
         let poly = sample(&fit.curve, 40_000);
         for (k, q) in pts.iter().enumerate() {
@@ -229,17 +271,27 @@ fn point_approximation_of_few_points_falls_back_to_interpolation() {
 fn bad_fitting_input_is_refused_with_the_reason() {
     let pts = helix_points(8);
     let e = interpolate(&pts[..3], &InterpolateOptions::default().with_end(EndCondition::Free)).unwrap_err();
-    assert!(matches!(e, FitError::TooFewPoints { got: 3, need: 4, degree: 3 }) && e.to_string().contains("need at least 4"), "{e}");
+    assert!(
+        matches!(e, FitError::TooFewPoints { got: 3, need: 4, degree: 3 }) && e.to_string().contains("need at least 4"),
+        "{e}"
+    );
     let mut dup = pts.clone();
     dup[4] = dup[3];
     let e = interpolate(&dup, &InterpolateOptions::default()).unwrap_err();
     assert!(matches!(e, FitError::DuplicatePoint { index: 4 }) && e.to_string().contains("point 4"), "{e}");
-    let e = interpolate(&pts, &InterpolateOptions::default().with_end(EndCondition::Tangents { start: DVec3::ZERO, end: DVec3::X })).unwrap_err();
+    let e = interpolate(
+        &pts,
+        &InterpolateOptions::default().with_end(EndCondition::Tangents { start: DVec3::ZERO, end: DVec3::X }),
+    )
+    .unwrap_err();
     assert!(matches!(e, FitError::ZeroTangent { end: "start" }), "{e}");
     let mut nan = pts.clone();
     nan[2].y = f64::NAN;
     assert!(matches!(interpolate(&nan, &InterpolateOptions::default()).unwrap_err(), FitError::NotFinite { index: 2 }));
-    assert!(matches!(interpolate(&pts, &InterpolateOptions::default().with_degree(0)).unwrap_err(), FitError::Degree(0)));
+    assert!(matches!(
+        interpolate(&pts, &InterpolateOptions::default().with_degree(0)).unwrap_err(),
+        FitError::Degree(0)
+    ));
     for tol in [0.0, -1.0, f64::NAN] {
         let e = approximate_curve(&Parabola::paper_like(), tol, &ApproxOptions::default()).unwrap_err();
         assert!(matches!(e, FitError::BadTolerance { .. }) && e.to_string().contains("positive"), "{e}");

@@ -1,6 +1,11 @@
 //! Real-time NURBS interpolation (seed 004): the three parameter updates, their feed
 //! fluctuation, the chord error per period and the curvature-based feed limit.
-#![allow(missing_docs)]
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::float_cmp,
+    reason = "tests: a failure should fail the test; some values are exact"
+)]
 
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
@@ -8,19 +13,26 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 use glam::DVec3;
 use interpolab::geom::{Curve3, NurbsCurve};
 use interpolab::nurbs_path::realtime::chord_limited_step;
-use interpolab::nurbs_path::{interpolate_realtime, RealtimeError, RealtimeOptions, Update};
+use interpolab::nurbs_path::{RealtimeError, RealtimeOptions, Update, interpolate_realtime};
 
 /// A cubic Bézier whose parametric speed varies about 30-fold (3|P1 − P0| at the start,
 /// 3|P3 − P2| at the end): control points crowded at the start.
 fn uneven_cubic() -> NurbsCurve {
-    let pts = [DVec3::new(0.0, 0.0, 0.0), DVec3::new(2.0, 0.4, 0.0), DVec3::new(5.0, 3.0, 1.0), DVec3::new(60.0, 20.0, 4.0)];
+    let pts =
+        [DVec3::new(0.0, 0.0, 0.0), DVec3::new(2.0, 0.4, 0.0), DVec3::new(5.0, 3.0, 1.0), DVec3::new(60.0, 20.0, 4.0)];
     NurbsCurve::try_new(3, vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0], &pts, None).expect("valid cubic")
 }
 
 /// The exact rational quadratic quarter circle of radius r (weights 1, √2/2, 1).
 fn quarter_circle(r: f64) -> NurbsCurve {
     let w = std::f64::consts::FRAC_1_SQRT_2;
-    NurbsCurve::try_new(2, vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0], &[DVec3::new(r, 0.0, 0.0), DVec3::new(r, r, 0.0), DVec3::new(0.0, r, 0.0)], Some(&[1.0, w, 1.0])).expect("valid circle")
+    NurbsCurve::try_new(
+        2,
+        vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
+        &[DVec3::new(r, 0.0, 0.0), DVec3::new(r, r, 0.0), DVec3::new(0.0, r, 0.0)],
+        Some(&[1.0, w, 1.0]),
+    )
+    .expect("valid circle")
 }
 
 fn speed_ratio(c: &NurbsCurve) -> f64 {
@@ -35,13 +47,20 @@ fn corrected_update_fluctuates_far_less_than_first_order() {
     assert!(speed_ratio(&c) > 10.0, "the test curve must vary its parametric speed strongly");
     let stats: Vec<_> = Update::ALL
         .iter()
-        .map(|&u| interpolate_realtime(&c, &RealtimeOptions::default().with_feed(1500.0, 4.0).with_update(u)).expect("run").stats)
+        .map(|&u| {
+            interpolate_realtime(&c, &RealtimeOptions::default().with_feed(1500.0, 4.0).with_update(u))
+                .expect("run")
+                .stats
+        })
         .collect();
     let (first, second, corrected) = (stats[0], stats[1], stats[2]);
     // Measured here: first ≈ 3e-2, second ≈ 2e-3, corrected ≈ 8e-8.
     assert!(first.max_fluctuation > 1e-2, "first order should visibly fluctuate: {first:?}");
     assert!(second.max_fluctuation < 0.2 * first.max_fluctuation, "second {second:?} vs first {first:?}");
-    assert!(corrected.max_fluctuation < 1e-4 * first.max_fluctuation && corrected.max_fluctuation < 1e-6, "corrected {corrected:?}");
+    assert!(
+        corrected.max_fluctuation < 1e-4 * first.max_fluctuation && corrected.max_fluctuation < 1e-6,
+        "corrected {corrected:?}"
+    );
     assert!(corrected.rms_fluctuation < 1e-4 * first.rms_fluctuation, "corrected {corrected:?} vs first {first:?}");
     assert!(corrected.rms_fluctuation <= corrected.max_fluctuation && first.rms_fluctuation <= first.max_fluctuation);
 }
@@ -69,7 +88,13 @@ fn chord_error_matches_the_circle_formula() {
     // The sagitta of the chord actually made.
     let sagitta = |c: f64| rho - (rho * rho - c * c / 4.0).sqrt();
     for s in run.samples.iter() {
-        assert!((s.chord_error_mm - sagitta(s.step_mm)).abs() < 1e-9, "period {}: {} vs {}", s.k, s.chord_error_mm, sagitta(s.step_mm));
+        assert!(
+            (s.chord_error_mm - sagitta(s.step_mm)).abs() < 1e-9,
+            "period {}: {} vs {}",
+            s.k,
+            s.chord_error_mm,
+            sagitta(s.step_mm)
+        );
     }
     let longest = run.samples.iter().map(|s| s.step_mm).fold(0.0, f64::max);
     interpolab::assert_near!(longest, f, 1e-5 * f);
@@ -82,7 +107,9 @@ fn feed_limit_keeps_the_chord_error_within_tolerance() {
     let tol = 1e-4;
     let free = interpolate_realtime(&c, &RealtimeOptions::default().with_feed(30_000.0, 4.0)).expect("run");
     assert!(free.stats.max_chord_error_mm > tol, "without the limit the chord error exceeds tol: {:?}", free.stats);
-    let limited = interpolate_realtime(&c, &RealtimeOptions::default().with_feed(30_000.0, 4.0).with_chord_tol(Some(tol))).expect("run");
+    let limited =
+        interpolate_realtime(&c, &RealtimeOptions::default().with_feed(30_000.0, 4.0).with_chord_tol(Some(tol)))
+            .expect("run");
     assert!(limited.stats.max_chord_error_mm <= tol * (1.0 + 1e-9), "{:?}", limited.stats);
     assert!(limited.stats.limited_periods + 1 >= limited.stats.periods, "every period of a tight circle is limited");
     assert!(limited.stats.periods > free.stats.periods);

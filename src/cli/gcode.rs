@@ -15,12 +15,12 @@ use clap::{Args, ValueEnum};
 use super::Fatal;
 
 use interpolab::gcode::{
-    compare, crease_design, deviation, format_comparison, parse_program, summarize, write_program, CompareOptions, DeviationOptions, ProgramKind, ProgramOptions,
-    ProgrammedPoint, Segment, TableStyle,
+    CompareOptions, DeviationOptions, ProgramKind, ProgramOptions, ProgrammedPoint, Segment, TableStyle, compare,
+    crease_design, deviation, format_comparison, parse_program, summarize, write_program,
 };
 use interpolab::geom::Curve3;
 use interpolab::nurbs_path::measure::Translated;
-use interpolab::nurbs_path::{interpolate_realtime, Parabola, RealtimeOptions, Update};
+use interpolab::nurbs_path::{Parabola, RealtimeOptions, Update, interpolate_realtime};
 use interpolab::report::{fmt_fixed, fmt_num};
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -185,7 +185,13 @@ fn load_design(scene: Option<&Path>, profile: Option<ProfileArg>) -> Result<Desi
             let (scene, job) = super::crease::load(path)?;
             let curve = crease_design(&job).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
             let title = if scene.name.is_empty() { path.display().to_string() } else { scene.name.clone() };
-            Ok(Design { curve: Box::new(curve), title, feed: job.feed_mm_per_min, period_ms: job.period_ms, ball_radius: Some(job.ball_radius_mm) })
+            Ok(Design {
+                curve: Box::new(curve),
+                title,
+                feed: job.feed_mm_per_min,
+                period_ms: job.period_ms,
+                ball_radius: Some(job.ball_radius_mm),
+            })
         }
         (None, Some(ProfileArg::Parabola)) => Ok(Design {
             curve: Box::new(Parabola::paper_like()),
@@ -202,7 +208,9 @@ fn point_of(arg: PointArg, tool_radius: Option<f64>, design: &Design) -> Result<
     match arg {
         PointArg::Centre => Ok(ProgrammedPoint::BallCentre),
         PointArg::Tip => {
-            let r = tool_radius.or(design.ball_radius).ok_or_else(|| Fatal("--point tip needs the ball radius: give --tool-radius (mm)".to_owned()))?;
+            let r = tool_radius
+                .or(design.ball_radius)
+                .ok_or_else(|| Fatal("--point tip needs the ball radius: give --tool-radius (mm)".to_owned()))?;
             if !(r.is_finite() && r > 0.0) {
                 return Err(Fatal(format!("--tool-radius must be a positive length in mm, got {r}")));
             }
@@ -265,7 +273,11 @@ pub(super) fn gcode(a: &GcodeArgs) -> Result<ExitCode, Fatal> {
 
 pub(super) fn compare_cmd(a: &CompareArgs) -> Result<ExitCode, Fatal> {
     let design = load_design(a.design.scene.as_deref(), a.design.profile)?;
-    let opts = CompareOptions { program: program_options(&a.program, &design)?, period_ms: design.period_ms, chord_tol_mm: None };
+    let opts = CompareOptions {
+        program: program_options(&a.program, &design)?,
+        period_ms: design.period_ms,
+        chord_tol_mm: None,
+    };
     let c = compare(design.curve.as_ref(), a.program.tolerance, &opts).map_err(|e| Fatal(e.to_string()))?;
     let style = match a.format {
         TableArg::Markdown => TableStyle::Markdown,
@@ -280,12 +292,22 @@ fn v3(p: glam::DVec3) -> String {
 }
 
 pub(super) fn replay(a: &ReplayArgs) -> Result<ExitCode, Fatal> {
-    let text = fs::read_to_string(&a.program).map_err(|e| Fatal(format!("cannot read program {}: {e}", a.program.display())))?;
+    let text = fs::read_to_string(&a.program)
+        .map_err(|e| Fatal(format!("cannot read program {}: {e}", a.program.display())))?;
     let parsed = parse_program(&text).map_err(|e| Fatal(format!("{}: {e}", a.program.display())))?;
     let s = summarize(&parsed.toolpath);
     let mut lines = vec![
         format!("program      {} ({} lines, {} blocks)", a.program.display(), parsed.lines, parsed.blocks),
-        format!("moves        G00 {}, G01 {}, G02 {}, G03 {}, G06.2 curves {} ({} control points); path blocks {}", s.moves[0], s.moves[1], s.moves[2], s.moves[3], s.moves[4], s.nurbs_control_points, parsed.path_blocks()),
+        format!(
+            "moves        G00 {}, G01 {}, G02 {}, G03 {}, G06.2 curves {} ({} control points); path blocks {}",
+            s.moves[0],
+            s.moves[1],
+            s.moves[2],
+            s.moves[3],
+            s.moves[4],
+            s.nurbs_control_points,
+            parsed.path_blocks()
+        ),
         format!("length       cutting {:.4} mm, rapid {:.4} mm", s.cut_length_mm, s.rapid_length_mm),
     ];
     if let Some((lo, hi)) = s.bounds {
@@ -305,21 +327,48 @@ pub(super) fn replay(a: &ReplayArgs) -> Result<ExitCode, Fatal> {
             None => ProgrammedPoint::from_comments(&parsed.comments).unwrap_or(ProgrammedPoint::BallCentre),
         };
         let moved = Translated { inner: design.curve.as_ref(), offset: point.offset() };
-        let d = deviation(&parsed.toolpath, &moved, &DeviationOptions::default()).map_err(|e| Fatal(format!("{}: {e}", a.program.display())))?;
-        lines.push(format!("design       {} ({:.4} mm), programmed point: {}", design.title, d.design_length_mm, point.comment().trim_start_matches("PROGRAMMED POINT: ").to_lowercase()));
-        lines.push(format!("program → design  max {} mm at {} (line {})", fmt_fixed(d.program_to_design_mm, 6), v3(d.program_point), d.program_line));
-        lines.push(format!("design → program  max {} mm at {} (s = {:.3} mm along the design)", fmt_fixed(d.design_to_program_mm, 6), v3(d.design_point), d.design_s_mm));
-        lines.push(format!("gaps         start {} mm, end {} mm", fmt_fixed(d.start_gap_mm, 6), fmt_fixed(d.end_gap_mm, 6)));
+        let d = deviation(&parsed.toolpath, &moved, &DeviationOptions::default())
+            .map_err(|e| Fatal(format!("{}: {e}", a.program.display())))?;
+        lines.push(format!(
+            "design       {} ({:.4} mm), programmed point: {}",
+            design.title,
+            d.design_length_mm,
+            point.comment().trim_start_matches("PROGRAMMED POINT: ").to_lowercase()
+        ));
+        lines.push(format!(
+            "program → design  max {} mm at {} (line {})",
+            fmt_fixed(d.program_to_design_mm, 6),
+            v3(d.program_point),
+            d.program_line
+        ));
+        lines.push(format!(
+            "design → program  max {} mm at {} (s = {:.3} mm along the design)",
+            fmt_fixed(d.design_to_program_mm, 6),
+            v3(d.design_point),
+            d.design_s_mm
+        ));
+        lines.push(format!(
+            "gaps         start {} mm, end {} mm",
+            fmt_fixed(d.start_gap_mm, 6),
+            fmt_fixed(d.end_gap_mm, 6)
+        ));
         match a.tolerance {
             Some(t) => {
                 let ok = d.max_mm() <= t;
                 failed |= !ok;
-                lines.push(format!("deviation    {} mm: {} the tolerance {} mm", fmt_fixed(d.max_mm(), 6), if ok { "within" } else { "EXCEEDS" }, fmt_num(t)));
+                lines.push(format!(
+                    "deviation    {} mm: {} the tolerance {} mm",
+                    fmt_fixed(d.max_mm(), 6),
+                    if ok { "within" } else { "EXCEEDS" },
+                    fmt_num(t)
+                ));
             }
             None => lines.push(format!("deviation    {} mm", fmt_fixed(d.max_mm(), 6))),
         }
     } else if a.tolerance.is_some() {
-        return Err(Fatal("--tolerance needs a design path to compare with: give --scene SCENE or --profile parabola".to_owned()));
+        return Err(Fatal(
+            "--tolerance needs a design path to compare with: give --scene SCENE or --profile parabola".to_owned(),
+        ));
     }
     write_out(None, &(lines.join("\n") + "\n"))?;
     Ok(if failed { ExitCode::from(1) } else { ExitCode::SUCCESS })
@@ -328,7 +377,8 @@ pub(super) fn replay(a: &ReplayArgs) -> Result<ExitCode, Fatal> {
 pub(super) fn nurbs(a: &NurbsArgs) -> Result<ExitCode, Fatal> {
     let design = load_design(a.design.scene.as_deref(), a.design.profile)?;
     let opts = program_options(&a.program, &design)?;
-    let p = write_program(ProgramKind::Nurbs, design.curve.as_ref(), a.program.tolerance, &opts).map_err(|e| Fatal(e.to_string()))?;
+    let p = write_program(ProgramKind::Nurbs, design.curve.as_ref(), a.program.tolerance, &opts)
+        .map_err(|e| Fatal(e.to_string()))?;
     let curve = p
         .parsed
         .toolpath
@@ -341,7 +391,10 @@ pub(super) fn nurbs(a: &NurbsArgs) -> Result<ExitCode, Fatal> {
         UpdateArg::Corrected => Update::Corrected,
     };
     let period = a.period.unwrap_or(design.period_ms);
-    let ro = RealtimeOptions::default().with_feed(opts.feed_mm_per_min, period).with_update(update).with_chord_tol(a.chord_tol);
+    let ro = RealtimeOptions::default()
+        .with_feed(opts.feed_mm_per_min, period)
+        .with_update(update)
+        .with_chord_tol(a.chord_tol);
     let run = interpolate_realtime(&curve, &ro).map_err(|e| Fatal(e.to_string()))?;
     let mut csv = String::from("k,t_ms,u,x,y,z,target_mm,step_mm,fluctuation,chord_error_mm,limited\n");
     for s in &run.samples {

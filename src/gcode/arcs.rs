@@ -12,14 +12,17 @@
 //! Distances to a helix are measured to the helix point at the same polar angle, an upper
 //! bound of the true distance, so the check errs on the safe side.
 
-#![expect(clippy::neg_cmp_op_on_partial_ord, reason = "`!(x > 0.0)` is deliberately true for NaN: bad input is rejected, never passed on")]
+#![expect(
+    clippy::neg_cmp_op_on_partial_ord,
+    reason = "`!(x > 0.0)` is deliberately true for NaN: bad input is rejected, never passed on"
+)]
 
 use glam::DVec3;
 use thiserror::Error;
 
 use super::path::{ArcMove, LineMove, Plane};
 use crate::geom::Curve3;
-use crate::nurbs_path::measure::{distance_to_segment, max_on_interval, ArcLengthTable};
+use crate::nurbs_path::measure::{ArcLengthTable, distance_to_segment, max_on_interval};
 use crate::tolerance;
 
 /// Options of [`fit_arcs`].
@@ -66,7 +69,9 @@ pub enum ArcFitError {
     #[error("more than {0} arcs and lines would be needed; raise the tolerance")]
     TooManyPieces(usize),
     /// No piece fits, however short.
-    #[error("no line or arc fits the design curve near parameter {t}: the curve is not smooth there (a corner or a cusp)")]
+    #[error(
+        "no line or arc fits the design curve near parameter {t}: the curve is not smooth there (a corner or a cusp)"
+    )]
     Stuck {
         /// Where.
         t: f64,
@@ -181,32 +186,48 @@ pub fn fit_arcs(design: &dyn Curve3, tol_mm: f64, opts: &ArcFitOptions) -> Resul
         return Err(ArcFitError::EmptyCurve);
     }
     let max_sweep = opts.max_sweep_deg.to_radians();
+    let n = opts.check_samples.max(2);
     let candidate = |t0: f64, t1: f64| -> (Option<Piece>, f64) {
         let a = design.point_at(t0);
         let b = design.point_at(t1);
         let m = design.point_at(0.5 * (t0 + t1));
-        let mut best: (Option<Piece>, f64) = (None, f64::INFINITY);
-        let mut consider = |piece: Piece| {
-            let mut f = |t: f64| {
-                let x = design.point_at(t);
-                match &piece {
-                    Piece::Line(l) => distance_to_segment(x, l.start, l.end),
-                    Piece::Arc(c) => distance_to_arc(c, x),
-                }
-            };
-            // Early exit: a cheap pass first, refinement only if it can still win.
-            let (dev, _) = max_on_interval(&mut f, t0, t1, opts.check_samples, 8);
-            if dev < best.1 {
-                best = (Some(piece), dev);
-            }
+        // The design samples are shared by the four candidates.
+        let h = (t1 - t0) / n as f64;
+        let xs: Vec<DVec3> = (0..=n).map(|i| design.point_at(if i == n { t1 } else { t0 + h * i as f64 })).collect();
+        let dist = |piece: &Piece, x: DVec3| match piece {
+            Piece::Line(l) => distance_to_segment(x, l.start, l.end),
+            Piece::Arc(c) => distance_to_arc(c, x),
         };
-        consider(Piece::Line(LineMove { start: a, end: b }));
+        let mut options = vec![Piece::Line(LineMove { start: a, end: b })];
         for plane in Plane::ALL {
             if let Some(arc) = arc_through(a, m, b, plane, opts.helical, max_sweep) {
-                consider(Piece::Arc(arc));
+                options.push(Piece::Arc(arc));
             }
         }
-        best
+        let mut best: Option<(Piece, f64, usize)> = None;
+        for piece in options {
+            let (worst_i, worst) = xs
+                .iter()
+                .enumerate()
+                .map(|(i, &x)| (i, dist(&piece, x)))
+                .fold((0, 0.0_f64), |acc, v| if v.1 > acc.1 { v } else { acc });
+            if best.as_ref().is_none_or(|b| worst < b.1) {
+                best = Some((piece, worst, worst_i));
+            }
+        }
+        let Some((piece, sampled, i)) = best else {
+            return (None, f64::INFINITY);
+        };
+        if sampled > tol_mm {
+            // Refinement only raises the maximum.
+            return (Some(piece), sampled);
+        }
+        // Refine the best candidate's worst sample by golden section between its neighbours.
+        let lo = t0 + h * i.saturating_sub(1) as f64;
+        let hi = (t0 + h * (i + 1) as f64).min(t1);
+        let mut f = |t: f64| dist(&piece, design.point_at(t));
+        let (refined, _) = max_on_interval(&mut f, lo, hi, 2, 10);
+        (Some(piece), sampled.max(refined))
     };
     let mut pieces: Vec<FittedPiece> = Vec::new();
     let mut s0 = 0.0;

@@ -17,9 +17,9 @@
 use glam::DVec3;
 
 use super::path::{PathBlock, Toolpath};
-use super::write::{write_program, Program, ProgramError, ProgramKind, ProgramOptions};
+use super::write::{Program, ProgramError, ProgramKind, ProgramOptions, write_program};
 use crate::geom::Curve3;
-use crate::nurbs_path::realtime::{interpolate_realtime, FeedStats, RealtimeOptions, Update};
+use crate::nurbs_path::realtime::{FeedStats, RealtimeOptions, Update, interpolate_realtime};
 use crate::report::fmt_fixed;
 
 /// Options of [`compare`].
@@ -171,7 +171,21 @@ pub enum TableStyle {
 #[must_use]
 pub fn format_comparison(c: &Comparison, style: TableStyle) -> String {
     let lines_blocks = c.rows.iter().find(|r| r.kind == ProgramKind::Lines).map(|r| r.path_blocks);
-    let mut head: Vec<String> = ["program", "path blocks", "vs G01", "bytes", "max deviation mm", "junctions", "max turn deg", "velocity jump mm/min", "max curvature jump 1/mm", "accel jump mm/s2"].iter().map(|s| (*s).to_owned()).collect();
+    let mut head: Vec<String> = [
+        "program",
+        "path blocks",
+        "vs G01",
+        "bytes",
+        "max deviation mm",
+        "junctions",
+        "max turn deg",
+        "velocity jump mm/min",
+        "max curvature jump 1/mm",
+        "accel jump mm/s2",
+    ]
+    .iter()
+    .map(|s| (*s).to_owned())
+    .collect();
     let mut rows: Vec<Vec<String>> = Vec::new();
     for r in &c.rows {
         let vs = match lines_blocks {
@@ -193,7 +207,17 @@ pub fn format_comparison(c: &Comparison, style: TableStyle) -> String {
     }
     let mut out = table(&head, &rows, style);
     out.push('\n');
-    head = ["G06.2 update", "periods", "max feed fluctuation", "RMS feed fluctuation", "max chord error mm", "feed-limited periods"].iter().map(|s| (*s).to_owned()).collect();
+    head = [
+        "G06.2 update",
+        "periods",
+        "max feed fluctuation",
+        "RMS feed fluctuation",
+        "max chord error mm",
+        "feed-limited periods",
+    ]
+    .iter()
+    .map(|s| (*s).to_owned())
+    .collect();
     let rt: Vec<Vec<String>> = c
         .realtime
         .iter()

@@ -4,7 +4,7 @@
 
 use thiserror::Error;
 
-use crate::crease::{run_to_end, CreaseCurve, CreaseError, CreaseJob, InterpOptions};
+use crate::crease::{CreaseCurve, CreaseError, CreaseJob, InterpOptions, run_to_end};
 
 /// Why a scene gives no design path.
 #[derive(Clone, Debug, Error, PartialEq)]
@@ -13,7 +13,9 @@ pub enum DesignError {
     #[error("the crease cannot be interpolated: {0}")]
     Crease(CreaseError),
     /// Fewer than two points.
-    #[error("the crease run produced {0} point(s); a path needs at least two — check path.start, path.end and path.max_steps")]
+    #[error(
+        "the crease run produced {0} point(s); a path needs at least two — check path.start, path.end and path.max_steps"
+    )]
     TooShort(usize),
 }
 

@@ -28,9 +28,9 @@ pub mod path;
 pub mod replay;
 pub mod write;
 
-pub use compare::{compare, format_comparison, CompareOptions, CompareRow, Comparison, TableStyle};
-pub use design::{crease_design, DesignError};
-pub use parse::{parse_program, ParseError, ParsedProgram, Unsupported};
+pub use compare::{CompareOptions, CompareRow, Comparison, TableStyle, compare, format_comparison};
+pub use design::{DesignError, crease_design};
+pub use parse::{ParseError, ParsedProgram, Unsupported, parse_program};
 pub use path::{ArcMove, LineMove, Motion, PathBlock, Plane, Segment, Toolpath};
-pub use replay::{deviation, summarize, Deviation, DeviationOptions, ProgramSummary, ReplayError};
-pub use write::{write_program, Program, ProgramError, ProgramKind, ProgramOptions, ProgrammedPoint};
+pub use replay::{Deviation, DeviationOptions, ProgramSummary, ReplayError, deviation, summarize};
+pub use write::{Program, ProgramError, ProgramKind, ProgramOptions, ProgrammedPoint, write_program};

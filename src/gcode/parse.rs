@@ -24,7 +24,10 @@
 //! decimal point are millimetres (`X10` = 10 mm, calculator-style input), not input
 //! increments.
 
-#![expect(clippy::neg_cmp_op_on_partial_ord, reason = "`!(x > 0.0)` is deliberately true for NaN: bad input is rejected, never passed on")]
+#![expect(
+    clippy::neg_cmp_op_on_partial_ord,
+    reason = "`!(x > 0.0)` is deliberately true for NaN: bad input is rejected, never passed on"
+)]
 
 use glam::DVec3;
 use thiserror::Error;
@@ -122,7 +125,9 @@ pub enum ParseError {
         code: &'static str,
     },
     /// Start and end radius differ.
-    #[error("line {line}: the arc's end is not on its circle: radius {start_r:.4} mm at the start, {end_r:.4} mm at the end; correct the end point or the centre offsets")]
+    #[error(
+        "line {line}: the arc's end is not on its circle: radius {start_r:.4} mm at the start, {end_r:.4} mm at the end; correct the end point or the centre offsets"
+    )]
     ArcRadius {
         /// Line.
         line: usize,
@@ -132,7 +137,9 @@ pub enum ParseError {
         end_r: f64,
     },
     /// R smaller than half the chord.
-    #[error("line {line}: radius R{r} is smaller than half the distance to the end point ({half_chord:.4} mm); no such arc exists")]
+    #[error(
+        "line {line}: radius R{r} is smaller than half the distance to the end point ({half_chord:.4} mm); no such arc exists"
+    )]
     ArcRadiusTooSmall {
         /// Line.
         line: usize,
@@ -184,7 +191,9 @@ pub enum ParseError {
         order: usize,
     },
     /// First control point away from the current position.
-    #[error("line {line}: the first control point {first:?} is not the current position {position:?}; a G06.2 curve starts where the previous move ended")]
+    #[error(
+        "line {line}: the first control point {first:?} is not the current position {position:?}; a G06.2 curve starts where the previous move ended"
+    )]
     NurbsStartMismatch {
         /// Line.
         line: usize,
@@ -194,7 +203,9 @@ pub enum ParseError {
         position: [f64; 3],
     },
     /// The curve ended before its closing knots.
-    #[error("line {line}: the G06.2 curve started here has {closing} closing knot blocks but order {order} needs {order}; end it with {order} blocks holding only K")]
+    #[error(
+        "line {line}: the G06.2 curve started here has {closing} closing knot blocks but order {order} needs {order}; end it with {order} blocks holding only K"
+    )]
     NurbsIncomplete {
         /// Line of the G06.2 word.
         line: usize,
@@ -204,7 +215,9 @@ pub enum ParseError {
         order: usize,
     },
     /// A control point after closing knots began.
-    #[error("line {line}: control point after the closing knot blocks of the G06.2 curve; the closing K-only blocks come last")]
+    #[error(
+        "line {line}: control point after the closing knot blocks of the G06.2 curve; the closing K-only blocks come last"
+    )]
     NurbsAfterEnd {
         /// Line.
         line: usize,
@@ -322,7 +335,9 @@ fn tokenize(line_no: usize, raw: &str, comments: &mut Vec<(usize, String)>) -> R
             return Err(ParseError::UnexpectedChar { line: line_no, col: i + 1, ch: chars[i] });
         }
         let start = i;
-        while i < chars.len() && (chars[i].is_ascii_digit() || chars[i] == '.' || ((chars[i] == '-' || chars[i] == '+') && i == start)) {
+        while i < chars.len()
+            && (chars[i].is_ascii_digit() || chars[i] == '.' || ((chars[i] == '-' || chars[i] == '+') && i == start))
+        {
             i += 1;
         }
         let text: String = chars[start..i].iter().collect();
@@ -331,7 +346,9 @@ fn tokenize(line_no: usize, raw: &str, comments: &mut Vec<(usize, String)>) -> R
         }
         let value: f64 = match text.parse() {
             Ok(v) if text.chars().any(|c| c.is_ascii_digit()) => v,
-            _ => return Err(ParseError::BadNumber { line: line_no, letter, text }),
+            _ => {
+                return Err(ParseError::BadNumber { line: line_no, letter, text });
+            }
         };
         words.push(Word { letter, value, text });
     }
@@ -376,7 +393,8 @@ struct State {
 /// stop, G13.1/G15 polar cancels, G40 compensation cancel, G49 length offset cancel, G50
 /// scaling cancel, G54–G59 and G54.1 work offsets, G61/G61.1/G64 path modes, G67 macro
 /// cancel, G69 rotation cancel, G80 cycle cancel, G94 feed per minute, G98/G99 return level.
-const HARMLESS_G: &[i64] = &[80, 90, 131, 150, 400, 490, 500, 540, 541, 550, 560, 570, 580, 590, 610, 611, 640, 670, 690, 800, 940, 980, 990];
+const HARMLESS_G: &[i64] =
+    &[80, 90, 131, 150, 400, 490, 500, 540, 541, 550, 560, 570, 580, 590, 610, 611, 640, 670, 690, 800, 940, 980, 990];
 
 fn unsupported_g(t: i64) -> &'static str {
     match t {
@@ -410,7 +428,15 @@ fn unsupported_m(m: i64) -> Option<&'static str> {
 /// The first malformed line, as a [`ParseError`].
 pub fn parse_program(text: &str) -> Result<ParsedProgram, ParseError> {
     let mut out = ParsedProgram::default();
-    let mut st = State { pos: DVec3::ZERO, motion: None, plane: Plane::Xy, units: Units::Mm, absolute: true, feed: None, nurbs: None };
+    let mut st = State {
+        pos: DVec3::ZERO,
+        motion: None,
+        plane: Plane::Xy,
+        units: Units::Mm,
+        absolute: true,
+        feed: None,
+        nurbs: None,
+    };
     for (idx, raw) in text.lines().enumerate() {
         let line = idx + 1;
         let words = tokenize(line, raw, &mut out.comments)?;
@@ -471,7 +497,11 @@ fn block(line: usize, words: &[Word], st: &mut State, out: &mut ParsedProgram) -
                     _ if HARMLESS_G.contains(&t) => {}
                     _ => {
                         skip_axes |= matches!(t, 280 | 290 | 300 | 530 | 520 | 730 | 740 | 760 | 810..=890 | 920 | 921);
-                        out.unsupported.push(Unsupported { line, word: format!("G{}", w.text), reason: unsupported_g(t) });
+                        out.unsupported.push(Unsupported {
+                            line,
+                            word: format!("G{}", w.text),
+                            reason: unsupported_g(t),
+                        });
                     }
                 }
             }
@@ -552,15 +582,16 @@ fn block(line: usize, words: &[Word], st: &mut State, out: &mut ParsedProgram) -
         end += st.pos;
     }
     let start = st.pos;
-    let feed = if m == Motion::Rapid {
-        None
-    } else {
-        Some(st.feed.ok_or(ParseError::MissingFeed { line, code: m.gcode() })?)
-    };
+    let feed =
+        if m == Motion::Rapid { None } else { Some(st.feed.ok_or(ParseError::MissingFeed { line, code: m.gcode() })?) };
     if matches!(m, Motion::Rapid | Motion::Linear) {
         for l in ['I', 'J', 'K', 'R'] {
             if let Some(w) = words.iter().find(|w| w.letter == l) {
-                out.unsupported.push(Unsupported { line, word: format!("{l}{}", w.text), reason: "centre or radius words have no meaning on a straight move" });
+                out.unsupported.push(Unsupported {
+                    line,
+                    word: format!("{l}{}", w.text),
+                    reason: "centre or radius words have no meaning on a straight move",
+                });
             }
         }
     }
@@ -579,7 +610,15 @@ fn block(line: usize, words: &[Word], st: &mut State, out: &mut ParsedProgram) -
     Ok(())
 }
 
-fn arc(line: usize, m: Motion, start: DVec3, end: DVec3, plane: Plane, get: &dyn Fn(char) -> Option<f64>, scale: f64) -> Result<ArcMove, ParseError> {
+fn arc(
+    line: usize,
+    m: Motion,
+    start: DVec3,
+    end: DVec3,
+    plane: Plane,
+    get: &dyn Fn(char) -> Option<f64>,
+    scale: f64,
+) -> Result<ArcMove, ParseError> {
     let ccw = m == Motion::ArcCcw;
     let code = m.gcode();
     let (sa, sb, _) = plane.split(start);
@@ -589,7 +628,10 @@ fn arc(line: usize, m: Motion, start: DVec3, end: DVec3, plane: Plane, get: &dyn
         let (da, db) = (ea - sa, eb - sb);
         let chord = da.hypot(db);
         if !(chord > 0.0) || r == 0.0 {
-            return Err(ParseError::ArcDegenerate { line, what: "R format needs an end point different from the start and R ≠ 0" });
+            return Err(ParseError::ArcDegenerate {
+                line,
+                what: "R format needs an end point different from the start and R ≠ 0",
+            });
         }
         let half = 0.5 * chord;
         if r.abs() < half * (1.0 - 1e-9) {
@@ -667,7 +709,12 @@ fn start_nurbs(line: usize, st: &mut State, get: &dyn Fn(char) -> Option<f64>) -
     Ok(())
 }
 
-fn nurbs_block(line: usize, get: &dyn Fn(char) -> Option<f64>, st: &mut State, out: &mut ParsedProgram) -> Result<(), ParseError> {
+fn nurbs_block(
+    line: usize,
+    get: &dyn Fn(char) -> Option<f64>,
+    st: &mut State,
+    out: &mut ParsedProgram,
+) -> Result<(), ParseError> {
     let scale = if st.units == Units::Inch { 25.4 } else { 1.0 };
     let Some(nb) = st.nurbs.as_mut() else {
         return Ok(());
@@ -736,9 +783,15 @@ fn finish_nurbs(nb: NurbsBuild, st: &mut State, out: &mut ParsedProgram) -> Resu
     if k[k.len() - o..].iter().any(|&x| !eq(x, k[k.len() - 1])) {
         return Err(ParseError::NurbsNotClamped { line, end: "last", order: o });
     }
-    let curve = NurbsCurve::try_new(o - 1, nb.knots.clone(), &nb.points, Some(&nb.weights)).map_err(|source| ParseError::Nurbs { line, source })?;
+    let curve = NurbsCurve::try_new(o - 1, nb.knots.clone(), &nb.points, Some(&nb.weights))
+        .map_err(|source| ParseError::Nurbs { line, source })?;
     let end = curve.point_at(curve.range().1);
-    out.toolpath.blocks.push(PathBlock { line, motion: Motion::Nurbs, segment: Segment::Nurbs(curve), feed_mm_per_min: Some(nb.feed) });
+    out.toolpath.blocks.push(PathBlock {
+        line,
+        motion: Motion::Nurbs,
+        segment: Segment::Nurbs(curve),
+        feed_mm_per_min: Some(nb.feed),
+    });
     st.pos = end;
     Ok(())
 }

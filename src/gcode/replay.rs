@@ -13,14 +13,20 @@
 //!
 //! Rapid moves (G00) are positioning, not part of the cut, and are left out.
 
-#![expect(clippy::neg_cmp_op_on_partial_ord, reason = "`!(x > 0.0)` is deliberately true for NaN: bad input is rejected, never passed on")]
+#![expect(
+    clippy::neg_cmp_op_on_partial_ord,
+    reason = "`!(x > 0.0)` is deliberately true for NaN: bad input is rejected, never passed on"
+)]
+
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 
 use glam::DVec3;
 use thiserror::Error;
 
-use super::path::{sample_params, Motion, PathBlock, Segment, Toolpath};
+use super::path::{Motion, PathBlock, Segment, Toolpath, sample_params};
 use crate::geom::Curve3;
-use crate::nurbs_path::measure::{max_on_interval, nearest_on_curve, ArcLengthTable};
+use crate::nurbs_path::measure::{ArcLengthTable, max_on_interval, nearest_on_curve};
 
 /// Options of [`deviation`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -93,11 +99,39 @@ struct Cloud {
     grid: Grid,
 }
 
-/// Points bucketed in cubic cells: a sorted list of (cell, point index), searched ring by
-/// ring around the query's cell. Deterministic (no hashing).
+/// Points bucketed in cubic cells: the point indices sorted by cell, and a map from a cell to
+/// its run in that list. Lookups only (never iterated), so results do not depend on the
+/// map's order.
 struct Grid {
     cell: f64,
-    keys: Vec<([i64; 3], usize)>,
+    order: Vec<usize>,
+    /// Cell key (the three cell indices mixed into one word; two cells sharing a key only
+    /// merge their candidates, which are then measured anyway) → run in `order`.
+    runs: HashMap<u64, (usize, usize), BuildHasherDefault<CellHasher>>,
+}
+
+/// A small multiplicative hasher for cell keys (deterministic, no random seed).
+#[derive(Default)]
+struct CellHasher(u64);
+
+impl Hasher for CellHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(u64::from(b));
+        }
+    }
+    fn write_u64(&mut self, i: u64) {
+        self.0 = (self.0.rotate_left(5) ^ i).wrapping_mul(0x517c_c1b7_2722_0a95);
+    }
+    fn write_i64(&mut self, i: i64) {
+        self.write_u64(i as u64);
+    }
+    fn write_usize(&mut self, i: usize) {
+        self.write_u64(i as u64);
+    }
 }
 
 impl Grid {
@@ -106,21 +140,50 @@ impl Grid {
         [c.x as i64, c.y as i64, c.z as i64]
     }
 
+    fn word(k: [i64; 3]) -> u64 {
+        (k[0] as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+            ^ (k[1] as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F)
+            ^ (k[2] as u64).wrapping_mul(0x1656_67B1_9E37_79F9)
+    }
+
     fn new(pts: &[DVec3], cell: f64) -> Self {
-        let mut g = Self { cell, keys: Vec::with_capacity(pts.len()) };
-        for (i, p) in pts.iter().enumerate() {
-            let k = g.key(*p);
-            g.keys.push((k, i));
+        let mut g = Self { cell, order: Vec::with_capacity(pts.len()), runs: HashMap::default() };
+        let mut keyed: Vec<(u64, usize)> = pts.iter().enumerate().map(|(i, p)| (Self::word(g.key(*p)), i)).collect();
+        keyed.sort_unstable();
+        let mut start = 0;
+        for (n, (k, i)) in keyed.iter().enumerate() {
+            g.order.push(*i);
+            if n + 1 == keyed.len() || keyed[n + 1].0 != *k {
+                g.runs.insert(*k, (start, n + 1));
+                start = n + 1;
+            }
         }
-        g.keys.sort_unstable();
         g
     }
 
     /// Indices of the points in one cell.
-    fn cell_items(&self, k: [i64; 3]) -> &[([i64; 3], usize)] {
-        let lo = self.keys.partition_point(|e| e.0 < k);
-        let hi = lo + self.keys[lo..].partition_point(|e| e.0 == k);
-        &self.keys[lo..hi]
+    fn cell_items(&self, k: [i64; 3]) -> &[usize] {
+        match self.runs.get(&Self::word(k)) {
+            Some(&(a, b)) => &self.order[a..b],
+            None => &[],
+        }
+    }
+
+    /// Calls `f` for every point in the cells at Chebyshev ring distance `r` from `c`.
+    fn ring(&self, c: [i64; 3], r: i64, f: &mut dyn FnMut(usize)) {
+        for dx in -r..=r {
+            for dy in -r..=r {
+                let edge = dx.abs() == r || dy.abs() == r;
+                let step = if edge || r == 0 { 1 } else { 2 * r };
+                let mut dz = -r;
+                while dz <= r {
+                    for &i in self.cell_items([c[0] + dx, c[1] + dy, c[2] + dz]) {
+                        f(i);
+                    }
+                    dz += step.max(1);
+                }
+            }
+        }
     }
 }
 
@@ -146,48 +209,66 @@ impl Cloud {
     }
 
     /// The nearest sample, and the nearest one more than `sep` samples away from it (another
-    /// branch of the curve, e.g. the other end of a closed loop) among those within one
-    /// sample spacing of the nearest distance.
+    /// branch of the curve, e.g. the other end of a closed loop) if it is within one sample
+    /// spacing of the nearest distance. Ties go to the lower index.
     fn nearest_two(&self, x: DVec3, sep: usize) -> (usize, Option<usize>) {
         const MAX_RINGS: i64 = 6;
         let c = self.grid.key(x);
-        let mut cands: Vec<(f64, usize)> = Vec::new();
-        let mut best = f64::INFINITY;
-        let mut r = 0i64;
+        let better = |d: f64, i: usize, best: (f64, usize)| match d.total_cmp(&best.0) {
+            std::cmp::Ordering::Less => true,
+            std::cmp::Ordering::Equal => i < best.1,
+            std::cmp::Ordering::Greater => false,
+        };
+        let mut best = (f64::INFINITY, usize::MAX);
+        let mut rings = 0i64;
         loop {
-            for dx in -r..=r {
-                for dy in -r..=r {
-                    for dz in -r..=r {
-                        if dx.abs().max(dy.abs()).max(dz.abs()) != r {
-                            continue;
-                        }
-                        for &(_, i) in self.grid.cell_items([c[0] + dx, c[1] + dy, c[2] + dz]) {
-                            let d = (self.pts[i] - x).length();
-                            best = best.min(d);
-                            cands.push((d, i));
-                        }
-                    }
+            self.grid.ring(c, rings, &mut |i| {
+                let d = (self.pts[i] - x).length();
+                if better(d, i, best) {
+                    best = (d, i);
                 }
-            }
-            // Unscanned cells are at least r·cell away.
-            if best.is_finite() && (r as f64) * self.grid.cell > best + self.spacing {
+            });
+            // Unscanned cells are at least rings·cell away.
+            if best.1 != usize::MAX && (rings as f64) * self.grid.cell > best.0 + self.spacing {
                 break;
             }
-            r += 1;
-            if r > MAX_RINGS {
-                // Far from the cloud: scan everything.
-                cands = self.pts.iter().enumerate().map(|(i, p)| ((*p - x).length(), i)).collect();
+            rings += 1;
+            if rings > MAX_RINGS {
                 break;
             }
         }
-        let first = cands.iter().copied().min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1))).map_or(0, |c| c.1);
-        let second = cands
-            .iter()
-            .copied()
-            .filter(|c| c.1.abs_diff(first) > sep)
-            .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
-            .map(|c| c.1);
-        (first, second)
+        let scan_all =
+            best.1 == usize::MAX || (rings > MAX_RINGS && (MAX_RINGS as f64) * self.grid.cell <= best.0 + self.spacing);
+        let limit;
+        let mut second = (f64::INFINITY, usize::MAX);
+        if scan_all {
+            // Far from the cloud: every sample.
+            best = (f64::INFINITY, usize::MAX);
+            for (i, p) in self.pts.iter().enumerate() {
+                let d = (*p - x).length();
+                if better(d, i, best) {
+                    best = (d, i);
+                }
+            }
+            limit = best.0 + self.spacing;
+            for (i, p) in self.pts.iter().enumerate() {
+                let d = (*p - x).length();
+                if i.abs_diff(best.1) > sep && d <= limit && better(d, i, second) {
+                    second = (d, i);
+                }
+            }
+        } else {
+            limit = best.0 + self.spacing;
+            for r in 0..=rings.min(MAX_RINGS) {
+                self.grid.ring(c, r, &mut |i| {
+                    let d = (self.pts[i] - x).length();
+                    if i.abs_diff(best.1) > sep && d <= limit && better(d, i, second) {
+                        second = (d, i);
+                    }
+                });
+            }
+        }
+        (best.1, (second.1 != usize::MAX).then_some(second.1))
     }
 }
 
@@ -215,10 +296,15 @@ fn design_cloud(design: &dyn Curve3, table: &ArcLengthTable, n: usize) -> Cloud 
 /// move, so junctions are covered), and of the nearest sample of another branch; the
 /// smallest counts.
 fn distance_via<'c>(cloud: &Cloud, curve_of: &dyn Fn(usize) -> &'c dyn Curve3, x: DVec3) -> f64 {
-    let (i, j) = cloud.nearest_two(x, 3);
+    let (i, j) = cloud.nearest_two(x, 20);
     let mut best = f64::INFINITY;
     for k in std::iter::once(i).chain(j) {
+        // The sample's own window spans both neighbours of the same move; a neighbour of
+        // another move (across a junction) brings that move's window.
         for m in k.saturating_sub(1)..=(k + 1).min(cloud.at.len() - 1) {
+            if m != k && cloud.at[m].0 == cloud.at[k].0 {
+                continue;
+            }
             let (b, t, lo, hi) = cloud.at[m];
             best = best.min(nearest_on_curve(curve_of(b), x, t, lo, hi).dist);
         }
@@ -252,7 +338,8 @@ pub fn deviation(path: &Toolpath, design: &dyn Curve3, opts: &DeviationOptions) 
         let params = sample_params(&blk.segment, 1);
         samples.push((b, params[0], c.point_at(params[0])));
         for w in params.windows(2) {
-            let len = (c.point_at(w[1]) - c.point_at(w[0])).length() + (c.point_at(0.5 * (w[0] + w[1])) - c.point_at(w[0])).length();
+            let len = (c.point_at(w[1]) - c.point_at(w[0])).length()
+                + (c.point_at(0.5 * (w[0] + w[1])) - c.point_at(w[0])).length();
             let n = opts.samples_per_piece.max((len / spacing).ceil() as usize).max(1);
             for k in 1..=n {
                 let t = w[0] + (w[1] - w[0]) * k as f64 / n as f64;

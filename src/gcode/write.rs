@@ -19,14 +19,14 @@
 use glam::DVec3;
 use thiserror::Error;
 
-use super::arcs::{fit_arcs, ArcFitError, ArcFitOptions, Piece};
-use super::parse::{parse_program, ParseError, ParsedProgram};
+use super::arcs::{ArcFitError, ArcFitOptions, Piece, fit_arcs};
+use super::parse::{ParseError, ParsedProgram, parse_program};
 use super::path::Plane;
-use super::replay::{deviation, Deviation, DeviationOptions, ReplayError};
-use crate::chords::{equal_error_chords, ChordError};
+use super::replay::{Deviation, DeviationOptions, ReplayError, deviation};
+use crate::chords::{ChordError, equal_error_chords};
 use crate::geom::{Curve3, NurbsCurve};
 use crate::nurbs_path::measure::Translated;
-use crate::nurbs_path::{approximate_curve, ApproxOptions, FitError};
+use crate::nurbs_path::{ApproxOptions, FitError, approximate_curve};
 use crate::report::fmt_fixed;
 use crate::tolerance;
 
@@ -93,7 +93,9 @@ impl ProgrammedPoint {
     pub fn comment(self) -> String {
         match self {
             Self::BallCentre => "PROGRAMMED POINT: BALL CENTRE".to_owned(),
-            Self::BallTip { radius_mm } => format!("PROGRAMMED POINT: BALL TIP = BALL CENTRE - Z {}", fmt_fixed(radius_mm, 6)),
+            Self::BallTip { radius_mm } => {
+                format!("PROGRAMMED POINT: BALL TIP = BALL CENTRE - Z {}", fmt_fixed(radius_mm, 6))
+            }
         }
     }
 
@@ -250,7 +252,9 @@ pub enum ProgramError {
     #[error("checking the program: {0}")]
     Check(ReplayError),
     /// The tolerance was not met after rounding.
-    #[error("the {kind} program deviates {achieved_mm:.6} mm after rounding, more than the tolerance {tol_mm} mm, after {attempts} attempts; raise --tolerance or use a finer --resolution")]
+    #[error(
+        "the {kind} program deviates {achieved_mm:.6} mm after rounding, more than the tolerance {tol_mm} mm, after {attempts} attempts; raise --tolerance or use a finer --resolution"
+    )]
     NotMet {
         /// Kind label.
         kind: &'static str,
@@ -330,7 +334,16 @@ impl Emitter {
         DVec3::new(self.q(p.x), self.q(p.y), self.q(p.z))
     }
     fn comment(&mut self, c: &str) {
-        let clean: String = c.chars().map(|ch| if ch.is_ascii_graphic() || ch == ' ' { if matches!(ch, '(' | ')' | ';') { '_' } else { ch } } else { '_' }).collect();
+        let clean: String = c
+            .chars()
+            .map(|ch| {
+                if ch.is_ascii_graphic() || ch == ' ' {
+                    if matches!(ch, '(' | ')' | ';') { '_' } else { ch }
+                } else {
+                    '_'
+                }
+            })
+            .collect();
         self.text.push('(');
         self.text.push_str(&clean.to_ascii_uppercase());
         self.text.push_str(")\n");
@@ -378,7 +391,12 @@ fn sample_top(design: &dyn Curve3) -> f64 {
 /// # Errors
 /// [`ProgramError`]: bad tolerance, resolution, feed or degree; a failed fit; or the
 /// tolerance not met after rounding.
-pub fn write_program(kind: ProgramKind, design: &dyn Curve3, tol_mm: f64, opts: &ProgramOptions) -> Result<Program, ProgramError> {
+pub fn write_program(
+    kind: ProgramKind,
+    design: &dyn Curve3,
+    tol_mm: f64,
+    opts: &ProgramOptions,
+) -> Result<Program, ProgramError> {
     if !(tol_mm.is_finite() && tol_mm > 0.0) {
         return Err(ProgramError::BadTolerance(tol_mm));
     }
@@ -416,19 +434,42 @@ pub fn write_program(kind: ProgramKind, design: &dyn Curve3, tol_mm: f64, opts: 
         if dev.max_mm() <= tol_mm {
             let text = assemble(kind, &body, tol_mm, fit_tol, Some(&dev), d, opts);
             let parsed = parse_program(&text).map_err(ProgramError::ReadBack)?;
-            return Ok(Program { kind, text, parsed, deviation: dev, tol_mm, fit_tol_mm: fit_tol, path_blocks: body.path_blocks, nurbs, attempts: attempt });
+            return Ok(Program {
+                kind,
+                text,
+                parsed,
+                deviation: dev,
+                tol_mm,
+                fit_tol_mm: fit_tol,
+                path_blocks: body.path_blocks,
+                nurbs,
+                attempts: attempt,
+            });
         }
         best = Some(best.map_or(dev.max_mm(), |b: f64| b.min(dev.max_mm())));
         fit_tol *= 0.9;
     }
-    Err(ProgramError::NotMet { kind: kind.label(), tol_mm, achieved_mm: best.unwrap_or(f64::NAN), attempts: opts.attempts.max(1) })
+    Err(ProgramError::NotMet {
+        kind: kind.label(),
+        tol_mm,
+        achieved_mm: best.unwrap_or(f64::NAN),
+        attempts: opts.attempts.max(1),
+    })
 }
 
 fn new_emitter(d: usize, opts: &ProgramOptions) -> Emitter {
     Emitter { d, numbered: opts.line_numbers, n: 0, text: String::new(), axes: Default::default() }
 }
 
-fn assemble(kind: ProgramKind, body: &Body, tol_mm: f64, fit_tol: f64, dev: Option<&Deviation>, d: usize, opts: &ProgramOptions) -> String {
+fn assemble(
+    kind: ProgramKind,
+    body: &Body,
+    tol_mm: f64,
+    fit_tol: f64,
+    dev: Option<&Deviation>,
+    d: usize,
+    opts: &ProgramOptions,
+) -> String {
     let mut e = new_emitter(d, opts);
     e.raw("%");
     if !opts.title.is_empty() {
@@ -444,9 +485,18 @@ fn assemble(kind: ProgramKind, body: &Body, tol_mm: f64, fit_tol: f64, dev: Opti
         }
     ));
     e.comment(&opts.point.comment());
-    e.comment(&format!("TOLERANCE {} MM, RESOLUTION {} MM, FIT TOLERANCE {} MM", fmt_fixed(tol_mm, 6), fmt_fixed(opts.resolution_mm, 6), fmt_fixed(fit_tol, 6)));
+    e.comment(&format!(
+        "TOLERANCE {} MM, RESOLUTION {} MM, FIT TOLERANCE {} MM",
+        fmt_fixed(tol_mm, 6),
+        fmt_fixed(opts.resolution_mm, 6),
+        fmt_fixed(fit_tol, 6)
+    ));
     if let Some(dev) = dev {
-        e.comment(&format!("MAX DEVIATION AFTER ROUNDING {} MM, PATH BLOCKS {}", fmt_fixed(dev.max_mm(), 6), body.path_blocks));
+        e.comment(&format!(
+            "MAX DEVIATION AFTER ROUNDING {} MM, PATH BLOCKS {}",
+            fmt_fixed(dev.max_mm(), 6),
+            body.path_blocks
+        ));
     }
     e.block("G21 G90 G94 G17");
     let safe = opts.safe_z_mm.unwrap_or(body.top_z + opts.clearance_mm);
@@ -541,7 +591,10 @@ fn arcs_body(design: &dyn Curve3, fit_tol: f64, d: usize, opts: &ProgramOptions)
                 // Offsets in X, Y, Z order.
                 let mut offs = [(ia, letters[ia], off_a), (ib, letters[ib], off_b)];
                 offs.sort_by_key(|o| o.0);
-                e.block(&format!("{plane_word}{code} {words} {}{} {}{}{f}", offs[0].1, offs[0].2, offs[1].1, offs[1].2));
+                e.block(&format!(
+                    "{plane_word}{code} {words} {}{} {}{}{f}",
+                    offs[0].1, offs[0].2, offs[1].1, offs[1].2
+                ));
             }
         }
         first = false;
@@ -551,7 +604,12 @@ fn arcs_body(design: &dyn Curve3, fit_tol: f64, d: usize, opts: &ProgramOptions)
     Ok(Body { start, text: e, path_blocks: blocks, top_z: sample_top(design) })
 }
 
-fn nurbs_body(design: &dyn Curve3, fit_tol: f64, d: usize, opts: &ProgramOptions) -> Result<(Body, NurbsCurve), ProgramError> {
+fn nurbs_body(
+    design: &dyn Curve3,
+    fit_tol: f64,
+    d: usize,
+    opts: &ProgramOptions,
+) -> Result<(Body, NurbsCurve), ProgramError> {
     let res = opts.resolution_mm;
     let approx = opts.approx.with_degree(opts.degree).with_knot_quantum(Some(res));
     let fit = approximate_curve(design, fit_tol, &approx).map_err(ProgramError::Fit)?;

@@ -25,14 +25,17 @@
 //! over the span by sampling and golden-section refinement, and (b) the distance from the
 //! data samples to the fitted curve — both ways, so neither curve may stray from the other.
 
-#![expect(clippy::neg_cmp_op_on_partial_ord, reason = "`!(x > 0.0)` is deliberately true for NaN: bad input is rejected, never passed on")]
+#![expect(
+    clippy::neg_cmp_op_on_partial_ord,
+    reason = "`!(x > 0.0)` is deliberately true for NaN: bad input is rejected, never passed on"
+)]
 
 use glam::DVec3;
 
-use super::band::{self, BandRow};
-use super::fit::{basis_row, check_points, parameters, Parametrization};
-use super::measure::{max_on_interval, nearest_on_curve, ArcLengthTable};
 use super::FitError;
+use super::band::{self, BandRow};
+use super::fit::{Parametrization, basis_row, check_points, parameters};
+use super::measure::{ArcLengthTable, max_on_interval, nearest_on_curve};
 use crate::geom::nurbs::MAX_DEGREE;
 use crate::geom::{Curve3, NurbsCurve};
 
@@ -127,11 +130,7 @@ pub struct CurveFit {
 }
 
 fn check_tol(tol_mm: f64) -> Result<(), FitError> {
-    if tol_mm.is_finite() && tol_mm > 0.0 {
-        Ok(())
-    } else {
-        Err(FitError::BadTolerance { tol_mm })
-    }
+    if tol_mm.is_finite() && tol_mm > 0.0 { Ok(()) } else { Err(FitError::BadTolerance { tol_mm }) }
 }
 
 fn quantize(x: f64, q: Option<f64>) -> f64 {
@@ -168,7 +167,13 @@ fn breakpoints(knots: &[f64], p: usize) -> Vec<f64> {
 
 /// Least-squares control points for data `(u, q)` with the end points (and end derivatives
 /// `ends`, per unit parameter) held exactly.
-fn least_squares(p: usize, knots: &[f64], u: &[f64], q: &[DVec3], ends: Option<(DVec3, DVec3)>) -> Result<Vec<DVec3>, FitError> {
+fn least_squares(
+    p: usize,
+    knots: &[f64],
+    u: &[f64],
+    q: &[DVec3],
+    ends: Option<(DVec3, DVec3)>,
+) -> Result<Vec<DVec3>, FitError> {
     let n_ctrl = knots.len() - p - 1;
     let last = n_ctrl - 1;
     let mut fixed: Vec<Option<DVec3>> = vec![None; n_ctrl];
@@ -496,7 +501,12 @@ pub struct PointsFit {
 ///
 /// # Errors
 /// A bad tolerance or degree, too few, repeated or non-finite points.
-pub fn approximate_points(points: &[DVec3], tol_mm: f64, parametrization: Parametrization, opts: &ApproxOptions) -> Result<PointsFit, FitError> {
+pub fn approximate_points(
+    points: &[DVec3],
+    tol_mm: f64,
+    parametrization: Parametrization,
+    opts: &ApproxOptions,
+) -> Result<PointsFit, FitError> {
     check_tol(tol_mm)?;
     let p = opts.degree;
     validate_degree(p)?;
@@ -508,11 +518,14 @@ pub fn approximate_points(points: &[DVec3], tol_mm: f64, parametrization: Parame
     let u = parameters(points, parametrization)?;
     let end = u[u.len() - 1];
     let interp = || -> Result<PointsFit, FitError> {
-        let o = super::fit::InterpolateOptions::default().with_degree(p).with_parametrization(parametrization).with_end(if opts.end_tangents {
-            super::fit::EndCondition::EstimatedTangents
-        } else {
-            super::fit::EndCondition::Free
-        });
+        let o = super::fit::InterpolateOptions::default()
+            .with_degree(p)
+            .with_parametrization(parametrization)
+            .with_end(if opts.end_tangents {
+                super::fit::EndCondition::EstimatedTangents
+            } else {
+                super::fit::EndCondition::Free
+            });
         let curve = super::fit::interpolate(points, &o)?;
         Ok(PointsFit { curve, max_deviation_mm: 0.0, interpolates: true })
     };
@@ -522,7 +535,8 @@ pub fn approximate_points(points: &[DVec3], tol_mm: f64, parametrization: Parame
             - (u[1] - u[0]) * (points[2] - points[1]) / (u[2] - u[1]))
             / (u[2] - u[0]);
         let (h1, h2) = (u[n] - u[n - 1], u[n - 1] - u[n - 2]);
-        let tn = ((2.0 * h1 + h2) * (points[n] - points[n - 1]) / h1 - h1 * (points[n - 1] - points[n - 2]) / h2) / (h1 + h2);
+        let tn = ((2.0 * h1 + h2) * (points[n] - points[n - 1]) / h1 - h1 * (points[n - 1] - points[n - 2]) / h2)
+            / (h1 + h2);
         Some((t0, tn))
     } else {
         None

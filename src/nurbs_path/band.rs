@@ -7,7 +7,10 @@
 //! partial pivoting can widen a row to the right by the lower bandwidth; each row keeps its
 //! own window `[start, start + len)`, so this is handled without a fixed band layout.
 
-#![expect(clippy::neg_cmp_op_on_partial_ord, reason = "`!(x > 0.0)` is deliberately true for NaN: bad input is rejected, never passed on")]
+#![expect(
+    clippy::neg_cmp_op_on_partial_ord,
+    reason = "`!(x > 0.0)` is deliberately true for NaN: bad input is rejected, never passed on"
+)]
 
 use glam::DVec3;
 

@@ -29,10 +29,10 @@
 
 use glam::DVec3;
 
-use super::band::{self, BandRow};
 use super::FitError;
-use crate::geom::nurbs::{basis_derivatives, find_span, MAX_DEGREE};
+use super::band::{self, BandRow};
 use crate::geom::NurbsCurve;
+use crate::geom::nurbs::{MAX_DEGREE, basis_derivatives, find_span};
 use crate::tolerance;
 
 /// How points are given parameter values.
@@ -98,7 +98,12 @@ pub struct InterpolateOptions {
 
 impl Default for InterpolateOptions {
     fn default() -> Self {
-        Self { degree: 3, parametrization: Parametrization::ChordLength, end: EndCondition::EstimatedTangents, knots: KnotRule::Averaging }
+        Self {
+            degree: 3,
+            parametrization: Parametrization::ChordLength,
+            end: EndCondition::EstimatedTangents,
+            knots: KnotRule::Averaging,
+        }
     }
 }
 

@@ -5,7 +5,10 @@
 //! E" when every point of it lies within E of the design curve and every point of the design
 //! curve lies within E of it (a two-sided, Hausdorff-style distance).
 
-#![expect(clippy::neg_cmp_op_on_partial_ord, reason = "`!(x > 0.0)` is deliberately true for NaN: bad input is rejected, never passed on")]
+#![expect(
+    clippy::neg_cmp_op_on_partial_ord,
+    reason = "`!(x > 0.0)` is deliberately true for NaN: bad input is rejected, never passed on"
+)]
 
 use glam::DVec3;
 
@@ -164,6 +167,8 @@ fn gauss_length(curve: &dyn Curve3, a: f64, b: f64) -> f64 {
 pub struct ArcLengthTable {
     t: Vec<f64>,
     s: Vec<f64>,
+    /// Parametric speed |C'| at the nodes: ds/dt, for a Hermite first guess of t(s).
+    v: Vec<f64>,
 }
 
 impl ArcLengthTable {
@@ -173,7 +178,9 @@ impl ArcLengthTable {
         let (a, b) = curve.range();
         let cells = cells.max(1);
         let h = (b - a) / cells as f64;
-        let coarse: Vec<f64> = (0..cells).map(|i| gauss_length(curve, a + h * i as f64, if i + 1 == cells { b } else { a + h * (i + 1) as f64 })).collect();
+        let coarse: Vec<f64> = (0..cells)
+            .map(|i| gauss_length(curve, a + h * i as f64, if i + 1 == cells { b } else { a + h * (i + 1) as f64 }))
+            .collect();
         let total: f64 = coarse.iter().sum();
         let eps = tolerance::ARC_LENGTH_REL * total.max(f64::MIN_POSITIVE) / cells as f64;
         let mut t = vec![a];
@@ -182,11 +189,21 @@ impl ArcLengthTable {
             let (c0, c1) = (a + h * i as f64, if i + 1 == cells { b } else { a + h * (i + 1) as f64 });
             Self::refine(curve, c0, c1, whole, eps, 0, &mut t, &mut s);
         }
-        Self { t, s }
+        let v = t.iter().map(|&x| curve.derivatives_at(x)[1].length()).collect();
+        Self { t, s, v }
     }
 
     #[expect(clippy::too_many_arguments, reason = "recursive helper carrying the table being built")]
-    fn refine(curve: &dyn Curve3, a: f64, b: f64, whole: f64, eps: f64, depth: u32, t: &mut Vec<f64>, s: &mut Vec<f64>) {
+    fn refine(
+        curve: &dyn Curve3,
+        a: f64,
+        b: f64,
+        whole: f64,
+        eps: f64,
+        depth: u32,
+        t: &mut Vec<f64>,
+        s: &mut Vec<f64>,
+    ) {
         let m = 0.5 * (a + b);
         let (l, r) = (gauss_length(curve, a, m), gauss_length(curve, m, b));
         if depth >= 30 || (l + r - whole).abs() <= eps {
@@ -218,8 +235,10 @@ impl ArcLengthTable {
         self.s[i] + gauss_length(curve, self.t[i], t)
     }
 
-    /// The parameter at arc length `s` (clamped to `[0, length]`): table lookup, then Newton
-    /// steps `t += (s − s(t)) / |C'(t)|` kept inside the table cell.
+    /// The parameter at arc length `s` (clamped to `[0, length]`): a cubic Hermite guess of
+    /// t(s) inside the table cell (slopes dt/ds = 1/|C'| at its ends, error O(h⁴)), then
+    /// Newton steps `t += (s − s(t)) / |C'(t)|` until the step is below
+    /// [`tolerance::CURVE_PROJECT_MM`] (usually one).
     #[must_use]
     pub fn t_at(&self, curve: &dyn Curve3, s: f64) -> f64 {
         let s = s.clamp(0.0, self.length());
@@ -228,7 +247,20 @@ impl ArcLengthTable {
             Err(i) => i.saturating_sub(1).min(self.s.len() - 2),
         };
         let (t0, t1, s0, s1) = (self.t[i], self.t[i + 1], self.s[i], self.s[i + 1]);
-        let mut t = if s1 > s0 { t0 + (t1 - t0) * (s - s0) / (s1 - s0) } else { t0 };
+        let h = s1 - s0;
+        let mut t = if h > 0.0 {
+            let x = (s - s0) / h;
+            let (x2, x3) = (x * x, x * x * x);
+            let (m0, m1) = if self.v[i] > 0.0 && self.v[i + 1] > 0.0 {
+                (h / self.v[i], h / self.v[i + 1])
+            } else {
+                (t1 - t0, t1 - t0)
+            };
+            ((2.0 * x3 - 3.0 * x2 + 1.0) * t0 + (x3 - 2.0 * x2 + x) * m0 + (-2.0 * x3 + 3.0 * x2) * t1 + (x3 - x2) * m1)
+                .clamp(t0, t1)
+        } else {
+            t0
+        };
         for _ in 0..8 {
             let err = s - (s0 + gauss_length(curve, t0, t));
             let speed = curve.derivatives_at(t)[1].length();
@@ -236,11 +268,11 @@ impl ArcLengthTable {
                 break;
             }
             let tn = (t + err / speed).clamp(t0, t1);
-            if (tn - t).abs() * speed <= tolerance::CURVE_PROJECT_MM {
-                t = tn;
+            let moved = (tn - t).abs() * speed;
+            t = tn;
+            if moved <= tolerance::CURVE_PROJECT_MM {
                 break;
             }
-            t = tn;
         }
         t
     }

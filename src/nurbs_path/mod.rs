@@ -29,11 +29,13 @@ use thiserror::Error;
 
 use crate::geom::NurbsError;
 
-pub use approx::{approximate_curve, approximate_points, ApproxOptions, CurveFit, PointsFit};
-pub use fit::{interpolate, parameters, EndCondition, InterpolateOptions, KnotRule, Parametrization};
-pub use measure::{nearest_on_curve, ArcLengthTable, CurveFoot, Translated};
+pub use approx::{ApproxOptions, CurveFit, PointsFit, approximate_curve, approximate_points};
+pub use fit::{EndCondition, InterpolateOptions, KnotRule, Parametrization, interpolate, parameters};
+pub use measure::{ArcLengthTable, CurveFoot, Translated, nearest_on_curve};
 pub use profile::Parabola;
-pub use realtime::{interpolate_realtime, FeedStats, PeriodSample, RealtimeError, RealtimeOptions, RealtimeRun, Update};
+pub use realtime::{
+    FeedStats, PeriodSample, RealtimeError, RealtimeOptions, RealtimeRun, Update, interpolate_realtime,
+};
 
 /// Why a curve could not be fitted. Every message says what to change.
 #[derive(Clone, Debug, Error, PartialEq)]
@@ -42,7 +44,9 @@ pub enum FitError {
     #[error("degree {0} is not supported; use 1 to 9 (3 for G06.2's usual order P4)")]
     Degree(usize),
     /// Not enough points.
-    #[error("{got} points are too few for degree {degree} (need at least {need}); give more points or lower the degree")]
+    #[error(
+        "{got} points are too few for degree {degree} (need at least {need}); give more points or lower the degree"
+    )]
     TooFewPoints {
         /// Points given.
         got: usize,
@@ -58,7 +62,9 @@ pub enum FitError {
         index: usize,
     },
     /// Two consecutive points coincide.
-    #[error("point {index} repeats the point before it; remove the duplicate (chord-length parameters need distinct consecutive points)")]
+    #[error(
+        "point {index} repeats the point before it; remove the duplicate (chord-length parameters need distinct consecutive points)"
+    )]
     DuplicatePoint {
         /// Index of the second of the two.
         index: usize,
@@ -78,7 +84,9 @@ pub enum FitError {
         tangents: bool,
     },
     /// The linear system is singular.
-    #[error("the fitting system is singular (a knot span holds no data); use knot averaging or more evenly spaced points")]
+    #[error(
+        "the fitting system is singular (a knot span holds no data); use knot averaging or more evenly spaced points"
+    )]
     Singular,
     /// The result is not a valid NURBS.
     #[error("the fitted curve is not a valid NURBS: {0}")]
@@ -93,7 +101,9 @@ pub enum FitError {
     #[error("the design curve has no length; give a curve with distinct start and end")]
     EmptyCurve,
     /// Refinement could not reach the tolerance.
-    #[error("could not fit within {tol_mm} mm (best {achieved_mm:.6} mm with {control_points} control points): the curve needs knot spans shorter than the knot resolution or too many control points; raise the tolerance")]
+    #[error(
+        "could not fit within {tol_mm} mm (best {achieved_mm:.6} mm with {control_points} control points): the curve needs knot spans shorter than the knot resolution or too many control points; raise the tolerance"
+    )]
     NotConverged {
         /// The tolerance.
         tol_mm: f64,

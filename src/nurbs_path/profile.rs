@@ -35,7 +35,11 @@ impl Parabola {
 impl Curve3 for Parabola {
     fn derivatives_at(&self, s: f64) -> [DVec3; 3] {
         let x = s.clamp(self.x0, self.x1);
-        [DVec3::new(x, self.a * x * x, self.z), DVec3::new(1.0, 2.0 * self.a * x, 0.0), DVec3::new(0.0, 2.0 * self.a, 0.0)]
+        [
+            DVec3::new(x, self.a * x * x, self.z),
+            DVec3::new(1.0, 2.0 * self.a * x, 0.0),
+            DVec3::new(0.0, 2.0 * self.a, 0.0),
+        ]
     }
     fn range(&self) -> (f64, f64) {
         (self.x0, self.x1)

@@ -20,12 +20,15 @@
 //! ρ = 1/κ taken as the larger curvature at u_k and half a step ahead (the curvature-based
 //! feed limit; with δ ≥ ρ the step is at most 2ρ).
 
-#![expect(clippy::neg_cmp_op_on_partial_ord, reason = "`!(x > 0.0)` is deliberately true for NaN: bad input is rejected, never passed on")]
+#![expect(
+    clippy::neg_cmp_op_on_partial_ord,
+    reason = "`!(x > 0.0)` is deliberately true for NaN: bad input is rejected, never passed on"
+)]
 
 use glam::DVec3;
 use thiserror::Error;
 
-use super::measure::{distance_to_segment, max_on_interval};
+use super::measure::distance_to_segment;
 use crate::geom::Curve3;
 
 /// The parameter update of each period.
@@ -124,7 +127,9 @@ impl RealtimeOptions {
 #[derive(Clone, Debug, Error, PartialEq)]
 pub enum RealtimeError {
     /// Feed or period not a positive finite number.
-    #[error("the feed ({feed_mm_per_min} mm/min) and period ({period_ms} ms) must be positive; give e.g. F = 1500 mm/min and Ts = 4 ms")]
+    #[error(
+        "the feed ({feed_mm_per_min} mm/min) and period ({period_ms} ms) must be positive; give e.g. F = 1500 mm/min and Ts = 4 ms"
+    )]
     BadMotion {
         /// F.
         feed_mm_per_min: f64,
@@ -135,7 +140,9 @@ pub enum RealtimeError {
     #[error("the chord tolerance of the feed limit must be a positive length, got {0} mm")]
     BadChordTol(f64),
     /// The curve stands still (C' = 0) at a parameter.
-    #[error("the curve's parametric speed |C'| vanishes at u = {u}; the parameter cannot be advanced there — refit the curve without a cusp")]
+    #[error(
+        "the curve's parametric speed |C'| vanishes at u = {u}; the parameter cannot be advanced there — refit the curve without a cusp"
+    )]
     Stalled {
         /// Where.
         u: f64,
@@ -209,6 +216,34 @@ pub fn chord_limited_step(kappa: f64, tol_mm: f64) -> f64 {
     }
     let rho = 1.0 / kappa;
     if tol_mm >= rho { 2.0 * rho } else { 2.0 * (tol_mm * (2.0 * rho - tol_mm)).sqrt() }
+}
+
+/// Largest distance from the curve between `u0` and `u1` to the chord `[a, b]`: Newton on
+/// `g(t) = r⊥·C'`, r⊥ the part of `C(t) − a` across the chord (its stationary point), from the
+/// middle, `g' = |C'⊥|² + r⊥·C''`; kept inside the step and checked against the middle.
+#[must_use]
+pub fn chord_error(curve: &dyn Curve3, u0: f64, u1: f64, a: DVec3, b: DVec3) -> f64 {
+    let e = (b - a).normalize_or_zero();
+    let across = |v: DVec3| v - v.dot(e) * e;
+    let mid = 0.5 * (u0 + u1);
+    let mut t = mid;
+    for _ in 0..6 {
+        let [c, d1, d2] = curve.derivatives_at(t);
+        let r = across(c - a);
+        let g = r.dot(d1);
+        let gp = across(d1).length_squared() + r.dot(d2);
+        if !(gp < 0.0) {
+            // Not at a maximum's basin: keep the middle.
+            break;
+        }
+        let tn = (t - g / gp).clamp(u0, u1);
+        let done = (tn - t).abs() <= 1e-14 * (u1 - u0).abs().max(f64::MIN_POSITIVE);
+        t = tn;
+        if done {
+            break;
+        }
+    }
+    distance_to_segment(curve.point_at(t), a, b).max(distance_to_segment(curve.point_at(mid), a, b))
 }
 
 /// The parameter step of one period from `u` for a step length `f`.
@@ -294,12 +329,21 @@ pub fn interpolate_realtime(curve: &dyn Curve3, opts: &RealtimeOptions) -> Resul
             sum2 += fluct * fluct;
             n_f += 1;
         }
-        let mut dev = |t: f64| distance_to_segment(curve.point_at(t), p, pn);
-        let (chord, _) = max_on_interval(&mut dev, u, un, 4, 20);
+        let chord = chord_error(curve, u, un, p, pn);
         max_chord = max_chord.max(chord);
         length += step;
         if opts.keep_samples {
-            samples.push(PeriodSample { k, u: un, point: pn, target_mm: target, step_mm: step, fluctuation: fluct, chord_error_mm: chord, limited, last });
+            samples.push(PeriodSample {
+                k,
+                u: un,
+                point: pn,
+                target_mm: target,
+                step_mm: step,
+                fluctuation: fluct,
+                chord_error_mm: chord,
+                limited,
+                last,
+            });
         }
         if !(un > u) {
             return Err(RealtimeError::Stalled { u });
