@@ -10,6 +10,7 @@
 
 mod compute;
 mod controls;
+pub mod panel;
 mod platform;
 mod plots;
 mod view3d;
@@ -25,7 +26,8 @@ use web_time::{Duration, Instant};
 use crate::crease::{InterpOptions, Method, StopReason};
 use crate::scene::{PRESETS, Scene, SceneError};
 use compute::Computation;
-use platform::{Incoming, Platform};
+use panel::{Panel, PanelContext};
+use platform::{FileKind, Incoming, Platform};
 
 /// Storage key of the last scene (browser local storage / native app data).
 const STORAGE_SCENE: &str = "interpolab.scene";
@@ -49,7 +51,7 @@ struct Notice {
 
 /// Playback of the cutter along the computed path.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Playback {
+pub struct Playback {
     /// Whether time runs.
     pub playing: bool,
     /// Position as a (fractional) period index.
@@ -64,11 +66,8 @@ impl Default for Playback {
     }
 }
 
-/// The central views.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Tab {
-    Crease,
-}
+/// The central view shown: the crease (index `None`) or one of the panels.
+type Tab = Option<usize>;
 
 /// The interpolab app.
 pub struct InterpolabApp {
@@ -85,6 +84,8 @@ pub struct InterpolabApp {
     platform: Platform,
     render_state: Option<eframe::egui_wgpu::RenderState>,
     tab: Tab,
+    /// The other central views (5-axis, chords, NURBS & G-code), one tab each.
+    panels: Vec<Box<dyn Panel>>,
     frames: u64,
     first_frame_ms: Option<f64>,
     last_status: String,
@@ -147,7 +148,8 @@ impl InterpolabApp {
             notice,
             platform,
             render_state,
-            tab: Tab::Crease,
+            tab: None,
+            panels: panels(),
             frames: 0,
             first_frame_ms: None,
             last_status: String::new(),
@@ -192,7 +194,7 @@ impl InterpolabApp {
     }
 
     fn handle_files(&mut self, files: Vec<Incoming>) {
-        for f in files {
+        for f in files.into_iter().filter(|f| f.kind == FileKind::Scene) {
             match f.text {
                 Err(e) => self.error(format!("{}: {e} — the current scene is kept.", f.name)),
                 Ok(text) => match Scene::from_json(&text) {
@@ -235,7 +237,7 @@ impl InterpolabApp {
     /// Opens a scene given as text, as if a file of that name had been chosen (an invalid
     /// scene is reported and the current one kept).
     pub fn open_text(&mut self, name: &str, text: &str) {
-        self.handle_files(vec![Incoming { name: name.to_owned(), text: Ok(text.to_owned()) }]);
+        self.handle_files(vec![Incoming { name: name.to_owned(), text: Ok(text.to_owned()), kind: FileKind::Scene }]);
     }
 
     /// Edits the draft scene as the controls do, then applies it if valid.
@@ -308,7 +310,7 @@ impl InterpolabApp {
                 let open = ui.button("Open…").on_hover_text("Open a scene file (or drop one on the window)");
                 self.widget_rects.push(("open_button", open.rect));
                 if open.clicked() {
-                    self.platform.pick_file();
+                    self.platform.pick_file(FileKind::Scene);
                 }
             }
             if ui.button("Save").on_hover_text("Download the current scene as JSON").clicked() {
@@ -394,6 +396,11 @@ impl InterpolabApp {
     }
 }
 
+/// The central views besides the crease view, in tab order.
+fn panels() -> Vec<Box<dyn Panel>> {
+    Vec::new()
+}
+
 /// Display title of preset `i` (its scene name).
 fn preset_title(i: usize) -> String {
     Scene::from_json(PRESETS[i].json).map_or_else(|_| PRESETS[i].id.to_owned(), |s| s.name)
@@ -411,8 +418,19 @@ impl eframe::App for InterpolabApp {
 
         self.platform.accept_dropped(&ctx);
         let files = self.platform.take_incoming();
-        if !files.is_empty() {
-            self.handle_files(files);
+        let (scene_files, mut other_files): (Vec<_>, Vec<_>) = files.into_iter().partition(|f| f.kind == FileKind::Scene);
+        if !scene_files.is_empty() {
+            self.handle_files(scene_files);
+        }
+        // Files for a panel switch to it; with no panel for them, say so.
+        if let Some(f) = other_files.first() {
+            match self.panels.iter().position(|p| p.accepts() == Some(f.kind)) {
+                Some(i) => self.tab = Some(i),
+                None => {
+                    self.error(format!("{}: this app version has no view for this kind of file.", f.name));
+                    other_files.clear();
+                }
+            }
         }
         self.handle_fragment();
         self.platform.ui(&ctx);
@@ -465,21 +483,54 @@ impl eframe::App for InterpolabApp {
             self.apply_draft();
         }
 
-        egui::Panel::bottom("plots").resizable(true).default_size(260.0).min_size(140.0).show(ui, |ui| {
-            plots::playback_bar(ui, &mut self.playback, &self.compute, self.scene.motion.period);
-            ui.separator();
-            plots::plots(ui, &mut self.plots, &self.compute, &self.scene, self.playback.k);
-        });
+        if self.tab.is_none() {
+            egui::Panel::bottom("plots").resizable(true).default_size(260.0).min_size(140.0).show(ui, |ui| {
+                plots::playback_bar(ui, &mut self.playback, &self.compute, self.scene.motion.period);
+                ui.separator();
+                plots::plots(ui, &mut self.plots, &self.compute, &self.scene, self.playback.k);
+            });
+        }
 
+        let mut messages = Vec::new();
         egui::CentralPanel::default().show(ui, |ui| {
             self.banner(ui);
             if self.show_help {
                 help(ui);
             }
-            match self.tab {
-                Tab::Crease => self.view.ui(ui, self.render_state.as_ref(), &self.scene, &self.compute, &self.playback),
+            if !self.panels.is_empty() {
+                ui.horizontal(|ui| {
+                    ui.selectable_value(&mut self.tab, None, "Crease (seed 000)");
+                    for (i, p) in self.panels.iter().enumerate() {
+                        ui.selectable_value(&mut self.tab, Some(i), p.title());
+                    }
+                });
+                ui.separator();
+            }
+            match self.tab.and_then(|i| self.panels.get_mut(i)) {
+                None => self.view.ui(ui, self.render_state.as_ref(), &self.scene, &self.compute, &self.playback),
+                Some(panel) => {
+                    let kind = panel.accepts();
+                    let incoming = other_files.drain(..).filter(|f| Some(f.kind) == kind).collect();
+                    let mut cx = PanelContext {
+                        scene: &self.scene,
+                        compute: &self.compute,
+                        render_state: self.render_state.as_ref(),
+                        playback: &self.playback,
+                        platform: &mut self.platform,
+                        incoming,
+                        messages: Vec::new(),
+                    };
+                    panel.ui(ui, &mut cx);
+                    messages = cx.messages;
+                }
             }
         });
+        for m in messages {
+            match m {
+                Ok(t) => self.info(t),
+                Err(t) => self.error(t),
+            }
+        }
 
         let status = self.status_json();
         if status != self.last_status {

@@ -1,6 +1,37 @@
 //! What differs between the browser and a native window: opening and saving files, the
 //! page URL (share links), and a machine-readable status for end-to-end tests.
 
+/// What a file is for, which decides who receives it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FileKind {
+    /// An `interpolab-scene/1` JSON scene.
+    Scene,
+    /// A G-code program (`.nc`, `.ngc`, `.gcode`, `.tap`, `.txt`).
+    GCode,
+}
+
+impl FileKind {
+    /// The kind a file name suggests: G-code extensions, else a scene.
+    #[must_use]
+    pub fn from_name(name: &str) -> Self {
+        let lower = name.to_ascii_lowercase();
+        if [".nc", ".ngc", ".gcode", ".tap", ".cnc", ".txt"].iter().any(|e| lower.ends_with(e)) {
+            Self::GCode
+        } else {
+            Self::Scene
+        }
+    }
+
+    /// The `accept` list of the file picker.
+    #[must_use]
+    pub fn accept(self) -> &'static str {
+        match self {
+            Self::Scene => ".json,application/json",
+            Self::GCode => ".nc,.ngc,.gcode,.tap,.cnc,.txt,text/plain",
+        }
+    }
+}
+
 /// A file the user gave the app.
 #[derive(Clone, Debug)]
 pub struct Incoming {
@@ -8,6 +39,8 @@ pub struct Incoming {
     pub name: String,
     /// Its text, or why it could not be read.
     pub text: Result<String, String>,
+    /// What it is for.
+    pub kind: FileKind,
 }
 
 #[cfg(target_arch = "wasm32")]
@@ -19,7 +52,7 @@ mod imp {
     use wasm_bindgen::JsCast;
     use wasm_bindgen::prelude::*;
 
-    use super::Incoming;
+    use super::{FileKind, Incoming};
 
     /// Id of the hidden `<input type="file">` in `web/index.html`.
     pub const FILE_INPUT_ID: &str = "scene-file";
@@ -28,6 +61,8 @@ mod imp {
 
     pub struct Platform {
         inbox: Rc<RefCell<Vec<Incoming>>>,
+        /// What the next file chosen in the picker is for.
+        picking: Rc<std::cell::Cell<FileKind>>,
     }
 
     fn document() -> Option<web_sys::Document> {
@@ -37,6 +72,7 @@ mod imp {
     impl Platform {
         pub fn new(ctx: &egui::Context) -> Self {
             let inbox: Rc<RefCell<Vec<Incoming>>> = Rc::default();
+            let picking = Rc::new(std::cell::Cell::new(FileKind::Scene));
             if let Some(input) = document()
                 .and_then(|d| d.get_element_by_id(FILE_INPUT_ID))
                 .and_then(|e| e.dyn_into::<web_sys::HtmlInputElement>().ok())
@@ -44,11 +80,13 @@ mod imp {
                 let inbox2 = inbox.clone();
                 let ctx2 = ctx.clone();
                 let input2 = input.clone();
+                let picking2 = picking.clone();
                 let on_change = Closure::<dyn FnMut(web_sys::Event)>::new(move |_e: web_sys::Event| {
                     let Some(file) = input2.files().and_then(|f| f.get(0)) else {
                         return;
                     };
                     let name = file.name();
+                    let kind = picking2.get();
                     let inbox3 = inbox2.clone();
                     let ctx3 = ctx2.clone();
                     let input3 = input2.clone();
@@ -57,7 +95,7 @@ mod imp {
                             Ok(v) => v.as_string().ok_or_else(|| "the file is not text".to_owned()),
                             Err(e) => Err(format!("{e:?}")),
                         };
-                        inbox3.borrow_mut().push(Incoming { name, text });
+                        inbox3.borrow_mut().push(Incoming { name, text, kind });
                         // Allow choosing the same file again.
                         input3.set_value("");
                         ctx3.request_repaint();
@@ -68,14 +106,16 @@ mod imp {
             } else {
                 log::warn!("no #{FILE_INPUT_ID} element: the file picker is unavailable");
             }
-            Self { inbox }
+            Self { inbox, picking }
         }
 
-        pub fn pick_file(&mut self) {
+        pub fn pick_file(&mut self, kind: FileKind) {
+            self.picking.set(kind);
             if let Some(input) = document()
                 .and_then(|d| d.get_element_by_id(FILE_INPUT_ID))
-                .and_then(|e| e.dyn_into::<web_sys::HtmlElement>().ok())
+                .and_then(|e| e.dyn_into::<web_sys::HtmlInputElement>().ok())
             {
+                input.set_accept(kind.accept());
                 input.click();
             }
         }
@@ -145,7 +185,8 @@ mod imp {
                 wasm_bindgen_futures::spawn_local(async move {
                     let name = f.path().display().to_string();
                     let bytes = f.bytes_async().await;
-                    inbox.borrow_mut().push(super::decode(name, bytes));
+                    let kind = FileKind::from_name(&name);
+                    inbox.borrow_mut().push(super::decode(name, bytes, kind));
                     ctx.request_repaint();
                 });
             }
@@ -157,11 +198,11 @@ mod imp {
 mod imp {
     use eframe::egui;
 
-    use super::Incoming;
+    use super::{FileKind, Incoming};
 
     /// Native: a small window asking for a path replaces the browser's file dialogs.
     pub struct Platform {
-        open_dialog: Option<String>,
+        open_dialog: Option<(String, FileKind)>,
         inbox: Vec<Incoming>,
         started: web_time::Instant,
     }
@@ -171,8 +212,8 @@ mod imp {
             Self { open_dialog: None, inbox: Vec::new(), started: web_time::Instant::now() }
         }
 
-        pub fn pick_file(&mut self) {
-            self.open_dialog = Some(String::new());
+        pub fn pick_file(&mut self, kind: FileKind) {
+            self.open_dialog = Some((String::new(), kind));
         }
 
         pub fn take_incoming(&mut self) -> Vec<Incoming> {
@@ -206,20 +247,22 @@ mod imp {
         }
 
         pub fn ui(&mut self, ctx: &egui::Context) {
-            let Some(path) = self.open_dialog.as_mut() else {
+            let Some((path, kind)) = self.open_dialog.as_mut() else {
                 return;
             };
+            let kind = *kind;
             let mut open = true;
             let mut load = false;
-            egui::Window::new("Open a scene file").open(&mut open).collapsible(false).show(ctx, |ui| {
-                ui.label("Path of an interpolab-scene/1 JSON file:");
+            let title = if kind == FileKind::Scene { "Open a scene file" } else { "Open a G-code program" };
+            egui::Window::new(title).open(&mut open).collapsible(false).show(ctx, |ui| {
+                ui.label("Path of the file:");
                 let r = ui.text_edit_singleline(path);
                 load = ui.button("Open").clicked() || (r.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter)));
             });
             if load {
                 let p = path.clone();
                 let text = std::fs::read_to_string(&p).map_err(|e| format!("cannot read {p}: {e}"));
-                self.inbox.push(Incoming { name: p, text });
+                self.inbox.push(Incoming { name: p, text, kind });
                 self.open_dialog = None;
             } else if !open {
                 self.open_dialog = None;
@@ -230,7 +273,9 @@ mod imp {
         /// Reads files dropped on the window.
         pub fn accept_dropped(&mut self, ctx: &egui::Context) {
             for f in ctx.input(|i| i.raw.dropped_files.clone()) {
-                self.inbox.push(super::decode(f.path().display().to_string(), f.bytes()));
+                let name = f.path().display().to_string();
+                let kind = FileKind::from_name(&name);
+                self.inbox.push(super::decode(name, f.bytes(), kind));
             }
         }
     }
@@ -238,7 +283,7 @@ mod imp {
 
 pub use imp::Platform;
 
-fn decode(name: String, bytes: Result<Vec<u8>, String>) -> Incoming {
+fn decode(name: String, bytes: Result<Vec<u8>, String>, kind: FileKind) -> Incoming {
     let text = bytes.and_then(|b| String::from_utf8(b).map_err(|_| "the file is not UTF-8 text".to_owned()));
-    Incoming { name, text }
+    Incoming { name, text, kind }
 }

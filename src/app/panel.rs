@@ -1,0 +1,65 @@
+//! The interface every central view besides the crease view implements (one struct per
+//! view, as egui's demo apps do): a title for its tab and a `ui` that draws it from a shared
+//! context. Views own their state and their GPU view id; they read the scene and the
+//! computed crease, never change them.
+
+use eframe::egui;
+use eframe::egui_wgpu::RenderState;
+
+use super::compute::Computation;
+use super::platform::{FileKind, Incoming, Platform};
+use super::Playback;
+use crate::scene::Scene;
+
+/// What a view may read and do this frame.
+pub struct PanelContext<'a> {
+    /// The current (valid) scene.
+    pub scene: &'a Scene,
+    /// The crease computed for it: `compute.job`, `compute.periods` (rows with measured
+    /// errors), `compute.running()`, `compute.generation` (bumped on every restart).
+    pub compute: &'a Computation,
+    /// The GPU, when the app runs with wgpu (for 3D views: `crate::render`).
+    pub render_state: Option<&'a RenderState>,
+    /// The crease view's playback position.
+    pub playback: &'a Playback,
+    /// File picker / download.
+    pub platform: &'a mut Platform,
+    /// Files of this view's kind given to the app this frame (e.g. a dropped `.nc`).
+    pub incoming: Vec<Incoming>,
+    /// Messages for the banner: `Err` for problems, `Ok` for information.
+    pub messages: Vec<Result<String, String>>,
+}
+
+impl PanelContext<'_> {
+    /// Shows an error in the app's banner.
+    pub fn error(&mut self, text: impl Into<String>) {
+        self.messages.push(Err(text.into()));
+    }
+    /// Shows a short information in the app's banner.
+    pub fn info(&mut self, text: impl Into<String>) {
+        self.messages.push(Ok(text.into()));
+    }
+    /// Opens the file picker for a kind of file (the result arrives in `incoming`).
+    pub fn pick_file(&mut self, kind: FileKind) {
+        self.platform.pick_file(kind);
+    }
+    /// Downloads (web) or saves (native) a text file; reports the outcome in the banner.
+    pub fn save_text(&mut self, name: &str, text: &str) {
+        match self.platform.save_text(name, text) {
+            Ok(m) => self.info(m),
+            Err(e) => self.error(format!("Saving {name} failed: {e}")),
+        }
+    }
+}
+
+/// A central view with its own tab.
+pub trait Panel {
+    /// Tab title.
+    fn title(&self) -> &'static str;
+    /// The kind of files this view accepts (routed to it when opened or dropped).
+    fn accepts(&self) -> Option<FileKind> {
+        None
+    }
+    /// Draws the view into the whole central area.
+    fn ui(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>);
+}
