@@ -178,7 +178,7 @@ fn ten_turns_of_a_closed_crease_do_not_accumulate_error() {
     let job = support::job(include_str!("../examples/crossing-cylinders.json"));
     let mut it =
         Interpolator::new(job.clone(), InterpOptions { turns: 10, ..InterpOptions::default() }).expect("starts");
-    let mut worst = vec![0.0f64; 11];
+    let mut worst = [0.0f64; 11];
     let mut record = |row: &Row, turn: usize| {
         let d = diagnose(&job, row).expect("regular");
         worst[turn] = worst[turn].max(d.measured[0].abs().max(d.measured[1].abs()));

@@ -43,7 +43,7 @@ fn sphere_curvature_is_minus_one_over_radius_in_every_direction_outward() {
             let g = geo(&s, uv);
             let (kmax, kmin) = g.principal_curvatures();
             assert!((kmax - sign / 17.0).abs() < 1e-12 && (kmin - sign / 17.0).abs() < 1e-12);
-            let t = tangent(&g, rng.range(0.0, 6.3));
+            let t = tangent(&g, rng.range(0.0, std::f64::consts::TAU));
             assert!((g.normal_curvature(t) - sign / 17.0).abs() < 1e-12);
             assert!(g.geodesic_torsion(t).abs() < 1e-12, "umbilic: no geodesic torsion");
         }
@@ -64,7 +64,7 @@ fn cylinder_follows_eulers_formula_and_the_torsion_formula() {
             normal: orientation,
         });
         for _ in 0..100 {
-            let uv = DVec2::new(rng.range(0.0, 6.28), rng.range(-40.0, 40.0));
+            let uv = DVec2::new(rng.range(0.0, std::f64::consts::TAU), rng.range(-40.0, 40.0));
             let g = geo(&s, uv);
             let p = g.principal();
             // Around the axis: ∓1/ρ; along it: 0.
@@ -74,7 +74,7 @@ fn cylinder_follows_eulers_formula_and_the_torsion_formula() {
             // Principal direction of the around-curvature is r_u's direction.
             let around_dir = if around > 0.0 { p.dir_max } else { p.dir_min };
             assert!(around_dir.dot(g.d.du.normalize()).abs() > 1.0 - 1e-12);
-            let phi = rng.range(0.0, 6.3);
+            let phi = rng.range(0.0, std::f64::consts::TAU);
             let t = phi.cos() * p.dir_max + phi.sin() * p.dir_min;
             let euler = p.k_max * phi.cos().powi(2) + p.k_min * phi.sin().powi(2);
             assert!((g.normal_curvature(t) - euler).abs() < 1e-12, "Euler's formula");

@@ -63,8 +63,8 @@ pub struct CreaseView {
     origin: Origin,
     /// What the static layers were built from: surfaces, R', display options.
     built_for: Option<([SurfaceSpec; 2], f64, ViewSettings)>,
-    /// Path layers: (generation, periods uploaded, magnification, settings).
-    path_for: (u64, usize, f64, bool),
+    /// Path layers: (generation, periods uploaded, magnification bits, settings).
+    path_for: (u64, usize, u64, bool),
     path_cpu: Vec<LineSegment>,
     exact_cpu: Vec<LineSegment>,
     cutters_for: (u64, usize, bool),
@@ -83,7 +83,7 @@ impl CreaseView {
             camera: OrbitCamera::default(),
             origin: Origin::default(),
             built_for: None,
-            path_for: (u64::MAX, 0, 1.0, true),
+            path_for: (u64::MAX, 0, 1f64.to_bits(), true),
             path_cpu: Vec::new(),
             exact_cpu: Vec::new(),
             cutters_for: (u64::MAX, 0, true),
@@ -163,14 +163,14 @@ impl CreaseView {
 
     fn centre_drawn(&self, p: &super::compute::Period) -> DVec3 {
         match p.exact {
-            Some(e) if self.settings.magnify != 1.0 => e + (p.row.p - e) * self.settings.magnify,
+            Some(e) if self.settings.magnify > 1.0 => e + (p.row.p - e) * self.settings.magnify,
             _ => p.row.p,
         }
     }
 
     fn update_path(&mut self, rs: &RenderState, compute: &Computation) {
         let n = compute.periods.len();
-        let key = (compute.generation, n, self.settings.magnify, self.settings.show_exact);
+        let key = (compute.generation, n, self.settings.magnify.to_bits(), self.settings.show_exact);
         if key == self.path_for {
             return;
         }
@@ -299,7 +299,7 @@ impl CreaseView {
             if scroll != 0.0 {
                 self.camera.zoom((scroll * 0.0025).exp());
             }
-            if zoom != 1.0 {
+            if (zoom - 1.0).abs() > f32::EPSILON {
                 self.camera.zoom(zoom);
             }
         }

@@ -76,6 +76,9 @@ pub enum Step {
     Stopped(StopReason),
 }
 
+/// Centre, contact parameters, travel direction and the local geometry at the new contacts.
+type ExactStep = (DVec3, [DVec2; 2], DVec3, Option<[LocalGeometry; 2]>);
+
 /// Passing a target point: detects the period nearest to it.
 #[derive(Clone, Copy, Debug)]
 struct Target {
@@ -240,14 +243,12 @@ impl Interpolator {
         let prev = self.row;
 
         // Passing path.end or, on a closed crease, the start again.
-        if let Some(end) = self.end.as_mut() {
-            if let Some(take_next) = passes(end, prev.p, next.p, self.capture) {
-                if take_next {
-                    self.commit(next, t);
-                    return Ok(self.stop_with_row(StopReason::ReachedEnd));
-                }
-                return Ok(self.stop(StopReason::ReachedEnd));
+        if let Some(take_next) = self.end.as_mut().and_then(|end| passes(end, prev.p, next.p, self.capture)) {
+            if take_next {
+                self.commit(next, t);
+                return Ok(self.stop_with_row(StopReason::ReachedEnd));
             }
+            return Ok(self.stop(StopReason::ReachedEnd));
         }
         if let Some(take_next) = passes(&mut self.home, prev.p, next.p, self.capture) {
             self.turns += 1;
@@ -409,7 +410,7 @@ impl Interpolator {
 
     /// The precise stepper: predictor along the tangent, Newton onto the exact crease at
     /// distance f.
-    fn exact_step(&self, at: Location) -> Result<(DVec3, [DVec2; 2], DVec3, Option<[LocalGeometry; 2]>), CreaseError> {
+    fn exact_step(&self, at: Location) -> Result<ExactStep, CreaseError> {
         let (geo, t) = self.local(at)?;
         self.fold_check(&geo, at)?;
         let r = self.job.r_eff_mm;
