@@ -35,9 +35,9 @@ struct RawNurbs {
 }
 
 impl RawNurbs {
-    /// Cox–de Boor: N_{i,1} = [k_i ≤ u < k_{i+1}], N_{i,p} = (u−k_i)/(k_{i+p−1}−k_i)·N_{i,p−1}
-    /// + (k_{i+p}−u)/(k_{i+p}−k_{i+1})·N_{i+1,p−1} (order p), 0/0 = 0; the end of the range
-    /// belongs to the last non-empty span.
+    /// Cox–de Boor for order p: N_{i,1} = [k_i ≤ u < k_{i+1}], and N_{i,p} is the sum of
+    /// (u−k_i)/(k_{i+p−1}−k_i)·N_{i,p−1} and (k_{i+p}−u)/(k_{i+p}−k_{i+1})·N_{i+1,p−1}, with
+    /// 0/0 = 0; the end of the range belongs to the last non-empty span.
     fn point(&self, u: f64) -> DVec3 {
         let k = &self.knots;
         let n = self.points.len();

@@ -11,7 +11,7 @@
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use glam::DVec3;
-use interpolab::geom::{Curve3, NurbsCurve};
+use interpolab::geom::NurbsCurve;
 use interpolab::nurbs_path::realtime::chord_limited_step;
 use interpolab::nurbs_path::{RealtimeError, RealtimeOptions, Update, interpolate_realtime};
 
