@@ -152,6 +152,7 @@ pub fn plots(ui: &mut egui::Ui, state: &mut PlotState, compute: &Computation, sc
     ui.horizontal_top(|ui| {
         ui.vertical(|ui| {
             ui.set_width(330.0);
+            ui.set_max_width(330.0);
             summary(ui, compute, scene);
         });
         ui.separator();

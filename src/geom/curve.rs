@@ -88,13 +88,35 @@ impl HermitePath {
         self.s[self.s.len() - 1]
     }
 
-    /// Index i of the segment `[s_i, s_{i+1}]` holding s (clamped).
+    /// Index i of the segment `[s_i, s_{i+1}]` holding s (clamped). Points one feed per
+    /// period apart are nearly evenly spaced, so the proportional guess `s/L·(n−1)` is at most
+    /// a step or two off: a short walk from it, with a binary search as the fallback for
+    /// unevenly spaced points, keeps every evaluation O(1) on a crease.
     #[must_use]
     pub fn segment(&self, s: f64) -> usize {
         let n = self.s.len();
+        let last = n - 2;
+        let len = self.length();
+        if !(s > self.s[0]) {
+            return 0;
+        }
+        if s >= len {
+            return last;
+        }
+        let mut i = ((s / len) * (n - 1) as f64) as usize;
+        i = i.min(last);
+        for _ in 0..8 {
+            if s < self.s[i] {
+                i -= 1;
+            } else if s >= self.s[i + 1] {
+                i += 1;
+            } else {
+                return i;
+            }
+        }
         match self.s.binary_search_by(|x| x.total_cmp(&s)) {
-            Ok(i) => i.min(n - 2),
-            Err(i) => i.saturating_sub(1).min(n - 2),
+            Ok(i) => i.min(last),
+            Err(i) => i.saturating_sub(1).min(last),
         }
     }
 }
