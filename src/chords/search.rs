@@ -21,10 +21,10 @@ use crate::tolerance;
 /// How the root of δ(s) = E is found once it is bracketed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum RootMethod {
-    /// Halve the bracket (seed 002's reference [12]).
+    /// Halve the bracket (seed 002's reference \[12\]).
     Bisection,
     /// Cut the bracket at the golden ratio, the shorter part next to the end whose error is
-    /// closer to E (seed 002's reference [14]).
+    /// closer to E (seed 002's reference \[14\]).
     Golden,
     /// Seed 002's modified secant, eq. (4): `s = s_high − f_high (s_high − s_low)/(f_high − f_low)`,
     /// replacing the end of the same sign (classical regula falsi).

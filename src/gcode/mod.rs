@@ -15,8 +15,8 @@
 //!   path ([`replay::deviation`]).
 //!
 //! Modules: [`path`] the geometry of moves; [`arcs`] tolerance-driven arc fitting;
-//! [`write`] the three program writers with the rounding check; [`parse`] the reader;
-//! [`replay`] deviation and summary; [`compare`] the comparison table; [`design`] the design
+//! [`mod@write`] the three program writers with the rounding check; [`parse`] the reader;
+//! [`replay`] deviation and summary; [`mod@compare`] the comparison table; [`design`] the design
 //! path of a scene. All are pure functions of (curve, tolerance, options), for the command
 //! line and the app alike.
 

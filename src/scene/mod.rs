@@ -3,8 +3,8 @@
 //! A [`Scene`] holds the file's values in the file's units (mm, mm/min, ms, degrees) and is
 //! what the app edits and saves. [`Scene::from_json`] parses and validates, naming the key
 //! path of every problem and what to change; [`Scene::to_json`] writes it back (parse ∘ write
-//! is the identity); [`Scene::build`] converts it to the internal geometry of a
-//! [`crate::crease::CreaseJob`] (radians, unit frames, NURBS in homogeneous form).
+//! is the identity); [`crate::crease::CreaseJob::from_scene`] converts it to internal units
+//! (radians, unit frames, NURBS in homogeneous form).
 
 mod build;
 pub mod link;
