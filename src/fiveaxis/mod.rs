@@ -32,9 +32,10 @@ pub use blade::NacaProfile;
 pub use machine::{Joints, KinematicsError, Machine, MachineKind, ToolPose};
 pub use path::{CreasePath, CutterLocation, DesignPath, ProfilePath, ToolSide};
 pub use presets::{CircleArc, Example1, blade_case, example1};
-pub use stepsel::{StepNode, StepOptions, StepPlan, evaluate_nodes, plan_steps, rotary_step_rad};
+pub use stepsel::{StepNode, StepOptions, StepPlan, StepPlanner, evaluate_nodes, plan_steps, rotary_step_rad};
 pub use swept::{
-    Block, SegmentReport, SegmentTotal, SweptPoint, block_at, segment_report, segment_total, swept_point, swept_samples,
+    Block, SegmentReport, SegmentTotal, SweptPoint, block_at, centre_design_deviation, segment_report, segment_total,
+    swept_point, swept_samples, tip_design_deviation,
 };
 pub use toolaxis::{AxisFrame, ToolAxisRule};
 

@@ -130,30 +130,98 @@ impl StepPlan {
 /// computed (out of travel: the message names the axis and angle); steps that underflow or
 /// too many nodes.
 pub fn plan_steps(machine: &Machine, path: &dyn DesignPath, opts: &StepOptions) -> Result<StepPlan, FiveAxisError> {
-    let tol = opts.tol_mm;
-    if !(tol > 0.0 && tol.is_finite()) {
-        return Err(FiveAxisError::BadTolerance { tol_mm: tol });
+    let mut planner = StepPlanner::new(machine, path, opts)?;
+    while !planner.is_done() {
+        planner.next_node(machine, path)?;
     }
-    let (start, end) = path.range();
-    if !(start.is_finite() && end.is_finite() && end > start) {
-        return Err(FiveAxisError::EmptyPath { start, end });
+    Ok(planner.into_plan())
+}
+
+/// [`plan_steps`] one node at a time, for callers that must not block for a whole plan (an
+/// app spreading the work over frames within a time budget). The planner keeps only its own
+/// state: every call takes the same `machine` and `path` it was created with. Its nodes are
+/// exactly those of [`plan_steps`].
+#[derive(Clone, Debug)]
+pub struct StepPlanner {
+    opts: StepOptions,
+    swept: MaxOptions,
+    rotary_scale: f64,
+    end: f64,
+    step: Option<f64>,
+    nodes: Vec<StepNode>,
+}
+
+impl StepPlanner {
+    /// Starts a plan: checks the tolerance and the range and computes the first block.
+    ///
+    /// # Errors
+    /// As [`plan_steps`] for the tolerance, the range and the first block.
+    pub fn new(machine: &Machine, path: &dyn DesignPath, opts: &StepOptions) -> Result<Self, FiveAxisError> {
+        let tol = opts.tol_mm;
+        if !(tol > 0.0 && tol.is_finite()) {
+            return Err(FiveAxisError::BadTolerance { tol_mm: tol });
+        }
+        let (start, end) = path.range();
+        if !(start.is_finite() && end.is_finite() && end > start) {
+            return Err(FiveAxisError::EmptyPath { start, end });
+        }
+        let rotary_scale = if opts.max_rotary_step_rad > 0.0 { tol / opts.max_rotary_step_rad } else { 0.0 };
+        let first = block_at(machine, path, start, None)?;
+        Ok(Self {
+            opts: *opts,
+            swept: opts.swept_for_tol(),
+            rotary_scale,
+            end,
+            step: path.first_step(start, tol),
+            nodes: vec![StepNode {
+                block: first,
+                total_mm: None,
+                report: None,
+                evaluations: 0,
+                bracket_evaluations: 0,
+                rotary_limited: false,
+            }],
+        })
     }
-    let swept = opts.swept_for_tol();
-    let rotary_scale = if opts.max_rotary_step_rad > 0.0 { tol / opts.max_rotary_step_rad } else { 0.0 };
-    let first = block_at(machine, path, start, None)?;
-    let mut nodes = vec![StepNode {
-        block: first,
-        total_mm: None,
-        report: None,
-        evaluations: 0,
-        bracket_evaluations: 0,
-        rotary_limited: false,
-    }];
-    let mut step = path.first_step(start, tol);
-    let mut current = first;
-    while current.location.s < end {
-        if nodes.len() >= opts.max_nodes {
-            return Err(FiveAxisError::TooManyNodes { tol_mm: tol, max_nodes: opts.max_nodes, s: current.location.s });
+
+    /// Whether the last node is the end of the path.
+    #[must_use]
+    pub fn is_done(&self) -> bool {
+        self.nodes.last().is_none_or(|n| n.block.location.s >= self.end)
+    }
+
+    /// The nodes chosen so far (the first is the start of the path).
+    #[must_use]
+    pub fn nodes(&self) -> &[StepNode] {
+        &self.nodes
+    }
+
+    /// The settings.
+    #[must_use]
+    pub fn options(&self) -> &StepOptions {
+        &self.opts
+    }
+
+    /// Finds the next node and returns it (the last one again once [`Self::is_done`]).
+    ///
+    /// # Errors
+    /// As [`plan_steps`]; the nodes found before stay available.
+    pub fn next_node(&mut self, machine: &Machine, path: &dyn DesignPath) -> Result<StepNode, FiveAxisError> {
+        let tol = self.opts.tol_mm;
+        let (swept, rotary_scale, end) = (self.swept, self.rotary_scale, self.end);
+        let Some(&last) = self.nodes.last() else {
+            return Err(FiveAxisError::EmptyPath { start: end, end });
+        };
+        let current = last.block;
+        if current.location.s >= end {
+            return Ok(last);
+        }
+        if self.nodes.len() >= self.opts.max_nodes {
+            return Err(FiveAxisError::TooManyNodes {
+                tol_mm: tol,
+                max_nodes: self.opts.max_nodes,
+                s: current.location.s,
+            });
         }
         let from = current.location.s;
         // Every candidate block, so the accepted one is not recomputed.
@@ -174,8 +242,8 @@ pub fn plan_steps(machine: &Machine, path: &dyn DesignPath, opts: &StepOptions) 
             }
             Ok(v)
         };
-        let first_step = step.unwrap_or((end - from) / 16.0);
-        let found = next_node(error, from, end, first_step, tol, &opts.search).map_err(|e| match e {
+        let first_step = self.step.unwrap_or((end - from) / 16.0);
+        let found = next_node(error, from, end, first_step, tol, &self.opts.search).map_err(|e| match e {
             SearchFailure::Eval(e) => e,
             SearchFailure::NotFinite { s } => FiveAxisError::NotFinite { s },
             SearchFailure::Underflow { s_from, error_mm } => {
@@ -193,20 +261,27 @@ pub fn plan_steps(machine: &Machine, path: &dyn DesignPath, opts: &StepOptions) 
                 (b, e)
             }
         };
-        let report = if opts.reports { Some(segment_report(machine, path, &current, &block, &swept)?) } else { None };
+        let report =
+            if self.opts.reports { Some(segment_report(machine, path, &current, &block, &swept)?) } else { None };
         let rotary_limited = rotary_scale * rotary_step_rad(&current, &block) > total.abs();
-        nodes.push(StepNode {
+        let node = StepNode {
             block,
             total_mm: Some(total),
             report,
             evaluations: found.evaluations,
             bracket_evaluations: found.bracket_evaluations,
             rotary_limited,
-        });
-        step = Some(found.s - from);
-        current = block;
+        };
+        self.nodes.push(node);
+        self.step = Some(found.s - from);
+        Ok(node)
     }
-    Ok(StepPlan { nodes, tol_mm: tol, method: opts.search.method })
+
+    /// The plan (complete once [`Self::is_done`]; otherwise the nodes so far).
+    #[must_use]
+    pub fn into_plan(self) -> StepPlan {
+        StepPlan { nodes: self.nodes, tol_mm: self.opts.tol_mm, method: self.opts.search.method }
+    }
 }
 
 /// Blocks and segment reports for given node parameters (no search): to check a program —

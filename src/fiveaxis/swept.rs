@@ -26,7 +26,7 @@ use super::FiveAxisError;
 use super::machine::{Joints, Machine};
 use super::path::{CutterLocation, DesignPath};
 use crate::chords::deviation::distance_to_segment;
-use crate::chords::maximise::{MaxOptions, sampled_max};
+use crate::chords::maximise::{MaxOptions, brent_max, sampled_max};
 
 /// One NC block: a cutter location and the machine's joint values for it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -266,4 +266,87 @@ pub fn segment_report(
         stock_mm,
         tip_deviation_mm: tip_peak.value,
     })
+}
+
+/// The largest distance (mm) from the swept tool tip of the segment from `a` to `b` to the
+/// *design tip path* `tip(s) = centre(s) − R·axis(s)` of `path` (the exact design curve,
+/// the same tool-axis rule) — what a checker that compares the tip the machine sweeps with
+/// the tip the design asks for would measure. It is not what step selection bounds (that is
+/// the ball's signed surface error δ) and it is not bounded by E: see `docs/fiveaxis.md`.
+///
+/// For each τ the nearest point of the design tip path is searched over the segment's
+/// parameter interval widened by its own length on both sides (clamped to the path): the
+/// path is sampled there, then the squared distance is minimised by Brent's method around the
+/// nearest sample. The largest distance over τ is located like δ ([`sampled_max`]).
+///
+/// # Errors
+/// When a design location cannot be computed or a distance is not finite.
+pub fn tip_design_deviation(
+    machine: &Machine,
+    path: &dyn DesignPath,
+    a: &Block,
+    b: &Block,
+    opts: &MaxOptions,
+) -> Result<f64, FiveAxisError> {
+    design_deviation(machine, path, a, b, opts, |l| l.tip, |_, tip, _| tip)
+}
+
+/// As [`tip_design_deviation`] for the ball centre: the largest distance from the swept
+/// ball centre to the design centre path (for a crease, the exact crease).
+///
+/// # Errors
+/// As [`tip_design_deviation`].
+pub fn centre_design_deviation(
+    machine: &Machine,
+    path: &dyn DesignPath,
+    a: &Block,
+    b: &Block,
+    opts: &MaxOptions,
+) -> Result<f64, FiveAxisError> {
+    design_deviation(machine, path, a, b, opts, |l| l.centre, |_, _, centre| centre)
+}
+
+fn design_deviation(
+    machine: &Machine,
+    path: &dyn DesignPath,
+    a: &Block,
+    b: &Block,
+    opts: &MaxOptions,
+    design_point: impl Fn(&CutterLocation) -> DVec3,
+    swept_point_of: impl Fn(&Joints, DVec3, DVec3) -> DVec3,
+) -> Result<f64, FiveAxisError> {
+    const SAMPLES: usize = 24;
+    let (sa, sb) = (a.location.s, b.location.s);
+    let (lo_path, hi_path) = path.range();
+    let width = (sb - sa).abs();
+    let (lo, hi) = ((sa.min(sb) - width).max(lo_path), (sa.max(sb) + width).min(hi_path));
+    let design_at = |s: f64| path.location_at(s).map(|l| design_point(&l));
+    let mut samples = Vec::with_capacity(SAMPLES + 1);
+    for i in 0..=SAMPLES {
+        let s = if i == SAMPLES { hi } else { lo + (hi - lo) * i as f64 / SAMPLES as f64 };
+        samples.push((s, design_at(s)?));
+    }
+    let tol_s = 1e-9 * (hi - lo).max(f64::MIN_POSITIVE);
+    let distance = |p: DVec3| -> Result<f64, FiveAxisError> {
+        let (i, _) = samples
+            .iter()
+            .enumerate()
+            .map(|(i, (_, q))| (i, (*q - p).length_squared()))
+            .fold((0, f64::INFINITY), |best, x| if x.1 < best.1 { x } else { best });
+        let (l, r) = (samples[i.saturating_sub(1)].0, samples[(i + 1).min(SAMPLES)].0);
+        let seed = (samples[i].0, -(samples[i].1 - p).length_squared());
+        let (_, neg_d2, _) = brent_max(|s| design_at(s).map(|q| -(q - p).length_squared()), l, r, tol_s, seed)?;
+        let d = (-neg_d2).max(0.0).sqrt();
+        if d.is_finite() { Ok(d) } else { Err(not_finite(sa)) }
+    };
+    let peak = sampled_max(
+        |tau| {
+            let (j, tip, _, centre) = swept_pose(machine, path, a, b, tau);
+            distance(swept_point_of(&j, tip, centre))
+        },
+        0.0,
+        1.0,
+        opts,
+    )?;
+    Ok(peak.value)
 }
