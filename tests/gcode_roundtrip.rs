@@ -17,12 +17,12 @@ mod support;
 use glam::DVec3;
 use interpolab::chords::equal_error_chords;
 use interpolab::gcode::{
-    CompareOptions, ProgramError, ProgramKind, ProgramOptions, ProgrammedPoint, Segment, compare, crease_design,
-    write_program,
+    CompareOptions, ProgramError, ProgramKind, ProgramOptions, ProgrammedPoint, Segment, compare, compare_row,
+    crease_design, realtime_stats, write_program,
 };
 use interpolab::geom::Curve3;
-use interpolab::nurbs_path::Parabola;
 use interpolab::nurbs_path::measure::nearest_on_curve;
+use interpolab::nurbs_path::{Parabola, interpolate_realtime};
 
 const RES: f64 = 0.001;
 
@@ -492,4 +492,43 @@ fn comparison_rows_match_their_programs() {
         c.realtime[2].max_fluctuation < c.realtime[1].max_fluctuation
             && c.realtime[1].max_fluctuation < c.realtime[0].max_fluctuation
     );
+}
+
+/// The app runs the comparison one program per frame; the steps must give what `compare`
+/// gives in one call.
+#[test]
+fn comparison_run_step_by_step_equals_the_one_call() {
+    let para = Parabola::paper_like();
+    let delta = 2e-5;
+    let opts = CompareOptions { chord_tol_mm: Some(delta), ..CompareOptions::default() };
+    let whole = compare(&para, 0.02, &opts).expect("comparison");
+    let mut realtime = Vec::new();
+    for (kind, row) in ProgramKind::ALL.into_iter().zip(&whole.rows) {
+        let step = compare_row(kind, &para, 0.02, &opts).expect("row");
+        assert_eq!(step.kind, row.kind);
+        assert_eq!(step.program.text, row.program.text, "{}", kind.label());
+        assert_eq!((step.path_blocks, step.total_blocks, step.bytes), (row.path_blocks, row.total_blocks, row.bytes));
+        assert_eq!(step.deviation_mm, row.deviation_mm);
+        assert_eq!(step.junctions, row.junctions);
+        let stats = realtime_stats(&step.program, &opts);
+        // Only the G06.2 program has a curve to run, one entry per update.
+        assert_eq!(stats.len(), if kind == ProgramKind::Nurbs { 3 } else { 0 }, "{}", kind.label());
+        assert_eq!(step.program.read_back_curves().count(), usize::from(kind == ProgramKind::Nurbs));
+        realtime.extend(stats);
+    }
+    assert_eq!(realtime, whole.realtime);
+    // The run with kept samples (what the app plots) has the table's statistics.
+    let curve = whole.rows[2].program.read_back_curves().next().expect("a G06.2 curve");
+    for s in &whole.realtime {
+        let run = interpolate_realtime(curve, &opts.realtime(s.update).with_samples(true)).expect("runs");
+        assert_eq!(run.stats, *s, "{}", s.update.as_str());
+        assert_eq!(run.samples.len() as u64, s.periods);
+    }
+    // The chord tolerance reaches the runs: at the parabola's vertex (radius 20 mm) a step of
+    // f = 0.1 mm errs by f²/(8ρ) = 6.25e-5 mm, so δ = 2e-5 mm lowers the feed there, and the
+    // limit holds the chord error to δ.
+    for s in &whole.realtime {
+        assert!(s.limited_periods > 0, "{}", s.update.as_str());
+        assert!(s.max_chord_error_mm <= 1.01 * delta, "{}: {}", s.update.as_str(), s.max_chord_error_mm);
+    }
 }

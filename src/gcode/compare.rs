@@ -118,8 +118,25 @@ pub struct Comparison {
     pub realtime: Vec<FeedStats>,
 }
 
+impl CompareOptions {
+    /// The options of the real-time runs with `update`: the program's feed, this period and
+    /// chord tolerance, statistics only.
+    #[must_use]
+    pub fn realtime(&self, update: Update) -> RealtimeOptions {
+        RealtimeOptions::default()
+            .with_feed(self.program.feed_mm_per_min, self.period_ms)
+            .with_update(update)
+            .with_chord_tol(self.chord_tol_mm)
+            .with_samples(false)
+    }
+}
+
 /// Writes the three programs for `design` at `tol_mm`, checks them, and runs the G06.2 curve
 /// with each real-time update.
+///
+/// The same as [`compare_row`] for each kind in [`ProgramKind::ALL`] followed by
+/// [`realtime_stats`] of the G06.2 row: an interactive caller may run those steps one at a
+/// time (one per frame) and assemble the same [`Comparison`].
 ///
 /// # Errors
 /// The first program that cannot be written ([`ProgramError`]).
@@ -127,35 +144,50 @@ pub fn compare(design: &dyn Curve3, tol_mm: f64, opts: &CompareOptions) -> Resul
     let mut rows = Vec::new();
     let mut realtime = Vec::new();
     for kind in ProgramKind::ALL {
-        let program = write_program(kind, design, tol_mm, &opts.program)?;
-        let junctions = junctions(&program.parsed.toolpath);
-        if kind == ProgramKind::Nurbs {
-            for b in program.parsed.toolpath.cuts() {
-                if let super::path::Segment::Nurbs(c) = &b.segment {
-                    for update in Update::ALL {
-                        let ro = RealtimeOptions::default()
-                            .with_feed(opts.program.feed_mm_per_min, opts.period_ms)
-                            .with_update(update)
-                            .with_chord_tol(opts.chord_tol_mm)
-                            .with_samples(false);
-                        if let Ok(run) = interpolate_realtime(c, &ro) {
-                            realtime.push(run.stats);
-                        }
-                    }
-                }
-            }
-        }
-        rows.push(CompareRow {
-            kind,
-            path_blocks: program.path_blocks,
-            total_blocks: program.parsed.blocks,
-            bytes: program.bytes(),
-            deviation_mm: program.deviation.max_mm(),
-            junctions,
-            program,
-        });
+        let row = compare_row(kind, design, tol_mm, opts)?;
+        realtime.extend(realtime_stats(&row.program, opts));
+        rows.push(row);
     }
     Ok(Comparison { tol_mm, feed_mm_per_min: opts.program.feed_mm_per_min, rows, realtime })
+}
+
+/// One row of the comparison: writes and checks the program of `kind`, and measures its
+/// junctions.
+///
+/// # Errors
+/// [`ProgramError`] when the program cannot be written.
+pub fn compare_row(
+    kind: ProgramKind,
+    design: &dyn Curve3,
+    tol_mm: f64,
+    opts: &CompareOptions,
+) -> Result<CompareRow, ProgramError> {
+    let program = write_program(kind, design, tol_mm, &opts.program)?;
+    Ok(CompareRow {
+        kind,
+        path_blocks: program.path_blocks,
+        total_blocks: program.parsed.blocks,
+        bytes: program.bytes(),
+        deviation_mm: program.deviation.max_mm(),
+        junctions: junctions(&program.parsed.toolpath),
+        program,
+    })
+}
+
+/// Real-time interpolation statistics of a program's G06.2 curves as read back from its
+/// text (rounded), one entry per curve and update ([`Update::ALL`] order); empty for a
+/// program without G06.2 moves. A curve that cannot be run (it stalls) is left out.
+#[must_use]
+pub fn realtime_stats(program: &Program, opts: &CompareOptions) -> Vec<FeedStats> {
+    let mut out = Vec::new();
+    for c in program.read_back_curves() {
+        for update in Update::ALL {
+            if let Ok(run) = interpolate_realtime(c, &opts.realtime(update)) {
+                out.push(run.stats);
+            }
+        }
+    }
+    out
 }
 
 /// Output style of [`format_comparison`].

@@ -28,7 +28,9 @@ pub mod path;
 pub mod replay;
 pub mod write;
 
-pub use compare::{CompareOptions, CompareRow, Comparison, TableStyle, compare, format_comparison};
+pub use compare::{
+    CompareOptions, CompareRow, Comparison, TableStyle, compare, compare_row, format_comparison, realtime_stats,
+};
 pub use design::{DesignError, crease_design};
 pub use parse::{ParseError, ParsedProgram, Unsupported, parse_program};
 pub use path::{ArcMove, LineMove, Motion, PathBlock, Plane, Segment, Toolpath};

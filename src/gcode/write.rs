@@ -21,7 +21,7 @@ use thiserror::Error;
 
 use super::arcs::{ArcFitError, ArcFitOptions, Piece, fit_arcs};
 use super::parse::{ParseError, ParsedProgram, parse_program};
-use super::path::Plane;
+use super::path::{Plane, Segment};
 use super::replay::{Deviation, DeviationOptions, ReplayError, deviation};
 use crate::chords::{ChordError, equal_error_chords};
 use crate::geom::{Curve3, NurbsCurve};
@@ -295,6 +295,16 @@ impl Program {
     #[must_use]
     pub fn bytes(&self) -> usize {
         self.text.len()
+    }
+
+    /// The program's G06.2 curves as read back from its text (control points, weights and
+    /// knots rounded to the resolution): what a control would run, unlike [`Program::nurbs`],
+    /// the fit before rounding.
+    pub fn read_back_curves(&self) -> impl Iterator<Item = &NurbsCurve> {
+        self.parsed.toolpath.cuts().filter_map(|b| match &b.segment {
+            Segment::Nurbs(c) => Some(c),
+            _ => None,
+        })
     }
 }
 
