@@ -13,6 +13,7 @@
 //! the same machinery and the same [`RootMethod`]s serve the five-axis step selection.
 
 pub mod deviation;
+pub mod expr;
 pub mod maximise;
 pub mod planar;
 pub mod search;
