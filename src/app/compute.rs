@@ -42,6 +42,11 @@ pub struct Computation {
     started: Instant,
     /// Wall time from start to finish (s).
     pub wall_seconds: f64,
+    /// Running maxima over the periods so far (kept as they arrive: O(1) per frame).
+    worst_e: [f64; 2],
+    worst_b16: [Option<f64>; 2],
+    /// Path length so far (mm).
+    pub length_mm: f64,
 }
 
 impl Default for Computation {
@@ -56,6 +61,9 @@ impl Default for Computation {
             generation: 0,
             started: Instant::now(),
             wall_seconds: 0.0,
+            worst_e: [0.0; 2],
+            worst_b16: [Some(0.0); 2],
+            length_mm: 0.0,
         }
     }
 }
@@ -71,6 +79,9 @@ impl Computation {
         self.step_seconds = 0.0;
         self.measure_seconds = 0.0;
         self.wall_seconds = 0.0;
+        self.worst_e = [0.0; 2];
+        self.worst_b16 = [Some(0.0); 2];
+        self.length_mm = 0.0;
         self.started = Instant::now();
         let job = match CreaseJob::from_scene(scene) {
             Ok(j) => j,
@@ -102,6 +113,18 @@ impl Computation {
     fn push_untimed(&mut self, job: &CreaseJob, row: Row) {
         let diag = diagnose(job, &row);
         let exact = crease_deviation(job, row.p, row.uv).map(|(_, cp)| cp.p);
+        if let Some(d) = &diag {
+            for i in 0..2 {
+                self.worst_e[i] = self.worst_e[i].max(d.measured[i].abs());
+                self.worst_b16[i] = match (self.worst_b16[i], d.est16[i]) {
+                    (Some(x), Some(y)) => Some(x.max(y)),
+                    _ => None,
+                };
+            }
+        }
+        if let Some(last) = self.periods.last() {
+            self.length_mm += (row.p - last.row.p).length();
+        }
         self.periods.push(Period { row, diag, exact });
     }
 
@@ -165,19 +188,6 @@ impl Computation {
     /// Worst |e_i| over the path (mm) and worst bound (16) (`None` where it does not apply).
     #[must_use]
     pub fn worst(&self) -> ([f64; 2], [Option<f64>; 2]) {
-        let mut e = [0.0f64; 2];
-        let mut b = [Some(0.0f64); 2];
-        for p in &self.periods {
-            if let Some(d) = &p.diag {
-                for i in 0..2 {
-                    e[i] = e[i].max(d.measured[i].abs());
-                    b[i] = match (b[i], d.est16[i]) {
-                        (Some(x), Some(y)) => Some(x.max(y)),
-                        _ => None,
-                    };
-                }
-            }
-        }
-        (e, b)
+        (self.worst_e, self.worst_b16)
     }
 }

@@ -20,18 +20,74 @@ pub enum PlotTab {
     Steps,
 }
 
-/// Plot options.
-#[derive(Clone, Copy, Debug)]
+/// Plot options and the decimated series, rebuilt only when the path changed.
+#[derive(Clone, Debug)]
 pub struct PlotState {
     /// Which plot.
     pub tab: PlotTab,
     /// |e| on a log scale (else signed, linear).
     pub log: bool,
+    cache: Series,
 }
 
 impl Default for PlotState {
     fn default() -> Self {
-        Self { tab: PlotTab::Errors, log: true }
+        Self { tab: PlotTab::Errors, log: true, cache: Series::default() }
+    }
+}
+
+/// Decimated plot series of one computation.
+#[derive(Clone, Debug, Default)]
+struct Series {
+    /// (generation, periods, log scale) they were built from.
+    key: Option<(u64, usize, bool)>,
+    built: Option<web_time::Instant>,
+    e: [Vec<[f64; 2]>; 2],
+    b16: [Vec<[f64; 2]>; 2],
+    steps: Vec<[f64; 2]>,
+}
+
+/// Points kept per series (about two per bucket of the plot's width).
+const PLOT_BUCKETS: usize = 1500;
+
+impl Series {
+    /// Rebuilds when the path changed — while a long path is still growing, at most four
+    /// times a second, so each frame stays O(1) in the path's length.
+    fn update(&mut self, compute: &Computation, scene: &Scene, log: bool) {
+        let key = (compute.generation, compute.periods.len(), log);
+        if self.key == Some(key) {
+            return;
+        }
+        let same_run = self.key.is_some_and(|k| k.0 == key.0 && k.2 == key.2);
+        if same_run && compute.running() && self.built.is_some_and(|t| t.elapsed().as_millis() < 250) {
+            return;
+        }
+        let period = scene.motion.period;
+        let f = scene.feed_per_period_mm();
+        let y = |mm: f64| if log { (mm.abs().max(LOG_FLOOR_MM) * 1e3).log10() } else { mm * 1e3 };
+        let mut e = [Vec::new(), Vec::new()];
+        let mut b16 = [Vec::new(), Vec::new()];
+        for p in &compute.periods {
+            let t = p.row.k as f64 * period;
+            if let Some(d) = &p.diag {
+                for i in 0..2 {
+                    e[i].push([t, y(d.measured[i])]);
+                    if let Some(b) = d.est16[i] {
+                        b16[i].push([t, y(b)]);
+                    }
+                }
+            }
+        }
+        let steps: Vec<[f64; 2]> = compute
+            .periods
+            .windows(2)
+            .map(|w| [w[1].row.k as f64 * period, ((w[1].row.p - w[0].row.p).length() - f) * 1e6])
+            .collect();
+        self.e = e.map(|v| decimate(&v, PLOT_BUCKETS));
+        self.b16 = b16.map(|v| decimate(&v, PLOT_BUCKETS));
+        self.steps = decimate(&steps, PLOT_BUCKETS);
+        self.key = Some(key);
+        self.built = Some(web_time::Instant::now());
     }
 }
 
@@ -40,20 +96,20 @@ pub fn playback_bar(ui: &mut egui::Ui, pb: &mut Playback, compute: &Computation,
     let n = compute.periods.len();
     let last = n.saturating_sub(1) as f64;
     ui.horizontal(|ui| {
-        if ui.button(if pb.playing { "⏸ pause" } else { "▶ play" }).clicked() {
+        if ui.button(if pb.playing { "Pause" } else { "Play" }).clicked() {
             if !pb.playing && pb.k >= last {
                 pb.k = 0.0;
             }
             pb.playing = !pb.playing;
         }
-        if ui.button("|◀").on_hover_text("back to the start").clicked() {
+        if ui.button("Start").on_hover_text("back to the start").clicked() {
             pb.k = 0.0;
         }
-        if ui.button("◀").on_hover_text("one period back").clicked() {
+        if ui.button("−1").on_hover_text("one period back").clicked() {
             pb.playing = false;
             pb.k = (pb.k.floor() - 1.0).max(0.0);
         }
-        if ui.button("▶|").on_hover_text("one period forward").clicked() {
+        if ui.button("+1").on_hover_text("one period forward").clicked() {
             pb.playing = false;
             pb.k = (pb.k.floor() + 1.0).min(last);
         }
@@ -116,8 +172,7 @@ fn summary(ui: &mut egui::Ui, compute: &Computation, scene: &Scene) {
         ui.label(format!("{n}"));
         ui.end_row();
         ui.label("path length");
-        let length: f64 = compute.periods.windows(2).map(|w| (w[1].row.p - w[0].row.p).length()).sum();
-        ui.label(format!("{length:.3} mm  (f = {f:.4} mm)"));
+        ui.label(format!("{:.3} mm  (f = {f:.4} mm)", compute.length_mm));
         ui.end_row();
         ui.label("machining time");
         ui.label(format!("{:.3} s", n as f64 * scene.motion.period / 1000.0));
@@ -167,34 +222,17 @@ pub fn plots(ui: &mut egui::Ui, state: &mut PlotState, compute: &Computation, sc
             });
             let period = scene.motion.period;
             let cursor_t = cursor_k.floor() * period;
+            state.cache.update(compute, scene, state.log);
             match state.tab {
-                PlotTab::Errors => errors_plot(ui, state.log, compute, scene, cursor_t),
-                PlotTab::Steps => steps_plot(ui, compute, scene, cursor_t),
+                PlotTab::Errors => errors_plot(ui, state.log, &state.cache, scene, cursor_t),
+                PlotTab::Steps => steps_plot(ui, &state.cache, scene, cursor_t),
             }
         });
     });
 }
 
-fn errors_plot(ui: &mut egui::Ui, log: bool, compute: &Computation, scene: &Scene, cursor_t: f64) {
-    let period = scene.motion.period;
+fn errors_plot(ui: &mut egui::Ui, log: bool, series: &Series, scene: &Scene, cursor_t: f64) {
     let allowed = [scene.tolerance.share * scene.tolerance.t1, scene.tolerance.share * scene.tolerance.t2];
-    // Values in µm (linear) or log10 of µm.
-    let y = |mm: f64| {
-        if log { (mm.abs().max(LOG_FLOOR_MM) * 1e3).log10() } else { mm * 1e3 }
-    };
-    let mut e = [Vec::new(), Vec::new()];
-    let mut b16 = [Vec::new(), Vec::new()];
-    for p in &compute.periods {
-        let t = p.row.k as f64 * period;
-        if let Some(d) = &p.diag {
-            for i in 0..2 {
-                e[i].push([t, y(d.measured[i])]);
-                if let Some(b) = d.est16[i] {
-                    b16[i].push([t, y(b)]);
-                }
-            }
-        }
-    }
     let plot = Plot::new("errors")
         .legend(Legend::default().position(Corner::LeftTop).background_alpha(0.6))
         .x_axis_label("t (ms)")
@@ -209,12 +247,12 @@ fn errors_plot(ui: &mut egui::Ui, log: bool, compute: &Computation, scene: &Scen
         for i in 0..2 {
             let color = SURFACE_COLORS[i];
             p.line(
-                Line::new(format!("e{} measured", i + 1), PlotPoints::from(decimate(&e[i], 1500)))
+                Line::new(format!("e{} measured", i + 1), PlotPoints::from(series.e[i].clone()))
                     .color(color)
                     .width(1.5),
             );
             p.line(
-                Line::new(format!("bound (16) S{}", i + 1), PlotPoints::from(decimate(&b16[i], 1500)))
+                Line::new(format!("bound (16) S{}", i + 1), PlotPoints::from(series.b16[i].clone()))
                     .color(color.gamma_multiply(0.7))
                     .style(LineStyle::dashed_loose()),
             );
@@ -234,14 +272,8 @@ fn errors_plot(ui: &mut egui::Ui, log: bool, compute: &Computation, scene: &Scen
     });
 }
 
-fn steps_plot(ui: &mut egui::Ui, compute: &Computation, scene: &Scene, cursor_t: f64) {
+fn steps_plot(ui: &mut egui::Ui, series: &Series, scene: &Scene, cursor_t: f64) {
     let f = scene.feed_per_period_mm();
-    let period = scene.motion.period;
-    let pts: Vec<[f64; 2]> = compute
-        .periods
-        .windows(2)
-        .map(|w| [w[1].row.k as f64 * period, ((w[1].row.p - w[0].row.p).length() - f) * 1e6])
-        .collect();
     Plot::new("steps")
         .legend(Legend::default().position(Corner::LeftTop).background_alpha(0.6))
         .x_axis_label("t (ms)")
@@ -249,7 +281,7 @@ fn steps_plot(ui: &mut egui::Ui, compute: &Computation, scene: &Scene, cursor_t:
         .allow_scroll(false)
         .show(ui, |p| {
             p.line(
-                Line::new("step length − f", PlotPoints::from(decimate(&pts, 1500)))
+                Line::new("step length − f", PlotPoints::from(series.steps.clone()))
                     .color(egui::Color32::from_rgb(120, 230, 120)),
             );
             p.hline(HLine::new(format!("f = {f:.4} mm"), 0.0).color(egui::Color32::from_gray(160)));

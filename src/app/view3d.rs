@@ -11,7 +11,7 @@ use super::Playback;
 use super::compute::Computation;
 use super::controls::SURFACE_COLORS;
 use crate::geom::ParametricSurface;
-use crate::render::geometry::{Origin, bounds, iso_lines, polyline, tessellate};
+use crate::render::geometry::{Origin, bounds, iso_lines, tessellate};
 use crate::render::gpu::paint_callback;
 use crate::render::{Layer, LineSegment, Mesh, OrbitCamera, Renderer3d, SphereInstance, ViewCallback, ViewId};
 use crate::scene::{Scene, SurfaceSpec};
@@ -50,6 +50,40 @@ fn rgba(c: egui::Color32, a: f32) -> [f32; 4] {
     [f32::from(c.r()) / 255.0, f32::from(c.g()) / 255.0, f32::from(c.b()) / 255.0, a]
 }
 
+/// Smallest distance between drawn path points, as a fraction of the scene's radius.
+const DRAW_GAP: f64 = 2.5e-4;
+
+/// Where a period's centre is drawn: on the exact crease plus the deviation × `magnify`.
+fn centre_drawn(p: &super::compute::Period, magnify: f64) -> DVec3 {
+    match p.exact {
+        Some(e) if magnify > 1.0 => e + (p.row.p - e) * magnify,
+        _ => p.row.p,
+    }
+}
+
+/// Appends a segment from the last kept point to `p` when `p` is far enough from it (or
+/// `force`), remembering which period was kept last.
+fn keep(
+    last: &mut Option<(usize, DVec3)>,
+    k: usize,
+    p: DVec3,
+    gap: f64,
+    force: bool,
+    out: &mut Vec<LineSegment>,
+    segment: impl Fn(DVec3, DVec3) -> LineSegment,
+) {
+    match *last {
+        None => *last = Some((k, p)),
+        Some((kk, _)) if kk == k => {}
+        Some((_, q)) => {
+            if force || (p - q).length() >= gap {
+                out.push(segment(q, p));
+                *last = Some((k, p));
+            }
+        }
+    }
+}
+
 const PATH_COLOR: egui::Color32 = egui::Color32::from_rgb(120, 230, 120);
 const EXACT_COLOR: egui::Color32 = egui::Color32::from_rgb(250, 250, 250);
 const BACKGROUND: [f32; 4] = [0.075, 0.08, 0.095, 1.0];
@@ -63,8 +97,10 @@ pub struct CreaseView {
     origin: Origin,
     /// What the static layers were built from: surfaces, R', display options.
     built_for: Option<([SurfaceSpec; 2], f64, ViewSettings)>,
-    /// Path layers: (generation, periods uploaded, magnification bits, settings).
-    path_for: (u64, usize, u64, bool),
+    /// Path layers: (generation, periods seen, magnification bits, exact shown, running).
+    path_for: (u64, usize, u64, bool, bool),
+    /// Last kept drawn point of the path and of the exact crease: (period, point).
+    kept: [Option<(usize, DVec3)>; 2],
     path_cpu: Vec<LineSegment>,
     exact_cpu: Vec<LineSegment>,
     cutters_for: (u64, usize, bool),
@@ -83,7 +119,8 @@ impl CreaseView {
             camera: OrbitCamera::default(),
             origin: Origin::default(),
             built_for: None,
-            path_for: (u64::MAX, 0, 1f64.to_bits(), true),
+            path_for: (u64::MAX, 0, 1f64.to_bits(), true, true),
+            kept: [None, None],
             path_cpu: Vec::new(),
             exact_cpu: Vec::new(),
             cutters_for: (u64::MAX, 0, true),
@@ -162,31 +199,58 @@ impl CreaseView {
     }
 
     fn centre_drawn(&self, p: &super::compute::Period) -> DVec3 {
-        match p.exact {
-            Some(e) if self.settings.magnify > 1.0 => e + (p.row.p - e) * self.settings.magnify,
-            _ => p.row.p,
-        }
+        centre_drawn(p, self.settings.magnify)
     }
 
+    /// Uploads the path and the exact crease. Drawn points are kept only once they are
+    /// `DRAW_GAP` of the scene's size from the last kept one (far below a pixel), so a path of
+    /// 100 000 periods is drawn with a few thousand segments; the last point is always kept.
+    /// The segments only grow while the path is computed, so only new ones are uploaded.
     fn update_path(&mut self, rs: &RenderState, compute: &Computation) {
         let n = compute.periods.len();
-        let key = (compute.generation, n, self.settings.magnify.to_bits(), self.settings.show_exact);
+        let running = compute.running();
+        let key = (compute.generation, n, self.settings.magnify.to_bits(), self.settings.show_exact, running);
         if key == self.path_for {
             return;
         }
-        let same_run =
-            self.path_for.0 == key.0 && self.path_for.2 == key.2 && self.path_for.3 == key.3 && self.path_for.1 <= n;
-        let from = if same_run { self.path_for.1.saturating_sub(1) } else { 0 };
+        let same_run = self.path_for.0 == key.0
+            && self.path_for.2 == key.2
+            && self.path_for.3 == key.3
+            && self.path_for.1 <= n;
         if !same_run {
             self.path_cpu.clear();
             self.exact_cpu.clear();
+            self.kept = [None, None];
         }
         let unchanged = (self.path_cpu.len(), self.exact_cpu.len());
-        let pts: Vec<DVec3> = compute.periods[from..].iter().map(|p| self.centre_drawn(p)).collect();
-        self.path_cpu.extend(polyline(pts, self.origin, 3.0, rgba(PATH_COLOR, 1.0)));
-        if self.settings.show_exact {
-            let ex: Vec<DVec3> = compute.periods[from..].iter().filter_map(|p| p.exact).collect();
-            self.exact_cpu.extend(polyline(ex, self.origin, 1.3, rgba(EXACT_COLOR, 0.95)));
+        let from = if same_run { self.path_for.1 } else { 0 };
+        let gap = DRAW_GAP * self.scene_radius;
+        let (origin, magnify, show_exact) = (self.origin, self.settings.magnify, self.settings.show_exact);
+        let path_color = rgba(PATH_COLOR, 1.0);
+        let exact_color = rgba(EXACT_COLOR, 0.95);
+        for (k, p) in compute.periods.iter().enumerate().skip(from) {
+            let force = !running && k + 1 == n;
+            let c = centre_drawn(p, magnify);
+            keep(&mut self.kept[0], k, c, gap, force, &mut self.path_cpu, |a, b| {
+                LineSegment::new(origin.local(a), origin.local(b), 3.0, path_color)
+            });
+            if let (true, Some(e)) = (show_exact, p.exact) {
+                keep(&mut self.kept[1], k, e, gap, force, &mut self.exact_cpu, |a, b| {
+                    LineSegment::new(origin.local(a), origin.local(b), 1.3, exact_color)
+                });
+            }
+        }
+        // The run ended after its last period was seen: close the drawn path at it.
+        if !running && n > 0 {
+            let p = &compute.periods[n - 1];
+            keep(&mut self.kept[0], n - 1, centre_drawn(p, magnify), gap, true, &mut self.path_cpu, |a, b| {
+                LineSegment::new(origin.local(a), origin.local(b), 3.0, path_color)
+            });
+            if let (true, Some(e)) = (show_exact, p.exact) {
+                keep(&mut self.kept[1], n - 1, e, gap, true, &mut self.exact_cpu, |a, b| {
+                    LineSegment::new(origin.local(a), origin.local(b), 1.3, exact_color)
+                });
+            }
         }
         let (path, exact) = (&self.path_cpu, &self.exact_cpu);
         Renderer3d::with(rs, |r| {
