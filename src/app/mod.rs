@@ -246,6 +246,22 @@ impl InterpolabApp {
         self.apply_draft();
     }
 
+    /// Shows the view titled `title` (the crease view for `"Crease (seed 000)"`) and sets
+    /// one of its options as its widgets would, e.g. `("5-axis (seed 002)", "source",
+    /// "scene")`; with an empty `key` only shows it. For headless tests and automation.
+    ///
+    /// # Errors
+    /// No view with that title, or the view's own message for an unknown option or value.
+    pub fn set_panel_option(&mut self, title: &str, key: &str, value: &str) -> Result<(), String> {
+        if title == "Crease (seed 000)" {
+            self.tab = None;
+            return Ok(());
+        }
+        let i = self.panels.iter().position(|p| p.title() == title).ok_or_else(|| format!("no view titled {title}"))?;
+        self.tab = Some(i);
+        if key.is_empty() { Ok(()) } else { self.panels[i].set_option(key, value) }
+    }
+
     /// The current (valid) scene.
     #[must_use]
     pub fn scene(&self) -> &Scene {
@@ -391,6 +407,9 @@ impl InterpolabApp {
             "first_frame_ms": self.first_frame_ms,
             "playback_k": self.playback.k.floor(),
             "ui": ui,
+            "panel": self.tab.and_then(|i| self.panels.get(i)).map_or(serde_json::Value::Null, |p| {
+                serde_json::json!({ "title": p.title(), "status": p.status() })
+            }),
         })
         .to_string()
     }
@@ -499,9 +518,11 @@ impl eframe::App for InterpolabApp {
             }
             if !self.panels.is_empty() {
                 ui.horizontal(|ui| {
-                    ui.selectable_value(&mut self.tab, None, "Crease (seed 000)");
+                    let r = ui.selectable_value(&mut self.tab, None, "Crease (seed 000)");
+                    self.widget_rects.push(("tab_crease", r.rect));
                     for (i, p) in self.panels.iter().enumerate() {
-                        ui.selectable_value(&mut self.tab, Some(i), p.title());
+                        let r = ui.selectable_value(&mut self.tab, Some(i), p.title());
+                        self.widget_rects.push((p.title(), r.rect));
                     }
                 });
                 ui.separator();

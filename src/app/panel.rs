@@ -62,4 +62,15 @@ pub trait Panel {
     }
     /// Draws the view into the whole central area.
     fn ui(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>);
+    /// What the view shows, for the app's status element (end-to-end and headless tests):
+    /// e.g. whether it is computing, its main numbers, its error. `Null` by default.
+    fn status(&self) -> serde_json::Value {
+        serde_json::Value::Null
+    }
+    /// Sets one of the view's options by name, as its widgets would (for headless tests and
+    /// automation), e.g. `("source", "scene")`. An unknown key or a bad value is an error
+    /// saying what the view accepts.
+    fn set_option(&mut self, key: &str, value: &str) -> Result<(), String> {
+        Err(format!("this view has no option \"{key}\" (value \"{value}\")"))
+    }
 }
