@@ -119,3 +119,175 @@ fn sliders_at_their_extremes_never_panic_or_show_nan() {
         }
     }
 }
+
+/// Shows a view and sets an option as its widgets would.
+fn set(h: &mut Harness, title: &str, key: &str, value: &str) {
+    if let Err(e) = h.app.set_panel_option(title, key, value) {
+        panic!("{title} {key}={value}: {e}");
+    }
+}
+
+/// Runs frames until the shown view's status says it is done; returns that status.
+fn settle_panel(h: &mut Harness, what: &str) -> serde_json::Value {
+    for _ in 0..20_000 {
+        h.frame();
+        let s: serde_json::Value = serde_json::from_str(&h.app.status()).expect("status is JSON");
+        let p = &s["panel"]["status"];
+        if s["running"] == false && p.is_object() && p["computing"] == false {
+            let text = s.to_string();
+            assert!(!text.contains("NaN") && !text.contains("inf"), "{what}: {text}");
+            return p.clone();
+        }
+    }
+    panic!("{what}: the view did not finish");
+}
+
+const FIVE_AXIS: &str = "5-axis (seed 002)";
+
+#[test]
+fn the_five_axis_view_reproduces_example1_before_and_after() {
+    let mut h = Harness::new();
+    h.settle();
+    set(&mut h, FIVE_AXIS, "source", "example1");
+    set(&mut h, FIVE_AXIS, "before", "true");
+    let before = settle_panel(&mut h, "example 1 before");
+    assert_eq!(before["blocks"], 2, "{before}");
+    let gouge = before["worst_delta_mm"].as_f64().expect("δ");
+    assert!((gouge - 8.79).abs() < 0.01, "the single block gouges by 8.79 mm: {gouge}");
+    set(&mut h, FIVE_AXIS, "before", "false");
+    let after = settle_panel(&mut h, "example 1 after");
+    // docs/fiveaxis.md: 30 blocks inserted (32 in all), every segment within E = 0.01 mm,
+    // 166 iterations with the modified secant, 41 with Anderson–Björck.
+    assert_eq!(after["blocks"], 32, "{after}");
+    let worst = after["worst_delta_mm"].as_f64().expect("δ");
+    assert!(worst <= 0.01 && worst > 0.0099, "{worst}");
+    assert_eq!(after["compare"]["secant"], 166, "{after}");
+    assert_eq!(after["compare"]["anderson-bjorck"], 41, "{after}");
+    assert_eq!(after["error"], "");
+}
+
+#[test]
+fn the_five_axis_view_plans_every_preset_and_reports_bad_input() {
+    let mut h = Harness::new();
+    for p in PRESETS {
+        h.app.open_text(&format!("{}.json", p.id), p.json);
+        h.settle();
+        set(&mut h, FIVE_AXIS, "source", "scene");
+        set(&mut h, FIVE_AXIS, "tol_mm", "0.05");
+        let s = settle_panel(&mut h, p.id);
+        assert_eq!(s["error"], "", "{}: {s}", p.id);
+        assert!(s["blocks"].as_u64().is_some_and(|n| n >= 2), "{}: {s}", p.id);
+        let worst = s["worst_delta_mm"].as_f64().expect("δ");
+        assert!(worst.abs() <= 0.05 * (1.0 + 1e-6), "{}: {worst}", p.id);
+        assert!(s["compare"].as_object().is_some_and(|c| c.values().all(serde_json::Value::is_u64)), "{}: {s}", p.id);
+    }
+    // The blade, at the extremes of the tolerance slider.
+    set(&mut h, FIVE_AXIS, "source", "naca2412");
+    for tol in ["1.0", "0.0005"] {
+        set(&mut h, FIVE_AXIS, "tol_mm", tol);
+        let s = settle_panel(&mut h, "blade");
+        assert_eq!(s["error"], "", "{tol}: {s}");
+    }
+    // A machine whose head cannot reach the blade's tool axes: a clear message, no panic.
+    set(&mut h, FIVE_AXIS, "tol_mm", "0.05");
+    set(&mut h, FIVE_AXIS, "machine", "head-a-table-c");
+    let s = settle_panel(&mut h, "blade on head-a-table-c");
+    let err = s["error"].as_str().expect("text");
+    if !err.is_empty() {
+        assert!(err.contains("change") || err.contains("widen") || err.contains("raise"), "{err}");
+    }
+}
+
+const CHORDS: &str = "Chords (seed 003)";
+
+fn row<'a>(s: &'a serde_json::Value, label: &str) -> &'a serde_json::Value {
+    &s["rows"][label]
+}
+
+#[test]
+fn the_chords_view_gives_the_node_counts_of_docs_chords_md() {
+    let mut h = Harness::new();
+    h.settle();
+    // docs/chords.md, d = 0.05 mm: parabola 18 / 23 / 41, hyperbola 21 / 33 / 39, ellipse
+    // 17 / 21 / 31 (equal-error / equal-interval / equal-step, both sized by ρ_min).
+    for (curve, counts) in [("parabola", [18, 23, 41]), ("hyperbola", [21, 33, 39]), ("ellipse", [17, 21, 31])] {
+        set(&mut h, CHORDS, "curve", curve);
+        set(&mut h, CHORDS, "tol_mm", "0.05");
+        let s = settle_panel(&mut h, curve);
+        assert_eq!(s["error"], "", "{curve}: {s}");
+        for (label, n) in
+            ["equal-error", "equal-interval, sized by ρ_min", "equal-step, sized by ρ_min"].iter().zip(counts)
+        {
+            assert_eq!(row(&s, label)["nodes"], n, "{curve} {label}: {s}");
+        }
+        let worst = row(&s, "equal-error")["worst_mm"].as_f64().expect("worst");
+        assert!(worst <= 0.05 && worst > 0.0499, "{curve}: {worst}");
+    }
+}
+
+#[test]
+fn the_chords_view_takes_typed_curves_and_says_what_is_wrong_with_bad_ones() {
+    let mut h = Harness::new();
+    h.settle();
+    set(&mut h, CHORDS, "curve", "typed");
+    set(&mut h, CHORDS, "x", "60*cos(t)");
+    set(&mut h, CHORDS, "y", "30*sin(t)");
+    set(&mut h, CHORDS, "t0", "0");
+    set(&mut h, CHORDS, "t1", "pi/2");
+    set(&mut h, CHORDS, "tol_mm", "0.01");
+    let s = settle_panel(&mut h, "typed ellipse");
+    assert_eq!(row(&s, "equal-error")["nodes"], 37, "the quarter ellipse at 0.01 mm: {s}");
+    for (key, value, expect) in [
+        ("y", "30 sin(t)", "y(t), column 4"),
+        ("x", "sqrt(t - 1)", "not defined at t ="),
+        ("t1", "0", "t0 < t1"),
+        ("t1", "2*", "t1, column 3"),
+    ] {
+        set(&mut h, CHORDS, key, value);
+        let s = settle_panel(&mut h, value);
+        let err = s["error"].as_str().expect("text");
+        assert!(err.contains(expect), "{key} = {value}: {err}");
+        // The last valid curve stays computed.
+        assert_eq!(row(&s, "equal-error")["nodes"], 37, "{s}");
+        // Undo for the next case.
+        set(&mut h, CHORDS, "x", "60*cos(t)");
+        set(&mut h, CHORDS, "y", "30*sin(t)");
+        set(&mut h, CHORDS, "t1", "pi/2");
+    }
+    // The ends of the tolerance slider.
+    for tol in ["1.0", "0.001"] {
+        set(&mut h, CHORDS, "tol_mm", tol);
+        let s = settle_panel(&mut h, tol);
+        assert_eq!(s["error"], "", "{tol}: {s}");
+        assert!(row(&s, "equal-error")["nodes"].as_u64().is_some_and(|n| n >= 2), "{s}");
+    }
+}
+
+#[test]
+fn the_chords_view_cuts_the_crease_of_every_preset() {
+    let mut h = Harness::new();
+    for p in PRESETS {
+        h.app.open_text(&format!("{}.json", p.id), p.json);
+        h.settle();
+        set(&mut h, CHORDS, "curve", "crease");
+        set(&mut h, CHORDS, "tol_mm", "0.05");
+        let s = settle_panel(&mut h, p.id);
+        assert_eq!(s["error"], "", "{}: {s}", p.id);
+        for label in ["equal-error", "equal-interval, sized by ρ_min", "equal-step, sized by ρ_min"] {
+            assert!(row(&s, label)["nodes"].as_u64().is_some_and(|n| n >= 2), "{} {label}: {s}", p.id);
+        }
+        // The crease is drawn in its best-fit plane: for the two creases that lie in a plane,
+        // that plane (the floor z = 0 of the round pocket; the tilted plate of the torus).
+        let n: Vec<f64> =
+            s["plot_plane_normal"].as_array().expect("normal").iter().filter_map(|x| x.as_f64()).collect();
+        let plane = match p.id {
+            "floor-round-wall" => Some([0.0, 0.0, 1.0]),
+            "torus-plane" => Some([0.0, -0.20791169081775934, 0.9781476007338057]),
+            _ => None,
+        };
+        if let Some(m) = plane {
+            let dot: f64 = n.iter().zip(m).map(|(a, b)| a * b).sum();
+            assert!(dot.abs() > 1.0 - 1e-9, "{}: drawn in the plane with normal {n:?}, expected {m:?}", p.id);
+        }
+    }
+}

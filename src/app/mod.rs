@@ -8,8 +8,10 @@
 //! measured errors, estimates, exact crease points) → the 3D view uploads what changed to the
 //! GPU and the plots draw.
 
+mod chords_panel;
 mod compute;
 mod controls;
+mod fiveaxis_panel;
 pub mod panel;
 mod platform;
 mod plots;
@@ -417,7 +419,7 @@ impl InterpolabApp {
 
 /// The central views besides the crease view, in tab order.
 fn panels() -> Vec<Box<dyn Panel>> {
-    Vec::new()
+    vec![Box::new(fiveaxis_panel::FiveAxisPanel::default()), Box::new(chords_panel::ChordsPanel::default())]
 }
 
 /// Display title of preset `i` (its scene name).
