@@ -757,7 +757,11 @@ impl Panel for ChordsPanel {
             "curve": self.inputs.kind.id(),
             "plot_plane_normal": normal,
             "tol_mm": self.inputs.tol_mm,
-            "computing": self.waiting.is_some() || self.comparison.as_ref().is_none_or(|c| c.rows.iter().any(Option::is_none)),
+            // A widget changed after this frame's update counts as computing too.
+            "computing": self.waiting.is_some()
+                || self.comparison.as_ref().is_none_or(|c| c.rows.iter().any(Option::is_none))
+                || self.prepared_for.as_ref() != Some(&self.inputs)
+                || self.comparison.as_ref().is_some_and(|c| c.inputs.tol_mm.to_bits() != self.inputs.tol_mm.to_bits()),
             "rows": rows,
             "error": self.problem.clone().unwrap_or_default(),
             "ui": super::fiveaxis_panel::rects_json(

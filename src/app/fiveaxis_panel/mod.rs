@@ -105,6 +105,8 @@ pub struct FiveAxisPanel {
     surface_names: [&'static str; 2],
     /// Rectangles of key widgets this frame (points), published in the status.
     rects: Vec<(&'static str, egui::Rect)>,
+    /// The scene computation's generation seen last.
+    generation: u64,
 }
 
 impl Default for FiveAxisPanel {
@@ -130,6 +132,7 @@ impl Default for FiveAxisPanel {
             machine_note: None,
             surface_names: ["", ""],
             rects: Vec::new(),
+            generation: 0,
         }
     }
 }
@@ -247,6 +250,7 @@ impl FiveAxisPanel {
             self.waiting = None;
         }
         let generation = cx.compute.generation;
+        self.generation = generation;
         let inputs = self.inputs(generation);
         let key = (inputs.source, inputs.generation, inputs.rule);
         if self.design.as_ref().is_none_or(|d| d.key != key) {
@@ -950,11 +954,13 @@ impl Panel for FiveAxisPanel {
             .unwrap_or_default();
         serde_json::json!({
             "source": source_id(self.source),
-            "before": self.source == Source::Example1 && self.before,
+            "before": plan.is_some_and(|p| p.inputs.before),
             "machine": self.machine.kind.as_str(),
             "tol_mm": self.tol_mm,
             "method": self.method.as_str(),
-            "computing": self.waiting.is_some() || self.plan.as_ref().is_some_and(|p| !p.finished()),
+            // A widget changed after this frame's update counts as computing too.
+            "computing": self.waiting.is_some()
+                || self.plan.as_ref().is_some_and(|p| !p.finished() || p.inputs != self.inputs(self.generation)),
             "blocks": plan.map_or(0, |p| p.nodes.len()),
             "worst_delta_mm": plan.and_then(Plan::worst_delta_mm),
             "iterations": plan.map_or(0, Plan::iterations),
