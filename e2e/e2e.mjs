@@ -4,7 +4,9 @@
 // Checks, as a new user would meet them: the page loads and draws its first frame (pixels,
 // not just logs), no console error, moving the feed slider changes the number of periods,
 // a bad scene file shows an error and keeps the scene, a share link restores the scene,
-// the last scene survives a reload. Screenshots go to e2e/artifacts/.
+// the last scene survives a reload, the 5-axis and chords tabs draw and compute (Example 1
+// before and after, the iteration table following the tolerance). Screenshots go to
+// e2e/artifacts/.
 import { chromium } from "playwright-core";
 import { PNG } from "pngjs";
 import fs from "node:fs";
@@ -140,9 +142,54 @@ try {
   await page4.screenshot({ path: path.join(artifacts, "05-broken-link.png") });
   check("a broken link says what is wrong", s6.error.includes("link") && s6.error.includes("missing"), s6.error);
 
-  // 8. The last scene is kept across reloads (eframe stores it in local storage). Only
+  // 8. The 5-axis and chords tabs draw their views and compute (seed 002's Example 1 before
+  // and after its steps are inserted, the iteration table following the tolerance slider;
+  // seed 003's parabola).
+  const page5 = await context.newPage();
+  await page5.goto(url);
+  const s8 = await waitFor(page5, "the app for the panel tabs", settled);
+  const clickRect = async (p, r) => p.mouse.click(r[0] + r[2] / 2, r[1] + r[3] / 2);
+  const panelDone = (title) => (s) => s.panel && s.panel.title === title && s.panel.status && s.panel.status.computing === false;
+  await clickRect(page5, s8.ui["5-axis (seed 002)"]);
+  const f1 = await waitFor(page5, "the 5-axis view (Example 1, one block)", panelDone("5-axis (seed 002)"));
+  await page5.waitForTimeout(500);
+  const shot5a = await page5.screenshot({ path: path.join(artifacts, "06-fiveaxis-example1-before.png") });
+  const p1 = f1.panel.status;
+  check("5-axis tab: Example 1's single block gouges by 8.79 mm", p1.blocks === 2 && Math.abs(p1.worst_delta_mm - 8.79) < 0.01,
+    `${p1.blocks} blocks, δ = ${p1.worst_delta_mm.toFixed(4)} mm`);
+  const v1 = colourVariety(shot5a, p1.ui.view);
+  check("5-axis tab: the 3D view is drawn (not blank)", v1 > 40, `${v1} distinct colours in the view`);
+  await clickRect(page5, p1.ui.after);
+  const f2 = await waitFor(page5, "Example 1 after the steps", (s) => panelDone("5-axis (seed 002)")(s) && !s.panel.status.before);
+  await page5.waitForTimeout(500);
+  await page5.screenshot({ path: path.join(artifacts, "07-fiveaxis-example1-after.png") });
+  const p2 = f2.panel.status;
+  check("5-axis tab: after the steps every segment is within E", p2.blocks === 32 && p2.worst_delta_mm <= p2.tol_mm && p2.error === "",
+    `${p2.blocks} blocks, worst δ ${(p2.worst_delta_mm * 1e3).toFixed(4)} µm, E ${p2.tol_mm} mm, iterations ${JSON.stringify(p2.compare)}`);
+  const [tx, ty, , th] = p2.ui.tolerance;
+  await page5.mouse.move(tx + 40, ty + th / 2);
+  await page5.mouse.down();
+  await page5.mouse.move(tx + 15, ty + th / 2, { steps: 6 });
+  await page5.mouse.up();
+  const f3 = await waitFor(page5, "the plan at a new tolerance", (s) => panelDone("5-axis (seed 002)")(s) && s.panel.status.tol_mm !== p2.tol_mm);
+  const p3 = f3.panel.status;
+  check("5-axis tab: the iteration table follows the tolerance slider",
+    p3.blocks > p2.blocks && p3.compare.secant !== p2.compare.secant && Object.values(p3.compare).every((v) => Number.isInteger(v)),
+    `E ${p2.tol_mm} → ${p3.tol_mm.toFixed(5)} mm: ${p3.blocks} blocks, ${JSON.stringify(p3.compare)}`);
+  await clickRect(page5, f3.ui["Chords (seed 003)"]);
+  const f4 = await waitFor(page5, "the chords view", panelDone("Chords (seed 003)"));
+  await page5.waitForTimeout(500);
+  const shot5c = await page5.screenshot({ path: path.join(artifacts, "08-chords-parabola.png") });
+  const rows = f4.panel.status.rows;
+  check("chords tab: the parabola's equal-error chords are the fewest (seed 003)",
+    rows["equal-error"].nodes === 18 && rows["equal-interval, sized by ρ_min"].nodes === 23 && rows["equal-step, sized by ρ_min"].nodes === 41,
+    `${rows["equal-error"].nodes} / ${rows["equal-interval, sized by ρ_min"].nodes} / ${rows["equal-step, sized by ρ_min"].nodes} nodes at d = ${f4.panel.status.tol_mm} mm`);
+  const v2 = colourVariety(shot5c, f4.panel.status.ui.plots);
+  check("chords tab: the plots are drawn (not blank)", v2 > 12, `${v2} distinct colours in the plots`);
+
+  // 9. The last scene is kept across reloads (eframe stores it in local storage). Only
   // page3 stays open, so no other page overwrites the stored scene meanwhile.
-  for (const p of [page, page2, page4]) await p.close();
+  for (const p of [page, page2, page4, page5]) await p.close();
   await page3.waitForTimeout(6000); // auto-save interval 5 s
   await page3.goto(url);
   const s7 = await waitFor(page3, "the reloaded scene", settled);
