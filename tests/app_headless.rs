@@ -291,3 +291,196 @@ fn the_chords_view_cuts_the_crease_of_every_preset() {
         }
     }
 }
+
+// ---- NURBS & G-code panel (seed 004) ----
+
+mod nurbs_panel {
+    use std::path::{Path, PathBuf};
+    use std::sync::Arc;
+
+    use eframe::egui;
+    use interpolab::crease::CreaseJob;
+    use interpolab::gcode::{CompareOptions, ProgramOptions, compare, crease_design};
+    use interpolab::scene::{PRESETS, Scene};
+
+    use super::Harness;
+
+    const TAB: &str = "NURBS & G-code (seed 004)";
+
+    /// A file dropped on the window (what a browser or the desktop gives the app).
+    #[derive(Debug)]
+    struct Dropped(PathBuf, Vec<u8>);
+
+    impl egui::DroppedFile for Dropped {
+        fn path(&self) -> &Path {
+            &self.0
+        }
+        fn bytes(&self) -> Result<Vec<u8>, String> {
+            Ok(self.1.clone())
+        }
+    }
+
+    fn frame_with(
+        h: &mut Harness,
+        events: Vec<egui::Event>,
+        dropped: Vec<egui::DroppedFileHandle>,
+    ) -> serde_json::Value {
+        let input = egui::RawInput {
+            screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(1400.0, 900.0))),
+            events,
+            dropped_files: dropped,
+            ..Default::default()
+        };
+        let (app, frame) = (&mut h.app, &mut h.frame);
+        let out = h.ctx.run_ui(input, |ui| eframe::App::ui(app, ui, frame));
+        out.drop_without_applying_deltas();
+        serde_json::from_str(&h.app.status()).expect("status is JSON")
+    }
+
+    /// Clicks the panel's tab (its rectangle is in the status).
+    fn open_tab(h: &mut Harness) {
+        let s = frame_with(h, Vec::new(), Vec::new());
+        let r = s["ui"][TAB].as_array().expect("the tab's rectangle is published");
+        let at = egui::pos2(
+            (r[0].as_f64().expect("x") + r[2].as_f64().expect("w") / 2.0) as f32,
+            (r[1].as_f64().expect("y") + r[3].as_f64().expect("h") / 2.0) as f32,
+        );
+        let press = |pressed| egui::Event::PointerButton {
+            pos: at,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: egui::Modifiers::NONE,
+        };
+        frame_with(h, vec![egui::Event::PointerMoved(at), press(true)], Vec::new());
+        let s = frame_with(h, vec![press(false)], Vec::new());
+        frame_with(h, vec![egui::Event::PointerGone], Vec::new());
+        assert_eq!(s["panel"]["title"], TAB, "the tab opens");
+    }
+
+    /// Frames until the panel has nothing left to do (the work waits a quiet time first).
+    fn until_done(h: &mut Harness) -> serde_json::Value {
+        let t0 = std::time::Instant::now();
+        while t0.elapsed().as_secs() < 300 {
+            let s = frame_with(h, Vec::new(), Vec::new());
+            if s["panel"]["status"]["done"] == true {
+                return s["panel"]["status"].clone();
+            }
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+        panic!("the NURBS panel did not finish");
+    }
+
+    #[test]
+    fn nurbs_panel_gives_the_core_comparison_on_every_preset() {
+        let mut h = Harness::new();
+        h.app.open_text("first.json", PRESETS[0].json);
+        h.settle();
+        open_tab(&mut h);
+        for p in PRESETS {
+            h.app.open_text(&format!("{}.json", p.id), p.json);
+            h.settle();
+            let s = until_done(&mut h);
+            let text = s.to_string();
+            assert!(!text.contains("NaN") && !text.contains("inf"), "{}: {text}", p.id);
+            assert_eq!(s["status_ok"], true, "{}: {text}", p.id);
+            // The same comparison as `interpolab compare SCENE --tolerance 0.01`.
+            let scene = Scene::from_json(p.json).expect("preset");
+            let job = CreaseJob::from_scene(&scene).expect("builds");
+            let design = crease_design(&job).expect("design");
+            let opts = CompareOptions {
+                program: ProgramOptions::default().with_feed(scene.motion.feed).with_title(&scene.name),
+                period_ms: scene.motion.period,
+                chord_tol_mm: None,
+            };
+            let core = compare(&design, 0.01, &opts).expect("comparison");
+            let rows = s["rows"].as_array().expect("rows");
+            assert_eq!(rows.len(), 3);
+            for (row, c) in rows.iter().zip(&core.rows) {
+                assert_eq!(row["kind"], c.kind.label(), "{}", p.id);
+                assert_eq!(row["fresh"], true, "{}", p.id);
+                assert_eq!(row["path_blocks"].as_u64(), Some(c.path_blocks as u64), "{} {}", p.id, c.kind.label());
+                assert_eq!(row["bytes"].as_u64(), Some(c.bytes as u64), "{} {}", p.id, c.kind.label());
+                // JSON text round trip: equal to the last bits serde_json's reader keeps.
+                let d = row["deviation_mm"].as_f64().expect("deviation");
+                assert!((d - c.deviation_mm).abs() <= 1e-12 * c.deviation_mm, "{} {}: {d}", p.id, c.kind.label());
+            }
+            let rt = s["realtime"].as_array().expect("realtime");
+            assert_eq!(rt.len(), core.realtime.len(), "{}", p.id);
+            for (r, c) in rt.iter().zip(&core.realtime) {
+                assert_eq!(r["periods"].as_u64(), Some(c.periods), "{}", p.id);
+                let m = r["max_fluctuation"].as_f64().expect("fluctuation");
+                assert!((m - c.max_fluctuation).abs() <= 1e-12 * c.max_fluctuation, "{}: {m}", p.id);
+            }
+        }
+    }
+
+    #[test]
+    fn a_dropped_program_is_measured_and_a_malformed_one_named_by_its_line() {
+        let mut h = Harness::new();
+        h.app.open_text("dome.json", PRESETS[1].json);
+        h.settle();
+        // Our own G06.2 program for this scene, dropped on the window: it opens the panel and
+        // is measured against the design (within the tolerance it was written for).
+        let scene = Scene::from_json(PRESETS[1].json).expect("preset");
+        let job = CreaseJob::from_scene(&scene).expect("builds");
+        let design = crease_design(&job).expect("design");
+        let opts = ProgramOptions::default().with_feed(scene.motion.feed);
+        let program = interpolab::gcode::write_program(interpolab::gcode::ProgramKind::Nurbs, &design, 0.02, &opts)
+            .expect("program");
+        let file: egui::DroppedFileHandle =
+            Arc::new(Dropped(PathBuf::from("dome.nc"), program.text.clone().into_bytes()));
+        let s = frame_with(&mut h, Vec::new(), vec![file]);
+        assert_eq!(s["panel"]["title"], TAB, "a dropped .nc file opens the panel");
+        let s = until_done(&mut h);
+        let loaded = &s["loaded"];
+        assert_eq!(loaded["name"], "dome.nc");
+        assert!(loaded["error"].is_null(), "{loaded}");
+        let d = loaded["deviation_mm"].as_f64().expect("a deviation");
+        assert!((d - program.deviation.max_mm()).abs() < 1e-9, "{d} vs {}", program.deviation.max_mm());
+        // A malformed program: the error names its line and what to change, nothing panics.
+        let bad = "%\nG21 G90\nG00 X0 Y0 Z5\nG01 X10 Y#1 F500\nM30\n%\n";
+        let file: egui::DroppedFileHandle = Arc::new(Dropped(PathBuf::from("bad.ngc"), bad.as_bytes().to_vec()));
+        frame_with(&mut h, Vec::new(), vec![file]);
+        let s = frame_with(&mut h, Vec::new(), Vec::new());
+        let loaded = &s["panel"]["status"]["loaded"];
+        assert_eq!(loaded["name"], "bad.ngc");
+        let err = loaded["error"].as_str().expect("an error");
+        assert!(err.contains("line 4") && err.contains("plain numbers"), "{err}");
+        let banner = s["error"].as_str().expect("text");
+        assert!(banner.contains("bad.ngc") && banner.contains("line 4"), "{banner}");
+    }
+
+    #[test]
+    fn a_tolerance_below_the_resolution_says_what_to_change() {
+        let mut h = Harness::new();
+        h.app.open_text("dome.json", PRESETS[1].json);
+        h.settle();
+        open_tab(&mut h);
+        let s = until_done(&mut h);
+        // Drag the tolerance slider to its left end: 1 µm, below twice the 1 µm resolution.
+        let r = s["ui"]["tolerance_slider"].as_array().expect("the slider's rectangle");
+        let f = |i: usize| r[i].as_f64().expect("number") as f32;
+        let (y, x0) = (f(1) + f(3) / 2.0, f(0) + 20.0);
+        let button = |pos, pressed| egui::Event::PointerButton {
+            pos,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: egui::Modifiers::NONE,
+        };
+        frame_with(
+            &mut h,
+            vec![egui::Event::PointerMoved(egui::pos2(x0, y)), button(egui::pos2(x0, y), true)],
+            Vec::new(),
+        );
+        frame_with(&mut h, vec![egui::Event::PointerMoved(egui::pos2(f(0) - 200.0, y))], Vec::new());
+        frame_with(&mut h, vec![button(egui::pos2(f(0) - 200.0, y), false), egui::Event::PointerGone], Vec::new());
+        let s = until_done(&mut h);
+        assert!((s["tol_mm"].as_f64().expect("tolerance") - 0.001).abs() < 1e-12, "{}", s["tol_mm"]);
+        assert_eq!(s["status_ok"], false, "{s}");
+        for row in s["rows"].as_array().expect("rows") {
+            let e = row["error"].as_str().expect("every program is refused");
+            assert!(e.contains("below twice the resolution") && e.contains("Raise the tolerance"), "{e}");
+        }
+        assert!(!s.to_string().contains("NaN"));
+    }
+}

@@ -1,0 +1,687 @@
+//! The "NURBS & G-code (seed 004)" view: the design path (the scene's crease or seed 004's
+//! parabola-like profile) with its G06.2 curve, control polygon and knots; the real-time
+//! interpolation of that curve, drawn as points coloured by feed fluctuation and plotted over
+//! time; seed 004's comparison of the G01, G02/G03 and G06.2 programs at the tolerance of the
+//! slider; the text of the selected program with copy and download; and a G-code file loaded
+//! (picked or dropped) drawn over the design with its deviation.
+//!
+//! Every number comes from the core (`gcode::compare_row`, `realtime_stats`,
+//! `nurbs_path::interpolate_realtime`, `gcode::parse_program`, `gcode::deviation`); the work
+//! runs one step per frame after a short quiet time ([`work`]), so the page stays live.
+
+mod plots;
+mod table;
+mod view;
+pub mod work;
+
+use eframe::egui;
+use glam::DVec3;
+
+use super::panel::{Panel, PanelContext};
+use super::platform::FileKind;
+use crate::gcode::{ProgramKind, ProgrammedPoint, format_comparison};
+use crate::nurbs_path::Update;
+use crate::report::fmt_fixed;
+use plots::FeedPlot;
+use table::Shown;
+use view::{NurbsView, Overlay};
+use work::{DesignInput, Pending, Point, ProgramInput, RealtimeInput, Source, Wanted, Work};
+
+/// A length in µm with 3 significant digits (at least 3 decimals from 1 µm), e.g. `8.268 µm`,
+/// `0.0618 µm`.
+pub(crate) fn um(mm: f64) -> String {
+    if !mm.is_finite() {
+        return "—".to_owned();
+    }
+    let v = mm * 1000.0;
+    let a = v.abs();
+    if a == 0.0 {
+        "0 µm".to_owned()
+    } else if a >= 100.0 {
+        format!("{v:.1} µm")
+    } else if a >= 1.0 {
+        format!("{v:.3} µm")
+    } else if a >= 1e-4 {
+        let decimals = (2.0 - a.log10().floor()) as usize;
+        format!("{v:.decimals$} µm")
+    } else {
+        format!("{v:.2e} µm")
+    }
+}
+
+/// The user's choices.
+#[derive(Clone, Debug, PartialEq)]
+struct Settings {
+    source: Source,
+    tol_mm: f64,
+    resolution_mm: f64,
+    point: Point,
+    update: Update,
+    /// Feed chosen here (mm/min); `None`: the source's.
+    feed_mm_per_min: Option<f64>,
+    /// Chord tolerance of the feed limit (mm), when on.
+    chord_tol_mm: f64,
+    chord_limit: bool,
+    degree: usize,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            source: Source::Crease,
+            tol_mm: 0.01,
+            resolution_mm: 0.001,
+            point: Point::Centre,
+            update: Update::FirstOrder,
+            feed_mm_per_min: None,
+            chord_tol_mm: 0.0001,
+            chord_limit: false,
+            degree: 3,
+        }
+    }
+}
+
+/// The panel.
+pub struct NurbsPanel {
+    settings: Settings,
+    work: Work,
+    view: NurbsView,
+    feed_plot: FeedPlot,
+    shown: Shown,
+    scroll_to: Option<usize>,
+    /// Why the design cannot be made yet (crease computing or failed).
+    waiting: Option<(bool, String)>,
+    /// The inputs of the last frame.
+    wanted: Option<Wanted>,
+    /// Loaded-file deviation already announced in the banner (file generation).
+    announced: u64,
+    /// Rectangles of key widgets this frame (points), published in the status.
+    rects: Vec<(&'static str, egui::Rect)>,
+}
+
+impl Default for NurbsPanel {
+    fn default() -> Self {
+        Self {
+            settings: Settings::default(),
+            work: Work::default(),
+            view: NurbsView::default(),
+            feed_plot: FeedPlot::Fluctuation,
+            shown: Shown::Kind(ProgramKind::Nurbs),
+            scroll_to: None,
+            waiting: None,
+            wanted: None,
+            announced: 0,
+            rects: Vec::new(),
+        }
+    }
+}
+
+impl NurbsPanel {
+    /// The inputs for this frame, or why there are none yet (`(is_progress, message)`).
+    fn wanted(&self, cx: &PanelContext<'_>) -> Result<Wanted, (bool, String)> {
+        let s = &self.settings;
+        let (design, feed, period) = match s.source {
+            Source::Parabola => (DesignInput::Parabola, 1500.0, 4.0),
+            Source::Crease => {
+                if cx.compute.running() {
+                    return Err((
+                        true,
+                        format!(
+                            "Waiting for the scene's crease: {} periods computed…",
+                            cx.compute.periods.len().saturating_sub(1)
+                        ),
+                    ));
+                }
+                let Some(job) = &cx.compute.job else {
+                    return Err((
+                        false,
+                        "The scene has no crease to follow (it failed to build). Fix the scene in the controls, or choose the parabola profile.".to_owned(),
+                    ));
+                };
+                (DesignInput::Crease(Box::new(job.clone()), cx.scene.name.clone()), job.feed_mm_per_min, job.period_ms)
+            }
+        };
+        let point = match s.point {
+            Point::Centre => ProgrammedPoint::BallCentre,
+            Point::Tip => ProgrammedPoint::BallTip { radius_mm: cx.scene.tool.radius },
+        };
+        Ok(Wanted {
+            design,
+            program: ProgramInput {
+                tol_mm: s.tol_mm,
+                resolution_mm: s.resolution_mm,
+                point,
+                feed_mm_per_min: s.feed_mm_per_min.unwrap_or(feed),
+                degree: s.degree,
+            },
+            realtime: RealtimeInput {
+                update: s.update,
+                period_ms: period,
+                chord_tol_mm: s.chord_limit.then_some(s.chord_tol_mm),
+            },
+        })
+    }
+
+    fn handle_files(&mut self, cx: &mut PanelContext<'_>) {
+        for f in std::mem::take(&mut cx.incoming) {
+            match f.text {
+                Err(e) => cx.error(format!("{}: {e}", f.name)),
+                Ok(text) => {
+                    self.work.load(&f.name, text);
+                    self.shown = Shown::Loaded;
+                    self.scroll_to = Some(1);
+                    if let Some(l) = &self.work.loaded {
+                        match &l.parsed {
+                            Err(e) => {
+                                cx.error(format!("{} is not a program this reader can follow — {e}", l.name));
+                            }
+                            Ok(p) if p.toolpath.cuts().next().is_none() => cx.error(format!(
+                                "{} has no cutting moves (G01, G02, G03 or G06.2) to draw or compare with the design path.",
+                                l.name
+                            )),
+                            Ok(_) => {}
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Announces a loaded program's deviation once it is measured.
+    fn announce(&mut self, cx: &mut PanelContext<'_>) {
+        let (Some(l), Some(w)) = (&self.work.loaded, &self.wanted) else { return };
+        if self.announced == l.generation || !self.work.loaded_fresh(w) {
+            return;
+        }
+        self.announced = l.generation;
+        match &self.work.loaded_deviation.value {
+            Some(Ok(d)) => cx.info(format!(
+                "{}: deviation from the design path {} (program → design {} at line {}, design → program {}).",
+                l.name,
+                um(d.max_mm()),
+                um(d.program_to_design_mm),
+                d.program_line,
+                um(d.design_to_program_mm)
+            )),
+            Some(Err(e)) if l.parsed.is_ok() => cx.error(format!("{}: {e}", l.name)),
+            _ => {}
+        }
+    }
+
+    fn controls(&mut self, ui: &mut egui::Ui, cx: &PanelContext<'_>) {
+        self.rects.clear();
+        let s = &mut self.settings;
+        ui.horizontal_wrapped(|ui| {
+            ui.label("Design:");
+            ui.selectable_value(&mut s.source, Source::Crease, "scene's crease")
+                .on_hover_text("The current scene's ball-centre crease, as `interpolab gcode SCENE` uses it");
+            ui.selectable_value(&mut s.source, Source::Parabola, "parabola profile").on_hover_text(
+                "Seed 004's parabola-like profile: y = x²/40 for x from −60 to 60 mm, z = 0 (1500 mm/min, 4 ms)",
+            );
+            ui.separator();
+            ui.spacing_mut().slider_width = 150.0;
+            let r = ui
+                .add(
+                    egui::Slider::new(&mut s.tol_mm, 0.001..=0.5)
+                        .logarithmic(true)
+                        .text("tolerance E")
+                        .suffix(" mm")
+                        .custom_formatter(|v, _| fmt_fixed(v, 4)),
+                )
+                .on_hover_text("Every program stays within E of the design path after rounding to the resolution");
+            self.rects.push(("tolerance_slider", r.rect));
+            egui::ComboBox::from_id_salt("nurbs-resolution")
+                .selected_text(format!("resolution {} mm", fmt_fixed(s.resolution_mm, 4)))
+                .show_ui(ui, |ui| {
+                    for r in [0.01, 0.001, 0.0001] {
+                        ui.selectable_value(&mut s.resolution_mm, r, format!("{} mm", fmt_fixed(r, 4)));
+                    }
+                })
+                .response
+                .on_hover_text("The machine's least input increment: every written number is rounded to it");
+            ui.separator();
+            ui.label("programmed point:");
+            ui.selectable_value(&mut s.point, Point::Centre, "ball centre");
+            ui.selectable_value(&mut s.point, Point::Tip, "ball tip")
+                .on_hover_text(format!("Ball centre − R·z, R = {} mm (the scene's tool)", cx.scene.tool.radius));
+        });
+        ui.horizontal_wrapped(|ui| {
+            let default_feed = if s.source == Source::Parabola { 1500.0 } else { cx.scene.motion.feed };
+            let mut feed = s.feed_mm_per_min.unwrap_or(default_feed);
+            ui.spacing_mut().slider_width = 150.0;
+            if ui
+                .add(
+                    egui::Slider::new(&mut feed, 60.0..=30_000.0)
+                        .logarithmic(true)
+                        .text("feed F")
+                        .suffix(" mm/min")
+                        .custom_formatter(|v, _| fmt_fixed(v, 0)),
+                )
+                .on_hover_text("Feed of the programs (F word) and of the real-time interpolation")
+                .changed()
+            {
+                s.feed_mm_per_min = Some(feed);
+            }
+            if s.feed_mm_per_min.is_some()
+                && ui.small_button("default").on_hover_text(format!("Back to {default_feed} mm/min")).clicked()
+            {
+                s.feed_mm_per_min = None;
+            }
+            ui.separator();
+            ui.label("real-time update:");
+            for u in Update::ALL {
+                ui.selectable_value(&mut s.update, u, u.as_str());
+            }
+            ui.separator();
+            ui.checkbox(&mut s.chord_limit, "feed limit by chord error δ").on_hover_text(
+                "Lower the feed where the curvature would make a period's chord error exceed δ: f = 2√(2ρδ − δ²)",
+            );
+            if s.chord_limit {
+                ui.spacing_mut().slider_width = 110.0;
+                let mut d_um = s.chord_tol_mm * 1000.0;
+                if ui
+                    .add(
+                        egui::Slider::new(&mut d_um, 0.001..=10.0)
+                            .logarithmic(true)
+                            .suffix(" µm")
+                            .custom_formatter(|v, _| fmt_fixed(v, 3)),
+                    )
+                    .changed()
+                {
+                    s.chord_tol_mm = d_um / 1000.0;
+                }
+            }
+            ui.separator();
+            egui::ComboBox::from_id_salt("nurbs-degree")
+                .selected_text(format!("G06.2 degree {} (P{})", s.degree, s.degree + 1))
+                .show_ui(ui, |ui| {
+                    for d in [3, 2, 1] {
+                        ui.selectable_value(&mut s.degree, d, format!("degree {d} (order P{})", d + 1));
+                    }
+                });
+        });
+    }
+
+    /// One line about the work's state for the view's corner.
+    fn status_line(&self) -> (bool, String) {
+        if let Some(w) = &self.waiting {
+            return w.clone();
+        }
+        let Some(w) = &self.wanted else { return (true, String::new()) };
+        if let Some(Err(e)) = &self.work.design.value {
+            return (false, e.clone());
+        }
+        match self.work.pending(w) {
+            Pending::Nothing => {
+                let errs = self.work.rows.iter().filter(|r| matches!(r.value, Some(Err(_)))).count();
+                if errs > 0 {
+                    (false, format!("{errs} program(s) could not be written — see the table"))
+                } else {
+                    (true, "up to date".to_owned())
+                }
+            }
+            Pending::Waiting(_) | Pending::Working => {
+                let what = if !self.work.design_fresh(w) {
+                    "design path"
+                } else if !self.work.row_fresh(0, w) {
+                    "G01 program"
+                } else if !self.work.row_fresh(1, w) {
+                    "G02/G03 program"
+                } else if !self.work.row_fresh(2, w) {
+                    "G06.2 program"
+                } else if !self.work.realtime_fresh(w) {
+                    "real-time interpolation"
+                } else {
+                    "deviation of the loaded program"
+                };
+                (true, format!("computing… {what}"))
+            }
+        }
+    }
+
+    fn side(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
+        let w = self.wanted.clone();
+        ui.horizontal(|ui| {
+            let (tol, feed) =
+                w.as_ref().map_or((self.settings.tol_mm, 0.0), |w| (w.program.tol_mm, w.program.feed_mm_per_min));
+            ui.label(egui::RichText::new(format!("Programs within E = {} at F = {feed:.0} mm/min", um(tol))).strong());
+            if let Some(c) = w.as_ref().and_then(|w| self.work.comparison(w))
+                && ui
+                    .small_button("copy table")
+                    .on_hover_text("Both tables as Markdown, as `interpolab compare` prints them")
+                    .clicked()
+            {
+                ui.ctx().copy_text(format_comparison(&c, crate::gcode::TableStyle::Markdown));
+                cx.info("Comparison tables copied to the clipboard (Markdown).");
+            }
+        });
+        table::programs_table(ui, &self.work, w.as_ref());
+        ui.add_space(4.0);
+        table::realtime_table(ui, &self.work, w.as_ref());
+        ui.separator();
+        self.gcode(ui, cx);
+    }
+
+    fn file_stem(&self, cx: &PanelContext<'_>) -> String {
+        let name = match self.settings.source {
+            Source::Parabola => "parabola",
+            Source::Crease => cx.scene.name.as_str(),
+        };
+        let stem: String =
+            name.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '-' }).collect();
+        let stem = stem.split('-').filter(|s| !s.is_empty()).collect::<Vec<_>>().join("-");
+        if stem.is_empty() { "program".to_owned() } else { stem }
+    }
+
+    fn gcode(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
+        ui.horizontal_wrapped(|ui| {
+            ui.label(egui::RichText::new("G-code:").strong());
+            for kind in ProgramKind::ALL {
+                if ui.selectable_label(self.shown == Shown::Kind(kind), kind.label()).clicked() {
+                    self.shown = Shown::Kind(kind);
+                    self.scroll_to = Some(1);
+                }
+            }
+            if let Some(l) = &self.work.loaded {
+                let name = if l.name.len() > 28 { format!("…{}", &l.name[l.name.len() - 26..]) } else { l.name.clone() };
+                if ui.selectable_label(self.shown == Shown::Loaded, name).on_hover_text(&l.name).clicked() {
+                    self.shown = Shown::Loaded;
+                    self.scroll_to = Some(1);
+                }
+            }
+            ui.separator();
+            if ui.button("Open a G-code file…").on_hover_text("Read a program (.nc, .ngc, .gcode, .tap, .txt) and draw it over the design; or drop it on the page").clicked() {
+                cx.pick_file(FileKind::GCode);
+            }
+        });
+        // The text shown and what to say about it.
+        let (text, name, mark): (Option<&str>, String, Option<usize>) = match self.shown {
+            Shown::Kind(kind) => {
+                let i = ProgramKind::ALL.iter().position(|k| *k == kind).unwrap_or(0);
+                match self.work.rows[i].ok() {
+                    Some(r) => (
+                        Some(r.program.text.as_str()),
+                        format!("{}-{}.nc", self.file_stem(cx), kind.as_str()),
+                        Some(r.program.deviation.program_line),
+                    ),
+                    None => (None, String::new(), None),
+                }
+            }
+            Shown::Loaded => match &self.work.loaded {
+                Some(l) => {
+                    (Some(l.text.as_str()), l.name.clone(), self.work.loaded_deviation.ok().map(|d| d.program_line))
+                }
+                None => (None, String::new(), None),
+            },
+        };
+        let mut go_to = None;
+        let mut close = false;
+        ui.horizontal_wrapped(|ui| {
+            let enabled = text.is_some();
+            if ui
+                .add_enabled(enabled, egui::Button::new("Copy"))
+                .on_hover_text("Copy the program text to the clipboard")
+                .clicked()
+                && let Some(t) = text
+            {
+                ui.ctx().copy_text(t.to_owned());
+                cx.info(format!("{name} copied to the clipboard ({} bytes).", t.len()));
+            }
+            if ui.add_enabled(enabled, egui::Button::new("Download")).on_hover_text(format!("Save as {name}")).clicked()
+                && let Some(t) = text
+            {
+                cx.save_text(&name, t);
+            }
+            if let Some(m) = mark
+                && ui
+                    .small_button(format!("go to line {m}"))
+                    .on_hover_text("The line of the largest deviation")
+                    .clicked()
+            {
+                go_to = Some(m);
+            }
+            close = self.shown == Shown::Loaded && ui.small_button("close file").clicked();
+        });
+        self.about_shown(ui);
+        let scroll_to = go_to.or(self.scroll_to);
+        match text {
+            Some(t) => table::code_view(ui, t, mark, scroll_to),
+            None => {
+                let msg = match self.shown {
+                    Shown::Loaded => "No file loaded.".to_owned(),
+                    Shown::Kind(kind) => {
+                        let i = ProgramKind::ALL.iter().position(|k| *k == kind).unwrap_or(0);
+                        match &self.work.rows[i].value {
+                            Some(Err(e)) => e.clone(),
+                            _ => "computing…".to_owned(),
+                        }
+                    }
+                };
+                ui.label(egui::RichText::new(msg).weak().italics());
+            }
+        }
+        self.scroll_to = None;
+        if close {
+            self.work.unload();
+            self.shown = Shown::Kind(ProgramKind::Nurbs);
+        }
+    }
+
+    /// A line about the shown program: its size and deviation, or the reader's complaints.
+    fn about_shown(&self, ui: &mut egui::Ui) {
+        let red = egui::Color32::from_rgb(255, 120, 110);
+        let yellow = egui::Color32::from_rgb(240, 200, 90);
+        match self.shown {
+            Shown::Kind(kind) => {
+                let i = ProgramKind::ALL.iter().position(|k| *k == kind).unwrap_or(0);
+                if let Some(r) = self.work.rows[i].ok() {
+                    ui.label(format!(
+                        "{}: {} path blocks, {} lines, {} bytes; deviation after rounding {} (largest at line {}).",
+                        kind.label(),
+                        r.path_blocks,
+                        r.program.parsed.lines,
+                        r.bytes,
+                        um(r.deviation_mm),
+                        r.program.deviation.program_line
+                    ));
+                }
+            }
+            Shown::Loaded => {
+                let Some(l) = &self.work.loaded else { return };
+                match &l.parsed {
+                    Err(e) => {
+                        ui.label(egui::RichText::new(format!("{}: {e}", l.name)).color(red));
+                    }
+                    Ok(p) => {
+                        let s = crate::gcode::summarize(&p.toolpath);
+                        ui.label(format!(
+                            "{}: {} lines, {} path blocks (G01 {}, G02 {}, G03 {}, G06.2 curves {}), cutting length {:.3} mm.",
+                            l.name,
+                            p.lines,
+                            p.path_blocks(),
+                            s.moves[1],
+                            s.moves[2],
+                            s.moves[3],
+                            s.moves[4],
+                            s.cut_length_mm
+                        ));
+                        match &self.work.loaded_deviation.value {
+                            Some(Ok(d)) => {
+                                let point = l.point.map_or("the panel's programmed point", |p| match p {
+                                    ProgrammedPoint::BallCentre => "ball centre (from its header)",
+                                    ProgrammedPoint::BallTip { .. } => "ball tip (from its header)",
+                                });
+                                ui.label(
+                                    egui::RichText::new(format!(
+                                        "Deviation from the design path: {} — program → design {} (line {}), design → program {}; gaps at the ends {} / {}. Point: {point}.",
+                                        um(d.max_mm()),
+                                        um(d.program_to_design_mm),
+                                        d.program_line,
+                                        um(d.design_to_program_mm),
+                                        um(d.start_gap_mm),
+                                        um(d.end_gap_mm)
+                                    ))
+                                    .color(view::LOADED_COLOR),
+                                );
+                            }
+                            Some(Err(e)) => {
+                                ui.label(egui::RichText::new(e).color(red));
+                            }
+                            None => {
+                                ui.label(egui::RichText::new("measuring the deviation…").weak().italics());
+                            }
+                        }
+                        if !p.unsupported.is_empty() {
+                            let list: Vec<String> = p
+                                .unsupported
+                                .iter()
+                                .take(6)
+                                .map(|u| format!("line {}: {} ({})", u.line, u.word, u.reason))
+                                .collect();
+                            let more = if p.unsupported.len() > 6 {
+                                format!(" and {} more", p.unsupported.len() - 6)
+                            } else {
+                                String::new()
+                            };
+                            ui.label(
+                                egui::RichText::new(format!(
+                                    "Not modelled, effect left out: {}{more}",
+                                    list.join("; ")
+                                ))
+                                .color(yellow),
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    fn overlay(&self) -> Overlay {
+        match self.shown {
+            Shown::Kind(ProgramKind::Lines) => Overlay::Row(0),
+            Shown::Kind(ProgramKind::Arcs) => Overlay::Row(1),
+            Shown::Kind(ProgramKind::Nurbs) => Overlay::None,
+            Shown::Loaded => Overlay::Loaded,
+        }
+    }
+
+    /// The panel's state for tests and assistive tools (published in the app's status).
+    fn status_value(&self) -> serde_json::Value {
+        let w = self.wanted.as_ref();
+        let rows: Vec<serde_json::Value> = ProgramKind::ALL
+            .iter()
+            .enumerate()
+            .map(|(i, k)| match &self.work.rows[i].value {
+                Some(Ok(r)) => serde_json::json!({
+                    "kind": k.label(),
+                    "fresh": w.is_some_and(|w| self.work.row_fresh(i, w)),
+                    "path_blocks": r.path_blocks,
+                    "bytes": r.bytes,
+                    "deviation_mm": r.deviation_mm,
+                }),
+                Some(Err(e)) => serde_json::json!({ "kind": k.label(), "error": e }),
+                None => serde_json::json!({ "kind": k.label() }),
+            })
+            .collect();
+        let realtime: Vec<serde_json::Value> = self.work.realtime.ok().map_or_else(Vec::new, |rt| {
+            rt.stats
+                .iter()
+                .map(|s| serde_json::json!({ "update": s.update.as_str(), "periods": s.periods, "max_fluctuation": s.max_fluctuation }))
+                .collect()
+        });
+        let loaded = self.work.loaded.as_ref().map(|l| {
+            serde_json::json!({
+                "name": l.name,
+                "error": l.parsed.as_ref().err(),
+                "unsupported": l.parsed.as_ref().map_or(0, |p| p.unsupported.len()),
+                "deviation_mm": self.work.loaded_deviation.ok().map(|d| d.max_mm()),
+                "deviation_line": self.work.loaded_deviation.ok().map(|d| d.program_line),
+            })
+        });
+        let (ok, status) = self.status_line();
+        serde_json::json!({
+            "source": match self.settings.source { Source::Crease => "crease", Source::Parabola => "parabola" },
+            "tol_mm": self.settings.tol_mm,
+            "done": w.is_some_and(|w| self.work.pending(w) == Pending::Nothing),
+            "status": status,
+            "status_ok": ok,
+            "design_mm": self.work.design.ok().map(|d| d.length_mm),
+            "rows": rows,
+            "realtime": realtime,
+            "loaded": loaded,
+            "ui": self.rects.iter().map(|(k, r)| ((*k).to_owned(), serde_json::json!([r.min.x, r.min.y, r.width(), r.height()]))).collect::<serde_json::Map<_, _>>(),
+        })
+    }
+}
+
+impl Panel for NurbsPanel {
+    fn title(&self) -> &'static str {
+        "NURBS & G-code (seed 004)"
+    }
+
+    fn accepts(&self) -> Option<FileKind> {
+        Some(FileKind::GCode)
+    }
+
+    fn status(&self) -> serde_json::Value {
+        self.status_value()
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
+        self.handle_files(cx);
+        self.controls(ui, cx);
+        ui.separator();
+        match self.wanted(cx) {
+            Ok(w) => {
+                self.waiting = None;
+                self.work.want(&w);
+                let t0 = web_time::Instant::now();
+                // Steps until ~1/3 of a 60 Hz frame is used; one program per step at most.
+                while self.work.step(&w) {
+                    if t0.elapsed() > web_time::Duration::from_millis(6) {
+                        break;
+                    }
+                }
+                match self.work.pending(&w) {
+                    Pending::Nothing => {}
+                    Pending::Waiting(d) => ui.ctx().request_repaint_after(d),
+                    Pending::Working => ui.ctx().request_repaint(),
+                }
+                self.wanted = Some(w);
+            }
+            Err(why) => {
+                self.waiting = Some(why);
+                self.wanted = None;
+                ui.ctx().request_repaint_after(web_time::Duration::from_millis(100));
+            }
+        }
+        self.announce(cx);
+
+        let rt = self.work.realtime.ok();
+        let feed = self.wanted.as_ref().map_or(0.0, |w| w.program.feed_mm_per_min);
+        let chord = self.wanted.as_ref().and_then(|w| w.realtime.chord_tol_mm);
+        let tol = self.settings.tol_mm;
+        egui::Panel::bottom("nurbs-plots").resizable(true).default_size(210.0).min_size(120.0).show(ui, |ui| {
+            plots::plots(ui, &mut self.feed_plot, rt, feed, tol, chord);
+        });
+        egui::Panel::right("nurbs-side").resizable(true).default_size(560.0).min_size(320.0).show(ui, |ui| {
+            self.side(ui, cx);
+        });
+        ui.horizontal(|ui| {
+            let s = &mut self.view.show;
+            ui.label("show:");
+            ui.checkbox(&mut s.design, "design");
+            ui.checkbox(&mut s.curve, "G06.2 curve");
+            ui.checkbox(&mut s.polygon, "control polygon");
+            ui.checkbox(&mut s.knots, "knots");
+            ui.checkbox(&mut s.points, "interpolated points");
+            ui.checkbox(&mut s.program, "selected / loaded program");
+        });
+        let rect = ui.available_rect_before_wrap();
+        let rect = egui::Rect::from_min_size(rect.min, rect.size().max(egui::vec2(64.0, 64.0)));
+        let offset = self.wanted.as_ref().map_or(DVec3::ZERO, |w| w.program.point.offset());
+        let status = self.status_line();
+        self.view.ui(ui, rect, cx.render_state, &self.work, self.overlay(), offset, Some(status));
+    }
+}

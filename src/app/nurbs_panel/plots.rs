@@ -1,0 +1,167 @@
+//! Plots of the real-time run over time (ms): the feed (mm/min) or its relative fluctuation
+//! per period, and the chord error per period (µm, log) against the tolerance.
+
+use eframe::egui;
+use egui_plot::{Corner, HLine, Legend, Line, Plot, PlotPoints};
+
+use super::view::{LOADED_COLOR, turbo};
+use super::work::Realtime;
+
+/// What the first plot shows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FeedPlot {
+    /// Feed per period as a speed, F·(1 + Δf/f) (mm/min).
+    Feed,
+    /// |Δf/f| per period, log.
+    Fluctuation,
+}
+
+/// Floor of the log plots: |Δf/f| and chord errors below it are drawn at it.
+const LOG_FLOOR: f64 = 1e-16;
+
+/// Reduces a long series to at most ~2·`buckets` points keeping each bucket's lowest and
+/// highest value, so the plot keeps its envelope at any length.
+fn envelope(points: &[[f64; 2]], buckets: usize) -> Vec<[f64; 2]> {
+    if points.len() <= 2 * buckets {
+        return points.to_vec();
+    }
+    let per = points.len().div_ceil(buckets);
+    let mut out = Vec::with_capacity(2 * buckets + 2);
+    for chunk in points.chunks(per) {
+        let (mut lo, mut hi) = (chunk[0], chunk[0]);
+        for p in chunk {
+            if p[1] < lo[1] {
+                lo = *p;
+            }
+            if p[1] > hi[1] {
+                hi = *p;
+            }
+        }
+        if lo[0] <= hi[0] {
+            out.extend([lo, hi]);
+        } else {
+            out.extend([hi, lo]);
+        }
+    }
+    out
+}
+
+fn log_axis(mark: egui_plot::GridMark) -> String {
+    format!("1e{:.0}", mark.value)
+}
+
+/// The two plots side by side in `ui`.
+pub fn plots(
+    ui: &mut egui::Ui,
+    mode: &mut FeedPlot,
+    rt: Option<&Realtime>,
+    feed_mm_per_min: f64,
+    tol_mm: f64,
+    chord_tol_mm: Option<f64>,
+) {
+    let Some(rt) = rt else {
+        ui.centered_and_justified(|ui| {
+            ui.label(
+                egui::RichText::new("The real-time interpolation plots appear once the G06.2 program is written.")
+                    .weak(),
+            );
+        });
+        return;
+    };
+    let ts = rt.period_ms;
+    let samples: Vec<_> = rt.run.samples.iter().filter(|s| !s.last).collect();
+    let update = rt.run.stats.update.as_str();
+    let link = egui::Id::unique("nurbs-time-axis");
+    let width = (ui.available_width() - 12.0) / 2.0;
+    let height = ui.available_height();
+    ui.horizontal_top(|ui| {
+        ui.allocate_ui(egui::vec2(width, height), |ui| {
+            ui.vertical(|ui| {
+                ui.horizontal(|ui| {
+                    ui.label(egui::RichText::new(format!("{update} update:")).strong());
+                    ui.selectable_value(mode, FeedPlot::Feed, "feed (mm/min)");
+                    ui.selectable_value(mode, FeedPlot::Fluctuation, "feed fluctuation |Δf/f| (log)");
+                });
+                let (pts, label): (Vec<[f64; 2]>, &str) = match mode {
+                    FeedPlot::Feed => (
+                        samples.iter().map(|s| [s.k as f64 * ts, s.step_mm / ts * 60_000.0]).collect(),
+                        "feed (mm/min)",
+                    ),
+                    FeedPlot::Fluctuation => (
+                        samples.iter().map(|s| [s.k as f64 * ts, s.fluctuation.abs().max(LOG_FLOOR).log10()]).collect(),
+                        "|Δf/f| (log)",
+                    ),
+                };
+                let mut plot = Plot::new("nurbs-feed")
+                    .legend(Legend::default().position(Corner::RightBottom).background_alpha(0.6))
+                    .x_axis_label("t (ms)")
+                    .y_axis_label(label)
+                    .allow_scroll(false)
+                    .link_axis(link, [true, false]);
+                match mode {
+                    FeedPlot::Feed => {
+                        // At least ±1 ppm of F around F, so rounding noise is not blown up.
+                        plot = plot.include_y(feed_mm_per_min * (1.0 - 1e-6)).include_y(feed_mm_per_min * (1.0 + 1e-6));
+                    }
+                    FeedPlot::Fluctuation => {
+                        plot = plot.y_axis_formatter(|m, _| log_axis(m)).include_y(-15.0).include_y(-3.0);
+                    }
+                }
+                plot.show(ui, |p| {
+                    let name = match mode {
+                        FeedPlot::Feed => format!("feed, {update} update"),
+                        FeedPlot::Fluctuation => format!("|Δf/f|, {update} update"),
+                    };
+                    p.line(Line::new(name, PlotPoints::from(envelope(&pts, 1200))).color(turbo(0.75)).width(1.5));
+                    if *mode == FeedPlot::Feed {
+                        p.hline(
+                            HLine::new(format!("programmed F = {feed_mm_per_min:.0} mm/min"), feed_mm_per_min)
+                                .color(egui::Color32::from_gray(170)),
+                        );
+                    }
+                });
+            });
+        });
+        ui.separator();
+        ui.allocate_ui(egui::vec2(width, height), |ui| {
+            ui.vertical(|ui| {
+                ui.label(
+                    egui::RichText::new(format!(
+                        "chord error per period (µm, log): max {} µm",
+                        crate::report::fmt_fixed(rt.run.stats.max_chord_error_mm * 1000.0, 6)
+                    ))
+                    .strong(),
+                );
+                let pts: Vec<[f64; 2]> = samples
+                    .iter()
+                    .map(|s| [s.k as f64 * ts, (s.chord_error_mm * 1000.0).max(LOG_FLOOR).log10()])
+                    .collect();
+                Plot::new("nurbs-chord")
+                    .legend(Legend::default().position(Corner::RightBottom).background_alpha(0.6))
+                    .x_axis_label("t (ms)")
+                    .y_axis_label("chord error (µm, log)")
+                    .allow_scroll(false)
+                    .link_axis(link, [true, false])
+                    .y_axis_formatter(|m, _| log_axis(m))
+                    .include_y((tol_mm * 1000.0).log10() + 0.3)
+                    .show(ui, |p| {
+                        p.line(
+                            Line::new("chord error", PlotPoints::from(envelope(&pts, 1200)))
+                                .color(egui::Color32::from_rgb(120, 200, 255))
+                                .width(1.5),
+                        );
+                        p.hline(
+                            HLine::new(format!("tolerance E = {} µm", tol_mm * 1000.0), (tol_mm * 1000.0).log10())
+                                .color(egui::Color32::from_rgb(235, 90, 80)),
+                        );
+                        if let Some(d) = chord_tol_mm {
+                            p.hline(
+                                HLine::new(format!("chord tolerance δ = {} µm", d * 1000.0), (d * 1000.0).log10())
+                                    .color(LOADED_COLOR),
+                            );
+                        }
+                    });
+            });
+        });
+    });
+}

@@ -1,0 +1,611 @@
+//! The panel's 3D view (GPU view 2): the design path, the G06.2 curve as read back from its
+//! program with its control polygon, control points and knots, the real-time interpolated
+//! points coloured by feed fluctuation, and a program drawn over the design (G01 / G02-G03
+//! written here, or a loaded file) with its worst deviation marked.
+//!
+//! Layers are rebuilt only when what they show changes (tracked by the work's generation
+//! numbers); the dots and markers are sized in screen points, so they are rebuilt when the
+//! zoom changes by more than a step.
+
+use eframe::egui;
+use eframe::egui_wgpu::RenderState;
+use glam::{DVec3, Vec3, Vec4};
+
+use super::work::{Loaded, Realtime, Work};
+use crate::gcode::path::sample_params;
+use crate::gcode::{Deviation, PathBlock, Segment, Toolpath};
+use crate::geom::NurbsCurve;
+use crate::render::geometry::{Origin, bounds, polyline};
+use crate::render::gpu::paint_callback;
+use crate::render::{Layer, OrbitCamera, Renderer3d, SphereInstance, ViewCallback, ViewId};
+
+/// GPU view id of this panel (0 is the crease view, 1 the 5-axis view).
+pub const VIEW_ID: ViewId = 2;
+
+const BACKGROUND: [f32; 4] = [0.075, 0.08, 0.095, 1.0];
+pub(super) const DESIGN_COLOR: egui::Color32 = egui::Color32::from_rgb(235, 235, 235);
+pub(super) const CURVE_COLOR: egui::Color32 = egui::Color32::from_rgb(255, 150, 40);
+pub(super) const POLYGON_COLOR: egui::Color32 = egui::Color32::from_rgb(200, 120, 50);
+pub(super) const KNOT_COLOR: egui::Color32 = egui::Color32::from_rgb(120, 200, 255);
+pub(super) const LINES_COLOR: egui::Color32 = egui::Color32::from_rgb(80, 220, 210);
+pub(super) const ARCS_COLOR: egui::Color32 = egui::Color32::from_rgb(230, 110, 230);
+pub(super) const LOADED_COLOR: egui::Color32 = egui::Color32::from_rgb(250, 230, 60);
+pub(super) const RAPID_COLOR: egui::Color32 = egui::Color32::from_rgb(120, 120, 130);
+pub(super) const WORST_COLOR: egui::Color32 = egui::Color32::from_rgb(255, 70, 60);
+
+/// Decades of the fluctuation colour scale: |Δf/f| from 1e-14 (rounding level) to 1e-3.
+pub(super) const FLUCT_DECADES: (f64, f64) = (-14.0, -3.0);
+
+/// Turbo colour map (Mikhailov 2019, polynomial fit), t in 0..1, starting a little above
+/// its darkest blue so the low end shows on the dark background.
+pub(super) fn turbo(t: f64) -> egui::Color32 {
+    let t = 0.08 + 0.92 * t.clamp(0.0, 1.0);
+    let r = 0.135_721_38
+        + t * (4.615_392_6 + t * (-42.660_322_58 + t * (132.131_082_34 + t * (-152.942_393_96 + t * 59.286_379_43))));
+    let g = 0.091_402_61
+        + t * (2.194_188_39 + t * (4.842_966_58 + t * (-14.185_033_33 + t * (4.277_298_57 + t * 2.829_566_04))));
+    let b = 0.106_673_3
+        + t * (12.641_946_08 + t * (-60.582_048_36 + t * (110.362_767_71 + t * (-89.903_109_12 + t * 27.348_249_73))));
+    let c = |x: f64| (x.clamp(0.0, 1.0) * 255.0).round() as u8;
+    egui::Color32::from_rgb(c(r), c(g), c(b))
+}
+
+/// Position of a relative feed fluctuation on the colour scale (0..1, log of |Δf/f|).
+pub(super) fn fluct_t(fluct: f64) -> f64 {
+    let (lo, hi) = FLUCT_DECADES;
+    let a = fluct.abs();
+    if !(a > 0.0) {
+        return 0.0;
+    }
+    ((a.log10() - lo) / (hi - lo)).clamp(0.0, 1.0)
+}
+
+fn rgba(c: egui::Color32, a: f32) -> [f32; 4] {
+    [f32::from(c.r()) / 255.0, f32::from(c.g()) / 255.0, f32::from(c.b()) / 255.0, a]
+}
+
+/// Which layers are drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Show {
+    /// The design path.
+    pub design: bool,
+    /// The G06.2 curve.
+    pub curve: bool,
+    /// Its control polygon and control points.
+    pub polygon: bool,
+    /// Its knots.
+    pub knots: bool,
+    /// The real-time interpolated points.
+    pub points: bool,
+    /// The selected program (G01, G02/G03 or a loaded file).
+    pub program: bool,
+}
+
+impl Default for Show {
+    fn default() -> Self {
+        Self { design: true, curve: true, polygon: true, knots: true, points: true, program: true }
+    }
+}
+
+/// The program drawn over the design.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Overlay {
+    /// None (the G06.2 program is the curve itself).
+    None,
+    /// Row `i` of the comparison (0 G01, 1 G02/G03).
+    Row(usize),
+    /// The loaded file.
+    Loaded,
+}
+
+/// What the layers were built from (generations and settings), to rebuild only on change.
+#[derive(Clone, Debug, PartialEq)]
+struct Built {
+    design: u64,
+    offset: [u64; 3],
+    curve: u64,
+    realtime: u64,
+    overlay: Overlay,
+    overlay_gen: u64,
+    deviation_gen: u64,
+    show: Show,
+    /// Zoom step (dots are sized in points).
+    zoom_step: i32,
+}
+
+/// Counts shown in the legend.
+#[derive(Clone, Debug, Default)]
+struct LegendInfo {
+    control_points: usize,
+    degree: usize,
+    knots: usize,
+    dots_every: usize,
+    periods: usize,
+    overlay: Option<(String, egui::Color32)>,
+}
+
+/// State of the 3D view.
+pub struct NurbsView {
+    camera: OrbitCamera,
+    origin: Origin,
+    radius: f64,
+    /// Design generation the camera was last fitted to.
+    fitted_for: Option<u64>,
+    built: Option<Built>,
+    legend: LegendInfo,
+    /// Worst-deviation marker (world) and its label.
+    worst: Option<(DVec3, String)>,
+    /// Layers shown.
+    pub show: Show,
+}
+
+impl Default for NurbsView {
+    fn default() -> Self {
+        Self {
+            camera: OrbitCamera::default(),
+            origin: Origin::default(),
+            radius: 100.0,
+            fitted_for: None,
+            built: None,
+            legend: LegendInfo::default(),
+            worst: None,
+            show: Show::default(),
+        }
+    }
+}
+
+/// Points along a program's segment for drawing: lines by their ends, arcs every ~3°,
+/// G06.2 curves 24 per knot span.
+fn segment_points(seg: &Segment) -> Vec<DVec3> {
+    let c = seg.curve();
+    match seg {
+        Segment::Line(l) => vec![l.start, l.end],
+        Segment::Arc(a) => {
+            let n = ((a.sweep().abs().to_degrees() / 3.0).ceil() as usize).clamp(4, 720);
+            let (t0, t1) = c.range();
+            (0..=n).map(|i| c.point_at(t0 + (t1 - t0) * i as f64 / n as f64)).collect()
+        }
+        Segment::Nurbs(_) => sample_params(seg, 24).into_iter().map(|t| c.point_at(t)).collect(),
+    }
+}
+
+/// The distinct knot values inside a curve's range (the span ends).
+fn span_breaks(c: &NurbsCurve) -> Vec<f64> {
+    let p = c.degree();
+    let k = c.knots();
+    let mut out: Vec<f64> = Vec::new();
+    for &x in &k[p..k.len() - p] {
+        if out.last().is_none_or(|&l| x > l) {
+            out.push(x);
+        }
+    }
+    out
+}
+
+impl NurbsView {
+    fn fit(&mut self) {
+        self.camera.fit(Vec3::ZERO, self.radius as f32);
+    }
+
+    /// Millimetres per point at the target's depth.
+    fn mm_per_point(&self, h: f32) -> f64 {
+        f64::from(self.camera.mm_per_point(h))
+    }
+
+    #[expect(clippy::too_many_lines, reason = "one pass over the layers keeps their order and keys in one place")]
+    fn rebuild(&mut self, rs: &RenderState, work: &Work, overlay: Overlay, offset: DVec3, h: f32) {
+        let Some(design) = work.design.ok() else {
+            Renderer3d::with(rs, |r| r.clear_view(VIEW_ID));
+            self.built = None;
+            return;
+        };
+        // Origin and framing follow the design.
+        if self.fitted_for != Some(work.design.generation) {
+            let pts = design.samples(1.0);
+            let (c, r) = bounds(pts.iter().map(|p| *p + offset)).unwrap_or((DVec3::ZERO, 100.0));
+            self.origin = Origin(c);
+            self.radius = r.max(1.0);
+            let (lo, hi) =
+                pts.iter().fold((DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)), |(lo, hi), p| {
+                    (lo.min(*p), hi.max(*p))
+                });
+            let ext = hi - lo;
+            // A planar design in a horizontal plane is best seen from above.
+            if ext.z < 0.05 * ext.x.max(ext.y) {
+                self.camera.pitch = 1.25;
+                self.camera.yaw = -std::f32::consts::FRAC_PI_2;
+            } else {
+                let d = OrbitCamera::default();
+                self.camera.pitch = d.pitch;
+                self.camera.yaw = d.yaw;
+            }
+            self.fit();
+            self.fitted_for = Some(work.design.generation);
+            self.built = None;
+        }
+        let mm_pt = self.mm_per_point(h);
+        let zoom_step = (mm_pt.max(1e-9).ln() / 1.2f64.ln()).floor() as i32;
+        let (overlay_gen, deviation_gen) = match overlay {
+            Overlay::None => (0, 0),
+            Overlay::Row(i) => (work.rows[i].generation, 0),
+            Overlay::Loaded => (work.loaded.as_ref().map_or(0, |l| l.generation), work.loaded_deviation.generation),
+        };
+        let key = Built {
+            design: work.design.generation,
+            offset: [offset.x.to_bits(), offset.y.to_bits(), offset.z.to_bits()],
+            curve: work.rows[2].generation,
+            realtime: work.realtime.generation,
+            overlay,
+            overlay_gen,
+            deviation_gen,
+            show: self.show,
+            zoom_step,
+        };
+        if self.built.as_ref() == Some(&key) {
+            return;
+        }
+        // Sizes in points at the target's depth, converted to mm once per zoom step.
+        let px = 1.2f64.powi(zoom_step) * 1.1;
+        let o = self.origin;
+        let mut legend = LegendInfo::default();
+        let mut spheres = Vec::new();
+        let mut polygon_lines = Vec::new();
+        let mut curve_lines = Vec::new();
+        let mut design_lines = Vec::new();
+        let mut overlay_lines = Vec::new();
+        self.worst = None;
+
+        if self.show.design {
+            let pts: Vec<DVec3> = design.samples(0.25).into_iter().map(|p| p + offset).collect();
+            design_lines = polyline(pts, o, 1.6, rgba(DESIGN_COLOR, 1.0));
+        }
+        let curve = work.rows[2].ok().and_then(|r| r.program.read_back_curves().next());
+        if let Some(c) = curve {
+            legend.control_points = c.len();
+            legend.degree = c.degree();
+            let breaks = span_breaks(c);
+            legend.knots = breaks.len();
+            if self.show.curve {
+                let mut pts = Vec::new();
+                for w in breaks.windows(2) {
+                    for i in 0..24 {
+                        pts.push(c.point_at(w[0] + (w[1] - w[0]) * f64::from(i) / 24.0));
+                    }
+                }
+                pts.push(c.point_at(c.range().1));
+                curve_lines = polyline(pts, o, 2.6, rgba(CURVE_COLOR, 1.0));
+            }
+            if self.show.polygon {
+                let cps: Vec<DVec3> = (0..c.len()).map(|i| c.control_point(i)).collect();
+                polygon_lines = polyline(cps.iter().copied(), o, 1.3, rgba(POLYGON_COLOR, 0.9));
+                for p in cps {
+                    spheres.push(SphereInstance {
+                        center: o.local(p),
+                        radius: (4.0 * px * mm_pt) as f32,
+                        color: rgba(CURVE_COLOR, 1.0),
+                    });
+                }
+            }
+            if self.show.knots {
+                for u in breaks {
+                    spheres.push(SphereInstance {
+                        center: o.local(c.point_at(u)),
+                        radius: (3.6 * px * mm_pt) as f32,
+                        color: rgba(KNOT_COLOR, 1.0),
+                    });
+                }
+            }
+        }
+        if let (true, Some(rt)) = (self.show.points, work.realtime.ok()) {
+            let (dots, every) = realtime_dots(rt, 7.0 * px * mm_pt, (2.6 * px * mm_pt) as f32, o);
+            legend.dots_every = every;
+            legend.periods = rt.run.samples.len();
+            spheres.extend(dots);
+        }
+        if self.show.program {
+            let drawn: Option<(&Toolpath, String, egui::Color32, Option<&Deviation>)> = match overlay {
+                Overlay::None => None,
+                Overlay::Row(i) => work.rows[i].ok().map(|r| {
+                    let color = if i == 0 { LINES_COLOR } else { ARCS_COLOR };
+                    let name = format!("{} program ({} blocks)", r.kind.label(), r.path_blocks);
+                    (&r.program.parsed.toolpath, name, color, Some(&r.program.deviation))
+                }),
+                Overlay::Loaded => match &work.loaded {
+                    Some(Loaded { parsed: Ok(p), name, .. }) => {
+                        Some((&p.toolpath, name.clone(), LOADED_COLOR, work.loaded_deviation.ok()))
+                    }
+                    _ => None,
+                },
+            };
+            if let Some((path, name, color, dev)) = drawn {
+                legend.overlay = Some((name, color));
+                for b in &path.blocks {
+                    let rapid = b.motion == crate::gcode::Motion::Rapid;
+                    let (c, w) = if rapid { (rgba(RAPID_COLOR, 0.8), 1.0) } else { (rgba(color, 1.0), 2.0) };
+                    overlay_lines.extend(polyline(segment_points(&b.segment), o, w, c));
+                }
+                // Block ends mark where the program's moves meet.
+                let cuts: Vec<&PathBlock> = path.cuts().collect();
+                if cuts.len() <= 5000 {
+                    for b in &cuts {
+                        spheres.push(SphereInstance {
+                            center: o.local(b.segment.end()),
+                            radius: (2.2 * px * mm_pt) as f32,
+                            color: rgba(color, 1.0),
+                        });
+                    }
+                }
+                if let Some(d) = dev {
+                    let (p, what) = if d.program_to_design_mm >= d.design_to_program_mm {
+                        (d.program_point, format!("line {}", d.program_line))
+                    } else {
+                        (d.design_point, format!("design s = {:.1} mm", d.design_s_mm))
+                    };
+                    self.worst = Some((p, format!("max deviation {} ({what})", super::super::fmt_len(d.max_mm()))));
+                    spheres.push(SphereInstance {
+                        center: o.local(p),
+                        radius: (5.0 * px * mm_pt) as f32,
+                        color: rgba(WORST_COLOR, 1.0),
+                    });
+                }
+            }
+        }
+        Renderer3d::with(rs, |r| {
+            r.set_spheres(VIEW_ID, Layer::Markers, &spheres);
+            r.set_lines(VIEW_ID, Layer::StaticLines, &polygon_lines, 0);
+            r.set_lines(VIEW_ID, Layer::PathLines, &curve_lines, 0);
+            r.set_lines(VIEW_ID, Layer::ExactLines, &design_lines, 0);
+            r.set_lines(VIEW_ID, Layer::DynamicLines, &overlay_lines, 0);
+        });
+        self.legend = legend;
+        self.built = Some(key);
+    }
+
+    /// Draws the view into `rect`.
+    pub fn ui(
+        &mut self,
+        ui: &mut egui::Ui,
+        rect: egui::Rect,
+        rs: Option<&RenderState>,
+        work: &Work,
+        overlay: Overlay,
+        offset: DVec3,
+        status: Option<(bool, String)>,
+    ) {
+        let response = ui.allocate_rect(rect, egui::Sense::click_and_drag());
+        let Some(rs) = rs else {
+            ui.painter().text(
+                rect.center(),
+                egui::Align2::CENTER_CENTER,
+                "3D view unavailable: no GPU device (wgpu)",
+                egui::FontId::proportional(16.0),
+                egui::Color32::LIGHT_RED,
+            );
+            return;
+        };
+        let shift = ui.input(|i| i.modifiers.shift);
+        let delta = response.drag_delta();
+        if response.dragged_by(egui::PointerButton::Primary) && !shift {
+            self.camera.orbit(delta.x, delta.y);
+        } else if response.dragged_by(egui::PointerButton::Secondary)
+            || response.dragged_by(egui::PointerButton::Middle)
+            || (response.dragged_by(egui::PointerButton::Primary) && shift)
+        {
+            self.camera.pan(delta.x, delta.y, rect.height());
+        }
+        if response.hovered() {
+            let (scroll, zoom) = ui.input(|i| (i.smooth_scroll_delta.y, i.zoom_delta()));
+            if scroll != 0.0 {
+                self.camera.zoom((scroll * 0.0025).exp());
+            }
+            if (zoom - 1.0).abs() > f32::EPSILON {
+                self.camera.zoom(zoom);
+            }
+        }
+        if response.double_clicked() {
+            self.fit();
+        }
+        self.rebuild(rs, work, overlay, offset, rect.height());
+
+        let ppp = ui.ctx().pixels_per_point();
+        let size_px = [(rect.width() * ppp).round().max(1.0) as u32, (rect.height() * ppp).round().max(1.0) as u32];
+        let aspect = rect.width() / rect.height().max(1.0);
+        let clip = self.camera.clip_from_world(aspect);
+        ui.painter().add(paint_callback(
+            rect,
+            ViewCallback {
+                view: VIEW_ID,
+                clip_from_local: clip.to_cols_array_2d(),
+                eye: self.camera.eye().to_array(),
+                size_px,
+                background: BACKGROUND,
+                hide_back_faces: false,
+            },
+        ));
+        self.overlays(ui, rect, work, clip, status);
+    }
+
+    fn overlays(
+        &mut self,
+        ui: &mut egui::Ui,
+        rect: egui::Rect,
+        work: &Work,
+        clip: glam::Mat4,
+        status: Option<(bool, String)>,
+    ) {
+        let painter = ui.painter_at(rect);
+        let font = egui::FontId::proportional(13.0);
+        let text_color = egui::Color32::from_gray(225);
+        // Legend, top left.
+        let x = rect.left() + 10.0;
+        let mut y = rect.top() + 8.0;
+        let mut entry = |color: egui::Color32, text: String, dot: bool| {
+            let r = egui::Rect::from_min_size(egui::pos2(x, y + 3.0), egui::vec2(12.0, 10.0));
+            if dot {
+                painter.circle_filled(r.center(), 4.5, color);
+            } else {
+                painter.rect_filled(egui::Rect::from_center_size(r.center(), egui::vec2(14.0, 3.0)), 1.0, color);
+            }
+            painter.text(egui::pos2(x + 20.0, y), egui::Align2::LEFT_TOP, text, font.clone(), text_color);
+            y += 18.0;
+        };
+        let l = &self.legend;
+        if work.design.ok().is_some() {
+            if self.show.design {
+                let len = work.design.ok().map_or(0.0, |d| d.length_mm);
+                entry(DESIGN_COLOR, format!("design path ({len:.1} mm)"), false);
+            }
+            if l.control_points > 0 {
+                if self.show.curve {
+                    entry(CURVE_COLOR, format!("G06.2 curve, degree {} (order P{})", l.degree, l.degree + 1), false);
+                }
+                if self.show.polygon {
+                    entry(POLYGON_COLOR, format!("control polygon, {} control points", l.control_points), true);
+                }
+                if self.show.knots {
+                    entry(KNOT_COLOR, format!("knots: {} span ends", l.knots), true);
+                }
+            }
+            if self.show.points && l.periods > 0 {
+                let every = if l.dots_every > 1 {
+                    format!(", 1 dot per {} periods (zoom in for all)", l.dots_every)
+                } else {
+                    String::new()
+                };
+                entry(turbo(0.75), format!("interpolated points: {} periods{every}", l.periods), true);
+            }
+            if let Some((name, color)) = &l.overlay {
+                entry(*color, name.clone(), false);
+            }
+        }
+        // Worst deviation label next to its marker.
+        if let Some((p, label)) = &self.worst {
+            let q = clip * Vec4::from((self.origin.local_vec(*p), 1.0));
+            if q.w > 0.0 {
+                let ndc = q.truncate() / q.w;
+                let s = egui::pos2(
+                    rect.center().x + ndc.x * rect.width() * 0.5,
+                    rect.center().y - ndc.y * rect.height() * 0.5,
+                );
+                if rect.contains(s) {
+                    let at = s + egui::vec2(12.0, -12.0);
+                    let galley = painter.layout_no_wrap(label.clone(), font.clone(), WORST_COLOR);
+                    let bg = egui::Rect::from_min_size(at - egui::vec2(3.0, 2.0), galley.size() + egui::vec2(6.0, 4.0));
+                    painter.rect_filled(bg, 3.0, egui::Color32::from_black_alpha(170));
+                    painter
+                        .line_segment([s, at + egui::vec2(0.0, galley.size().y)], egui::Stroke::new(1.0, WORST_COLOR));
+                    painter.galley(at, galley, WORST_COLOR);
+                }
+            }
+        }
+        // Colour scale of the fluctuation, bottom left above the axes.
+        if self.show.points && l.periods > 0 {
+            fluct_legend(&painter, egui::pos2(rect.left() + 100.0, rect.bottom() - 40.0), 240.0, &font);
+        }
+        // Axis triad, bottom left.
+        let eye = self.camera.eye();
+        let forward = (self.camera.target - eye).normalize();
+        let right = forward.cross(Vec3::Z).normalize_or_zero();
+        let up = right.cross(forward);
+        let o = rect.left_bottom() + egui::vec2(40.0, -40.0);
+        for (axis, name, color) in [
+            (Vec3::X, "X", egui::Color32::from_rgb(235, 90, 80)),
+            (Vec3::Y, "Y", egui::Color32::from_rgb(110, 210, 110)),
+            (Vec3::Z, "Z", egui::Color32::from_rgb(100, 150, 255)),
+        ] {
+            let tip = o + egui::vec2(axis.dot(right), -axis.dot(up)) * 26.0;
+            painter.line_segment([o, tip], egui::Stroke::new(2.0, color));
+            painter.text(tip + (tip - o).normalized() * 8.0, egui::Align2::CENTER_CENTER, name, font.clone(), color);
+        }
+        // Scale bar, bottom right.
+        let mm_per_pt = self.mm_per_point(rect.height());
+        let pow = 10f64.powf((100.0 * mm_per_pt).log10().floor());
+        let nice = [1.0, 2.0, 5.0, 10.0].iter().map(|m| m * pow).find(|l| *l / mm_per_pt >= 60.0).unwrap_or(10.0 * pow);
+        let len_pt = (nice / mm_per_pt) as f32;
+        let end = rect.right_bottom() + egui::vec2(-20.0, -22.0);
+        let start = end - egui::vec2(len_pt, 0.0);
+        let white = egui::Color32::from_gray(220);
+        painter.line_segment([start, end], egui::Stroke::new(2.0, white));
+        for x in [start, end] {
+            painter.line_segment([x - egui::vec2(0.0, 5.0), x + egui::vec2(0.0, 5.0)], egui::Stroke::new(2.0, white));
+        }
+        let label = if nice >= 1.0 { format!("{nice} mm") } else { format!("{} µm", nice * 1000.0) };
+        painter.text(start + egui::vec2(len_pt / 2.0, -12.0), egui::Align2::CENTER_CENTER, label, font.clone(), white);
+        // Status, top right; fit / reset under it.
+        if let Some((ok, text)) = status {
+            let color = if ok { egui::Color32::from_gray(210) } else { egui::Color32::from_rgb(255, 120, 110) };
+            let galley = painter.layout(text, font, color, (rect.width() * 0.45).max(120.0));
+            let at = egui::pos2(rect.right() - 10.0 - galley.size().x, rect.top() + 8.0);
+            painter.galley(at, galley, color);
+        }
+        let buttons = egui::Rect::from_min_size(rect.right_top() + egui::vec2(-140.0, 30.0), egui::vec2(130.0, 24.0));
+        let mut child = ui.new_child(
+            egui::UiBuilder::new().max_rect(buttons).layout(egui::Layout::right_to_left(egui::Align::Center)),
+        );
+        if child.small_button("reset").on_hover_text("Default view angles, fitted").clicked() {
+            self.camera = OrbitCamera::default();
+            self.fitted_for = None;
+        }
+        if child.small_button("fit").on_hover_text("Frame the design path (double-click)").clicked() {
+            self.fit();
+        }
+    }
+}
+
+/// Dots of the real-time run, at most one per `spacing_mm` along the path: each shown dot
+/// stands for a run of consecutive periods and takes the largest |fluctuation| among them,
+/// so the colour never hides a peak. Returns the dots and the periods per dot.
+fn realtime_dots(rt: &Realtime, spacing_mm: f64, radius: f32, o: Origin) -> (Vec<SphereInstance>, usize) {
+    let samples = &rt.run.samples;
+    let every = ((spacing_mm / rt.feed_per_period_mm.max(1e-9)).ceil() as usize).max(1);
+    let every = every.max(samples.len().div_ceil(20_000));
+    let mut dots = Vec::with_capacity(samples.len() / every + 1);
+    for chunk in samples.chunks(every) {
+        let worst = chunk.iter().filter(|s| !s.last).map(|s| s.fluctuation.abs()).fold(0.0, f64::max);
+        if let Some(s) = chunk.last() {
+            dots.push(SphereInstance { center: o.local(s.point), radius, color: rgba(turbo(fluct_t(worst)), 1.0) });
+        }
+    }
+    (dots, every)
+}
+
+/// The colour bar of |Δf/f| (log), with decade labels.
+pub(super) fn fluct_legend(painter: &egui::Painter, left_bottom: egui::Pos2, width: f32, font: &egui::FontId) {
+    let (lo, hi) = FLUCT_DECADES;
+    let h = 10.0;
+    let top = left_bottom.y - h;
+    let steps = 64;
+    for i in 0..steps {
+        let t0 = i as f32 / steps as f32;
+        let t1 = (i + 1) as f32 / steps as f32;
+        let r = egui::Rect::from_min_max(
+            egui::pos2(left_bottom.x + t0 * width, top),
+            egui::pos2(left_bottom.x + t1 * width + 0.5, left_bottom.y),
+        );
+        painter.rect_filled(r, 0.0, turbo(f64::from(t0 + t1) * 0.5));
+    }
+    let small = egui::FontId::proportional(11.0);
+    let mut d = lo;
+    while d <= hi + 1e-9 {
+        let x = left_bottom.x + ((d - lo) / (hi - lo)) as f32 * width;
+        painter.line_segment(
+            [egui::pos2(x, left_bottom.y), egui::pos2(x, left_bottom.y + 3.0)],
+            egui::Stroke::new(1.0, egui::Color32::GRAY),
+        );
+        painter.text(
+            egui::pos2(x, left_bottom.y + 3.0),
+            egui::Align2::CENTER_TOP,
+            format!("1e{d:.0}"),
+            small.clone(),
+            egui::Color32::from_gray(200),
+        );
+        d += 2.0;
+    }
+    painter.text(
+        egui::pos2(left_bottom.x, top - 2.0),
+        egui::Align2::LEFT_BOTTOM,
+        "feed fluctuation |Δf/f| per period (log)",
+        font.clone(),
+        egui::Color32::from_gray(225),
+    );
+}

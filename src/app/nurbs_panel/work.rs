@@ -1,0 +1,453 @@
+//! The NURBS panel's computations, run one step per frame so the page never freezes: the
+//! design path, then the G01, G02/G03 and G06.2 programs (one per frame, each written and
+//! checked by the core), then the real-time interpolation of the G06.2 curve, then the
+//! deviation of a loaded program. Every step is keyed by exactly what it depends on, so a
+//! change of the update order reruns only the real-time step, a tolerance change the
+//! programs and what follows, and a new scene everything. Results stay on screen (marked
+//! stale) until their replacement is ready. No egui here: the steps are plain core calls.
+
+use std::rc::Rc;
+
+use glam::DVec3;
+use web_time::{Duration, Instant};
+
+use crate::crease::{CreaseCurve, CreaseJob};
+use crate::gcode::{
+    CompareOptions, CompareRow, Comparison, Deviation, DeviationOptions, ParsedProgram, ProgramError, ProgramKind,
+    ProgramOptions, ProgrammedPoint, compare_row, crease_design, deviation, parse_program, realtime_stats,
+};
+use crate::geom::Curve3;
+use crate::nurbs_path::measure::{ArcLengthTable, Translated};
+use crate::nurbs_path::{FeedStats, FitError, Parabola, RealtimeRun, Update, interpolate_realtime};
+
+/// Quiet time after the last change of an input before the work starts (a slider being
+/// dragged does not start a computation per frame).
+pub const DEBOUNCE: Duration = Duration::from_millis(250);
+
+/// Where the design path comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Source {
+    /// The current scene's ball-centre crease (`gcode::crease_design`).
+    Crease,
+    /// Seed 004's parabola-like profile (`Parabola::paper_like`).
+    Parabola,
+}
+
+/// Which point of the ball the programs carry.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Point {
+    /// Ball centre.
+    Centre,
+    /// Ball tip (centre − R·ẑ).
+    Tip,
+}
+
+/// The design curve: the crease or the profile.
+#[derive(Clone, Debug)]
+pub enum DesignCurve {
+    /// A scene's crease.
+    Crease(CreaseCurve),
+    /// The comparison profile.
+    Parabola(Parabola),
+}
+
+impl Curve3 for DesignCurve {
+    fn derivatives_at(&self, s: f64) -> [DVec3; 3] {
+        match self {
+            Self::Crease(c) => c.derivatives_at(s),
+            Self::Parabola(p) => p.derivatives_at(s),
+        }
+    }
+    fn range(&self) -> (f64, f64) {
+        match self {
+            Self::Crease(c) => c.range(),
+            Self::Parabola(p) => p.range(),
+        }
+    }
+}
+
+/// A design path with what the programs take from its source.
+#[derive(Debug)]
+pub struct Design {
+    /// The ball-centre curve.
+    pub curve: DesignCurve,
+    /// Title written into the programs (as the command line does).
+    pub title: String,
+    /// Length (mm).
+    pub length_mm: f64,
+}
+
+impl Design {
+    /// Ball-centre points every ~`spacing_mm` (and at least 64), for drawing and framing.
+    #[must_use]
+    pub fn samples(&self, spacing_mm: f64) -> Vec<DVec3> {
+        let (a, b) = self.curve.range();
+        let n = ((self.length_mm / spacing_mm.max(1e-3)).ceil() as usize).clamp(64, 20_000);
+        (0..=n).map(|i| self.curve.point_at(a + (b - a) * i as f64 / n as f64)).collect()
+    }
+}
+
+/// What the design is made from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum DesignInput {
+    /// The crease of this job (its scene's name as the title).
+    Crease(Box<CreaseJob>, String),
+    /// The profile.
+    Parabola,
+}
+
+/// Every input of the programs besides the design.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProgramInput {
+    /// Tolerance E (mm).
+    pub tol_mm: f64,
+    /// Resolution (mm).
+    pub resolution_mm: f64,
+    /// Programmed point.
+    pub point: ProgrammedPoint,
+    /// Feed F (mm/min).
+    pub feed_mm_per_min: f64,
+    /// G06.2 degree.
+    pub degree: usize,
+}
+
+/// Every input of the real-time runs besides the G06.2 curve.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RealtimeInput {
+    /// The update whose samples are kept (plotted and drawn).
+    pub update: Update,
+    /// Period Ts (ms).
+    pub period_ms: f64,
+    /// Chord tolerance of the feed limit (mm).
+    pub chord_tol_mm: Option<f64>,
+}
+
+/// All the inputs of one frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Wanted {
+    /// The design.
+    pub design: DesignInput,
+    /// The programs.
+    pub program: ProgramInput,
+    /// The real-time runs.
+    pub realtime: RealtimeInput,
+}
+
+/// A result with the key it was computed for and a generation number that changes whenever
+/// the value is replaced (so views rebuild only what changed).
+#[derive(Debug)]
+pub struct Slot<K, T> {
+    key: Option<K>,
+    /// The value (an error is a message in the user's terms).
+    pub value: Option<Result<T, String>>,
+    /// Bumped on every replacement.
+    pub generation: u64,
+}
+
+impl<K: PartialEq, T> Default for Slot<K, T> {
+    fn default() -> Self {
+        Self { key: None, value: None, generation: 0 }
+    }
+}
+
+impl<K: PartialEq, T> Slot<K, T> {
+    fn is_for(&self, key: &K) -> bool {
+        self.key.as_ref() == Some(key)
+    }
+    fn set(&mut self, key: K, value: Result<T, String>) {
+        self.key = Some(key);
+        self.value = Some(value);
+        self.generation += 1;
+    }
+    /// The value if it was computed without error.
+    #[must_use]
+    pub fn ok(&self) -> Option<&T> {
+        self.value.as_ref().and_then(|v| v.as_ref().ok())
+    }
+}
+
+/// The real-time runs of the G06.2 curve.
+#[derive(Debug)]
+pub struct Realtime {
+    /// Statistics of every update (the comparison's second table).
+    pub stats: Vec<FeedStats>,
+    /// The chosen update's run with every period's sample.
+    pub run: RealtimeRun,
+    /// The feed per period f = F·Ts of the run (mm).
+    pub feed_per_period_mm: f64,
+    /// The period (ms).
+    pub period_ms: f64,
+}
+
+/// A G-code file the user loaded.
+#[derive(Debug)]
+pub struct Loaded {
+    /// File name.
+    pub name: String,
+    /// Its text.
+    pub text: String,
+    /// The parsed program, or the reader's error (with its line).
+    pub parsed: Result<ParsedProgram, String>,
+    /// Programmed point named by the program's header, if it has one of ours.
+    pub point: Option<ProgrammedPoint>,
+    /// Bumped for every file loaded.
+    pub generation: u64,
+}
+
+type DesignSlot = Slot<DesignInput, Rc<Design>>;
+type RowKey = (u64, ProgramInput);
+type RealtimeKey = (u64, u64, ProgramInput, RealtimeInput);
+type LoadedKey = (u64, u64, ProgramInput);
+
+/// The panel's results and the steps that fill them.
+#[derive(Debug, Default)]
+pub struct Work {
+    /// The design path.
+    pub design: DesignSlot,
+    /// One row per program kind, in [`ProgramKind::ALL`] order.
+    pub rows: [Slot<RowKey, CompareRow>; 3],
+    /// The real-time runs of the G06.2 program.
+    pub realtime: Slot<RealtimeKey, Realtime>,
+    /// A loaded program.
+    pub loaded: Option<Loaded>,
+    /// Its deviation from the design.
+    pub loaded_deviation: Slot<LoadedKey, Deviation>,
+    last_wanted: Option<Wanted>,
+    changed_at: Option<Instant>,
+    loaded_generation: u64,
+}
+
+/// What the panel still has to do.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pending {
+    /// Everything is up to date.
+    Nothing,
+    /// Inputs changed less than [`DEBOUNCE`] ago.
+    Waiting(Duration),
+    /// A step is due.
+    Working,
+}
+
+impl Work {
+    /// The compare options the programs were (or will be) written with.
+    #[must_use]
+    pub fn compare_options(title: &str, p: &ProgramInput, r: &RealtimeInput) -> CompareOptions {
+        CompareOptions {
+            program: ProgramOptions::default()
+                .with_resolution(p.resolution_mm)
+                .with_feed(p.feed_mm_per_min)
+                .with_point(p.point)
+                .with_title(title)
+                .with_degree(p.degree),
+            period_ms: r.period_ms,
+            chord_tol_mm: r.chord_tol_mm,
+        }
+    }
+
+    /// Loads a program's text (parsed at once: reading is fast).
+    pub fn load(&mut self, name: &str, text: String) {
+        let parsed = parse_program(&text).map_err(|e| e.to_string());
+        let point = parsed.as_ref().ok().and_then(|p| ProgrammedPoint::from_comments(&p.comments));
+        self.loaded_generation += 1;
+        self.loaded = Some(Loaded { name: name.to_owned(), text, parsed, point, generation: self.loaded_generation });
+    }
+
+    /// Forgets the loaded program.
+    pub fn unload(&mut self) {
+        self.loaded = None;
+        self.loaded_deviation = Slot::default();
+    }
+
+    /// Whether the design slot holds the design for `w`.
+    #[must_use]
+    pub fn design_fresh(&self, w: &Wanted) -> bool {
+        self.design.is_for(&w.design)
+    }
+
+    fn row_key(&self, w: &Wanted) -> RowKey {
+        (self.design.generation, w.program.clone())
+    }
+
+    /// Whether row `i` is for the current inputs.
+    #[must_use]
+    pub fn row_fresh(&self, i: usize, w: &Wanted) -> bool {
+        self.design_fresh(w) && self.rows[i].is_for(&self.row_key(w))
+    }
+
+    fn realtime_key(&self, w: &Wanted) -> RealtimeKey {
+        (self.design.generation, self.rows[2].generation, w.program.clone(), w.realtime)
+    }
+
+    /// Whether the real-time runs are for the current inputs.
+    #[must_use]
+    pub fn realtime_fresh(&self, w: &Wanted) -> bool {
+        self.row_fresh(2, w) && self.realtime.is_for(&self.realtime_key(w))
+    }
+
+    fn loaded_key(&self, w: &Wanted) -> Option<LoadedKey> {
+        self.loaded.as_ref().map(|l| (self.design.generation, l.generation, w.program.clone()))
+    }
+
+    /// Whether the loaded program's deviation is for the current inputs and file.
+    #[must_use]
+    pub fn loaded_fresh(&self, w: &Wanted) -> bool {
+        self.design_fresh(w) && self.loaded_key(w).is_some_and(|k| self.loaded_deviation.is_for(&k))
+    }
+
+    /// What is left to do for `w`.
+    #[must_use]
+    pub fn pending(&self, w: &Wanted) -> Pending {
+        let loaded_due = self.loaded.as_ref().is_some_and(|l| l.parsed.is_ok()) && !self.loaded_fresh(w);
+        let design_ok = self.design_fresh(w) && self.design.ok().is_some();
+        let done = self.design_fresh(w)
+            && (!design_ok || ((0..3).all(|i| self.row_fresh(i, w)) && self.realtime_done(w) && !loaded_due));
+        if done {
+            return Pending::Nothing;
+        }
+        match self.changed_at {
+            Some(t) if t.elapsed() < DEBOUNCE => Pending::Waiting(DEBOUNCE - t.elapsed()),
+            _ => Pending::Working,
+        }
+    }
+
+    /// The real-time step is done, or cannot run (no G06.2 program).
+    fn realtime_done(&self, w: &Wanted) -> bool {
+        self.realtime_fresh(w) || (self.row_fresh(2, w) && self.rows[2].ok().is_none())
+    }
+
+    /// Notes the inputs of this frame (restarting the quiet time when they changed).
+    pub fn want(&mut self, w: &Wanted) {
+        if self.last_wanted.as_ref() != Some(w) {
+            // The first inputs start at once; later changes wait for the quiet time.
+            if self.last_wanted.is_some() {
+                self.changed_at = Some(Instant::now());
+            }
+            self.last_wanted = Some(w.clone());
+        }
+    }
+
+    /// Runs the next due step for `w`, if the quiet time is over. Returns whether a step ran.
+    pub fn step(&mut self, w: &Wanted) -> bool {
+        if self.pending(w) != Pending::Working {
+            return false;
+        }
+        self.step_now(w)
+    }
+
+    /// Runs the next due step for `w` regardless of the quiet time (tests, first frame).
+    pub fn step_now(&mut self, w: &Wanted) -> bool {
+        if !self.design_fresh(w) {
+            let value = make_design(&w.design).map(Rc::new);
+            self.design.set(w.design.clone(), value);
+            return true;
+        }
+        let Some(design) = self.design.ok().cloned() else {
+            return false;
+        };
+        let opts = Self::compare_options(&design.title, &w.program, &w.realtime);
+        for (i, kind) in ProgramKind::ALL.into_iter().enumerate() {
+            if !self.row_fresh(i, w) {
+                let key = self.row_key(w);
+                let value = compare_row(kind, &design.curve, w.program.tol_mm, &opts)
+                    .map_err(|e| describe_program_error(&e, kind));
+                self.rows[i].set(key, value);
+                return true;
+            }
+        }
+        if !self.realtime_done(w) {
+            let key = self.realtime_key(w);
+            let value = match self.rows[2].ok() {
+                Some(row) => run_realtime(row, &opts, w.realtime.update),
+                None => Err("no G06.2 program".to_owned()),
+            };
+            self.realtime.set(key, value);
+            return true;
+        }
+        if let (Some(key), Some(loaded)) = (self.loaded_key(w), &self.loaded)
+            && !self.loaded_deviation.is_for(&key)
+        {
+            let value = match &loaded.parsed {
+                Ok(p) => {
+                    // The program's own header decides the point; otherwise the panel's.
+                    let point = loaded.point.unwrap_or(w.program.point);
+                    let moved = Translated { inner: &design.curve, offset: point.offset() };
+                    deviation(&p.toolpath, &moved, &DeviationOptions::default()).map_err(|e| e.to_string())
+                }
+                Err(e) => Err(e.clone()),
+            };
+            self.loaded_deviation.set(key, value);
+            return true;
+        }
+        false
+    }
+
+    /// The comparison, when every row is fresh and written.
+    #[must_use]
+    pub fn comparison(&self, w: &Wanted) -> Option<Comparison> {
+        if !(0..3).all(|i| self.row_fresh(i, w)) {
+            return None;
+        }
+        let rows: Vec<CompareRow> = self.rows.iter().map(|r| r.ok().cloned()).collect::<Option<_>>()?;
+        let realtime = if self.realtime_fresh(w) { self.realtime.ok()?.stats.clone() } else { Vec::new() };
+        Some(Comparison { tol_mm: w.program.tol_mm, feed_mm_per_min: w.program.feed_mm_per_min, rows, realtime })
+    }
+}
+
+fn make_design(input: &DesignInput) -> Result<Design, String> {
+    match input {
+        DesignInput::Parabola => {
+            let p = Parabola::paper_like();
+            Ok(Design {
+                length_mm: ArcLengthTable::new(&p, 256).length(),
+                curve: DesignCurve::Parabola(p),
+                title: "parabola y = x^2/40, x from -60 to 60 mm".to_owned(),
+            })
+        }
+        DesignInput::Crease(job, name) => {
+            let c = crease_design(job).map_err(|e| {
+                format!("The scene's crease gives no design path: {e}. Change the scene, or use the parabola profile.")
+            })?;
+            Ok(Design {
+                length_mm: c.path().length(),
+                curve: DesignCurve::Crease(c),
+                title: if name.is_empty() { "scene".to_owned() } else { name.clone() },
+            })
+        }
+    }
+}
+
+fn run_realtime(row: &CompareRow, opts: &CompareOptions, update: Update) -> Result<Realtime, String> {
+    let curve = row.program.read_back_curves().next().ok_or("the G06.2 program holds no curve")?;
+    let stats = realtime_stats(&row.program, opts);
+    let ro = opts.realtime(update).with_samples(true);
+    let run = interpolate_realtime(curve, &ro).map_err(|e| e.to_string())?;
+    Ok(Realtime { stats, run, feed_per_period_mm: ro.feed_per_period_mm(), period_ms: opts.period_ms })
+}
+
+/// A program error in the app's terms (the core's messages name the command line's flags).
+#[must_use]
+pub fn describe_program_error(e: &ProgramError, kind: ProgramKind) -> String {
+    let um = |mm: f64| format!("{} µm", crate::report::fmt_fixed(mm * 1000.0, 3));
+    match e {
+        ProgramError::BelowResolution { tol_mm, resolution_mm } => format!(
+            "The tolerance {} is below twice the resolution {}: rounding alone moves points by up to {}. \
+             Raise the tolerance to at least {} or pick a finer resolution.",
+            um(*tol_mm),
+            um(*resolution_mm),
+            um(resolution_mm * 3f64.sqrt() / 2.0),
+            um(2.0 * resolution_mm)
+        ),
+        ProgramError::NotMet { achieved_mm, tol_mm, .. } => format!(
+            "The {} program deviates {} after rounding, more than the tolerance {}. Raise the tolerance or pick a finer resolution.",
+            kind.label(),
+            um(*achieved_mm),
+            um(*tol_mm)
+        ),
+        ProgramError::Fit(FitError::NotConverged { tol_mm, achieved_mm, control_points }) => format!(
+            "The G06.2 fit could not get within {} (best {} with {control_points} control points). Raise the tolerance.",
+            um(*tol_mm),
+            um(*achieved_mm)
+        ),
+        other => format!("{}: {other}", kind.label()),
+    }
+}
