@@ -191,6 +191,7 @@ fn malformed_programs_are_refused_naming_the_line_and_the_fix() {
         let e = parse_program(text).expect_err(text);
         let msg = e.to_string();
         assert!(msg.starts_with(&format!("line {line}:")), "{text:?}: {msg}");
+        assert_eq!(e.line(), *line, "{text:?}: {msg}");
         assert!(msg.contains(needle), "{text:?}: {msg} (expected '{needle}')");
     }
     assert!(matches!(

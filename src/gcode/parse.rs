@@ -246,6 +246,39 @@ pub enum ParseError {
     },
 }
 
+impl ParseError {
+    /// The 1-based line the error is about (the one its message starts with), so a viewer
+    /// can point at it.
+    #[must_use]
+    pub fn line(&self) -> usize {
+        match self {
+            Self::UnclosedComment { line, .. }
+            | Self::BadNumber { line, .. }
+            | Self::MissingValue { line, .. }
+            | Self::UnexpectedChar { line, .. }
+            | Self::RepeatedWord { line, .. }
+            | Self::ConflictingMotion { line, .. }
+            | Self::NoMotionMode { line, .. }
+            | Self::MissingFeed { line, .. }
+            | Self::BadFeed { line, .. }
+            | Self::ArcNoCentre { line, .. }
+            | Self::ArcRadius { line, .. }
+            | Self::ArcRadiusTooSmall { line, .. }
+            | Self::ArcDegenerate { line, .. }
+            | Self::NurbsOrder { line, .. }
+            | Self::NurbsMissingKnot { line, .. }
+            | Self::NurbsKnotDecreasing { line, .. }
+            | Self::NurbsNotClamped { line, .. }
+            | Self::NurbsStartMismatch { line, .. }
+            | Self::NurbsIncomplete { line, .. }
+            | Self::NurbsAfterEnd { line, .. }
+            | Self::NurbsIncremental { line, .. }
+            | Self::NurbsWeight { line, .. }
+            | Self::Nurbs { line, .. } => *line,
+        }
+    }
+}
+
 /// A word that changes the path but is not modelled; its effect is left out.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Unsupported {
