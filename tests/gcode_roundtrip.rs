@@ -532,3 +532,26 @@ fn comparison_run_step_by_step_equals_the_one_call() {
         assert!(s.max_chord_error_mm <= 1.01 * delta, "{}: {}", s.update.as_str(), s.max_chord_error_mm);
     }
 }
+
+/// The reported line of the largest deviation is a cutting block of the final text (the
+/// header comment that reports the deviation must not shift it).
+#[test]
+fn the_worst_deviation_line_is_a_cutting_block_of_the_text() {
+    let para = Parabola::paper_like();
+    for numbered in [false, true] {
+        let opts = ProgramOptions::default().with_line_numbers(numbered);
+        for kind in ProgramKind::ALL {
+            let p = write_program(kind, &para, 0.01, &opts).expect("program");
+            let line = p.deviation.program_line;
+            let text = p.text.lines().nth(line - 1).expect("the line exists");
+            let cut = p.parsed.toolpath.cuts().any(|b| b.line == line);
+            assert!(cut, "{} (numbered {numbered}): line {line} is '{text}'", kind.label());
+            let code = match kind {
+                ProgramKind::Lines => "G01",
+                ProgramKind::Arcs => "G0",
+                ProgramKind::Nurbs => "G06.2",
+            };
+            assert!(text.contains(code), "{}: line {line} is '{text}'", kind.label());
+        }
+    }
+}

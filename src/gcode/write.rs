@@ -444,6 +444,10 @@ pub fn write_program(
         if dev.max_mm() <= tol_mm {
             let text = assemble(kind, &body, tol_mm, fit_tol, Some(&dev), d, opts);
             let parsed = parse_program(&text).map_err(ProgramError::ReadBack)?;
+            // The header comment with the deviation comes before every block: the worst
+            // move's line moves down by the lines it takes.
+            let mut dev = dev;
+            dev.program_line += text.lines().count() - text_without.lines().count();
             return Ok(Program {
                 kind,
                 text,
