@@ -86,7 +86,13 @@ mod imp {
                         return;
                     };
                     let name = file.name();
-                    let kind = picking2.get();
+                    // A G-code file goes to the G-code view whichever button opened the
+                    // picker (and so does one given to the input by a test driver); anything
+                    // else is what the button asked for.
+                    let kind = match FileKind::from_name(&name) {
+                        FileKind::GCode => FileKind::GCode,
+                        FileKind::Scene => picking2.get(),
+                    };
                     let inbox3 = inbox2.clone();
                     let ctx3 = ctx2.clone();
                     let input3 = input2.clone();
