@@ -68,8 +68,11 @@ pub struct LineSegment {
     pub width_px: f32,
     /// Local end (mm).
     pub b: [f32; 3],
-    /// Unused; keeps `color` 16-byte aligned.
-    pub _pad: f32,
+    /// Pulls the segment toward the eye by this much normalised depth (0 to 1 over the
+    /// depth range; 0 by default), so of lines that coincide in space (a program drawn over
+    /// its design path) the one with the larger bias is drawn on top. Keeps `color` 16-byte
+    /// aligned.
+    pub depth_bias: f32,
     /// RGBA.
     pub color: [f32; 4],
 }
@@ -78,7 +81,14 @@ impl LineSegment {
     /// A segment between two local points.
     #[must_use]
     pub fn new(a: [f32; 3], b: [f32; 3], width_px: f32, color: [f32; 4]) -> Self {
-        Self { a, width_px, b, _pad: 0.0, color }
+        Self { a, width_px, b, depth_bias: 0.0, color }
+    }
+
+    /// The same segment with a depth bias (see [`LineSegment::depth_bias`]).
+    #[must_use]
+    pub fn with_depth_bias(mut self, bias: f32) -> Self {
+        self.depth_bias = bias;
+        self
     }
 }
 

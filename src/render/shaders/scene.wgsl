@@ -118,7 +118,8 @@ fn vs_line(
     let width = a_width.w;
     let offset_px = nrm * corner.y * width * 0.5 + dir * (corner.x * 2.0 - 1.0) * width * 0.5;
     var out: LineOut;
-    out.clip = vec4<f32>(c.xy + offset_px / half_px * c.w, c.z, c.w);
+    // b_pad.w: depth bias toward the eye (normalised depth), 0 for most lines.
+    out.clip = vec4<f32>(c.xy + offset_px / half_px * c.w, c.z - b_pad.w * c.w, c.w);
     out.color = color;
     return out;
 }
