@@ -196,6 +196,73 @@ try {
   check("the last scene is kept across reloads", s7.scene === dome.name, s7.scene);
 
   await page3.close();
+
+  // 9. NURBS & G-code panel (seed 004): the tab draws, its comparison is computed, a program
+  // downloaded from it and loaded back is drawn and measured, a malformed one is refused
+  // with its line.
+  {
+    const TAB = "NURBS & G-code (seed 004)";
+    const pageN = await context.newPage();
+    await pageN.goto(url + "#scene=" + base64url(fs.readFileSync(path.join(examples, "torus-plane.json"), "utf8")));
+    let sn = await waitFor(pageN, "the torus crease", settled);
+    const tab = sn.ui[TAB];
+    await pageN.mouse.click(tab[0] + tab[2] / 2, tab[1] + tab[3] / 2);
+    const panelDone = (s) => s.panel && s.panel.title === TAB && s.panel.status && s.panel.status.done;
+    const tn = Date.now();
+    sn = await waitFor(pageN, "the NURBS panel's comparison", panelDone);
+    const st = sn.panel.status;
+    const shotN = await pageN.screenshot({ path: path.join(artifacts, "nurbs-1-panel.png") });
+    const v = st.ui.view;
+    const varietyN = colourVariety(shotN, [v[0], v[1], v[2], v[3]]);
+    check("NURBS panel draws its 3D view (not blank)", varietyN > 40, `${varietyN} distinct colours in the view`);
+    const blocks = st.rows.map((r) => `${r.kind} ${r.path_blocks}`).join(", ");
+    check("NURBS panel compares the G01, G02/G03 and G06.2 programs", st.status_ok && st.rows.length === 3
+      && st.rows.every((r) => r.fresh && r.path_blocks > 0 && r.deviation_mm <= st.tol_mm) && st.realtime.length === 3,
+      `${blocks} path blocks at ${st.tol_mm} mm, in ${Date.now() - tn} ms`);
+    // Download the G01 program, then open the downloaded file: it is drawn over the design
+    // and its deviation is the one the table reports.
+    await pageN.mouse.click(st.ui.G01[0] + st.ui.G01[2] / 2, st.ui.G01[1] + st.ui.G01[3] / 2);
+    await pageN.waitForTimeout(200);
+    const dl = (await status(pageN)).panel.status.ui.download;
+    const [download] = await Promise.all([
+      pageN.waitForEvent("download"),
+      pageN.mouse.click(dl[0] + dl[2] / 2, dl[1] + dl[3] / 2),
+    ]);
+    const file = path.join(artifacts, download.suggestedFilename());
+    await download.saveAs(file);
+    // Pixels of the loaded program's colour (yellow, 250 230 60) in the view.
+    const yellow = (png) => {
+      const img = PNG.sync.read(png);
+      let n = 0;
+      for (let y = Math.round(v[1]); y < v[1] + v[3]; y++) {
+        for (let x = Math.round(v[0]); x < v[0] + v[2]; x++) {
+          const i = (img.width * y + x) << 2;
+          if (Math.abs(img.data[i] - 250) < 30 && Math.abs(img.data[i + 1] - 230) < 30 && img.data[i + 2] < 120) n++;
+        }
+      }
+      return n;
+    };
+    const before = yellow(await pageN.screenshot());
+    await pageN.setInputFiles("#scene-file", { name: download.suggestedFilename(), mimeType: "text/plain", buffer: fs.readFileSync(file) });
+    sn = await waitFor(pageN, "the loaded program's deviation", (s) => panelDone(s) && s.panel.status.loaded?.deviation_mm != null);
+    const loaded = sn.panel.status.loaded;
+    const shotL = await pageN.screenshot({ path: path.join(artifacts, "nurbs-2-loaded-program.png") });
+    const after = yellow(shotL);
+    check("a downloaded program loads back with the table's deviation",
+      download.suggestedFilename().endsWith(".nc") && loaded.error === null
+        && Math.abs(loaded.deviation_mm - st.rows[0].deviation_mm) < 1e-9,
+      `${loaded.name}: ${(loaded.deviation_mm * 1000).toFixed(3)} µm (table ${(st.rows[0].deviation_mm * 1000).toFixed(3)} µm), worst at line ${loaded.deviation_line}`);
+    check("… and is drawn over the design", sn.panel.status.worst_px !== null && after > before + 200,
+      `${after} yellow pixels (${before} before), worst-deviation marker at ${sn.panel.status.worst_px.map(Math.round)}`);
+    // A malformed program: an error naming the line, the page keeps working.
+    const bad = "%\nG21 G90\nG00 X0 Y0 Z5\nG01 X10 Y#1 F500\nM30\n%\n";
+    await pageN.setInputFiles("#scene-file", { name: "bad.ngc", mimeType: "text/plain", buffer: Buffer.from(bad) });
+    sn = await waitFor(pageN, "the malformed program's error", (s) => s.error.includes("bad.ngc"));
+    await pageN.screenshot({ path: path.join(artifacts, "nurbs-3-bad-program.png") });
+    check("a malformed G-code file shows the line and the fix", sn.error.includes("line 4") && sn.error.includes("plain numbers")
+      && sn.panel.status.loaded.error.includes("line 4"), sn.error);
+    await pageN.close();
+  }
 } catch (e) {
   failed = true;
   console.log(`FAIL  ${e.message}`);

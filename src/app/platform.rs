@@ -135,7 +135,7 @@ mod imp {
             let doc = document().ok_or("no document")?;
             let parts = js_sys::Array::of1(&JsValue::from_str(text));
             let opts = web_sys::BlobPropertyBag::new();
-            opts.set_type("application/json");
+            opts.set_type(if name.ends_with(".json") { "application/json" } else { "text/plain" });
             let blob = web_sys::Blob::new_with_str_sequence_and_options(&parts, &opts).map_err(err)?;
             let url = web_sys::Url::create_object_url_with_blob(&blob).map_err(err)?;
             let a: web_sys::HtmlAnchorElement =

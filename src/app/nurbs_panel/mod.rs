@@ -74,7 +74,7 @@ impl Default for Settings {
             point: Point::Centre,
             update: Update::FirstOrder,
             feed_mm_per_min: None,
-            chord_tol_mm: 0.0001,
+            chord_tol_mm: 0.00002,
             chord_limit: false,
             degree: 3,
         }
@@ -169,7 +169,7 @@ impl NurbsPanel {
                 Ok(text) => {
                     self.work.load(&f.name, text);
                     self.shown = Shown::Loaded;
-                    self.scroll_to = Some(1);
+                    self.scroll_to = Some(self.work.loaded.as_ref().and_then(|l| l.error_line).unwrap_or(1));
                     if let Some(l) = &self.work.loaded {
                         match &l.parsed {
                             Err(e) => {
@@ -212,14 +212,15 @@ impl NurbsPanel {
         self.rects.clear();
         let s = &mut self.settings;
         ui.horizontal_wrapped(|ui| {
-            ui.label("Design:");
+            ui.label("Design path:");
             ui.selectable_value(&mut s.source, Source::Crease, "scene's crease")
                 .on_hover_text("The current scene's ball-centre crease, as `interpolab gcode SCENE` uses it");
-            ui.selectable_value(&mut s.source, Source::Parabola, "parabola profile").on_hover_text(
+            let r = ui.selectable_value(&mut s.source, Source::Parabola, "parabola profile").on_hover_text(
                 "Seed 004's parabola-like profile: y = x²/40 for x from −60 to 60 mm, z = 0 (1500 mm/min, 4 ms)",
             );
+            self.rects.push(("source_parabola", r.rect));
             ui.separator();
-            ui.spacing_mut().slider_width = 150.0;
+            ui.spacing_mut().slider_width = 140.0;
             let r = ui
                 .add(
                     egui::Slider::new(&mut s.tol_mm, 0.001..=0.5)
@@ -239,16 +240,25 @@ impl NurbsPanel {
                 })
                 .response
                 .on_hover_text("The machine's least input increment: every written number is rounded to it");
-            ui.separator();
-            ui.label("programmed point:");
-            ui.selectable_value(&mut s.point, Point::Centre, "ball centre");
-            ui.selectable_value(&mut s.point, Point::Tip, "ball tip")
-                .on_hover_text(format!("Ball centre − R·z, R = {} mm (the scene's tool)", cx.scene.tool.radius));
+            egui::ComboBox::from_id_salt("nurbs-degree")
+                .selected_text(format!("G06.2 degree {} (P{})", s.degree, s.degree + 1))
+                .show_ui(ui, |ui| {
+                    for d in [3, 2, 1] {
+                        ui.selectable_value(&mut s.degree, d, format!("degree {d} (order P{})", d + 1));
+                    }
+                });
         });
         ui.horizontal_wrapped(|ui| {
+            ui.label("programmed point:");
+            ui.selectable_value(&mut s.point, Point::Centre, "ball centre");
+            let r = ui
+                .selectable_value(&mut s.point, Point::Tip, "ball tip")
+                .on_hover_text(format!("Ball centre − R·z, R = {} mm (the scene's tool)", cx.scene.tool.radius));
+            self.rects.push(("point_tip", r.rect));
+            ui.separator();
             let default_feed = if s.source == Source::Parabola { 1500.0 } else { cx.scene.motion.feed };
             let mut feed = s.feed_mm_per_min.unwrap_or(default_feed);
-            ui.spacing_mut().slider_width = 150.0;
+            ui.spacing_mut().slider_width = 140.0;
             if ui
                 .add(
                     egui::Slider::new(&mut feed, 60.0..=30_000.0)
@@ -267,15 +277,31 @@ impl NurbsPanel {
             {
                 s.feed_mm_per_min = None;
             }
+        });
+    }
+
+    /// The real-time settings, over the plots.
+    fn realtime_controls(&mut self, ui: &mut egui::Ui) {
+        let s = &mut self.settings;
+        ui.horizontal_wrapped(|ui| {
+            ui.label(egui::RichText::new("Real-time interpolation").strong()).on_hover_text(
+                "The G06.2 curve as read back from its program, advanced one period Ts at a time at feed F",
+            );
             ui.separator();
-            ui.label("real-time update:");
-            for u in Update::ALL {
-                ui.selectable_value(&mut s.update, u, u.as_str());
+            ui.label("update:");
+            for (u, tip) in [
+                (Update::FirstOrder, "Δu = f/|C′|"),
+                (Update::SecondOrder, "Δu = f/|C′| − f²(C′·C″)/(2|C′|⁴)"),
+                (Update::Corrected, "second order, then one Newton step on |C(u) − C(uₖ)| = f"),
+            ] {
+                let r = ui.selectable_value(&mut s.update, u, u.as_str()).on_hover_text(tip);
+                self.rects.push((u.as_str(), r.rect));
             }
             ui.separator();
-            ui.checkbox(&mut s.chord_limit, "feed limit by chord error δ").on_hover_text(
+            let r = ui.checkbox(&mut s.chord_limit, "feed limit δ").on_hover_text(
                 "Lower the feed where the curvature would make a period's chord error exceed δ: f = 2√(2ρδ − δ²)",
             );
+            self.rects.push(("chord_limit", r.rect));
             if s.chord_limit {
                 ui.spacing_mut().slider_width = 110.0;
                 let mut d_um = s.chord_tol_mm * 1000.0;
@@ -292,13 +318,9 @@ impl NurbsPanel {
                 }
             }
             ui.separator();
-            egui::ComboBox::from_id_salt("nurbs-degree")
-                .selected_text(format!("G06.2 degree {} (P{})", s.degree, s.degree + 1))
-                .show_ui(ui, |ui| {
-                    for d in [3, 2, 1] {
-                        ui.selectable_value(&mut s.degree, d, format!("degree {d} (order P{})", d + 1));
-                    }
-                });
+            ui.label("plot:");
+            ui.selectable_value(&mut self.feed_plot, FeedPlot::Feed, "feed (mm/min)");
+            ui.selectable_value(&mut self.feed_plot, FeedPlot::Fluctuation, "|Δf/f| (log)");
         });
     }
 
@@ -341,6 +363,17 @@ impl NurbsPanel {
 
     fn side(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
         let w = self.wanted.clone();
+        // Why nothing below is current: the crease still computing, or no design path.
+        let problem = match (&self.waiting, &self.work.design.value) {
+            (Some(why), _) => Some(why.clone()),
+            (None, Some(Err(e))) if w.as_ref().is_some_and(|w| self.work.design_fresh(w)) => Some((false, e.clone())),
+            _ => None,
+        };
+        if let Some((progress, text)) = problem {
+            let color = if progress { egui::Color32::from_gray(200) } else { egui::Color32::from_rgb(255, 120, 110) };
+            ui.label(egui::RichText::new(text).color(color));
+            ui.add_space(4.0);
+        }
         ui.horizontal(|ui| {
             let (tol, feed) =
                 w.as_ref().map_or((self.settings.tol_mm, 0.0), |w| (w.program.tol_mm, w.program.feed_mm_per_min));
@@ -377,20 +410,31 @@ impl NurbsPanel {
         ui.horizontal_wrapped(|ui| {
             ui.label(egui::RichText::new("G-code:").strong());
             for kind in ProgramKind::ALL {
-                if ui.selectable_label(self.shown == Shown::Kind(kind), kind.label()).clicked() {
+                let r = ui.selectable_label(self.shown == Shown::Kind(kind), kind.label());
+                self.rects.push((kind.label(), r.rect));
+                if r.clicked() {
                     self.shown = Shown::Kind(kind);
                     self.scroll_to = Some(1);
                 }
             }
             if let Some(l) = &self.work.loaded {
-                let name = if l.name.len() > 28 { format!("…{}", &l.name[l.name.len() - 26..]) } else { l.name.clone() };
+                let chars: Vec<char> = l.name.chars().collect();
+                let name = if chars.len() > 28 {
+                    format!("…{}", chars[chars.len() - 26..].iter().collect::<String>())
+                } else {
+                    l.name.clone()
+                };
                 if ui.selectable_label(self.shown == Shown::Loaded, name).on_hover_text(&l.name).clicked() {
                     self.shown = Shown::Loaded;
                     self.scroll_to = Some(1);
                 }
             }
             ui.separator();
-            if ui.button("Open a G-code file…").on_hover_text("Read a program (.nc, .ngc, .gcode, .tap, .txt) and draw it over the design; or drop it on the page").clicked() {
+            let r = ui.button("Open a G-code file…").on_hover_text(
+                "Read a program (.nc, .ngc, .gcode, .tap, .txt) and draw it over the design; or drop it on the page",
+            );
+            self.rects.push(("open_gcode", r.rect));
+            if r.clicked() {
                 cx.pick_file(FileKind::GCode);
             }
         });
@@ -408,9 +452,11 @@ impl NurbsPanel {
                 }
             }
             Shown::Loaded => match &self.work.loaded {
-                Some(l) => {
-                    (Some(l.text.as_str()), l.name.clone(), self.work.loaded_deviation.ok().map(|d| d.program_line))
-                }
+                Some(l) => (
+                    Some(l.text.as_str()),
+                    l.name.clone(),
+                    l.error_line.or_else(|| self.work.loaded_deviation.ok().map(|d| d.program_line)),
+                ),
                 None => (None, String::new(), None),
             },
         };
@@ -427,7 +473,9 @@ impl NurbsPanel {
                 ui.ctx().copy_text(t.to_owned());
                 cx.info(format!("{name} copied to the clipboard ({} bytes).", t.len()));
             }
-            if ui.add_enabled(enabled, egui::Button::new("Download")).on_hover_text(format!("Save as {name}")).clicked()
+            let r = ui.add_enabled(enabled, egui::Button::new("Download")).on_hover_text(format!("Save as {name}"));
+            self.rects.push(("download", r.rect));
+            if r.clicked()
                 && let Some(t) = text
             {
                 cx.save_text(&name, t);
@@ -435,7 +483,7 @@ impl NurbsPanel {
             if let Some(m) = mark
                 && ui
                     .small_button(format!("go to line {m}"))
-                    .on_hover_text("The line of the largest deviation")
+                    .on_hover_text("The line of the largest deviation, or of the reader's error")
                     .clicked()
             {
                 go_to = Some(m);
@@ -476,7 +524,7 @@ impl NurbsPanel {
                 let i = ProgramKind::ALL.iter().position(|k| *k == kind).unwrap_or(0);
                 if let Some(r) = self.work.rows[i].ok() {
                     ui.label(format!(
-                        "{}: {} path blocks, {} lines, {} bytes; deviation after rounding {} (largest at line {}).",
+                        "{}: {} path blocks, {} lines, {} bytes; deviation after rounding {} (program → design largest at line {}).",
                         kind.label(),
                         r.path_blocks,
                         r.program.parsed.lines,
@@ -610,6 +658,7 @@ impl NurbsPanel {
             "rows": rows,
             "realtime": realtime,
             "loaded": loaded,
+            "worst_px": self.view.worst_on_screen.map(|p| [p.x, p.y]),
             "ui": self.rects.iter().map(|(k, r)| ((*k).to_owned(), serde_json::json!([r.min.x, r.min.y, r.width(), r.height()]))).collect::<serde_json::Map<_, _>>(),
         })
     }
@@ -658,17 +707,29 @@ impl Panel for NurbsPanel {
         }
         self.announce(cx);
 
-        let rt = self.work.realtime.ok();
         let feed = self.wanted.as_ref().map_or(0.0, |w| w.program.feed_mm_per_min);
         let chord = self.wanted.as_ref().and_then(|w| w.realtime.chord_tol_mm);
         let tol = self.settings.tol_mm;
-        egui::Panel::bottom("nurbs-plots").resizable(true).default_size(210.0).min_size(120.0).show(ui, |ui| {
-            plots::plots(ui, &mut self.feed_plot, rt, feed, tol, chord);
+        egui::Panel::bottom("nurbs-plots").resizable(true).default_size(230.0).min_size(140.0).show(ui, |ui| {
+            self.realtime_controls(ui);
+            plots::plots(ui, self.feed_plot, self.work.realtime.ok(), feed, tol, chord);
         });
-        egui::Panel::right("nurbs-side").resizable(true).default_size(560.0).min_size(320.0).show(ui, |ui| {
-            self.side(ui, cx);
-        });
-        ui.horizontal(|ui| {
+        let max_side = (ui.available_width() - 300.0).max(320.0);
+        let side = egui::Panel::right("nurbs-side")
+            .resizable(true)
+            .default_size(560.0)
+            .min_size(320.0)
+            .max_size(max_side)
+            .show(ui, |ui| {
+                ui.set_max_width(ui.available_width());
+                self.side(ui, cx);
+            });
+        // The rest, left of the side panel: layer switches and the 3D view.
+        let mut central = ui.available_rect_before_wrap();
+        central.max.x = central.max.x.min(side.response.rect.min.x - 4.0);
+        let mut cui =
+            ui.new_child(egui::UiBuilder::new().max_rect(central).layout(egui::Layout::top_down(egui::Align::Min)));
+        cui.horizontal_wrapped(|ui| {
             let s = &mut self.view.show;
             ui.label("show:");
             ui.checkbox(&mut s.design, "design");
@@ -678,10 +739,12 @@ impl Panel for NurbsPanel {
             ui.checkbox(&mut s.points, "interpolated points");
             ui.checkbox(&mut s.program, "selected / loaded program");
         });
-        let rect = ui.available_rect_before_wrap();
+        let rect = cui.available_rect_before_wrap();
         let rect = egui::Rect::from_min_size(rect.min, rect.size().max(egui::vec2(64.0, 64.0)));
         let offset = self.wanted.as_ref().map_or(DVec3::ZERO, |w| w.program.point.offset());
         let status = self.status_line();
-        self.view.ui(ui, rect, cx.render_state, &self.work, self.overlay(), offset, Some(status));
+        self.rects.push(("view", rect));
+        let drawn = view::Drawn { work: &self.work, overlay: self.overlay(), offset, status };
+        self.view.ui(&mut cui, rect, cx.render_state, drawn);
     }
 }

@@ -2,7 +2,7 @@
 //! per period, and the chord error per period (µm, log) against the tolerance.
 
 use eframe::egui;
-use egui_plot::{Corner, HLine, Legend, Line, Plot, PlotPoints};
+use egui_plot::{Corner, HLine, Legend, Line, Plot, PlotPoints, uniform_grid_spacer};
 
 use super::view::{LOADED_COLOR, turbo};
 use super::work::Realtime;
@@ -46,6 +46,16 @@ fn envelope(points: &[[f64; 2]], buckets: usize) -> Vec<[f64; 2]> {
     out
 }
 
+/// Grid steps for a linear axis: labelled lines at a 1-2-5 step giving about 5 labels, thin
+/// lines at a fifth of it.
+fn nice_grid(input: egui_plot::GridInput) -> [f64; 3] {
+    let span = (input.bounds.1 - input.bounds.0).abs().max(f64::MIN_POSITIVE);
+    let raw = span / 5.0;
+    let pow = 10f64.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 5.0, 10.0].iter().map(|m| m * pow).find(|s| *s >= raw).unwrap_or(10.0 * pow);
+    [step / 5.0, step, step * 10.0]
+}
+
 fn log_axis(mark: egui_plot::GridMark) -> String {
     format!("1e{:.0}", mark.value)
 }
@@ -53,7 +63,7 @@ fn log_axis(mark: egui_plot::GridMark) -> String {
 /// The two plots side by side in `ui`.
 pub fn plots(
     ui: &mut egui::Ui,
-    mode: &mut FeedPlot,
+    mode: FeedPlot,
     rt: Option<&Realtime>,
     feed_mm_per_min: f64,
     tol_mm: f64,
@@ -77,11 +87,11 @@ pub fn plots(
     ui.horizontal_top(|ui| {
         ui.allocate_ui(egui::vec2(width, height), |ui| {
             ui.vertical(|ui| {
-                ui.horizontal(|ui| {
-                    ui.label(egui::RichText::new(format!("{update} update:")).strong());
-                    ui.selectable_value(mode, FeedPlot::Feed, "feed (mm/min)");
-                    ui.selectable_value(mode, FeedPlot::Fluctuation, "feed fluctuation |Δf/f| (log)");
-                });
+                let title = match mode {
+                    FeedPlot::Feed => format!("feed per period, {update} update (mm/min)"),
+                    FeedPlot::Fluctuation => format!("feed fluctuation |Δf/f| per period, {update} update (log)"),
+                };
+                ui.label(egui::RichText::new(title).strong());
                 let (pts, label): (Vec<[f64; 2]>, &str) = match mode {
                     FeedPlot::Feed => (
                         samples.iter().map(|s| [s.k as f64 * ts, s.step_mm / ts * 60_000.0]).collect(),
@@ -95,6 +105,7 @@ pub fn plots(
                 let mut plot = Plot::new("nurbs-feed")
                     .legend(Legend::default().position(Corner::RightBottom).background_alpha(0.6))
                     .x_axis_label("t (ms)")
+                    .x_grid_spacer(uniform_grid_spacer(nice_grid))
                     .y_axis_label(label)
                     .allow_scroll(false)
                     .link_axis(link, [true, false]);
@@ -104,7 +115,11 @@ pub fn plots(
                         plot = plot.include_y(feed_mm_per_min * (1.0 - 1e-6)).include_y(feed_mm_per_min * (1.0 + 1e-6));
                     }
                     FeedPlot::Fluctuation => {
-                        plot = plot.y_axis_formatter(|m, _| log_axis(m)).include_y(-15.0).include_y(-3.0);
+                        plot = plot
+                            .y_axis_formatter(|m, _| log_axis(m))
+                            .y_grid_spacer(uniform_grid_spacer(|_| [1.0, 2.0, 4.0]))
+                            .include_y(-15.0)
+                            .include_y(-3.0);
                     }
                 }
                 plot.show(ui, |p| {
@@ -113,7 +128,7 @@ pub fn plots(
                         FeedPlot::Fluctuation => format!("|Δf/f|, {update} update"),
                     };
                     p.line(Line::new(name, PlotPoints::from(envelope(&pts, 1200))).color(turbo(0.75)).width(1.5));
-                    if *mode == FeedPlot::Feed {
+                    if mode == FeedPlot::Feed {
                         p.hline(
                             HLine::new(format!("programmed F = {feed_mm_per_min:.0} mm/min"), feed_mm_per_min)
                                 .color(egui::Color32::from_gray(170)),
@@ -139,10 +154,12 @@ pub fn plots(
                 Plot::new("nurbs-chord")
                     .legend(Legend::default().position(Corner::RightBottom).background_alpha(0.6))
                     .x_axis_label("t (ms)")
+                    .x_grid_spacer(uniform_grid_spacer(nice_grid))
                     .y_axis_label("chord error (µm, log)")
                     .allow_scroll(false)
                     .link_axis(link, [true, false])
                     .y_axis_formatter(|m, _| log_axis(m))
+                    .y_grid_spacer(uniform_grid_spacer(|_| [1.0, 2.0, 4.0]))
                     .include_y((tol_mm * 1000.0).log10() + 0.3)
                     .show(ui, |p| {
                         p.line(
@@ -151,12 +168,12 @@ pub fn plots(
                                 .width(1.5),
                         );
                         p.hline(
-                            HLine::new(format!("tolerance E = {} µm", tol_mm * 1000.0), (tol_mm * 1000.0).log10())
+                            HLine::new(format!("tolerance E = {}", super::um(tol_mm)), (tol_mm * 1000.0).log10())
                                 .color(egui::Color32::from_rgb(235, 90, 80)),
                         );
                         if let Some(d) = chord_tol_mm {
                             p.hline(
-                                HLine::new(format!("chord tolerance δ = {} µm", d * 1000.0), (d * 1000.0).log10())
+                                HLine::new(format!("chord tolerance δ = {}", super::um(d)), (d * 1000.0).log10())
                                     .color(LOADED_COLOR),
                             );
                         }

@@ -51,9 +51,9 @@ pub fn programs_table(ui: &mut egui::Ui, work: &Work, wanted: Option<&Wanted>) {
                     continue;
                 }
                 Some(Err(e)) => {
-                    // The message spans the row.
-                    ui.label(egui::RichText::new(e).color(if fresh { BAD } else { STALE }))
-                        .on_hover_text("The program could not be written at these settings");
+                    // The reason is said under the table (it is long).
+                    ui.label(egui::RichText::new("not written").color(if fresh { BAD } else { STALE }))
+                        .on_hover_text(e);
                     ui.end_row();
                     continue;
                 }
@@ -75,11 +75,31 @@ pub fn programs_table(ui: &mut egui::Ui, work: &Work, wanted: Option<&Wanted>) {
             ui.end_row();
         }
     });
+    // Why programs were not written, each reason once.
+    let mut reasons: Vec<(Vec<&str>, &str)> = Vec::new();
+    for (i, kind) in ProgramKind::ALL.into_iter().enumerate() {
+        if let Some(Err(e)) = &work.rows[i].value {
+            match reasons.iter_mut().find(|(_, r)| *r == e.as_str()) {
+                Some((kinds, _)) => kinds.push(kind.label()),
+                None => reasons.push((vec![kind.label()], e.as_str())),
+            }
+        }
+    }
+    for (kinds, e) in reasons {
+        ui.label(egui::RichText::new(format!("{}: {e}", kinds.join(", "))).color(BAD));
+    }
 }
 
 /// The real-time table: one row per update of the G06.2 curve.
 pub fn realtime_table(ui: &mut egui::Ui, work: &Work, wanted: Option<&Wanted>) {
     let fresh = wanted.is_some_and(|w| work.realtime_fresh(w));
+    if wanted.is_some_and(|w| work.row_fresh(2, w)) && work.rows[2].ok().is_none() {
+        ui.label(
+            egui::RichText::new("No real-time interpolation: there is no G06.2 program at these settings.")
+                .color(STALE),
+        );
+        return;
+    }
     let Some(rt) = work.realtime.ok() else {
         let text = match &work.realtime.value {
             Some(Err(e)) => e.clone(),

@@ -17,18 +17,18 @@ use crate::gcode::{Deviation, PathBlock, Segment, Toolpath};
 use crate::geom::NurbsCurve;
 use crate::render::geometry::{Origin, bounds, polyline};
 use crate::render::gpu::paint_callback;
-use crate::render::{Layer, OrbitCamera, Renderer3d, SphereInstance, ViewCallback, ViewId};
+use crate::render::{Layer, LineSegment, OrbitCamera, Renderer3d, SphereInstance, ViewCallback, ViewId};
 
 /// GPU view id of this panel (0 is the crease view, 1 the 5-axis view).
 pub const VIEW_ID: ViewId = 2;
 
 const BACKGROUND: [f32; 4] = [0.075, 0.08, 0.095, 1.0];
-pub(super) const DESIGN_COLOR: egui::Color32 = egui::Color32::from_rgb(235, 235, 235);
-pub(super) const CURVE_COLOR: egui::Color32 = egui::Color32::from_rgb(255, 150, 40);
-pub(super) const POLYGON_COLOR: egui::Color32 = egui::Color32::from_rgb(200, 120, 50);
-pub(super) const KNOT_COLOR: egui::Color32 = egui::Color32::from_rgb(120, 200, 255);
+pub(super) const DESIGN_COLOR: egui::Color32 = egui::Color32::from_rgb(205, 205, 210);
+pub(super) const CURVE_COLOR: egui::Color32 = egui::Color32::from_rgb(240, 95, 225);
+pub(super) const POLYGON_COLOR: egui::Color32 = egui::Color32::from_rgb(190, 85, 180);
+pub(super) const KNOT_COLOR: egui::Color32 = egui::Color32::from_rgb(250, 250, 250);
 pub(super) const LINES_COLOR: egui::Color32 = egui::Color32::from_rgb(80, 220, 210);
-pub(super) const ARCS_COLOR: egui::Color32 = egui::Color32::from_rgb(230, 110, 230);
+pub(super) const ARCS_COLOR: egui::Color32 = egui::Color32::from_rgb(165, 135, 255);
 pub(super) const LOADED_COLOR: egui::Color32 = egui::Color32::from_rgb(250, 230, 60);
 pub(super) const RAPID_COLOR: egui::Color32 = egui::Color32::from_rgb(120, 120, 130);
 pub(super) const WORST_COLOR: egui::Color32 = egui::Color32::from_rgb(255, 70, 60);
@@ -58,6 +58,20 @@ pub(super) fn fluct_t(fluct: f64) -> f64 {
         return 0.0;
     }
     ((a.log10() - lo) / (hi - lo)).clamp(0.0, 1.0)
+}
+
+/// Depth bias of the G06.2 curve over the design path it lies within E of (normalised
+/// depth; see `LineSegment::depth_bias`).
+const CURVE_BIAS: f32 = 2e-6;
+/// Depth bias of the selected program: drawn over the curves and the interpolated points
+/// (about a dot's radius at any zoom).
+const OVERLAY_BIAS: f32 = 6e-5;
+
+fn with_bias(mut lines: Vec<LineSegment>, bias: f32) -> Vec<LineSegment> {
+    for l in &mut lines {
+        *l = l.with_depth_bias(bias);
+    }
+    lines
 }
 
 fn rgba(c: egui::Color32, a: f32) -> [f32; 4] {
@@ -98,6 +112,18 @@ pub enum Overlay {
     Loaded,
 }
 
+/// What the view draws this frame.
+pub struct Drawn<'a> {
+    /// The panel's results.
+    pub work: &'a Work,
+    /// The program drawn over the design.
+    pub overlay: Overlay,
+    /// Translation from the ball centre to the programmed point (mm).
+    pub offset: DVec3,
+    /// The work's state for the corner (`(ok, text)`).
+    pub status: (bool, String),
+}
+
 /// What the layers were built from (generations and settings), to rebuild only on change.
 #[derive(Clone, Debug, PartialEq)]
 struct Built {
@@ -135,8 +161,12 @@ pub struct NurbsView {
     legend: LegendInfo,
     /// Worst-deviation marker (world) and its label.
     worst: Option<(DVec3, String)>,
+    /// Where that marker was drawn last frame (points), for tests and tools.
+    pub worst_on_screen: Option<egui::Pos2>,
     /// Layers shown.
     pub show: Show,
+    /// Points of the design path (local), to find what lies under the pointer.
+    pick: Vec<Vec3>,
 }
 
 impl Default for NurbsView {
@@ -149,7 +179,9 @@ impl Default for NurbsView {
             built: None,
             legend: LegendInfo::default(),
             worst: None,
+            worst_on_screen: None,
             show: Show::default(),
+            pick: Vec::new(),
         }
     }
 }
@@ -185,6 +217,41 @@ fn span_breaks(c: &NurbsCurve) -> Vec<f64> {
 impl NurbsView {
     fn fit(&mut self) {
         self.camera.fit(Vec3::ZERO, self.radius as f32);
+    }
+
+    /// The point to zoom about for a pointer at `p`: the nearest drawn path point within 40
+    /// points on screen, else the point of the target's plane under the pointer (local).
+    fn anchor_under(&self, p: egui::Pos2, rect: egui::Rect) -> Vec3 {
+        let clip = self.camera.clip_from_world(rect.width() / rect.height().max(1.0));
+        let to_screen = |q: Vec3| {
+            let c = clip * Vec4::from((q, 1.0));
+            (c.w > 0.0).then(|| {
+                egui::pos2(
+                    rect.center().x + c.x / c.w * rect.width() * 0.5,
+                    rect.center().y - c.y / c.w * rect.height() * 0.5,
+                )
+            })
+        };
+        // Nearest point of the design polyline on screen (chords 0.25 mm long).
+        let mut best = (40.0f32 * 40.0, None);
+        let screen: Vec<Option<egui::Pos2>> = self.pick.iter().map(|q| to_screen(*q)).collect();
+        for i in 1..self.pick.len() {
+            let (Some(a), Some(b)) = (screen[i - 1], screen[i]) else { continue };
+            let ab = b - a;
+            let t = if ab.length_sq() > 0.0 { ((p - a).dot(ab) / ab.length_sq()).clamp(0.0, 1.0) } else { 0.0 };
+            let d2 = (a + ab * t - p).length_sq();
+            if d2 < best.0 {
+                best = (d2, Some(self.pick[i - 1].lerp(self.pick[i], t)));
+            }
+        }
+        best.1.unwrap_or_else(|| {
+            let d = p - rect.center();
+            let mm = self.camera.mm_per_point(rect.height());
+            let forward = (self.camera.target - self.camera.eye()).normalize();
+            let right = forward.cross(Vec3::Z).normalize_or_zero();
+            let up = right.cross(forward);
+            self.camera.target + (right * d.x - up * d.y) * mm
+        })
     }
 
     /// Millimetres per point at the target's depth.
@@ -255,8 +322,9 @@ impl NurbsView {
         let mut overlay_lines = Vec::new();
         self.worst = None;
 
+        let pts: Vec<DVec3> = design.samples(0.25).into_iter().map(|p| p + offset).collect();
+        self.pick = pts.iter().map(|p| o.local_vec(*p)).collect();
         if self.show.design {
-            let pts: Vec<DVec3> = design.samples(0.25).into_iter().map(|p| p + offset).collect();
             design_lines = polyline(pts, o, 1.6, rgba(DESIGN_COLOR, 1.0));
         }
         let curve = work.rows[2].ok().and_then(|r| r.program.read_back_curves().next());
@@ -273,7 +341,7 @@ impl NurbsView {
                     }
                 }
                 pts.push(c.point_at(c.range().1));
-                curve_lines = polyline(pts, o, 2.6, rgba(CURVE_COLOR, 1.0));
+                curve_lines = with_bias(polyline(pts, o, 2.6, rgba(CURVE_COLOR, 1.0)), CURVE_BIAS);
             }
             if self.show.polygon {
                 let cps: Vec<DVec3> = (0..c.len()).map(|i| c.control_point(i)).collect();
@@ -297,7 +365,7 @@ impl NurbsView {
             }
         }
         if let (true, Some(rt)) = (self.show.points, work.realtime.ok()) {
-            let (dots, every) = realtime_dots(rt, 7.0 * px * mm_pt, (2.6 * px * mm_pt) as f32, o);
+            let (dots, every) = realtime_dots(rt, 11.0 * px * mm_pt, (2.4 * px * mm_pt) as f32, o);
             legend.dots_every = every;
             legend.periods = rt.run.samples.len();
             spheres.extend(dots);
@@ -321,8 +389,8 @@ impl NurbsView {
                 legend.overlay = Some((name, color));
                 for b in &path.blocks {
                     let rapid = b.motion == crate::gcode::Motion::Rapid;
-                    let (c, w) = if rapid { (rgba(RAPID_COLOR, 0.8), 1.0) } else { (rgba(color, 1.0), 2.0) };
-                    overlay_lines.extend(polyline(segment_points(&b.segment), o, w, c));
+                    let (c, w) = if rapid { (rgba(RAPID_COLOR, 0.8), 1.0) } else { (rgba(color, 1.0), 2.4) };
+                    overlay_lines.extend(with_bias(polyline(segment_points(&b.segment), o, w, c), OVERLAY_BIAS));
                 }
                 // Block ends mark where the program's moves meet.
                 let cuts: Vec<&PathBlock> = path.cuts().collect();
@@ -362,16 +430,8 @@ impl NurbsView {
     }
 
     /// Draws the view into `rect`.
-    pub fn ui(
-        &mut self,
-        ui: &mut egui::Ui,
-        rect: egui::Rect,
-        rs: Option<&RenderState>,
-        work: &Work,
-        overlay: Overlay,
-        offset: DVec3,
-        status: Option<(bool, String)>,
-    ) {
+    pub fn ui(&mut self, ui: &mut egui::Ui, rect: egui::Rect, rs: Option<&RenderState>, what: Drawn<'_>) {
+        let Drawn { work, overlay, offset, status } = what;
         let response = ui.allocate_rect(rect, egui::Sense::click_and_drag());
         let Some(rs) = rs else {
             ui.painter().text(
@@ -395,11 +455,17 @@ impl NurbsView {
         }
         if response.hovered() {
             let (scroll, zoom) = ui.input(|i| (i.smooth_scroll_delta.y, i.zoom_delta()));
-            if scroll != 0.0 {
-                self.camera.zoom((scroll * 0.0025).exp());
-            }
-            if (zoom - 1.0).abs() > f32::EPSILON {
-                self.camera.zoom(zoom);
+            let factor = (scroll * 0.0025).exp() * zoom;
+            if (factor - 1.0).abs() > f32::EPSILON {
+                let anchor = response.hover_pos().map(|p| self.anchor_under(p, rect));
+                let before = self.camera.distance;
+                self.camera.zoom(factor);
+                if let Some(a) = anchor {
+                    // Scale the camera about the anchor: it stays under the pointer, so a
+                    // deviation of a few µm can be inspected where it is.
+                    let k = self.camera.distance / before;
+                    self.camera.target = a + (self.camera.target - a) * k;
+                }
             }
         }
         if response.double_clicked() {
@@ -422,7 +488,7 @@ impl NurbsView {
                 hide_back_faces: false,
             },
         ));
-        self.overlays(ui, rect, work, clip, status);
+        self.overlays(ui, rect, work, clip, Some(status));
     }
 
     fn overlays(
@@ -479,6 +545,7 @@ impl NurbsView {
             }
         }
         // Worst deviation label next to its marker.
+        self.worst_on_screen = None;
         if let Some((p, label)) = &self.worst {
             let q = clip * Vec4::from((self.origin.local_vec(*p), 1.0));
             if q.w > 0.0 {
@@ -488,8 +555,14 @@ impl NurbsView {
                     rect.center().y - ndc.y * rect.height() * 0.5,
                 );
                 if rect.contains(s) {
-                    let at = s + egui::vec2(12.0, -12.0);
+                    self.worst_on_screen = Some(s);
                     let galley = painter.layout_no_wrap(label.clone(), font.clone(), WORST_COLOR);
+                    // Right of the marker, or left of it near the right edge; inside the view.
+                    let mut at = s + egui::vec2(12.0, -12.0 - galley.size().y);
+                    if at.x + galley.size().x > rect.right() - 6.0 {
+                        at.x = s.x - 12.0 - galley.size().x;
+                    }
+                    at.y = at.y.max(rect.top() + 4.0);
                     let bg = egui::Rect::from_min_size(at - egui::vec2(3.0, 2.0), galley.size() + egui::vec2(6.0, 4.0));
                     painter.rect_filled(bg, 3.0, egui::Color32::from_black_alpha(170));
                     painter
@@ -500,7 +573,7 @@ impl NurbsView {
         }
         // Colour scale of the fluctuation, bottom left above the axes.
         if self.show.points && l.periods > 0 {
-            fluct_legend(&painter, egui::pos2(rect.left() + 100.0, rect.bottom() - 40.0), 240.0, &font);
+            fluct_legend(&painter, egui::pos2(rect.right() - 256.0, rect.bottom() - 66.0), 240.0, &font);
         }
         // Axis triad, bottom left.
         let eye = self.camera.eye();

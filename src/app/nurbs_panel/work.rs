@@ -46,7 +46,7 @@ pub enum Point {
 #[derive(Clone, Debug)]
 pub enum DesignCurve {
     /// A scene's crease.
-    Crease(CreaseCurve),
+    Crease(Box<CreaseCurve>),
     /// The comparison profile.
     Parabola(Parabola),
 }
@@ -154,6 +154,11 @@ impl<K: PartialEq, T> Slot<K, T> {
     fn is_for(&self, key: &K) -> bool {
         self.key.as_ref() == Some(key)
     }
+    fn clear(&mut self) {
+        self.key = None;
+        self.value = None;
+        self.generation += 1;
+    }
     fn set(&mut self, key: K, value: Result<T, String>) {
         self.key = Some(key);
         self.value = Some(value);
@@ -188,6 +193,8 @@ pub struct Loaded {
     pub text: String,
     /// The parsed program, or the reader's error (with its line).
     pub parsed: Result<ParsedProgram, String>,
+    /// The line the reader's error is about.
+    pub error_line: Option<usize>,
     /// Programmed point named by the program's header, if it has one of ours.
     pub point: Option<ProgrammedPoint>,
     /// Bumped for every file loaded.
@@ -246,16 +253,20 @@ impl Work {
 
     /// Loads a program's text (parsed at once: reading is fast).
     pub fn load(&mut self, name: &str, text: String) {
-        let parsed = parse_program(&text).map_err(|e| e.to_string());
+        let parsed = parse_program(&text);
+        let error_line = parsed.as_ref().err().map(crate::gcode::ParseError::line);
+        let parsed = parsed.map_err(|e| e.to_string());
         let point = parsed.as_ref().ok().and_then(|p| ProgrammedPoint::from_comments(&p.comments));
         self.loaded_generation += 1;
-        self.loaded = Some(Loaded { name: name.to_owned(), text, parsed, point, generation: self.loaded_generation });
+        self.loaded_deviation.clear();
+        self.loaded =
+            Some(Loaded { name: name.to_owned(), text, parsed, error_line, point, generation: self.loaded_generation });
     }
 
     /// Forgets the loaded program.
     pub fn unload(&mut self) {
         self.loaded = None;
-        self.loaded_deviation = Slot::default();
+        self.loaded_deviation.clear();
     }
 
     /// Whether the design slot holds the design for `w`.
@@ -350,6 +361,10 @@ impl Work {
                 let key = self.row_key(w);
                 let value = compare_row(kind, &design.curve, w.program.tol_mm, &opts)
                     .map_err(|e| describe_program_error(&e, kind));
+                if kind == ProgramKind::Nurbs && value.is_err() {
+                    // Nothing to run: drop the last curve's run rather than show it as current.
+                    self.realtime.clear();
+                }
                 self.rows[i].set(key, value);
                 return true;
             }
@@ -409,7 +424,7 @@ fn make_design(input: &DesignInput) -> Result<Design, String> {
             })?;
             Ok(Design {
                 length_mm: c.path().length(),
-                curve: DesignCurve::Crease(c),
+                curve: DesignCurve::Crease(Box::new(c)),
                 title: if name.is_empty() { "scene".to_owned() } else { name.clone() },
             })
         }
