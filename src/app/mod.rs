@@ -12,6 +12,7 @@ mod chords_panel;
 mod compute;
 mod controls;
 mod fiveaxis_panel;
+mod nurbs_panel;
 pub mod panel;
 mod platform;
 mod plots;
@@ -419,7 +420,11 @@ impl InterpolabApp {
 
 /// The central views besides the crease view, in tab order.
 fn panels() -> Vec<Box<dyn Panel>> {
-    vec![Box::new(fiveaxis_panel::FiveAxisPanel::default()), Box::new(chords_panel::ChordsPanel::default())]
+    vec![
+        Box::new(fiveaxis_panel::FiveAxisPanel::default()),
+        Box::new(chords_panel::ChordsPanel::default()),
+        Box::new(nurbs_panel::NurbsPanel::default()),
+    ]
 }
 
 /// Display title of preset `i` (its scene name).
