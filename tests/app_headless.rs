@@ -450,6 +450,34 @@ mod nurbs_panel {
         assert!(banner.contains("bad.ngc") && banner.contains("line 4"), "{banner}");
     }
 
+    /// Seed 004's profile through the view's options: the numbers of `docs/nurbs-gcode.md`
+    /// (`interpolab compare --profile parabola --tolerance 0.01`), and each update and the
+    /// chord-error feed limit reach the real-time run.
+    #[test]
+    fn the_parabola_profile_gives_the_documented_table() {
+        let mut h = Harness::new();
+        h.settle();
+        super::set(&mut h, TAB, "source", "parabola");
+        super::set(&mut h, TAB, "tol_mm", "0.01");
+        let s = until_done(&mut h);
+        let blocks: Vec<u64> =
+            s["rows"].as_array().expect("rows").iter().filter_map(|r| r["path_blocks"].as_u64()).collect();
+        let bytes: Vec<u64> = s["rows"].as_array().expect("rows").iter().filter_map(|r| r["bytes"].as_u64()).collect();
+        assert_eq!(blocks, [77, 15, 18], "{s}");
+        assert_eq!(bytes, [1834, 886, 859], "{s}");
+        assert_eq!(s["design_mm"].as_f64().map(|l| (l * 10.0).round() / 10.0), Some(226.1));
+        let rt = s["realtime"].as_array().expect("realtime");
+        let periods: Vec<u64> = rt.iter().filter_map(|r| r["periods"].as_u64()).collect();
+        assert_eq!(periods, [2262, 2262, 2262]);
+        let fl: Vec<f64> = rt.iter().filter_map(|r| r["max_fluctuation"].as_f64()).collect();
+        assert!(fl[0] > 1e-5 && fl[1] < 1e-5 && fl[2] < 1e-12, "{fl:?}");
+        // A chord tolerance under the vertex's chord error (6.2e-5 mm) lowers the feed there.
+        super::set(&mut h, TAB, "chord_tol_mm", "0.00002");
+        let s = until_done(&mut h);
+        assert!(s["realtime"].as_array().expect("realtime").iter().all(|r| r["periods"].as_u64() > Some(2262)), "{s}");
+        assert!(h.app.set_panel_option(TAB, "update", "fourth").is_err_and(|e| e.contains("corrected")));
+    }
+
     #[test]
     fn a_tolerance_below_the_resolution_says_what_to_change() {
         let mut h = Harness::new();

@@ -648,10 +648,12 @@ impl NurbsPanel {
             })
         });
         let (ok, status) = self.status_line();
+        let done = w.is_some_and(|w| self.work.pending(w) == Pending::Nothing);
         serde_json::json!({
             "source": match self.settings.source { Source::Crease => "crease", Source::Parabola => "parabola" },
             "tol_mm": self.settings.tol_mm,
-            "done": w.is_some_and(|w| self.work.pending(w) == Pending::Nothing),
+            "done": done,
+            "computing": !done,
             "status": status,
             "status_ok": ok,
             "design_mm": self.work.design.ok().map(|d| d.length_mm),
@@ -675,6 +677,80 @@ impl Panel for NurbsPanel {
 
     fn status(&self) -> serde_json::Value {
         self.status_value()
+    }
+
+    fn set_option(&mut self, key: &str, value: &str) -> Result<(), String> {
+        let s = &mut self.settings;
+        let number = || value.parse::<f64>().map_err(|_| format!("{key}: \"{value}\" is not a number"));
+        let positive = |x: f64| {
+            if x.is_finite() && x > 0.0 { Ok(x) } else { Err(format!("{key}: {x} is not a positive number")) }
+        };
+        match key {
+            "source" => {
+                s.source = match value {
+                    "crease" => Source::Crease,
+                    "parabola" => Source::Parabola,
+                    _ => return Err(format!("source: \"{value}\"; give crease or parabola")),
+                }
+            }
+            // The slider's range, as a user could set it.
+            "tol_mm" => s.tol_mm = positive(number()?)?.clamp(0.001, 0.5),
+            "resolution_mm" => {
+                let r = number()?;
+                s.resolution_mm = [0.01, 0.001, 0.0001]
+                    .into_iter()
+                    .find(|x| (x - r).abs() < 1e-12)
+                    .ok_or_else(|| format!("resolution_mm: {r}; give 0.01, 0.001 or 0.0001"))?;
+            }
+            "point" => {
+                s.point = match value {
+                    "centre" => Point::Centre,
+                    "tip" => Point::Tip,
+                    _ => return Err(format!("point: \"{value}\"; give centre or tip")),
+                }
+            }
+            "update" => {
+                s.update = Update::ALL
+                    .into_iter()
+                    .find(|u| u.as_str() == value)
+                    .ok_or_else(|| format!("update: \"{value}\"; give first, second or corrected"))?;
+            }
+            "feed_mm_per_min" => {
+                s.feed_mm_per_min =
+                    if value == "default" { None } else { Some(positive(number()?)?.clamp(60.0, 30_000.0)) };
+            }
+            "chord_tol_mm" => {
+                if value == "off" {
+                    s.chord_limit = false;
+                } else {
+                    s.chord_tol_mm = positive(number()?)?.clamp(1e-6, 0.01);
+                    s.chord_limit = true;
+                }
+            }
+            "degree" => {
+                s.degree = match value {
+                    "1" => 1,
+                    "2" => 2,
+                    "3" => 3,
+                    _ => return Err(format!("degree: \"{value}\"; give 1, 2 or 3")),
+                }
+            }
+            "program" => {
+                self.shown = match value {
+                    "g01" => Shown::Kind(ProgramKind::Lines),
+                    "arcs" => Shown::Kind(ProgramKind::Arcs),
+                    "nurbs" => Shown::Kind(ProgramKind::Nurbs),
+                    "loaded" if self.work.loaded.is_some() => Shown::Loaded,
+                    _ => return Err(format!("program: \"{value}\"; give g01, arcs, nurbs or loaded (after a file)")),
+                }
+            }
+            _ => {
+                return Err(format!(
+                    "no option \"{key}\"; give source, tol_mm, resolution_mm, point, update, feed_mm_per_min, chord_tol_mm, degree or program"
+                ));
+            }
+        }
+        Ok(())
     }
 
     fn ui(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
