@@ -14,7 +14,7 @@ use glam::{DVec3, Vec3, Vec4};
 use super::work::{Loaded, Realtime, Work};
 use crate::gcode::path::sample_params;
 use crate::gcode::{Deviation, PathBlock, Segment, Toolpath};
-use crate::geom::NurbsCurve;
+use crate::geom::{Curve3, NurbsCurve};
 use crate::render::geometry::{Origin, bounds, polyline};
 use crate::render::gpu::paint_callback;
 use crate::render::{Layer, LineSegment, OrbitCamera, Renderer3d, SphereInstance, ViewCallback, ViewId};
@@ -161,6 +161,8 @@ pub struct NurbsView {
     legend: LegendInfo,
     /// Worst-deviation marker (world) and its label.
     worst: Option<(DVec3, String)>,
+    /// That deviation (mm).
+    worst_mm: f64,
     /// Where that marker was drawn last frame (points), for tests and tools.
     pub worst_on_screen: Option<egui::Pos2>,
     /// Layers shown.
@@ -179,6 +181,7 @@ impl Default for NurbsView {
             built: None,
             legend: LegendInfo::default(),
             worst: None,
+            worst_mm: 0.0,
             worst_on_screen: None,
             show: Show::default(),
             pick: Vec::new(),
@@ -193,12 +196,39 @@ fn segment_points(seg: &Segment) -> Vec<DVec3> {
     match seg {
         Segment::Line(l) => vec![l.start, l.end],
         Segment::Arc(a) => {
-            let n = ((a.sweep().abs().to_degrees() / 3.0).ceil() as usize).clamp(4, 720);
+            let n = ((a.length() / DRAW_CHORD_MM).ceil() as usize).clamp(4, 20_000);
             let (t0, t1) = c.range();
             (0..=n).map(|i| c.point_at(t0 + (t1 - t0) * i as f64 / n as f64)).collect()
         }
-        Segment::Nurbs(_) => sample_params(seg, 24).into_iter().map(|t| c.point_at(t)).collect(),
+        Segment::Nurbs(_) => {
+            // The span ends (distinct knots), as the reader's sampling uses them.
+            curve_points(c, &sample_params(seg, 1))
+        }
     }
+}
+
+/// Drawn chords are at most this long (mm): on a 20 mm radius they stray 0.25 µm from the
+/// curve, invisible at the µm zoom where deviations of the programs are looked at.
+const DRAW_CHORD_MM: f64 = 0.2;
+
+/// Points of a curve between consecutive `breaks` (knot span ends), spans cut into chords
+/// of at most [`DRAW_CHORD_MM`] (by an 8-chord estimate of each span's length).
+fn curve_points(c: &dyn Curve3, breaks: &[f64]) -> Vec<DVec3> {
+    let mut pts = Vec::new();
+    for w in breaks.windows(2) {
+        let est: f64 = (0..8)
+            .map(|i| {
+                let t = |k: f64| w[0] + (w[1] - w[0]) * k / 8.0;
+                (c.point_at(t(f64::from(i) + 1.0)) - c.point_at(t(f64::from(i)))).length()
+            })
+            .sum();
+        let n = ((est / DRAW_CHORD_MM).ceil() as usize).clamp(4, 20_000);
+        pts.extend((0..n).map(|i| c.point_at(w[0] + (w[1] - w[0]) * i as f64 / n as f64)));
+    }
+    if let Some(&last) = breaks.last() {
+        pts.push(c.point_at(last));
+    }
+    pts
 }
 
 /// The distinct knot values inside a curve's range (the span ends).
@@ -311,8 +341,9 @@ impl NurbsView {
         if self.built.as_ref() == Some(&key) {
             return;
         }
-        // Sizes in points at the target's depth, converted to mm once per zoom step.
-        let px = 1.2f64.powi(zoom_step) * 1.1;
+        // Millimetres per point at the target's depth, rounded to the zoom step: sizes below
+        // are in points.
+        let pt = 1.2f64.powi(zoom_step) * 1.1;
         let o = self.origin;
         let mut legend = LegendInfo::default();
         let mut spheres = Vec::new();
@@ -334,13 +365,7 @@ impl NurbsView {
             let breaks = span_breaks(c);
             legend.knots = breaks.len();
             if self.show.curve {
-                let mut pts = Vec::new();
-                for w in breaks.windows(2) {
-                    for i in 0..24 {
-                        pts.push(c.point_at(w[0] + (w[1] - w[0]) * f64::from(i) / 24.0));
-                    }
-                }
-                pts.push(c.point_at(c.range().1));
+                let pts = curve_points(c, &breaks);
                 curve_lines = with_bias(polyline(pts, o, 2.6, rgba(CURVE_COLOR, 1.0)), CURVE_BIAS);
             }
             if self.show.polygon {
@@ -349,7 +374,7 @@ impl NurbsView {
                 for p in cps {
                     spheres.push(SphereInstance {
                         center: o.local(p),
-                        radius: (4.0 * px * mm_pt) as f32,
+                        radius: (4.0 * pt) as f32,
                         color: rgba(CURVE_COLOR, 1.0),
                     });
                 }
@@ -358,14 +383,14 @@ impl NurbsView {
                 for u in breaks {
                     spheres.push(SphereInstance {
                         center: o.local(c.point_at(u)),
-                        radius: (3.6 * px * mm_pt) as f32,
+                        radius: (3.6 * pt) as f32,
                         color: rgba(KNOT_COLOR, 1.0),
                     });
                 }
             }
         }
         if let (true, Some(rt)) = (self.show.points, work.realtime.ok()) {
-            let (dots, every) = realtime_dots(rt, 11.0 * px * mm_pt, (2.4 * px * mm_pt) as f32, o);
+            let (dots, every) = realtime_dots(rt, 11.0 * pt, (2.4 * pt) as f32, o);
             legend.dots_every = every;
             legend.periods = rt.run.samples.len();
             spheres.extend(dots);
@@ -398,7 +423,7 @@ impl NurbsView {
                     for b in &cuts {
                         spheres.push(SphereInstance {
                             center: o.local(b.segment.end()),
-                            radius: (2.2 * px * mm_pt) as f32,
+                            radius: (2.2 * pt) as f32,
                             color: rgba(color, 1.0),
                         });
                     }
@@ -409,10 +434,11 @@ impl NurbsView {
                     } else {
                         (d.design_point, format!("design s = {:.1} mm", d.design_s_mm))
                     };
+                    self.worst_mm = d.max_mm();
                     self.worst = Some((p, format!("max deviation {} ({what})", super::super::fmt_len(d.max_mm()))));
                     spheres.push(SphereInstance {
                         center: o.local(p),
-                        radius: (5.0 * px * mm_pt) as f32,
+                        radius: (5.0 * pt) as f32,
                         color: rgba(WORST_COLOR, 1.0),
                     });
                 }
@@ -621,6 +647,21 @@ impl NurbsView {
         }
         if child.small_button("fit").on_hover_text("Frame the design path (double-click)").clicked() {
             self.fit();
+        }
+        if let Some((p, _)) = &self.worst {
+            let at = egui::Rect::from_min_size(rect.right_top() + egui::vec2(-200.0, 56.0), egui::vec2(190.0, 24.0));
+            let mut child = ui.new_child(
+                egui::UiBuilder::new().max_rect(at).layout(egui::Layout::right_to_left(egui::Align::Center)),
+            );
+            if child
+                .small_button("zoom to max deviation")
+                .on_hover_text("Centre the largest deviation and zoom until it spans a tenth of the view")
+                .clicked()
+            {
+                self.camera.target = self.origin.local_vec(*p);
+                let height_mm = (10.0 * self.worst_mm).max(0.005) as f32;
+                self.camera.distance = (height_mm / (2.0 * (self.camera.fov_y * 0.5).tan())).max(0.05);
+            }
         }
     }
 }
