@@ -97,6 +97,8 @@ pub struct NurbsPanel {
     announced: u64,
     /// Rectangles of key widgets this frame (points), published in the status.
     rects: Vec<(&'static str, egui::Rect)>,
+    /// Longest single step of the work so far (ms): what one frame may cost at most.
+    slowest_step_ms: f64,
 }
 
 impl Default for NurbsPanel {
@@ -112,6 +114,7 @@ impl Default for NurbsPanel {
             wanted: None,
             announced: 0,
             rects: Vec::new(),
+            slowest_step_ms: 0.0,
         }
     }
 }
@@ -660,6 +663,7 @@ impl NurbsPanel {
             "rows": rows,
             "realtime": realtime,
             "loaded": loaded,
+            "slowest_step_ms": self.slowest_step_ms,
             "worst_px": self.view.worst_on_screen.map(|p| [p.x, p.y]),
             "ui": self.rects.iter().map(|(k, r)| ((*k).to_owned(), serde_json::json!([r.min.x, r.min.y, r.width(), r.height()]))).collect::<serde_json::Map<_, _>>(),
         })
@@ -763,7 +767,12 @@ impl Panel for NurbsPanel {
                 self.work.want(&w);
                 let t0 = web_time::Instant::now();
                 // Steps until ~1/3 of a 60 Hz frame is used; one program per step at most.
-                while self.work.step(&w) {
+                loop {
+                    let t = web_time::Instant::now();
+                    if !self.work.step(&w) {
+                        break;
+                    }
+                    self.slowest_step_ms = self.slowest_step_ms.max(t.elapsed().as_secs_f64() * 1000.0);
                     if t0.elapsed() > web_time::Duration::from_millis(6) {
                         break;
                     }
