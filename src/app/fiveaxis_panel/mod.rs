@@ -27,8 +27,10 @@ use crate::scene::{MachineSpec, Scene, ToolAxisSpec, build_machine, build_tool_a
 use view::{Display, FiveAxisView, Swept};
 use work::{Design, Plan, Source};
 
-/// Wall time per frame given to the five-axis computation.
-const BUDGET: Duration = Duration::from_millis(10);
+/// Wall time per frame given to the five-axis computation: half the last frame's duration
+/// within these bounds (on a slow renderer more work per frame instead of many slow frames).
+const BUDGET_MIN: Duration = Duration::from_millis(10);
+const BUDGET_MAX: Duration = Duration::from_millis(60);
 /// Range of the tolerance slider (mm).
 const TOL_RANGE: std::ops::RangeInclusive<f64> = 0.0005..=1.0;
 
@@ -245,7 +247,7 @@ impl FiveAxisPanel {
     }
 
     /// Brings design and plan up to date with the inputs, then computes within the budget.
-    fn update(&mut self, cx: &PanelContext<'_>) -> bool {
+    fn update(&mut self, cx: &PanelContext<'_>, budget: Duration) -> bool {
         if self.source != Source::Scene {
             self.waiting = None;
         }
@@ -293,7 +295,7 @@ impl FiveAxisPanel {
         let Some(plan) = self.plan.as_mut() else {
             return false;
         };
-        plan.advance(BUDGET);
+        plan.advance(budget);
         if plan.shown_complete() {
             self.previous = None;
         }
@@ -811,7 +813,8 @@ impl Panel for FiveAxisPanel {
         self.rects.clear();
         self.sync_defaults(cx.scene);
         self.surface_names = [cx.scene.surfaces[0].type_name(), cx.scene.surfaces[1].type_name()];
-        if self.update(cx) {
+        let last_frame = Duration::from_secs_f32(ui.ctx().input(|i| i.unstable_dt).clamp(0.0, 1.0));
+        if self.update(cx, (last_frame / 2).clamp(BUDGET_MIN, BUDGET_MAX)) {
             ui.ctx().request_repaint();
         }
         if self.source == Source::Scene && self.waiting.is_some() {

@@ -16,8 +16,29 @@ const LIMIT_COLOR: egui::Color32 = egui::Color32::from_rgb(235, 90, 80);
 const DT_COLOR: egui::Color32 = egui::Color32::from_rgb(250, 210, 80);
 const DN_COLOR: egui::Color32 = egui::Color32::from_rgb(190, 130, 255);
 const TIP_COLOR: egui::Color32 = egui::Color32::from_rgb(150, 160, 175);
+/// Past this many blocks per-block markers become lines (each marker costs a shape a frame).
+const MANY_BLOCKS: usize = 300;
 /// Within this many degrees of a travel limit a block counts as "at the limit".
 const AT_LIMIT_DEG: f64 = 0.5;
+
+/// At most ~2·`buckets` points keeping each bucket's lowest and highest (the envelope).
+fn envelope(points: Vec<[f64; 2]>, buckets: usize) -> Vec<[f64; 2]> {
+    if points.len() <= 2 * buckets {
+        return points;
+    }
+    let per = points.len().div_ceil(buckets);
+    let mut out = Vec::with_capacity(2 * buckets + 2);
+    for chunk in points.chunks(per) {
+        let lo = chunk.iter().copied().fold(chunk[0], |a, p| if p[1] < a[1] { p } else { a });
+        let hi = chunk.iter().copied().fold(chunk[0], |a, p| if p[1] > a[1] { p } else { a });
+        if lo[0] <= hi[0] {
+            out.extend([lo, hi]);
+        } else {
+            out.extend([hi, lo]);
+        }
+    }
+    out
+}
 
 /// Display name of a root method.
 pub fn method_name(m: RootMethod) -> &'static str {
@@ -43,6 +64,7 @@ fn spans_rotary_limited(p: &mut egui_plot::PlotUi<'_>, plan: &Plan) {
 
 /// The rotary joints over the path.
 pub fn joints_plot(ui: &mut egui::Ui, plan: &Plan, s_unit: &str, selected: Option<usize>) {
+    let many = plan.nodes.len() > MANY_BLOCKS;
     let machine = &plan.inputs.machine;
     let names = machine.kind.axis_names();
     let mut series = [Vec::new(), Vec::new()];
@@ -94,13 +116,15 @@ pub fn joints_plot(ui: &mut egui::Ui, plan: &Plan, s_unit: &str, selected: Optio
                         .color(color)
                         .width(1.8),
                 );
-                p.points(
-                    Points::new(name, PlotPoints::from(blocks[axis].clone()))
-                        .color(color)
-                        .radius(2.5)
-                        .shape(MarkerShape::Circle)
-                        .filled(true),
-                );
+                if !many {
+                    p.points(
+                        Points::new(name, PlotPoints::from(blocks[axis].clone()))
+                            .color(color)
+                            .radius(2.5)
+                            .shape(MarkerShape::Circle)
+                            .filled(true),
+                    );
+                }
                 if let Some([lo, hi]) = machine.limits_rad[axis] {
                     let label = format!("{} travel {:.0}° to {:.0}°", names[axis], lo.to_degrees(), hi.to_degrees());
                     for v in [lo, hi] {
@@ -134,6 +158,7 @@ pub fn joints_plot(ui: &mut egui::Ui, plan: &Plan, s_unit: &str, selected: Optio
 /// δ, δt, δn per segment (at the worst point of each) and the swept ball's error along the
 /// path, in µm, against ±E.
 pub fn errors_plot(ui: &mut egui::Ui, plan: &Plan, s_unit: &str, selected: Option<usize>) {
+    let many = plan.nodes.len() > MANY_BLOCKS;
     let tol_um = plan.inputs.tol_mm * 1e3;
     let mut along = Vec::new();
     for (k, seg) in plan.segs.iter().enumerate() {
@@ -166,22 +191,37 @@ pub fn errors_plot(ui: &mut egui::Ui, plan: &Plan, s_unit: &str, selected: Optio
             p.hline(HLine::new(format!("±E = {e}"), tol_um).color(OVERCUT.gamma_multiply(0.8)).width(1.0));
             p.hline(HLine::new(format!("±E = {e}"), -tol_um).color(STOCK.gamma_multiply(0.9)).width(1.0));
             p.line(
-                Line::new("δ(s), swept ball", PlotPoints::from(along)).color(egui::Color32::from_gray(170)).width(1.0),
+                Line::new("δ(s), swept ball", PlotPoints::from(envelope(along, 2000)))
+                    .color(egui::Color32::from_gray(170))
+                    .width(1.0),
             );
             for (name, pts, color, shape) in [
                 ("δ per segment", total, egui::Color32::WHITE, MarkerShape::Circle),
                 ("δt chord part", chord, DT_COLOR, MarkerShape::Square),
                 ("δn nonlinear part", nonlinear, DN_COLOR, MarkerShape::Diamond),
             ] {
-                p.points(Points::new(name, PlotPoints::from(pts)).color(color).radius(3.0).shape(shape).filled(true));
+                if many {
+                    p.line(Line::new(name, PlotPoints::from(pts)).color(color).width(1.2).allow_band(false));
+                } else {
+                    p.points(
+                        Points::new(name, PlotPoints::from(pts)).color(color).radius(3.0).shape(shape).filled(true),
+                    );
+                }
             }
-            p.points(
-                Points::new("tip to design tip path (reference)", PlotPoints::from(tip))
-                    .color(TIP_COLOR)
-                    .radius(2.5)
-                    .shape(MarkerShape::Up)
-                    .filled(false),
-            );
+            let name = "tip to design tip path (reference)";
+            if many {
+                p.line(
+                    Line::new(name, PlotPoints::from(tip)).color(TIP_COLOR).width(1.0).style(LineStyle::dotted_dense()),
+                );
+            } else {
+                p.points(
+                    Points::new(name, PlotPoints::from(tip))
+                        .color(TIP_COLOR)
+                        .radius(2.5)
+                        .shape(MarkerShape::Up)
+                        .filled(false),
+                );
+            }
             if let Some(s) = plan.error.as_ref().and_then(|e| e.s) {
                 p.vline(VLine::new("plan stopped here", s).color(LIMIT_COLOR).width(2.0));
             }

@@ -320,8 +320,19 @@ impl FiveAxisView {
                 ));
             }
         }
+        // At most ~8000 swept pieces: with many segments every k-th sample (ends kept).
+        let total: usize = plan.segs.iter().map(|sg| sg.samples.len().saturating_sub(1)).sum();
+        let stride = total.div_ceil(8000).max(1);
         for seg in &plan.segs {
-            for w in seg.samples.windows(2) {
+            let last = seg.samples.len().saturating_sub(1);
+            let picked: Vec<_> = seg
+                .samples
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| i % stride == 0 || *i == last)
+                .map(|(_, x)| *x)
+                .collect();
+            for w in picked.windows(2) {
                 let color = rgba(error_color(0.5 * (w[0].delta_mm + w[1].delta_mm), scale_mm), 1.0);
                 if display.swept != Swept::Centre {
                     swept.push(LineSegment::new(
