@@ -188,7 +188,24 @@ fn the_five_axis_view_plans_every_preset_and_reports_bad_input() {
         let s = settle_panel(&mut h, "blade");
         assert_eq!(s["error"], "", "{tol}: {s}");
     }
+    // A tilting axis with too little travel for the torus crease: the plan stops where the
+    // bisector leaves it, says which axis and what to change, and keeps the blocks before.
+    h.app.open_text("torus-plane.json", include_str!("../examples/torus-plane.json"));
+    h.settle();
+    set(&mut h, FIVE_AXIS, "source", "scene");
+    set(&mut h, FIVE_AXIS, "tol_mm", "0.01");
+    // A frame first: choosing a path resets the machine to the path's own, as in the app.
+    settle_panel(&mut h, "torus-plane");
+    set(&mut h, FIVE_AXIS, "tilt_travel_deg", "40");
+    let s = settle_panel(&mut h, "torus-plane, A within ±40°");
+    let err = s["error"].as_str().expect("text");
+    assert!(
+        err.contains("A = ") && err.contains("outside its travel") && err.contains("widen machine.limits"),
+        "{err}"
+    );
+    assert!(s["blocks"].as_u64().is_some_and(|n| n >= 2), "the blocks before the stop are kept: {s}");
     // A machine whose head cannot reach the blade's tool axes: a clear message, no panic.
+    set(&mut h, FIVE_AXIS, "source", "naca2412");
     set(&mut h, FIVE_AXIS, "tol_mm", "0.05");
     set(&mut h, FIVE_AXIS, "machine", "head-a-table-c");
     let s = settle_panel(&mut h, "blade on head-a-table-c");

@@ -926,7 +926,18 @@ impl Panel for FiveAxisPanel {
                 }
             }
             "segment" => self.selected = (number()? as usize).saturating_sub(1),
-            _ => return Err(format!("no option \"{key}\"; give source, before, tol_mm, method, machine or segment")),
+            "tilt_travel_deg" => {
+                let t = number()?;
+                if !(t > 0.0 && t <= 360.0) {
+                    return Err(format!("tilt_travel_deg: {t}; give the travel ±t of the tilting axis, 0 < t ≤ 360"));
+                }
+                self.machine.limits_rad[0] = Some([-t.to_radians(), t.to_radians()]);
+            }
+            _ => {
+                return Err(format!(
+                    "no option \"{key}\"; give source, before, tol_mm, method, machine, tilt_travel_deg or segment"
+                ));
+            }
         }
         Ok(())
     }
