@@ -856,6 +856,9 @@ impl Panel for FiveAxisPanel {
                         egui::RichText::new(format!("Iterations per method at E = {}", fmt_len(self.tol_mm))).strong(),
                     );
                     if let Some(plan) = &self.plan {
+                        if plan.inputs.before {
+                            ui.label(egui::RichText::new("(the plans with steps inserted, as in \"after\")").weak());
+                        }
                         plots::iterations_table(ui, plan);
                     }
                     ui.separator();
