@@ -34,8 +34,11 @@ use platform::{FileKind, Incoming, Platform};
 
 /// Storage key of the last scene (browser local storage / native app data).
 const STORAGE_SCENE: &str = "interpolab.scene";
-/// Wall time per frame given to the computation while a path is being computed.
-const COMPUTE_BUDGET: Duration = Duration::from_millis(12);
+/// Wall time per frame given to the computation while a path is being computed: half the
+/// last frame's duration, within these bounds (a slow renderer gets more compute per frame
+/// instead of stretching the computation over many slow frames).
+const COMPUTE_BUDGET_MIN: Duration = Duration::from_millis(12);
+const COMPUTE_BUDGET_MAX: Duration = Duration::from_millis(60);
 
 /// Severity of a message in the banner.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -462,7 +465,8 @@ impl eframe::App for InterpolabApp {
         self.platform.ui(&ctx);
 
         if self.compute.running() {
-            self.compute.advance(COMPUTE_BUDGET);
+            let last_frame = Duration::from_secs_f32(ctx.input(|i| i.unstable_dt).clamp(0.0, 1.0));
+            self.compute.advance((last_frame / 2).clamp(COMPUTE_BUDGET_MIN, COMPUTE_BUDGET_MAX));
             ctx.request_repaint();
         }
         let n_periods = self.compute.periods.len();
@@ -601,7 +605,7 @@ pub(crate) fn fmt_len(mm: f64) -> String {
     if a == 0.0 {
         return "0 µm".to_owned();
     }
-    if a < 1e-9 {
+    if a < 1e-12 {
         return format!("{mm:.1e} mm");
     }
     let (scale, unit) = if a >= 1.0 {
