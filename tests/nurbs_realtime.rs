@@ -13,7 +13,7 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 use glam::DVec3;
 use interpolab::geom::NurbsCurve;
 use interpolab::nurbs_path::realtime::chord_limited_step;
-use interpolab::nurbs_path::{RealtimeError, RealtimeOptions, Update, interpolate_realtime};
+use interpolab::nurbs_path::{Parabola, RealtimeError, RealtimeOptions, RealtimeStepper, Update, interpolate_realtime};
 
 /// A cubic Bézier whose parametric speed varies about 30-fold (3|P1 − P0| at the start,
 /// 3|P3 − P2| at the end): control points crowded at the start.
@@ -148,4 +148,26 @@ fn bad_motion_is_refused() {
     let e = interpolate_realtime(&still, &RealtimeOptions::default()).unwrap_err();
     assert!(matches!(e, RealtimeError::Stalled { .. }) && e.to_string().contains("vanishes"), "{e}");
     let _ = still.point_at(0.5);
+}
+
+/// The app runs the interpolation a few thousand periods per frame: any split gives the
+/// periods, samples and statistics of the one call.
+#[test]
+fn a_run_split_into_steps_equals_the_one_call() {
+    let para = Parabola::paper_like();
+    for (update, chord_tol) in [(Update::FirstOrder, None), (Update::Corrected, Some(2e-5))] {
+        let opts = RealtimeOptions::default().with_update(update).with_chord_tol(chord_tol);
+        let whole = interpolate_realtime(&para, &opts).expect("runs");
+        for chunk in [1u64, 7, 1000] {
+            let mut run = RealtimeStepper::new(&para, &opts).expect("starts");
+            let mut calls = 0;
+            while !run.advance(&para, chunk).expect("runs") {
+                calls += 1;
+                assert_eq!(run.periods(), calls * chunk, "a call runs exactly its periods");
+            }
+            let split = run.finish();
+            assert_eq!(split, whole, "{} in chunks of {chunk}", update.as_str());
+        }
+    }
+    assert!(RealtimeStepper::new(&para, &RealtimeOptions::default().with_feed(0.0, 4.0)).is_err());
 }

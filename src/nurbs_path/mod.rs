@@ -34,7 +34,7 @@ pub use fit::{EndCondition, InterpolateOptions, KnotRule, Parametrization, inter
 pub use measure::{ArcLengthTable, CurveFoot, Translated, nearest_on_curve};
 pub use profile::Parabola;
 pub use realtime::{
-    FeedStats, PeriodSample, RealtimeError, RealtimeOptions, RealtimeRun, Update, interpolate_realtime,
+    FeedStats, PeriodSample, RealtimeError, RealtimeOptions, RealtimeRun, RealtimeStepper, Update, interpolate_realtime,
 };
 
 /// Why a curve could not be fitted. Every message says what to change.

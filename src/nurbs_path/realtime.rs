@@ -285,84 +285,153 @@ fn advance(curve: &dyn Curve3, u: f64, f: f64, update: Update, steps: usize) -> 
 /// # Errors
 /// [`RealtimeError`] for bad options, a stalled curve or too many periods.
 pub fn interpolate_realtime(curve: &dyn Curve3, opts: &RealtimeOptions) -> Result<RealtimeRun, RealtimeError> {
-    let f = opts.feed_per_period_mm();
-    if !(f.is_finite() && f > 0.0 && opts.period_ms > 0.0) {
-        return Err(RealtimeError::BadMotion { feed_mm_per_min: opts.feed_mm_per_min, period_ms: opts.period_ms });
-    }
-    if let Some(t) = opts.chord_tol_mm
-        && !(t.is_finite() && t > 0.0)
-    {
-        return Err(RealtimeError::BadChordTol(t));
-    }
-    let (u0, u1) = curve.range();
-    let mut u = u0;
-    let mut p = curve.point_at(u);
-    let mut samples = Vec::new();
-    let mut k = 0u64;
-    let (mut max_f, mut sum2, mut n_f) = (0.0_f64, 0.0_f64, 0u64);
-    let (mut max_chord, mut limited_n, mut length) = (0.0_f64, 0u64, 0.0_f64);
-    while u < u1 {
-        if k >= opts.max_periods {
-            return Err(RealtimeError::TooManyPeriods { max: opts.max_periods });
+    let mut run = RealtimeStepper::new(curve, opts)?;
+    while !run.advance(curve, u64::MAX)? {}
+    Ok(run.finish())
+}
+
+/// [`interpolate_realtime`] a number of periods at a time, for callers that must not block
+/// (the app runs a few thousand periods per frame): the same periods, samples and
+/// statistics as the one call, however the run is split.
+#[derive(Clone, Debug)]
+pub struct RealtimeStepper {
+    opts: RealtimeOptions,
+    f: f64,
+    u: f64,
+    p: DVec3,
+    k: u64,
+    max_f: f64,
+    sum2: f64,
+    n_f: u64,
+    max_chord: f64,
+    limited_n: u64,
+    length: f64,
+    samples: Vec<PeriodSample>,
+}
+
+impl RealtimeStepper {
+    /// Starts a run of `curve` at the start of its range.
+    ///
+    /// # Errors
+    /// [`RealtimeError`] for bad options.
+    pub fn new(curve: &dyn Curve3, opts: &RealtimeOptions) -> Result<Self, RealtimeError> {
+        let f = opts.feed_per_period_mm();
+        if !(f.is_finite() && f > 0.0 && opts.period_ms > 0.0) {
+            return Err(RealtimeError::BadMotion { feed_mm_per_min: opts.feed_mm_per_min, period_ms: opts.period_ms });
         }
-        k += 1;
-        let mut target = f;
-        let mut limited = false;
-        if let Some(tol) = opts.chord_tol_mm {
-            let v = curve.derivatives_at(u)[1].length();
-            let ahead = if v > 0.0 { (u + 0.5 * f / v).min(u1) } else { u };
-            let kappa = curve.curvature_at(u).max(curve.curvature_at(ahead));
-            let lim = chord_limited_step(kappa, tol);
-            if lim < target {
-                target = lim;
-                limited = true;
-                limited_n += 1;
+        if let Some(t) = opts.chord_tol_mm
+            && !(t.is_finite() && t > 0.0)
+        {
+            return Err(RealtimeError::BadChordTol(t));
+        }
+        let (u0, _) = curve.range();
+        Ok(Self {
+            opts: *opts,
+            f,
+            u: u0,
+            p: curve.point_at(u0),
+            k: 0,
+            max_f: 0.0,
+            sum2: 0.0,
+            n_f: 0,
+            max_chord: 0.0,
+            limited_n: 0,
+            length: 0.0,
+            samples: Vec::new(),
+        })
+    }
+
+    /// Periods run so far.
+    #[must_use]
+    pub fn periods(&self) -> u64 {
+        self.k
+    }
+
+    /// Runs at most `periods` more periods of `curve` (the curve given to [`Self::new`]).
+    /// Returns whether the end of the curve has been reached.
+    ///
+    /// # Errors
+    /// [`RealtimeError`] for a stalled curve or too many periods.
+    pub fn advance(&mut self, curve: &dyn Curve3, periods: u64) -> Result<bool, RealtimeError> {
+        let opts = &self.opts;
+        let f = self.f;
+        let (_, u1) = curve.range();
+        let stop = self.k.saturating_add(periods);
+        while self.u < u1 {
+            if self.k >= stop {
+                return Ok(false);
             }
+            let (u, p) = (self.u, self.p);
+            if self.k >= opts.max_periods {
+                return Err(RealtimeError::TooManyPeriods { max: opts.max_periods });
+            }
+            self.k += 1;
+            let mut target = f;
+            let mut limited = false;
+            if let Some(tol) = opts.chord_tol_mm {
+                let v = curve.derivatives_at(u)[1].length();
+                let ahead = if v > 0.0 { (u + 0.5 * f / v).min(u1) } else { u };
+                let kappa = curve.curvature_at(u).max(curve.curvature_at(ahead));
+                let lim = chord_limited_step(kappa, tol);
+                if lim < target {
+                    target = lim;
+                    limited = true;
+                    self.limited_n += 1;
+                }
+            }
+            let du =
+                advance(curve, u, target, opts.update, opts.corrector_steps).ok_or(RealtimeError::Stalled { u })?;
+            let (un, last) = if u + du >= u1 { (u1, true) } else { (u + du, false) };
+            let pn = curve.point_at(un);
+            let step = (pn - p).length();
+            let fluct = if last { 0.0 } else { (step - target) / target };
+            if !last {
+                self.max_f = self.max_f.max(fluct.abs());
+                self.sum2 += fluct * fluct;
+                self.n_f += 1;
+            }
+            let chord = chord_error(curve, u, un, p, pn);
+            self.max_chord = self.max_chord.max(chord);
+            self.length += step;
+            if opts.keep_samples {
+                self.samples.push(PeriodSample {
+                    k: self.k,
+                    u: un,
+                    point: pn,
+                    target_mm: target,
+                    step_mm: step,
+                    fluctuation: fluct,
+                    chord_error_mm: chord,
+                    limited,
+                    last,
+                });
+            }
+            if !(un > u) {
+                return Err(RealtimeError::Stalled { u });
+            }
+            self.u = un;
+            self.p = pn;
         }
-        let du = advance(curve, u, target, opts.update, opts.corrector_steps).ok_or(RealtimeError::Stalled { u })?;
-        let (un, last) = if u + du >= u1 { (u1, true) } else { (u + du, false) };
-        let pn = curve.point_at(un);
-        let step = (pn - p).length();
-        let fluct = if last { 0.0 } else { (step - target) / target };
-        if !last {
-            max_f = max_f.max(fluct.abs());
-            sum2 += fluct * fluct;
-            n_f += 1;
-        }
-        let chord = chord_error(curve, u, un, p, pn);
-        max_chord = max_chord.max(chord);
-        length += step;
-        if opts.keep_samples {
-            samples.push(PeriodSample {
-                k,
-                u: un,
-                point: pn,
-                target_mm: target,
-                step_mm: step,
-                fluctuation: fluct,
-                chord_error_mm: chord,
-                limited,
-                last,
-            });
-        }
-        if !(un > u) {
-            return Err(RealtimeError::Stalled { u });
-        }
-        u = un;
-        p = pn;
+        Ok(true)
     }
-    let rms = if n_f > 0 { (sum2 / n_f as f64).sqrt() } else { 0.0 };
-    Ok(RealtimeRun {
-        samples,
-        stats: FeedStats {
-            update: opts.update,
-            periods: k,
-            max_fluctuation: max_f,
-            rms_fluctuation: rms,
-            max_chord_error_mm: max_chord,
-            limited_periods: limited_n,
-            time_s: k as f64 * opts.period_ms / 1000.0,
-            length_mm: length,
-        },
-    })
+
+    /// The run so far: its samples and statistics (of the whole curve once
+    /// [`Self::advance`] has returned `true`).
+    #[must_use]
+    pub fn finish(self) -> RealtimeRun {
+        let rms = if self.n_f > 0 { (self.sum2 / self.n_f as f64).sqrt() } else { 0.0 };
+        RealtimeRun {
+            samples: self.samples,
+            stats: FeedStats {
+                update: self.opts.update,
+                periods: self.k,
+                max_fluctuation: self.max_f,
+                rms_fluctuation: rms,
+                max_chord_error_mm: self.max_chord,
+                limited_periods: self.limited_n,
+                time_s: self.k as f64 * self.opts.period_ms / 1000.0,
+                length_mm: self.length,
+            },
+        }
+    }
 }
