@@ -17,8 +17,8 @@ mod support;
 use glam::DVec3;
 use interpolab::chords::equal_error_chords;
 use interpolab::gcode::{
-    CompareOptions, ProgramError, ProgramKind, ProgramOptions, ProgrammedPoint, Segment, compare, compare_row,
-    crease_design, realtime_stats, write_program,
+    CompareOptions, DesignBuilder, ProgramError, ProgramKind, ProgramOptions, ProgrammedPoint, Segment, compare,
+    compare_row, crease_design, realtime_stats, write_program,
 };
 use interpolab::geom::Curve3;
 use interpolab::nurbs_path::measure::nearest_on_curve;
@@ -554,4 +554,23 @@ fn the_worst_deviation_line_is_a_cutting_block_of_the_text() {
             assert!(text.contains(code), "{}: line {line} is '{text}'", kind.label());
         }
     }
+}
+
+/// The app builds the design path a few thousand periods per frame: the result is the one
+/// `crease_design` (and so the command line) gives.
+#[test]
+fn the_design_built_in_steps_is_the_crease_design() {
+    let job = support::job(include_str!("../examples/sphere-plane.json"));
+    let whole = crease_design(&job).expect("design");
+    let mut builder = DesignBuilder::new(&job).expect("starts");
+    let mut calls = 0;
+    let built = loop {
+        if let Some(d) = builder.advance(250) {
+            break d.expect("design");
+        }
+        calls += 1;
+        assert_eq!(builder.periods(), 250 * calls);
+    };
+    assert!(calls > 3, "the run took {calls} calls");
+    assert_eq!(built.path(), whole.path());
 }

@@ -31,7 +31,7 @@ pub mod write;
 pub use compare::{
     CompareOptions, CompareRow, Comparison, TableStyle, compare, compare_row, format_comparison, realtime_stats,
 };
-pub use design::{DesignError, crease_design};
+pub use design::{DesignBuilder, DesignError, crease_design};
 pub use parse::{ParseError, ParsedProgram, Unsupported, parse_program};
 pub use path::{ArcMove, LineMove, Motion, PathBlock, Plane, Segment, Toolpath};
 pub use replay::{Deviation, DeviationOptions, ProgramSummary, ReplayError, deviation, summarize};
