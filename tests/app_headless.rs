@@ -495,6 +495,41 @@ mod nurbs_panel {
         assert!(h.app.set_panel_option(TAB, "update", "fourth").is_err_and(|e| e.contains("corrected")));
     }
 
+    /// At the slowest feed the real-time runs have 10⁵ periods in all: they are spread over
+    /// frames and still give the core's numbers.
+    #[test]
+    fn a_slow_feed_is_run_over_many_frames_with_the_cores_numbers() {
+        let mut h = Harness::new();
+        h.settle();
+        super::set(&mut h, TAB, "source", "parabola");
+        until_done(&mut h);
+        super::set(&mut h, TAB, "feed_mm_per_min", "60");
+        let mut frames = 0;
+        let t0 = std::time::Instant::now();
+        let s = loop {
+            let s = frame_with(&mut h, Vec::new(), Vec::new());
+            frames += 1;
+            if s["panel"]["status"]["done"] == true {
+                break s["panel"]["status"].clone();
+            }
+            assert!(t0.elapsed().as_secs() < 300, "did not finish");
+        };
+        let para = interpolab::nurbs_path::Parabola::paper_like();
+        let opts = ProgramOptions::default().with_feed(60.0).with_title("parabola y = x^2/40, x from -60 to 60 mm");
+        let program = interpolab::gcode::write_program(interpolab::gcode::ProgramKind::Nurbs, &para, 0.01, &opts)
+            .expect("program");
+        let curve = program.read_back_curves().next().expect("curve");
+        let core = interpolab::nurbs_path::interpolate_realtime(
+            curve,
+            &interpolab::nurbs_path::RealtimeOptions::default().with_feed(60.0, 4.0),
+        )
+        .expect("runs");
+        let rt = s["realtime"].as_array().expect("realtime");
+        assert!(rt.iter().all(|r| r["periods"].as_u64() == Some(core.stats.periods)), "{s}");
+        assert!(core.stats.periods > 50_000);
+        assert!(frames > 5, "{frames} frames");
+    }
+
     #[test]
     fn a_tolerance_below_the_resolution_says_what_to_change() {
         let mut h = Harness::new();

@@ -99,6 +99,8 @@ pub struct NurbsPanel {
     rects: Vec<(&'static str, egui::Rect)>,
     /// Longest single step of the work so far (ms): what one frame may cost at most.
     slowest_step_ms: f64,
+    /// The plotted series.
+    series: plots::Series,
 }
 
 impl Default for NurbsPanel {
@@ -115,6 +117,7 @@ impl Default for NurbsPanel {
             announced: 0,
             rects: Vec::new(),
             slowest_step_ms: 0.0,
+            series: plots::Series::default(),
         }
     }
 }
@@ -347,7 +350,10 @@ impl NurbsPanel {
             }
             Pending::Waiting(_) | Pending::Working => {
                 let what = if !self.work.design_fresh(w) {
-                    "design path"
+                    match self.work.design_progress() {
+                        Some(n) => return (true, format!("computing… design path ({n} periods of the crease)")),
+                        None => "design path",
+                    }
                 } else if !self.work.row_fresh(0, w) {
                     "G01 program"
                 } else if !self.work.row_fresh(1, w) {
@@ -355,7 +361,15 @@ impl NurbsPanel {
                 } else if !self.work.row_fresh(2, w) {
                     "G06.2 program"
                 } else if !self.work.realtime_fresh(w) {
-                    "real-time interpolation"
+                    match self.work.realtime_progress() {
+                        Some((u, k)) => {
+                            return (
+                                true,
+                                format!("computing… real-time interpolation, {} update ({k} periods)", u.as_str()),
+                            );
+                        }
+                        None => "real-time interpolation",
+                    }
                 } else {
                     "deviation of the loaded program"
                 };
@@ -797,7 +811,8 @@ impl Panel for NurbsPanel {
         let tol = self.settings.tol_mm;
         egui::Panel::bottom("nurbs-plots").resizable(true).default_size(230.0).min_size(140.0).show(ui, |ui| {
             self.realtime_controls(ui);
-            plots::plots(ui, self.feed_plot, self.work.realtime.ok(), feed, tol, chord);
+            let rt = self.work.realtime.ok().map(|r| (self.work.realtime.generation, r));
+            plots::plots(ui, &mut self.series, self.feed_plot, rt, feed, tol, chord);
         });
         let max_side = (ui.available_width() - 300.0).max(320.0);
         let side = egui::Panel::right("nurbs-side")

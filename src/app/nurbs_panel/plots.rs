@@ -60,16 +60,47 @@ fn log_axis(mark: egui_plot::GridMark) -> String {
     format!("1e{:.0}", mark.value)
 }
 
-/// The two plots side by side in `ui`.
+/// The plotted series of one run, reduced to their envelopes (built once per run and mode,
+/// not every frame: a slow feed gives 10⁵ periods).
+#[derive(Default)]
+pub struct Series {
+    key: Option<(u64, FeedPlot)>,
+    feed: Vec<[f64; 2]>,
+    chord: Vec<[f64; 2]>,
+}
+
+impl Series {
+    fn update(&mut self, generation: u64, mode: FeedPlot, rt: &Realtime) {
+        if self.key == Some((generation, mode)) {
+            return;
+        }
+        let ts = rt.period_ms;
+        let samples = rt.run.samples.iter().filter(|s| !s.last);
+        let feed: Vec<[f64; 2]> = match mode {
+            FeedPlot::Feed => samples.clone().map(|s| [s.k as f64 * ts, s.step_mm / ts * 60_000.0]).collect(),
+            FeedPlot::Fluctuation => {
+                samples.clone().map(|s| [s.k as f64 * ts, s.fluctuation.abs().max(LOG_FLOOR).log10()]).collect()
+            }
+        };
+        let chord: Vec<[f64; 2]> =
+            samples.map(|s| [s.k as f64 * ts, (s.chord_error_mm * 1000.0).max(LOG_FLOOR).log10()]).collect();
+        self.feed = envelope(&feed, 1200);
+        self.chord = envelope(&chord, 1200);
+        self.key = Some((generation, mode));
+    }
+}
+
+/// The two plots side by side in `ui`; `rt` with its generation.
 pub fn plots(
     ui: &mut egui::Ui,
+    series: &mut Series,
     mode: FeedPlot,
-    rt: Option<&Realtime>,
+    rt: Option<(u64, &Realtime)>,
     feed_mm_per_min: f64,
     tol_mm: f64,
     chord_tol_mm: Option<f64>,
 ) {
-    let Some(rt) = rt else {
+    let Some((generation, rt)) = rt else {
         ui.centered_and_justified(|ui| {
             ui.label(
                 egui::RichText::new("The real-time interpolation plots appear once the G06.2 program is written.")
@@ -78,8 +109,7 @@ pub fn plots(
         });
         return;
     };
-    let ts = rt.period_ms;
-    let samples: Vec<_> = rt.run.samples.iter().filter(|s| !s.last).collect();
+    series.update(generation, mode, rt);
     let update = rt.run.stats.update.as_str();
     let link = egui::Id::unique("nurbs-time-axis");
     let width = (ui.available_width() - 12.0) / 2.0;
@@ -92,15 +122,9 @@ pub fn plots(
                     FeedPlot::Fluctuation => format!("feed fluctuation |Δf/f| per period, {update} update (log)"),
                 };
                 ui.label(egui::RichText::new(title).strong());
-                let (pts, label): (Vec<[f64; 2]>, &str) = match mode {
-                    FeedPlot::Feed => (
-                        samples.iter().map(|s| [s.k as f64 * ts, s.step_mm / ts * 60_000.0]).collect(),
-                        "feed (mm/min)",
-                    ),
-                    FeedPlot::Fluctuation => (
-                        samples.iter().map(|s| [s.k as f64 * ts, s.fluctuation.abs().max(LOG_FLOOR).log10()]).collect(),
-                        "|Δf/f| (log)",
-                    ),
+                let label = match mode {
+                    FeedPlot::Feed => "feed (mm/min)",
+                    FeedPlot::Fluctuation => "|Δf/f| (log)",
                 };
                 let mut plot = Plot::new("nurbs-feed")
                     .legend(Legend::default().position(Corner::RightBottom).background_alpha(0.6))
@@ -127,7 +151,7 @@ pub fn plots(
                         FeedPlot::Feed => format!("feed, {update} update"),
                         FeedPlot::Fluctuation => format!("|Δf/f|, {update} update"),
                     };
-                    p.line(Line::new(name, PlotPoints::from(envelope(&pts, 1200))).color(turbo(0.75)).width(1.5));
+                    p.line(Line::new(name, PlotPoints::from(series.feed.clone())).color(turbo(0.75)).width(1.5));
                     if mode == FeedPlot::Feed {
                         p.hline(
                             HLine::new(format!("programmed F = {feed_mm_per_min:.0} mm/min"), feed_mm_per_min)
@@ -147,10 +171,6 @@ pub fn plots(
                     ))
                     .strong(),
                 );
-                let pts: Vec<[f64; 2]> = samples
-                    .iter()
-                    .map(|s| [s.k as f64 * ts, (s.chord_error_mm * 1000.0).max(LOG_FLOOR).log10()])
-                    .collect();
                 Plot::new("nurbs-chord")
                     .legend(Legend::default().position(Corner::RightBottom).background_alpha(0.6))
                     .x_axis_label("t (ms)")
@@ -163,7 +183,7 @@ pub fn plots(
                     .include_y((tol_mm * 1000.0).log10() + 0.3)
                     .show(ui, |p| {
                         p.line(
-                            Line::new("chord error", PlotPoints::from(envelope(&pts, 1200)))
+                            Line::new("chord error", PlotPoints::from(series.chord.clone()))
                                 .color(egui::Color32::from_rgb(120, 200, 255))
                                 .width(1.5),
                         );

@@ -13,12 +13,16 @@ use web_time::{Duration, Instant};
 
 use crate::crease::{CreaseCurve, CreaseJob};
 use crate::gcode::{
-    CompareOptions, CompareRow, Comparison, Deviation, DeviationOptions, ParsedProgram, ProgramError, ProgramKind,
-    ProgramOptions, ProgrammedPoint, compare_row, crease_design, deviation, parse_program, realtime_stats,
+    CompareOptions, CompareRow, Comparison, DesignBuilder, DesignError, Deviation, DeviationOptions, ParsedProgram,
+    ProgramError, ProgramKind, ProgramOptions, ProgrammedPoint, compare_row, deviation, parse_program,
 };
 use crate::geom::Curve3;
 use crate::nurbs_path::measure::{ArcLengthTable, Translated};
-use crate::nurbs_path::{FeedStats, FitError, Parabola, RealtimeRun, Update, interpolate_realtime};
+use crate::nurbs_path::{FeedStats, FitError, Parabola, RealtimeRun, RealtimeStepper, Update};
+
+/// Periods of the crease or of a real-time run per step: a few ms natively, ~10 ms in a
+/// browser, so a 10⁵-period path (a slow feed) is spread over frames.
+const PERIODS_PER_STEP: usize = 4000;
 
 /// Quiet time after the last change of an input before the work starts (a slider being
 /// dragged does not start a computation per frame).
@@ -222,6 +226,22 @@ pub struct Work {
     last_wanted: Option<Wanted>,
     changed_at: Option<Instant>,
     loaded_generation: u64,
+    /// The crease being run for the design path.
+    design_task: Option<(DesignInput, DesignBuilder)>,
+    /// The real-time runs under way.
+    realtime_task: Option<RealtimeTask>,
+}
+
+/// The real-time runs of one G06.2 curve under way.
+#[derive(Debug)]
+struct RealtimeTask {
+    key: RealtimeKey,
+    /// Index in [`Update::ALL`] of the run under way.
+    next: usize,
+    stepper: Option<RealtimeStepper>,
+    stats: Vec<FeedStats>,
+    /// The chosen update's run, with samples.
+    run: Option<RealtimeRun>,
 }
 
 /// What the panel still has to do.
@@ -348,8 +368,9 @@ impl Work {
     /// Runs the next due step for `w` regardless of the quiet time (tests, first frame).
     pub fn step_now(&mut self, w: &Wanted) -> bool {
         if !self.design_fresh(w) {
-            let value = make_design(&w.design).map(Rc::new);
-            self.design.set(w.design.clone(), value);
+            if let Some(value) = self.design_step(&w.design) {
+                self.design.set(w.design.clone(), value.map(Rc::new));
+            }
             return true;
         }
         let Some(design) = self.design.ok().cloned() else {
@@ -371,11 +392,9 @@ impl Work {
         }
         if !self.realtime_done(w) {
             let key = self.realtime_key(w);
-            let value = match self.rows[2].ok() {
-                Some(row) => run_realtime(row, &opts, w.realtime.update),
-                None => Err("no G06.2 program".to_owned()),
-            };
-            self.realtime.set(key, value);
+            if let Some(value) = self.realtime_step(&key, &opts, w.realtime.update) {
+                self.realtime.set(key, value);
+            }
             return true;
         }
         if let (Some(key), Some(loaded)) = (self.loaded_key(w), &self.loaded)
@@ -396,6 +415,99 @@ impl Work {
         false
     }
 
+    /// One step of the design path: a parabola at once, a crease [`PERIODS_PER_STEP`] periods
+    /// at a time. `Some` when done.
+    fn design_step(&mut self, input: &DesignInput) -> Option<Result<Design, String>> {
+        let DesignInput::Crease(job, name) = input else {
+            return Some(make_parabola());
+        };
+        let fresh = self.design_task.as_ref().is_some_and(|(i, _)| i == input);
+        if !fresh {
+            match DesignBuilder::new(job) {
+                Ok(b) => self.design_task = Some((input.clone(), b)),
+                Err(e) => return Some(Err(crease_failed(&e))),
+            }
+        }
+        let (_, builder) = self.design_task.as_mut()?;
+        let done = builder.advance(PERIODS_PER_STEP)?;
+        self.design_task = None;
+        Some(done.map_err(|e| crease_failed(&e)).map(|c| Design {
+            length_mm: c.path().length(),
+            curve: DesignCurve::Crease(Box::new(c)),
+            title: if name.is_empty() { "scene".to_owned() } else { name.clone() },
+        }))
+    }
+
+    /// Periods of the design path run so far, while it is being built.
+    #[must_use]
+    pub fn design_progress(&self) -> Option<usize> {
+        self.design_task.as_ref().map(|(_, b)| b.periods())
+    }
+
+    /// The update being run and its periods so far, while the real-time runs are under way.
+    #[must_use]
+    pub fn realtime_progress(&self) -> Option<(Update, u64)> {
+        let t = self.realtime_task.as_ref()?;
+        Some((*Update::ALL.get(t.next)?, t.stepper.as_ref().map_or(0, RealtimeStepper::periods)))
+    }
+
+    /// One step of the real-time runs of the G06.2 curve: [`PERIODS_PER_STEP`] periods of
+    /// one update's run; the updates in [`Update::ALL`] order, each run once, the chosen one
+    /// keeping its samples. `Some` when all are done.
+    fn realtime_step(
+        &mut self,
+        key: &RealtimeKey,
+        opts: &CompareOptions,
+        chosen: Update,
+    ) -> Option<Result<Realtime, String>> {
+        let Some(curve) = self.rows[2].ok().and_then(|r| r.program.read_back_curves().next()) else {
+            return Some(Err("the G06.2 program holds no curve".to_owned()));
+        };
+        if self.realtime_task.as_ref().is_none_or(|t| t.key != *key) {
+            self.realtime_task =
+                Some(RealtimeTask { key: key.clone(), next: 0, stepper: None, stats: Vec::new(), run: None });
+        }
+        let task = self.realtime_task.as_mut()?;
+        let Some(&update) = Update::ALL.get(task.next) else {
+            let t = self.realtime_task.take()?;
+            let ro = opts.realtime(chosen);
+            return Some(match t.run {
+                Some(run) => Ok(Realtime {
+                    stats: t.stats,
+                    run,
+                    feed_per_period_mm: ro.feed_per_period_mm(),
+                    period_ms: opts.period_ms,
+                }),
+                None => Err(format!("the {} update could not run this curve", chosen.as_str())),
+            });
+        };
+        let ro = opts.realtime(update).with_samples(update == chosen);
+        let stepper = match task.stepper.take() {
+            Some(s) => Ok(s),
+            None => RealtimeStepper::new(curve, &ro),
+        };
+        // As `realtime_stats`: an update that cannot run the curve is left out of the table.
+        match stepper.and_then(|mut s| s.advance(curve, PERIODS_PER_STEP as u64).map(|done| (done, s))) {
+            Ok((false, s)) => task.stepper = Some(s),
+            Ok((true, s)) => {
+                let run = s.finish();
+                task.stats.push(run.stats);
+                if update == chosen {
+                    task.run = Some(run);
+                }
+                task.next += 1;
+            }
+            Err(e) => {
+                if update == chosen {
+                    self.realtime_task = None;
+                    return Some(Err(e.to_string()));
+                }
+                task.next += 1;
+            }
+        }
+        None
+    }
+
     /// The comparison, when every row is fresh and written.
     #[must_use]
     pub fn comparison(&self, w: &Wanted) -> Option<Comparison> {
@@ -408,35 +520,17 @@ impl Work {
     }
 }
 
-fn make_design(input: &DesignInput) -> Result<Design, String> {
-    match input {
-        DesignInput::Parabola => {
-            let p = Parabola::paper_like();
-            Ok(Design {
-                length_mm: ArcLengthTable::new(&p, 256).length(),
-                curve: DesignCurve::Parabola(p),
-                title: "parabola y = x^2/40, x from -60 to 60 mm".to_owned(),
-            })
-        }
-        DesignInput::Crease(job, name) => {
-            let c = crease_design(job).map_err(|e| {
-                format!("The scene's crease gives no design path: {e}. Change the scene, or use the parabola profile.")
-            })?;
-            Ok(Design {
-                length_mm: c.path().length(),
-                curve: DesignCurve::Crease(Box::new(c)),
-                title: if name.is_empty() { "scene".to_owned() } else { name.clone() },
-            })
-        }
-    }
+fn make_parabola() -> Result<Design, String> {
+    let p = Parabola::paper_like();
+    Ok(Design {
+        length_mm: ArcLengthTable::new(&p, 256).length(),
+        curve: DesignCurve::Parabola(p),
+        title: "parabola y = x^2/40, x from -60 to 60 mm".to_owned(),
+    })
 }
 
-fn run_realtime(row: &CompareRow, opts: &CompareOptions, update: Update) -> Result<Realtime, String> {
-    let curve = row.program.read_back_curves().next().ok_or("the G06.2 program holds no curve")?;
-    let stats = realtime_stats(&row.program, opts);
-    let ro = opts.realtime(update).with_samples(true);
-    let run = interpolate_realtime(curve, &ro).map_err(|e| e.to_string())?;
-    Ok(Realtime { stats, run, feed_per_period_mm: ro.feed_per_period_mm(), period_ms: opts.period_ms })
+fn crease_failed(e: &DesignError) -> String {
+    format!("The scene's crease gives no design path: {e}. Change the scene, or use the parabola profile.")
 }
 
 /// A program error in the app's terms (the core's messages name the command line's flags).
