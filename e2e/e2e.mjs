@@ -203,6 +203,20 @@ try {
   {
     const TAB = "NURBS & G-code (seed 004)";
     const pageN = await context.newPage();
+    // Clicks a widget of the panel by its published rectangle until `pred` holds: the layout
+    // moves when the banner above it comes and goes, so a rectangle can be a frame old.
+    const clickUntil = async (what, key, pred) => {
+      for (let i = 0; i < 5; i++) {
+        const r = (await status(pageN)).panel.status.ui[key];
+        await pageN.mouse.click(r[0] + r[2] / 2, r[1] + r[3] / 2);
+        try {
+          return await waitFor(pageN, what, pred, 2000);
+        } catch {
+          // the rectangle had moved; read it again
+        }
+      }
+      throw new Error(`clicking ${key} did not give ${what}`);
+    };
     await pageN.goto(url + "#scene=" + base64url(fs.readFileSync(path.join(examples, "torus-plane.json"), "utf8")));
     let sn = await waitFor(pageN, "the torus crease", settled);
     const tab = sn.ui[TAB];
@@ -221,13 +235,10 @@ try {
       `${blocks} path blocks at ${st.tol_mm} mm, in ${Date.now() - tn} ms`);
     // Download the G01 program, then open the downloaded file: it is drawn over the design
     // and its deviation is the one the table reports.
-    await pageN.mouse.click(st.ui.G01[0] + st.ui.G01[2] / 2, st.ui.G01[1] + st.ui.G01[3] / 2);
-    await pageN.waitForTimeout(200);
-    const dl = (await status(pageN)).panel.status.ui.download;
-    const [download] = await Promise.all([
-      pageN.waitForEvent("download"),
-      pageN.mouse.click(dl[0] + dl[2] / 2, dl[1] + dl[3] / 2),
-    ]);
+    await clickUntil("the G01 program shown", "G01", (s) => s.panel.status.program === "g01");
+    const downloaded = pageN.waitForEvent("download", { timeout: 20000 });
+    await clickUntil("the download", "download", (s) => (s.panel.status.downloaded ?? "").endsWith("-g01.nc"));
+    const download = await downloaded;
     const file = path.join(artifacts, download.suggestedFilename());
     await download.saveAs(file);
     // Pixels of the loaded program's colour (yellow, 250 230 60) in the view.

@@ -101,6 +101,8 @@ pub struct NurbsPanel {
     slowest_step_ms: f64,
     /// The plotted series.
     series: plots::Series,
+    /// The last program downloaded (file name).
+    downloaded: Option<String>,
 }
 
 impl Default for NurbsPanel {
@@ -118,6 +120,7 @@ impl Default for NurbsPanel {
             rects: Vec::new(),
             slowest_step_ms: 0.0,
             series: plots::Series::default(),
+            downloaded: None,
         }
     }
 }
@@ -479,6 +482,7 @@ impl NurbsPanel {
         };
         let mut go_to = None;
         let mut close = false;
+        let mut saved = None;
         ui.horizontal_wrapped(|ui| {
             let enabled = text.is_some();
             if ui
@@ -496,6 +500,7 @@ impl NurbsPanel {
                 && let Some(t) = text
             {
                 cx.save_text(&name, t);
+                saved = Some(name.clone());
             }
             if let Some(m) = mark
                 && ui
@@ -526,6 +531,9 @@ impl NurbsPanel {
             }
         }
         self.scroll_to = None;
+        if saved.is_some() {
+            self.downloaded = saved;
+        }
         if close {
             self.work.unload();
             self.shown = Shown::Kind(ProgramKind::Nurbs);
@@ -678,6 +686,11 @@ impl NurbsPanel {
             "realtime": realtime,
             "loaded": loaded,
             "slowest_step_ms": self.slowest_step_ms,
+            "downloaded": self.downloaded,
+            "program": match self.shown {
+                Shown::Kind(k) => k.as_str(),
+                Shown::Loaded => "loaded",
+            },
             "worst_px": self.view.worst_on_screen.map(|p| [p.x, p.y]),
             "ui": self.rects.iter().map(|(k, r)| ((*k).to_owned(), serde_json::json!([r.min.x, r.min.y, r.width(), r.height()]))).collect::<serde_json::Map<_, _>>(),
         })
