@@ -560,7 +560,7 @@ impl NurbsView {
             }
             if self.show.points && l.periods > 0 {
                 let every = if l.dots_every > 1 {
-                    format!(", 1 dot per {} periods (zoom in for all)", l.dots_every)
+                    format!(" (a dot per {}; zoom in for all)", l.dots_every)
                 } else {
                     String::new()
                 };
