@@ -282,6 +282,34 @@ const unexpected = consoleErrors.filter((t) => !/GPU stall due to ReadPixels/.te
 check("no console error", unexpected.length === 0, unexpected.slice(0, 5).join(" | "));
 await browser.close();
 
+// 10. WebGPU where the browser has it. These flags give headless Chromium a SwiftShader
+// WebGPU adapter that really renders (with --enable-unsafe-webgpu alone it draws nothing);
+// the checks above ran on WebGL2, wgpu's fallback.
+try {
+  const gpuBrowser = await chromium.launch({
+    executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium",
+    headless: true,
+    args: [
+      "--no-sandbox", "--enable-unsafe-webgpu", "--enable-features=Vulkan", "--use-vulkan=swiftshader",
+      "--use-angle=swiftshader", "--disable-quic", "--no-first-run", "--disable-background-networking",
+      "--disable-component-update", "--disable-sync",
+    ],
+  });
+  const gpuPage = await gpuBrowser.newPage({ viewport: { width: 1400, height: 900 } });
+  const gpuErrors = [];
+  gpuPage.on("console", (m) => { if (m.type() === "error") gpuErrors.push(m.text()); });
+  await gpuPage.goto(url);
+  const sg = await waitFor(gpuPage, "the first path on WebGPU", settled);
+  const shotG = await gpuPage.screenshot({ path: path.join(artifacts, "10-webgpu.png") });
+  const varietyG = colourVariety(shotG, [420, 60, 900, 520]);
+  check("on WebGPU: the app chose the WebGPU backend and drew its first frame",
+    sg.gpu_backend === "BrowserWebGpu" && varietyG > 40, `backend ${sg.gpu_backend}, ${varietyG} distinct colours`);
+  check("on WebGPU: no console error", gpuErrors.length === 0, gpuErrors.slice(0, 3).join(" | "));
+  await gpuBrowser.close();
+} catch (e) {
+  check("on WebGPU: the app runs", false, e.message);
+}
+
 const passed = results.filter((r) => r.ok).length;
 const failedCount = results.length - passed + (failed ? 1 : 0);
 console.log(`\ne2e: ${passed} passed, ${failedCount} failed (screenshots in e2e/artifacts/)`);

@@ -18,8 +18,9 @@ say "lints: native, with the app"
 cargo clippy --lib --bins --locked -- -D warnings
 # Tests and benches may unwrap and compare floats exactly: a failure there is the point.
 cargo clippy --tests --benches --locked -- -D warnings -A clippy::unwrap_used -A clippy::expect_used -A clippy::float_cmp
-say "lints: the core for wasm32"
+say "lints: the core for wasm32, and the app for wasm32"
 cargo clippy --no-default-features --target wasm32-unknown-unknown --lib --locked -- -D warnings
+cargo clippy --target wasm32-unknown-unknown --lib --bins --locked -- -D warnings
 
 say "core tests, native (no GUI dependency)"
 cargo test --no-default-features --locked

@@ -139,7 +139,8 @@ impl<W: Write> RowWriter<W> {
             Format::Csv => writeln!(self.out, "{}", vals.join(","))?,
             Format::Json => {
                 let sep = if self.first { "\n    " } else { ",\n    " };
-                let json: Vec<String> = vals.iter().map(|v| if v.is_empty() { "null".to_owned() } else { v.clone() }).collect();
+                let json: Vec<String> =
+                    vals.iter().map(|v| if v.is_empty() { "null".to_owned() } else { v.clone() }).collect();
                 write!(self.out, "{sep}[{}]", json.join(", "))?;
             }
         }

@@ -411,6 +411,7 @@ impl InterpolabApp {
             "worst_error_mm": [worst[0], worst[1]],
             "frames": self.frames,
             "first_frame_ms": self.first_frame_ms,
+            "gpu_backend": self.render_state.as_ref().map(|rs| format!("{:?}", rs.adapter.get_info().backend)),
             "playback_k": self.playback.k.floor(),
             "ui": ui,
             "panel": self.tab.and_then(|i| self.panels.get(i)).map_or(serde_json::Value::Null, |p| {
@@ -447,7 +448,8 @@ impl eframe::App for InterpolabApp {
 
         self.platform.accept_dropped(&ctx);
         let files = self.platform.take_incoming();
-        let (scene_files, mut other_files): (Vec<_>, Vec<_>) = files.into_iter().partition(|f| f.kind == FileKind::Scene);
+        let (scene_files, mut other_files): (Vec<_>, Vec<_>) =
+            files.into_iter().partition(|f| f.kind == FileKind::Scene);
         if !scene_files.is_empty() {
             self.handle_files(scene_files);
         }

@@ -6,9 +6,9 @@
 use eframe::egui;
 use eframe::egui_wgpu::RenderState;
 
+use super::Playback;
 use super::compute::Computation;
 use super::platform::{FileKind, Incoming, Platform};
-use super::Playback;
 use crate::scene::Scene;
 
 /// What a view may read and do this frame.

@@ -152,10 +152,8 @@ mod imp {
         }
 
         pub fn set_fragment(&mut self, fragment: &str) {
-            if let Some(w) = web_sys::window() {
-                if let Ok(h) = w.history() {
-                    let _ = h.replace_state_with_url(&JsValue::NULL, "", Some(&format!("#{fragment}")));
-                }
+            if let Some(h) = web_sys::window().and_then(|w| w.history().ok()) {
+                let _ = h.replace_state_with_url(&JsValue::NULL, "", Some(&format!("#{fragment}")));
             }
         }
 

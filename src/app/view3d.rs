@@ -213,10 +213,8 @@ impl CreaseView {
         if key == self.path_for {
             return;
         }
-        let same_run = self.path_for.0 == key.0
-            && self.path_for.2 == key.2
-            && self.path_for.3 == key.3
-            && self.path_for.1 <= n;
+        let same_run =
+            self.path_for.0 == key.0 && self.path_for.2 == key.2 && self.path_for.3 == key.3 && self.path_for.1 <= n;
         if !same_run {
             self.path_cpu.clear();
             self.exact_cpu.clear();

@@ -67,13 +67,12 @@ fn watch_for_panic(runner: eframe::WebRunner) {
         if runner.has_panicked() {
             let summary = runner.panic_summary().map_or_else(|| "unknown error".to_owned(), |s| s.message());
             // Recreate the message element (it was removed after the start).
-            if let Some(doc) = web_sys::window().and_then(|w| w.document()) {
-                if doc.get_element_by_id(LOADING_ID).is_none() {
-                    if let (Ok(div), Some(body)) = (doc.create_element("div"), doc.body()) {
-                        div.set_id(LOADING_ID);
-                        let _ = body.append_child(&div);
-                    }
-                }
+            if let Some(doc) = web_sys::window().and_then(|w| w.document())
+                && doc.get_element_by_id(LOADING_ID).is_none()
+                && let (Ok(div), Some(body)) = (doc.create_element("div"), doc.body())
+            {
+                div.set_id(LOADING_ID);
+                let _ = body.append_child(&div);
             }
             show_failure(&format!("It hit an internal error: {summary}"));
             if let Some(w) = web_sys::window() {

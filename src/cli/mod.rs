@@ -131,4 +131,3 @@ fn open_app() -> Result<ExitCode, Fatal> {
     let _ = Cli::command().print_help();
     Ok(ExitCode::SUCCESS)
 }
-

@@ -74,7 +74,10 @@ impl GpuArray {
 
     /// Writes `bytes` (all elements); only bytes from `unchanged_prefix_bytes` on are sent
     /// when the buffer is large enough (the path grows by appending).
-    #[expect(clippy::too_many_arguments, reason = "a private helper; a struct for its arguments would only rename them")]
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "a private helper; a struct for its arguments would only rename them"
+    )]
     fn write(
         &mut self,
         device: &wgpu::Device,

@@ -16,11 +16,7 @@ pub const KEY: &str = "scene=";
 pub fn base64url_encode(bytes: &[u8]) -> String {
     let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
     for chunk in bytes.chunks(3) {
-        let b = [
-            chunk[0],
-            *chunk.get(1).unwrap_or(&0),
-            *chunk.get(2).unwrap_or(&0),
-        ];
+        let b = [chunk[0], *chunk.get(1).unwrap_or(&0), *chunk.get(2).unwrap_or(&0)];
         let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
         let chars = chunk.len() + 1;
         for i in 0..chars {
@@ -65,10 +61,7 @@ impl Scene {
     /// The URL fragment (without `#`) that carries this scene.
     #[must_use]
     pub fn to_link_fragment(&self) -> String {
-        format!(
-            "{KEY}{}",
-            base64url_encode(self.to_json_compact().as_bytes())
-        )
+        format!("{KEY}{}", base64url_encode(self.to_json_compact().as_bytes()))
     }
 
     /// Reads a scene from a URL fragment (with or without the leading `#`). `Ok(None)` when

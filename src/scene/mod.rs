@@ -37,16 +37,8 @@ pub struct SceneError {
 }
 
 impl SceneError {
-    pub(crate) fn new(
-        path: impl Into<String>,
-        problem: impl Into<String>,
-        fix: impl Into<String>,
-    ) -> Self {
-        Self {
-            path: path.into(),
-            problem: problem.into(),
-            fix: fix.into(),
-        }
+    pub(crate) fn new(path: impl Into<String>, problem: impl Into<String>, fix: impl Into<String>) -> Self {
+        Self { path: path.into(), problem: problem.into(), fix: fix.into() }
     }
 }
 

@@ -12,28 +12,10 @@ pub struct Preset {
 
 /// Every example, in the order the app lists them (the paper's own setting first).
 pub const PRESETS: &[Preset] = &[
-    Preset {
-        id: "floor-round-wall",
-        json: include_str!("../../examples/floor-round-wall.json"),
-    },
-    Preset {
-        id: "sphere-plane",
-        json: include_str!("../../examples/sphere-plane.json"),
-    },
-    Preset {
-        id: "crossing-cylinders",
-        json: include_str!("../../examples/crossing-cylinders.json"),
-    },
-    Preset {
-        id: "torus-plane",
-        json: include_str!("../../examples/torus-plane.json"),
-    },
-    Preset {
-        id: "bspline-floor-wall",
-        json: include_str!("../../examples/bspline-floor-wall.json"),
-    },
-    Preset {
-        id: "rational-nurbs-vault",
-        json: include_str!("../../examples/rational-nurbs-vault.json"),
-    },
+    Preset { id: "floor-round-wall", json: include_str!("../../examples/floor-round-wall.json") },
+    Preset { id: "sphere-plane", json: include_str!("../../examples/sphere-plane.json") },
+    Preset { id: "crossing-cylinders", json: include_str!("../../examples/crossing-cylinders.json") },
+    Preset { id: "torus-plane", json: include_str!("../../examples/torus-plane.json") },
+    Preset { id: "bspline-floor-wall", json: include_str!("../../examples/bspline-floor-wall.json") },
+    Preset { id: "rational-nurbs-vault", json: include_str!("../../examples/rational-nurbs-vault.json") },
 ];
