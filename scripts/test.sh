@@ -26,7 +26,7 @@ say "core tests, native (no GUI dependency)"
 cargo test --no-default-features --locked
 
 say "app tests, native (headless frames)"
-cargo test --locked --test app_headless
+cargo test --locked --lib --test app_headless
 
 say "core tests compiled to wasm32, run under Node (same sources)"
 # Without debuginfo the test modules stay small and load fast (see docs/toolchain notes).

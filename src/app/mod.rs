@@ -13,6 +13,7 @@ mod compute;
 mod controls;
 mod fiveaxis_panel;
 mod nurbs_panel;
+mod overlay;
 pub mod panel;
 mod platform;
 mod plots;

@@ -7,6 +7,7 @@ use egui_plot::{Corner, HLine, Legend, Line, LineStyle, Plot, PlotPoints, VLine}
 
 use super::compute::Computation;
 use super::controls::SURFACE_COLORS;
+use super::overlay::decimate;
 use super::{Playback, describe_outcome, fmt_len};
 use crate::scene::Scene;
 
@@ -123,33 +124,6 @@ pub fn playback_bar(ui: &mut egui::Ui, pb: &mut Playback, compute: &Computation,
         ui.add(egui::Slider::new(&mut pb.speed, 0.05..=200.0).logarithmic(true).suffix("×").text("speed"));
         ui.label(format!("t = {:.3} s of {:.3} s", pb.k.floor() * period_ms / 1000.0, last * period_ms / 1000.0));
     });
-}
-
-/// Reduces a long series to at most ~2·`buckets` points keeping each bucket's min and max,
-/// so the plot keeps its envelope at any length.
-fn decimate(points: &[[f64; 2]], buckets: usize) -> Vec<[f64; 2]> {
-    if points.len() <= 2 * buckets {
-        return points.to_vec();
-    }
-    let per = points.len().div_ceil(buckets);
-    let mut out = Vec::with_capacity(2 * buckets + 2);
-    for chunk in points.chunks(per) {
-        let (mut lo, mut hi) = (chunk[0], chunk[0]);
-        for p in chunk {
-            if p[1] < lo[1] {
-                lo = *p;
-            }
-            if p[1] > hi[1] {
-                hi = *p;
-            }
-        }
-        if lo[0] <= hi[0] {
-            out.extend([lo, hi]);
-        } else {
-            out.extend([hi, lo]);
-        }
-    }
-    out
 }
 
 /// Floor of the log plot (mm): 0.1 pm, below the rounding of a foot-point projection.

@@ -10,6 +10,7 @@ use glam::{DVec3, Vec3};
 use super::Playback;
 use super::compute::Computation;
 use super::controls::SURFACE_COLORS;
+use super::overlay::{axis_triad, scale_bar};
 use crate::geom::ParametricSurface;
 use crate::render::geometry::{Origin, bounds, iso_lines, tessellate};
 use crate::render::gpu::paint_callback;
@@ -393,36 +394,13 @@ impl CreaseView {
     fn overlays(&mut self, ui: &mut egui::Ui, rect: egui::Rect, scene: &Scene, compute: &Computation) {
         let painter = ui.painter_at(rect);
         let font = egui::FontId::proportional(13.0);
-        // Axis triad, bottom left.
-        let eye = self.camera.eye();
-        let forward = (self.camera.target - eye).normalize();
-        let right = forward.cross(Vec3::Z).normalize_or_zero();
-        let up = right.cross(forward);
-        let o = rect.left_bottom() + egui::vec2(46.0, -46.0);
-        for (axis, name, color) in [
-            (Vec3::X, "X", egui::Color32::from_rgb(235, 90, 80)),
-            (Vec3::Y, "Y", egui::Color32::from_rgb(110, 210, 110)),
-            (Vec3::Z, "Z", egui::Color32::from_rgb(100, 150, 255)),
-        ] {
-            let tip = o + egui::vec2(axis.dot(right), -axis.dot(up)) * 32.0;
-            painter.line_segment([o, tip], egui::Stroke::new(2.0, color));
-            painter.text(tip + (tip - o).normalized() * 8.0, egui::Align2::CENTER_CENTER, name, font.clone(), color);
-        }
-        // Scale bar, bottom right: a round length of 60–150 points at the target's depth.
-        let mm_per_pt = f64::from(self.camera.mm_per_point(rect.height()));
-        let target = 100.0 * mm_per_pt;
-        let pow = 10f64.powf(target.log10().floor());
-        let nice = [1.0, 2.0, 5.0, 10.0].iter().map(|m| m * pow).find(|l| *l / mm_per_pt >= 60.0).unwrap_or(10.0 * pow);
-        let len_pt = (nice / mm_per_pt) as f32;
-        let end = rect.right_bottom() + egui::vec2(-20.0, -24.0);
-        let start = end - egui::vec2(len_pt, 0.0);
-        let white = egui::Color32::from_gray(220);
-        painter.line_segment([start, end], egui::Stroke::new(2.0, white));
-        for x in [start, end] {
-            painter.line_segment([x - egui::vec2(0.0, 5.0), x + egui::vec2(0.0, 5.0)], egui::Stroke::new(2.0, white));
-        }
-        let label = if nice >= 1.0 { format!("{nice} mm") } else { format!("{} µm", nice * 1000.0) };
-        painter.text(start + egui::vec2(len_pt / 2.0, -12.0), egui::Align2::CENTER_CENTER, label, font.clone(), white);
+        axis_triad(&painter, rect.left_bottom() + egui::vec2(46.0, -46.0), 32.0, &self.camera, &font);
+        scale_bar(
+            &painter,
+            rect.right_bottom() + egui::vec2(-20.0, -24.0),
+            f64::from(self.camera.mm_per_point(rect.height())),
+            &font,
+        );
         // Legend, top left.
         let mut y = rect.top() + 10.0;
         let x = rect.left() + 10.0;

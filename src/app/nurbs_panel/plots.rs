@@ -1,6 +1,7 @@
 //! Plots of the real-time run over time (ms): the feed (mm/min) or its relative fluctuation
 //! per period, and the chord error per period (µm, log) against the tolerance.
 
+use crate::app::overlay::decimate;
 use eframe::egui;
 use egui_plot::{Corner, HLine, Legend, Line, Plot, PlotPoints, uniform_grid_spacer};
 
@@ -18,33 +19,6 @@ pub enum FeedPlot {
 
 /// Floor of the log plots: |Δf/f| and chord errors below it are drawn at it.
 const LOG_FLOOR: f64 = 1e-16;
-
-/// Reduces a long series to at most ~2·`buckets` points keeping each bucket's lowest and
-/// highest value, so the plot keeps its envelope at any length.
-fn envelope(points: &[[f64; 2]], buckets: usize) -> Vec<[f64; 2]> {
-    if points.len() <= 2 * buckets {
-        return points.to_vec();
-    }
-    let per = points.len().div_ceil(buckets);
-    let mut out = Vec::with_capacity(2 * buckets + 2);
-    for chunk in points.chunks(per) {
-        let (mut lo, mut hi) = (chunk[0], chunk[0]);
-        for p in chunk {
-            if p[1] < lo[1] {
-                lo = *p;
-            }
-            if p[1] > hi[1] {
-                hi = *p;
-            }
-        }
-        if lo[0] <= hi[0] {
-            out.extend([lo, hi]);
-        } else {
-            out.extend([hi, lo]);
-        }
-    }
-    out
-}
 
 /// Grid steps for a linear axis: labelled lines at a 1-2-5 step giving about 5 labels, thin
 /// lines at a fifth of it.
@@ -84,8 +58,8 @@ impl Series {
         };
         let chord: Vec<[f64; 2]> =
             samples.map(|s| [s.k as f64 * ts, (s.chord_error_mm * 1000.0).max(LOG_FLOOR).log10()]).collect();
-        self.feed = envelope(&feed, 1200);
-        self.chord = envelope(&chord, 1200);
+        self.feed = decimate(&feed, 1200);
+        self.chord = decimate(&chord, 1200);
         self.key = Some((generation, mode));
     }
 }

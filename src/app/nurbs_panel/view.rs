@@ -7,6 +7,7 @@
 //! numbers); the dots and markers are sized in screen points, so they are rebuilt when the
 //! zoom changes by more than a step.
 
+use crate::app::overlay::{axis_triad, scale_bar};
 use eframe::egui;
 use eframe::egui_wgpu::RenderState;
 use glam::{DVec3, Vec3, Vec4};
@@ -601,35 +602,8 @@ impl NurbsView {
         if self.show.points && l.periods > 0 {
             fluct_legend(&painter, egui::pos2(rect.right() - 256.0, rect.bottom() - 66.0), 240.0, &font);
         }
-        // Axis triad, bottom left.
-        let eye = self.camera.eye();
-        let forward = (self.camera.target - eye).normalize();
-        let right = forward.cross(Vec3::Z).normalize_or_zero();
-        let up = right.cross(forward);
-        let o = rect.left_bottom() + egui::vec2(40.0, -40.0);
-        for (axis, name, color) in [
-            (Vec3::X, "X", egui::Color32::from_rgb(235, 90, 80)),
-            (Vec3::Y, "Y", egui::Color32::from_rgb(110, 210, 110)),
-            (Vec3::Z, "Z", egui::Color32::from_rgb(100, 150, 255)),
-        ] {
-            let tip = o + egui::vec2(axis.dot(right), -axis.dot(up)) * 26.0;
-            painter.line_segment([o, tip], egui::Stroke::new(2.0, color));
-            painter.text(tip + (tip - o).normalized() * 8.0, egui::Align2::CENTER_CENTER, name, font.clone(), color);
-        }
-        // Scale bar, bottom right.
-        let mm_per_pt = self.mm_per_point(rect.height());
-        let pow = 10f64.powf((100.0 * mm_per_pt).log10().floor());
-        let nice = [1.0, 2.0, 5.0, 10.0].iter().map(|m| m * pow).find(|l| *l / mm_per_pt >= 60.0).unwrap_or(10.0 * pow);
-        let len_pt = (nice / mm_per_pt) as f32;
-        let end = rect.right_bottom() + egui::vec2(-20.0, -22.0);
-        let start = end - egui::vec2(len_pt, 0.0);
-        let white = egui::Color32::from_gray(220);
-        painter.line_segment([start, end], egui::Stroke::new(2.0, white));
-        for x in [start, end] {
-            painter.line_segment([x - egui::vec2(0.0, 5.0), x + egui::vec2(0.0, 5.0)], egui::Stroke::new(2.0, white));
-        }
-        let label = if nice >= 1.0 { format!("{nice} mm") } else { format!("{} µm", nice * 1000.0) };
-        painter.text(start + egui::vec2(len_pt / 2.0, -12.0), egui::Align2::CENTER_CENTER, label, font.clone(), white);
+        axis_triad(&painter, rect.left_bottom() + egui::vec2(40.0, -40.0), 26.0, &self.camera, &font);
+        scale_bar(&painter, rect.right_bottom() + egui::vec2(-20.0, -22.0), self.mm_per_point(rect.height()), &font);
         // Status, top right; fit / reset under it.
         if let Some((ok, text)) = status {
             let color = if ok { egui::Color32::from_gray(210) } else { egui::Color32::from_rgb(255, 120, 110) };

@@ -1,0 +1,115 @@
+//! Overlays every 3D view draws over its image: the axis triad and a scale bar in mm, and
+//! the decimation every long plotted series goes through.
+
+use eframe::egui;
+use glam::Vec3;
+
+use crate::render::OrbitCamera;
+
+/// The world axes X (red), Y (green), Z (blue) as seen by `camera`, `length` points long,
+/// from `origin` (usually near the view's bottom-left corner).
+pub fn axis_triad(painter: &egui::Painter, origin: egui::Pos2, length: f32, camera: &OrbitCamera, font: &egui::FontId) {
+    let eye = camera.eye();
+    let forward = (camera.target - eye).normalize();
+    let right = forward.cross(Vec3::Z).normalize_or_zero();
+    let up = right.cross(forward);
+    for (axis, name, color) in [
+        (Vec3::X, "X", egui::Color32::from_rgb(235, 90, 80)),
+        (Vec3::Y, "Y", egui::Color32::from_rgb(110, 210, 110)),
+        (Vec3::Z, "Z", egui::Color32::from_rgb(100, 150, 255)),
+    ] {
+        let tip = origin + egui::vec2(axis.dot(right), -axis.dot(up)) * length;
+        painter.line_segment([origin, tip], egui::Stroke::new(2.0, color));
+        painter.text(tip + (tip - origin).normalized() * 8.0, egui::Align2::CENTER_CENTER, name, font.clone(), color);
+    }
+}
+
+/// The length of the scale bar: the round value (1, 2 or 5 × 10ⁿ mm) that spans at least 60
+/// points at `mm_per_point`.
+#[must_use]
+pub fn scale_bar_length_mm(mm_per_point: f64) -> f64 {
+    let pow = 10f64.powf((100.0 * mm_per_point).log10().floor());
+    [1.0, 2.0, 5.0, 10.0].iter().map(|m| m * pow).find(|l| *l / mm_per_point >= 60.0).unwrap_or(10.0 * pow)
+}
+
+/// A scale bar ending at `end` (its right end), labelled in mm or µm.
+pub fn scale_bar(painter: &egui::Painter, end: egui::Pos2, mm_per_point: f64, font: &egui::FontId) {
+    let nice = scale_bar_length_mm(mm_per_point);
+    let len_pt = (nice / mm_per_point) as f32;
+    let start = end - egui::vec2(len_pt, 0.0);
+    let white = egui::Color32::from_gray(220);
+    painter.line_segment([start, end], egui::Stroke::new(2.0, white));
+    for x in [start, end] {
+        painter.line_segment([x - egui::vec2(0.0, 5.0), x + egui::vec2(0.0, 5.0)], egui::Stroke::new(2.0, white));
+    }
+    let label = if nice >= 1.0 { format!("{nice} mm") } else { format!("{} µm", nice * 1000.0) };
+    painter.text(start + egui::vec2(len_pt / 2.0, -12.0), egui::Align2::CENTER_CENTER, label, font.clone(), white);
+}
+
+/// Reduces a long series to at most ~2·`buckets` points keeping each bucket's lowest and
+/// highest value (in x order), so a plot keeps its envelope at any length.
+#[must_use]
+pub fn decimate(points: &[[f64; 2]], buckets: usize) -> Vec<[f64; 2]> {
+    if points.len() <= 2 * buckets {
+        return points.to_vec();
+    }
+    let per = points.len().div_ceil(buckets);
+    let mut out = Vec::with_capacity(2 * buckets + 2);
+    for chunk in points.chunks(per) {
+        let (mut lo, mut hi) = (chunk[0], chunk[0]);
+        for p in chunk {
+            if p[1] < lo[1] {
+                lo = *p;
+            }
+            if p[1] > hi[1] {
+                hi = *p;
+            }
+        }
+        if lo[0] <= hi[0] {
+            out.extend([lo, hi]);
+        } else {
+            out.extend([hi, lo]);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scale_bar_is_a_round_length_of_at_least_60_points() {
+        for mm_per_point in [1e-4, 3.7e-3, 0.01, 0.05, 0.2, 1.0, 7.5, 40.0] {
+            let len = scale_bar_length_mm(mm_per_point);
+            let points = len / mm_per_point;
+            assert!(points >= 60.0 - 1e-9, "{mm_per_point} mm/pt: bar {len} mm is {points} pt");
+            // The next smaller round value would be under 60 points (the bar is the shortest).
+            assert!(points < 60.0 * 2.5 + 1e-9, "{mm_per_point} mm/pt: bar {len} mm is {points} pt");
+            let mantissa = len / 10f64.powf(len.log10().floor());
+            assert!([1.0, 2.0, 5.0].iter().any(|m| (mantissa - m).abs() < 1e-9), "{len} mm is not 1, 2 or 5 × 10ⁿ");
+        }
+    }
+
+    #[test]
+    fn decimation_keeps_the_envelope_and_the_order() {
+        let n = 10_000;
+        let points: Vec<[f64; 2]> = (0..n)
+            .map(|i| {
+                let x = i as f64;
+                [x, (x * 0.37).sin() + if i == 4321 { 5.0 } else { 0.0 } - if i == 777 { 3.0 } else { 0.0 }]
+            })
+            .collect();
+        let out = decimate(&points, 100);
+        assert!(out.len() <= 202, "{} points", out.len());
+        assert!(out.windows(2).all(|w| w[0][0] <= w[1][0]), "x order lost");
+        let max = out.iter().map(|p| p[1]).fold(f64::NEG_INFINITY, f64::max);
+        let min = out.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min);
+        assert!(out.contains(&points[4321]) && (max - points[4321][1]).abs() < 1e-12, "spike lost");
+        assert!(out.contains(&points[777]) && (min - points[777][1]).abs() < 1e-12, "dip lost");
+        // Every output point is an input point.
+        assert!(out.iter().all(|p| points[p[0] as usize] == *p));
+        // Short series pass unchanged.
+        assert_eq!(decimate(&points[..150], 100), points[..150].to_vec());
+    }
+}
