@@ -148,17 +148,22 @@ impl<W: Write> RowWriter<W> {
         Ok(())
     }
 
-    /// Ends the output with the run's outcome (JSON only; CSV has no footer).
+    /// Ends the output with the run's outcome and, when `path.end` was not reached, the
+    /// note saying what to change (JSON only; CSV has no footer).
     ///
     /// # Errors
     /// I/O errors of `out`.
-    pub fn finish(mut self, outcome: &Result<StopReason, CreaseError>) -> io::Result<W> {
+    pub fn finish(mut self, outcome: &Result<StopReason, CreaseError>, note: Option<&str>) -> io::Result<W> {
         if self.format == Format::Json {
             let stop = match outcome {
                 Ok(r) => format!(
-                    "{{ \"ok\": true, \"reason\": \"{}\", \"message\": {} }}",
+                    "{{ \"ok\": true, \"reason\": \"{}\", \"message\": {}{} }}",
                     r.tag(),
-                    serde_json::to_string(&r.to_string()).unwrap_or_default()
+                    serde_json::to_string(&r.to_string()).unwrap_or_default(),
+                    note.map_or(String::new(), |n| format!(
+                        ", \"note\": {}",
+                        serde_json::to_string(n).unwrap_or_default()
+                    ))
                 ),
                 Err(e) => format!(
                     "{{ \"ok\": false, \"reason\": \"error\", \"message\": {} }}",

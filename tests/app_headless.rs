@@ -74,6 +74,35 @@ fn a_bad_file_is_reported_and_the_scene_kept() {
     assert!(err.contains("broken.json") && err.contains("kept"), "{err}");
 }
 
+#[test]
+fn a_run_that_misses_path_end_tells_which_direction_to_set() {
+    // A straight V-groove along x from x = −40 toward x = +40; the sense of n1 × n2 is −x.
+    let json = r#"{
+      "format": "interpolab-scene/1", "name": "groove",
+      "surfaces": [
+        { "type": "plane", "origin": [0, 0, 0], "normal": [0, -1, 1], "u_axis": [1, 0, 0], "domain": { "u": [-60, 60], "v": [-60, 60] } },
+        { "type": "plane", "origin": [0, 0, 0], "normal": [0, 1, 1], "u_axis": [1, 0, 0], "domain": { "u": [-60, 60], "v": [-60, 60] } }
+      ],
+      "tool": { "radius": 4, "allowance": 0 }, "motion": { "feed": 1500, "period": 4 },
+      "tolerance": { "t1": 0.01, "t2": 0.01, "share": 0.5 },
+      "path": { "start": [-40, 0, 5.656854], "end": [40, 0, 5.656854], "max_steps": 100000 }
+    }"#;
+    let mut h = Harness::new();
+    h.app.open_text("groove.json", json);
+    let s = h.settle();
+    let job = CreaseJob::from_scene(&Scene::from_json(json).expect("valid")).expect("builds");
+    let core = run_to_end(job.clone(), InterpOptions::default());
+    let expected = core.end_not_reached(&job).expect("the core misses the end").to_string();
+    assert!(expected.contains("path.direction to [1.000, 0.000, 0.000]"), "{expected}");
+    assert_eq!(s["end_note"].as_str(), Some(expected.as_str()), "{}", s["end_note"]);
+    assert_eq!(s["error"], "", "a note, not an error: {}", s["error"]);
+    // With the advised direction the end is reached and the note goes.
+    h.app.open_text("groove2.json", &json.replace("\"max_steps\"", "\"direction\": [1, 0, 0], \"max_steps\""));
+    let s = h.settle();
+    assert_eq!(s["stop"], "reached_end");
+    assert!(s["end_note"].is_null(), "{}", s["end_note"]);
+}
+
 /// Pushes each slider to both ends of its range (the ranges of `controls.rs`).
 #[test]
 fn sliders_at_their_extremes_never_panic_or_show_nan() {

@@ -144,3 +144,35 @@ fn check_summarises_length_periods_curvature_and_errors() {
     assert_eq!(o.status.code(), Some(1), "{}", stdout(&o));
     assert!(stdout(&o).contains("EXCEEDED"));
 }
+
+#[test]
+fn a_run_that_misses_path_end_says_which_path_direction_reaches_it() {
+    // A straight V-groove along x from x = −40 toward x = +40; the sense of n1 × n2 is −x.
+    let groove = r#"{
+      "format": "interpolab-scene/1", "name": "groove",
+      "surfaces": [
+        { "type": "plane", "origin": [0, 0, 0], "normal": [0, -1, 1], "u_axis": [1, 0, 0], "domain": { "u": [-60, 60], "v": [-60, 60] } },
+        { "type": "plane", "origin": [0, 0, 0], "normal": [0, 1, 1], "u_axis": [1, 0, 0], "domain": { "u": [-60, 60], "v": [-60, 60] } }
+      ],
+      "tool": { "radius": 4, "allowance": 0 }, "motion": { "feed": 1500, "period": 4 },
+      "tolerance": { "t1": 0.01, "t2": 0.01, "share": 0.5 },
+      "path": { "start": [-40, 0, 5.656854], "end": [40, 0, 5.656854], "max_steps": 100000 }
+    }"#;
+    let p = temp_file("groove.json", groove);
+    let o = run(&["run", p.to_str().expect("utf8"), "--format", "json"]);
+    assert!(o.status.success(), "stopping at a domain edge is a normal end: {}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("valid JSON");
+    assert_eq!(v["stop"]["reason"], "left_domain");
+    let note = v["stop"]["note"].as_str().expect("a note");
+    assert!(note.contains("path.direction to [1.000, 0.000, 0.000]"), "{note}");
+    assert!(stderr(&o).lines().any(|l| l.contains("note: path.end was not reached")), "{}", stderr(&o));
+    let o = run(&["check", p.to_str().expect("utf8")]);
+    assert!(stdout(&o).contains("note         path.end was not reached"), "{}", stdout(&o));
+
+    let p = temp_file("groove-fixed.json", &groove.replace("\"max_steps\"", "\"direction\": [1, 0, 0], \"max_steps\""));
+    let o = run(&["run", p.to_str().expect("utf8"), "--format", "json"]);
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("valid JSON");
+    assert_eq!(v["stop"]["reason"], "reached_end");
+    assert!(v["stop"].get("note").is_none(), "{}", v["stop"]);
+    assert!(!stderr(&o).contains("note:"), "{}", stderr(&o));
+}

@@ -145,3 +145,55 @@ fn a_direction_across_the_crease_is_ambiguous() {
     let e = Interpolator::new(job, InterpOptions::default()).expect_err("ambiguous");
     assert_eq!(e, CreaseError::DirectionAmbiguous);
 }
+
+/// A straight V-groove along x between two planes at ±45°, from x = −40 toward x = +40. The
+/// sense of n1 × n2 is −x, so without `path.direction` the run goes away from `path.end`.
+const GROOVE: &str = r#"{
+  "format": "interpolab-scene/1", "name": "groove",
+  "surfaces": [
+    { "type": "plane", "origin": [0, 0, 0], "normal": [0, -1, 1], "u_axis": [1, 0, 0], "domain": { "u": [-60, 60], "v": [-60, 60] } },
+    { "type": "plane", "origin": [0, 0, 0], "normal": [0, 1, 1], "u_axis": [1, 0, 0], "domain": { "u": [-60, 60], "v": [-60, 60] } }
+  ],
+  "tool": { "radius": 4, "allowance": 0 }, "motion": { "feed": 1500, "period": 4 },
+  "tolerance": { "t1": 0.01, "t2": 0.01, "share": 0.5 },
+  "path": { "start": [-40, 0, 5.656854], "end": [40, 0, 5.656854], "max_steps": MAX DIRECTION }
+}"#;
+
+fn groove(max_steps: u32, direction: Option<[f64; 3]>) -> String {
+    let dir = direction.map_or(String::new(), |d| format!(r#", "direction": [{}, {}, {}]"#, d[0], d[1], d[2]));
+    GROOVE.replace("MAX", &max_steps.to_string()).replace("DIRECTION", &dir)
+}
+
+#[test]
+fn a_run_going_away_from_path_end_says_which_direction_reaches_it() {
+    let json = groove(100_000, None);
+    let job = support::job(&json);
+    let run = interpolab::crease::run_to_end(job.clone(), InterpOptions::default());
+    assert!(matches!(run.outcome, Ok(interpolab::crease::StopReason::LeftDomain { .. })), "{:?}", run.outcome);
+    let note = run.end_not_reached(&job).expect("the end was not reached");
+    let sense = note.away_from_end.expect("the run went away from path.end");
+    assert!((sense - glam::DVec3::new(-1.0, 0.0, 0.0)).length() < 1e-9, "sense of n1 × n2: {sense}");
+    // The last point is the domain's edge at u = −60 (minus less than one period), 100 mm from the end.
+    assert!((note.distance_mm - 100.0).abs() < 0.1 + 1e-9, "{}", note.distance_mm);
+    let text = note.to_string();
+    assert!(text.contains("path.direction to [1.000, 0.000, 0.000]"), "{text}");
+
+    // Following the advice reaches the end, and then there is no note.
+    let job = support::job(&groove(100_000, Some([1.0, 0.0, 0.0])));
+    let run = interpolab::crease::run_to_end(job.clone(), InterpOptions::default());
+    assert_eq!(run.outcome, Ok(interpolab::crease::StopReason::ReachedEnd));
+    assert!((run.rows.last().unwrap().p - glam::DVec3::new(40.0, 0.0, 4.0 * 2f64.sqrt())).length() < 0.05 + 1e-9);
+    assert_eq!(run.end_not_reached(&job), None);
+}
+
+#[test]
+fn a_run_cut_short_by_max_steps_says_to_raise_it() {
+    let json = groove(100, Some([1.0, 0.0, 0.0]));
+    let job = support::job(&json);
+    let run = interpolab::crease::run_to_end(job.clone(), InterpOptions::default());
+    assert_eq!(run.outcome, Ok(interpolab::crease::StopReason::MaxSteps));
+    let note = run.end_not_reached(&job).expect("the end was not reached");
+    assert_eq!(note.away_from_end, None, "the run went toward the end");
+    assert!((note.distance_mm - 70.0).abs() < 1e-5, "80 mm minus 100 periods of 0.1 mm: {}", note.distance_mm);
+    assert!(note.to_string().contains("raise path.max_steps"), "{note}");
+}

@@ -406,6 +406,7 @@ impl InterpolabApp {
             "periods": self.compute.periods.len().saturating_sub(1),
             "running": self.compute.running(),
             "stop": stop,
+            "end_note": end_note(&self.compute),
             "error": error,
             "feed_mm_per_min": self.scene.motion.feed,
             "period_ms": self.scene.motion.period,
@@ -640,6 +641,15 @@ pub(crate) fn describe_outcome(c: &Computation) -> (bool, String) {
         Some(Ok(r)) => (true, format!("stopped: {r}")),
         Some(Err(e)) => (false, e.to_string()),
     }
+}
+
+/// The note for a run that stopped short of `path.end` (which way to set `path.direction`,
+/// or what else to change), once the run has stopped.
+pub(crate) fn end_note(c: &Computation) -> Option<String> {
+    let (Some(Ok(reason)), Some(job)) = (&c.outcome, &c.job) else { return None };
+    let (first, last) = (c.periods.first()?, c.periods.last()?);
+    let second = c.periods.get(1).unwrap_or(first);
+    crate::crease::EndNotReached::check(job, reason, first.row.p, second.row.p, last.row.p).map(|n| n.to_string())
 }
 
 /// Whether the method in use is the seed-000 stepper.

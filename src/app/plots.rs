@@ -8,7 +8,7 @@ use egui_plot::{Corner, HLine, Legend, Line, LineStyle, Plot, PlotPoints, VLine}
 use super::compute::Computation;
 use super::controls::SURFACE_COLORS;
 use super::overlay::decimate;
-use super::{Playback, describe_outcome, fmt_len};
+use super::{Playback, describe_outcome, end_note, fmt_len};
 use crate::scene::Scene;
 
 /// Which plot is shown.
@@ -142,6 +142,11 @@ fn summary(ui: &mut egui::Ui, compute: &Computation, scene: &Scene) {
             egui::Color32::from_rgb(255, 120, 110)
         }));
         ui.end_row();
+        if let Some(note) = end_note(compute) {
+            ui.label("path.end");
+            ui.add(egui::Label::new(egui::RichText::new(note).color(egui::Color32::from_rgb(240, 190, 90))).wrap());
+            ui.end_row();
+        }
         ui.label("periods");
         ui.label(format!("{n}"));
         ui.end_row();

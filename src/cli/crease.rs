@@ -7,7 +7,8 @@ use std::process::ExitCode;
 
 use super::{Fatal, MethodArg, OutFormat};
 
-use interpolab::crease::{CreaseJob, InterpOptions, Interpolator, Method, Step, diagnose};
+use glam::DVec3;
+use interpolab::crease::{CreaseJob, EndNotReached, InterpOptions, Interpolator, Method, Step, diagnose};
 use interpolab::report::{Format, RowWriter, fmt_num};
 use interpolab::scene::Scene;
 
@@ -53,8 +54,14 @@ pub(super) fn run(
         turns: turns.max(1),
         ..InterpOptions::default()
     };
+    // The first two and the last centre point, for the note when path.end is not reached.
+    let mut track = [DVec3::NAN; 3];
     let outcome = Interpolator::new(job.clone(), opts).and_then(|mut it| {
         let mut emit = |row: &interpolab::crease::Row| -> Result<(), io::Error> {
+            if row.k < 2 {
+                track[row.k as usize] = row.p;
+            }
+            track[2] = row.p;
             let d = if errors { diagnose(&job, row) } else { None };
             writer.row(&job, row, d.as_ref())
         };
@@ -72,10 +79,18 @@ pub(super) fn run(
             }
         }
     });
-    writer.finish(&outcome).map_err(io_err)?;
+    let note = outcome
+        .as_ref()
+        .ok()
+        .and_then(|reason| EndNotReached::check(&job, reason, track[0], track[1], track[2]))
+        .map(|n| n.to_string());
+    writer.finish(&outcome, note.as_deref()).map_err(io_err)?;
     match outcome {
         Ok(reason) => {
             let _ = writeln!(io::stderr(), "interpolab: {}: stopped: {reason}", path.display());
+            if let Some(note) = note {
+                let _ = writeln!(io::stderr(), "interpolab: {}: note: {note}", path.display());
+            }
             Ok(ExitCode::SUCCESS)
         }
         Err(e) => Err(Fatal(format!("{}: {e}", path.display()))),
@@ -118,8 +133,13 @@ pub(super) fn check(path: &Path) -> Result<ExitCode, Fatal> {
             angle[1] = angle[1].max(d.crease_angle_deg);
         }
     };
+    let mut track = [it.first_row().p, DVec3::NAN, it.first_row().p];
     let outcome = it.run(|r| {
         n = r.k;
+        if r.k == 1 {
+            track[1] = r.p;
+        }
+        track[2] = r.p;
         observe(r);
     });
     let f = job.feed_per_period_mm;
@@ -157,6 +177,10 @@ pub(super) fn check(path: &Path) -> Result<ExitCode, Fatal> {
         Err(e) => format!("ERROR: {e}"),
     };
     w(&mut o, format!("periods      {n} ({status})"));
+    if let Some(note) = outcome.as_ref().ok().and_then(|r| EndNotReached::check(&job, r, track[0], track[1], track[2]))
+    {
+        w(&mut o, format!("note         {note}"));
+    }
     w(
         &mut o,
         format!("length       {:.4} mm, machining time {:.3} s", n as f64 * f, n as f64 * job.period_ms / 1000.0),

@@ -33,7 +33,7 @@
 use glam::{DVec2, DVec3};
 
 use super::newton::{self, Constraint, CreasePoint, NewtonOptions, locate_crease_point};
-use super::{CreaseError, CreaseJob, Location, Row, StopReason};
+use super::{CreaseError, CreaseJob, EndNotReached, Location, Row, StopReason};
 use crate::geom::{Domain, LocalGeometry, ParametricSurface};
 use crate::tolerance;
 
@@ -469,6 +469,17 @@ pub struct RunResult {
     pub rows: Vec<Row>,
     /// Why it stopped, or the error that stopped it.
     pub outcome: Result<StopReason, CreaseError>,
+}
+
+impl RunResult {
+    /// The note for a run that stopped short of `job.end` (see [`EndNotReached`]).
+    #[must_use]
+    pub fn end_not_reached(&self, job: &CreaseJob) -> Option<EndNotReached> {
+        let reason = self.outcome.as_ref().ok()?;
+        let (first, last) = (self.rows.first()?, self.rows.last()?);
+        let second = self.rows.get(1).unwrap_or(first);
+        EndNotReached::check(job, reason, first.p, second.p, last.p)
+    }
 }
 
 /// Runs a job from start to stop, collecting every row.

@@ -198,6 +198,72 @@ impl fmt::Display for StopReason {
     }
 }
 
+/// A run that stopped short of `path.end`: how far it was left, and whether the run went
+/// the other way (the sense of n1 × n2 pointed away from the end and no `path.direction`
+/// chose the sense). Its `Display` is a note for the user naming what to change.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EndNotReached {
+    /// Distance from the last centre point to `path.end` (mm).
+    pub distance_mm: f64,
+    /// Distance from the corrected start point to `path.end` (mm).
+    pub start_distance_mm: f64,
+    /// Unit sense of travel at the start; `Some` when it pointed away from `path.end`.
+    pub away_from_end: Option<DVec3>,
+    /// Why the run stopped.
+    pub reason: StopReason,
+}
+
+impl EndNotReached {
+    /// Whether `reason` left `job.end` unreached, given the first two centre points of the run
+    /// (`first`, `second`) and the last one (`last`), all in mm. `None` when the scene has no
+    /// end, the run reached or closed, or the last point is within two feeds per period of the
+    /// end.
+    #[must_use]
+    pub fn check(job: &CreaseJob, reason: &StopReason, first: DVec3, second: DVec3, last: DVec3) -> Option<Self> {
+        let end = job.end?;
+        if matches!(reason, StopReason::ReachedEnd | StopReason::Closed { .. }) {
+            return None;
+        }
+        let distance_mm = (last - end).length();
+        if distance_mm <= 2.0 * job.feed_per_period_mm {
+            return None;
+        }
+        let sense = (second - first).normalize_or_zero();
+        let away = sense != DVec3::ZERO && (end - first).dot(sense) < 0.0 && job.direction.is_none();
+        Some(Self {
+            distance_mm,
+            start_distance_mm: (first - end).length(),
+            away_from_end: away.then_some(sense),
+            reason: *reason,
+        })
+    }
+}
+
+impl fmt::Display for EndNotReached {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "path.end was not reached ({:.3} mm from the last point)", self.distance_mm)?;
+        match self.away_from_end {
+            Some(s) => {
+                let r = |x: f64| if x.abs() < 5e-4 { 0.0 } else { -x };
+                write!(
+                    f,
+                    ": the run followed the crease in the sense of n1 × n2, away from path.end; to run toward it set path.direction to [{:.3}, {:.3}, {:.3}]",
+                    r(s.x),
+                    r(s.y),
+                    r(s.z)
+                )
+            }
+            None if self.reason == StopReason::MaxSteps => {
+                write!(f, "; raise path.max_steps to run further")
+            }
+            None => write!(
+                f,
+                "; it lies beyond where the run stopped, or on another branch of the intersection: move path.end onto this crease within both surfaces' domains"
+            ),
+        }
+    }
+}
+
 /// Why the crease could not be started or continued. Every message names the problem,
 /// where it arose and what to change.
 #[derive(Clone, Debug, Error, PartialEq)]
