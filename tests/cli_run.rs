@@ -176,3 +176,38 @@ fn a_run_that_misses_path_end_says_which_path_direction_reaches_it() {
     assert!(v["stop"].get("note").is_none(), "{}", v["stop"]);
     assert!(!stderr(&o).contains("note:"), "{}", stderr(&o));
 }
+
+#[test]
+fn a_feed_too_long_for_the_crease_is_warned_about_with_the_fix() {
+    // A boss of radius 8 mm on a floor cut at 30 m/min with a 10 ms period: f = 5 mm per
+    // period around a centre circle of radius 13 mm, far beyond what b·T allows.
+    let scene = r#"{
+      "format": "interpolab-scene/1", "name": "fast boss",
+      "surfaces": [
+        { "type": "plane", "origin": [0, 0, 0], "normal": [0, 0, 1], "u_axis": [1, 0, 0], "domain": { "u": [-100, 100], "v": [-100, 100] } },
+        { "type": "cylinder", "origin": [0, 0, 0], "axis": [0, 0, 1], "radius": 8.0, "domain": { "u": [0, 360], "v": [0, 50] }, "normal": "outward" }
+      ],
+      "tool": { "radius": 5, "allowance": 0 }, "motion": { "feed": 30000, "period": 10 },
+      "tolerance": { "t1": 0.01, "t2": 0.01, "share": 0.5 },
+      "path": { "start": [13, 0, 5], "end": null, "max_steps": 1000 }
+    }"#;
+    let p = temp_file("fast-boss.json", scene);
+    let o = run(&["run", p.to_str().expect("utf8"), "--errors"]);
+    assert!(o.status.success(), "a warning, not an error: {}", stderr(&o));
+    let warning = stderr(&o).lines().find(|l| l.contains("warning:")).map(str::to_owned).expect("a warning");
+    assert!(warning.contains("surface 2") && warning.contains("lower motion.feed or motion.period"), "{warning}");
+    // The warning's number is the largest |e2| of the rows (column 11 of --errors).
+    let worst_e2 = stdout(&o)
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(10).expect("e2").parse::<f64>().expect("number").abs())
+        .fold(0.0, f64::max);
+    assert!(worst_e2 > 0.005, "{worst_e2}");
+    assert!(warning.contains(&format!("{worst_e2:.3e} mm")), "{warning} vs {worst_e2:.3e}");
+    // The precise mode puts every row on the crease: no warning.
+    let o = run(&["run", p.to_str().expect("utf8"), "--method", "exact"]);
+    assert!(o.status.success() && !stderr(&o).contains("warning"), "{}", stderr(&o));
+    // Nor on the examples, at the paper's feed.
+    let o = run(&["run", example("crossing-cylinders").to_str().expect("utf8")]);
+    assert!(!stderr(&o).contains("warning"), "{}", stderr(&o));
+}

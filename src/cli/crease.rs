@@ -56,14 +56,25 @@ pub(super) fn run(
     };
     // The first two and the last centre point, for the note when path.end is not reached.
     let mut track = [DVec3::NAN; 3];
+    // The largest measured |e_i| (mm) and the period where it occurred.
+    let mut worst = [(0.0f64, 0u64); 2];
     let outcome = Interpolator::new(job.clone(), opts).and_then(|mut it| {
         let mut emit = |row: &interpolab::crease::Row| -> Result<(), io::Error> {
             if row.k < 2 {
                 track[row.k as usize] = row.p;
             }
             track[2] = row.p;
-            let d = if errors { diagnose(&job, row) } else { None };
-            writer.row(&job, row, d.as_ref())
+            // Measured on every row (a few foot points, cheap next to writing the row), so a
+            // run whose feed is too long for the crease's curvature says so.
+            let d = diagnose(&job, row);
+            if let Some(d) = &d {
+                for i in 0..2 {
+                    if d.measured[i].abs() > worst[i].0 {
+                        worst[i] = (d.measured[i].abs(), row.k);
+                    }
+                }
+            }
+            writer.row(&job, row, if errors { d.as_ref() } else { None })
         };
         if let Err(e) = emit(&it.first_row()) {
             write_failed(&e);
@@ -90,6 +101,20 @@ pub(super) fn run(
             let _ = writeln!(io::stderr(), "interpolab: {}: stopped: {reason}", path.display());
             if let Some(note) = note {
                 let _ = writeln!(io::stderr(), "interpolab: {}: note: {note}", path.display());
+            }
+            for (i, (e, k)) in worst.iter().enumerate() {
+                let allowed = job.allowed_error_mm(i);
+                if *e > allowed {
+                    let _ = writeln!(
+                        io::stderr(),
+                        "interpolab: {}: warning: the measured error on surface {} reaches {:.3e} mm at period {k}, above b·T{} = {} mm; lower motion.feed or motion.period (the error of seed 000 grows with the feed per period), or use --method exact",
+                        path.display(),
+                        i + 1,
+                        e,
+                        i + 1,
+                        fmt_num(allowed)
+                    );
+                }
             }
             Ok(ExitCode::SUCCESS)
         }
