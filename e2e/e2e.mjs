@@ -135,6 +135,30 @@ try {
   const s5 = await waitFor(page3, "the linked dome scene", (s) => s.scene === dome.name && settled(s));
   check("a hand-made link opens its scene", s5.periods > 100, `${s5.periods} periods`);
 
+  // 6b. A run that goes away from path.end says which path.direction reaches it.
+  const groove = {
+    format: "interpolab-scene/1", name: "V-groove, end behind the start",
+    surfaces: [
+      { type: "plane", origin: [0, 0, 0], normal: [0, -1, 1], u_axis: [1, 0, 0], domain: { u: [-60, 60], v: [-60, 60] } },
+      { type: "plane", origin: [0, 0, 0], normal: [0, 1, 1], u_axis: [1, 0, 0], domain: { u: [-60, 60], v: [-60, 60] } },
+    ],
+    tool: { radius: 4, allowance: 0 }, motion: { feed: 1500, period: 4 },
+    tolerance: { t1: 0.01, t2: 0.01, share: 0.5 },
+    path: { start: [-40, 0, 5.656854], end: [40, 0, 5.656854], max_steps: 100000 },
+  };
+  const pageG = await context.newPage();
+  await pageG.goto(url + "#scene=" + base64url(JSON.stringify(groove)));
+  const sG = await waitFor(pageG, "the groove scene", (s) => s.scene === groove.name && settled(s));
+  await pageG.screenshot({ path: path.join(artifacts, "05a-end-not-reached.png") });
+  check("a run away from path.end names the path.direction to set",
+    sG.stop === "left_domain" && (sG.end_note || "").includes("path.direction to [1.000, 0.000, 0.000]"), sG.end_note);
+  const tb = sG.ui.run_toward_end;
+  await pageG.mouse.click(tb[0] + tb[2] / 2, tb[1] + tb[3] / 2);
+  const sG2 = await waitFor(pageG, "the run toward path.end", (s) => s.stop === "reached_end" && settled(s));
+  await pageG.screenshot({ path: path.join(artifacts, "05b-end-reached.png") });
+  check("its button runs toward path.end", sG2.end_note === null && sG2.periods === 800, `${sG2.periods} periods`);
+  await pageG.close();
+
   // 7. A broken link shows an error and a usable scene.
   const page4 = await context.newPage();
   await page4.goto(url + "#scene=" + base64url('{"format":"interpolab-scene/1"}'));

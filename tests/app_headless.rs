@@ -23,13 +23,37 @@ impl Harness {
     }
 
     fn frame(&mut self) {
+        self.frame_events(Vec::new());
+    }
+
+    fn frame_events(&mut self, events: Vec<egui::Event>) {
         let input = egui::RawInput {
             screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(1400.0, 900.0))),
+            events,
             ..Default::default()
         };
         let (app, frame) = (&mut self.app, &mut self.frame);
         let out = self.ctx.run_ui(input, |ui| eframe::App::ui(app, ui, frame));
         out.drop_without_applying_deltas();
+    }
+
+    /// Clicks the middle of the widget the status publishes under `name`.
+    fn click(&mut self, name: &str) {
+        let s: serde_json::Value = serde_json::from_str(&self.app.status()).expect("status is JSON");
+        let r = s["ui"][name].as_array().unwrap_or_else(|| panic!("{name} is not on screen: {}", s["ui"]));
+        let at = egui::pos2(
+            (r[0].as_f64().expect("x") + r[2].as_f64().expect("w") / 2.0) as f32,
+            (r[1].as_f64().expect("y") + r[3].as_f64().expect("h") / 2.0) as f32,
+        );
+        let press = |pressed| egui::Event::PointerButton {
+            pos: at,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: egui::Modifiers::NONE,
+        };
+        self.frame_events(vec![egui::Event::PointerMoved(at), press(true)]);
+        self.frame_events(vec![press(false)]);
+        self.frame_events(vec![egui::Event::PointerGone]);
     }
 
     /// Runs frames until the computation settles; returns the status.
@@ -96,11 +120,13 @@ fn a_run_that_misses_path_end_tells_which_direction_to_set() {
     assert!(expected.contains("path.direction to [1.000, 0.000, 0.000]"), "{expected}");
     assert_eq!(s["end_note"].as_str(), Some(expected.as_str()), "{}", s["end_note"]);
     assert_eq!(s["error"], "", "a note, not an error: {}", s["error"]);
-    // With the advised direction the end is reached and the note goes.
-    h.app.open_text("groove2.json", &json.replace("\"max_steps\"", "\"direction\": [1, 0, 0], \"max_steps\""));
+    // The note's button sets the advised direction: the end is reached and the note goes.
+    h.click("run_toward_end");
     let s = h.settle();
-    assert_eq!(s["stop"], "reached_end");
+    assert_eq!(s["stop"], "reached_end", "{s}");
     assert!(s["end_note"].is_null(), "{}", s["end_note"]);
+    assert_eq!(h.app.scene().path.direction, Some([1.0, 0.0, 0.0]));
+    assert!(s["ui"].get("run_toward_end").is_none(), "the button goes with the note");
 }
 
 /// Pushes each slider to both ends of its range (the ranges of `controls.rs`).

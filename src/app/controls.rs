@@ -116,13 +116,15 @@ fn surface_ui(ui: &mut egui::Ui, i: usize, s: &mut SurfaceSpec) -> bool {
 pub const SURFACE_COLORS: [egui::Color32; 2] =
     [egui::Color32::from_rgb(105, 155, 230), egui::Color32::from_rgb(236, 160, 72)];
 
-/// Draws the panel.
+/// Draws the panel. `sense` is the unit sense of travel of the present run at its start
+/// (for the Path section's "reverse").
 pub fn controls(
     ui: &mut egui::Ui,
     draft: &mut Scene,
     error: Option<&SceneError>,
     opts: &mut InterpOptions,
     view: &mut ViewSettings,
+    sense: Option<[f64; 3]>,
 ) -> ControlsOutput {
     let mut out = ControlsOutput::default();
     let mut c = false;
@@ -170,6 +172,47 @@ pub fn controls(
     });
     section(ui, "Path", false, |ui| {
         c |= vec3(ui, "start", &mut draft.path.start);
+        let mut has_end = draft.path.end.is_some();
+        if ui
+            .checkbox(&mut has_end, "stop near an end point")
+            .on_hover_text(
+                "path.end: the run stops at the crease point nearest it. Without it the run goes until the crease closes, leaves a surface's domain or max periods are run.",
+            )
+            .changed()
+        {
+            draft.path.end = has_end.then_some(draft.path.end.unwrap_or(draft.path.start));
+            c = true;
+        }
+        if let Some(end) = &mut draft.path.end {
+            c |= vec3(ui, "end", end);
+        }
+        ui.horizontal(|ui| {
+            ui.label("sense of travel");
+            ui.label(match draft.path.direction {
+                None => "n1 × n2 (default)".to_owned(),
+                Some(d) => format!("along [{:.3}, {:.3}, {:.3}]", d[0], d[1], d[2]),
+            });
+        });
+        ui.horizontal(|ui| {
+            let current = draft.path.direction.or(sense);
+            let reverse = ui
+                .add_enabled(current.is_some(), egui::Button::new("reverse"))
+                .on_hover_text("Sets path.direction against the present sense of travel at the start");
+            if reverse.clicked()
+                && let Some(d) = current
+            {
+                // Rounded to 1e-6 (and −0 to 0) so the scene file reads cleanly.
+                let r = |x: f64| (-x * 1e6).round() / 1e6 + 0.0;
+                draft.path.direction = Some([r(d[0]), r(d[1]), r(d[2])]);
+                c = true;
+            }
+            if draft.path.direction.is_some()
+                && ui.button("n1 × n2").on_hover_text("Removes path.direction: the sense of n1 × n2").clicked()
+            {
+                draft.path.direction = None;
+                c = true;
+            }
+        });
         ui.horizontal(|ui| {
             ui.label("max periods");
             c |= ui.add(egui::DragValue::new(&mut draft.path.max_steps).range(1..=2_000_000).speed(100)).changed();

@@ -25,6 +25,7 @@ pub mod native;
 pub mod web;
 
 use eframe::egui;
+use glam::DVec3;
 use web_time::{Duration, Instant};
 
 use crate::crease::{InterpOptions, Method, StopReason};
@@ -406,7 +407,7 @@ impl InterpolabApp {
             "periods": self.compute.periods.len().saturating_sub(1),
             "running": self.compute.running(),
             "stop": stop,
-            "end_note": end_note(&self.compute),
+            "end_note": end_note(&self.compute).map(|n| n.to_string()),
             "error": error,
             "feed_mm_per_min": self.scene.motion.feed,
             "period_ms": self.scene.motion.period,
@@ -497,12 +498,18 @@ impl eframe::App for InterpolabApp {
         let mut changed = false;
         egui::Panel::left("controls").resizable(true).default_size(300.0).min_size(240.0).show(ui, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {
+                let sense = match self.compute.periods.as_slice() {
+                    [a, b, ..] => Some((b.row.p - a.row.p).normalize_or_zero()).filter(|d| *d != DVec3::ZERO),
+                    _ => None,
+                }
+                .map(|d| [d.x, d.y, d.z]);
                 let out = controls::controls(
                     ui,
                     &mut self.draft,
                     self.draft_error.as_ref(),
                     &mut self.opts,
                     &mut self.view.settings,
+                    sense,
                 );
                 changed |= out.scene_changed;
                 if let Some(r) = out.feed_rect {
@@ -521,8 +528,18 @@ impl eframe::App for InterpolabApp {
             egui::Panel::bottom("plots").resizable(true).default_size(260.0).min_size(140.0).show(ui, |ui| {
                 plots::playback_bar(ui, &mut self.playback, &self.compute, self.scene.motion.period);
                 ui.separator();
-                plots::plots(ui, &mut self.plots, &self.compute, &self.scene, self.playback.k);
+                let out = plots::plots(ui, &mut self.plots, &self.compute, &self.scene, self.playback.k);
+                if let Some(r) = out.toward_end_rect {
+                    self.widget_rects.push(("run_toward_end", r));
+                }
+                if let Some(d) = out.direction {
+                    self.draft.path.direction = Some(d);
+                    changed = true;
+                }
             });
+            if changed {
+                self.apply_draft();
+            }
         }
 
         let mut messages = Vec::new();
@@ -645,11 +662,11 @@ pub(crate) fn describe_outcome(c: &Computation) -> (bool, String) {
 
 /// The note for a run that stopped short of `path.end` (which way to set `path.direction`,
 /// or what else to change), once the run has stopped.
-pub(crate) fn end_note(c: &Computation) -> Option<String> {
+pub(crate) fn end_note(c: &Computation) -> Option<crate::crease::EndNotReached> {
     let (Some(Ok(reason)), Some(job)) = (&c.outcome, &c.job) else { return None };
     let (first, last) = (c.periods.first()?, c.periods.last()?);
     let second = c.periods.get(1).unwrap_or(first);
-    crate::crease::EndNotReached::check(job, reason, first.row.p, second.row.p, last.row.p).map(|n| n.to_string())
+    crate::crease::EndNotReached::check(job, reason, first.row.p, second.row.p, last.row.p)
 }
 
 /// Whether the method in use is the seed-000 stepper.

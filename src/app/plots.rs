@@ -129,22 +129,47 @@ pub fn playback_bar(ui: &mut egui::Ui, pb: &mut Playback, compute: &Computation,
 /// Floor of the log plot (mm): 0.1 pm, below the rounding of a foot-point projection.
 const LOG_FLOOR_MM: f64 = 1e-10;
 
-fn summary(ui: &mut egui::Ui, compute: &Computation, scene: &Scene) {
+/// What the user asked for in the plots panel.
+#[derive(Default)]
+pub struct PlotsOutput {
+    /// A `path.direction` to set (the "run toward path.end" button).
+    pub direction: Option<[f64; 3]>,
+    /// Where that button is (for the status element).
+    pub toward_end_rect: Option<egui::Rect>,
+}
+
+fn summary(ui: &mut egui::Ui, compute: &Computation, scene: &Scene, out: &mut PlotsOutput) {
     let n = compute.periods.len().saturating_sub(1);
     let f = scene.feed_per_period_mm();
     let (worst, bound) = compute.worst();
     egui::Grid::new("summary").num_columns(2).striped(true).spacing([12.0, 3.0]).show(ui, |ui| {
         let (ok, text) = describe_outcome(compute);
         ui.label("run");
-        ui.label(egui::RichText::new(text).color(if ok {
-            ui.visuals().text_color()
-        } else {
-            egui::Color32::from_rgb(255, 120, 110)
-        }));
+        ui.vertical(|ui| {
+            // Long messages (a domain exit, an error) wrap instead of widening the table.
+            ui.set_max_width(300.0);
+            let color = if ok { ui.visuals().text_color() } else { egui::Color32::from_rgb(255, 120, 110) };
+            ui.add(egui::Label::new(egui::RichText::new(text).color(color)).wrap());
+        });
         ui.end_row();
         if let Some(note) = end_note(compute) {
             ui.label("path.end");
-            ui.add(egui::Label::new(egui::RichText::new(note).color(egui::Color32::from_rgb(240, 190, 90))).wrap());
+            ui.vertical(|ui| {
+                ui.set_max_width(300.0);
+                let text = egui::RichText::new(note.to_string()).color(egui::Color32::from_rgb(240, 190, 90));
+                ui.add(egui::Label::new(text).wrap());
+                if let Some(sense) = note.away_from_end {
+                    let b = ui
+                        .button("run toward path.end")
+                        .on_hover_text("Sets path.direction against the present sense of travel and runs again");
+                    out.toward_end_rect = Some(b.rect);
+                    if b.clicked() {
+                        // Rounded to 1e-6 (and −0 to 0) so the scene file reads cleanly.
+                        let r = |x: f64| (-x * 1e6).round() / 1e6 + 0.0;
+                        out.direction = Some([r(sense.x), r(sense.y), r(sense.z)]);
+                    }
+                }
+            });
             ui.end_row();
         }
         ui.label("periods");
@@ -182,12 +207,19 @@ fn summary(ui: &mut egui::Ui, compute: &Computation, scene: &Scene) {
 }
 
 /// The summary and the selected plot, side by side.
-pub fn plots(ui: &mut egui::Ui, state: &mut PlotState, compute: &Computation, scene: &Scene, cursor_k: f64) {
+pub fn plots(
+    ui: &mut egui::Ui,
+    state: &mut PlotState,
+    compute: &Computation,
+    scene: &Scene,
+    cursor_k: f64,
+) -> PlotsOutput {
+    let mut out = PlotsOutput::default();
     ui.horizontal_top(|ui| {
         ui.vertical(|ui| {
             ui.set_width(330.0);
             ui.set_max_width(330.0);
-            summary(ui, compute, scene);
+            summary(ui, compute, scene, &mut out);
         });
         ui.separator();
         ui.vertical(|ui| {
@@ -208,6 +240,7 @@ pub fn plots(ui: &mut egui::Ui, state: &mut PlotState, compute: &Computation, sc
             }
         });
     });
+    out
 }
 
 fn errors_plot(ui: &mut egui::Ui, log: bool, series: &Series, scene: &Scene, cursor_t: f64) {
