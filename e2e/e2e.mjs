@@ -136,16 +136,7 @@ try {
   check("a hand-made link opens its scene", s5.periods > 100, `${s5.periods} periods`);
 
   // 6b. A run that goes away from path.end says which path.direction reaches it.
-  const groove = {
-    format: "interpolab-scene/1", name: "V-groove, end behind the start",
-    surfaces: [
-      { type: "plane", origin: [0, 0, 0], normal: [0, -1, 1], u_axis: [1, 0, 0], domain: { u: [-60, 60], v: [-60, 60] } },
-      { type: "plane", origin: [0, 0, 0], normal: [0, 1, 1], u_axis: [1, 0, 0], domain: { u: [-60, 60], v: [-60, 60] } },
-    ],
-    tool: { radius: 4, allowance: 0 }, motion: { feed: 1500, period: 4 },
-    tolerance: { t1: 0.01, t2: 0.01, share: 0.5 },
-    path: { start: [-40, 0, 5.656854], end: [40, 0, 5.656854], max_steps: 100000 },
-  };
+  const groove = JSON.parse(fs.readFileSync(path.join(here, "..", "tests", "data", "groove-end-behind-start.json"), "utf8"));
   const pageG = await context.newPage();
   await pageG.goto(url + "#scene=" + base64url(JSON.stringify(groove)));
   const sG = await waitFor(pageG, "the groove scene", (s) => s.scene === groove.name && settled(s));

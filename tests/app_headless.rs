@@ -101,16 +101,7 @@ fn a_bad_file_is_reported_and_the_scene_kept() {
 #[test]
 fn a_run_that_misses_path_end_tells_which_direction_to_set() {
     // A straight V-groove along x from x = −40 toward x = +40; the sense of n1 × n2 is −x.
-    let json = r#"{
-      "format": "interpolab-scene/1", "name": "groove",
-      "surfaces": [
-        { "type": "plane", "origin": [0, 0, 0], "normal": [0, -1, 1], "u_axis": [1, 0, 0], "domain": { "u": [-60, 60], "v": [-60, 60] } },
-        { "type": "plane", "origin": [0, 0, 0], "normal": [0, 1, 1], "u_axis": [1, 0, 0], "domain": { "u": [-60, 60], "v": [-60, 60] } }
-      ],
-      "tool": { "radius": 4, "allowance": 0 }, "motion": { "feed": 1500, "period": 4 },
-      "tolerance": { "t1": 0.01, "t2": 0.01, "share": 0.5 },
-      "path": { "start": [-40, 0, 5.656854], "end": [40, 0, 5.656854], "max_steps": 100000 }
-    }"#;
+    let json = include_str!("data/groove-end-behind-start.json");
     let mut h = Harness::new();
     h.app.open_text("groove.json", json);
     let s = h.settle();
@@ -411,21 +402,9 @@ mod nurbs_panel {
 
     /// Clicks the panel's tab (its rectangle is in the status).
     fn open_tab(h: &mut Harness) {
+        frame_with(h, Vec::new(), Vec::new());
+        h.click(TAB);
         let s = frame_with(h, Vec::new(), Vec::new());
-        let r = s["ui"][TAB].as_array().expect("the tab's rectangle is published");
-        let at = egui::pos2(
-            (r[0].as_f64().expect("x") + r[2].as_f64().expect("w") / 2.0) as f32,
-            (r[1].as_f64().expect("y") + r[3].as_f64().expect("h") / 2.0) as f32,
-        );
-        let press = |pressed| egui::Event::PointerButton {
-            pos: at,
-            button: egui::PointerButton::Primary,
-            pressed,
-            modifiers: egui::Modifiers::NONE,
-        };
-        frame_with(h, vec![egui::Event::PointerMoved(at), press(true)], Vec::new());
-        let s = frame_with(h, vec![press(false)], Vec::new());
-        frame_with(h, vec![egui::Event::PointerGone], Vec::new());
         assert_eq!(s["panel"]["title"], TAB, "the tab opens");
     }
 

@@ -148,16 +148,7 @@ fn check_summarises_length_periods_curvature_and_errors() {
 #[test]
 fn a_run_that_misses_path_end_says_which_path_direction_reaches_it() {
     // A straight V-groove along x from x = −40 toward x = +40; the sense of n1 × n2 is −x.
-    let groove = r#"{
-      "format": "interpolab-scene/1", "name": "groove",
-      "surfaces": [
-        { "type": "plane", "origin": [0, 0, 0], "normal": [0, -1, 1], "u_axis": [1, 0, 0], "domain": { "u": [-60, 60], "v": [-60, 60] } },
-        { "type": "plane", "origin": [0, 0, 0], "normal": [0, 1, 1], "u_axis": [1, 0, 0], "domain": { "u": [-60, 60], "v": [-60, 60] } }
-      ],
-      "tool": { "radius": 4, "allowance": 0 }, "motion": { "feed": 1500, "period": 4 },
-      "tolerance": { "t1": 0.01, "t2": 0.01, "share": 0.5 },
-      "path": { "start": [-40, 0, 5.656854], "end": [40, 0, 5.656854], "max_steps": 100000 }
-    }"#;
+    let groove = include_str!("data/groove-end-behind-start.json");
     let p = temp_file("groove.json", groove);
     let o = run(&["run", p.to_str().expect("utf8"), "--format", "json"]);
     assert!(o.status.success(), "stopping at a domain edge is a normal end: {}", stderr(&o));

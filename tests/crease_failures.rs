@@ -148,20 +148,11 @@ fn a_direction_across_the_crease_is_ambiguous() {
 
 /// A straight V-groove along x between two planes at ±45°, from x = −40 toward x = +40. The
 /// sense of n1 × n2 is −x, so without `path.direction` the run goes away from `path.end`.
-const GROOVE: &str = r#"{
-  "format": "interpolab-scene/1", "name": "groove",
-  "surfaces": [
-    { "type": "plane", "origin": [0, 0, 0], "normal": [0, -1, 1], "u_axis": [1, 0, 0], "domain": { "u": [-60, 60], "v": [-60, 60] } },
-    { "type": "plane", "origin": [0, 0, 0], "normal": [0, 1, 1], "u_axis": [1, 0, 0], "domain": { "u": [-60, 60], "v": [-60, 60] } }
-  ],
-  "tool": { "radius": 4, "allowance": 0 }, "motion": { "feed": 1500, "period": 4 },
-  "tolerance": { "t1": 0.01, "t2": 0.01, "share": 0.5 },
-  "path": { "start": [-40, 0, 5.656854], "end": [40, 0, 5.656854], "max_steps": MAX DIRECTION }
-}"#;
-
-fn groove(max_steps: u32, direction: Option<[f64; 3]>) -> String {
-    let dir = direction.map_or(String::new(), |d| format!(r#", "direction": [{}, {}, {}]"#, d[0], d[1], d[2]));
-    GROOVE.replace("MAX", &max_steps.to_string()).replace("DIRECTION", &dir)
+fn groove(max_steps: u64, direction: Option<[f64; 3]>) -> String {
+    let mut scene = support::scene(include_str!("data/groove-end-behind-start.json"));
+    scene.path.max_steps = max_steps;
+    scene.path.direction = direction;
+    scene.to_json()
 }
 
 #[test]
