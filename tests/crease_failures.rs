@@ -178,6 +178,17 @@ fn a_run_going_away_from_path_end_says_which_direction_reaches_it() {
 }
 
 #[test]
+fn a_given_direction_away_from_path_end_is_pointed_out_too() {
+    let job = support::job(&groove(100_000, Some([-1.0, 0.0, 0.2])));
+    let run = interpolab::crease::run_to_end(job.clone(), InterpOptions::default());
+    let note = run.end_not_reached(&job).expect("the end was not reached");
+    assert!(note.direction_given && note.away_from_end.is_some());
+    let text = note.to_string();
+    assert!(text.contains("in the sense of path.direction, away from path.end"), "{text}");
+    assert!(text.contains("set path.direction to [1.000, 0.000, 0.000]"), "{text}");
+}
+
+#[test]
 fn a_run_cut_short_by_max_steps_says_to_raise_it() {
     let json = groove(100, Some([1.0, 0.0, 0.0]));
     let job = support::job(&json);

@@ -199,8 +199,8 @@ impl fmt::Display for StopReason {
 }
 
 /// A run that stopped short of `path.end`: how far it was left, and whether the run went
-/// the other way (the sense of n1 × n2 pointed away from the end and no `path.direction`
-/// chose the sense). Its `Display` is a note for the user naming what to change.
+/// the other way (the sense of n1 × n2, or the `path.direction` given, pointed away from the
+/// end). Its `Display` is a note for the user naming what to change.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EndNotReached {
     /// Distance from the last centre point to `path.end` (mm).
@@ -211,6 +211,8 @@ pub struct EndNotReached {
     pub away_from_end: Option<DVec3>,
     /// Why the run stopped.
     pub reason: StopReason,
+    /// Whether the scene's `path.direction` chose the sense (otherwise n1 × n2 did).
+    pub direction_given: bool,
 }
 
 impl EndNotReached {
@@ -229,12 +231,13 @@ impl EndNotReached {
             return None;
         }
         let sense = (second - first).normalize_or_zero();
-        let away = sense != DVec3::ZERO && (end - first).dot(sense) < 0.0 && job.direction.is_none();
+        let away = sense != DVec3::ZERO && (end - first).dot(sense) < 0.0;
         Some(Self {
             distance_mm,
             start_distance_mm: (first - end).length(),
             away_from_end: away.then_some(sense),
             reason: *reason,
+            direction_given: job.direction.is_some(),
         })
     }
 }
@@ -247,7 +250,8 @@ impl fmt::Display for EndNotReached {
                 let r = |x: f64| if x.abs() < 5e-4 { 0.0 } else { -x };
                 write!(
                     f,
-                    ": the run followed the crease in the sense of n1 × n2, away from path.end; to run toward it set path.direction to [{:.3}, {:.3}, {:.3}]",
+                    ": the run followed the crease in the sense of {}, away from path.end; to run toward it set path.direction to [{:.3}, {:.3}, {:.3}]",
+                    if self.direction_given { "path.direction" } else { "n1 × n2" },
                     r(s.x),
                     r(s.y),
                     r(s.z)
