@@ -210,3 +210,36 @@ fn bad_input_exits_2_with_a_message() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("outside its travel") && err.contains("A ="), "{err}");
 }
+
+#[test]
+fn bound_tip_adds_the_tip_column_and_keeps_every_error_within_e() {
+    let tol = 0.01;
+    let plain = stdout_of(&["steps", "examples/torus-plane.json", "--tolerance", "0.01"]);
+    let csv = stdout_of(&["steps", "examples/torus-plane.json", "--tolerance", "0.01", "--bound-tip"]);
+    let (h, rows) = parse_steps(&csv);
+    assert_eq!(h.last().map(String::as_str), Some("tip_design_mm"), "{h:?}");
+    assert!(rows.len() > parse_steps(&plain).1.len(), "bounding the tip needs more nodes");
+    assert!(
+        csv.lines().filter(|l| l.ends_with(",tip") || l.contains(",tip,")).count() > 10,
+        "segments ended by the tip"
+    );
+    let col = |name: &str| h.iter().position(|c| c == name).unwrap();
+    let (x, a, c, tip) = (col("X"), col("A"), col("C"), col("tip_design_mm"));
+    for (k, w) in rows.windows(2).enumerate() {
+        assert!(w[1][tip] <= tol * (1.0 + 1e-9), "segment {k}: tip {} mm from the design tip path", w[1][tip]);
+        // The swept ball, recomputed from the printed joints (table-ac through the origin).
+        let mut worst = 0.0f64;
+        for i in 0..=200 {
+            let s = f64::from(i) / 200.0;
+            let q =
+                add(scale([w[0][x], w[0][x + 1], w[0][x + 2]], 1.0 - s), scale([w[1][x], w[1][x + 1], w[1][x + 2]], s));
+            let (ta, tc) =
+                ((w[0][a] + s * (w[1][a] - w[0][a])).to_radians(), (w[0][c] + s * (w[1][c] - w[0][c])).to_radians());
+            let (p, axis) = (rz(-tc, rx(-ta, q)), rz(-tc, rx(-ta, [0.0, 0.0, 1.0])));
+            for e in torus_plane_errors(add(p, scale(axis, 4.0))) {
+                worst = worst.max(e.abs());
+            }
+        }
+        assert!(worst <= tol * (1.0 + 1e-6), "segment {k}: ball error {worst} > {tol}");
+    }
+}

@@ -160,3 +160,65 @@ fn the_tip_distance_agrees_with_brute_force_on_example1_before_steps() {
     assert!(got > 1.0, "{got}");
     assert!((got - brute).abs() < 1e-3, "function {got} mm, brute force {brute} mm");
 }
+
+/// With `bound_tip`, every segment's swept tip stays within E of the design tip path —
+/// checked by brute force (dense design samples near the segment, golden-section refinement)
+/// — and |δ| stays within E too; the plan needs more blocks, not fewer.
+#[test]
+fn bounding_the_tip_holds_it_within_e_of_the_design_tip_path() {
+    let tol = 0.01;
+    for case in cases().into_iter().filter(|c| ["torus-plane", "torus-plate-head-bc"].contains(&c.name)) {
+        let path = case.path.as_ref();
+        let plain = plan_steps(&case.machine, path, &StepOptions::new(tol)).unwrap();
+        let plan = plan_steps(&case.machine, path, &StepOptions::new(tol).with_tip_bound(true)).unwrap();
+        assert!(plan.segments() > plain.segments(), "{}: {} vs {}", case.name, plan.segments(), plain.segments());
+        assert!(plan.nodes.iter().any(|n| n.tip_limited), "{}: some segment ends by the tip", case.name);
+        let (s0, s1) = path.range();
+        let tip_at = |s: f64| path.location_at(s.clamp(s0, s1)).unwrap().tip;
+        let n_dense = 20 * plan.segments();
+        let dense: Vec<(f64, glam::DVec3)> =
+            (0..=n_dense).map(|i| s0 + (s1 - s0) * i as f64 / n_dense as f64).map(|s| (s, tip_at(s))).collect();
+        for (k, w) in plan.nodes.windows(2).enumerate() {
+            let (a, b) = (&w[0].block, &w[1].block);
+            let delta = w[1].total_mm.unwrap();
+            assert!(delta.abs() <= tol * (1.0 + 1e-9), "{} segment {k}: δ {delta}", case.name);
+            let mut brute = 0.0f64;
+            for i in 0..=48 {
+                let p = case.machine.pose_from_joints(&a.joints.lerp(&b.joints, f64::from(i) / 48.0)).tip_in_workpiece;
+                // A closed crease ends where it began: refine around the nearest sample and
+                // around the nearest one elsewhere on the path, and keep the closer.
+                let near = |skip: Option<usize>| {
+                    (0..dense.len())
+                        .filter(|x| skip.is_none_or(|k| x.abs_diff(k) > 2))
+                        .min_by(|&x, &y| (dense[x].1 - p).length().total_cmp(&(dense[y].1 - p).length()))
+                        .unwrap()
+                };
+                let first = near(None);
+                let d = [first, near(Some(first))]
+                    .into_iter()
+                    .map(|j| {
+                        let (mut lo, mut hi) = (dense[j.saturating_sub(1)].0, dense[(j + 1).min(dense.len() - 1)].0);
+                        let r = (5f64.sqrt() - 1.0) / 2.0;
+                        for _ in 0..60 {
+                            let (x1, x2) = (hi - r * (hi - lo), lo + r * (hi - lo));
+                            if (tip_at(x1) - p).length() < (tip_at(x2) - p).length() {
+                                hi = x2;
+                            } else {
+                                lo = x1;
+                            }
+                        }
+                        (tip_at(0.5 * (lo + hi)) - p).length()
+                    })
+                    .fold(f64::INFINITY, f64::min);
+                brute = brute.max(d);
+            }
+            assert!(brute <= tol * 1.001, "{} segment {k}: tip {brute} mm from the design tip path", case.name);
+            let reported = w[1].tip_design_mm.unwrap();
+            assert!(
+                (reported - brute).abs() <= 2e-4 * tol + 1e-7 || brute < reported,
+                "{}: {reported} vs {brute}",
+                case.name
+            );
+        }
+    }
+}

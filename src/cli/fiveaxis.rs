@@ -84,6 +84,10 @@ pub(crate) struct StepsArgs {
     /// Root finder inside the bracket.
     #[arg(long, value_enum, default_value = "secant")]
     method: RootArg,
+    /// Also hold the swept tool tip within E of the design tip path (as a post-processor
+    /// checking the programmed point would); adds the column tip_design_mm.
+    #[arg(long)]
+    bound_tip: bool,
     /// Output format.
     #[arg(long, value_enum, default_value = "csv")]
     format: OutFormat,
@@ -260,8 +264,9 @@ fn fatal_io(e: &io::Error) -> Fatal {
     Fatal(format!("cannot write the output: {e}"))
 }
 
-/// Column names of the node table; the rotary columns named as the machine names them.
-fn step_columns(kind: MachineKind) -> Vec<String> {
+/// Column names of the node table; the rotary columns named as the machine names them
+/// (`tip_design_mm` last, with `--bound-tip`).
+fn step_columns(kind: MachineKind, bound_tip: bool) -> Vec<String> {
     let [t, c] = kind.axis_names();
     [
         "node",
@@ -285,8 +290,10 @@ fn step_columns(kind: MachineKind) -> Vec<String> {
         "stock_mm",
         "iterations",
         "limited_by",
+        "tip_design_mm",
     ]
     .iter()
+    .take(if bound_tip { 22 } else { 21 })
     .map(|s| (*s).to_owned())
     .collect()
 }
@@ -318,16 +325,28 @@ fn step_values(i: usize, n: &StepNode) -> (Vec<f64>, &'static str) {
         ""
     } else if n.rotary_limited {
         "rotary_step"
+    } else if n.tip_limited {
+        "tip"
     } else {
         "error"
     };
     (v, limited)
 }
 
+/// The largest tip distance from the design tip path and the segments it ended (with
+/// `--bound-tip`; `None` otherwise).
+fn tip_summary(plan: &StepPlan) -> Option<(f64, usize)> {
+    let worst = plan.nodes.iter().filter_map(|n| n.tip_design_mm).reduce(f64::max)?;
+    Some((worst, plan.nodes.iter().filter(|n| n.tip_limited).count()))
+}
+
 fn summary(plan: &StepPlan) -> String {
     let limited = plan.nodes.iter().filter(|n| n.rotary_limited).count();
+    let tip = tip_summary(plan).map_or(String::new(), |(worst, n)| {
+        format!("; tip from the design tip path at most {} mm, {n} segment(s) ended by it", fmt_num(worst))
+    });
     format!(
-        "{} nodes, {} segments, worst |δ| {} mm (E = {} mm), {} iterations (δ evaluations, method {}), {} segment(s) ended by the 90° rotary step",
+        "{} nodes, {} segments, worst |δ| {} mm (E = {} mm), {} iterations (δ evaluations, method {}), {} segment(s) ended by the 90° rotary step{tip}",
         plan.nodes.len(),
         plan.segments(),
         fmt_num(plan.worst_mm()),
@@ -338,8 +357,8 @@ fn summary(plan: &StepPlan) -> String {
     )
 }
 
-fn plan_case(case: &Case, tol: f64, method: RootMethod) -> Result<StepPlan, Fatal> {
-    plan_steps(&case.machine, case.path.as_ref(), &StepOptions::new(tol).with_method(method))
+fn plan_case(case: &Case, tol: f64, method: RootMethod, bound_tip: bool) -> Result<StepPlan, Fatal> {
+    plan_steps(&case.machine, case.path.as_ref(), &StepOptions::new(tol).with_method(method).with_tip_bound(bound_tip))
         .map_err(|e| Fatal(format!("{}: {e}", case.title)))
 }
 
@@ -352,8 +371,8 @@ pub(super) fn steps(a: &StepsArgs) -> Result<ExitCode, Fatal> {
             return Err(Fatal("steps: give a scene file, --example1 or --blade 2412".into()));
         }
     };
-    let plan = plan_case(&case, a.tolerance, a.method.method())?;
-    let cols = step_columns(case.machine.kind);
+    let plan = plan_case(&case, a.tolerance, a.method.method(), a.bound_tip)?;
+    let cols = step_columns(case.machine.kind, a.bound_tip);
     let mut o = BufWriter::new(io::stdout().lock());
     let r = (|| -> io::Result<()> {
         match a.format {
@@ -378,11 +397,20 @@ pub(super) fn steps(a: &StepsArgs) -> Result<ExitCode, Fatal> {
                     o,
                     "# delta_*, gouge, stock: the ball's signed errors on the surfaces (R' minus distance; what a ball end mill cuts); tip_dev_mm: the tool tip's distance from its programmed chord, for reference"
                 )?;
+                if a.bound_tip {
+                    writeln!(
+                        o,
+                        "# --bound-tip: tip_design_mm, the swept tool tip's largest distance from the design tip path, is also held within E (limited_by = tip where it ended the segment)"
+                    )?;
+                }
                 writeln!(o, "{}", cols.join(","))?;
                 for (i, n) in plan.nodes.iter().enumerate() {
                     let (v, lim) = step_values(i, n);
                     let mut cells: Vec<String> = v.iter().map(|x| fmt_num(*x)).collect();
                     cells.push(lim.to_owned());
+                    if a.bound_tip {
+                        cells.push(n.tip_design_mm.map_or(String::new(), fmt_num));
+                    }
                     writeln!(o, "{}", cells.join(","))?;
                 }
                 writeln!(o, "# summary: {}", summary(&plan))?;
@@ -397,6 +425,9 @@ pub(super) fn steps(a: &StepsArgs) -> Result<ExitCode, Fatal> {
                         let mut row: Vec<Value> =
                             v.iter().map(|x| if x.is_finite() { json!(x) } else { Value::Null }).collect();
                         row.push(if lim.is_empty() { Value::Null } else { json!(lim) });
+                        if a.bound_tip {
+                            row.push(n.tip_design_mm.map_or(Value::Null, |t| json!(t)));
+                        }
                         Value::Array(row)
                     })
                     .collect();
@@ -419,6 +450,9 @@ pub(super) fn steps(a: &StepsArgs) -> Result<ExitCode, Fatal> {
                         "worst_mm": plan.worst_mm(),
                         "iterations": plan.total_evaluations(),
                         "rotary_limited": plan.nodes.iter().filter(|n| n.rotary_limited).count(),
+                        "bound_tip": a.bound_tip,
+                        "worst_tip_design_mm": tip_summary(&plan).map(|t| t.0),
+                        "tip_limited": tip_summary(&plan).map(|t| t.1),
                     },
                 });
                 writeln!(o, "{}", serde_json::to_string_pretty(&doc).unwrap_or_default())?;

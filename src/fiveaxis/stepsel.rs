@@ -14,7 +14,7 @@
 use super::FiveAxisError;
 use super::machine::Machine;
 use super::path::DesignPath;
-use super::swept::{Block, SegmentReport, block_at, segment_report, segment_total};
+use super::swept::{Block, SegmentReport, block_at, segment_report, segment_total, tip_design_deviation};
 use crate::chords::maximise::MaxOptions;
 use crate::chords::{RootMethod, SearchFailure, SearchOptions, next_node};
 
@@ -40,6 +40,11 @@ pub struct StepOptions {
     /// axis) nothing else would end a segment. Enforced continuously: the search sees
     /// `max(|δ|, E·|Δθ|/θ_max)`, so a segment ends where either reaches E.
     pub max_rotary_step_rad: f64,
+    /// Also hold the swept tool tip within E of the design tip path (default false). The
+    /// search then sees `max(|δ|, tip distance, rotary term)`: segments are shorter where
+    /// the tip leaves its design path further than the ball leaves the surfaces (up to
+    /// 2.9× on shallow crease corners, docs/fiveaxis.md), and such segments have |δ| < E.
+    pub bound_tip: bool,
 }
 
 impl StepOptions {
@@ -53,7 +58,15 @@ impl StepOptions {
             max_nodes: 200_000,
             reports: true,
             max_rotary_step_rad: std::f64::consts::FRAC_PI_2,
+            bound_tip: false,
         }
+    }
+
+    /// Also bounding the tip's distance from the design tip path ([`Self::bound_tip`]).
+    #[must_use]
+    pub fn with_tip_bound(mut self, bound_tip: bool) -> Self {
+        self.bound_tip = bound_tip;
+        self
     }
 
     /// With another root method.
@@ -83,6 +96,11 @@ pub struct StepNode {
     pub bracket_evaluations: u32,
     /// The segment was ended by [`StepOptions::max_rotary_step_rad`], not by the error.
     pub rotary_limited: bool,
+    /// With [`StepOptions::bound_tip`]: the swept tip's largest distance from the design tip
+    /// path over the segment ending here (mm).
+    pub tip_design_mm: Option<f64>,
+    /// The segment was ended by that tip distance, not by |δ| or the rotary step.
+    pub tip_limited: bool,
 }
 
 /// The larger rotary move between two blocks (rad).
@@ -180,6 +198,8 @@ impl StepPlanner {
                 evaluations: 0,
                 bracket_evaluations: 0,
                 rotary_limited: false,
+                tip_design_mm: None,
+                tip_limited: false,
             }],
         })
     }
@@ -224,8 +244,10 @@ impl StepPlanner {
             });
         }
         let from = current.location.s;
-        // Every candidate block, so the accepted one is not recomputed.
-        let mut tried: Vec<(f64, Block, f64)> = Vec::new();
+        let bound_tip = self.opts.bound_tip;
+        // Every candidate block with its δ and tip distance, so the accepted one is not
+        // recomputed.
+        let mut tried: Vec<(f64, Block, f64, Option<f64>)> = Vec::new();
         // Joints of the farthest candidate found within the tolerance: the inverse
         // kinematics of the next candidate continues from there, so the joints follow the
         // path through the evaluated points instead of jumping to another branch when a
@@ -235,8 +257,9 @@ impl StepPlanner {
             let prev = if anchor.0 < s { anchor.1 } else { current.joints };
             let b = block_at(machine, path, s, Some(&prev))?;
             let t = segment_total(machine, path, &current, &b, &swept)?;
-            tried.push((s, b, t.total_mm));
-            let v = t.total_mm.abs().max(rotary_scale * rotary_step_rad(&current, &b));
+            let tip = if bound_tip { Some(tip_design_deviation(machine, path, &current, &b, &swept)?) } else { None };
+            tried.push((s, b, t.total_mm, tip));
+            let v = t.total_mm.abs().max(rotary_scale * rotary_step_rad(&current, &b)).max(tip.unwrap_or(0.0));
             if v < tol && s > anchor.0 {
                 anchor = (s, b.joints);
             }
@@ -253,17 +276,23 @@ impl StepPlanner {
                 FiveAxisError::NoConvergence { s: s_from, evaluations }
             }
         })?;
-        let (block, total) = match tried.iter().rev().find(|t| t.0.to_bits() == found.s.to_bits()) {
-            Some(&(_, b, e)) => (b, e),
+        let (block, total, tip) = match tried.iter().rev().find(|t| t.0.to_bits() == found.s.to_bits()) {
+            Some(&(_, b, e, tip)) => (b, e, tip),
             None => {
                 let b = block_at(machine, path, found.s, Some(&current.joints))?;
                 let e = segment_total(machine, path, &current, &b, &swept)?.total_mm;
-                (b, e)
+                let tip =
+                    if bound_tip { Some(tip_design_deviation(machine, path, &current, &b, &swept)?) } else { None };
+                (b, e, tip)
             }
         };
         let report =
             if self.opts.reports { Some(segment_report(machine, path, &current, &block, &swept)?) } else { None };
-        let rotary_limited = rotary_scale * rotary_step_rad(&current, &block) > total.abs();
+        let rotary = rotary_scale * rotary_step_rad(&current, &block);
+        // Ended by the tip: it is the largest term and reached the tolerance (the last
+        // segment, cut short by the end of the path, is ended by nothing).
+        let tip_limited = tip.is_some_and(|t| t > total.abs() && t > rotary && t >= 0.99 * tol);
+        let rotary_limited = !tip_limited && rotary > total.abs();
         let node = StepNode {
             block,
             total_mm: Some(total),
@@ -271,6 +300,8 @@ impl StepPlanner {
             evaluations: found.evaluations,
             bracket_evaluations: found.bracket_evaluations,
             rotary_limited,
+            tip_design_mm: tip,
+            tip_limited,
         };
         self.nodes.push(node);
         self.step = Some(found.s - from);
@@ -311,6 +342,8 @@ pub fn evaluate_nodes(
             evaluations: 0,
             bracket_evaluations: 0,
             rotary_limited: false,
+            tip_design_mm: None,
+            tip_limited: false,
         });
     }
     Ok(out)
