@@ -191,7 +191,14 @@ try {
   check("5-axis tab: the iteration table follows the tolerance slider",
     p3.blocks > p2.blocks && p3.compare.secant !== p2.compare.secant && Object.values(p3.compare).every((v) => Number.isInteger(v)),
     `E ${p2.tol_mm} → ${p3.tol_mm.toFixed(5)} mm: ${p3.blocks} blocks, ${JSON.stringify(p3.compare)}`);
-  await clickRect(page5, f3.ui["Chords (seed 003)"]);
+  await clickRect(page5, p3.ui.bound_tip);
+  const f3b = await waitFor(page5, "the plan with the tip bound", (s) => panelDone("5-axis (seed 002)")(s) && s.panel.status.bound_tip);
+  await page5.waitForTimeout(500);
+  await page5.screenshot({ path: path.join(artifacts, "07b-fiveaxis-tip-bound.png") });
+  const p3b = f3b.panel.status;
+  check("5-axis tab: the tip-bound switch replans within E",
+    p3b.blocks >= p3.blocks && p3b.worst_delta_mm <= p3b.tol_mm && p3b.error === "", `${p3.blocks} → ${p3b.blocks} blocks`);
+  await clickRect(page5, f3b.ui["Chords (seed 003)"]);
   const f4 = await waitFor(page5, "the chords view", panelDone("Chords (seed 003)"));
   await page5.waitForTimeout(500);
   const shot5c = await page5.screenshot({ path: path.join(artifacts, "08-chords-parabola.png") });

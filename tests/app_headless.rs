@@ -261,6 +261,34 @@ fn the_five_axis_view_plans_every_preset_and_reports_bad_input() {
     }
 }
 
+#[test]
+fn the_five_axis_tip_bound_gives_the_cores_plan() {
+    let mut h = Harness::new();
+    h.app.open_text("torus-plane.json", include_str!("../examples/torus-plane.json"));
+    h.settle();
+    set(&mut h, FIVE_AXIS, "source", "scene");
+    set(&mut h, FIVE_AXIS, "tol_mm", "0.01");
+    let plain = settle_panel(&mut h, "torus-plane");
+    set(&mut h, FIVE_AXIS, "bound_tip", "true");
+    let bound = settle_panel(&mut h, "torus-plane, tip bound");
+    assert_eq!(bound["bound_tip"], true);
+    // The core's plans for the same crease, machine and axis rule (as `steps` makes them).
+    let scene = Scene::from_json(include_str!("../examples/torus-plane.json")).expect("example");
+    let job = CreaseJob::from_scene(&scene).expect("builds");
+    let rows = run_to_end(job.clone(), InterpOptions::default()).rows;
+    let path = interpolab::fiveaxis::CreasePath::new(
+        interpolab::crease::CreaseCurve::from_rows(&job, &rows).expect("curve"),
+        interpolab::fiveaxis::ToolAxisRule::Bisector,
+    );
+    let machine = interpolab::fiveaxis::Machine::default();
+    let opts = interpolab::fiveaxis::StepOptions::new(0.01);
+    let core_plain = interpolab::fiveaxis::plan_steps(&machine, &path, &opts).expect("plan");
+    let core_bound = interpolab::fiveaxis::plan_steps(&machine, &path, &opts.with_tip_bound(true)).expect("plan");
+    assert_eq!(plain["blocks"].as_u64(), Some(core_plain.nodes.len() as u64), "{plain}");
+    assert_eq!(bound["blocks"].as_u64(), Some(core_bound.nodes.len() as u64), "{bound}");
+    assert!(core_bound.nodes.len() > core_plain.nodes.len());
+}
+
 const CHORDS: &str = "Chords (seed 003)";
 
 fn row<'a>(s: &'a serde_json::Value, label: &str) -> &'a serde_json::Value {

@@ -92,6 +92,7 @@ pub struct FiveAxisPanel {
     rule: RuleEdit,
     tol_mm: f64,
     method: RootMethod,
+    bound_tip: bool,
     display: Display,
     selected: usize,
     defaults_for: Option<DefaultsKey>,
@@ -120,6 +121,7 @@ impl Default for FiveAxisPanel {
             rule: RuleEdit::default(),
             tol_mm: 0.01,
             method: RootMethod::Secant,
+            bound_tip: false,
             display: Display::default(),
             selected: 0,
             defaults_for: None,
@@ -243,6 +245,7 @@ impl FiveAxisPanel {
             tol_mm: self.tol_mm,
             method: self.method,
             before: self.source == Source::Example1 && self.before,
+            bound_tip: self.bound_tip,
         }
     }
 
@@ -386,7 +389,8 @@ impl FiveAxisPanel {
         if r.changed() && tol.is_finite() {
             self.tol_mm = tol.clamp(*TOL_RANGE.start(), *TOL_RANGE.end());
         }
-        ui.label(egui::RichText::new(format!("E = {} on every segment's |δ|", fmt_len(self.tol_mm))).weak());
+        let on = if self.bound_tip { "|δ| and tip distance" } else { "|δ|" };
+        ui.label(egui::RichText::new(format!("E = {} on every segment's {on}", fmt_len(self.tol_mm))).weak());
         ui.horizontal(|ui| {
             ui.label("root method");
             egui::ComboBox::from_id_salt("fa_method").selected_text(plots::method_name(self.method)).show_ui(
@@ -398,6 +402,10 @@ impl FiveAxisPanel {
                 },
             );
         });
+        let r = ui.checkbox(&mut self.bound_tip, "also hold the tool tip within E of its design path").on_hover_text(
+            "By default each segment's error is the ball's signed error on the surfaces (seed 002's δ). With this, the swept tool tip's distance from the design tip path is held within E too, as a post-processor checking the programmed point would want (interpolab steps --bound-tip).",
+        );
+        self.rects.push(("bound_tip", r.rect));
     }
 
     fn machine_ui(&mut self, ui: &mut egui::Ui, scene: &Scene) {
@@ -916,6 +924,7 @@ impl Panel for FiveAxisPanel {
                 }
                 self.tol_mm = t.clamp(*TOL_RANGE.start(), *TOL_RANGE.end());
             }
+            "bound_tip" => self.bound_tip = value == "true",
             "method" => {
                 self.method = RootMethod::from_name(value).ok_or_else(|| {
                     format!("method: \"{value}\"; give bisection, golden, secant, illinois or anderson-bjorck")
@@ -938,7 +947,7 @@ impl Panel for FiveAxisPanel {
             }
             _ => {
                 return Err(format!(
-                    "no option \"{key}\"; give source, before, tol_mm, method, machine, tilt_travel_deg or segment"
+                    "no option \"{key}\"; give source, before, tol_mm, method, bound_tip, machine, tilt_travel_deg or segment"
                 ));
             }
         }
@@ -975,6 +984,7 @@ impl Panel for FiveAxisPanel {
             "machine": self.machine.kind.as_str(),
             "tol_mm": self.tol_mm,
             "method": self.method.as_str(),
+            "bound_tip": self.bound_tip,
             // A widget changed after this frame's update counts as computing too.
             "computing": self.waiting.is_some()
                 || self.plan.as_ref().is_some_and(|p| !p.finished() || p.inputs != self.inputs(self.generation)),

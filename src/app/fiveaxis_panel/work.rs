@@ -57,6 +57,8 @@ pub struct Inputs {
     pub method: RootMethod,
     /// Example 1: the single block P1 → P2 instead of the plan.
     pub before: bool,
+    /// Also hold the swept tip within E of the design tip path ([`StepOptions::bound_tip`]).
+    pub bound_tip: bool,
 }
 
 /// Where the design came from, for the 3D view's surfaces.
@@ -274,7 +276,7 @@ impl std::fmt::Debug for Plan {
 }
 
 fn options(inputs: &Inputs, method: RootMethod, reports: bool) -> StepOptions {
-    StepOptions { reports, ..StepOptions::new(inputs.tol_mm).with_method(method) }
+    StepOptions { reports, ..StepOptions::new(inputs.tol_mm).with_method(method).with_tip_bound(inputs.bound_tip) }
 }
 
 impl Plan {
