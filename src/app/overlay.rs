@@ -1,10 +1,95 @@
-//! Overlays every 3D view draws over its image: the axis triad and a scale bar in mm, and
-//! the decimation every long plotted series goes through.
+//! What every 3D view shares: the mouse and touch camera controls, the message without a
+//! GPU, the overlays drawn over the image (axis triad, scale bar in mm), and the decimation
+//! every long plotted series goes through.
 
 use eframe::egui;
-use glam::Vec3;
+use glam::{Mat4, Vec3};
 
-use crate::render::OrbitCamera;
+use crate::render::gpu::paint_callback;
+use crate::render::{OrbitCamera, ViewCallback, ViewId};
+
+/// Says in the view's rectangle that there is no GPU device to draw with.
+pub fn no_gpu(painter: &egui::Painter, rect: egui::Rect) {
+    painter.text(
+        rect.center(),
+        egui::Align2::CENTER_CENTER,
+        "3D view unavailable: no GPU device (wgpu)",
+        egui::FontId::proportional(16.0),
+        egui::Color32::LIGHT_RED,
+    );
+}
+
+/// Orbits with the primary button, pans with the secondary or middle button (or shift and
+/// the primary) — the drags every 3D view answers the same way.
+pub fn orbit_and_pan(camera: &mut OrbitCamera, ui: &egui::Ui, response: &egui::Response, rect: egui::Rect) {
+    let shift = ui.input(|i| i.modifiers.shift);
+    let delta = response.drag_delta();
+    if response.dragged_by(egui::PointerButton::Primary) && !shift {
+        camera.orbit(delta.x, delta.y);
+    } else if response.dragged_by(egui::PointerButton::Secondary)
+        || response.dragged_by(egui::PointerButton::Middle)
+        || (response.dragged_by(egui::PointerButton::Primary) && shift)
+    {
+        camera.pan(delta.x, delta.y, rect.height());
+    }
+}
+
+/// The zoom asked for this frame by the wheel and by pinching, as a factor for
+/// [`OrbitCamera::zoom`] (1 when the pointer is not over the view).
+#[must_use]
+pub fn zoom_factor(ui: &egui::Ui, response: &egui::Response) -> f32 {
+    if !response.hovered() {
+        return 1.0;
+    }
+    let (scroll, zoom) = ui.input(|i| (i.smooth_scroll_delta.y, i.zoom_delta()));
+    (scroll * 0.0025).exp() * zoom
+}
+
+/// Queues the GPU drawing of `view` into `rect` as `camera` sees it (`hide_back_faces`: hide
+/// the material side of surfaces); returns the clip-from-world matrix it used.
+pub fn paint_view(
+    ui: &egui::Ui,
+    rect: egui::Rect,
+    camera: &OrbitCamera,
+    view: ViewId,
+    background: [f32; 4],
+    hide_back_faces: bool,
+) -> Mat4 {
+    let ppp = ui.ctx().pixels_per_point();
+    let size_px = [(rect.width() * ppp).round().max(1.0) as u32, (rect.height() * ppp).round().max(1.0) as u32];
+    let clip = camera.clip_from_world(rect.width() / rect.height().max(1.0));
+    ui.painter().add(paint_callback(
+        rect,
+        ViewCallback {
+            view,
+            clip_from_local: clip.to_cols_array_2d(),
+            eye: camera.eye().to_array(),
+            size_px,
+            background,
+            hide_back_faces,
+        },
+    ));
+    clip
+}
+
+/// A button of [`view_buttons`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ViewButton {
+    /// Default view angles, fitted.
+    Reset,
+    /// Frame the content.
+    Fit,
+}
+
+/// The "reset" and "fit" buttons of a view, right-aligned in `at`; `fit_hint` says what
+/// "fit" frames. Returns the one clicked.
+pub fn view_buttons(ui: &mut egui::Ui, at: egui::Rect, fit_hint: &str) -> Option<ViewButton> {
+    let mut child =
+        ui.new_child(egui::UiBuilder::new().max_rect(at).layout(egui::Layout::right_to_left(egui::Align::Center)));
+    let reset = child.small_button("reset").on_hover_text("Default view angles, fitted").clicked();
+    let fit = child.small_button("fit").on_hover_text(fit_hint).clicked();
+    if reset { Some(ViewButton::Reset) } else { fit.then_some(ViewButton::Fit) }
+}
 
 /// The world axes X (red), Y (green), Z (blue) as seen by `camera`, `length` points long,
 /// from `origin` (usually near the view's bottom-left corner).

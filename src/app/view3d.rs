@@ -10,11 +10,10 @@ use glam::{DVec3, Vec3};
 use super::Playback;
 use super::compute::Computation;
 use super::controls::SURFACE_COLORS;
-use super::overlay::{axis_triad, scale_bar};
+use super::overlay::{ViewButton, axis_triad, no_gpu, orbit_and_pan, paint_view, scale_bar, view_buttons, zoom_factor};
 use crate::geom::ParametricSurface;
 use crate::render::geometry::{Origin, bounds, iso_lines, tessellate};
-use crate::render::gpu::paint_callback;
-use crate::render::{Layer, LineSegment, Mesh, OrbitCamera, Renderer3d, SphereInstance, ViewCallback, ViewId};
+use crate::render::{Layer, LineSegment, Mesh, OrbitCamera, Renderer3d, SphereInstance, ViewId};
 use crate::scene::{Scene, SurfaceSpec};
 
 /// What the view shows (the "Display" section of the controls).
@@ -333,13 +332,7 @@ impl CreaseView {
         let (rect, response) =
             ui.allocate_exact_size(ui.available_size().max(egui::vec2(64.0, 64.0)), egui::Sense::click_and_drag());
         let Some(rs) = rs else {
-            ui.painter().text(
-                rect.center(),
-                egui::Align2::CENTER_CENTER,
-                "3D view unavailable: no GPU device (wgpu)",
-                egui::FontId::proportional(16.0),
-                egui::Color32::LIGHT_RED,
-            );
+            no_gpu(ui.painter(), rect);
             return;
         };
         self.rebuild_static(rs, scene, compute);
@@ -347,43 +340,16 @@ impl CreaseView {
         self.update_cutters(rs, scene, compute, playback);
 
         // Interaction.
-        let shift = ui.input(|i| i.modifiers.shift);
-        let delta = response.drag_delta();
-        if response.dragged_by(egui::PointerButton::Primary) && !shift {
-            self.camera.orbit(delta.x, delta.y);
-        } else if response.dragged_by(egui::PointerButton::Secondary)
-            || response.dragged_by(egui::PointerButton::Middle)
-            || (response.dragged_by(egui::PointerButton::Primary) && shift)
-        {
-            self.camera.pan(delta.x, delta.y, rect.height());
-        }
-        if response.hovered() {
-            let (scroll, zoom) = ui.input(|i| (i.smooth_scroll_delta.y, i.zoom_delta()));
-            if scroll != 0.0 {
-                self.camera.zoom((scroll * 0.0025).exp());
-            }
-            if (zoom - 1.0).abs() > f32::EPSILON {
-                self.camera.zoom(zoom);
-            }
+        orbit_and_pan(&mut self.camera, ui, &response, rect);
+        let factor = zoom_factor(ui, &response);
+        if (factor - 1.0).abs() > f32::EPSILON {
+            self.camera.zoom(factor);
         }
         if response.double_clicked() {
             self.fit();
         }
 
-        let ppp = ui.ctx().pixels_per_point();
-        let size_px = [(rect.width() * ppp).round().max(1.0) as u32, (rect.height() * ppp).round().max(1.0) as u32];
-        let clip = self.camera.clip_from_world(rect.width() / rect.height().max(1.0));
-        ui.painter().add(paint_callback(
-            rect,
-            ViewCallback {
-                view: self.id,
-                clip_from_local: clip.to_cols_array_2d(),
-                eye: self.camera.eye().to_array(),
-                size_px,
-                background: BACKGROUND,
-                hide_back_faces: self.settings.cutter_side_only,
-            },
-        ));
+        paint_view(ui, rect, &self.camera, self.id, BACKGROUND, self.settings.cutter_side_only);
         self.overlays(ui, rect, scene, compute);
     }
 
@@ -438,15 +404,13 @@ impl CreaseView {
         );
         // Fit / reset buttons, under the status line.
         let buttons = egui::Rect::from_min_size(rect.right_top() + egui::vec2(-140.0, 32.0), egui::vec2(130.0, 24.0));
-        let mut child = ui.new_child(
-            egui::UiBuilder::new().max_rect(buttons).layout(egui::Layout::right_to_left(egui::Align::Center)),
-        );
-        if child.small_button("reset").on_hover_text("Default view angles, fitted").clicked() {
-            self.camera = OrbitCamera::default();
-            self.fit();
-        }
-        if child.small_button("fit").on_hover_text("Frame the whole scene (double-click)").clicked() {
-            self.fit();
+        match view_buttons(ui, buttons, "Frame the whole scene (double-click)") {
+            Some(ViewButton::Reset) => {
+                self.camera = OrbitCamera::default();
+                self.fit();
+            }
+            Some(ViewButton::Fit) => self.fit(),
+            None => {}
         }
     }
 }

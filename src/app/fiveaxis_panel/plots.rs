@@ -145,14 +145,20 @@ pub fn joints_plot(ui: &mut egui::Ui, plan: &Plan, s_unit: &str, selected: Optio
                         .filled(false),
                 );
             }
-            if let Some(s) = plan.error.as_ref().and_then(|e| e.s) {
-                p.vline(VLine::new("plan stopped here", s).color(LIMIT_COLOR).width(2.0));
-            }
-            if let Some(w) = selected.and_then(|k| plan.nodes.get(k..k + 2)) {
-                let mid = 0.5 * (w[0].block.location.s + w[1].block.location.s);
-                p.vline(VLine::new("", mid).color(egui::Color32::from_gray(200)).width(1.0));
-            }
+            markers(p, plan, selected);
         });
+}
+
+/// The vertical markers both plots share: where a failed plan stopped, and the middle of
+/// the selected segment.
+fn markers(p: &mut egui_plot::PlotUi<'_>, plan: &Plan, selected: Option<usize>) {
+    if let Some(s) = plan.error.as_ref().and_then(|e| e.s) {
+        p.vline(VLine::new("plan stopped here", s).color(LIMIT_COLOR).width(2.0));
+    }
+    if let Some(w) = selected.and_then(|k| plan.nodes.get(k..k + 2)) {
+        let mid = 0.5 * (w[0].block.location.s + w[1].block.location.s);
+        p.vline(VLine::new("", mid).color(egui::Color32::from_gray(200)).width(1.0));
+    }
 }
 
 /// δ, δt, δn per segment (at the worst point of each) and the swept ball's error along the
@@ -222,13 +228,7 @@ pub fn errors_plot(ui: &mut egui::Ui, plan: &Plan, s_unit: &str, selected: Optio
                         .filled(false),
                 );
             }
-            if let Some(s) = plan.error.as_ref().and_then(|e| e.s) {
-                p.vline(VLine::new("plan stopped here", s).color(LIMIT_COLOR).width(2.0));
-            }
-            if let Some(w) = selected.and_then(|k| plan.nodes.get(k..k + 2)) {
-                let mid = 0.5 * (w[0].block.location.s + w[1].block.location.s);
-                p.vline(VLine::new("", mid).color(egui::Color32::from_gray(200)).width(1.0));
-            }
+            markers(p, plan, selected);
         });
 }
 

@@ -4,17 +4,16 @@
 //! tool-tip (or ball-centre) curves coloured by the ball's signed error. Layers are rebuilt
 //! only when what they show changes; interaction as in the crease view.
 
-use crate::app::overlay::{axis_triad, scale_bar};
+use crate::app::overlay::{
+    ViewButton, axis_triad, no_gpu, orbit_and_pan, paint_view, scale_bar, view_buttons, zoom_factor,
+};
 use eframe::egui;
 use eframe::egui_wgpu::RenderState;
 use glam::{DVec3, Vec3};
 
 use super::work::{Design, Plan, Shape};
 use crate::render::geometry::{Origin, bounds, iso_lines, polyline, tessellate};
-use crate::render::gpu::paint_callback;
-use crate::render::{
-    Layer, LineSegment, Mesh, MeshVertex, OrbitCamera, Renderer3d, SphereInstance, ViewCallback, ViewId,
-};
+use crate::render::{Layer, LineSegment, Mesh, MeshVertex, OrbitCamera, Renderer3d, SphereInstance, ViewId};
 
 /// The GPU view id of the five-axis view (the crease view uses 0, the NURBS view 2).
 pub const VIEW_ID: ViewId = 1;
@@ -471,13 +470,7 @@ impl FiveAxisView {
         let (rect, response) =
             ui.allocate_exact_size(ui.available_size().max(egui::vec2(64.0, 64.0)), egui::Sense::click_and_drag());
         let Some(rs) = rs else {
-            ui.painter().text(
-                rect.center(),
-                egui::Align2::CENTER_CENTER,
-                "3D view unavailable: no GPU device (wgpu)",
-                egui::FontId::proportional(16.0),
-                egui::Color32::LIGHT_RED,
-            );
+            no_gpu(ui.painter(), rect);
             return rect;
         };
         if let Some(d) = design {
@@ -490,56 +483,27 @@ impl FiveAxisView {
             }
             None => self.clear_plan(rs),
         }
-        let shift = ui.input(|i| i.modifiers.shift);
-        let delta = response.drag_delta();
-        if response.dragged_by(egui::PointerButton::Primary) && !shift {
-            self.camera.orbit(delta.x, delta.y);
-        } else if response.dragged_by(egui::PointerButton::Secondary)
-            || response.dragged_by(egui::PointerButton::Middle)
-            || (response.dragged_by(egui::PointerButton::Primary) && shift)
-        {
-            self.camera.pan(delta.x, delta.y, rect.height());
-        }
-        if response.hovered() {
-            let (scroll, zoom) = ui.input(|i| (i.smooth_scroll_delta.y, i.zoom_delta()));
-            if scroll != 0.0 {
-                self.camera.zoom((scroll * 0.0025).exp());
-            }
-            if (zoom - 1.0).abs() > f32::EPSILON {
-                self.camera.zoom(zoom);
-            }
+        orbit_and_pan(&mut self.camera, ui, &response, rect);
+        let factor = zoom_factor(ui, &response);
+        if (factor - 1.0).abs() > f32::EPSILON {
+            self.camera.zoom(factor);
         }
         if response.double_clicked() || self.fit_requested && design.is_some() {
             self.fit();
         }
-        let ppp = ui.ctx().pixels_per_point();
-        let size_px = [(rect.width() * ppp).round().max(1.0) as u32, (rect.height() * ppp).round().max(1.0) as u32];
-        let clip = self.camera.clip_from_world(rect.width() / rect.height().max(1.0));
-        ui.painter().add(paint_callback(
-            rect,
-            ViewCallback {
-                view: VIEW_ID,
-                clip_from_local: clip.to_cols_array_2d(),
-                eye: self.camera.eye().to_array(),
-                size_px,
-                background: BACKGROUND,
-                hide_back_faces: true,
-            },
-        ));
+        paint_view(ui, rect, &self.camera, VIEW_ID, BACKGROUND, true);
         let painter = ui.painter_at(rect);
         self.triad_and_scale(&painter, rect);
         overlay(&painter, rect, &|p| self.project(p, rect));
         let buttons =
             egui::Rect::from_min_size(rect.right_bottom() + egui::vec2(-140.0, -60.0), egui::vec2(130.0, 24.0));
-        let mut child = ui.new_child(
-            egui::UiBuilder::new().max_rect(buttons).layout(egui::Layout::right_to_left(egui::Align::Center)),
-        );
-        if child.small_button("reset").on_hover_text("Default view angles, fitted").clicked() {
-            self.camera = OrbitCamera::default();
-            self.fit();
-        }
-        if child.small_button("fit").on_hover_text("Frame the whole path (double-click)").clicked() {
-            self.fit();
+        match view_buttons(ui, buttons, "Frame the whole path (double-click)") {
+            Some(ViewButton::Reset) => {
+                self.camera = OrbitCamera::default();
+                self.fit();
+            }
+            Some(ViewButton::Fit) => self.fit(),
+            None => {}
         }
         rect
     }

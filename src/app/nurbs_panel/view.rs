@@ -7,7 +7,9 @@
 //! numbers); the dots and markers are sized in screen points, so they are rebuilt when the
 //! zoom changes by more than a step.
 
-use crate::app::overlay::{axis_triad, scale_bar};
+use crate::app::overlay::{
+    ViewButton, axis_triad, no_gpu, orbit_and_pan, paint_view, scale_bar, view_buttons, zoom_factor,
+};
 use eframe::egui;
 use eframe::egui_wgpu::RenderState;
 use glam::{DVec3, Vec3, Vec4};
@@ -17,8 +19,7 @@ use crate::gcode::path::sample_params;
 use crate::gcode::{Deviation, PathBlock, Segment, Toolpath};
 use crate::geom::{Curve3, NurbsCurve};
 use crate::render::geometry::{Origin, bounds, polyline};
-use crate::render::gpu::paint_callback;
-use crate::render::{Layer, LineSegment, OrbitCamera, Renderer3d, SphereInstance, ViewCallback, ViewId};
+use crate::render::{Layer, LineSegment, OrbitCamera, Renderer3d, SphereInstance, ViewId};
 
 /// GPU view id of this panel (0 is the crease view, 1 the 5-axis view).
 pub const VIEW_ID: ViewId = 2;
@@ -461,38 +462,20 @@ impl NurbsView {
         let Drawn { work, overlay, offset, status } = what;
         let response = ui.allocate_rect(rect, egui::Sense::click_and_drag());
         let Some(rs) = rs else {
-            ui.painter().text(
-                rect.center(),
-                egui::Align2::CENTER_CENTER,
-                "3D view unavailable: no GPU device (wgpu)",
-                egui::FontId::proportional(16.0),
-                egui::Color32::LIGHT_RED,
-            );
+            no_gpu(ui.painter(), rect);
             return;
         };
-        let shift = ui.input(|i| i.modifiers.shift);
-        let delta = response.drag_delta();
-        if response.dragged_by(egui::PointerButton::Primary) && !shift {
-            self.camera.orbit(delta.x, delta.y);
-        } else if response.dragged_by(egui::PointerButton::Secondary)
-            || response.dragged_by(egui::PointerButton::Middle)
-            || (response.dragged_by(egui::PointerButton::Primary) && shift)
-        {
-            self.camera.pan(delta.x, delta.y, rect.height());
-        }
-        if response.hovered() {
-            let (scroll, zoom) = ui.input(|i| (i.smooth_scroll_delta.y, i.zoom_delta()));
-            let factor = (scroll * 0.0025).exp() * zoom;
-            if (factor - 1.0).abs() > f32::EPSILON {
-                let anchor = response.hover_pos().map(|p| self.anchor_under(p, rect));
-                let before = self.camera.distance;
-                self.camera.zoom(factor);
-                if let Some(a) = anchor {
-                    // Scale the camera about the anchor: it stays under the pointer, so a
-                    // deviation of a few µm can be inspected where it is.
-                    let k = self.camera.distance / before;
-                    self.camera.target = a + (self.camera.target - a) * k;
-                }
+        orbit_and_pan(&mut self.camera, ui, &response, rect);
+        let factor = zoom_factor(ui, &response);
+        if (factor - 1.0).abs() > f32::EPSILON {
+            let anchor = response.hover_pos().map(|p| self.anchor_under(p, rect));
+            let before = self.camera.distance;
+            self.camera.zoom(factor);
+            if let Some(a) = anchor {
+                // Scale the camera about the anchor: it stays under the pointer, so a
+                // deviation of a few µm can be inspected where it is.
+                let k = self.camera.distance / before;
+                self.camera.target = a + (self.camera.target - a) * k;
             }
         }
         if response.double_clicked() {
@@ -500,21 +483,7 @@ impl NurbsView {
         }
         self.rebuild(rs, work, overlay, offset, rect.height());
 
-        let ppp = ui.ctx().pixels_per_point();
-        let size_px = [(rect.width() * ppp).round().max(1.0) as u32, (rect.height() * ppp).round().max(1.0) as u32];
-        let aspect = rect.width() / rect.height().max(1.0);
-        let clip = self.camera.clip_from_world(aspect);
-        ui.painter().add(paint_callback(
-            rect,
-            ViewCallback {
-                view: VIEW_ID,
-                clip_from_local: clip.to_cols_array_2d(),
-                eye: self.camera.eye().to_array(),
-                size_px,
-                background: BACKGROUND,
-                hide_back_faces: false,
-            },
-        ));
+        let clip = paint_view(ui, rect, &self.camera, VIEW_ID, BACKGROUND, false);
         self.overlays(ui, rect, work, clip, Some(status));
     }
 
@@ -612,15 +581,13 @@ impl NurbsView {
             painter.galley(at, galley, color);
         }
         let buttons = egui::Rect::from_min_size(rect.right_top() + egui::vec2(-140.0, 30.0), egui::vec2(130.0, 24.0));
-        let mut child = ui.new_child(
-            egui::UiBuilder::new().max_rect(buttons).layout(egui::Layout::right_to_left(egui::Align::Center)),
-        );
-        if child.small_button("reset").on_hover_text("Default view angles, fitted").clicked() {
-            self.camera = OrbitCamera::default();
-            self.fitted_for = None;
-        }
-        if child.small_button("fit").on_hover_text("Frame the design path (double-click)").clicked() {
-            self.fit();
+        match view_buttons(ui, buttons, "Frame the design path (double-click)") {
+            Some(ViewButton::Reset) => {
+                self.camera = OrbitCamera::default();
+                self.fitted_for = None;
+            }
+            Some(ViewButton::Fit) => self.fit(),
+            None => {}
         }
         if let Some((p, _)) = &self.worst {
             let at = egui::Rect::from_min_size(rect.right_top() + egui::vec2(-200.0, 56.0), egui::vec2(190.0, 24.0));
