@@ -58,39 +58,40 @@ struct GpuArray {
     buffer: wgpu::Buffer,
     capacity_bytes: u64,
     count: u32,
+    label: &'static str,
+    usage: wgpu::BufferUsages,
 }
 
 impl GpuArray {
-    fn new(device: &wgpu::Device, label: &str, usage: wgpu::BufferUsages, bytes: &[u8], count: u32) -> Self {
-        let size = (bytes.len() as u64).max(64).next_multiple_of(4);
+    /// An empty array with room for `capacity_bytes` (at least 64).
+    fn with_capacity(
+        device: &wgpu::Device,
+        label: &'static str,
+        usage: wgpu::BufferUsages,
+        capacity_bytes: usize,
+    ) -> Self {
+        let size = (capacity_bytes as u64).max(64).next_multiple_of(4);
         let buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some(label),
             size,
             usage: usage | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        Self { buffer, capacity_bytes: size, count }
+        Self { buffer, capacity_bytes: size, count: 0, label, usage }
     }
 
-    /// Writes `bytes` (all elements); only bytes from `unchanged_prefix_bytes` on are sent
-    /// when the buffer is large enough (the path grows by appending).
-    #[expect(
-        clippy::too_many_arguments,
-        reason = "a private helper; a struct for its arguments would only rename them"
-    )]
+    /// Writes `bytes` (all `count` elements); only bytes from `unchanged_prefix_bytes` on are
+    /// sent when the buffer is large enough (the path grows by appending).
     fn write(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
-        label: &str,
-        usage: wgpu::BufferUsages,
         bytes: &[u8],
         count: u32,
         unchanged_prefix_bytes: u64,
     ) {
         if bytes.len() as u64 > self.capacity_bytes {
-            let grown = (bytes.len() as u64 * 3 / 2).next_multiple_of(4);
-            *self = Self::new(device, label, usage, &vec![0u8; grown as usize], 0);
+            *self = Self::with_capacity(device, self.label, self.usage, bytes.len() * 3 / 2);
             queue.write_buffer(&self.buffer, 0, bytes);
         } else {
             let start = unchanged_prefix_bytes.min(bytes.len() as u64) & !3;
@@ -415,51 +416,12 @@ impl Renderer3d {
         let v = self.views.entry(view).or_default();
         let vb = bytemuck::cast_slice::<MeshVertex, u8>(&mesh.vertices);
         let ib = bytemuck::cast_slice::<u32, u8>(&mesh.indices);
-        match v.meshes.get_mut(&layer) {
-            Some(m) => {
-                m.vertices.write(
-                    device,
-                    queue,
-                    "interpolab mesh vertices",
-                    wgpu::BufferUsages::VERTEX,
-                    vb,
-                    mesh.vertices.len() as u32,
-                    0,
-                );
-                m.indices.write(
-                    device,
-                    queue,
-                    "interpolab mesh indices",
-                    wgpu::BufferUsages::INDEX,
-                    ib,
-                    mesh.indices.len() as u32,
-                    0,
-                );
-            }
-            None => {
-                let mut vertices = GpuArray::new(device, "interpolab mesh vertices", wgpu::BufferUsages::VERTEX, vb, 0);
-                let mut indices = GpuArray::new(device, "interpolab mesh indices", wgpu::BufferUsages::INDEX, ib, 0);
-                vertices.write(
-                    device,
-                    queue,
-                    "interpolab mesh vertices",
-                    wgpu::BufferUsages::VERTEX,
-                    vb,
-                    mesh.vertices.len() as u32,
-                    0,
-                );
-                indices.write(
-                    device,
-                    queue,
-                    "interpolab mesh indices",
-                    wgpu::BufferUsages::INDEX,
-                    ib,
-                    mesh.indices.len() as u32,
-                    0,
-                );
-                v.meshes.insert(layer, MeshBuffers { vertices, indices });
-            }
-        }
+        let m = v.meshes.entry(layer).or_insert_with(|| MeshBuffers {
+            vertices: GpuArray::with_capacity(device, "interpolab mesh vertices", wgpu::BufferUsages::VERTEX, vb.len()),
+            indices: GpuArray::with_capacity(device, "interpolab mesh indices", wgpu::BufferUsages::INDEX, ib.len()),
+        });
+        m.vertices.write(device, queue, vb, mesh.vertices.len() as u32, 0);
+        m.indices.write(device, queue, ib, mesh.indices.len() as u32, 0);
     }
 
     /// Replaces a line layer; the first `unchanged` segments are known to be on the GPU
@@ -498,17 +460,13 @@ impl Renderer3d {
         count: u32,
         prefix: u64,
     ) {
-        let usage = wgpu::BufferUsages::VERTEX;
-        match entry {
-            std::collections::btree_map::Entry::Occupied(mut o) => {
-                o.get_mut().write(device, queue, "interpolab instances", usage, bytes, count, prefix);
-            }
-            std::collections::btree_map::Entry::Vacant(v) => {
-                let mut a = GpuArray::new(device, "interpolab instances", usage, bytes, 0);
-                a.write(device, queue, "interpolab instances", usage, bytes, count, 0);
-                v.insert(a);
-            }
-        }
+        // A new buffer holds nothing yet, so all of it is written.
+        let prefix = if matches!(entry, std::collections::btree_map::Entry::Vacant(_)) { 0 } else { prefix };
+        entry
+            .or_insert_with(|| {
+                GpuArray::with_capacity(device, "interpolab instances", wgpu::BufferUsages::VERTEX, bytes.len())
+            })
+            .write(device, queue, bytes, count, prefix);
     }
 
     /// Drops everything of a view.
