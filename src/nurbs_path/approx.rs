@@ -165,6 +165,31 @@ fn breakpoints(knots: &[f64], p: usize) -> Vec<f64> {
     b
 }
 
+/// The clamped knot vector of degree `p` ending at `end` with a knot added inside each span
+/// `i` (between breakpoints `w[0] < w[1]`) for which `split(i, w)` gives a value strictly
+/// inside it; `None` when no span was split.
+fn refine_knots(
+    knots: &[f64],
+    p: usize,
+    end: f64,
+    mut split: impl FnMut(usize, [f64; 2]) -> Option<f64>,
+) -> Option<Vec<f64>> {
+    let bps = breakpoints(knots, p);
+    let mut refined: Vec<f64> = knots[..=p].to_vec();
+    let mut added = false;
+    for (i, w) in bps.windows(2).enumerate() {
+        if let Some(mid) = split(i, [w[0], w[1]]).filter(|&m| m > w[0] && m < w[1]) {
+            refined.push(mid);
+            added = true;
+        }
+        if i + 2 < bps.len() {
+            refined.push(w[1]);
+        }
+    }
+    refined.extend(std::iter::repeat_n(end, p + 1));
+    added.then_some(refined)
+}
+
 /// Least-squares control points for data `(u, q)` with the end points (and end derivatives
 /// `ends`, per unit parameter) held exactly.
 fn least_squares(
@@ -428,26 +453,13 @@ pub fn approximate_curve(design: &dyn Curve3, tol_mm: f64, opts: &ApproxOptions)
         if curve.len() + bad.len() > opts.max_control_points {
             return Err(FitError::NotConverged { tol_mm, achieved_mm: worst, control_points: curve.len() });
         }
-        let bps = breakpoints(&knots, p);
-        let mut added = false;
-        let mut new_knots: Vec<f64> = knots[..=p].to_vec();
-        for (i, w) in bps.windows(2).enumerate() {
-            if bad.contains(&i) {
-                let mid = quantize(0.5 * (w[0] + w[1]), opts.knot_quantum_mm);
-                if mid > w[0] && mid < w[1] {
-                    new_knots.push(mid);
-                    added = true;
-                }
-            }
-            if i + 2 < bps.len() {
-                new_knots.push(w[1]);
-            }
-        }
-        new_knots.extend(std::iter::repeat_n(end, p + 1));
-        if !added {
+        let split = refine_knots(&knots, p, end, |i, w| {
+            bad.contains(&i).then(|| quantize(0.5 * (w[0] + w[1]), opts.knot_quantum_mm))
+        });
+        let Some(split) = split else {
             return Err(FitError::NotConverged { tol_mm, achieved_mm: worst, control_points: curve.len() });
-        }
-        knots = new_knots;
+        };
+        knots = split;
     };
     if opts.equidistribute {
         // At most 10 refits: each round tries the predicted span count, then one more, …,
@@ -564,27 +576,17 @@ pub fn approximate_points(
         if max <= tol_mm {
             return Ok(PointsFit { curve, max_deviation_mm: max, interpolates: false });
         }
-        let mut new_knots: Vec<f64> = knots[..=p].to_vec();
-        let mut added = false;
-        for (i, w) in bps.windows(2).enumerate() {
-            if worst[i] > tol_mm {
-                let inside: Vec<f64> = u.iter().copied().filter(|&x| x > w[0] && x < w[1]).collect();
-                if inside.len() >= 2 {
-                    let mid = 0.5 * (inside[(inside.len() - 1) / 2] + inside[inside.len() / 2]);
-                    if mid > w[0] && mid < w[1] {
-                        new_knots.push(mid);
-                        added = true;
-                    }
-                }
+        // Split each span over the tolerance at the median parameter of its data points.
+        let split = refine_knots(&knots, p, end, |i, w| {
+            if worst[i] <= tol_mm {
+                return None;
             }
-            if i + 2 < bps.len() {
-                new_knots.push(w[1]);
-            }
-        }
-        new_knots.extend(std::iter::repeat_n(end, p + 1));
-        if !added {
+            let inside: Vec<f64> = u.iter().copied().filter(|&x| x > w[0] && x < w[1]).collect();
+            (inside.len() >= 2).then(|| 0.5 * (inside[(inside.len() - 1) / 2] + inside[inside.len() / 2]))
+        });
+        let Some(split) = split else {
             return interp();
-        }
-        knots = new_knots;
+        };
+        knots = split;
     }
 }
