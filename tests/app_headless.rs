@@ -106,8 +106,8 @@ fn a_run_that_misses_path_end_tells_which_direction_to_set() {
     h.app.open_text("groove.json", json);
     let s = h.settle();
     let job = CreaseJob::from_scene(&Scene::from_json(json).expect("valid")).expect("builds");
-    let core = run_to_end(job.clone(), InterpOptions::default());
-    let expected = core.end_not_reached(&job).expect("the core misses the end").to_string();
+    let core = run_to_end(job, InterpOptions::default());
+    let expected = core.end_not_reached.expect("the core misses the end").to_string();
     assert!(expected.contains("path.direction to [1.000, 0.000, 0.000]"), "{expected}");
     assert_eq!(s["end_note"].as_str(), Some(expected.as_str()), "{}", s["end_note"]);
     assert_eq!(s["error"], "", "a note, not an error: {}", s["error"]);

@@ -159,9 +159,9 @@ fn groove(max_steps: u64, direction: Option<[f64; 3]>) -> String {
 fn a_run_going_away_from_path_end_says_which_direction_reaches_it() {
     let json = groove(100_000, None);
     let job = support::job(&json);
-    let run = interpolab::crease::run_to_end(job.clone(), InterpOptions::default());
+    let run = interpolab::crease::run_to_end(job, InterpOptions::default());
     assert!(matches!(run.outcome, Ok(interpolab::crease::StopReason::LeftDomain { .. })), "{:?}", run.outcome);
-    let note = run.end_not_reached(&job).expect("the end was not reached");
+    let note = run.end_not_reached.expect("the end was not reached");
     let sense = note.away_from_end.expect("the run went away from path.end");
     assert!((sense - glam::DVec3::new(-1.0, 0.0, 0.0)).length() < 1e-9, "sense of n1 × n2: {sense}");
     // The last point is the domain's edge at u = −60 (minus less than one period), 100 mm from the end.
@@ -171,17 +171,17 @@ fn a_run_going_away_from_path_end_says_which_direction_reaches_it() {
 
     // Following the advice reaches the end, and then there is no note.
     let job = support::job(&groove(100_000, Some([1.0, 0.0, 0.0])));
-    let run = interpolab::crease::run_to_end(job.clone(), InterpOptions::default());
+    let run = interpolab::crease::run_to_end(job, InterpOptions::default());
     assert_eq!(run.outcome, Ok(interpolab::crease::StopReason::ReachedEnd));
     assert!((run.rows.last().unwrap().p - glam::DVec3::new(40.0, 0.0, 4.0 * 2f64.sqrt())).length() < 0.05 + 1e-9);
-    assert_eq!(run.end_not_reached(&job), None);
+    assert_eq!(run.end_not_reached, None);
 }
 
 #[test]
 fn a_given_direction_away_from_path_end_is_pointed_out_too() {
     let job = support::job(&groove(100_000, Some([-1.0, 0.0, 0.2])));
-    let run = interpolab::crease::run_to_end(job.clone(), InterpOptions::default());
-    let note = run.end_not_reached(&job).expect("the end was not reached");
+    let run = interpolab::crease::run_to_end(job, InterpOptions::default());
+    let note = run.end_not_reached.expect("the end was not reached");
     assert!(note.direction_given && note.away_from_end.is_some());
     let text = note.to_string();
     assert!(text.contains("in the sense of path.direction, away from path.end"), "{text}");
@@ -192,9 +192,9 @@ fn a_given_direction_away_from_path_end_is_pointed_out_too() {
 fn a_run_cut_short_by_max_steps_says_to_raise_it() {
     let json = groove(100, Some([1.0, 0.0, 0.0]));
     let job = support::job(&json);
-    let run = interpolab::crease::run_to_end(job.clone(), InterpOptions::default());
+    let run = interpolab::crease::run_to_end(job, InterpOptions::default());
     assert_eq!(run.outcome, Ok(interpolab::crease::StopReason::MaxSteps));
-    let note = run.end_not_reached(&job).expect("the end was not reached");
+    let note = run.end_not_reached.expect("the end was not reached");
     assert_eq!(note.away_from_end, None, "the run went toward the end");
     assert!((note.distance_mm - 70.0).abs() < 1e-5, "80 mm minus 100 periods of 0.1 mm: {}", note.distance_mm);
     assert!(note.to_string().contains("raise path.max_steps"), "{note}");

@@ -5,7 +5,8 @@ use glam::DVec3;
 use web_time::{Duration, Instant};
 
 use crate::crease::{
-    CreaseError, CreaseJob, Diagnostics, InterpOptions, Interpolator, Row, Step, StopReason, crease_deviation, diagnose,
+    CreaseError, CreaseJob, Diagnostics, EndNotReached, InterpOptions, Interpolator, Row, Step, StopReason,
+    crease_deviation, diagnose,
 };
 use crate::scene::{Scene, SceneError};
 
@@ -126,6 +127,18 @@ impl Computation {
             self.length_mm += (row.p - last.row.p).length();
         }
         self.periods.push(Period { row, diag, exact });
+    }
+
+    /// Unit sense of travel at the start of the present run.
+    #[must_use]
+    pub fn start_sense(&self) -> Option<DVec3> {
+        self.interp.as_ref().map(Interpolator::start_sense)
+    }
+
+    /// Once the run stopped short of `path.end`: the note saying what to change.
+    #[must_use]
+    pub fn end_not_reached(&self) -> Option<EndNotReached> {
+        self.interp.as_ref()?.end_not_reached()
     }
 
     /// Whether the run is still going.

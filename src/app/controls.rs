@@ -201,9 +201,7 @@ pub fn controls(
             if reverse.clicked()
                 && let Some(d) = current
             {
-                // Rounded to 1e-6 (and −0 to 0) so the scene file reads cleanly.
-                let r = |x: f64| (-x * 1e6).round() / 1e6 + 0.0;
-                draft.path.direction = Some([r(d[0]), r(d[1]), r(d[2])]);
+                draft.path.direction = Some(crate::crease::reversed_direction(d.into()));
                 c = true;
             }
             if draft.path.direction.is_some()

@@ -25,7 +25,6 @@ pub mod native;
 pub mod web;
 
 use eframe::egui;
-use glam::DVec3;
 use web_time::{Duration, Instant};
 
 use crate::crease::{InterpOptions, Method, StopReason};
@@ -407,7 +406,7 @@ impl InterpolabApp {
             "periods": self.compute.periods.len().saturating_sub(1),
             "running": self.compute.running(),
             "stop": stop,
-            "end_note": end_note(&self.compute).map(|n| n.to_string()),
+            "end_note": self.compute.end_not_reached().map(|n| n.to_string()),
             "error": error,
             "feed_mm_per_min": self.scene.motion.feed,
             "period_ms": self.scene.motion.period,
@@ -498,11 +497,7 @@ impl eframe::App for InterpolabApp {
         let mut changed = false;
         egui::Panel::left("controls").resizable(true).default_size(300.0).min_size(240.0).show(ui, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {
-                let sense = match self.compute.periods.as_slice() {
-                    [a, b, ..] => Some((b.row.p - a.row.p).normalize_or_zero()).filter(|d| *d != DVec3::ZERO),
-                    _ => None,
-                }
-                .map(|d| [d.x, d.y, d.z]);
+                let sense = self.compute.start_sense().map(|d| [d.x, d.y, d.z]);
                 let out = controls::controls(
                     ui,
                     &mut self.draft,
@@ -658,15 +653,6 @@ pub(crate) fn describe_outcome(c: &Computation) -> (bool, String) {
         Some(Ok(r)) => (true, format!("stopped: {r}")),
         Some(Err(e)) => (false, e.to_string()),
     }
-}
-
-/// The note for a run that stopped short of `path.end` (which way to set `path.direction`,
-/// or what else to change), once the run has stopped.
-pub(crate) fn end_note(c: &Computation) -> Option<crate::crease::EndNotReached> {
-    let (Some(Ok(reason)), Some(job)) = (&c.outcome, &c.job) else { return None };
-    let (first, last) = (c.periods.first()?, c.periods.last()?);
-    let second = c.periods.get(1).unwrap_or(first);
-    crate::crease::EndNotReached::check(job, reason, first.row.p, second.row.p, last.row.p)
 }
 
 /// Whether the method in use is the seed-000 stepper.

@@ -8,7 +8,7 @@ use egui_plot::{Corner, HLine, Legend, Line, LineStyle, Plot, PlotPoints, VLine}
 use super::compute::Computation;
 use super::controls::SURFACE_COLORS;
 use super::overlay::decimate;
-use super::{Playback, describe_outcome, end_note, fmt_len};
+use super::{Playback, describe_outcome, fmt_len};
 use crate::scene::Scene;
 
 /// Which plot is shown.
@@ -152,7 +152,7 @@ fn summary(ui: &mut egui::Ui, compute: &Computation, scene: &Scene, out: &mut Pl
             ui.add(egui::Label::new(egui::RichText::new(text).color(color)).wrap());
         });
         ui.end_row();
-        if let Some(note) = end_note(compute) {
+        if let Some(note) = compute.end_not_reached() {
             ui.label("path.end");
             ui.vertical(|ui| {
                 ui.set_max_width(300.0);
@@ -164,9 +164,7 @@ fn summary(ui: &mut egui::Ui, compute: &Computation, scene: &Scene, out: &mut Pl
                         .on_hover_text("Sets path.direction against the present sense of travel and runs again");
                     out.toward_end_rect = Some(b.rect);
                     if b.clicked() {
-                        // Rounded to 1e-6 (and −0 to 0) so the scene file reads cleanly.
-                        let r = |x: f64| (-x * 1e6).round() / 1e6 + 0.0;
-                        out.direction = Some([r(sense.x), r(sense.y), r(sense.z)]);
+                        out.direction = Some(crate::crease::reversed_direction(sense));
                     }
                 }
             });

@@ -7,8 +7,7 @@ use std::process::ExitCode;
 
 use super::{Fatal, MethodArg, OutFormat};
 
-use glam::DVec3;
-use interpolab::crease::{CreaseJob, EndNotReached, InterpOptions, Interpolator, Method, Step, diagnose};
+use interpolab::crease::{CreaseJob, InterpOptions, Interpolator, Method, Step, diagnose, measured_errors};
 use interpolab::report::{Format, RowWriter, fmt_num};
 use interpolab::scene::Scene;
 
@@ -54,27 +53,21 @@ pub(super) fn run(
         turns: turns.max(1),
         ..InterpOptions::default()
     };
-    // The first two and the last centre point, for the note when path.end is not reached.
-    let mut track = [DVec3::NAN; 3];
+    let mut note = None;
     // The largest measured |e_i| (mm) and the period where it occurred.
     let mut worst = [(0.0f64, 0u64); 2];
     let outcome = Interpolator::new(job.clone(), opts).and_then(|mut it| {
         let mut emit = |row: &interpolab::crease::Row| -> Result<(), io::Error> {
-            if row.k < 2 {
-                track[row.k as usize] = row.p;
-            }
-            track[2] = row.p;
-            // Measured on every row (a few foot points, cheap next to writing the row), so a
+            let d = if errors { diagnose(&job, row) } else { None };
+            // Measured on every row (two foot points, cheap next to writing the row), so a
             // run whose feed is too long for the crease's curvature says so.
-            let d = diagnose(&job, row);
-            if let Some(d) = &d {
-                for i in 0..2 {
-                    if d.measured[i].abs() > worst[i].0 {
-                        worst[i] = (d.measured[i].abs(), row.k);
-                    }
+            let measured = d.as_ref().map_or_else(|| measured_errors(&job, row), |d| d.measured);
+            for i in 0..2 {
+                if measured[i].abs() > worst[i].0 {
+                    worst[i] = (measured[i].abs(), row.k);
                 }
             }
-            writer.row(&job, row, if errors { d.as_ref() } else { None })
+            writer.row(&job, row, d.as_ref())
         };
         if let Err(e) = emit(&it.first_row()) {
             write_failed(&e);
@@ -86,15 +79,13 @@ pub(super) fn run(
                         write_failed(&e);
                     }
                 }
-                Step::Stopped(reason) => return Ok(reason),
+                Step::Stopped(reason) => {
+                    note = it.end_not_reached().map(|n| n.to_string());
+                    return Ok(reason);
+                }
             }
         }
     });
-    let note = outcome
-        .as_ref()
-        .ok()
-        .and_then(|reason| EndNotReached::check(&job, reason, track[0], track[1], track[2]))
-        .map(|n| n.to_string());
     writer.finish(&outcome, note.as_deref()).map_err(io_err)?;
     match outcome {
         Ok(reason) => {
@@ -158,13 +149,8 @@ pub(super) fn check(path: &Path) -> Result<ExitCode, Fatal> {
             angle[1] = angle[1].max(d.crease_angle_deg);
         }
     };
-    let mut track = [it.first_row().p, DVec3::NAN, it.first_row().p];
     let outcome = it.run(|r| {
         n = r.k;
-        if r.k == 1 {
-            track[1] = r.p;
-        }
-        track[2] = r.p;
         observe(r);
     });
     let f = job.feed_per_period_mm;
@@ -202,8 +188,7 @@ pub(super) fn check(path: &Path) -> Result<ExitCode, Fatal> {
         Err(e) => format!("ERROR: {e}"),
     };
     w(&mut o, format!("periods      {n} ({status})"));
-    if let Some(note) = outcome.as_ref().ok().and_then(|r| EndNotReached::check(&job, r, track[0], track[1], track[2]))
-    {
+    if let Some(note) = it.end_not_reached() {
         w(&mut o, format!("note         {note}"));
     }
     w(

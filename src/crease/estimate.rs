@@ -54,22 +54,25 @@ pub struct Diagnostics {
     pub crease_angle_deg: f64,
 }
 
+/// The measured errors e1, e2 at a row (mm): the signed distance from the centre to each
+/// surface by foot-point projection (from the row's contact parameters), minus R'.
+#[must_use]
+pub fn measured_errors(job: &CreaseJob, row: &Row) -> [f64; 2] {
+    std::array::from_fn(|i| {
+        project_point(&job.surfaces[i], row.p, row.uv[i], ProjectOptions::default()).signed_distance - job.r_eff_mm
+    })
+}
+
 /// Evaluates measured errors and estimates at a row. `None` at a singular point.
 #[must_use]
 pub fn diagnose(job: &CreaseJob, row: &Row) -> Option<Diagnostics> {
     let r = job.r_eff_mm;
     let f = job.feed_per_period_mm;
-    let mut geo = [None, None];
-    let mut measured = [0.0; 2];
-    for i in 0..2 {
-        let s = &job.surfaces[i];
-        geo[i] = LocalGeometry::try_new(s.derivatives_at(row.uv[i]));
-        let foot = project_point(s, row.p, row.uv[i], ProjectOptions::default());
-        measured[i] = foot.signed_distance - r;
-    }
+    let geo: [_; 2] = std::array::from_fn(|i| LocalGeometry::try_new(job.surfaces[i].derivatives_at(row.uv[i])));
     let [Some(g1), Some(g2)] = geo else {
         return None;
     };
+    let measured = measured_errors(job, row);
     let (n1, n2) = (g1.d.normal, g2.d.normal);
     let cross = n1.cross(n2);
     let sin = cross.length();

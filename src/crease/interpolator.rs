@@ -102,6 +102,8 @@ pub struct Interpolator {
     row: Row,
     /// Unit travel direction of the last period.
     prev_t: DVec3,
+    /// Unit sense of travel at the start (n1 × n2, or its reverse chosen by `path.direction`).
+    start_sense: DVec3,
     stopped: Option<StopReason>,
     capture: f64,
     /// Local geometry at the current row's contacts when the last step already computed it
@@ -144,6 +146,7 @@ impl Interpolator {
             turns: 0,
             row,
             prev_t: sense * start.tangent,
+            start_sense: sense * start.tangent,
             stopped: None,
             capture,
             cached: None,
@@ -187,6 +190,19 @@ impl Interpolator {
     #[must_use]
     pub fn direction(&self) -> DVec3 {
         self.prev_t
+    }
+
+    /// Unit sense of travel at the start: n1 × n2, or its reverse when `path.direction` asks.
+    #[must_use]
+    pub fn start_sense(&self) -> DVec3 {
+        self.start_sense
+    }
+
+    /// Once stopped short of `path.end`: how far it was left and what to change (see
+    /// [`EndNotReached`]).
+    #[must_use]
+    pub fn end_not_reached(&self) -> Option<EndNotReached> {
+        EndNotReached::check(&self.job, &self.stopped?, self.start.p, self.start_sense, self.row.p)
     }
 
     /// Full turns of a closed crease completed so far.
@@ -469,23 +485,19 @@ pub struct RunResult {
     pub rows: Vec<Row>,
     /// Why it stopped, or the error that stopped it.
     pub outcome: Result<StopReason, CreaseError>,
-}
-
-impl RunResult {
-    /// The note for a run that stopped short of `job.end` (see [`EndNotReached`]).
-    #[must_use]
-    pub fn end_not_reached(&self, job: &CreaseJob) -> Option<EndNotReached> {
-        let reason = self.outcome.as_ref().ok()?;
-        let (first, last) = (self.rows.first()?, self.rows.last()?);
-        let second = self.rows.get(1).unwrap_or(first);
-        EndNotReached::check(job, reason, first.p, second.p, last.p)
-    }
+    /// Set when the run stopped short of `path.end` ([`Interpolator::end_not_reached`]).
+    pub end_not_reached: Option<EndNotReached>,
 }
 
 /// Runs a job from start to stop, collecting every row.
 #[must_use]
 pub fn run_to_end(job: CreaseJob, opts: InterpOptions) -> RunResult {
     let mut rows = Vec::new();
-    let outcome = Interpolator::new(job, opts).and_then(|mut it| it.run(|r| rows.push(*r)));
-    RunResult { rows, outcome }
+    let mut end_not_reached = None;
+    let outcome = Interpolator::new(job, opts).and_then(|mut it| {
+        let reason = it.run(|r| rows.push(*r))?;
+        end_not_reached = it.end_not_reached();
+        Ok(reason)
+    });
+    RunResult { rows, outcome, end_not_reached }
 }

@@ -29,7 +29,7 @@ use crate::geom::{ParametricSurface, Surface};
 use crate::scene::{Scene, SceneError, build_surface};
 
 pub use curve::{CreaseCurve, CreaseFrame};
-pub use estimate::{Diagnostics, diagnose};
+pub use estimate::{Diagnostics, diagnose, measured_errors};
 pub use interpolator::{InterpOptions, Interpolator, Method, RunResult, Step, run_to_end};
 pub use newton::{CreasePoint, NewtonOptions, crease_deviation, locate_crease_point};
 
@@ -205,8 +205,6 @@ impl fmt::Display for StopReason {
 pub struct EndNotReached {
     /// Distance from the last centre point to `path.end` (mm).
     pub distance_mm: f64,
-    /// Distance from the corrected start point to `path.end` (mm).
-    pub start_distance_mm: f64,
     /// Unit sense of travel at the start; `Some` when it pointed away from `path.end`.
     pub away_from_end: Option<DVec3>,
     /// Why the run stopped.
@@ -216,12 +214,12 @@ pub struct EndNotReached {
 }
 
 impl EndNotReached {
-    /// Whether `reason` left `job.end` unreached, given the first two centre points of the run
-    /// (`first`, `second`) and the last one (`last`), all in mm. `None` when the scene has no
-    /// end, the run reached or closed, or the last point is within two feeds per period of the
-    /// end.
+    /// Whether `reason` left `job.end` unreached, given the run's first centre point `first`
+    /// (mm), its unit sense of travel there `sense`, and its last centre point `last` (mm).
+    /// `None` when the scene has no end, the run reached or closed, or the last point is
+    /// within two feeds per period of the end.
     #[must_use]
-    pub fn check(job: &CreaseJob, reason: &StopReason, first: DVec3, second: DVec3, last: DVec3) -> Option<Self> {
+    pub fn check(job: &CreaseJob, reason: &StopReason, first: DVec3, sense: DVec3, last: DVec3) -> Option<Self> {
         let end = job.end?;
         if matches!(reason, StopReason::ReachedEnd | StopReason::Closed { .. }) {
             return None;
@@ -230,11 +228,9 @@ impl EndNotReached {
         if distance_mm <= 2.0 * job.feed_per_period_mm {
             return None;
         }
-        let sense = (second - first).normalize_or_zero();
-        let away = sense != DVec3::ZERO && (end - first).dot(sense) < 0.0;
+        let away = (end - first).dot(sense) < 0.0;
         Some(Self {
             distance_mm,
-            start_distance_mm: (first - end).length(),
             away_from_end: away.then_some(sense),
             reason: *reason,
             direction_given: job.direction.is_some(),
@@ -242,19 +238,26 @@ impl EndNotReached {
     }
 }
 
+/// The `path.direction` that runs against the unit sense `sense`, rounded to 1e-6 (and −0
+/// to 0) so a scene file reads cleanly.
+#[must_use]
+pub fn reversed_direction(sense: DVec3) -> [f64; 3] {
+    (-sense).to_array().map(|x| (x * 1e6).round() / 1e6 + 0.0)
+}
+
 impl fmt::Display for EndNotReached {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "path.end was not reached ({:.3} mm from the last point)", self.distance_mm)?;
         match self.away_from_end {
             Some(s) => {
-                let r = |x: f64| if x.abs() < 5e-4 { 0.0 } else { -x };
+                let [x, y, z] = reversed_direction(s).map(|x| if x.abs() < 5e-4 { 0.0 } else { x });
                 write!(
                     f,
                     ": the run followed the crease in the sense of {}, away from path.end; to run toward it set path.direction to [{:.3}, {:.3}, {:.3}]",
                     if self.direction_given { "path.direction" } else { "n1 × n2" },
-                    r(s.x),
-                    r(s.y),
-                    r(s.z)
+                    x,
+                    y,
+                    z
                 )
             }
             None if self.reason == StopReason::MaxSteps => {
