@@ -293,7 +293,7 @@ fn step_columns(kind: MachineKind, bound_tip: bool) -> Vec<String> {
         "tip_design_mm",
     ]
     .iter()
-    .take(if bound_tip { 22 } else { 21 })
+    .filter(|c| bound_tip || **c != "tip_design_mm")
     .map(|s| (*s).to_owned())
     .collect()
 }
@@ -431,6 +431,7 @@ pub(super) fn steps(a: &StepsArgs) -> Result<ExitCode, Fatal> {
                         Value::Array(row)
                     })
                     .collect();
+                let tip = tip_summary(&plan);
                 let doc = json!({
                     "format": "interpolab-steps/1",
                     "design": case.title,
@@ -451,8 +452,8 @@ pub(super) fn steps(a: &StepsArgs) -> Result<ExitCode, Fatal> {
                         "iterations": plan.total_evaluations(),
                         "rotary_limited": plan.nodes.iter().filter(|n| n.rotary_limited).count(),
                         "bound_tip": a.bound_tip,
-                        "worst_tip_design_mm": tip_summary(&plan).map(|t| t.0),
-                        "tip_limited": tip_summary(&plan).map(|t| t.1),
+                        "worst_tip_design_mm": tip.map(|t| t.0),
+                        "tip_limited": tip.map(|t| t.1),
                     },
                 });
                 writeln!(o, "{}", serde_json::to_string_pretty(&doc).unwrap_or_default())?;

@@ -245,6 +245,10 @@ impl StepPlanner {
         }
         let from = current.location.s;
         let bound_tip = self.opts.bound_tip;
+        // The tip's distance from the design tip path, when it is bounded too.
+        let tip_of = |b: &Block| -> Result<Option<f64>, FiveAxisError> {
+            bound_tip.then(|| tip_design_deviation(machine, path, &current, b, &swept)).transpose()
+        };
         // Every candidate block with its δ and tip distance, so the accepted one is not
         // recomputed.
         let mut tried: Vec<(f64, Block, f64, Option<f64>)> = Vec::new();
@@ -257,7 +261,7 @@ impl StepPlanner {
             let prev = if anchor.0 < s { anchor.1 } else { current.joints };
             let b = block_at(machine, path, s, Some(&prev))?;
             let t = segment_total(machine, path, &current, &b, &swept)?;
-            let tip = if bound_tip { Some(tip_design_deviation(machine, path, &current, &b, &swept)?) } else { None };
+            let tip = tip_of(&b)?;
             tried.push((s, b, t.total_mm, tip));
             let v = t.total_mm.abs().max(rotary_scale * rotary_step_rad(&current, &b)).max(tip.unwrap_or(0.0));
             if v < tol && s > anchor.0 {
@@ -281,8 +285,7 @@ impl StepPlanner {
             None => {
                 let b = block_at(machine, path, found.s, Some(&current.joints))?;
                 let e = segment_total(machine, path, &current, &b, &swept)?.total_mm;
-                let tip =
-                    if bound_tip { Some(tip_design_deviation(machine, path, &current, &b, &swept)?) } else { None };
+                let tip = tip_of(&b)?;
                 (b, e, tip)
             }
         };
