@@ -9,21 +9,12 @@ use std::hint::black_box;
 
 use criterion::{BatchSize, Criterion, Throughput, criterion_group, criterion_main};
 use interpolab::crease::{CreaseJob, InterpOptions, Interpolator, Method, Step};
-use interpolab::scene::Scene;
+use interpolab::scene::{PRESETS, Scene};
 
 const PERIODS: u64 = 500;
 
-const EXAMPLES: [(&str, &str); 6] = [
-    ("floor-round-wall", include_str!("../examples/floor-round-wall.json")),
-    ("crossing-cylinders", include_str!("../examples/crossing-cylinders.json")),
-    ("sphere-plane", include_str!("../examples/sphere-plane.json")),
-    ("torus-plane", include_str!("../examples/torus-plane.json")),
-    ("bspline-floor-wall", include_str!("../examples/bspline-floor-wall.json")),
-    ("rational-nurbs-vault", include_str!("../examples/rational-nurbs-vault.json")),
-];
-
 fn periods(c: &mut Criterion) {
-    for (name, text) in EXAMPLES {
+    for (name, text) in PRESETS.iter().map(|p| (p.id, p.json)) {
         let scene = Scene::from_json(text).expect("example parses");
         let job = CreaseJob::from_scene(&scene).expect("example builds");
         let mut group = c.benchmark_group(name);

@@ -10,18 +10,11 @@ use interpolab::crease::{
     CreaseJob, InterpOptions, Interpolator, Location, Method, Row, Step, StopReason, crease_deviation, diagnose,
     locate_crease_point, run_to_end,
 };
+use interpolab::scene::PRESETS;
 use interpolab::tolerance::MEASUREMENT_FLOOR_MM;
 
 const FLOOR_WALL: &str = include_str!("../examples/floor-round-wall.json");
 const SPHERE_PLANE: &str = include_str!("../examples/sphere-plane.json");
-const EXAMPLES: [(&str, &str); 6] = [
-    ("floor-round-wall", FLOOR_WALL),
-    ("crossing-cylinders", include_str!("../examples/crossing-cylinders.json")),
-    ("sphere-plane", SPHERE_PLANE),
-    ("torus-plane", include_str!("../examples/torus-plane.json")),
-    ("bspline-floor-wall", include_str!("../examples/bspline-floor-wall.json")),
-    ("rational-nurbs-vault", include_str!("../examples/rational-nurbs-vault.json")),
-];
 
 fn run(job: &CreaseJob, opts: InterpOptions) -> (Vec<Row>, StopReason) {
     let r = run_to_end(job.clone(), opts);
@@ -103,7 +96,7 @@ fn without_the_feed_rescale_steps_still_match_f_to_second_order() {
 
 #[test]
 fn every_example_stays_within_tolerance_with_exact_feed_steps() {
-    for (name, text) in EXAMPLES {
+    for (name, text) in PRESETS.iter().map(|p| (p.id, p.json)) {
         let job = support::job(text);
         let (rows, _) = run(&job, InterpOptions::default());
         assert!(rows.len() > 100, "{name}: only {} rows", rows.len());
@@ -114,7 +107,7 @@ fn every_example_stays_within_tolerance_with_exact_feed_steps() {
 
 #[test]
 fn measured_error_stays_below_the_steady_state_bound_16_on_every_example() {
-    for (name, text) in EXAMPLES {
+    for (name, text) in PRESETS.iter().map(|p| (p.id, p.json)) {
         let job = support::job(text);
         let (rows, _) = run(&job, InterpOptions::default());
         let mut worst_measured = [0.0f64; 2];
@@ -143,7 +136,7 @@ fn measured_error_stays_below_the_steady_state_bound_16_on_every_example() {
 
 #[test]
 fn interpolated_centres_stay_on_the_exact_crease_and_the_exact_mode_sits_on_it() {
-    for (name, text) in EXAMPLES {
+    for (name, text) in PRESETS.iter().map(|p| (p.id, p.json)) {
         let job = support::job(text);
         let (rows, _) = run(&job, InterpOptions::default());
         let mut worst = 0.0f64;

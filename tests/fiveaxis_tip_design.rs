@@ -21,8 +21,8 @@ mod support;
 use interpolab::chords::maximise::MaxOptions;
 use interpolab::crease::{CreaseCurve, InterpOptions, run_to_end};
 use interpolab::fiveaxis::{
-    CreasePath, DesignPath, Machine, NacaProfile, StepOptions, ToolAxisRule, blade_case, centre_design_deviation,
-    evaluate_nodes, example1, plan_steps, tip_design_deviation,
+    CreasePath, DesignPath, Joints, Machine, NacaProfile, StepOptions, ToolAxisRule, blade_case,
+    centre_design_deviation, evaluate_nodes, example1, plan_steps, tip_design_deviation,
 };
 use interpolab::scene::{build_machine, build_tool_axis};
 
@@ -126,6 +126,51 @@ fn the_swept_tool_strays_from_the_design_path_in_proportion_to_the_tolerance() {
     assert!(worst > 1.5, "some example should exceed E: {worst}");
 }
 
+/// `n` + 1 equally spaced samples (s, design tip) of the design tip path over `range`.
+fn design_samples(tip_at: &dyn Fn(f64) -> glam::DVec3, range: (f64, f64), n: usize) -> Vec<(f64, glam::DVec3)> {
+    (0..=n).map(|i| range.0 + (range.1 - range.0) * i as f64 / n as f64).map(|s| (s, tip_at(s))).collect()
+}
+
+/// The swept tip's largest distance from the design tip path between two blocks' joints, by
+/// brute force: `steps` + 1 equal steps of the joints; for each swept tip the distance to the
+/// design path refined by golden section around the nearest of the `dense` samples and
+/// around the nearest one elsewhere on the path (a closed crease ends where it began), the
+/// closer kept.
+fn brute_tip_distance(
+    machine: &Machine,
+    [a, b]: [&Joints; 2],
+    dense: &[(f64, glam::DVec3)],
+    tip_at: &dyn Fn(f64) -> glam::DVec3,
+    steps: u32,
+) -> f64 {
+    let refine = |j: usize, p: glam::DVec3| {
+        let (mut lo, mut hi) = (dense[j.saturating_sub(1)].0, dense[(j + 1).min(dense.len() - 1)].0);
+        let r = (5f64.sqrt() - 1.0) / 2.0;
+        for _ in 0..80 {
+            let (x1, x2) = (hi - r * (hi - lo), lo + r * (hi - lo));
+            if (tip_at(x1) - p).length() < (tip_at(x2) - p).length() {
+                hi = x2;
+            } else {
+                lo = x1;
+            }
+        }
+        (tip_at(0.5 * (lo + hi)) - p).length()
+    };
+    (0..=steps)
+        .map(|i| {
+            let p = machine.pose_from_joints(&a.lerp(b, f64::from(i) / f64::from(steps))).tip_in_workpiece;
+            let near = |skip: Option<usize>| {
+                (0..dense.len())
+                    .filter(|x| skip.is_none_or(|k| x.abs_diff(k) > 2))
+                    .min_by(|&x, &y| (dense[x].1 - p).length().total_cmp(&(dense[y].1 - p).length()))
+                    .unwrap()
+            };
+            let first = near(None);
+            refine(first, p).min(refine(near(Some(first)), p))
+        })
+        .fold(0.0, f64::max)
+}
+
 /// Example 1 before steps: the single block's swept tip against the design tip path, by
 /// brute force (dense sampling of both, golden-section refinement on the design side).
 #[test]
@@ -136,25 +181,8 @@ fn the_tip_distance_agrees_with_brute_force_on_example1_before_steps() {
     let (a, b) = (&nodes[0].block, &nodes[1].block);
     let got = tip_design_deviation(&ex.machine, &ex.path, a, b, &MaxOptions::default()).unwrap();
     let tip_at = |s: f64| ex.path.location_at(s.clamp(s0, s1)).unwrap().tip;
-    let dense: Vec<(f64, glam::DVec3)> =
-        (0..=2000).map(|i| s0 + (s1 - s0) * f64::from(i) / 2000.0).map(|s| (s, tip_at(s))).collect();
-    let mut brute = 0.0f64;
-    for i in 0..=400 {
-        let p = ex.machine.pose_from_joints(&a.joints.lerp(&b.joints, f64::from(i) / 400.0)).tip_in_workpiece;
-        let k =
-            (0..dense.len()).min_by(|&x, &y| (dense[x].1 - p).length().total_cmp(&(dense[y].1 - p).length())).unwrap();
-        let (mut lo, mut hi) = (dense[k.saturating_sub(1)].0, dense[(k + 1).min(dense.len() - 1)].0);
-        let r = (5f64.sqrt() - 1.0) / 2.0;
-        for _ in 0..80 {
-            let (x1, x2) = (hi - r * (hi - lo), lo + r * (hi - lo));
-            if (tip_at(x1) - p).length() < (tip_at(x2) - p).length() {
-                hi = x2;
-            } else {
-                lo = x1;
-            }
-        }
-        brute = brute.max((tip_at(0.5 * (lo + hi)) - p).length());
-    }
+    let dense = design_samples(&tip_at, (s0, s1), 2000);
+    let brute = brute_tip_distance(&ex.machine, [&a.joints, &b.joints], &dense, &tip_at, 400);
     // The single block swings the tip millimetres off the design path (the gouge of the
     // paper's Example 1); both measurements agree to a micrometre.
     assert!(got > 1.0, "{got}");
@@ -175,43 +203,12 @@ fn bounding_the_tip_holds_it_within_e_of_the_design_tip_path() {
         assert!(plan.nodes.iter().any(|n| n.tip_limited), "{}: some segment ends by the tip", case.name);
         let (s0, s1) = path.range();
         let tip_at = |s: f64| path.location_at(s.clamp(s0, s1)).unwrap().tip;
-        let n_dense = 20 * plan.segments();
-        let dense: Vec<(f64, glam::DVec3)> =
-            (0..=n_dense).map(|i| s0 + (s1 - s0) * i as f64 / n_dense as f64).map(|s| (s, tip_at(s))).collect();
+        let dense = design_samples(&tip_at, (s0, s1), 20 * plan.segments());
         for (k, w) in plan.nodes.windows(2).enumerate() {
             let (a, b) = (&w[0].block, &w[1].block);
             let delta = w[1].total_mm.unwrap();
             assert!(delta.abs() <= tol * (1.0 + 1e-9), "{} segment {k}: δ {delta}", case.name);
-            let mut brute = 0.0f64;
-            for i in 0..=48 {
-                let p = case.machine.pose_from_joints(&a.joints.lerp(&b.joints, f64::from(i) / 48.0)).tip_in_workpiece;
-                // A closed crease ends where it began: refine around the nearest sample and
-                // around the nearest one elsewhere on the path, and keep the closer.
-                let near = |skip: Option<usize>| {
-                    (0..dense.len())
-                        .filter(|x| skip.is_none_or(|k| x.abs_diff(k) > 2))
-                        .min_by(|&x, &y| (dense[x].1 - p).length().total_cmp(&(dense[y].1 - p).length()))
-                        .unwrap()
-                };
-                let first = near(None);
-                let d = [first, near(Some(first))]
-                    .into_iter()
-                    .map(|j| {
-                        let (mut lo, mut hi) = (dense[j.saturating_sub(1)].0, dense[(j + 1).min(dense.len() - 1)].0);
-                        let r = (5f64.sqrt() - 1.0) / 2.0;
-                        for _ in 0..60 {
-                            let (x1, x2) = (hi - r * (hi - lo), lo + r * (hi - lo));
-                            if (tip_at(x1) - p).length() < (tip_at(x2) - p).length() {
-                                hi = x2;
-                            } else {
-                                lo = x1;
-                            }
-                        }
-                        (tip_at(0.5 * (lo + hi)) - p).length()
-                    })
-                    .fold(f64::INFINITY, f64::min);
-                brute = brute.max(d);
-            }
+            let brute = brute_tip_distance(&case.machine, [&a.joints, &b.joints], &dense, &tip_at, 48);
             assert!(brute <= tol * 1.001, "{} segment {k}: tip {brute} mm from the design tip path", case.name);
             let reported = w[1].tip_design_mm.unwrap();
             assert!(

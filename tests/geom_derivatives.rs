@@ -8,21 +8,14 @@ mod support;
 
 use glam::{DVec2, DVec3};
 use interpolab::geom::{ParametricSurface, Surface};
-use interpolab::scene::{SurfaceSpec, build_surface};
+use interpolab::scene::{PRESETS, SurfaceSpec, build_surface};
 use support::Rng;
 
 /// One surface of each type, plus a rational NURBS and a non-uniform bicubic.
 fn surfaces() -> Vec<(&'static str, Surface)> {
     let scene = |json: &str| support::scene(json);
     let mut out = Vec::new();
-    for (name, text) in [
-        ("floor-round-wall", include_str!("../examples/floor-round-wall.json")),
-        ("crossing-cylinders", include_str!("../examples/crossing-cylinders.json")),
-        ("sphere-plane", include_str!("../examples/sphere-plane.json")),
-        ("torus-plane", include_str!("../examples/torus-plane.json")),
-        ("bspline-floor-wall", include_str!("../examples/bspline-floor-wall.json")),
-        ("rational-nurbs-vault", include_str!("../examples/rational-nurbs-vault.json")),
-    ] {
+    for (name, text) in PRESETS.iter().map(|p| (p.id, p.json)) {
         let s = scene(text);
         for (i, spec) in s.surfaces.iter().enumerate() {
             let built = build_surface(spec, &format!("surfaces[{i}]")).expect("example surfaces are valid");

@@ -6,22 +6,13 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 mod support;
 
 use interpolab::crease::CreaseJob;
-use interpolab::scene::{Scene, SceneError};
-
-const EXAMPLES: [(&str, &str); 6] = [
-    ("floor-round-wall", include_str!("../examples/floor-round-wall.json")),
-    ("crossing-cylinders", include_str!("../examples/crossing-cylinders.json")),
-    ("sphere-plane", include_str!("../examples/sphere-plane.json")),
-    ("torus-plane", include_str!("../examples/torus-plane.json")),
-    ("bspline-floor-wall", include_str!("../examples/bspline-floor-wall.json")),
-    ("rational-nurbs-vault", include_str!("../examples/rational-nurbs-vault.json")),
-];
+use interpolab::scene::{PRESETS, Scene, SceneError};
 
 const BASE: &str = include_str!("../examples/floor-round-wall.json");
 
 #[test]
 fn every_example_round_trips_through_the_writer() {
-    for (name, text) in EXAMPLES {
+    for (name, text) in PRESETS.iter().map(|p| (p.id, p.json)) {
         let scene = support::scene(text);
         let written = scene.to_json();
         let again = Scene::from_json(&written).unwrap_or_else(|e| panic!("{name}: written scene does not parse: {e}"));
@@ -35,7 +26,7 @@ fn every_example_round_trips_through_the_writer() {
 
 #[test]
 fn every_example_builds_a_job_with_the_papers_feed_per_period_formula() {
-    for (name, text) in EXAMPLES {
+    for (name, text) in PRESETS.iter().map(|p| (p.id, p.json)) {
         let s = support::scene(text);
         let job = CreaseJob::from_scene(&s).unwrap_or_else(|e| panic!("{name}: {e}"));
         let f = s.motion.feed * s.motion.period / 60_000.0;
