@@ -14,6 +14,7 @@
 //! Degrees appear only at the edges (scene files, UI), converted by [`ParamUnit`].
 
 mod curve;
+pub mod cutter;
 mod diffgeo;
 mod domain;
 mod frame;
@@ -22,6 +23,7 @@ mod project;
 mod surface;
 
 pub use curve::{Curve3, HermitePath};
+pub use cutter::{Cutter, CutterError, CutterKind};
 pub(crate) use diffgeo::solve_tangent;
 pub use diffgeo::{LocalGeometry, Principal};
 pub use domain::{Domain, ParamRange, ParamUnit};

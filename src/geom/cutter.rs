@@ -1,0 +1,278 @@
+//! The milling cutter: a fillet-end (toroidal, "bull-nose") mill and its two limits, the
+//! ball end mill (r = R) and the flat end mill (r = 0), with the shank and holder above it.
+//!
+//! Tool frame (all lengths mm): the *tool tip* T (the centre of the cutter's bottom face,
+//! the point a CL file programs) at the origin, the unit *tool axis* a pointing from the tip
+//! up into the spindle. In it the cutter is the solid of revolution whose half-profile, at
+//! height z above the tip and radial distance ρ from the axis, is
+//!
+//! | part | profile |
+//! |---|---|
+//! | flat bottom | z = 0 for ρ ≤ R0, with R0 = R − r (the torus' centre-circle radius) |
+//! | corner (torus) | (ρ − R0)² + (z − r)² = r², for R0 ≤ ρ ≤ R and z ≤ r |
+//! | flank | ρ = R for r ≤ z ≤ flute length |
+//! | shank | ρ = shank radius, from the flute length up to the holder |
+//! | holder | ρ = holder radius, from the gauge length up by the holder length |
+//!
+//! A ball end mill has R0 = 0 (no flat bottom), a flat end mill r = 0 (no corner). The
+//! *cutting edge* is the bottom, corner and flank (height ≤ flute length); the shank and
+//! holder must never touch the part (the global interference check).
+
+use thiserror::Error;
+
+/// The three shapes the cutter can take, by its corner radius.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CutterKind {
+    /// r = R: a ball end mill.
+    Ball,
+    /// 0 < r < R: a fillet-end (toroidal) mill.
+    Fillet,
+    /// r = 0: a flat end mill.
+    Flat,
+}
+
+impl CutterKind {
+    /// Lower-case name, as in files and on the command line (`ball`, `fillet`, `flat`).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Ball => "ball",
+            Self::Fillet => "fillet",
+            Self::Flat => "flat",
+        }
+    }
+}
+
+/// Why a cutter's dimensions were refused. Each message names the dimension and what to change.
+#[derive(Clone, Debug, Error, PartialEq)]
+pub enum CutterError {
+    /// A dimension that must be a positive finite length is not.
+    #[error("cutter {name} must be a positive length in mm, got {value}; give a value above 0")]
+    NotPositive {
+        /// Which dimension.
+        name: &'static str,
+        /// What was given (mm).
+        value: f64,
+    },
+    /// The corner radius is negative or larger than the cutter radius.
+    #[error(
+        "cutter corner radius r = {corner_mm} mm must lie in [0, R] with R = {radius_mm} mm (r = R is a ball end mill, r = 0 a flat end mill)"
+    )]
+    Corner {
+        /// r (mm).
+        corner_mm: f64,
+        /// R (mm).
+        radius_mm: f64,
+    },
+    /// The flutes are shorter than the corner: the cutting edge would not reach the flank.
+    #[error(
+        "cutter flute length {flute_mm} mm is shorter than the corner radius r = {corner_mm} mm; give a flute length of at least r"
+    )]
+    ShortFlute {
+        /// Flute length (mm).
+        flute_mm: f64,
+        /// r (mm).
+        corner_mm: f64,
+    },
+}
+
+/// A fillet-end mill with its shank and holder. All lengths mm; see the module docs for the
+/// tool frame. Build it with [`Cutter::try_new`] (or [`Cutter::ball`], [`Cutter::flat`],
+/// [`Cutter::fillet`] with default shank and holder) so its dimensions are consistent.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cutter {
+    /// Cutter radius R (mm): half the cutting diameter.
+    pub radius_mm: f64,
+    /// Corner radius r (mm), 0 ≤ r ≤ R.
+    pub corner_radius_mm: f64,
+    /// Length of the cutting edge along the axis, from the tip (mm).
+    pub flute_length_mm: f64,
+    /// Radius of the shank above the flutes (mm); usually R or a little less.
+    pub shank_radius_mm: f64,
+    /// Gauge length: from the tip to the holder's face (mm), ≥ the flute length.
+    pub gauge_length_mm: f64,
+    /// Radius of the tool holder (mm).
+    pub holder_radius_mm: f64,
+    /// Length of the tool holder along the axis (mm).
+    pub holder_length_mm: f64,
+}
+
+impl Cutter {
+    /// A cutter of radius R and corner radius r with default proportions: flutes 3·R long,
+    /// shank radius R, gauge length 6·R, holder radius 2.5·R and length 6·R.
+    ///
+    /// # Errors
+    /// When R is not a positive length or r lies outside [0, R].
+    pub fn fillet(radius_mm: f64, corner_radius_mm: f64) -> Result<Self, CutterError> {
+        let r = radius_mm;
+        Self::try_new(radius_mm, corner_radius_mm, 3.0 * r, r, 6.0 * r, 2.5 * r, 6.0 * r)
+    }
+
+    /// A ball end mill of radius R (r = R), default proportions as [`Cutter::fillet`].
+    ///
+    /// # Errors
+    /// When R is not a positive length.
+    pub fn ball(radius_mm: f64) -> Result<Self, CutterError> {
+        Self::fillet(radius_mm, radius_mm)
+    }
+
+    /// A flat end mill of radius R (r = 0), default proportions as [`Cutter::fillet`].
+    ///
+    /// # Errors
+    /// When R is not a positive length.
+    pub fn flat(radius_mm: f64) -> Result<Self, CutterError> {
+        Self::fillet(radius_mm, 0.0)
+    }
+
+    /// A cutter with every dimension given (mm).
+    ///
+    /// # Errors
+    /// The first dimension that is not a positive length, a corner radius outside [0, R],
+    /// or flutes shorter than the corner. A gauge length shorter than the flutes is raised
+    /// to the flute length (the holder starts where the flutes end).
+    pub fn try_new(
+        radius_mm: f64,
+        corner_radius_mm: f64,
+        flute_length_mm: f64,
+        shank_radius_mm: f64,
+        gauge_length_mm: f64,
+        holder_radius_mm: f64,
+        holder_length_mm: f64,
+    ) -> Result<Self, CutterError> {
+        for (name, value) in [
+            ("radius R", radius_mm),
+            ("flute length", flute_length_mm),
+            ("shank radius", shank_radius_mm),
+            ("gauge length", gauge_length_mm),
+            ("holder radius", holder_radius_mm),
+            ("holder length", holder_length_mm),
+        ] {
+            if !(value > 0.0 && value.is_finite()) {
+                return Err(CutterError::NotPositive { name, value });
+            }
+        }
+        if !(corner_radius_mm >= 0.0 && corner_radius_mm <= radius_mm) {
+            return Err(CutterError::Corner { corner_mm: corner_radius_mm, radius_mm });
+        }
+        if flute_length_mm < corner_radius_mm {
+            return Err(CutterError::ShortFlute { flute_mm: flute_length_mm, corner_mm: corner_radius_mm });
+        }
+        Ok(Self {
+            radius_mm,
+            corner_radius_mm,
+            flute_length_mm,
+            shank_radius_mm,
+            gauge_length_mm: gauge_length_mm.max(flute_length_mm),
+            holder_radius_mm,
+            holder_length_mm,
+        })
+    }
+
+    /// Ball, fillet or flat, by the corner radius. A corner radius within 1e-12 relative of
+    /// R counts as a ball.
+    #[must_use]
+    pub fn kind(&self) -> CutterKind {
+        if self.corner_radius_mm <= 0.0 {
+            CutterKind::Flat
+        } else if self.corner_radius_mm >= self.radius_mm * (1.0 - 1e-12) {
+            CutterKind::Ball
+        } else {
+            CutterKind::Fillet
+        }
+    }
+
+    /// R0 = R − r: radius of the circle the corner's centres lie on (mm); the flat bottom's
+    /// radius. 0 for a ball end mill.
+    #[must_use]
+    pub fn torus_radius_mm(&self) -> f64 {
+        (self.radius_mm - self.corner_radius_mm).max(0.0)
+    }
+
+    /// Height above the tip (mm) of the cutter's lower surface at radial distance `rho_mm`
+    /// from the axis: 0 on the flat bottom, on the corner's torus below, `None` outside the
+    /// cutter (ρ > R). This is the profile a 3-axis cutter presses into a height map.
+    #[must_use]
+    pub fn bottom_height_mm(&self, rho_mm: f64) -> Option<f64> {
+        let rho = rho_mm.abs();
+        if rho > self.radius_mm {
+            return None;
+        }
+        let r0 = self.torus_radius_mm();
+        if rho <= r0 {
+            return Some(0.0);
+        }
+        let r = self.corner_radius_mm;
+        let d = rho - r0;
+        Some(r - (r * r - d * d).max(0.0).sqrt())
+    }
+
+    /// Radius of the cutter's solid (mm) at height `z_mm` above the tip: the corner's
+    /// radius below r, R up to the flute length, the shank up to the gauge length, the
+    /// holder above it; `None` below the tip or above the holder.
+    #[must_use]
+    pub fn radius_at_height_mm(&self, z_mm: f64) -> Option<f64> {
+        let r = self.corner_radius_mm;
+        if z_mm < 0.0 {
+            return None;
+        }
+        if z_mm < r {
+            let dz = r - z_mm;
+            return Some(self.torus_radius_mm() + (r * r - dz * dz).max(0.0).sqrt());
+        }
+        if z_mm <= self.flute_length_mm {
+            return Some(self.radius_mm);
+        }
+        if z_mm <= self.gauge_length_mm {
+            return Some(self.shank_radius_mm);
+        }
+        if z_mm <= self.gauge_length_mm + self.holder_length_mm {
+            return Some(self.holder_radius_mm);
+        }
+        None
+    }
+
+    /// A one-line description with units, e.g. `fillet R 5 mm, r 1 mm`.
+    #[must_use]
+    pub fn describe(&self) -> String {
+        match self.kind() {
+            CutterKind::Ball => format!("ball R {} mm", self.radius_mm),
+            CutterKind::Flat => format!("flat R {} mm", self.radius_mm),
+            CutterKind::Fillet => format!("fillet R {} mm, r {} mm", self.radius_mm, self.corner_radius_mm),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_profile_is_continuous_and_meets_the_flank() {
+        for (big_r, r) in [(5.0, 5.0), (5.0, 1.0), (5.0, 0.0), (3.0, 2.999)] {
+            let c = Cutter::fillet(big_r, r).unwrap();
+            // At ρ = R the bottom reaches height r, where the flank begins.
+            let top = c.bottom_height_mm(big_r).unwrap();
+            assert!((top - r).abs() < 1e-12, "{big_r} {r}: {top}");
+            // The two profile functions are inverses on the corner.
+            for i in 1..50 {
+                let z = r * f64::from(i) / 50.0;
+                let rho = c.radius_at_height_mm(z).unwrap();
+                let back = c.bottom_height_mm(rho).unwrap();
+                assert!((back - z).abs() < 1e-9, "{big_r} {r}: z {z} → ρ {rho} → {back}");
+            }
+            assert_eq!(c.bottom_height_mm(big_r + 1e-9), None);
+        }
+    }
+
+    #[test]
+    fn kinds_and_refusals() {
+        assert_eq!(Cutter::ball(5.0).unwrap().kind(), CutterKind::Ball);
+        assert_eq!(Cutter::flat(5.0).unwrap().kind(), CutterKind::Flat);
+        assert_eq!(Cutter::fillet(5.0, 1.0).unwrap().kind(), CutterKind::Fillet);
+        assert!(matches!(Cutter::fillet(5.0, 6.0), Err(CutterError::Corner { .. })));
+        assert!(matches!(Cutter::fillet(f64::NAN, 1.0), Err(CutterError::NotPositive { .. })));
+        assert!(matches!(Cutter::fillet(5.0, -1.0), Err(CutterError::Corner { .. })));
+        let e = Cutter::try_new(5.0, 2.0, 1.0, 5.0, 30.0, 12.0, 30.0).unwrap_err();
+        assert!(e.to_string().contains("flute length"), "{e}");
+    }
+}
