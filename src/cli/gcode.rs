@@ -292,7 +292,7 @@ fn v3(p: glam::DVec3) -> String {
 }
 
 pub(super) fn replay(a: &ReplayArgs) -> Result<ExitCode, Fatal> {
-    let text = fs::read_to_string(&a.program)
+    let text = super::read_capped(&a.program, interpolab::limits::MAX_PROGRAM_BYTES, "G-code program")
         .map_err(|e| Fatal(format!("cannot read program {}: {e}", a.program.display())))?;
     let parsed = parse_program(&text).map_err(|e| Fatal(format!("{}: {e}", a.program.display())))?;
     let s = summarize(&parsed.toolpath);
