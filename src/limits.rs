@@ -19,6 +19,20 @@ pub const MAX_PROGRAM_BYTES: u64 = 256 << 20;
 /// then accurate to the Gauss rule on the cell, still far below any output resolution).
 pub const MAX_ARC_TABLE_NODES: usize = 1 << 20;
 
+/// Most samples a G-code check (`gcode::replay::deviation`) takes of the program and the
+/// design together (about 50 MB of samples and their grid): past it the sample spacing
+/// grows, and the spacing used is reported with the result.
+pub const MAX_REPLAY_SAMPLES: usize = 1_000_000;
+
+/// Largest |coordinate| of a scene's `path.start` and `path.end` (mm): a kilometre, past any
+/// machine's travel. Beyond it, the squares and cross products of the crease solve lose all
+/// precision or overflow (z = 1e308 would square to infinity).
+pub const MAX_COORDINATE_MM: f64 = 1e6;
+
+/// Largest programmed feed a G-code program is written with (mm/min): a kilometre a minute,
+/// beyond any machine.
+pub const MAX_FEED_MM_PER_MIN: f64 = 1e6;
+
 /// Why a file's bytes are not usable as text.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum TextError {
