@@ -24,6 +24,7 @@ pub mod crease;
 pub mod fiveaxis;
 pub mod gcode;
 pub mod geom;
+pub mod limits;
 pub mod linalg;
 pub mod nurbs_path;
 pub mod report;

@@ -153,17 +153,35 @@ impl<W: Write> RowWriter<W> {
     ///
     /// # Errors
     /// I/O errors of `out`.
-    pub fn finish(mut self, outcome: &Result<StopReason, CreaseError>, note: Option<&str>) -> io::Result<W> {
+    pub fn finish(self, outcome: &Result<StopReason, CreaseError>, note: Option<&str>) -> io::Result<W> {
+        self.finish_exact(outcome, note, None)
+    }
+
+    /// As [`Self::finish`]; when the run ended on an exact end point with a final period of
+    /// its own, `final_period_ms` is that period's duration (ms) and the JSON `stop` object
+    /// carries it as `final_period_ms` (an addition to format 1).
+    ///
+    /// # Errors
+    /// I/O errors of `out`.
+    pub fn finish_exact(
+        mut self,
+        outcome: &Result<StopReason, CreaseError>,
+        note: Option<&str>,
+        final_period_ms: Option<f64>,
+    ) -> io::Result<W> {
         if self.format == Format::Json {
             let stop = match outcome {
                 Ok(r) => format!(
-                    "{{ \"ok\": true, \"reason\": \"{}\", \"message\": {}{} }}",
+                    "{{ \"ok\": true, \"reason\": \"{}\", \"message\": {}{}{} }}",
                     r.tag(),
                     serde_json::to_string(&r.to_string()).unwrap_or_default(),
                     note.map_or(String::new(), |n| format!(
                         ", \"note\": {}",
                         serde_json::to_string(n).unwrap_or_default()
-                    ))
+                    )),
+                    final_period_ms
+                        .filter(|ms| ms.is_finite())
+                        .map_or(String::new(), |ms| format!(", \"final_period_ms\": {}", fmt_num(ms)))
                 ),
                 Err(e) => format!(
                     "{{ \"ok\": false, \"reason\": \"error\", \"message\": {} }}",

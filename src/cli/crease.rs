@@ -12,8 +12,8 @@ use interpolab::report::{Format, RowWriter, fmt_num};
 use interpolab::scene::Scene;
 
 pub(super) fn load(path: &Path) -> Result<(Scene, CreaseJob), Fatal> {
-    let text =
-        fs::read_to_string(path).map_err(|e| Fatal(format!("cannot read scene file {}: {e}", path.display())))?;
+    let text = super::read_capped(path, interpolab::limits::MAX_SCENE_BYTES, "scene")
+        .map_err(|e| Fatal(format!("cannot read scene file {}: {e}", path.display())))?;
     let scene = Scene::from_json(&text).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
     let job = CreaseJob::from_scene(&scene).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
     Ok((scene, job))
@@ -54,6 +54,7 @@ pub(super) fn run(
         ..InterpOptions::default()
     };
     let mut note = None;
+    let mut final_period_ms = None;
     // The largest measured |e_i| (mm) and the period where it occurred.
     let mut worst = [(0.0f64, 0u64); 2];
     let outcome = Interpolator::new(job.clone(), opts).and_then(|mut it| {
@@ -81,12 +82,13 @@ pub(super) fn run(
                 }
                 Step::Stopped(reason) => {
                     note = it.end_not_reached().map(|n| n.to_string());
+                    final_period_ms = it.final_period_ms();
                     return Ok(reason);
                 }
             }
         }
     });
-    writer.finish(&outcome, note.as_deref()).map_err(io_err)?;
+    writer.finish_exact(&outcome, note.as_deref(), final_period_ms).map_err(io_err)?;
     match outcome {
         Ok(reason) => {
             let _ = writeln!(io::stderr(), "interpolab: {}: stopped: {reason}", path.display());
@@ -149,8 +151,10 @@ pub(super) fn check(path: &Path) -> Result<ExitCode, Fatal> {
             angle[1] = angle[1].max(d.crease_angle_deg);
         }
     };
+    let mut t_last_ms = 0.0;
     let outcome = it.run(|r| {
         n = r.k;
+        t_last_ms = r.t_ms;
         observe(r);
     });
     let f = job.feed_per_period_mm;
@@ -193,7 +197,8 @@ pub(super) fn check(path: &Path) -> Result<ExitCode, Fatal> {
     }
     w(
         &mut o,
-        format!("length       {:.4} mm, machining time {:.3} s", n as f64 * f, n as f64 * job.period_ms / 1000.0),
+        // The last period may be the shorter final one: the time says how far the path went.
+        format!("length       {:.4} mm, machining time {:.3} s", t_last_ms / job.period_ms * f, t_last_ms / 1000.0),
     );
     w(&mut o, format!("crease angle {:.3}° to {:.3}° between the normals", angle[0], angle[1]));
     let mut exceeded = false;

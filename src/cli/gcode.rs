@@ -292,7 +292,7 @@ fn v3(p: glam::DVec3) -> String {
 }
 
 pub(super) fn replay(a: &ReplayArgs) -> Result<ExitCode, Fatal> {
-    let text = fs::read_to_string(&a.program)
+    let text = super::read_capped(&a.program, interpolab::limits::MAX_PROGRAM_BYTES, "G-code program")
         .map_err(|e| Fatal(format!("cannot read program {}: {e}", a.program.display())))?;
     let parsed = parse_program(&text).map_err(|e| Fatal(format!("{}: {e}", a.program.display())))?;
     let s = summarize(&parsed.toolpath);
@@ -335,6 +335,12 @@ pub(super) fn replay(a: &ReplayArgs) -> Result<ExitCode, Fatal> {
             d.design_length_mm,
             point.comment().trim_start_matches("PROGRAMMED POINT: ").to_lowercase()
         ));
+        if d.sample_spacing_mm > DeviationOptions::default().design_spacing_mm {
+            lines.push(format!(
+                "note         the program is too long to sample every 0.2 mm: samples {} mm apart (peaks between them found to within half of that, then refined)",
+                fmt_fixed(d.sample_spacing_mm, 3)
+            ));
+        }
         lines.push(format!(
             "program → design  max {} mm at {} (line {})",
             fmt_fixed(d.program_to_design_mm, 6),

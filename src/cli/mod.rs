@@ -89,6 +89,13 @@ enum Command {
     Chords(fiveaxis::ChordsArgs),
 }
 
+/// Reads a file the command line was given, at most `cap` bytes of it
+/// ([`interpolab::limits`]): a wrong path (`/dev/zero`) is refused, not read forever.
+pub(crate) fn read_capped(path: &std::path::Path, cap: u64, what: &'static str) -> Result<String, String> {
+    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    interpolab::limits::read_text(file, cap, what)
+}
+
 /// A failure that ends the program with status 2 and one line on stderr.
 pub(crate) struct Fatal(pub(crate) String);
 

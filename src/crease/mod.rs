@@ -271,6 +271,15 @@ impl fmt::Display for EndNotReached {
     }
 }
 
+/// A length for a message: four decimals, or three significant digits when tiny or huge.
+fn fmt_mm(x: f64) -> String {
+    if x != 0.0 && !(1e-4..1e6).contains(&x.abs()) { format!("{x:.3e}") } else { format!("{x:.4}") }
+}
+
+fn fmt_correction(x: f64) -> String {
+    if x.is_finite() { format!("{} mm", fmt_mm(x)) } else { "without bound".to_owned() }
+}
+
 /// Why the crease could not be started or continued. Every message names the problem,
 /// where it arose and what to change.
 #[derive(Clone, Debug, Error, PartialEq)]
@@ -319,7 +328,7 @@ pub enum CreaseError {
     },
     /// The correction was too large relative to the feed per period.
     #[error(
-        "at {at} the crease bends too sharply for a feed per period of {feed_mm} mm (correction {correction_mm:.4} mm); lower motion.feed or motion.period"
+        "at {at} the crease bends too sharply for a feed per period of {} mm (correction {}); lower motion.feed or motion.period", fmt_mm(*feed_mm), fmt_correction(*correction_mm)
     )]
     StepTooLong {
         /// Where.

@@ -116,6 +116,18 @@ pub enum ParseError {
         /// Value.
         value: f64,
     },
+    /// A number too large for a double (it would read as infinity).
+    #[error(
+        "line {line}: the {digits}-character number after {letter} is too large to be a value (beyond 1.8e308); check the line for a corrupted number"
+    )]
+    NumberTooLarge {
+        /// Line.
+        line: usize,
+        /// The address letter.
+        letter: char,
+        /// Characters of the number as written.
+        digits: usize,
+    },
     /// Arc without centre or radius.
     #[error("line {line}: {code} needs the centre (I, J, K offsets from the start) or a radius R")]
     ArcNoCentre {
@@ -254,6 +266,7 @@ impl ParseError {
         match self {
             Self::UnclosedComment { line, .. }
             | Self::BadNumber { line, .. }
+            | Self::NumberTooLarge { line, .. }
             | Self::MissingValue { line, .. }
             | Self::UnexpectedChar { line, .. }
             | Self::RepeatedWord { line, .. }
@@ -377,8 +390,11 @@ fn tokenize(line_no: usize, raw: &str, comments: &mut Vec<(usize, String)>) -> R
         if text.is_empty() {
             return Err(ParseError::MissingValue { line: line_no, letter });
         }
-        let value: f64 = match text.parse() {
-            Ok(v) if text.chars().any(|c| c.is_ascii_digit()) => v,
+        let value: f64 = match text.parse::<f64>() {
+            Ok(v) if v.is_finite() && text.chars().any(|c| c.is_ascii_digit()) => v,
+            Ok(v) if !v.is_finite() => {
+                return Err(ParseError::NumberTooLarge { line: line_no, letter, digits: text.len() });
+            }
             _ => {
                 return Err(ParseError::BadNumber { line: line_no, letter, text });
             }

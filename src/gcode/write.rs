@@ -230,9 +230,17 @@ pub enum ProgramError {
         /// Resolution.
         resolution_mm: f64,
     },
-    /// Feed not positive.
-    #[error("the feed must be positive, got {0} mm/min")]
-    BadFeed(f64),
+    /// Feed not positive once written, or absurdly large.
+    #[error(
+        "the feed must be a finite number of mm/min from {min_mm_per_min} (the smallest the program's decimals can write) to 1e6; give e.g. --feed 1500"
+    )]
+    BadFeed {
+        /// Smallest feed the program can write (mm/min).
+        min_mm_per_min: f64,
+    },
+    /// Safe Z not a usable height.
+    #[error("the safe Z height must be a finite number of mm within ±1e6 mm; give e.g. --safe-z 10")]
+    BadSafeZ,
     /// G06.2 degree out of range.
     #[error("G06.2 takes order P2 to P4 (degree 1 to 3), not degree {0}; use --degree 3")]
     Degree(usize),
@@ -415,8 +423,17 @@ pub fn write_program(
     if tol_mm < 2.0 * res * (1.0 - 1e-9) {
         return Err(ProgramError::BelowResolution { tol_mm, resolution_mm: res });
     }
-    if !(opts.feed_mm_per_min.is_finite() && opts.feed_mm_per_min > 0.0) {
-        return Err(ProgramError::BadFeed(opts.feed_mm_per_min));
+    // The feed as written (rounded to the resolution's decimals) must still be positive, or
+    // the program would not read back.
+    let feed = opts.feed_mm_per_min;
+    let written: f64 = crate::report::fmt_fixed(feed, d).parse().unwrap_or(0.0);
+    if !(feed.is_finite() && feed > 0.0 && written > 0.0 && feed <= crate::limits::MAX_FEED_MM_PER_MIN) {
+        return Err(ProgramError::BadFeed { min_mm_per_min: 10f64.powi(-(d as i32)) });
+    }
+    if let Some(z) = opts.safe_z_mm
+        && !(z.is_finite() && z.abs() <= crate::limits::MAX_COORDINATE_MM)
+    {
+        return Err(ProgramError::BadSafeZ);
     }
     if kind == ProgramKind::Nurbs && !(1..=3).contains(&opts.degree) {
         return Err(ProgramError::Degree(opts.degree));
