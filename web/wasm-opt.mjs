@@ -4,7 +4,8 @@
 // of a prebuilt wasm-opt is not allowed here), then updates the wasm's `integrity` hash in
 // the staged index.html, which Trunk wrote before this hook runs.
 //
-// Dev builds (`trunk build` / `trunk serve` without --release) are left as they are.
+// Dev builds (`trunk build` / `trunk serve` without --release) are left as they are, and so
+// is any build with INTERPOLAB_WASM_OPT=0 (wasm-opt adds 1.5–3 minutes).
 import { spawnSync } from "node:child_process";
 import { createHash } from "node:crypto";
 import { existsSync, readdirSync, readFileSync, statSync, writeFileSync } from "node:fs";
@@ -14,6 +15,11 @@ import { fileURLToPath } from "node:url";
 const here = dirname(fileURLToPath(import.meta.url));
 const staging = process.env.TRUNK_STAGING_DIR;
 if (process.env.TRUNK_PROFILE !== "release") process.exit(0);
+// A quicker release build for local iterations: INTERPOLAB_WASM_OPT=0 trunk build --release.
+if (process.env.INTERPOLAB_WASM_OPT === "0") {
+  console.log("web/wasm-opt.mjs: skipped (INTERPOLAB_WASM_OPT=0); the wasm is not shrunk");
+  process.exit(0);
+}
 if (!staging) {
   console.error("web/wasm-opt.mjs: TRUNK_STAGING_DIR is not set (run it as Trunk's post_build hook)");
   process.exit(1);
@@ -27,7 +33,9 @@ if (!existsSync(wasmOpt)) {
   process.exit(0);
 }
 
-for (const name of readdirSync(staging).filter((f) => f.endsWith("_bg.wasm"))) {
+const wasms = readdirSync(staging).filter((f) => f.endsWith("_bg.wasm"));
+if (wasms.length === 0) console.error(`web/wasm-opt.mjs: no *_bg.wasm in ${staging}; nothing to shrink`);
+for (const name of wasms) {
   const path = join(staging, name);
   const before = statSync(path).size;
   const t0 = Date.now();
