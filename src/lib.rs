@@ -19,6 +19,8 @@
 //!
 //! Units: mm, seconds and radians inside; mm/min, ms and degrees only in files and UI.
 
+#![forbid(unsafe_code)]
+
 pub mod chords;
 pub mod crease;
 pub mod fiveaxis;

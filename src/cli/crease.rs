@@ -7,7 +7,7 @@ use std::process::ExitCode;
 
 use super::{Fatal, MethodArg, OutFormat};
 
-use interpolab::crease::{CreaseJob, InterpOptions, Interpolator, Method, Step, diagnose, measured_errors};
+use interpolab::crease::{CreaseJob, InterpOptions, Interpolator, Method, Step, WorstError, diagnose};
 use interpolab::report::{Format, RowWriter, fmt_num};
 use interpolab::scene::Scene;
 
@@ -29,10 +29,11 @@ pub(super) fn run(
 ) -> Result<ExitCode, Fatal> {
     let (scene, job) = load(path)?;
     let sink: Box<dyn Write> = match out {
-        Some(p) => Box::new(BufWriter::new(
+        Some(p) => Box::new(BufWriter::with_capacity(
+            1 << 16,
             fs::File::create(p).map_err(|e| Fatal(format!("cannot create {}: {e}", p.display())))?,
         )),
-        None => Box::new(BufWriter::new(io::stdout().lock())),
+        None => Box::new(BufWriter::with_capacity(1 << 16, io::stdout().lock())),
     };
     let format = match format {
         OutFormat::Csv => Format::Csv,
@@ -55,18 +56,16 @@ pub(super) fn run(
     };
     let mut note = None;
     let mut final_period_ms = None;
-    // The largest measured |e_i| (mm) and the period where it occurred.
-    let mut worst = [(0.0f64, 0u64); 2];
+    // The largest measured |e_i| (mm) and the period where it occurred, for the b·T warning.
+    let mut worst = WorstError::default();
     let outcome = Interpolator::new(job.clone(), opts).and_then(|mut it| {
         let mut emit = |row: &interpolab::crease::Row| -> Result<(), io::Error> {
             let d = if errors { diagnose(&job, row) } else { None };
-            // Measured on every row (two foot points, cheap next to writing the row), so a
-            // run whose feed is too long for the crease's curvature says so.
-            let measured = d.as_ref().map_or_else(|| measured_errors(&job, row), |d| d.measured);
-            for i in 0..2 {
-                if measured[i].abs() > worst[i].0 {
-                    worst[i] = (measured[i].abs(), row.k);
-                }
+            // Measured on every row (screened cheaply, see `WorstError`), so a run whose feed
+            // is too long for the crease's curvature says so.
+            match &d {
+                Some(d) => worst.observe_measured(d.measured, row.k),
+                None => worst.observe(&job, row),
             }
             writer.row(&job, row, d.as_ref())
         };
@@ -95,7 +94,7 @@ pub(super) fn run(
             if let Some(note) = note {
                 let _ = writeln!(io::stderr(), "interpolab: {}: note: {note}", path.display());
             }
-            for (i, (e, k)) in worst.iter().enumerate() {
+            for (i, (e, k)) in worst.worst.iter().enumerate() {
                 let allowed = job.allowed_error_mm(i);
                 if *e > allowed {
                     let _ = writeln!(

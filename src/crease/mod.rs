@@ -29,7 +29,7 @@ use crate::geom::{ParametricSurface, Surface};
 use crate::scene::{Scene, SceneError, build_surface};
 
 pub use curve::{CreaseCurve, CreaseFrame};
-pub use estimate::{Diagnostics, diagnose, measured_errors};
+pub use estimate::{Diagnostics, WorstError, diagnose, measured_errors};
 pub use interpolator::{InterpOptions, Interpolator, Method, RunResult, Step, run_to_end};
 pub use newton::{CreasePoint, NewtonOptions, crease_deviation, locate_crease_point};
 
