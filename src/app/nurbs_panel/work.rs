@@ -516,7 +516,13 @@ impl Work {
         }
         let rows: Vec<CompareRow> = self.rows.iter().map(|r| r.ok().cloned()).collect::<Option<_>>()?;
         let realtime = if self.realtime_fresh(w) { self.realtime.ok()?.stats.clone() } else { Vec::new() };
-        Some(Comparison { tol_mm: w.program.tol_mm, feed_mm_per_min: w.program.feed_mm_per_min, rows, realtime })
+        Some(Comparison {
+            tol_mm: w.program.tol_mm,
+            feed_mm_per_min: w.program.feed_mm_per_min,
+            rows,
+            realtime,
+            notes: Vec::new(),
+        })
     }
 }
 
