@@ -246,7 +246,7 @@ fn sinumerik_block(
         return Ok(false);
     };
     if let Some(sd) = named.sd
-        && sd != sp.degree as f64
+        && (sd.fract() != 0.0 || sd.round() as i64 != sp.degree as i64)
     {
         return Err(err(
             line,
@@ -312,7 +312,7 @@ fn linuxcnc_block(
         let order = get('L').unwrap_or(3.0);
         match &st.spline {
             Some(sp) => {
-                if get('L').is_some() && order != (sp.degree + 1) as f64 {
+                if get('L').is_some() && (order.fract() != 0.0 || order.round() as i64 != sp.degree as i64 + 1) {
                     return Err(err(line, format!("L{order} changes the order inside a G5.2 curve; give L once")));
                 }
             }
