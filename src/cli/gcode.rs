@@ -446,7 +446,7 @@ pub(super) fn nurbs(a: &NurbsArgs) -> Result<ExitCode, Fatal> {
         .toolpath
         .cuts()
         .find_map(|b| if let Segment::Nurbs(c) = &b.segment { Some(c.clone()) } else { None })
-        .ok_or_else(|| Fatal("the G06.2 program holds no curve (a bug; please report it)".to_owned()))?;
+        .ok_or_else(|| Fatal("the NURBS program holds no curve (a bug; please report it)".to_owned()))?;
     let update = match a.update {
         UpdateArg::First => Update::FirstOrder,
         UpdateArg::Second => Update::SecondOrder,
@@ -479,7 +479,8 @@ pub(super) fn nurbs(a: &NurbsArgs) -> Result<ExitCode, Fatal> {
     let st = run.stats;
     let _ = writeln!(
         io::stderr(),
-        "interpolab: G06.2 curve of {} control points, {} update: {} periods, feed fluctuation max {:.3e} RMS {:.3e}, max chord error {:.3e} mm, {} feed-limited periods",
+        "interpolab: {} curve of {} control points, {} update: {} periods, feed fluctuation max {:.3e} RMS {:.3e}, max chord error {:.3e} mm, {} feed-limited periods",
+        opts.dialect.kind_label(ProgramKind::Nurbs),
         curve.len(),
         update.as_str(),
         st.periods,
