@@ -57,6 +57,11 @@ pub const SAME_POINT_MM: f64 = 1e-12;
 /// vertical (for its radial quadratic).
 pub const AXIS_FLAT_SIN: f64 = 1e-12;
 
+/// Material (mm of ray length, summed over a move's rays) below which a move is said to
+/// remove nothing: the rounding of two envelopes that touch (a rapid retracting from the
+/// end of a cut re-cuts that end's surface to within ~1e-15 mm).
+pub const CUT_NOISE_MM: f64 = 1e-6;
+
 /// Most tool positions one 5-axis move is sampled at.
 pub const MAX_SAMPLES_PER_MOVE: usize = 10_000;
 
@@ -254,7 +259,8 @@ impl Simulation {
         };
         self.counters.moves += 1;
         self.counters.removed_mm3 += removed;
-        if m.rapid && removed > 0.0 {
+        let pitch = self.stock.grid().pitch_mm;
+        if m.rapid && removed > CUT_NOISE_MM * pitch * pitch {
             self.counters.rapid_cuts += 1;
             if self.counters.first_rapid_cut_line.is_none() {
                 self.counters.first_rapid_cut_line = Some(m.line);
