@@ -107,7 +107,7 @@ fn the_height_map_matches_an_independent_z_map() {
         // Compare off the groove walls (where the chords' lateral error, ≤ pitch/10, turns
         // into any vertical difference up to the wall's height): the lowest position is well
         // inside the cutter (slope below 2.1:1) or the ray is not cut at all.
-        if !wall_near && d_of_z < 0.9 * r || d_of_z.is_infinite() && !wall_near {
+        if !wall_near && (d_of_z < 0.9 * r || d_of_z.is_infinite()) {
             worst = worst.max((top - z).abs());
         }
         if !row[6].is_empty() {
