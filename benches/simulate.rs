@@ -3,7 +3,8 @@
 //!
 //! Programs: a 3-axis ball raster on a 51.2 × 51.2 mm block at pitch 0.1 (512 × 512 rays),
 //! 0.5 mm moves, 1 mm step-over (5 000 moves); a 10 000-move 5-axis program on the same grid
-//! (table A/C machine, A swinging ±15° while X runs, 0.5 mm moves). Printed once before the
+//! (table A/C machine; the raster's tips with the tool axis swinging ±15° about X over 40
+//! moves, joints from the inverse kinematics). Printed once before the
 //! timings: ray-interval updates per second, rays visited, memory of a 1024 × 1024 stock.
 #![allow(missing_docs)]
 
@@ -68,13 +69,23 @@ fn tilt_rad(k: usize) -> f64 {
     15f64.to_radians() * (std::f64::consts::TAU * k as f64 / 40.0).sin()
 }
 
+/// Unit tool axis of move k: tilted by [`tilt_rad`] about X.
+fn axis(k: usize) -> DVec3 {
+    let (sn, cs) = tilt_rad(k).sin_cos();
+    DVec3::new(0.0, -sn, cs)
+}
+
 fn five_axis(n: usize) -> Program {
     let m = machine();
-    let pts = raster_points(n);
-    // On a table A/C machine at C = 0 the joints' X, Y, Z are the tip rotated by A about X;
-    // program the joints directly so the tip sweeps the raster's neighbourhood.
-    let joints: Vec<Joints> =
-        pts.iter().enumerate().map(|(k, p)| Joints { xyz_mm: *p, rotary_rad: [tilt_rad(k), 0.0] }).collect();
+    // The raster's tips with the axis swinging about X, through the machine's inverse
+    // kinematics (nearest branch to the previous block).
+    let mut joints: Vec<Joints> = Vec::with_capacity(n + 1);
+    for (k, p) in raster_points(n).iter().enumerate() {
+        match m.joints_from_pose(*p, axis(k), joints.last()) {
+            Ok(j) => joints.push(j),
+            Err(e) => panic!("inverse kinematics at block {k}: {e}"),
+        }
+    }
     let moves = joints
         .windows(2)
         .map(|w| SimMove { kind: MoveKind::Joints { machine: m, from: w[0], to: w[1] }, line: 0, rapid: false })

@@ -400,7 +400,7 @@ fn the_same_program_gives_identical_rays() {
     assert_eq!(sums, EXPECTED_SUMS, "ray checksums differ from the native run");
 }
 
-const EXPECTED_SUMS: [u64; 3] = [7_441_478_876_069_228_351, 16_391_303_642_899_386_748, 8_957_791_105_948_524_568];
+const EXPECTED_SUMS: [u64; 3] = [14_732_471_149_034_804_484, 16_391_303_642_899_386_748, 8_957_791_105_948_524_568];
 
 #[test]
 fn bad_stock_and_huge_grids_are_refused_with_a_message() {

@@ -34,7 +34,7 @@ use thiserror::Error;
 pub use measure::{Design, HeightMap, SimStats, heights_csv, png_rgb};
 pub use program::{MoveKind, Program, SimMove};
 pub use stock::{DexelStock, Grid, Interval};
-pub use sweep::{ToolShape, line_span, tilted_span};
+pub use sweep::{LineSweep, ToolShape, line_span, tilted_span};
 
 use crate::geom::Cutter;
 
@@ -170,9 +170,22 @@ impl Simulation {
         &self.counters
     }
 
+    /// Height above the tip (mm) up to which the body of a tool at this pose can reach below
+    /// the stock's top: a body point at height h along the axis a lies at least
+    /// h·a_z − R·√(1 − a_z²) above the tip, so above the stock beyond this. Negative when the
+    /// whole tool is above the stock; H for an axis pointing sideways or down.
+    #[must_use]
+    pub fn reach_mm(&self, tip: DVec3, axis: DVec3) -> f64 {
+        let (_, z1) = self.stock.z_range_mm();
+        let t = &self.tool;
+        let sin = (1.0 - axis.z * axis.z).max(0.0).sqrt();
+        if axis.z > AXIS_FLAT_SIN { ((z1 - tip.z + t.radius_mm * sin) / axis.z).min(t.top_mm) } else { t.top_mm }
+    }
+
     /// Tool positions a 5-axis move is sampled at (2 to [`MAX_SAMPLES_PER_MOVE`]): enough
-    /// that the tip moves, and the axis turns the body's top, by at most the sample step
-    /// between two of them, judged on a 32-chord estimate of the move raised by a quarter.
+    /// that no point of the body that can reach below the stock's top ([`Self::reach_mm`])
+    /// moves more than the sample step between two of them — the tip's travel plus the axis'
+    /// turn times that reach — judged on a 32-chord estimate of the move raised by a quarter.
     #[must_use]
     pub fn samples_of(
         &self,
@@ -182,12 +195,14 @@ impl Simulation {
     ) -> usize {
         const PRE: usize = 32;
         let pose = |k: usize| machine.pose_from_joints(&from.lerp(to, k as f64 / PRE as f64));
+        let reach = |p: &crate::fiveaxis::ToolPose| self.reach_mm(p.tip_in_workpiece, p.axis_in_workpiece).max(0.0);
         let mut prev = pose(0);
         let mut travel = 0.0;
         for k in 1..=PRE {
             let p = pose(k);
             let turn = prev.axis_in_workpiece.angle_between(p.axis_in_workpiece);
-            travel += (p.tip_in_workpiece - prev.tip_in_workpiece).length() + turn * self.tool.top_mm;
+            let arm = reach(&prev).max(reach(&p));
+            travel += (p.tip_in_workpiece - prev.tip_in_workpiece).length() + turn * arm;
             prev = p;
         }
         let n = (1.25 * travel / self.sample_step_mm).ceil();
@@ -282,12 +297,13 @@ impl Simulation {
         else {
             return 0.0;
         };
+        let sweep = LineSweep::new(&self.tool, a, b);
         let mut removed = 0.0;
         for j in j0..=j1 {
             let y = g.y_mm(j);
             for i in i0..=i1 {
                 self.counters.rays_visited += 1;
-                if let Some((lo, hi)) = line_span(&self.tool, a, b, g.x_mm(i), y) {
+                if let Some((lo, hi)) = sweep.span(g.x_mm(i), y) {
                     self.counters.ray_updates += 1;
                     removed += self.stock.subtract(j * g.nx + i, lo, hi);
                 }

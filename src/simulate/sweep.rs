@@ -75,62 +75,132 @@ impl ToolShape {
 
 /// The envelope a 3-axis cutter (axis +Z) sweeps moving its tip straight from `a` to `b`,
 /// crossed by the ray at (x, y): `Some((lo, hi))` (mm), `None` when the ray misses it.
-///
-/// lo is the minimum over the move of the tip height plus the bottom profile at the ray's
-/// distance from the axis: exact in closed form for a horizontal move (the nearest point of
-/// the projected segment), for a flat end mill (an end of the range of the move where the
-/// ray is under the cutter) and for a ball end mill (the lowest point of the capsule of the
-/// ball centre's segment); for a fillet-end mill on a sloped move the function is convex
-/// in the move's parameter and is minimised by golden sections to [`ROOT_TOL_MM`] of the
-/// move's length. hi is the highest tip height over that range plus H.
+/// One-off form of [`LineSweep::span`].
 #[must_use]
 pub fn line_span(tool: &ToolShape, a: DVec3, b: DVec3, x: f64, y: f64) -> Option<(f64, f64)> {
-    let big_r = tool.radius_mm;
-    let (qx, qy) = (x - a.x, y - a.y);
-    let (dx, dy, dz) = (b.x - a.x, b.y - a.y, b.z - a.z);
-    let a2 = dx * dx + dy * dy;
-    let q2 = qx * qx + qy * qy;
-    let qd = qx * dx + qy * dy;
-    let len2 = a2 + dz * dz;
-    if a2 <= super::SAME_POINT_MM * super::SAME_POINT_MM {
-        // A plunge (or no horizontal motion): the ray keeps its distance from the axis.
-        if q2 > big_r * big_r {
+    LineSweep::new(tool, a, b).span(x, y)
+}
+
+/// A straight 3-axis move with what every ray needs precomputed.
+///
+/// For the ray at (x, y), lo is the minimum over the move of the tip height plus the bottom
+/// profile at the ray's distance from the axis: exact in closed form for a horizontal move
+/// (the nearest point of the projected segment), for a plunge, for a flat end mill (an end
+/// of the range of the move where the ray is under the cutter) and for a ball end mill (the
+/// lowest point of the capsule of the ball centre's segment); for a fillet-end mill on a
+/// sloped move the function is convex in the move's parameter and is minimised by golden
+/// sections to [`ROOT_TOL_MM`] of the move's length. hi is the highest tip height over the
+/// range of the move where the ray is under the cutter, plus H.
+#[derive(Clone, Copy, Debug)]
+pub struct LineSweep {
+    tool: ToolShape,
+    a: DVec3,
+    d: DVec3,
+    /// |d_xy|² and |d|² (mm²).
+    a2: f64,
+    len2: f64,
+    kind: LineKind,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum LineKind {
+    Plunge,
+    Horizontal,
+    Sloped,
+}
+
+impl LineSweep {
+    /// The move of the tip from `a` to `b` (mm).
+    #[must_use]
+    pub fn new(tool: &ToolShape, a: DVec3, b: DVec3) -> Self {
+        let d = b - a;
+        let a2 = d.x * d.x + d.y * d.y;
+        let kind = if a2 <= super::SAME_POINT_MM * super::SAME_POINT_MM {
+            LineKind::Plunge
+        } else if d.z.abs() <= super::SAME_POINT_MM {
+            LineKind::Horizontal
+        } else {
+            LineKind::Sloped
+        };
+        Self { tool: *tool, a, d, a2, len2: a2 + d.z * d.z, kind }
+    }
+
+    /// Height of the bottom above the tip at squared radial distance `rho2` ≤ R² (mm).
+    #[inline]
+    fn bottom_sq(&self, rho2: f64) -> f64 {
+        match self.tool.kind {
+            CutterKind::Flat => 0.0,
+            CutterKind::Ball => {
+                let r = self.tool.radius_mm;
+                r - (r * r - rho2).max(0.0).sqrt()
+            }
+            CutterKind::Fillet => self.tool.bottom_mm(rho2.sqrt()),
+        }
+    }
+
+    /// The span of the ray at (x, y) inside the envelope (mm), `None` when it misses.
+    #[inline]
+    #[must_use]
+    pub fn span(&self, x: f64, y: f64) -> Option<(f64, f64)> {
+        let tool = &self.tool;
+        let big_r = tool.radius_mm;
+        let (a, d) = (self.a, self.d);
+        let (qx, qy) = (x - a.x, y - a.y);
+        let q2 = qx * qx + qy * qy;
+        match self.kind {
+            LineKind::Plunge => {
+                // No horizontal motion: the ray keeps its distance from the axis.
+                if q2 > big_r * big_r {
+                    return None;
+                }
+                let lo = a.z.min(a.z + d.z) + self.bottom_sq(q2);
+                Some((lo, a.z.max(a.z + d.z) + tool.top_mm))
+            }
+            LineKind::Horizontal => {
+                // The nearest point of the projected segment.
+                let t = ((qx * d.x + qy * d.y) / self.a2).clamp(0.0, 1.0);
+                let (ex, ey) = (qx - t * d.x, qy - t * d.y);
+                let rho2 = ex * ex + ey * ey;
+                if rho2 > big_r * big_r {
+                    return None;
+                }
+                Some((a.z + self.bottom_sq(rho2), a.z + tool.top_mm))
+            }
+            LineKind::Sloped => self.sloped(qx, qy, q2),
+        }
+    }
+
+    fn sloped(&self, qx: f64, qy: f64, q2: f64) -> Option<(f64, f64)> {
+        let tool = &self.tool;
+        let big_r = tool.radius_mm;
+        let (a, d, a2) = (self.a, self.d, self.a2);
+        let qd = qx * d.x + qy * d.y;
+        // The move's parameters t ∈ [0, 1] where the ray is within R of the axis.
+        let disc = qd * qd - a2 * (q2 - big_r * big_r);
+        if disc < 0.0 {
             return None;
         }
-        let lo = a.z.min(b.z) + tool.bottom_mm(q2.sqrt());
-        return Some((lo, a.z.max(b.z) + tool.top_mm));
-    }
-    // The move's parameters t ∈ [0, 1] where the ray is within R of the axis.
-    let disc = qd * qd - a2 * (q2 - big_r * big_r);
-    if disc < 0.0 {
-        return None;
-    }
-    let s = disc.sqrt();
-    let t1 = ((qd - s) / a2).max(0.0);
-    let t2 = ((qd + s) / a2).min(1.0);
-    if t1 > t2 {
-        return None;
-    }
-    let z = |t: f64| a.z + t * dz;
-    let hi = z(t1).max(z(t2)) + tool.top_mm;
-    let rho = |t: f64| {
-        let (ex, ey) = (qx - t * dx, qy - t * dy);
-        (ex * ex + ey * ey).sqrt()
-    };
-    let lo = if dz.abs() <= super::SAME_POINT_MM {
-        let t = (qd / a2).clamp(t1, t2);
-        a.z + tool.bottom_mm(rho(t))
-    } else {
-        match tool.kind {
-            CutterKind::Flat => z(t1).min(z(t2)),
-            CutterKind::Ball => capsule_low(big_r, qx, qy, dx, dy, dz, qd, q2, a2, len2, a.z + big_r),
-            CutterKind::Fillet => {
-                let f = |t: f64| z(t) + tool.bottom_mm(rho(t));
-                golden_min(f, t1, t2, ROOT_TOL_MM / len2.sqrt()).1
-            }
+        let s = disc.sqrt();
+        let t1 = ((qd - s) / a2).max(0.0);
+        let t2 = ((qd + s) / a2).min(1.0);
+        if t1 > t2 {
+            return None;
         }
-    };
-    Some((lo, hi))
+        let z = |t: f64| a.z + t * d.z;
+        let hi = z(t1).max(z(t2)) + tool.top_mm;
+        let lo = match tool.kind {
+            CutterKind::Flat => z(t1).min(z(t2)),
+            CutterKind::Ball => capsule_low(big_r, qx, qy, d.x, d.y, d.z, qd, q2, a2, self.len2, a.z + big_r),
+            CutterKind::Fillet => {
+                let f = |t: f64| {
+                    let (ex, ey) = (qx - t * d.x, qy - t * d.y);
+                    z(t) + tool.bottom_mm((ex * ex + ey * ey).sqrt())
+                };
+                golden_min(f, t1, t2, ROOT_TOL_MM / self.len2.sqrt()).1
+            }
+        };
+        Some((lo, hi))
+    }
 }
 
 /// Lowest point on the ray of the capsule of radius R around the segment from the ball
