@@ -144,3 +144,30 @@ fn refusals_are_one_line_messages() {
     assert!(err.contains("line 3: G41"), "{err}");
     assert!(out.contains("\"moves\""));
 }
+
+#[test]
+fn five_axis_steps_of_a_scene_gouge_no_deeper_than_their_tolerance() {
+    // The seed-002 steps at E = 0.01 mm hold every segment's swept ball within E of the
+    // surfaces; the simulated cut (joints linear on the head B/C machine, sampled at least
+    // every pitch) must then not go below the scene's surfaces by more than E.
+    let scene = format!("{}/examples/torus-plate-head-bc.json", env!("CARGO_MANIFEST_DIR"));
+    let (code, out, err) = run(&[
+        "simulate",
+        &scene,
+        "--steps",
+        "0.01",
+        "--cutter",
+        "ball:4",
+        "--stock",
+        "-70,-70,-20,70,70,12",
+        "--pitch",
+        "0.5",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let s: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(s["design"], "scene surfaces");
+    assert!(s["moves"].as_u64().unwrap() > 100, "{s}");
+    let worst = s["gouge"]["worst_um"].as_f64().unwrap_or(0.0);
+    assert!(worst >= -10.0 - 1e-3, "worst gouge {worst} µm deeper than the 10 µm tolerance");
+    assert!(s["removed_volume_mm3"].as_f64().unwrap() > 1000.0);
+}

@@ -62,6 +62,10 @@ pub(crate) struct SimulateArgs {
     /// Write a PNG of the result (deviation colours with a design, heights without).
     #[arg(long)]
     png: Option<PathBuf>,
+    /// PROGRAM is a scene: simulate its seed-002 five-axis tool steps at this tolerance (mm),
+    /// joints interpolated linearly on the scene's machine; the design is its two surfaces.
+    #[arg(long, conflicts_with_all = ["design_z", "scene"])]
+    steps: Option<f64>,
     /// Deviation shown at full colour in the PNG (µm).
     #[arg(long, default_value_t = 50.0)]
     band_um: f64,
@@ -106,14 +110,20 @@ fn read_program(path: &Path) -> Result<String, Fatal> {
     fs::read_to_string(path).map_err(|e| Fatal(format!("cannot read program {}: {e}", path.display())))
 }
 
-fn load_design(a: &SimulateArgs) -> Result<Design, Fatal> {
+/// Where the design comes from.
+struct SimulateDesign<'a> {
+    design_z: Option<f64>,
+    scene: Option<&'a Path>,
+}
+
+fn load_design(a: &SimulateDesign<'_>) -> Result<Design, Fatal> {
     if let Some(z) = a.design_z {
         if !z.is_finite() {
             return Err(Fatal(format!("--design-z {z}: give a finite height in mm")));
         }
         return Ok(Design::PlaneZ(z));
     }
-    let Some(path) = &a.scene else {
+    let Some(path) = a.scene else {
         return Ok(Design::None);
     };
     let text = fs::read_to_string(path).map_err(|e| Fatal(format!("cannot read scene {}: {e}", path.display())))?;
@@ -133,7 +143,13 @@ pub(super) fn simulate(a: &SimulateArgs) -> Result<ExitCode, Fatal> {
     if !(a.band_um > 0.0 && a.band_um.is_finite()) {
         return Err(Fatal(format!("--band-um {}: give a positive deviation in µm", a.band_um)));
     }
-    let design = load_design(a)?;
+    if let Some(tol) = a.steps {
+        let (machine, blocks, _) = super::fiveaxis::scene_blocks(&a.program, tol)?;
+        let program = Program::from_blocks(&machine, &blocks).map_err(|e| Fatal(e.to_string()))?;
+        let design = load_design(&SimulateDesign { design_z: None, scene: Some(&a.program) })?;
+        return finish(a, &cutter, stock, &program, &design, false);
+    }
+    let design = load_design(&SimulateDesign { design_z: a.design_z, scene: a.scene.as_deref() })?;
     let text = read_program(&a.program)?;
     let parsed = parse_program(&text).map_err(|e| Fatal(format!("{}: {e}", a.program.display())))?;
     for u in &parsed.unsupported {
@@ -150,12 +166,25 @@ pub(super) fn simulate(a: &SimulateArgs) -> Result<ExitCode, Fatal> {
     let chord_tol = a.chord_tol.unwrap_or(a.pitch / 10.0);
     let program = Program::from_toolpath(&parsed.toolpath, offset, chord_tol)
         .map_err(|e| Fatal(format!("{}: {e}", a.program.display())))?;
-    let mut sim = Simulation::new(stock, &cutter);
+    finish(a, &cutter, stock, &program, &design, centre)
+}
+
+/// Runs the program and writes the outputs.
+fn finish(
+    a: &SimulateArgs,
+    cutter: &Cutter,
+    stock: DexelStock,
+    program: &Program,
+    design: &Design,
+    centre: bool,
+) -> Result<ExitCode, Fatal> {
+    let chord_tol = a.chord_tol.unwrap_or(a.pitch / 10.0);
+    let mut sim = Simulation::new(stock, cutter);
     let t0 = Instant::now();
-    sim.run(&program).map_err(|e| Fatal(format!("{}: {e}", a.program.display())))?;
+    sim.run(program).map_err(|e| Fatal(format!("{}: {e}", a.program.display())))?;
     let run_ms = t0.elapsed().as_secs_f64() * 1e3;
     let map = HeightMap::of(sim.stock());
-    let stats = SimStats::of(&map, sim.stock(), &design);
+    let stats = SimStats::of(&map, sim.stock(), design);
     let has_design = !matches!(design, Design::None);
     if let Some(out) = &a.out {
         write(out, heights_csv(&map, has_design.then_some(&stats)).as_bytes())?;
@@ -190,7 +219,7 @@ pub(super) fn simulate(a: &SimulateArgs) -> Result<ExitCode, Fatal> {
         "split_rays": stats.split_rays,
         "rapid_cuts": c.rapid_cuts,
         "memory_bytes": sim.stock().memory_bytes(),
-        "design": match &design { Design::None => "none", Design::PlaneZ(_) => "plane", Design::Surfaces(_) => "scene surfaces" },
+        "design": match design { Design::None => "none", Design::PlaneZ(_) => "plane", Design::Surfaces(_) => "scene surfaces" },
         "scallop_um": has_design.then(|| json!({
             "rays": stats.scallop.count,
             "max": um(stats.scallop.max_mm),
