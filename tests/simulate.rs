@@ -365,6 +365,50 @@ fn five_axis_sampling_error_stays_within_the_documented_bound() {
     assert!(diff > 0.0 && diff < pitch / 10.0, "{diff}");
 }
 
+#[test]
+fn deviation_from_a_scene_surface_matches_the_plane_and_a_sphere_in_closed_form() {
+    // A ball groove at tip height 7 through a block; the design as a plane surface z = 7.5
+    // (normal +Z, through the projection code) must give height − 7.5 on every machined ray,
+    // and a sphere of radius 40 centred 40 below (7.5 at its top) |p − c| − 40.
+    use interpolab::geom::{Domain, Frame, ParamRange, ParamUnit, Plane, Sphere, Surface};
+    let c = Cutter::ball(2.0).unwrap();
+    let stock = DexelStock::block([0.0, 0.0, 0.0], [10.0, 6.0, 8.0], 0.1).unwrap();
+    let sim = run(stock, &c, &[line([-3.0, 3.0, 7.0], [13.0, 3.0, 7.0])]);
+    let map = HeightMap::of(sim.stock());
+    let plane = Surface::Plane(Plane::new(DVec3::new(0.0, 0.0, 7.5), DVec3::Z, DVec3::X, [-20.0, 20.0], [-20.0, 20.0]));
+    let centre = DVec3::new(5.0, 3.0, 7.5 - 40.0);
+    // Polar axis along X so the sphere's top (along e2 = X × Y = Z) lies on its equator,
+    // away from the parametrisation's poles.
+    let sphere = Surface::Sphere(Sphere {
+        center: centre,
+        frame: Frame::from_axis(DVec3::X, Some(DVec3::Y)),
+        radius: 40.0,
+        sign: 1.0,
+        domain: Domain {
+            u: ParamRange::new(-std::f64::consts::PI, std::f64::consts::PI, ParamUnit::Angle),
+            v: ParamRange::new(-1.5, 1.5, ParamUnit::Angle),
+        },
+    });
+    let by_plane = SimStats::of(&map, sim.stock(), &Design::Surfaces(vec![plane]));
+    let by_z = SimStats::of(&map, sim.stock(), &Design::PlaneZ(7.5));
+    let by_sphere = SimStats::of(&map, sim.stock(), &Design::Surfaces(vec![sphere]));
+    let g = map.grid;
+    let mut n = 0;
+    for k in 0..g.len() {
+        let (Some(a), Some(b)) = (by_plane.deviation_mm[k], by_z.deviation_mm[k]) else {
+            assert!(by_plane.deviation_mm[k].is_none() && by_z.deviation_mm[k].is_none());
+            continue;
+        };
+        assert!((a - b).abs() < 1e-9, "{a} vs {b}");
+        let p = DVec3::new(g.x_mm(k % g.nx), g.y_mm(k / g.nx), map.top_mm[k]);
+        let s = by_sphere.deviation_mm[k].unwrap();
+        assert!((s - ((p - centre).length() - 40.0)).abs() < 1e-7, "{s}");
+        n += 1;
+    }
+    assert!(n > 1000);
+    assert!(by_z.gouge_rays > 0 && by_z.worst_gouge.unwrap().0 < -0.49);
+}
+
 fn checksum(stock: &DexelStock) -> u64 {
     // FNV-1a over every interval's bits.
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
