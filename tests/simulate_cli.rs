@@ -171,3 +171,38 @@ fn five_axis_steps_of_a_scene_gouge_no_deeper_than_their_tolerance() {
     assert!(worst >= -10.0 - 1e-3, "worst gouge {worst} µm deeper than the 10 µm tolerance");
     assert!(s["removed_volume_mm3"].as_f64().unwrap() > 1000.0);
 }
+
+#[test]
+fn the_crease_programs_of_a_scene_gouge_no_deeper_than_their_tolerance() {
+    // `interpolab gcode` writes ball-centre programs of the floor/round-wall crease within
+    // E = 0.01 mm (G01, arcs, G06.2); simulated with the scene's ball into a block, none may
+    // cut below the floor or into the wall by more than E (the Z rays see the floor).
+    let scene = format!("{}/examples/floor-round-wall.json", env!("CARGO_MANIFEST_DIR"));
+    for kind in ["g01", "arcs", "nurbs"] {
+        let (code, program, err) = run(&["gcode", &scene, "--kind", kind, "--tolerance", "0.01"]);
+        assert_eq!(code, 0, "{err}");
+        let p = temp(&format!("frw-{kind}.nc"), &program);
+        let (code, out, err) = run(&[
+            "simulate",
+            p.to_str().unwrap(),
+            "--cutter",
+            "ball:5",
+            "--stock",
+            "-52,-52,-2,52,52,8",
+            "--pitch",
+            "0.2",
+            "--scene",
+            &scene,
+        ]);
+        assert_eq!(code, 0, "{kind}: {err}");
+        let s: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(s["programmed_point"], "ball centre", "{kind}");
+        assert!(s["chord_error_mm"].as_f64().unwrap() <= 0.02 + 1e-12, "{kind}: {s}");
+        let worst = s["gouge"]["worst_um"].as_f64().unwrap_or(0.0);
+        assert!(worst >= -10.0, "{kind}: gouge {worst} µm");
+        // The programs rapid down to the cutting depth inside the block: reported.
+        assert!(s["rapid_cuts"].as_u64().unwrap() >= 1 && err.contains("rapid (G00)"), "{kind}: {err}");
+        // The floor ring the ball's bottom sweeps is machined to z = 0 (radius 45 around Z).
+        assert!(s["machined_rays"].as_u64().unwrap() > 10_000, "{kind}");
+    }
+}
