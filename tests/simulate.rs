@@ -426,7 +426,7 @@ fn checksum(stock: &DexelStock) -> u64 {
 #[test]
 fn the_same_program_gives_identical_rays() {
     // Lines only (no sin/cos: only IEEE-exact operations and sqrt), three cutters, sloped,
-    // horizontal and plunging moves, and a tilted pose — bit-identical on every platform.
+    // horizontal and plunging moves — bit-identical on every platform.
     let moves = [
         line([-2.0, 1.0, 8.0], [12.0, 9.0, 5.5]),
         line([12.0, 9.0, 5.5], [3.0, 4.0, 5.5]),
@@ -440,11 +440,28 @@ fn the_same_program_gives_identical_rays() {
         assert_eq!(checksum(a.stock()), checksum(b.stock()));
         sums.push(checksum(a.stock()));
     }
+    // Tilted cutters (the 5-axis sample) at fixed poses: only arithmetic and sqrt too.
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for c in [Cutter::ball(1.5).unwrap(), Cutter::flat(1.5).unwrap(), Cutter::fillet(1.5, 0.5).unwrap()] {
+        let tool = ToolShape::of(&c);
+        let axis = DVec3::new(0.3, -0.2, 0.9).normalize();
+        for k in 0..4096 {
+            let (x, y) = (f64::from(k % 64) * 0.06 - 1.9, f64::from(k / 64) * 0.06 - 1.9);
+            if let Some((lo, hi)) = tilted_span(&tool, DVec3::new(0.1, 0.2, 0.3), axis, x, y) {
+                for v in [lo.to_bits(), hi.to_bits()] {
+                    h ^= v;
+                    h = h.wrapping_mul(0x0000_0100_0000_01b3);
+                }
+            }
+        }
+    }
+    sums.push(h);
     // Native x86-64 values; the wasm32 build under Node must reproduce them bit for bit.
     assert_eq!(sums, EXPECTED_SUMS, "ray checksums differ from the native run");
 }
 
-const EXPECTED_SUMS: [u64; 3] = [14_732_471_149_034_804_484, 16_391_303_642_899_386_748, 8_957_791_105_948_524_568];
+const EXPECTED_SUMS: [u64; 4] =
+    [14_732_471_149_034_804_484, 16_391_303_642_899_386_748, 8_957_791_105_948_524_568, 11_372_898_439_228_079_387];
 
 #[test]
 fn bad_stock_and_huge_grids_are_refused_with_a_message() {

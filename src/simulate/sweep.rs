@@ -354,7 +354,8 @@ fn fillet_corner(tool: &ToolShape, tip: DVec3, axis: DVec3, x: f64, y: f64) -> O
         let v = DVec3::new(x, y, z) - centre;
         let h = v.dot(axis);
         let rho = (v - h * axis).length();
-        let d = if rho <= r0 { h.abs() } else { h.hypot(rho - r0) };
+        // sqrt rather than hypot: IEEE-exact, so the rays are bit-identical across platforms.
+        let d = if rho <= r0 { h.abs() } else { (h * h + (rho - r0) * (rho - r0)).sqrt() };
         d - r
     };
     let (zm, m) = golden_min(excess, zl, zh, ROOT_TOL_MM);
