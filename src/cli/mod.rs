@@ -11,6 +11,7 @@
 mod crease;
 mod fiveaxis;
 mod gcode;
+mod simulate;
 
 use std::io::{self, Write};
 use std::path::PathBuf;
@@ -87,6 +88,8 @@ enum Command {
     Table1(fiveaxis::Table1Args),
     /// Equal-error chords (seed 003) of a planar curve or a scene's crease; --table compares spacings.
     Chords(fiveaxis::ChordsArgs),
+    /// Cutting simulation: machine a G-code program into a dexel stock; height map (CSV), PNG, statistics (JSON).
+    Simulate(simulate::SimulateArgs),
 }
 
 /// Reads a file the command line was given, at most `cap` bytes of it
@@ -116,6 +119,7 @@ pub fn main() -> ExitCode {
         Some(Command::Example1(a)) => fiveaxis::example1_cmd(&a),
         Some(Command::Table1(a)) => fiveaxis::table1(&a),
         Some(Command::Chords(a)) => fiveaxis::chords(&a),
+        Some(Command::Simulate(a)) => simulate::simulate(&a),
     };
     match result {
         Ok(code) => code,
