@@ -135,7 +135,7 @@ impl fmt::Display for Location {
         match self {
             Self::Start => write!(f, "path.start"),
             Self::End => write!(f, "path.end"),
-            Self::Period { k, t_ms } => write!(f, "period {k} (t = {t_ms} ms)"),
+            Self::Period { k, t_ms } => write!(f, "period {k} (t = {} ms)", crate::report::fmt_num(*t_ms)),
         }
     }
 }
@@ -188,10 +188,11 @@ impl fmt::Display for StopReason {
             Self::Closed { turns } => write!(f, "the crease closed on itself; {turns} turns made"),
             Self::LeftDomain { surface, param, value, range } => write!(
                 f,
-                "the contact point on surface {} would leave its domain ({param} = {value:.6} outside [{}, {}])",
+                "the contact point on surface {} would leave its domain ({param} = {} outside [{}, {}])",
                 surface + 1,
-                range[0],
-                range[1]
+                if (1e-4..1e9).contains(&value.abs()) { format!("{value:.6}") } else { crate::report::fmt_num(*value) },
+                crate::report::fmt_num(range[0]),
+                crate::report::fmt_num(range[1])
             ),
             Self::MaxSteps => write!(f, "path.max_steps periods were run"),
         }

@@ -100,9 +100,28 @@ impl NewtonFail {
             Self::NoConvergence(res) => match at {
                 Location::Start | Location::End => CreaseError::NoCrease {
                     at,
-                    detail: format!("the offset surfaces stay {res:.3} mm apart there after Newton's iterations"),
+                    detail: if res.is_finite() {
+                        format!("the offset surfaces stay {res:.3} mm apart there after Newton's iterations")
+                    } else {
+                        "Newton's iterations ran off the surfaces".to_owned()
+                    },
                 },
                 Location::Period { .. } => CreaseError::NewtonFailed { at, detail: format!("residual {res:.3e} mm") },
+            },
+            // The normals are not parallel, but the Newton system is singular (its tangent
+            // rows dependent): say so, rather than call non-parallel normals parallel.
+            Self::Tangential(angle_deg, gap) if angle_deg >= tolerance::MIN_CREASE_ANGLE_RAD.to_degrees() => match at {
+                Location::Start | Location::End => CreaseError::NoCrease {
+                    at,
+                    detail: if gap.is_finite() {
+                        format!("Newton's linear system is singular there, with the offset surfaces {gap:.3} mm apart")
+                    } else {
+                        "Newton's linear system is singular there".to_owned()
+                    },
+                },
+                Location::Period { .. } => {
+                    CreaseError::NewtonFailed { at, detail: "Newton's linear system is singular there".to_owned() }
+                }
             },
             // Parallel normals where the offset surfaces actually meet: tangential contact.
             Self::Tangential(angle_deg, gap) if gap <= TOUCHING_GAP_MM => {
@@ -110,6 +129,17 @@ impl NewtonFail {
             }
             // Parallel normals with the offsets apart: Newton was drawn to where the surfaces
             // face each other, which means they do not meet here at all.
+            Self::Tangential(angle_deg, gap) if !gap.is_finite() => match at {
+                Location::Start | Location::End => CreaseError::NoCrease {
+                    at,
+                    detail: format!(
+                        "the offset surfaces face each other (normals {angle_deg:.3}° from parallel) instead of crossing"
+                    ),
+                },
+                Location::Period { .. } => {
+                    CreaseError::NewtonFailed { at, detail: "normals parallel with the offsets apart".to_owned() }
+                }
+            },
             Self::Tangential(angle_deg, gap) => match at {
                 Location::Start | Location::End => CreaseError::NoCrease {
                     at,

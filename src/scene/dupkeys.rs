@@ -14,10 +14,7 @@ use serde::de::{self, DeserializeSeed, Deserializer, IgnoredAny, MapAccess, SeqA
 #[must_use]
 pub fn first_duplicate_key(text: &str) -> Option<String> {
     let mut de = serde_json::Deserializer::from_str(text);
-    match (Walk { path: String::new() }).deserialize(&mut de) {
-        Ok(found) => found,
-        Err(_) => None,
-    }
+    (Walk { path: String::new() }).deserialize(&mut de).unwrap_or_default()
 }
 
 /// Walks one value at `path`; yields the path of the first duplicate found inside it.
