@@ -132,3 +132,18 @@ macro_rules! assert_near {
         );
     }};
 }
+
+// --- Fillet-end finishing (seed 001) ---
+
+/// Smallest inclination α (rad, 0.5°) of a fillet-end or flat end mill's axis from the
+/// surface normal. At α = 0 the flat bottom lies in the tangent plane: the contact point is
+/// not unique and the effective cutting curvature across the feed is zero.
+pub const FILLET_MIN_INCLINATION_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;
+
+/// Corner radius (mm) used for the meridian curvature 1/r of a flat end mill (r = 0): its rim
+/// is a sharp edge, whose curvature is taken as 1/(this) instead of infinite.
+pub const FILLET_SHARP_EDGE_MM: f64 = 1e-6;
+
+/// Resolution (mm) to which heights of the cutter's profile and scallops are solved: 1 nm,
+/// far below any scallop height worth machining (≥ 1 µm).
+pub const FILLET_HEIGHT_MM: f64 = 1e-9;

@@ -7,6 +7,7 @@
 //! (radians, unit frames, NURBS in homogeneous form).
 
 mod build;
+pub mod finish;
 pub mod link;
 mod parse;
 pub mod presets;
