@@ -9,6 +9,7 @@
 //! One file per area: [`crease`] (`run`, `check`).
 
 mod crease;
+mod finish;
 mod fiveaxis;
 mod gcode;
 
@@ -87,6 +88,8 @@ enum Command {
     Table1(fiveaxis::Table1Args),
     /// Equal-error chords (seed 003) of a planar curve or a scene's crease; --table compares spacings.
     Chords(fiveaxis::ChordsArgs),
+    /// Five-axis finishing of one surface with a fillet-end mill (seed 001): CL data, --table, --gcode.
+    Finish(finish::FinishArgs),
 }
 
 /// A failure that ends the program with status 2 and one line on stderr.
@@ -109,6 +112,7 @@ pub fn main() -> ExitCode {
         Some(Command::Example1(a)) => fiveaxis::example1_cmd(&a),
         Some(Command::Table1(a)) => fiveaxis::table1(&a),
         Some(Command::Chords(a)) => fiveaxis::chords(&a),
+        Some(Command::Finish(a)) => finish::finish(&a),
     };
     match result {
         Ok(code) => code,

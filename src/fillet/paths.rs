@@ -248,9 +248,13 @@ impl Ctx<'_> {
     }
 
     /// Nodes along a uv polyline by the forward step, oriented, smoothed, checked.
+    /// `psi_ref`: per polyline vertex, the azimuth window (centre, half width, rad) the
+    /// side step assumed for it (offset paths); without it each node's window is centred on
+    /// the previous node's azimuth.
     fn build_path(
         &self,
         poly: &[DVec2],
+        psi_ref: Option<&[(f64, f64)]>,
         refused: &mut Vec<Refusal>,
         budget: &mut usize,
     ) -> Result<ToolPath, FinishError> {
@@ -261,22 +265,26 @@ impl Ctx<'_> {
             cum.push(l);
         }
         let total = cum.last().copied().unwrap_or(0.0);
-        let at = |s: f64| -> (DVec2, DVec3) {
+        let at = |s: f64| -> (DVec2, DVec3, Option<(f64, f64)>) {
             let k = cum.partition_point(|&c| c <= s).clamp(1, cum.len().max(2) - 1);
             let (c0, c1) = (cum[k - 1], cum[k]);
             let t = if c1 > c0 { ((s - c0) / (c1 - c0)).clamp(0.0, 1.0) } else { 0.0 };
-            (poly[k - 1].lerp(poly[k], t), pts[k] - pts[k - 1])
+            let psi = psi_ref.and_then(|r| {
+                let (a, b) = (r.get(k - 1)?, r.get(k)?);
+                Some((a.0 + t * (b.0 - a.0), a.1.max(b.1)))
+            });
+            (poly[k - 1].lerp(poly[k], t), pts[k] - pts[k - 1], psi)
         };
         // Forward steps.
-        let mut samples: Vec<(DVec2, DVec3)> = Vec::new();
+        let mut samples: Vec<(DVec2, DVec3, Option<(f64, f64)>)> = Vec::new();
         let mut s = 0.0;
         loop {
             if *budget == 0 {
                 return Err(FinishError::TooManyNodes { max_nodes: self.opts.max_nodes });
             }
             *budget -= 1;
-            let (uv, dir) = at(s);
-            samples.push((uv, dir));
+            let (uv, dir, psi) = at(s);
+            samples.push((uv, dir, psi));
             if s >= total {
                 break;
             }
@@ -290,7 +298,7 @@ impl Ctx<'_> {
         let mut poses: Vec<Pose> = Vec::with_capacity(samples.len());
         let mut prev: Option<(DVec3, Pose)> = None;
         let oo = &self.opts.orient;
-        for (uv, dir) in samples {
+        for (uv, dir, psi_win) in samples {
             let Some(frame) = ContactFrame::new(self.surface, uv, dir) else {
                 refused.push(Refusal {
                     uv,
@@ -300,12 +308,13 @@ impl Ctx<'_> {
                 });
                 continue;
             };
-            let window = match prev {
-                Some((p, pose)) => {
+            let window = match (psi_win, prev) {
+                (Some((c, d)), _) => ((c - d).max(-oo.max_azimuth_rad), (c + d).min(oo.max_azimuth_rad)),
+                (None, Some((p, pose))) => {
                     let d = oo.max_turn_rad_per_mm * (frame.point - p).length();
                     ((pose.azimuth_rad - d).max(-oo.max_azimuth_rad), (pose.azimuth_rad + d).min(oo.max_azimuth_rad))
                 }
-                None => (-oo.max_azimuth_rad, oo.max_azimuth_rad),
+                (None, None) => (-oo.max_azimuth_rad, oo.max_azimuth_rad),
             };
             let found = pose_at(&self.strategy, &self.cutter, &frame, oo, window).or_else(|| {
                 pose_at(&self.strategy, &self.cutter, &frame, oo, (-oo.max_azimuth_rad, oo.max_azimuth_rad))
@@ -565,7 +574,7 @@ pub fn iso_scallop(
     let ((a0, a1), (b0, b1)) = ctx.ranges();
     let mut refused = Vec::new();
     let mut budget = opts.max_nodes;
-    let first = ctx.build_path(&iso_curve((a0, a1), b0, along), &mut refused, &mut budget)?;
+    let first = ctx.build_path(&iso_curve((a0, a1), b0, along), None, &mut refused, &mut budget)?;
     let Some(n0) = first.nodes.first() else {
         return Err(FinishError::NoPath { reason: refused.first().map_or("no CC point", |r| r.reason) });
     };
@@ -583,6 +592,8 @@ pub fn iso_scallop(
             break;
         }
         let mut poly: Vec<DVec2> = Vec::with_capacity(last.nodes.len() + 2);
+        let mut refs: Vec<(f64, f64)> = Vec::with_capacity(last.nodes.len() + 2);
+        let rate = opts.orient.max_turn_rad_per_mm;
         for node in &mut last.nodes {
             let (uv, _beyond, w, s) = ctx.side_step(node);
             node.side_step_mm = Some(w);
@@ -590,29 +601,22 @@ pub fn iso_scallop(
             // Keep the along parameter increasing (drop loops of the offset curve).
             if poly.last().is_none_or(|p| a_of(uv, along) > a_of(*p, along)) {
                 poly.push(uv);
+                refs.push((node.pose.azimuth_rad, rate * w));
             }
         }
         let (Some(&f), Some(&l)) = (poly.first(), poly.last()) else { break };
         if a_of(f, along) > a0 {
             poly.insert(0, make_uv(a0, b_of(f, along), along));
+            refs.insert(0, refs[0]);
         }
         if a_of(l, along) < a1 {
             poly.push(make_uv(a1, b_of(l, along), along));
+            refs.push(refs[refs.len() - 1]);
         }
         if poly.len() < 2 {
             break;
         }
-        if std::env::var("FILLET_DEBUG").is_ok() {
-            let ws: Vec<f64> = last.nodes.iter().filter_map(|n| n.side_step_mm).collect();
-            let bs: Vec<f64> = poly.iter().map(|p| b_of(*p, along)).collect();
-            eprintln!(
-                "path: {} nodes, w {:?}, b {:?}",
-                last.nodes.len(),
-                ws.iter().map(|w| (w * 100.0).round() / 100.0).collect::<Vec<_>>(),
-                bs.iter().map(|w| (w * 1000.0).round() / 1000.0).collect::<Vec<_>>()
-            );
-        }
-        let next = ctx.build_path(&poly, &mut refused, &mut budget)?;
+        let next = ctx.build_path(&poly, Some(&refs), &mut refused, &mut budget)?;
         if next.nodes.is_empty() {
             break;
         }
@@ -647,7 +651,7 @@ pub fn iso_parametric(
     for k in 0..9 {
         let b = b0 + (b1 - b0) * f64::from(k) / 8.0;
         let mut scratch = Vec::new();
-        let p = ctx.build_path(&iso_curve((a0, a1), b, along), &mut scratch, &mut budget)?;
+        let p = ctx.build_path(&iso_curve((a0, a1), b, along), None, &mut scratch, &mut budget)?;
         for n in &p.nodes {
             let d = surface.derivatives_at(n.frame.uv);
             let sb = if along == 0 { d.dv } else { d.du };
@@ -671,7 +675,7 @@ pub fn iso_parametric(
         let mut paths = Vec::with_capacity(count);
         for k in 0..count {
             let b = b0 + (b1 - b0) * k as f64 / (count - 1) as f64;
-            paths.push(ctx.build_path(&iso_curve((a0, a1), b, along), &mut refused, &mut budget)?);
+            paths.push(ctx.build_path(&iso_curve((a0, a1), b, along), None, &mut refused, &mut budget)?);
         }
         let spacing = (b1 - b0) / (count - 1) as f64;
         let mut worst = 0.0f64;

@@ -111,7 +111,8 @@ impl DesignPath for FilletDesignPath<'_> {
     }
 }
 
-/// The seed-002 step plan of one path on `machine` within `tol_mm`.
+/// The seed-002 step plan of one path on `machine` within `tol_mm` (the paper's modified
+/// secant; bisection where it stalls).
 ///
 /// # Errors
 /// As [`plan_steps`]; a path of fewer than two nodes is an empty path.
@@ -126,5 +127,12 @@ pub fn plan_path(
         FilletDesignPath::new(surface, *cutter, nodes).ok_or(FiveAxisError::EmptyPath { start: 0.0, end: 0.0 })?;
     let mut opts = StepOptions::new(tol_mm);
     opts.reports = false;
-    plan_steps(machine, &path, &opts)
+    match plan_steps(machine, &path, &opts) {
+        // The design is only piecewise smooth (linear between CC nodes): where the secant
+        // stalls at a kink, bisection still brackets the step.
+        Err(FiveAxisError::NoConvergence { .. }) => {
+            plan_steps(machine, &path, &opts.with_method(crate::chords::RootMethod::Bisection))
+        }
+        other => other,
+    }
 }
