@@ -279,19 +279,17 @@ fn check_scallops(id: &str, strategy: Strategy) -> (f64, f64, usize) {
 
 #[test]
 fn iso_scallop_paths_leave_h_by_brute_force() {
-    // Ball end mill: within ±5 % of h on the patch and the blade.
+    // Matched fillet-end mill and a ball of the same R, on the gently curved patch and on
+    // the blade: within ±5 % of h at every measured section (measured: matched
+    // 0.985 h .. 1.048 h on the patch, 0.966 h .. 1.015 h on the blade).
     for id in ["finish-bicubic-patch", "finish-naca-blade"] {
         let h = job(id).options.scallop_mm;
-        let (lo, hi, n) = check_scallops(id, Strategy::Ball);
-        assert!(n >= 6, "{id}: only {n} sections measured");
-        assert!(lo >= 0.95 * h && hi <= 1.05 * h, "{id} ball: scallop {lo}..{hi} outside h ± 5 %");
+        for strategy in [Strategy::Matched, Strategy::Ball] {
+            let (lo, hi, n) = check_scallops(id, strategy);
+            assert!(n >= 6, "{id}: only {n} sections measured");
+            assert!(lo >= 0.95 * h && hi <= 1.05 * h, "{id} {}: scallop {lo}..{hi} outside h ± 5 %", strategy.name());
+        }
     }
-    // Matched fillet-end mill on the gently curved patch: measured 1.00 h .. 1.10 h (the
-    // side step's cross-profile model leaves up to +10 %, docs/fillet.md).
-    let h = job("finish-bicubic-patch").options.scallop_mm;
-    let (lo, hi, n) = check_scallops("finish-bicubic-patch", Strategy::Matched);
-    assert!(n >= 6);
-    assert!(lo >= 0.95 * h && hi <= 1.12 * h, "matched: scallop {lo}..{hi} outside [0.95 h, 1.12 h]");
 }
 
 /// Largest depth (mm) of the cutter's lower surface below the design surface, sampled
@@ -418,5 +416,5 @@ fn a_bore_narrower_than_the_cutter_is_refused() {
     opts.direction = interpolab::fillet::FeedDirection::V;
     let err = iso_scallop(&bore, &cutter, Strategy::Matched, &opts, &part).unwrap_err();
     let msg = err.to_string();
-    assert!(msg.contains("no path could be started") && msg.contains("at every inclination tried"), "{msg}");
+    assert!(msg.contains("no path could be started"), "{msg}");
 }

@@ -69,7 +69,12 @@ pub struct OrientOptions {
     pub margin_per_mm: f64,
     /// Largest inclination α (rad; default 45°).
     pub max_inclination_rad: f64,
-    /// Largest |ψ| for `matched` (rad; default 60°).
+    /// Largest |ψ| for `matched` (rad; default 0: lead only). Turning the meridian off the
+    /// feed (tilt) brings the corner's meridian curvature 1/r into the cross profile; that
+    /// curvature holds only over the arc r·α between the contact and the flat bottom, so
+    /// the second-order sweep model then overstates the strip (the brute force measured
+    /// scallops up to 2·h with tilts of 5°–20° at small α, docs/fillet.md). Raise it only
+    /// with that in mind.
     pub max_azimuth_rad: f64,
     /// Largest change of α and ψ per mm of path (rad/mm; default 3°/mm).
     pub max_turn_rad_per_mm: f64,
@@ -80,7 +85,7 @@ impl Default for OrientOptions {
         Self {
             margin_per_mm: 0.002,
             max_inclination_rad: 45f64.to_radians(),
-            max_azimuth_rad: 60f64.to_radians(),
+            max_azimuth_rad: 0.0,
             max_turn_rad_per_mm: 3f64.to_radians(),
         }
     }

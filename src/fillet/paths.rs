@@ -427,8 +427,14 @@ impl Ctx<'_> {
             };
             let psi = node.pose.azimuth_rad;
             let d = oo.max_turn_rad_per_mm * w;
-            let pose_b =
-                pose_at(&self.strategy, &self.cutter, &frame_b, oo, (psi - d, psi + d)).map_or(node.pose, |p| p.0);
+            let pose_b = pose_at(
+                &self.strategy,
+                &self.cutter,
+                &frame_b,
+                oo,
+                ((psi - d).max(-oo.max_azimuth_rad), (psi + d).min(oo.max_azimuth_rad)),
+            )
+            .map_or(node.pose, |p| p.0);
             let pose_b = Pose { inclination_rad: pose_b.inclination_rad.max(node.pose.inclination_rad - d), ..pose_b };
             // The pose the next path's node will get after the gouge checks.
             let pose_b = adjust(&tool, self.surface, self.part, &frame_b, pose_b, oo, self.opts.gouge_tol_mm)
@@ -686,7 +692,14 @@ pub fn iso_parametric(
                 let Some(fb) = ContactFrame::new(surface, uv_b, node.frame.feed) else { continue };
                 let oo = &opts.orient;
                 let psi = node.pose.azimuth_rad;
-                let pose_b = pose_at(&strategy, cutter, &fb, oo, (psi - 0.5, psi + 0.5)).map_or(node.pose, |p| p.0);
+                let pose_b = pose_at(
+                    &strategy,
+                    cutter,
+                    &fb,
+                    oo,
+                    ((psi - 0.5).max(-oo.max_azimuth_rad), (psi + 0.5).min(oo.max_azimuth_rad)),
+                )
+                .map_or(node.pose, |p| p.0);
                 let w = (fb.point - node.frame.point).dot(node.frame.cross);
                 let pa = CrossProfile::new(&tool, surface, node.frame, &node.pose);
                 let pb = CrossProfile::new(&tool, surface, fb, &pose_b);
