@@ -218,6 +218,9 @@ impl PathSet {
     }
 }
 
+/// A forward-step sample: uv, the polyline's direction there (mm), the azimuth window.
+type Sample = (DVec2, DVec3, Option<(f64, f64)>);
+
 /// Everything a job needs, borrowed.
 struct Ctx<'a> {
     surface: &'a Surface,
@@ -276,7 +279,7 @@ impl Ctx<'_> {
             (poly[k - 1].lerp(poly[k], t), pts[k] - pts[k - 1], psi)
         };
         // Forward steps.
-        let mut samples: Vec<(DVec2, DVec3, Option<(f64, f64)>)> = Vec::new();
+        let mut samples: Vec<Sample> = Vec::new();
         let mut s = 0.0;
         loop {
             if *budget == 0 {

@@ -210,7 +210,7 @@ impl FinishScene {
 
 /// The finishing examples shipped in `examples/` (compiled in).
 pub const FINISH_PRESETS: &[super::Preset] = &[
-    super::Preset { id: "finish-bicubic-patch", json: include_str!("../../examples/finish-bicubic-patch.json") },
-    super::Preset { id: "finish-concave-mould", json: include_str!("../../examples/finish-concave-mould.json") },
-    super::Preset { id: "finish-naca-blade", json: include_str!("../../examples/finish-naca-blade.json") },
+    super::Preset { id: "finish-bicubic-patch", json: include_str!("../../examples/finish/bicubic-patch.json") },
+    super::Preset { id: "finish-concave-mould", json: include_str!("../../examples/finish/concave-mould.json") },
+    super::Preset { id: "finish-naca-blade", json: include_str!("../../examples/finish/naca-blade.json") },
 ];
