@@ -3,7 +3,8 @@
 //!
 //! - **Local, bottom and rear**: points of the cutter's lower surface (flat bottom and
 //!   corner, 36 meridians × 7 heights) are projected onto the surface; one more than the
-//!   tolerance below it (inside the domain) is a gouge. Points that lie higher above the
+//!   tolerance below it is a gouge, unless its foot is on an edge of the domain and the point
+//!   lies beyond that edge (over no material). Points that lie higher above the
 //!   tangent plane than the part can rise within that distance (½·k⁺·d², k⁺ the part's
 //!   largest concave normal curvature, sampled once) cannot be below it and are skipped; on
 //!   a part convex everywhere (k⁺ ≤ 0) the cutter, a convex solid resting on the tangent
@@ -155,13 +156,15 @@ pub fn check(
             }
             let guess = geo.map_or(frame.uv, |g| frame.uv + g.tangent_coords(w));
             let foot = project_point(surface, p, guess, opts);
-            let inside = dom.u.contains(foot.uv.x)
-                && dom.v.contains(foot.uv.y)
-                && foot.uv.x > dom.u.min
-                && foot.uv.x < dom.u.max
-                && foot.uv.y > dom.v.min
-                && foot.uv.y < dom.v.max;
-            if inside && foot.signed_distance < -tol_mm {
+            // A foot on an edge of the domain: the point is over the part only when it does
+            // not lie beyond that edge (outward along the parameter's tangent).
+            let fd = surface.derivatives_at(foot.uv);
+            let w = p - foot.point;
+            let beyond = (foot.uv.x <= dom.u.min && !dom.u.periodic && w.dot(fd.du) < 0.0)
+                || (foot.uv.x >= dom.u.max && !dom.u.periodic && w.dot(fd.du) > 0.0)
+                || (foot.uv.y <= dom.v.min && !dom.v.periodic && w.dot(fd.dv) < 0.0)
+                || (foot.uv.y >= dom.v.max && !dom.v.periodic && w.dot(fd.dv) > 0.0);
+            if !beyond && foot.signed_distance < -tol_mm {
                 note(Clash { part: ClashPart::Bottom, depth_mm: -foot.signed_distance, at: foot.point });
             }
         }
