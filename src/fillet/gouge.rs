@@ -2,7 +2,7 @@
 //! the orientation until they pass.
 //!
 //! - **Local, bottom and rear**: points of the cutter's lower surface (flat bottom and
-//!   corner, 36 meridians × 7 heights) are projected onto the surface; one more than the
+//!   corner, 36 meridians × 8 heights) are projected onto the surface; one more than the
 //!   tolerance below it is a gouge, unless its foot is on an edge of the domain and the point
 //!   lies beyond that edge (over no material). Points that lie higher above the
 //!   tangent plane than the part can rise within that distance (½·k⁺·d², k⁺ the part's
@@ -103,7 +103,7 @@ const SAMPLE_SHARE: f64 = 0.5;
 const MERIDIANS: usize = 36;
 
 /// The cutter's lower-surface sample points (mm): the flat bottom at radii 0, R0/2, R0 and
-/// the corner at 10°, 20°, 35°, 55°, 90° from the bottom, on 36 meridians.
+/// the corner at 5°, 10°, 20°, 35°, 55°, 90° from the bottom, on 36 meridians.
 fn lower_points(cutter: &Cutter, tip: DVec3, axis: DVec3) -> Vec<DVec3> {
     let e1 = crate::geom::any_perpendicular(axis);
     let e2 = axis.cross(e1);
@@ -117,7 +117,7 @@ fn lower_points(cutter: &Cutter, tip: DVec3, axis: DVec3) -> Vec<DVec3> {
                 pts.push(tip + rho * e);
             }
         }
-        for deg in [10.0f64, 20.0, 35.0, 55.0, 90.0] {
+        for deg in [5.0f64, 10.0, 20.0, 35.0, 55.0, 90.0] {
             let b = deg.to_radians();
             pts.push(tip + (r0 + r * b.sin()) * e + r * (1.0 - b.cos()) * axis);
         }
