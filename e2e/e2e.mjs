@@ -70,6 +70,32 @@ const browser = await chromium.launch({
   ],
 });
 const context = await browser.newContext({ viewport: { width: 1400, height: 900 }, deviceScaleFactor: 1 });
+// Frame gaps: every page records the time between animation frames, so a frame the app
+// blocks (work on the main thread) shows as a long gap. Measured, reported, not asserted:
+// timings on a shared CPU are no test.
+await context.addInitScript(() => {
+  window.__frameGaps = [];
+  let last = null;
+  const tick = (t) => {
+    if (last !== null) window.__frameGaps.push(t - last);
+    last = t;
+    requestAnimationFrame(tick);
+  };
+  requestAnimationFrame(tick);
+});
+const frameReport = [];
+async function resetFrames(p) {
+  await p.evaluate(() => { window.__frameGaps.length = 0; });
+}
+async function recordFrames(p, label) {
+  const gaps = await p.evaluate(() => window.__frameGaps.splice(0));
+  if (gaps.length === 0) return;
+  const sorted = [...gaps].sort((a, b) => a - b);
+  const q = (f) => sorted[Math.min(sorted.length - 1, Math.floor(f * sorted.length))];
+  const row = { label, frames: gaps.length, median_ms: q(0.5), p99_ms: q(0.99), longest_ms: sorted[sorted.length - 1] };
+  frameReport.push(row);
+  console.log(`      frames while ${label}: ${row.frames}, median ${row.median_ms.toFixed(1)} ms, p99 ${row.p99_ms.toFixed(1)} ms, longest ${row.longest_ms.toFixed(1)} ms`);
+}
 const consoleErrors = [];
 context.on("console", (m) => { if (m.type() === "error") consoleErrors.push(m.text()); });
 context.on("weberror", (e) => consoleErrors.push(String(e.error())));
@@ -92,11 +118,13 @@ try {
   // The slider's rail is its first 100 points; press on it and drag a little to the right.
   const [x, y, , h] = s0.ui.feed_slider;
   const handleY = y + h / 2;
+  await resetFrames(page);
   await page.mouse.move(x + 40, handleY);
   await page.mouse.down();
   await page.mouse.move(x + 70, handleY, { steps: 8 });
   await page.mouse.up();
   const s1 = await waitFor(page, "the path after moving the feed slider", (s) => s.feed_mm_per_min !== s0.feed_mm_per_min && settled(s));
+  await recordFrames(page, "dragging the crease's feed slider");
   await page.screenshot({ path: path.join(artifacts, "02-after-feed-slider.png") });
   check("moving the feed slider changes the number of periods", s1.periods !== s0.periods,
     `feed ${s0.feed_mm_per_min} → ${s1.feed_mm_per_min.toFixed(1)} mm/min, periods ${s0.periods} → ${s1.periods}`);
@@ -165,8 +193,10 @@ try {
   const s8 = await waitFor(page5, "the app for the panel tabs", settled);
   const clickRect = async (p, r) => p.mouse.click(r[0] + r[2] / 2, r[1] + r[3] / 2);
   const panelDone = (title) => (s) => s.panel && s.panel.title === title && s.panel.status && s.panel.status.computing === false;
+  await resetFrames(page5);
   await clickRect(page5, s8.ui["5-axis (seed 002)"]);
   const f1 = await waitFor(page5, "the 5-axis view (Example 1, one block)", panelDone("5-axis (seed 002)"));
+  await recordFrames(page5, "opening the 5-axis tab");
   await page5.waitForTimeout(500);
   const shot5a = await page5.screenshot({ path: path.join(artifacts, "06-fiveaxis-example1-before.png") });
   const p1 = f1.panel.status;
@@ -182,11 +212,13 @@ try {
   check("5-axis tab: after the steps every segment is within E", p2.blocks === 32 && p2.worst_delta_mm <= p2.tol_mm && p2.error === "",
     `${p2.blocks} blocks, worst δ ${(p2.worst_delta_mm * 1e3).toFixed(4)} µm, E ${p2.tol_mm} mm, iterations ${JSON.stringify(p2.compare)}`);
   const [tx, ty, , th] = p2.ui.tolerance;
+  await resetFrames(page5);
   await page5.mouse.move(tx + 40, ty + th / 2);
   await page5.mouse.down();
   await page5.mouse.move(tx + 15, ty + th / 2, { steps: 6 });
   await page5.mouse.up();
   const f3 = await waitFor(page5, "the plan at a new tolerance", (s) => panelDone("5-axis (seed 002)")(s) && s.panel.status.tol_mm !== p2.tol_mm);
+  await recordFrames(page5, "dragging the 5-axis tolerance slider");
   const p3 = f3.panel.status;
   check("5-axis tab: the iteration table follows the tolerance slider",
     p3.blocks > p2.blocks && p3.compare.secant !== p2.compare.secant && Object.values(p3.compare).every((v) => Number.isInteger(v)),
@@ -198,8 +230,10 @@ try {
   const p3b = f3b.panel.status;
   check("5-axis tab: the tip-bound switch replans within E",
     p3b.blocks >= p3.blocks && p3b.worst_delta_mm <= p3b.tol_mm && p3b.error === "", `${p3.blocks} → ${p3b.blocks} blocks`);
+  await resetFrames(page5);
   await clickRect(page5, f3b.ui["Chords (seed 003)"]);
   const f4 = await waitFor(page5, "the chords view", panelDone("Chords (seed 003)"));
+  await recordFrames(page5, "opening the chords tab");
   await page5.waitForTimeout(500);
   const shot5c = await page5.screenshot({ path: path.join(artifacts, "08-chords-parabola.png") });
   const rows = f4.panel.status.rows;
@@ -242,10 +276,12 @@ try {
     await pageN.goto(url + "#scene=" + base64url(fs.readFileSync(path.join(examples, "torus-plane.json"), "utf8")));
     let sn = await waitFor(pageN, "the torus crease", settled);
     const tab = sn.ui[TAB];
+    await resetFrames(pageN);
     await pageN.mouse.click(tab[0] + tab[2] / 2, tab[1] + tab[3] / 2);
     const panelDone = (s) => s.panel && s.panel.title === TAB && s.panel.status && s.panel.status.done;
     const tn = Date.now();
     sn = await waitFor(pageN, "the NURBS panel's comparison", panelDone);
+    await recordFrames(pageN, "the NURBS tab computes its comparison");
     const st = sn.panel.status;
     const shotN = await pageN.screenshot({ path: path.join(artifacts, "nurbs-1-panel.png") });
     const v = st.ui.view;
@@ -330,6 +366,12 @@ try {
   await gpuBrowser.close();
 } catch (e) {
   check("on WebGPU: the app runs", false, e.message);
+}
+
+if (frameReport.length > 0) {
+  fs.writeFileSync(path.join(artifacts, "frames.json"), JSON.stringify(frameReport, null, 2));
+  const longest = frameReport.reduce((a, b) => (b.longest_ms > a.longest_ms ? b : a));
+  console.log(`\nlongest frame: ${longest.longest_ms.toFixed(1)} ms (${longest.label}); all in e2e/artifacts/frames.json`);
 }
 
 const passed = results.filter((r) => r.ok).length;

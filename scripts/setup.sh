@@ -34,6 +34,18 @@ if ! wasm-bindgen --version 2>/dev/null | grep -q " $WASM_BINDGEN_VERSION\$"; th
         || cargo install wasm-bindgen-cli --version "=$WASM_BINDGEN_VERSION"
 fi
 
+# wasm-opt for release web builds (Trunk's post_build hook web/wasm-opt.mjs): binaryen's
+# JS/wasm build from npm, pinned in web/package-lock.json. (Trunk would download a prebuilt
+# binary; Debian's binaryen 108 produces a broken module.)
+if [ ! -x web/node_modules/.bin/wasm-opt ]; then
+    if command -v npm >/dev/null 2>&1; then
+        say "installing wasm-opt (npm: binaryen) for release web builds"
+        (cd web && npm ci --no-audit --no-fund --loglevel=error)
+    else
+        say "npm not found: release web builds will not be shrunk by wasm-opt"
+    fi
+fi
+
 if [ "$what" = "test" ]; then
     if ! command -v chromium >/dev/null 2>&1; then
         say "installing Debian's chromium for the browser tests"

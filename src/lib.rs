@@ -15,9 +15,12 @@
 //! - [`chords`]: seed 003 — equal-error chords;
 //! - [`nurbs_path`]: seed 004 — NURBS fitting and real-time NURBS interpolation;
 //! - [`gcode`]: G01/G02/G03/G06.2 programs out and in;
+//! - [`simulate`]: cutting simulation on a dexel stock (any program, maps and statistics);
 //! - [`report`]: CSV/JSON output of runs (what the command line prints).
 //!
 //! Units: mm, seconds and radians inside; mm/min, ms and degrees only in files and UI.
+
+#![forbid(unsafe_code)]
 
 pub mod chords;
 pub mod crease;
@@ -25,10 +28,12 @@ pub mod fillet;
 pub mod fiveaxis;
 pub mod gcode;
 pub mod geom;
+pub mod limits;
 pub mod linalg;
 pub mod nurbs_path;
 pub mod report;
 pub mod scene;
+pub mod simulate;
 pub mod tolerance;
 
 #[cfg(feature = "app")]

@@ -4,6 +4,8 @@
 //!   subcommand and the `app` feature it opens the app in a window.
 //! - On wasm32 (built by Trunk): starts the browser app on the page's canvas.
 
+#![forbid(unsafe_code)]
+
 #[cfg(not(target_arch = "wasm32"))]
 mod cli;
 

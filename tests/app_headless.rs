@@ -557,6 +557,31 @@ mod nurbs_panel {
         assert!(h.app.set_panel_option(TAB, "update", "fourth").is_err_and(|e| e.contains("corrected")));
     }
 
+    /// The dialect choice writes the programs in Sinumerik's and LinuxCNC's words, with the
+    /// command line's numbers (`interpolab compare --profile parabola --tolerance 0.01
+    /// --dialect all`, docs/gcode-dialects.md).
+    #[test]
+    fn the_dialect_choice_gives_the_command_lines_programs() {
+        let mut h = Harness::new();
+        h.settle();
+        super::set(&mut h, TAB, "source", "parabola");
+        super::set(&mut h, TAB, "tol_mm", "0.01");
+        for (dialect, blocks, bytes) in
+            [("sinumerik", [77, 15, 26], [1774, 887, 1350]), ("linuxcnc", [77, 15, 27], [1775, 972, 1007])]
+        {
+            super::set(&mut h, TAB, "dialect", dialect);
+            let s = until_done(&mut h);
+            let rows = s["rows"].as_array().expect("rows");
+            let got_blocks: Vec<u64> = rows.iter().filter_map(|r| r["path_blocks"].as_u64()).collect();
+            let got_bytes: Vec<u64> = rows.iter().filter_map(|r| r["bytes"].as_u64()).collect();
+            assert_eq!(got_blocks, blocks, "{dialect}: {s}");
+            assert_eq!(got_bytes, bytes, "{dialect}: {s}");
+        }
+        assert!(
+            h.app.set_panel_option(TAB, "dialect", "okuma").is_err_and(|e| e.contains("fanuc, sinumerik, linuxcnc"))
+        );
+    }
+
     /// At the slowest feed the real-time runs have 10⁵ periods in all: they are spread over
     /// frames and still give the core's numbers.
     #[test]

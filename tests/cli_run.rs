@@ -42,17 +42,32 @@ fn run_prints_the_nine_columns_one_row_per_period() {
     let mut lines = text.lines();
     assert_eq!(lines.next(), Some("k,t_ms,x,y,z,u1,v1,u2,v2"));
     let rows: Vec<Vec<f64>> = lines.map(|l| l.split(',').map(|x| x.parse().expect("number")).collect()).collect();
-    assert_eq!(rows.len(), 2828, "row 0 plus 2827 periods of one turn");
+    assert_eq!(rows.len(), 2829, "row 0, 2827 whole periods of one turn and the final shorter one");
+    let last = rows.len() - 1;
     for (k, r) in rows.iter().enumerate() {
         assert_eq!(r.len(), 9);
         assert_eq!(r[0], k as f64);
-        assert!((r[1] - 4.0 * k as f64).abs() < 1e-9, "t_ms = k·Ts");
+        if k < last {
+            assert!((r[1] - 4.0 * k as f64).abs() < 1e-9, "t_ms = k·Ts");
+        }
         // u2 is the cylinder's angle in degrees, v2 its height in mm.
         let angle = r[3].atan2(r[2]).to_degrees().rem_euclid(360.0);
         assert!((angle - r[7]).abs() < 1e-6 || (angle - r[7]).abs() > 359.99, "u2 in degrees: {} vs {angle}", r[7]);
         assert!((r[8] - 5.0).abs() < 1e-9, "v2 = contact height = R'");
     }
     assert!(stderr(&o).contains("closed on itself"), "the stop reason is reported: {}", stderr(&o));
+    // The loop closes exactly on its first point, with a final period of its own duration:
+    // the chord at the programmed feed (f = 0.1 mm per 4 ms).
+    assert_eq!(rows[last][2..9], rows[0][2..9], "the last row is the first point");
+    let chord = ((rows[last][2] - rows[last - 1][2]).powi(2)
+        + (rows[last][3] - rows[last - 1][3]).powi(2)
+        + (rows[last][4] - rows[last - 1][4]).powi(2))
+    .sqrt();
+    assert!(chord > 0.0 && chord < 0.1, "{chord}");
+    assert!((rows[last][1] - rows[last - 1][1] - 4.0 * chord / 0.1).abs() < 1e-9, "final period's time");
+    // The 2π·45 mm loop is covered: whole periods plus the partial one.
+    let length = (last - 1) as f64 * 0.1 + chord;
+    assert!((length - 2.0 * std::f64::consts::PI * 45.0).abs() < 1e-3, "{length}");
 }
 
 #[test]
@@ -130,8 +145,9 @@ fn check_summarises_length_periods_curvature_and_errors() {
     let o = run(&["check", path.to_str().expect("utf8")]);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = stdout(&o);
-    assert!(text.contains("periods      2827"), "{text}");
-    assert!(text.contains("length       282.7000 mm"), "{text}");
+    assert!(text.contains("periods      2828"), "2827 whole periods and the final one: {text}");
+    // The chord polygon of the 2π·45 = 282.7433 mm loop.
+    assert!(text.contains("length       282.743"), "{text}");
     assert!(text.contains("0.020000 to 0.020000 1/mm"), "cylinder's normal curvature 1/50 along the crease: {text}");
     assert_eq!(text.matches("within").count(), 2, "{text}");
     // A tolerance tighter than the paper's bound (16) is flagged with exit status 1.

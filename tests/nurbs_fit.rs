@@ -204,6 +204,29 @@ fn parabola_fit_stays_within_tolerance() {
     }
 }
 
+/// Controllers that imply uniform knots (Sinumerik one PL, LinuxCNC G5.2) get a fit with
+/// equal spans (a quantum does not apply), still within the tolerance.
+#[test]
+fn uniform_fit_has_equal_spans_and_stays_within_tolerance() {
+    let para = Parabola::paper_like();
+    let opts = ApproxOptions::default().with_uniform_knots(true).with_knot_quantum(Some(0.001));
+    for tol in [0.01, 0.002] {
+        let fit = approximate_curve(&para, tol, &opts).expect("fit");
+        let c = &fit.curve;
+        let k = c.knots();
+        let p = c.degree();
+        let spans: Vec<f64> = k[p..k.len() - p].windows(2).map(|w| w[1] - w[0]).collect();
+        assert_eq!(spans.len(), c.len() - p, "no repeated interior knots");
+        assert!(spans.iter().all(|h| (h - spans[0]).abs() < 1e-9 * spans[0].max(1.0)), "{spans:?}");
+        let worst = sample(c, 3000).iter().map(|q| parabola_distance(para.a, para.x0, para.x1, *q)).fold(0.0, f64::max);
+        assert!(worst <= tol, "tol {tol}: worst {worst}");
+        // Equal spans cannot follow the parabola's curvature: more control points than the
+        // refined and equidistributed fit.
+        let free = approximate_curve(&para, tol, &ApproxOptions::default()).expect("fit");
+        assert!(c.len() > free.curve.len(), "{} vs {}", c.len(), free.curve.len());
+    }
+}
+
 #[test]
 fn tighter_tolerance_needs_more_control_points() {
     let para = Parabola::paper_like();

@@ -22,6 +22,15 @@ impl FileKind {
         }
     }
 
+    /// The most bytes the app reads of such a file, and what to call it in the refusal.
+    #[must_use]
+    pub fn size_cap(self) -> (u64, &'static str) {
+        match self {
+            Self::Scene => (crate::limits::MAX_SCENE_BYTES, "scene"),
+            Self::GCode => (crate::limits::MAX_PROGRAM_BYTES, "G-code program"),
+        }
+    }
+
     /// The `accept` list of the file picker.
     #[must_use]
     pub fn accept(self) -> &'static str {
@@ -96,6 +105,14 @@ mod imp {
                     let inbox3 = inbox2.clone();
                     let ctx3 = ctx2.clone();
                     let input3 = input2.clone();
+                    let (cap, what) = kind.size_cap();
+                    if file.size() > cap as f64 {
+                        let text = Err(crate::limits::TextError::TooLarge { cap_mib: cap >> 20, what }.to_string());
+                        inbox2.borrow_mut().push(Incoming { name, text, kind });
+                        input2.set_value("");
+                        ctx2.request_repaint();
+                        return;
+                    }
                     wasm_bindgen_futures::spawn_local(async move {
                         let text = match wasm_bindgen_futures::JsFuture::from(file.text()).await {
                             Ok(v) => v.as_string().ok_or_else(|| "the file is not text".to_owned()),
@@ -265,7 +282,11 @@ mod imp {
             });
             if load {
                 let p = path.clone();
-                let text = std::fs::read_to_string(&p).map_err(|e| format!("cannot read {p}: {e}"));
+                let (cap, what) = kind.size_cap();
+                let text = std::fs::File::open(&p)
+                    .map_err(|e| e.to_string())
+                    .and_then(|f| crate::limits::read_text(f, cap, what))
+                    .map_err(|e| format!("cannot read {p}: {e}"));
                 self.inbox.push(Incoming { name: p, text, kind });
                 self.open_dialog = None;
             } else if !open {
@@ -288,6 +309,10 @@ mod imp {
 pub use imp::Platform;
 
 fn decode(name: String, bytes: Result<Vec<u8>, String>, kind: FileKind) -> Incoming {
-    let text = bytes.and_then(|b| String::from_utf8(b).map_err(|_| "the file is not UTF-8 text".to_owned()));
+    let (cap, what) = kind.size_cap();
+    let text = bytes.and_then(|b| {
+        crate::limits::check_size(b.len(), cap, what).map_err(|e| e.to_string())?;
+        crate::limits::text_from_bytes(b).map_err(|e| e.to_string())
+    });
     Incoming { name, text, kind }
 }

@@ -7,13 +7,13 @@ use std::process::ExitCode;
 
 use super::{Fatal, MethodArg, OutFormat};
 
-use interpolab::crease::{CreaseJob, InterpOptions, Interpolator, Method, Step, diagnose, measured_errors};
+use interpolab::crease::{CreaseJob, InterpOptions, Interpolator, Method, Step, WorstError, diagnose};
 use interpolab::report::{Format, RowWriter, fmt_num};
 use interpolab::scene::Scene;
 
 pub(super) fn load(path: &Path) -> Result<(Scene, CreaseJob), Fatal> {
-    let text =
-        fs::read_to_string(path).map_err(|e| Fatal(format!("cannot read scene file {}: {e}", path.display())))?;
+    let text = super::read_capped(path, interpolab::limits::MAX_SCENE_BYTES, "scene")
+        .map_err(|e| Fatal(format!("cannot read scene file {}: {e}", path.display())))?;
     let scene = Scene::from_json(&text).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
     let job = CreaseJob::from_scene(&scene).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
     Ok((scene, job))
@@ -29,10 +29,11 @@ pub(super) fn run(
 ) -> Result<ExitCode, Fatal> {
     let (scene, job) = load(path)?;
     let sink: Box<dyn Write> = match out {
-        Some(p) => Box::new(BufWriter::new(
+        Some(p) => Box::new(BufWriter::with_capacity(
+            1 << 16,
             fs::File::create(p).map_err(|e| Fatal(format!("cannot create {}: {e}", p.display())))?,
         )),
-        None => Box::new(BufWriter::new(io::stdout().lock())),
+        None => Box::new(BufWriter::with_capacity(1 << 16, io::stdout().lock())),
     };
     let format = match format {
         OutFormat::Csv => Format::Csv,
@@ -54,18 +55,17 @@ pub(super) fn run(
         ..InterpOptions::default()
     };
     let mut note = None;
-    // The largest measured |e_i| (mm) and the period where it occurred.
-    let mut worst = [(0.0f64, 0u64); 2];
+    let mut final_period_ms = None;
+    // The largest measured |e_i| (mm) and the period where it occurred, for the b·T warning.
+    let mut worst = WorstError::default();
     let outcome = Interpolator::new(job.clone(), opts).and_then(|mut it| {
         let mut emit = |row: &interpolab::crease::Row| -> Result<(), io::Error> {
             let d = if errors { diagnose(&job, row) } else { None };
-            // Measured on every row (two foot points, cheap next to writing the row), so a
-            // run whose feed is too long for the crease's curvature says so.
-            let measured = d.as_ref().map_or_else(|| measured_errors(&job, row), |d| d.measured);
-            for i in 0..2 {
-                if measured[i].abs() > worst[i].0 {
-                    worst[i] = (measured[i].abs(), row.k);
-                }
+            // Measured on every row (screened cheaply, see `WorstError`), so a run whose feed
+            // is too long for the crease's curvature says so.
+            match &d {
+                Some(d) => worst.observe_measured(d.measured, row.k),
+                None => worst.observe(&job, row),
             }
             writer.row(&job, row, d.as_ref())
         };
@@ -81,19 +81,20 @@ pub(super) fn run(
                 }
                 Step::Stopped(reason) => {
                     note = it.end_not_reached().map(|n| n.to_string());
+                    final_period_ms = it.final_period_ms();
                     return Ok(reason);
                 }
             }
         }
     });
-    writer.finish(&outcome, note.as_deref()).map_err(io_err)?;
+    writer.finish_exact(&outcome, note.as_deref(), final_period_ms).map_err(io_err)?;
     match outcome {
         Ok(reason) => {
             let _ = writeln!(io::stderr(), "interpolab: {}: stopped: {reason}", path.display());
             if let Some(note) = note {
                 let _ = writeln!(io::stderr(), "interpolab: {}: note: {note}", path.display());
             }
-            for (i, (e, k)) in worst.iter().enumerate() {
+            for (i, (e, k)) in worst.worst.iter().enumerate() {
                 let allowed = job.allowed_error_mm(i);
                 if *e > allowed {
                     let _ = writeln!(
@@ -149,8 +150,10 @@ pub(super) fn check(path: &Path) -> Result<ExitCode, Fatal> {
             angle[1] = angle[1].max(d.crease_angle_deg);
         }
     };
+    let mut t_last_ms = 0.0;
     let outcome = it.run(|r| {
         n = r.k;
+        t_last_ms = r.t_ms;
         observe(r);
     });
     let f = job.feed_per_period_mm;
@@ -193,7 +196,8 @@ pub(super) fn check(path: &Path) -> Result<ExitCode, Fatal> {
     }
     w(
         &mut o,
-        format!("length       {:.4} mm, machining time {:.3} s", n as f64 * f, n as f64 * job.period_ms / 1000.0),
+        // The last period may be the shorter final one: the time says how far the path went.
+        format!("length       {:.4} mm, machining time {:.3} s", t_last_ms / job.period_ms * f, t_last_ms / 1000.0),
     );
     w(&mut o, format!("crease angle {:.3}° to {:.3}° between the normals", angle[0], angle[1]));
     let mut exceeded = false;

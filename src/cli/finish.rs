@@ -21,9 +21,6 @@ use interpolab::fillet::{PartSamples, PathSet, Strategy, compare, iso_parametric
 use interpolab::report::fmt_num;
 use interpolab::scene::finish::{FinishJob, FinishScene};
 
-/// Largest scene file read (bytes).
-const MAX_SCENE_BYTES: u64 = 16 << 20;
-
 /// Orientation strategies by their command-line names.
 #[derive(Clone, Copy, ValueEnum)]
 pub(crate) enum StrategyArg {
@@ -81,15 +78,8 @@ pub(crate) struct FinishArgs {
 }
 
 fn load(path: &Path) -> Result<FinishJob, Fatal> {
-    let size = fs::metadata(path).map_err(|e| Fatal(format!("cannot read scene file {}: {e}", path.display())))?.len();
-    if size > MAX_SCENE_BYTES {
-        return Err(Fatal(format!(
-            "{}: the file has {size} bytes, more than the {MAX_SCENE_BYTES} a scene may have; give a scene file",
-            path.display()
-        )));
-    }
-    let text =
-        fs::read_to_string(path).map_err(|e| Fatal(format!("cannot read scene file {}: {e}", path.display())))?;
+    let text = super::read_capped(path, interpolab::limits::MAX_SCENE_BYTES, "scene")
+        .map_err(|e| Fatal(format!("cannot read scene file {}: {e}", path.display())))?;
     let scene = FinishScene::from_json(&text).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
     scene.job().map_err(|e| Fatal(format!("{}: {e}", path.display())))
 }

@@ -769,3 +769,15 @@ fn chords_table(a: &ChordsArgs, opts: &ChordOptions) -> Result<ExitCode, Fatal> 
     o.flush().map_err(|e| fatal_io(&e))?;
     Ok(ExitCode::SUCCESS)
 }
+
+/// The seed-002 tool steps of a scene's crease at tolerance `tol_mm` (Bisection root
+/// search), for the cutting simulation: the machine, the blocks, and the scene's ball
+/// radius (mm).
+pub(super) fn scene_blocks(
+    path: &Path,
+    tol_mm: f64,
+) -> Result<(Machine, Vec<interpolab::fiveaxis::Block>, f64), Fatal> {
+    let case = scene_case(path)?;
+    let plan = plan_case(&case, tol_mm, RootMethod::Bisection, false)?;
+    Ok((case.machine, plan.nodes.iter().map(|n| n.block).collect(), case.path.ball_radius_mm()))
+}

@@ -15,8 +15,8 @@ use clap::{Args, ValueEnum};
 use super::Fatal;
 
 use interpolab::gcode::{
-    CompareOptions, DeviationOptions, ProgramKind, ProgramOptions, ProgrammedPoint, Segment, TableStyle, compare,
-    crease_design, deviation, format_comparison, parse_program, summarize, write_program,
+    CompareOptions, DeviationOptions, Dialect, ProgramKind, ProgramOptions, ProgrammedPoint, Segment, TableStyle,
+    compare, crease_design, deviation, format_comparisons, parse_program_in, summarize, write_program,
 };
 use interpolab::geom::Curve3;
 use interpolab::nurbs_path::measure::Translated;
@@ -31,6 +31,27 @@ pub(crate) enum KindArg {
     Arcs,
     /// FANUC-style G06.2 NURBS.
     Nurbs,
+}
+
+/// `--dialect`: one dialect, or (for `compare`) `all`.
+#[derive(Clone, Debug)]
+pub(crate) struct DialectsArg(Vec<Dialect>);
+
+fn parse_dialects(s: &str) -> Result<DialectsArg, String> {
+    if s.trim().eq_ignore_ascii_case("all") {
+        return Ok(DialectsArg(Dialect::ALL.to_vec()));
+    }
+    s.parse::<Dialect>().map(|d| DialectsArg(vec![d])).map_err(|e| format!("{e} (or all, for compare)"))
+}
+
+impl DialectsArg {
+    /// The one dialect of `gcode` and `nurbs`.
+    fn one(&self) -> Result<Dialect, Fatal> {
+        match self.0.as_slice() {
+            [d] => Ok(*d),
+            _ => Err(Fatal("--dialect all is for compare; give one of fanuc, sinumerik, linuxcnc".to_owned())),
+        }
+    }
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -96,9 +117,13 @@ pub(crate) struct ProgramArgs {
     /// Absolute safe height (mm); default 5 mm above the highest point of the path.
     #[arg(long)]
     safe_z: Option<f64>,
-    /// Degree of G06.2 curves (1 to 3).
+    /// Degree of G06.2 curves (1 to 3; BSPLINE and G5.2: 2 or 3).
     #[arg(long, default_value_t = 3)]
     degree: usize,
+    /// Controller dialect: fanuc (G06.2), sinumerik (BSPLINE), linuxcnc (G5.2, XY only);
+    /// `compare` also takes all.
+    #[arg(long, default_value = "fanuc", value_parser = parse_dialects)]
+    dialect: DialectsArg,
 }
 
 #[derive(Args)]
@@ -148,6 +173,15 @@ pub(crate) struct ReplayArgs {
     /// Report whether the deviation is within this tolerance (mm); exit 1 if not.
     #[arg(long)]
     tolerance: Option<f64>,
+    /// Dialect of the program: fanuc, sinumerik or linuxcnc; default guessed from the text
+    /// (our header's DIALECT comment, else BSPLINE/SD=/PL=/PW=/G710 → sinumerik,
+    /// G5.2/G5.3 → linuxcnc, else fanuc).
+    #[arg(long, value_parser = parse_dialect)]
+    dialect: Option<Dialect>,
+}
+
+fn parse_dialect(s: &str) -> Result<Dialect, String> {
+    s.parse::<Dialect>().map_err(|e| e.to_string())
 }
 
 #[derive(Args)]
@@ -221,7 +255,9 @@ fn point_of(arg: PointArg, tool_radius: Option<f64>, design: &Design) -> Result<
 
 fn program_options(a: &ProgramArgs, design: &Design) -> Result<ProgramOptions, Fatal> {
     let feed = a.feed.unwrap_or(design.feed);
+    let dialect = a.dialect.0.first().copied().unwrap_or_default();
     Ok(ProgramOptions::default()
+        .with_dialect(dialect)
         .with_resolution(a.resolution)
         .with_feed(feed)
         .with_point(point_of(a.point, a.tool_radius, design)?)
@@ -254,36 +290,43 @@ fn write_out(out: Option<&Path>, text: &str) -> Result<(), Fatal> {
 
 pub(super) fn gcode(a: &GcodeArgs) -> Result<ExitCode, Fatal> {
     let design = load_design(a.design.scene.as_deref(), a.design.profile)?;
-    let opts = program_options(&a.program, &design)?.with_line_numbers(a.line_numbers);
+    let opts =
+        program_options(&a.program, &design)?.with_line_numbers(a.line_numbers).with_dialect(a.program.dialect.one()?);
     let kind = kind_of(a.kind);
     let p = write_program(kind, design.curve.as_ref(), a.program.tolerance, &opts).map_err(|e| Fatal(e.to_string()))?;
     write_out(a.out.as_deref(), &p.text)?;
     let _ = writeln!(
         io::stderr(),
-        "interpolab: {} program: {} path blocks, {} bytes, max deviation {} mm after rounding to {} mm (tolerance {} mm)",
-        kind.label(),
+        "interpolab: {} program: {} path blocks, {} bytes, max deviation {} mm after rounding to {} mm (tolerance {} mm){}",
+        opts.dialect.kind_label(kind),
         p.path_blocks,
         p.bytes(),
         fmt_fixed(p.deviation.max_mm(), 6),
         fmt_num(a.program.resolution),
-        fmt_num(a.program.tolerance)
+        fmt_num(a.program.tolerance),
+        p.blend_mm.map_or(String::new(), |b| format!(", G64 P{} blending", fmt_num(b)))
     );
     Ok(ExitCode::SUCCESS)
 }
 
 pub(super) fn compare_cmd(a: &CompareArgs) -> Result<ExitCode, Fatal> {
     let design = load_design(a.design.scene.as_deref(), a.design.profile)?;
-    let opts = CompareOptions {
-        program: program_options(&a.program, &design)?,
-        period_ms: design.period_ms,
-        chord_tol_mm: None,
-    };
-    let c = compare(design.curve.as_ref(), a.program.tolerance, &opts).map_err(|e| Fatal(e.to_string()))?;
+    let mut cs = Vec::new();
+    for &dialect in &a.program.dialect.0 {
+        let opts = CompareOptions {
+            program: program_options(&a.program, &design)?.with_dialect(dialect),
+            period_ms: design.period_ms,
+            chord_tol_mm: None,
+        };
+        let c = compare(design.curve.as_ref(), a.program.tolerance, &opts)
+            .map_err(|e| Fatal(format!("{}: {e}", dialect.label())))?;
+        cs.push(c);
+    }
     let style = match a.format {
         TableArg::Markdown => TableStyle::Markdown,
         TableArg::Csv => TableStyle::Csv,
     };
-    write_out(None, &format_comparison(&c, style))?;
+    write_out(None, &format_comparisons(&cs, style))?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -292,18 +335,24 @@ fn v3(p: glam::DVec3) -> String {
 }
 
 pub(super) fn replay(a: &ReplayArgs) -> Result<ExitCode, Fatal> {
-    let text = fs::read_to_string(&a.program)
+    let text = super::read_capped(&a.program, interpolab::limits::MAX_PROGRAM_BYTES, "G-code program")
         .map_err(|e| Fatal(format!("cannot read program {}: {e}", a.program.display())))?;
-    let parsed = parse_program(&text).map_err(|e| Fatal(format!("{}: {e}", a.program.display())))?;
+    let (dialect, how) = match a.dialect {
+        Some(d) => (d, "given"),
+        None => (Dialect::guess(&text), "guessed from the text"),
+    };
+    let parsed = parse_program_in(&text, dialect).map_err(|e| Fatal(format!("{}: {e}", a.program.display())))?;
     let s = summarize(&parsed.toolpath);
     let mut lines = vec![
         format!("program      {} ({} lines, {} blocks)", a.program.display(), parsed.lines, parsed.blocks),
+        format!("dialect      {dialect} ({}), {how}", dialect.label()),
         format!(
-            "moves        G00 {}, G01 {}, G02 {}, G03 {}, G06.2 curves {} ({} control points); path blocks {}",
+            "moves        G00 {}, G01 {}, G02 {}, G03 {}, {} curves {} ({} control points); path blocks {}",
             s.moves[0],
             s.moves[1],
             s.moves[2],
             s.moves[3],
+            dialect.kind_label(ProgramKind::Nurbs),
             s.moves[4],
             s.nurbs_control_points,
             parsed.path_blocks()
@@ -315,6 +364,13 @@ pub(super) fn replay(a: &ReplayArgs) -> Result<ExitCode, Fatal> {
     }
     if let Some((lo, hi)) = s.feed_range {
         lines.push(format!("feed         {} to {} mm/min", fmt_num(lo), fmt_num(hi)));
+    }
+    let blend = parsed.blend_mm.unwrap_or(0.0);
+    if let Some(b) = parsed.blend_mm {
+        lines.push(format!(
+            "blending     G64 P{} mm: the control may leave the programmed path by up to that much more",
+            fmt_num(b)
+        ));
     }
     for u in &parsed.unsupported {
         lines.push(format!("UNSUPPORTED  line {}: {} ({}); its effect is left out", u.line, u.word, u.reason));
@@ -335,6 +391,12 @@ pub(super) fn replay(a: &ReplayArgs) -> Result<ExitCode, Fatal> {
             d.design_length_mm,
             point.comment().trim_start_matches("PROGRAMMED POINT: ").to_lowercase()
         ));
+        if d.sample_spacing_mm > DeviationOptions::default().design_spacing_mm {
+            lines.push(format!(
+                "note         the program is too long to sample every 0.2 mm: samples {} mm apart (peaks between them found to within half of that, then refined)",
+                fmt_fixed(d.sample_spacing_mm, 3)
+            ));
+        }
         lines.push(format!(
             "program → design  max {} mm at {} (line {})",
             fmt_fixed(d.program_to_design_mm, 6),
@@ -354,10 +416,16 @@ pub(super) fn replay(a: &ReplayArgs) -> Result<ExitCode, Fatal> {
         ));
         match a.tolerance {
             Some(t) => {
-                let ok = d.max_mm() <= t;
+                // With blending, the worst case is the deviation plus the blending tolerance.
+                let ok = d.max_mm() + blend <= t;
                 failed |= !ok;
+                let plus = if blend > 0.0 {
+                    format!(" + G64 P{} = {} mm", fmt_num(blend), fmt_fixed(d.max_mm() + blend, 6))
+                } else {
+                    String::new()
+                };
                 lines.push(format!(
-                    "deviation    {} mm: {} the tolerance {} mm",
+                    "deviation    {} mm{plus}: {} the tolerance {} mm",
                     fmt_fixed(d.max_mm(), 6),
                     if ok { "within" } else { "EXCEEDS" },
                     fmt_num(t)
@@ -376,7 +444,7 @@ pub(super) fn replay(a: &ReplayArgs) -> Result<ExitCode, Fatal> {
 
 pub(super) fn nurbs(a: &NurbsArgs) -> Result<ExitCode, Fatal> {
     let design = load_design(a.design.scene.as_deref(), a.design.profile)?;
-    let opts = program_options(&a.program, &design)?;
+    let opts = program_options(&a.program, &design)?.with_dialect(a.program.dialect.one()?);
     let p = write_program(ProgramKind::Nurbs, design.curve.as_ref(), a.program.tolerance, &opts)
         .map_err(|e| Fatal(e.to_string()))?;
     let curve = p
@@ -384,7 +452,7 @@ pub(super) fn nurbs(a: &NurbsArgs) -> Result<ExitCode, Fatal> {
         .toolpath
         .cuts()
         .find_map(|b| if let Segment::Nurbs(c) = &b.segment { Some(c.clone()) } else { None })
-        .ok_or_else(|| Fatal("the G06.2 program holds no curve (a bug; please report it)".to_owned()))?;
+        .ok_or_else(|| Fatal("the NURBS program holds no curve (a bug; please report it)".to_owned()))?;
     let update = match a.update {
         UpdateArg::First => Update::FirstOrder,
         UpdateArg::Second => Update::SecondOrder,
@@ -417,7 +485,8 @@ pub(super) fn nurbs(a: &NurbsArgs) -> Result<ExitCode, Fatal> {
     let st = run.stats;
     let _ = writeln!(
         io::stderr(),
-        "interpolab: G06.2 curve of {} control points, {} update: {} periods, feed fluctuation max {:.3e} RMS {:.3e}, max chord error {:.3e} mm, {} feed-limited periods",
+        "interpolab: {} curve of {} control points, {} update: {} periods, feed fluctuation max {:.3e} RMS {:.3e}, max chord error {:.3e} mm, {} feed-limited periods",
+        opts.dialect.kind_label(ProgramKind::Nurbs),
         curve.len(),
         update.as_str(),
         st.periods,

@@ -12,6 +12,7 @@ mod crease;
 mod finish;
 mod fiveaxis;
 mod gcode;
+mod simulate;
 
 use std::io::{self, Write};
 use std::path::PathBuf;
@@ -90,6 +91,15 @@ enum Command {
     Chords(fiveaxis::ChordsArgs),
     /// Five-axis finishing of one surface with a fillet-end mill (seed 001): CL data, --table, --gcode.
     Finish(finish::FinishArgs),
+    /// Cutting simulation: machine a G-code program into a dexel stock; height map (CSV), PNG, statistics (JSON).
+    Simulate(simulate::SimulateArgs),
+}
+
+/// Reads a file the command line was given, at most `cap` bytes of it
+/// ([`interpolab::limits`]): a wrong path (`/dev/zero`) is refused, not read forever.
+pub(crate) fn read_capped(path: &std::path::Path, cap: u64, what: &'static str) -> Result<String, String> {
+    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    interpolab::limits::read_text(file, cap, what)
 }
 
 /// A failure that ends the program with status 2 and one line on stderr.
@@ -113,6 +123,7 @@ pub fn main() -> ExitCode {
         Some(Command::Table1(a)) => fiveaxis::table1(&a),
         Some(Command::Chords(a)) => fiveaxis::chords(&a),
         Some(Command::Finish(a)) => finish::finish(&a),
+        Some(Command::Simulate(a)) => simulate::simulate(&a),
     };
     match result {
         Ok(code) => code,

@@ -28,6 +28,7 @@ use glam::DVec3;
 
 use super::{CreaseJob, Row};
 use crate::geom::{LocalGeometry, ParametricSurface, ProjectOptions, project_point};
+use crate::tolerance;
 
 /// Errors and estimates at one row. Lengths in mm, curvatures in 1/mm.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -61,6 +62,52 @@ pub fn measured_errors(job: &CreaseJob, row: &Row) -> [f64; 2] {
     std::array::from_fn(|i| {
         project_point(&job.surfaces[i], row.p, row.uv[i], ProjectOptions::default()).signed_distance - job.r_eff_mm
     })
+}
+
+/// The largest measured |e_i| of a run and the period where it occurred, kept for the b·T
+/// warning of `interpolab run` at a fraction of the cost of [`measured_errors`] on every
+/// row: each row is first *screened* by a projection of at most three Newton steps from the
+/// row's own contact parameters (already within a few micrometres of the foot point), that
+/// stops once a step moves less than [`tolerance::SCREEN_STEP_MM`];
+/// only a screened |e_i| of at least [`tolerance::SCREEN_FRACTION`]·b·T_i, or a screen
+/// that has not settled, is measured again by the full projection. Every row whose error
+/// exceeds b·T is therefore measured exactly as [`measured_errors`] measures it, and the
+/// warning (surface, size, period) is the same; below half of b·T the recorded worst is the
+/// screened value, equal to the full one to far below [`tolerance::MEASUREMENT_FLOOR_MM`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct WorstError {
+    /// Per surface: the largest |e_i| seen (mm) and its period.
+    pub worst: [(f64, u64); 2],
+}
+
+impl WorstError {
+    /// Screens (and when needed measures) the row's errors.
+    pub fn observe(&mut self, job: &CreaseJob, row: &Row) {
+        let screen = ProjectOptions { max_iterations: 3, step_tol_mm: tolerance::SCREEN_STEP_MM };
+        for i in 0..2 {
+            let foot = project_point(&job.surfaces[i], row.p, row.uv[i], screen);
+            let mut e = (foot.signed_distance - job.r_eff_mm).abs();
+            if !foot.converged || !(e < tolerance::SCREEN_FRACTION * job.allowed_error_mm(i)) {
+                e = (project_point(&job.surfaces[i], row.p, row.uv[i], ProjectOptions::default()).signed_distance
+                    - job.r_eff_mm)
+                    .abs();
+            }
+            self.note(i, e, row.k);
+        }
+    }
+
+    /// Records errors already measured (e.g. by [`diagnose`]).
+    pub fn observe_measured(&mut self, measured: [f64; 2], k: u64) {
+        for i in 0..2 {
+            self.note(i, measured[i].abs(), k);
+        }
+    }
+
+    fn note(&mut self, i: usize, e: f64, k: u64) {
+        if e > self.worst[i].0 {
+            self.worst[i] = (e, k);
+        }
+    }
 }
 
 /// Evaluates measured errors and estimates at a row. `None` at a singular point.

@@ -79,14 +79,6 @@ pub enum Step {
 /// Centre, contact parameters, travel direction and the local geometry at the new contacts.
 type ExactStep = (DVec3, [DVec2; 2], DVec3, Option<[LocalGeometry; 2]>);
 
-/// Passing a target point: detects the period nearest to it.
-#[derive(Clone, Copy, Debug)]
-struct Target {
-    point: DVec3,
-    /// Set once the path has been farther than `2·capture` from the point.
-    left: bool,
-}
-
 /// A crease interpolation in progress. Owns its job; drive it with [`Self::step`] (one
 /// period per call) or [`Self::run`].
 #[derive(Clone, Debug)]
@@ -95,9 +87,12 @@ pub struct Interpolator {
     opts: InterpOptions,
     domains: [Domain; 2],
     start: CreasePoint,
-    end: Option<Target>,
-    home: Target,
+    /// The exact crease point of `path.end` (none when the scene has none, or when it is the
+    /// start itself: then the run goes round the closed crease).
+    end: Option<CreasePoint>,
     turns: u32,
+    /// Duration of the last row's period (ms) once the run ended on an exact end point.
+    final_period_ms: Option<f64>,
     /// Last emitted row.
     row: Row,
     /// Unit travel direction of the last period.
@@ -135,15 +130,19 @@ impl Interpolator {
             }
             None => 1.0,
         };
-        let capture = 2.0 * job.feed_per_period_mm + 1e-6;
+        let end = end.filter(|e| (e.p - start.p).length() > tolerance::END_AT_START_MM);
+        // The crease passes within this distance of a target it crosses (the sagitta of a
+        // period plus the interpolation error are far below f while the correction is
+        // bounded by half of f).
+        let capture = job.feed_per_period_mm + tolerance::END_AT_START_MM;
         let domains = [job.surfaces[0].domain(), job.surfaces[1].domain()];
         let row = Row { k: 0, t_ms: 0.0, p: start.p, uv: start.uv };
         Ok(Self {
             opts,
             domains,
-            end: end.map(|e| Target { point: e.p, left: false }),
-            home: Target { point: start.p, left: false },
+            end,
             turns: 0,
+            final_period_ms: None,
             row,
             prev_t: sense * start.tangent,
             start_sense: sense * start.tangent,
@@ -211,6 +210,14 @@ impl Interpolator {
         self.turns
     }
 
+    /// Once the run has stopped on an exact end point (`path.end`, the start of a closed
+    /// crease, or a domain edge): the duration of the last row's period (ms), at most Ts
+    /// when the last period is the shorter final one (see docs/scene-format.md).
+    #[must_use]
+    pub fn final_period_ms(&self) -> Option<f64> {
+        self.final_period_ms
+    }
+
     /// Why the run stopped, once it has.
     #[must_use]
     pub fn stopped(&self) -> Option<StopReason> {
@@ -238,47 +245,118 @@ impl Interpolator {
             }
             Method::Exact => self.exact_step(at)?,
         };
-        // Domain check before anything is committed.
+        let prev = self.row;
+        // Passing path.end or, on a closed crease, the start again: the target's foot on the
+        // chord lies in (prev, next] and near it — a test no long step can jump over.
+        // Checked before the domain, since an end inside the domain comes before the edge.
+        if let Some(end) = self.end
+            && passes(end.p, prev.p, p_next, self.capture)
+        {
+            return Ok(self.finish_at(end.p, end.uv, StopReason::ReachedEnd));
+        }
+        if passes(self.start.p, prev.p, p_next, self.capture) && (p_next - prev.p).dot(self.start_sense) > 0.0 {
+            self.turns += 1;
+            if self.turns >= self.opts.turns {
+                let (p, uv) = (self.start.p, self.start.uv);
+                return Ok(self.finish_at(p, uv, StopReason::Closed { turns: self.turns }));
+            }
+        }
+        // Domain check before anything is committed: the first parameter (along the step)
+        // to cross its range ends the path on the exact crease point at that edge.
+        let mut exit: Option<(f64, usize, usize, f64, StopReason)> = None;
         for i in 0..2 {
             let d = self.domains[i];
-            for (param, range, value) in [('u', d.u, uv_next[i].x), ('v', d.v, uv_next[i].y)] {
+            for (axis, param, range) in [(0, 'u', d.u), (1, 'v', d.v)] {
+                let value = uv_next[i][axis];
                 if !range.contains(value) {
-                    return Ok(self.stop(StopReason::LeftDomain {
-                        surface: i,
-                        param,
-                        value: range.unit.to_file(value),
-                        range: [range.unit.to_file(range.min), range.unit.to_file(range.max)],
-                    }));
+                    let bound = if value > range.max { range.max } else { range.min };
+                    let from = prev.uv[i][axis];
+                    let lambda = ((bound - from) / (value - from)).clamp(0.0, 1.0);
+                    let lambda = if lambda.is_finite() { lambda } else { 0.0 };
+                    if exit.is_none_or(|e| lambda < e.0) {
+                        let reason = StopReason::LeftDomain {
+                            surface: i,
+                            param,
+                            value: range.unit.to_file(value),
+                            range: [range.unit.to_file(range.min), range.unit.to_file(range.max)],
+                        };
+                        exit = Some((lambda, i, axis, bound, reason));
+                    }
                 }
             }
+        }
+        if let Some((lambda, surface, axis, bound, reason)) = exit {
+            return Ok(match self.domain_edge(p_next, uv_next, lambda, surface, axis, bound) {
+                Some((p, uv)) => self.finish_at(p, uv, reason),
+                None => self.stop(reason),
+            });
         }
         let uv_next = [self.domains[0].wrap(uv_next[0]), self.domains[1].wrap(uv_next[1])];
         // Wrapping a periodic parameter does not change the point, so the geometry holds.
         self.pending = geo_next;
         let next = Row { k, t_ms: at_time(at), p: p_next, uv: uv_next };
-        let prev = self.row;
-
-        // Passing path.end or, on a closed crease, the start again.
-        if let Some(take_next) = self.end.as_mut().and_then(|end| passes(end, prev.p, next.p, self.capture)) {
-            if take_next {
-                self.commit(next, t);
-                return Ok(self.stop_with_row(StopReason::ReachedEnd));
-            }
-            return Ok(self.stop(StopReason::ReachedEnd));
-        }
-        if let Some(take_next) = passes(&mut self.home, prev.p, next.p, self.capture) {
-            self.turns += 1;
-            self.home.left = false;
-            if self.turns >= self.opts.turns {
-                if take_next {
-                    self.commit(next, t);
-                    return Ok(self.stop_with_row(StopReason::Closed { turns: self.turns }));
-                }
-                return Ok(self.stop(StopReason::Closed { turns: self.turns }));
-            }
-        }
         self.commit(next, t);
         Ok(Step::Row(next))
+    }
+
+    /// Ends the run on the exact point `p` (contacts `uv`) with a final period shorter than
+    /// (or, by rounding, equal to) a whole one: its time is the previous row's plus the
+    /// time to cover the chord at the programmed feed. No row when the previous one already
+    /// lies on it ([`tolerance::END_MERGE_MM`]).
+    fn finish_at(&mut self, p: DVec3, uv: [DVec2; 2], reason: StopReason) -> Step {
+        let prev = self.row;
+        let chord = p - prev.p;
+        let len = chord.length();
+        if !(len > tolerance::END_MERGE_MM) {
+            return self.stop(reason);
+        }
+        let ms = self.job.period_ms * len / self.job.feed_per_period_mm;
+        let row = Row {
+            k: prev.k + 1,
+            t_ms: prev.t_ms + ms,
+            p,
+            uv: [self.domains[0].wrap(uv[0]), self.domains[1].wrap(uv[1])],
+        };
+        self.final_period_ms = Some(ms);
+        self.pending = None;
+        self.commit(row, chord / len);
+        self.stop_with_row(reason)
+    }
+
+    /// The exact crease point where parameter `axis` of surface `surface` reaches `bound`,
+    /// between the current row and the step's `p_next` (contacts `uv_next`, unwrapped),
+    /// `lambda` the linear estimate of where along the step. A bounded Newton solve (at
+    /// most [`NewtonOptions::max_iterations`] iterations, no larger moves than f) from the
+    /// interpolated contacts; `None` when it does not converge or lands outside the step
+    /// or outside the other parameters' ranges (the run then stops at the last row, as
+    /// before).
+    fn domain_edge(
+        &self,
+        p_next: DVec3,
+        uv_next: [DVec2; 2],
+        lambda: f64,
+        surface: usize,
+        axis: usize,
+        bound: f64,
+    ) -> Option<(DVec3, [DVec2; 2])> {
+        let prev = self.row;
+        let guess = [prev.uv[0].lerp(uv_next[0], lambda), prev.uv[1].lerp(uv_next[1], lambda)];
+        let f = self.job.feed_per_period_mm;
+        let cp = newton::solve(
+            &self.job,
+            guess,
+            Constraint::Param { surface, axis, value: bound },
+            NewtonOptions { max_step_mm: f, ..NewtonOptions::default() },
+        )
+        .ok()?;
+        let inside = self.domains[0].contains(cp.uv[0]) && self.domains[1].contains(cp.uv[1]);
+        let dir = p_next - prev.p;
+        let len2 = dir.length_squared();
+        let along = (cp.p - prev.p).dot(dir) / len2;
+        let foot = prev.p + along * dir;
+        let on_step =
+            (0.0..=1.0 + tolerance::END_AT_START_MM / f).contains(&along) && (cp.p - foot).length() <= self.capture;
+        (inside && on_step).then_some((cp.p, cp.uv))
     }
 
     fn commit(&mut self, row: Row, t: DVec3) {
@@ -457,25 +535,20 @@ fn at_time(at: Location) -> f64 {
     }
 }
 
-/// Whether the step `a → b` passes the target (crosses its normal plane while within the
-/// capture distance, after having been away). `Some(true)` if `b` is the nearer of the two.
-fn passes(target: &mut Target, a: DVec3, b: DVec3, capture: f64) -> Option<bool> {
-    // Squared distances: this runs every period.
-    let db = (b - target.point).length_squared();
-    if !target.left {
-        if db > 4.0 * capture * capture {
-            target.left = true;
-        }
-        return None;
-    }
-    let da = (a - target.point).length_squared();
-    if da.min(db) > capture * capture {
-        return None;
-    }
+/// Whether the step `a → b` passes `target`: the target's foot on the chord's line lies
+/// after `a` and not after `b`, within `capture` of the chord. A sign change of the
+/// along-chord offset, so however long the step, a target it passes is not missed; the
+/// first step of a run (from the start itself, offset exactly 0) does not pass the start.
+/// Cheap when far: two dot products.
+fn passes(target: DVec3, a: DVec3, b: DVec3, capture: f64) -> bool {
     let dir = b - a;
-    let ga = (a - target.point).dot(dir);
-    let gb = (b - target.point).dot(dir);
-    (ga <= 0.0 && gb > 0.0).then_some(db < da)
+    let ga = (a - target).dot(dir);
+    let gb = (b - target).dot(dir);
+    if !(ga < 0.0 && gb >= 0.0) {
+        return false;
+    }
+    let foot = a - dir * (ga / dir.length_squared());
+    (foot - target).length_squared() <= capture * capture
 }
 
 /// Rows and outcome of a whole run.

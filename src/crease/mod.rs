@@ -29,7 +29,7 @@ use crate::geom::{ParametricSurface, Surface};
 use crate::scene::{Scene, SceneError, build_surface};
 
 pub use curve::{CreaseCurve, CreaseFrame};
-pub use estimate::{Diagnostics, diagnose, measured_errors};
+pub use estimate::{Diagnostics, WorstError, diagnose, measured_errors};
 pub use interpolator::{InterpOptions, Interpolator, Method, RunResult, Step, run_to_end};
 pub use newton::{CreasePoint, NewtonOptions, crease_deviation, locate_crease_point};
 
@@ -135,7 +135,7 @@ impl fmt::Display for Location {
         match self {
             Self::Start => write!(f, "path.start"),
             Self::End => write!(f, "path.end"),
-            Self::Period { k, t_ms } => write!(f, "period {k} (t = {t_ms} ms)"),
+            Self::Period { k, t_ms } => write!(f, "period {k} (t = {} ms)", crate::report::fmt_num(*t_ms)),
         }
     }
 }
@@ -188,10 +188,11 @@ impl fmt::Display for StopReason {
             Self::Closed { turns } => write!(f, "the crease closed on itself; {turns} turns made"),
             Self::LeftDomain { surface, param, value, range } => write!(
                 f,
-                "the contact point on surface {} would leave its domain ({param} = {value:.6} outside [{}, {}])",
+                "the contact point on surface {} would leave its domain ({param} = {} outside [{}, {}])",
                 surface + 1,
-                range[0],
-                range[1]
+                if (1e-4..1e9).contains(&value.abs()) { format!("{value:.6}") } else { crate::report::fmt_num(*value) },
+                crate::report::fmt_num(range[0]),
+                crate::report::fmt_num(range[1])
             ),
             Self::MaxSteps => write!(f, "path.max_steps periods were run"),
         }
@@ -271,6 +272,15 @@ impl fmt::Display for EndNotReached {
     }
 }
 
+/// A length for a message: four decimals, or three significant digits when tiny or huge.
+fn fmt_mm(x: f64) -> String {
+    if x != 0.0 && !(1e-4..1e6).contains(&x.abs()) { format!("{x:.3e}") } else { format!("{x:.4}") }
+}
+
+fn fmt_correction(x: f64) -> String {
+    if x.is_finite() { format!("{} mm", fmt_mm(x)) } else { "without bound".to_owned() }
+}
+
 /// Why the crease could not be started or continued. Every message names the problem,
 /// where it arose and what to change.
 #[derive(Clone, Debug, Error, PartialEq)]
@@ -319,7 +329,7 @@ pub enum CreaseError {
     },
     /// The correction was too large relative to the feed per period.
     #[error(
-        "at {at} the crease bends too sharply for a feed per period of {feed_mm} mm (correction {correction_mm:.4} mm); lower motion.feed or motion.period"
+        "at {at} the crease bends too sharply for a feed per period of {} mm (correction {}); lower motion.feed or motion.period", fmt_mm(*feed_mm), fmt_correction(*correction_mm)
     )]
     StepTooLong {
         /// Where.

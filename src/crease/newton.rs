@@ -54,6 +54,16 @@ pub enum Constraint {
         /// Its radius (mm).
         dist: f64,
     },
+    /// The crease point where one contact parameter takes a given value (internal units):
+    /// where the crease meets a domain edge.
+    Param {
+        /// 0 for S1, 1 for S2.
+        surface: usize,
+        /// 0 for u, 1 for v.
+        axis: usize,
+        /// The parameter's value there (internal units).
+        value: f64,
+    },
 }
 
 /// An exact point of the crease with its contact data.
@@ -90,9 +100,28 @@ impl NewtonFail {
             Self::NoConvergence(res) => match at {
                 Location::Start | Location::End => CreaseError::NoCrease {
                     at,
-                    detail: format!("the offset surfaces stay {res:.3} mm apart there after Newton's iterations"),
+                    detail: if res.is_finite() {
+                        format!("the offset surfaces stay {res:.3} mm apart there after Newton's iterations")
+                    } else {
+                        "Newton's iterations ran off the surfaces".to_owned()
+                    },
                 },
                 Location::Period { .. } => CreaseError::NewtonFailed { at, detail: format!("residual {res:.3e} mm") },
+            },
+            // The normals are not parallel, but the Newton system is singular (its tangent
+            // rows dependent): say so, rather than call non-parallel normals parallel.
+            Self::Tangential(angle_deg, gap) if angle_deg >= tolerance::MIN_CREASE_ANGLE_RAD.to_degrees() => match at {
+                Location::Start | Location::End => CreaseError::NoCrease {
+                    at,
+                    detail: if gap.is_finite() {
+                        format!("Newton's linear system is singular there, with the offset surfaces {gap:.3} mm apart")
+                    } else {
+                        "Newton's linear system is singular there".to_owned()
+                    },
+                },
+                Location::Period { .. } => {
+                    CreaseError::NewtonFailed { at, detail: "Newton's linear system is singular there".to_owned() }
+                }
             },
             // Parallel normals where the offset surfaces actually meet: tangential contact.
             Self::Tangential(angle_deg, gap) if gap <= TOUCHING_GAP_MM => {
@@ -100,6 +129,17 @@ impl NewtonFail {
             }
             // Parallel normals with the offsets apart: Newton was drawn to where the surfaces
             // face each other, which means they do not meet here at all.
+            Self::Tangential(angle_deg, gap) if !gap.is_finite() => match at {
+                Location::Start | Location::End => CreaseError::NoCrease {
+                    at,
+                    detail: format!(
+                        "the offset surfaces face each other (normals {angle_deg:.3}° from parallel) instead of crossing"
+                    ),
+                },
+                Location::Period { .. } => {
+                    CreaseError::NewtonFailed { at, detail: "normals parallel with the offsets apart".to_owned() }
+                }
+            },
             Self::Tangential(angle_deg, gap) => match at {
                 Location::Start | Location::End => CreaseError::NoCrease {
                     at,
@@ -173,12 +213,17 @@ pub(crate) fn solve_with_geometry(
         let g = c[0].offset - c[1].offset;
         let mid = 0.5 * (c[0].offset + c[1].offset);
         // The constraint is evaluated at the midpoint of P1 and P2; `dir` is the direction
-        // whose component of that midpoint it fixes.
+        // whose component of that midpoint it fixes. A parameter constraint is measured in
+        // mm (the parameter's offset times the speed |∂P/∂u| there), so one tolerance serves.
         let (h, dir) = match constraint {
             Constraint::NearestTo(s) => ((mid - s).dot(t), t),
             Constraint::AtDistance { from, dist } => {
                 let w = mid - from;
                 (w.length() - dist, w.normalize_or_zero())
+            }
+            Constraint::Param { surface, axis, value } => {
+                let speed = c[surface.min(1)].dp[axis.min(1)].length();
+                ((uv[surface.min(1)][axis.min(1)] - value) * speed, DVec3::ZERO)
             }
         };
         let res = g.length().max(h.abs());
@@ -200,11 +245,19 @@ pub(crate) fn solve_with_geometry(
         // Rows: P1 − P2 = 0 (3) and the constraint. Unknowns: Δu1, Δv1, Δu2, Δv2.
         let (a, b) = (c[0].dp, c[1].dp);
         // ∂h/∂(u1, v1, u2, v2) = dir·½(P1_u, P1_v, P2_u, P2_v) (t held fixed for NearestTo).
+        let last_row = match constraint {
+            Constraint::Param { surface, axis, .. } => {
+                let mut row = [0.0; 4];
+                row[2 * surface.min(1) + axis.min(1)] = c[surface.min(1)].dp[axis.min(1)].length();
+                row
+            }
+            _ => [0.5 * dir.dot(a[0]), 0.5 * dir.dot(a[1]), 0.5 * dir.dot(b[0]), 0.5 * dir.dot(b[1])],
+        };
         let m = [
             [a[0].x, a[1].x, -b[0].x, -b[1].x],
             [a[0].y, a[1].y, -b[0].y, -b[1].y],
             [a[0].z, a[1].z, -b[0].z, -b[1].z],
-            [0.5 * dir.dot(a[0]), 0.5 * dir.dot(a[1]), 0.5 * dir.dot(b[0]), 0.5 * dir.dot(b[1])],
+            last_row,
         ];
         let Some(delta) = linalg::solve4(m, [-g.x, -g.y, -g.z, -h]) else {
             return Err(NewtonFail::Tangential(sin.min(1.0).asin().to_degrees(), g.length()));

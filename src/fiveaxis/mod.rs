@@ -91,7 +91,7 @@ pub enum FiveAxisError {
     },
     /// Even the shortest step exceeds the tolerance.
     #[error(
-        "at s = {s:.6} even the shortest segment has an error of {error_mm:e} mm, more than the tolerance {tol_mm} mm: the steps underflow; raise the tolerance, or change the tool-axis rule if a rotary axis flips there"
+        "at s = {s:.6} even the shortest segment has an error of {error_mm:.3e} mm, more than the tolerance {tol_mm} mm: the steps underflow; raise the tolerance, or change the tool-axis rule if a rotary axis flips there"
     )]
     Underflow {
         /// Path parameter of the current node.

@@ -17,6 +17,7 @@ use super::path::DesignPath;
 use super::swept::{Block, SegmentReport, block_at, segment_report, segment_total, tip_design_deviation};
 use crate::chords::maximise::MaxOptions;
 use crate::chords::{RootMethod, SearchFailure, SearchOptions, next_node};
+use crate::tolerance;
 
 /// Settings of [`plan_steps`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -164,6 +165,7 @@ pub struct StepPlanner {
     opts: StepOptions,
     swept: MaxOptions,
     rotary_scale: f64,
+    start: f64,
     end: f64,
     step: Option<f64>,
     nodes: Vec<StepNode>,
@@ -189,6 +191,7 @@ impl StepPlanner {
             opts: *opts,
             swept: opts.swept_for_tol(),
             rotary_scale,
+            start,
             end,
             step: path.first_step(start, tol),
             nodes: vec![StepNode {
@@ -280,6 +283,14 @@ impl StepPlanner {
                 FiveAxisError::NoConvergence { s: s_from, evaluations }
             }
         })?;
+        // A node placed where δ jumps across E (the search's bracket shrank to rounding)
+        // with next to no progress means the error is discontinuous right ahead: each further
+        // node would stop at the same jump a rounding step later, for hundreds of thousands
+        // of nodes. Refuse at once, with the error just past the jump.
+        if found.jumped && found.s - from <= tolerance::STEP_STALL_REL * (end - self.start).abs() {
+            let past = tried.iter().filter(|t| t.0 > found.s).min_by(|a, b| a.0.total_cmp(&b.0)).map_or(tol, |t| t.2);
+            return Err(FiveAxisError::Underflow { s: from, error_mm: past, tol_mm: tol });
+        }
         let (block, total, tip) = match tried.iter().rev().find(|t| t.0.to_bits() == found.s.to_bits()) {
             Some(&(_, b, e, tip)) => (b, e, tip),
             None => {

@@ -16,6 +16,7 @@
 
 use glam::DVec3;
 
+use super::dialect::Dialect;
 use super::path::{PathBlock, Toolpath};
 use super::write::{Program, ProgramError, ProgramKind, ProgramOptions, write_program};
 use crate::geom::Curve3;
@@ -116,6 +117,9 @@ pub struct Comparison {
     pub rows: Vec<CompareRow>,
     /// Real-time interpolation of the (rounded) G06.2 curve, one per update.
     pub realtime: Vec<FeedStats>,
+    /// Programs the dialect cannot carry, with the reason (a LinuxCNC G5.2 program of a path
+    /// that is not planar in XY); their rows are left out.
+    pub notes: Vec<String>,
 }
 
 impl CompareOptions {
@@ -143,12 +147,21 @@ impl CompareOptions {
 pub fn compare(design: &dyn Curve3, tol_mm: f64, opts: &CompareOptions) -> Result<Comparison, ProgramError> {
     let mut rows = Vec::new();
     let mut realtime = Vec::new();
+    let mut notes = Vec::new();
     for kind in ProgramKind::ALL {
-        let row = compare_row(kind, design, tol_mm, opts)?;
+        let row = match compare_row(kind, design, tol_mm, opts) {
+            Ok(row) => row,
+            Err(e @ ProgramError::NotPlanar { .. }) => {
+                let d = opts.program.dialect;
+                notes.push(format!("{} ({d}) not written: {e}", d.kind_label(kind)));
+                continue;
+            }
+            Err(e) => return Err(e),
+        };
         realtime.extend(realtime_stats(&row.program, opts));
         rows.push(row);
     }
-    Ok(Comparison { tol_mm, feed_mm_per_min: opts.program.feed_mm_per_min, rows, realtime })
+    Ok(Comparison { tol_mm, feed_mm_per_min: opts.program.feed_mm_per_min, rows, realtime, notes })
 }
 
 /// One row of the comparison: writes and checks the program of `kind`, and measures its
@@ -199,10 +212,19 @@ pub enum TableStyle {
     Csv,
 }
 
-/// The comparison as text: the programs table, then the real-time table.
+/// The comparison as text: the programs table, then the real-time table; the last column
+/// names the dialect.
 #[must_use]
 pub fn format_comparison(c: &Comparison, style: TableStyle) -> String {
-    let lines_blocks = c.rows.iter().find(|r| r.kind == ProgramKind::Lines).map(|r| r.path_blocks);
+    format_comparisons(std::slice::from_ref(c), style)
+}
+
+/// Comparisons in several dialects (same design and tolerance) as one programs table and
+/// one real-time table, the dialect in the last column; "vs G01" is against the line
+/// program of the same dialect. In Markdown, programs a dialect cannot carry are listed
+/// under the programs table.
+#[must_use]
+pub fn format_comparisons(cs: &[Comparison], style: TableStyle) -> String {
     let mut head: Vec<String> = [
         "program",
         "path blocks",
@@ -214,30 +236,42 @@ pub fn format_comparison(c: &Comparison, style: TableStyle) -> String {
         "velocity jump mm/min",
         "max curvature jump 1/mm",
         "accel jump mm/s2",
+        "dialect",
     ]
     .iter()
     .map(|s| (*s).to_owned())
     .collect();
     let mut rows: Vec<Vec<String>> = Vec::new();
-    for r in &c.rows {
-        let vs = match lines_blocks {
-            Some(l) if l > 0 => format!("{:+.0}%", 100.0 * (r.path_blocks as f64 - l as f64) / l as f64),
-            _ => String::new(),
-        };
-        rows.push(vec![
-            r.kind.label().to_owned(),
-            r.path_blocks.to_string(),
-            vs,
-            r.bytes.to_string(),
-            fmt_fixed(r.deviation_mm, 6),
-            r.junctions.count.to_string(),
-            fmt_fixed(r.junctions.max_turn_deg, 3),
-            fmt_fixed(r.junctions.velocity_jump(c.feed_mm_per_min), 1),
-            fmt_fixed(r.junctions.max_curvature_jump, 4),
-            fmt_fixed(r.junctions.acceleration_jump(c.feed_mm_per_min), 2),
-        ]);
+    let mut notes: Vec<&str> = Vec::new();
+    for c in cs {
+        notes.extend(c.notes.iter().map(String::as_str));
+        let lines_blocks = c.rows.iter().find(|r| r.kind == ProgramKind::Lines).map(|r| r.path_blocks);
+        for r in &c.rows {
+            let vs = match lines_blocks {
+                Some(l) if l > 0 => format!("{:+.0}%", 100.0 * (r.path_blocks as f64 - l as f64) / l as f64),
+                _ => String::new(),
+            };
+            rows.push(vec![
+                r.program.dialect.kind_label(r.kind).to_owned(),
+                r.path_blocks.to_string(),
+                vs,
+                r.bytes.to_string(),
+                fmt_fixed(r.deviation_mm, 6),
+                r.junctions.count.to_string(),
+                fmt_fixed(r.junctions.max_turn_deg, 3),
+                fmt_fixed(r.junctions.velocity_jump(c.feed_mm_per_min), 1),
+                fmt_fixed(r.junctions.max_curvature_jump, 4),
+                fmt_fixed(r.junctions.acceleration_jump(c.feed_mm_per_min), 2),
+                r.program.dialect.as_str().to_owned(),
+            ]);
+        }
     }
     let mut out = table(&head, &rows, style);
+    if style == TableStyle::Markdown {
+        for n in notes {
+            out.push_str(&format!("\n{n}\n"));
+        }
+    }
     out.push('\n');
     head = [
         "G06.2 update",
@@ -246,14 +280,18 @@ pub fn format_comparison(c: &Comparison, style: TableStyle) -> String {
         "RMS feed fluctuation",
         "max chord error mm",
         "feed-limited periods",
+        "dialect",
     ]
     .iter()
     .map(|s| (*s).to_owned())
     .collect();
-    let rt: Vec<Vec<String>> = c
-        .realtime
+    let rt: Vec<Vec<String>> = cs
         .iter()
-        .map(|s| {
+        .flat_map(|c| {
+            let d = c.rows.first().map_or(Dialect::Fanuc, |r| r.program.dialect);
+            c.realtime.iter().map(move |s| (d, s))
+        })
+        .map(|(d, s)| {
             vec![
                 s.update.as_str().to_owned(),
                 s.periods.to_string(),
@@ -261,6 +299,7 @@ pub fn format_comparison(c: &Comparison, style: TableStyle) -> String {
                 format!("{:.2e}", s.rms_fluctuation),
                 format!("{:.2e}", s.max_chord_error_mm),
                 s.limited_periods.to_string(),
+                d.as_str().to_owned(),
             ]
         })
         .collect();

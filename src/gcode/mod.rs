@@ -23,16 +23,19 @@
 pub mod arcs;
 pub mod compare;
 pub mod design;
+pub mod dialect;
 pub mod parse;
 pub mod path;
 pub mod replay;
 pub mod write;
 
 pub use compare::{
-    CompareOptions, CompareRow, Comparison, TableStyle, compare, compare_row, format_comparison, realtime_stats,
+    CompareOptions, CompareRow, Comparison, TableStyle, compare, compare_row, format_comparison, format_comparisons,
+    realtime_stats,
 };
 pub use design::{DesignBuilder, DesignError, crease_design};
-pub use parse::{ParseError, ParsedProgram, Unsupported, parse_program};
+pub use dialect::{Dialect, UnknownDialect};
+pub use parse::{ParseError, ParsedProgram, Unsupported, parse_program, parse_program_in};
 pub use path::{ArcMove, LineMove, Motion, PathBlock, Plane, Segment, Toolpath};
 pub use replay::{Deviation, DeviationOptions, ProgramSummary, ReplayError, deviation, summarize};
 pub use write::{Program, ProgramError, ProgramKind, ProgramOptions, ProgrammedPoint, write_program};

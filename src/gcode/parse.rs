@@ -29,9 +29,12 @@
     reason = "`!(x > 0.0)` is deliberately true for NaN: bad input is rejected, never passed on"
 )]
 
+mod spline;
+
 use glam::DVec3;
 use thiserror::Error;
 
+use super::dialect::Dialect;
 use super::path::{ArcMove, LineMove, Motion, PathBlock, Plane, Segment, Toolpath};
 use crate::geom::nurbs::MAX_DEGREE;
 use crate::geom::{NurbsCurve, NurbsError};
@@ -115,6 +118,18 @@ pub enum ParseError {
         line: usize,
         /// Value.
         value: f64,
+    },
+    /// A number too large for a double (it would read as infinity).
+    #[error(
+        "line {line}: the {digits}-character number after {letter} is too large to be a value (beyond 1.8e308); check the line for a corrupted number"
+    )]
+    NumberTooLarge {
+        /// Line.
+        line: usize,
+        /// The address letter.
+        letter: char,
+        /// Characters of the number as written.
+        digits: usize,
     },
     /// Arc without centre or radius.
     #[error("line {line}: {code} needs the centre (I, J, K offsets from the start) or a radius R")]
@@ -236,6 +251,14 @@ pub enum ParseError {
         /// Value.
         value: f64,
     },
+    /// A dialect's spline (Sinumerik `BSPLINE`, LinuxCNC `G5.2`/`G5.3`) is malformed.
+    #[error("line {line}: {what}")]
+    Spline {
+        /// Line.
+        line: usize,
+        /// What is wrong and what to change.
+        what: String,
+    },
     /// The NURBS is invalid otherwise.
     #[error("line {line}: invalid G06.2 curve: {source}")]
     Nurbs {
@@ -254,6 +277,7 @@ impl ParseError {
         match self {
             Self::UnclosedComment { line, .. }
             | Self::BadNumber { line, .. }
+            | Self::NumberTooLarge { line, .. }
             | Self::MissingValue { line, .. }
             | Self::UnexpectedChar { line, .. }
             | Self::RepeatedWord { line, .. }
@@ -274,6 +298,7 @@ impl ParseError {
             | Self::NurbsAfterEnd { line, .. }
             | Self::NurbsIncremental { line, .. }
             | Self::NurbsWeight { line, .. }
+            | Self::Spline { line, .. }
             | Self::Nurbs { line, .. } => *line,
         }
     }
@@ -303,6 +328,11 @@ pub struct ParsedProgram {
     pub lines: usize,
     /// Blocks holding at least one word.
     pub blocks: usize,
+    /// The dialect it was read in.
+    pub dialect: Dialect,
+    /// The largest LinuxCNC `G64 P` path-blending tolerance programmed (mm): the control may
+    /// leave the programmed path by up to this much at junctions.
+    pub blend_mm: Option<f64>,
 }
 
 impl ParsedProgram {
@@ -313,7 +343,7 @@ impl ParsedProgram {
         self.toolpath
             .cuts()
             .map(|b| match &b.segment {
-                Segment::Nurbs(c) => c.len() + c.degree() + 1,
+                Segment::Nurbs(c) => self.dialect.nurbs_blocks(c),
                 _ => 1,
             })
             .sum()
@@ -326,10 +356,17 @@ struct Word {
     value: f64,
     /// Value as written (for reports).
     text: String,
+    /// A Sinumerik named word or keyword (`SD`, `PL`, `PW`, `BSPLINE`), upper case.
+    name: Option<String>,
 }
 
 /// Splits one line into words and comments.
-fn tokenize(line_no: usize, raw: &str, comments: &mut Vec<(usize, String)>) -> Result<Vec<Word>, ParseError> {
+fn tokenize(
+    line_no: usize,
+    raw: &str,
+    comments: &mut Vec<(usize, String)>,
+    dialect: Dialect,
+) -> Result<Vec<Word>, ParseError> {
     let chars: Vec<char> = raw.chars().collect();
     let mut words = Vec::new();
     let mut i = 0;
@@ -360,6 +397,10 @@ fn tokenize(line_no: usize, raw: &str, comments: &mut Vec<(usize, String)>) -> R
             return Err(ParseError::UnexpectedChar { line: line_no, col: i + 1, ch: c });
         }
         let letter = c.to_ascii_uppercase();
+        if dialect == Dialect::Sinumerik && chars.get(i + 1).is_some_and(|n| n.is_ascii_alphabetic() || *n == '=') {
+            words.push(spline::sinumerik_word(line_no, &chars, &mut i)?);
+            continue;
+        }
         i += 1;
         while i < chars.len() && (chars[i] == ' ' || chars[i] == '\t') {
             i += 1;
@@ -377,13 +418,16 @@ fn tokenize(line_no: usize, raw: &str, comments: &mut Vec<(usize, String)>) -> R
         if text.is_empty() {
             return Err(ParseError::MissingValue { line: line_no, letter });
         }
-        let value: f64 = match text.parse() {
-            Ok(v) if text.chars().any(|c| c.is_ascii_digit()) => v,
+        let value: f64 = match text.parse::<f64>() {
+            Ok(v) if v.is_finite() && text.chars().any(|c| c.is_ascii_digit()) => v,
+            Ok(v) if !v.is_finite() => {
+                return Err(ParseError::NumberTooLarge { line: line_no, letter, digits: text.len() });
+            }
             _ => {
                 return Err(ParseError::BadNumber { line: line_no, letter, text });
             }
         };
-        words.push(Word { letter, value, text });
+        words.push(Word { letter, value, text, name: None });
     }
     Ok(words)
 }
@@ -420,6 +464,9 @@ struct State {
     absolute: bool,
     feed: Option<f64>,
     nurbs: Option<NurbsBuild>,
+    dialect: Dialect,
+    /// A Sinumerik `BSPLINE` or LinuxCNC `G5.2` curve being read.
+    spline: Option<spline::SplineBuild>,
 }
 
 /// G codes (in tenths: G54.1 → 541) with no effect on the path: G08/G09 look-ahead and exact
@@ -460,7 +507,17 @@ fn unsupported_m(m: i64) -> Option<&'static str> {
 /// # Errors
 /// The first malformed line, as a [`ParseError`].
 pub fn parse_program(text: &str) -> Result<ParsedProgram, ParseError> {
-    let mut out = ParsedProgram::default();
+    parse_program_in(text, Dialect::Fanuc)
+}
+
+/// Parses a program in a controller's dialect: [`parse_program`] plus Sinumerik `BSPLINE`
+/// (`SD=`, `PL=`, `PW=`, `G70`/`G71`/`G700`/`G710`) or LinuxCNC `G5.2`/`G5.3` (`P` weight, `L`
+/// order) and `G64 P Q`; see `docs/gcode-dialects.md`.
+///
+/// # Errors
+/// The first malformed line, as a [`ParseError`].
+pub fn parse_program_in(text: &str, dialect: Dialect) -> Result<ParsedProgram, ParseError> {
+    let mut out = ParsedProgram { dialect, ..ParsedProgram::default() };
     let mut st = State {
         pos: DVec3::ZERO,
         motion: None,
@@ -469,10 +526,12 @@ pub fn parse_program(text: &str) -> Result<ParsedProgram, ParseError> {
         absolute: true,
         feed: None,
         nurbs: None,
+        dialect,
+        spline: None,
     };
     for (idx, raw) in text.lines().enumerate() {
         let line = idx + 1;
-        let words = tokenize(line, raw, &mut out.comments)?;
+        let words = tokenize(line, raw, &mut out.comments, dialect)?;
         if words.is_empty() {
             continue;
         }
@@ -483,10 +542,15 @@ pub fn parse_program(text: &str) -> Result<ParsedProgram, ParseError> {
     if let Some(nb) = st.nurbs.take() {
         finish_nurbs(nb, &mut st, &mut out)?;
     }
+    spline::end_of_program(&mut st, &mut out)?;
     Ok(out)
 }
 
 fn block(line: usize, words: &[Word], st: &mut State, out: &mut ParsedProgram) -> Result<(), ParseError> {
+    let named = spline::named_words(line, words, out)?;
+    let plain: Vec<Word> = words.iter().filter(|w| w.name.is_none()).cloned().collect();
+    let words = &plain[..];
+    let mut flags = spline::Flags::default();
     // One value per letter (G and M may repeat).
     let mut seen = [false; 26];
     let mut motion: Option<Motion> = None;
@@ -501,6 +565,9 @@ fn block(line: usize, words: &[Word], st: &mut State, out: &mut ParsedProgram) -
         match w.letter {
             'G' => {
                 let t = g_tenths(w.value);
+                if spline::dialect_g(line, &w.text, t, st, &mut flags, out) {
+                    continue;
+                }
                 let m = match t {
                     0 => Some(Motion::Rapid),
                     10 => Some(Motion::Linear),
@@ -552,6 +619,8 @@ fn block(line: usize, words: &[Word], st: &mut State, out: &mut ParsedProgram) -
             }
         }
     }
+    consumes_p |= flags.blend;
+    consumes_q |= flags.blend;
     let get = |l: char| words.iter().find(|w| w.letter == l).map(|w| w.value);
     let scale = if st.units == Units::Inch { 25.4 } else { 1.0 };
     if let Some(f) = get('F') {
@@ -564,7 +633,8 @@ fn block(line: usize, words: &[Word], st: &mut State, out: &mut ParsedProgram) -
     for w in words {
         let reason = match w.letter {
             'A' | 'B' | 'C' | 'U' | 'V' | 'W' => Some("extra axes are not modelled"),
-            'E' | 'L' => Some("this address is not modelled"),
+            'E' => Some("this address is not modelled"),
+            'L' if !spline::takes_l(st, &flags) => Some("this address is not modelled"),
             'Q' if !consumes_q => Some("this address is not modelled"),
             _ => None,
         };
@@ -574,6 +644,9 @@ fn block(line: usize, words: &[Word], st: &mut State, out: &mut ParsedProgram) -
     }
     if dwell || skip_axes {
         // G04 X/P is a time, not a move; a skipped code takes its block's words with it.
+        return Ok(());
+    }
+    if spline::block(line, &get, motion, &named, &flags, st, out)? {
         return Ok(());
     }
     let nurbs_mode = st.nurbs.is_some();

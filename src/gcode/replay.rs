@@ -78,6 +78,10 @@ pub struct Deviation {
     pub end_gap_mm: f64,
     /// Length of the design curve (mm).
     pub design_length_mm: f64,
+    /// Spacing of the samples actually taken (mm): the requested one, or coarser when the
+    /// program and design are too long for [`crate::limits::MAX_REPLAY_SAMPLES`]; a peak
+    /// between samples is then missed by at most half of it before refinement.
+    pub sample_spacing_mm: f64,
 }
 
 impl Deviation {
@@ -327,8 +331,35 @@ pub fn deviation(path: &Toolpath, design: &dyn Curve3, opts: &DeviationOptions) 
     if !(length > 0.0) {
         return Err(ReplayError::EmptyDesign);
     }
+    // Sample spacing: the requested one, coarsened when the program and the design together
+    // would need more than the sample budget (a move of ten kilometres, a corrupt control
+    // point). The distance to a curve changes by at most the distance moved, so a sample
+    // spacing h misses no peak by more than h/2 before the peaks are refined; `Deviation`
+    // reports the spacing used.
+    let piece_len = |c: &dyn Curve3, a: f64, b: f64| {
+        (c.point_at(b) - c.point_at(a)).length() + (c.point_at(0.5 * (a + b)) - c.point_at(a)).length()
+    };
+    let mut program_len = 0.0;
+    let mut pieces = 0usize;
+    for blk in &cuts {
+        let c = blk.segment.curve();
+        for w in sample_params(&blk.segment, 1).windows(2) {
+            program_len += piece_len(c, w[0], w[1]);
+            pieces += 1;
+        }
+    }
+    // A program of very many short pieces (a million G01 lines) gets fewer samples per
+    // piece: as many as its length needs at the spacing, at least its two ends, and no
+    // golden-section refinement inside a piece shorter than the spacing (the distance along
+    // it then differs from its sampled maximum by at most a quarter of the spacing).
+    let dense = pieces.saturating_mul(opts.samples_per_piece + 1) <= crate::limits::MAX_REPLAY_SAMPLES / 2;
+    let per_piece = if dense { opts.samples_per_piece } else { 1 };
+    let budget = crate::limits::MAX_REPLAY_SAMPLES.saturating_sub(pieces * (per_piece + 1)).max(1 << 16);
+    let spacing = opts.design_spacing_mm.max(1e-3).max((program_len + length) / budget as f64);
+    if !spacing.is_finite() {
+        return Err(ReplayError::EmptyDesign);
+    }
     // Design samples, equally spaced in arc length.
-    let spacing = opts.design_spacing_mm.max(1e-3);
     let n_d = ((length / spacing).ceil() as usize).max(8);
     let dcloud = design_cloud(design, &table, n_d);
     // Program samples, at most `spacing` apart.
@@ -338,9 +369,8 @@ pub fn deviation(path: &Toolpath, design: &dyn Curve3, opts: &DeviationOptions) 
         let params = sample_params(&blk.segment, 1);
         samples.push((b, params[0], c.point_at(params[0])));
         for w in params.windows(2) {
-            let len = (c.point_at(w[1]) - c.point_at(w[0])).length()
-                + (c.point_at(0.5 * (w[0] + w[1])) - c.point_at(w[0])).length();
-            let n = opts.samples_per_piece.max((len / spacing).ceil() as usize).max(1);
+            let len = piece_len(c, w[0], w[1]);
+            let n = per_piece.max((len / spacing).ceil() as usize).max(1);
             for k in 1..=n {
                 let t = w[0] + (w[1] - w[0]) * k as f64 / n as f64;
                 samples.push((b, t, c.point_at(t)));
@@ -357,7 +387,14 @@ pub fn deviation(path: &Toolpath, design: &dyn Curve3, opts: &DeviationOptions) 
         let params = sample_params(&blk.segment, 1);
         for w in params.windows(2) {
             let mut f = |t: f64| distance_via(&dcloud, &design_of, c.point_at(t));
-            let (d, t) = max_on_interval(&mut f, w[0], w[1], opts.samples_per_piece, opts.refine);
+            let (n, refine) = if dense {
+                (opts.samples_per_piece, opts.refine)
+            } else {
+                let len = piece_len(c, w[0], w[1]);
+                let n = ((len / spacing).ceil() as usize).clamp(2, opts.samples_per_piece.max(2));
+                (n, if len > spacing { opts.refine } else { 0 })
+            };
+            let (d, t) = max_on_interval(&mut f, w[0], w[1], n, refine);
             if d > p2d.0 {
                 p2d = (d, c.point_at(t), blk.line);
             }
@@ -394,6 +431,7 @@ pub fn deviation(path: &Toolpath, design: &dyn Curve3, opts: &DeviationOptions) 
         start_gap_mm: (first - design.point_at(ta)).length(),
         end_gap_mm: (last - design.point_at(tb)).length(),
         design_length_mm: length,
+        sample_spacing_mm: spacing,
     })
 }
 

@@ -15,12 +15,17 @@
 //! resolution and the deviation achieved), `G21 G90 G94 G17`, a rapid to the safe height,
 //! rapids above and down to the start point, the path, a rapid back to the safe height,
 //! `M30`. The path begins exactly at the rapid's end point; all feed moves are the path.
+//!
+//! The words are the [`Dialect`]'s (FANUC by default; Sinumerik 840D `BSPLINE`, LinuxCNC
+//! `G5.2`, see `docs/gcode-dialects.md`), and the check reads the text back with that
+//! dialect's reader, so the deviation is the one the dialect's control would interpret.
 
 use glam::DVec3;
 use thiserror::Error;
 
 use super::arcs::{ArcFitError, ArcFitOptions, Piece, fit_arcs};
-use super::parse::{ParseError, ParsedProgram, parse_program};
+use super::dialect::Dialect;
+use super::parse::{ParseError, ParsedProgram, parse_program_in};
 use super::path::{Plane, Segment};
 use super::replay::{Deviation, DeviationOptions, ReplayError, deviation};
 use crate::chords::{ChordError, equal_error_chords};
@@ -147,6 +152,8 @@ pub struct ProgramOptions {
     pub check: DeviationOptions,
     /// Most writes with a lowered fit tolerance before giving up (default 4).
     pub attempts: usize,
+    /// The controller's dialect (default FANUC).
+    pub dialect: Dialect,
 }
 
 impl Default for ProgramOptions {
@@ -164,6 +171,7 @@ impl Default for ProgramOptions {
             approx: ApproxOptions::default(),
             check: DeviationOptions::default(),
             attempts: 4,
+            dialect: Dialect::Fanuc,
         }
     }
 }
@@ -205,6 +213,12 @@ impl ProgramOptions {
         self.safe_z_mm = z;
         self
     }
+    /// Sets the dialect.
+    #[must_use]
+    pub fn with_dialect(mut self, dialect: Dialect) -> Self {
+        self.dialect = dialect;
+        self
+    }
     /// Sets block numbering.
     #[must_use]
     pub fn with_line_numbers(mut self, on: bool) -> Self {
@@ -230,12 +244,42 @@ pub enum ProgramError {
         /// Resolution.
         resolution_mm: f64,
     },
-    /// Feed not positive.
-    #[error("the feed must be positive, got {0} mm/min")]
-    BadFeed(f64),
+    /// Feed not positive once written, or absurdly large.
+    #[error(
+        "the feed must be a finite number of mm/min from {min_mm_per_min} (the smallest the program's decimals can write) to 1e6; give e.g. --feed 1500"
+    )]
+    BadFeed {
+        /// Smallest feed the program can write (mm/min).
+        min_mm_per_min: f64,
+    },
+    /// Safe Z not a usable height.
+    #[error("the safe Z height must be a finite number of mm within ±1e6 mm; give e.g. --safe-z 10")]
+    BadSafeZ,
     /// G06.2 degree out of range.
     #[error("G06.2 takes order P2 to P4 (degree 1 to 3), not degree {0}; use --degree 3")]
     Degree(usize),
+    /// A dialect's NURBS degree out of range.
+    #[error("{dialect} NURBS take degree {lo} to {hi}, not {degree}; use --degree 3")]
+    DialectDegree {
+        /// The dialect's controller name.
+        dialect: &'static str,
+        /// Degree asked for.
+        degree: usize,
+        /// Lowest degree.
+        lo: usize,
+        /// Highest degree.
+        hi: usize,
+    },
+    /// LinuxCNC G5.2 asked for a path that is not planar in XY.
+    #[error(
+        "LinuxCNC G5.2 NURBS lie in the XY plane at one Z, but this path's Z varies by {dz_mm:.4} mm from its start, more than half the tolerance {tol_mm} mm; write it for LinuxCNC with --kind g01 or --kind arcs (G1/G2/G3 move Z too), or as a 3-D NURBS with --dialect fanuc or sinumerik"
+    )]
+    NotPlanar {
+        /// Largest |z − z_start| of the path (mm).
+        dz_mm: f64,
+        /// Tolerance (mm).
+        tol_mm: f64,
+    },
     /// Chords failed.
     #[error("G01 chords: {0}")]
     Chords(ChordError),
@@ -272,6 +316,8 @@ pub enum ProgramError {
 pub struct Program {
     /// Kind.
     pub kind: ProgramKind,
+    /// Dialect it is written in.
+    pub dialect: Dialect,
     /// The program text.
     pub text: String,
     /// The text read back.
@@ -282,8 +328,12 @@ pub struct Program {
     pub tol_mm: f64,
     /// The tolerance the geometry was fitted to before rounding (mm).
     pub fit_tol_mm: f64,
-    /// Blocks describing the path (G01/G02/G03 moves; G06.2: control points + closing knots).
+    /// Blocks describing the path (G01/G02/G03 moves; G06.2: control points + closing knots;
+    /// BSPLINE: control points after the start; G5.2: those and the closing G5.3).
     pub path_blocks: usize,
+    /// LinuxCNC `G64 P` blending tolerance written (mm): the control may leave the programmed
+    /// path by this much more; `deviation + blend ≤ tol` by construction. `None` elsewhere.
+    pub blend_mm: Option<f64>,
     /// The fitted NURBS before rounding (G06.2 only).
     pub nurbs: Option<NurbsCurve>,
     /// Writes made (1 when the first met the tolerance).
@@ -297,9 +347,10 @@ impl Program {
         self.text.len()
     }
 
-    /// The program's G06.2 curves as read back from its text (control points, weights and
-    /// knots rounded to the resolution): what a control would run, unlike [`Program::nurbs`],
-    /// the fit before rounding.
+    /// The program's NURBS curves (G06.2, BSPLINE, G5.2) as read back from its text by the
+    /// dialect's reader (control points and weights rounded to the resolution, knots as the
+    /// dialect implies them): what a control would run, unlike [`Program::nurbs`], the fit
+    /// before rounding.
     pub fn read_back_curves(&self) -> impl Iterator<Item = &NurbsCurve> {
         self.parsed.toolpath.cuts().filter_map(|b| match &b.segment {
             Segment::Nurbs(c) => Some(c),
@@ -325,6 +376,7 @@ fn decimals(res: f64) -> Option<usize> {
 /// words (an axis is written only when its rounded value changes).
 struct Emitter {
     d: usize,
+    dialect: Dialect,
     numbered: bool,
     n: u32,
     text: String,
@@ -354,6 +406,12 @@ impl Emitter {
                 }
             })
             .collect();
+        if self.dialect == Dialect::Sinumerik {
+            self.text.push_str("; ");
+            self.text.push_str(&clean.to_ascii_uppercase());
+            self.text.push('\n');
+            return;
+        }
         self.text.push('(');
         self.text.push_str(&clean.to_ascii_uppercase());
         self.text.push_str(")\n");
@@ -415,11 +473,25 @@ pub fn write_program(
     if tol_mm < 2.0 * res * (1.0 - 1e-9) {
         return Err(ProgramError::BelowResolution { tol_mm, resolution_mm: res });
     }
-    if !(opts.feed_mm_per_min.is_finite() && opts.feed_mm_per_min > 0.0) {
-        return Err(ProgramError::BadFeed(opts.feed_mm_per_min));
+    // The feed as written (rounded to the resolution's decimals) must still be positive, or
+    // the program would not read back.
+    let feed = opts.feed_mm_per_min;
+    let written: f64 = crate::report::fmt_fixed(feed, d).parse().unwrap_or(0.0);
+    if !(feed.is_finite() && feed > 0.0 && written > 0.0 && feed <= crate::limits::MAX_FEED_MM_PER_MIN) {
+        return Err(ProgramError::BadFeed { min_mm_per_min: 10f64.powi(-(d as i32)) });
     }
-    if kind == ProgramKind::Nurbs && !(1..=3).contains(&opts.degree) {
+    if let Some(z) = opts.safe_z_mm
+        && !(z.is_finite() && z.abs() <= crate::limits::MAX_COORDINATE_MM)
+    {
+        return Err(ProgramError::BadSafeZ);
+    }
+    let dialect = opts.dialect;
+    if kind == ProgramKind::Nurbs && dialect == Dialect::Fanuc && !(1..=3).contains(&opts.degree) {
         return Err(ProgramError::Degree(opts.degree));
+    }
+    let (lo, hi) = dialect.nurbs_degrees();
+    if kind == ProgramKind::Nurbs && !(lo..=hi).contains(&opts.degree) {
+        return Err(ProgramError::DialectDegree { dialect: dialect.label(), degree: opts.degree, lo, hi });
     }
     let moved = Translated { inner: design, offset: opts.point.offset() };
     let design: &dyn Curve3 = &moved;
@@ -428,28 +500,52 @@ pub fn write_program(
         _ => res * 3f64.sqrt() / 2.0,
     };
     let mut fit_tol = tol_mm - allowance;
+    // LinuxCNC G5.2 is planar: refuse a path whose Z leaves the start's by more than half
+    // the tolerance before any fitting (the other half is for the XY fit and rounding).
+    let plane_z = if kind == ProgramKind::Nurbs && dialect == Dialect::LinuxCnc {
+        let (a, _) = design.range();
+        let z0 = fmt_fixed(design.point_at(a).z, d).parse::<f64>().unwrap_or(design.point_at(a).z);
+        let dz = z_spread(design, z0);
+        if !(dz <= 0.5 * tol_mm) {
+            return Err(ProgramError::NotPlanar { dz_mm: dz, tol_mm });
+        }
+        Some((z0, dz))
+    } else {
+        None
+    };
     let mut best: Option<f64> = None;
     for attempt in 1..=opts.attempts.max(1) {
-        let (body, nurbs) = match kind {
-            ProgramKind::Lines => (lines_body(design, fit_tol, d, opts)?, None),
-            ProgramKind::Arcs => (arcs_body(design, fit_tol, d, opts)?, None),
-            ProgramKind::Nurbs => {
+        let (body, nurbs) = match (kind, plane_z) {
+            (ProgramKind::Lines, _) => (lines_body(design, fit_tol, d, opts)?, None),
+            (ProgramKind::Arcs, _) => (arcs_body(design, fit_tol, d, opts)?, None),
+            (ProgramKind::Nurbs, Some((z0, dz))) => {
+                // The path flattened to the plane z = z0, fitted in XY so that with the Z
+                // offset the distance stays within the fit tolerance.
+                let flat = FlatZ { inner: design, z_mm: z0 };
+                let xy_tol = (fit_tol * fit_tol - dz * dz).max(0.0).sqrt();
+                let (b, c) = nurbs_body(&flat, xy_tol, d, opts)?;
+                (b, Some(c))
+            }
+            (ProgramKind::Nurbs, None) => {
                 let (b, c) = nurbs_body(design, fit_tol, d, opts)?;
                 (b, Some(c))
             }
         };
         let text_without = assemble(kind, &body, tol_mm, fit_tol, None, d, opts);
-        let parsed = parse_program(&text_without).map_err(ProgramError::ReadBack)?;
+        let parsed = parse_program_in(&text_without, dialect).map_err(ProgramError::ReadBack)?;
         let dev = deviation(&parsed.toolpath, design, &opts.check).map_err(ProgramError::Check)?;
         if dev.max_mm() <= tol_mm {
             let text = assemble(kind, &body, tol_mm, fit_tol, Some(&dev), d, opts);
-            let parsed = parse_program(&text).map_err(ProgramError::ReadBack)?;
+            let parsed = parse_program_in(&text, dialect).map_err(ProgramError::ReadBack)?;
             // The header comment with the deviation comes before every block: the worst
             // move's line moves down by the lines it takes.
             let mut dev = dev;
             dev.program_line += text.lines().count() - text_without.lines().count();
+            let blend_mm = parsed.blend_mm;
             return Ok(Program {
                 kind,
+                dialect,
+                blend_mm,
                 text,
                 parsed,
                 deviation: dev,
@@ -464,7 +560,7 @@ pub fn write_program(
         fit_tol *= 0.9;
     }
     Err(ProgramError::NotMet {
-        kind: kind.label(),
+        kind: dialect.kind_label(kind),
         tol_mm,
         achieved_mm: best.unwrap_or(f64::NAN),
         attempts: opts.attempts.max(1),
@@ -472,8 +568,44 @@ pub fn write_program(
 }
 
 fn new_emitter(d: usize, opts: &ProgramOptions) -> Emitter {
-    Emitter { d, numbered: opts.line_numbers, n: 0, text: String::new(), axes: Default::default() }
+    Emitter {
+        d,
+        dialect: opts.dialect,
+        numbered: opts.line_numbers,
+        n: 0,
+        text: String::new(),
+        axes: Default::default(),
+    }
 }
+
+/// A curve moved onto the plane z = `z_mm` (its Z dropped).
+struct FlatZ<'a> {
+    inner: &'a dyn Curve3,
+    z_mm: f64,
+}
+
+impl Curve3 for FlatZ<'_> {
+    fn derivatives_at(&self, t: f64) -> [DVec3; 3] {
+        let [mut p, mut d1, mut d2] = self.inner.derivatives_at(t);
+        p.z = self.z_mm;
+        d1.z = 0.0;
+        d2.z = 0.0;
+        [p, d1, d2]
+    }
+    fn range(&self) -> (f64, f64) {
+        self.inner.range()
+    }
+}
+
+/// Largest |z − z0| over the curve (mm): dense samples, the worst refined by golden section.
+fn z_spread(design: &dyn Curve3, z0: f64) -> f64 {
+    let (a, b) = design.range();
+    let mut f = |t: f64| (design.point_at(t).z - z0).abs();
+    crate::nurbs_path::measure::max_on_interval(&mut f, a, b, Z_SPREAD_SAMPLES, 20).0
+}
+
+/// Samples of the planarity check of LinuxCNC G5.2 programs.
+const Z_SPREAD_SAMPLES: usize = 1024;
 
 fn assemble(
     kind: ProgramKind,
@@ -485,19 +617,28 @@ fn assemble(
     opts: &ProgramOptions,
 ) -> String {
     let mut e = new_emitter(d, opts);
-    e.raw("%");
+    let dialect = opts.dialect;
+    // Sinumerik programs are files of the control's program memory: no tape marks.
+    if dialect != Dialect::Sinumerik {
+        e.raw("%");
+    }
     if !opts.title.is_empty() {
         e.comment(&opts.title);
     }
     e.comment(&format!(
         "INTERPOLAB {} PROGRAM: {}",
-        kind.label(),
-        match kind {
-            ProgramKind::Lines => "EQUAL-ERROR CHORDS",
-            ProgramKind::Arcs => "TOLERANCE-FITTED ARCS AND LINES",
-            ProgramKind::Nurbs => "FANUC-STYLE NURBS, KNOTS IN MM OF ARC LENGTH",
+        dialect.kind_label(kind),
+        match (kind, dialect) {
+            (ProgramKind::Lines, _) => "EQUAL-ERROR CHORDS",
+            (ProgramKind::Arcs, _) => "TOLERANCE-FITTED ARCS AND LINES",
+            (ProgramKind::Nurbs, Dialect::Fanuc) => "FANUC-STYLE NURBS, KNOTS IN MM OF ARC LENGTH",
+            (ProgramKind::Nurbs, Dialect::Sinumerik) => "B-SPLINE, EQUAL KNOT INTERVALS PL IN MM OF ARC LENGTH",
+            (ProgramKind::Nurbs, Dialect::LinuxCnc) => "NURBS IN THE XY PLANE, IMPLIED UNIFORM KNOTS",
         }
     ));
+    if dialect != Dialect::Fanuc {
+        e.comment(&format!("DIALECT: {}", dialect.as_str()));
+    }
     e.comment(&opts.point.comment());
     e.comment(&format!(
         "TOLERANCE {} MM, RESOLUTION {} MM, FIT TOLERANCE {} MM",
@@ -512,12 +653,35 @@ fn assemble(
             body.path_blocks
         ));
     }
-    e.block("G21 G90 G94 G17");
+    match dialect {
+        Dialect::Fanuc => e.block("G21 G90 G94 G17"),
+        // G710: metric for lengths and feeds; G64: continuous path without corner rounding.
+        Dialect::Sinumerik => e.block("G710 G90 G94 G17 G64"),
+        Dialect::LinuxCnc => {
+            e.block("G21 G90 G94 G17");
+            // Blending may take the control off the programmed path by P: give it what the
+            // measured deviation leaves of the tolerance, or exact path mode if nothing.
+            if let Some(dev) = dev {
+                let res = opts.resolution_mm;
+                let slack = ((tol_mm - dev.max_mm()) / res).floor() * res;
+                if slack >= res {
+                    e.comment(&format!(
+                        "G64 P: PATH BLENDING WITHIN {} MM, SO DEVIATION + BLENDING <= TOLERANCE",
+                        e.num(slack)
+                    ));
+                    e.block(&format!("G64 P{}", e.num(slack)));
+                } else {
+                    e.block("G61");
+                }
+            }
+        }
+    }
     let safe = opts.safe_z_mm.unwrap_or(body.top_z + opts.clearance_mm);
     let start = body.start;
-    e.block(&format!("G00 Z{}", e.num(safe)));
-    e.block(&format!("G00 X{} Y{}", e.num(start.x), e.num(start.y)));
-    e.block(&format!("G00 Z{}", e.num(start.z)));
+    let rapid = dialect.motion_word("G00");
+    e.block(&format!("{rapid} Z{}", e.num(safe)));
+    e.block(&format!("{rapid} X{} Y{}", e.num(start.x), e.num(start.y)));
+    e.block(&format!("{rapid} Z{}", e.num(start.z)));
     if e.numbered {
         for l in body.text.text.lines() {
             e.block(l);
@@ -525,9 +689,18 @@ fn assemble(
     } else {
         e.text.push_str(&body.text.text);
     }
-    e.block(&format!("G00 Z{}", e.num(safe)));
-    e.block("M30");
-    e.raw("%");
+    e.block(&format!("{rapid} Z{}", e.num(safe)));
+    match dialect {
+        Dialect::Fanuc => {
+            e.block("M30");
+            e.raw("%");
+        }
+        Dialect::Sinumerik => e.block("M30"),
+        Dialect::LinuxCnc => {
+            e.block("M2");
+            e.raw("%");
+        }
+    }
     e.text
 }
 
@@ -547,7 +720,7 @@ fn lines_body(design: &dyn Curve3, fit_tol: f64, d: usize, opts: &ProgramOptions
         }
         let f = if first { format!(" F{}", e.num(opts.feed_mm_per_min)) } else { String::new() };
         first = false;
-        e.block(&format!("G01 {words}{f}"));
+        e.block(&format!("{} {words}{f}", opts.dialect.motion_word("G01")));
         blocks += 1;
     }
     let top = pts.iter().map(|p| p.z).fold(sample_top(design), f64::max);
@@ -574,7 +747,7 @@ fn arcs_body(design: &dyn Curve3, fit_tol: f64, d: usize, opts: &ProgramOptions)
         match &fp.piece {
             Piece::Line(_) => {
                 let words = e.axis_words(end, false);
-                e.block(&format!("G01 {words}{f}"));
+                e.block(&format!("{} {words}{f}", opts.dialect.motion_word("G01")));
             }
             Piece::Arc(arc) => {
                 // Centre moved onto the bisector of the rounded chord, then rounded.
@@ -599,7 +772,7 @@ fn arcs_body(design: &dyn Curve3, fit_tol: f64, d: usize, opts: &ProgramOptions)
                     String::new()
                 };
                 let words = e.axis_words(end, false);
-                let code = if arc.ccw { "G03" } else { "G02" };
+                let code = opts.dialect.motion_word(if arc.ccw { "G03" } else { "G02" });
                 let off_a = e.num(ca - sa);
                 let off_b = e.num(cb - sb);
                 // Offsets in X, Y, Z order.
@@ -625,11 +798,20 @@ fn nurbs_body(
     opts: &ProgramOptions,
 ) -> Result<(Body, NurbsCurve), ProgramError> {
     let res = opts.resolution_mm;
-    let approx = opts.approx.with_degree(opts.degree).with_knot_quantum(Some(res));
+    let approx = if opts.dialect.uniform_knots() {
+        opts.approx.with_degree(opts.degree).with_uniform_knots(true)
+    } else {
+        opts.approx.with_degree(opts.degree).with_knot_quantum(Some(res))
+    };
     let fit = approximate_curve(design, fit_tol, &approx).map_err(ProgramError::Fit)?;
     let c = fit.curve;
     let mut e = new_emitter(d, opts);
     e.numbered = false;
+    match opts.dialect {
+        Dialect::Fanuc => {}
+        Dialect::Sinumerik => return Ok((sinumerik_nurbs(&c, e, design, opts), c)),
+        Dialect::LinuxCnc => return Ok((linuxcnc_nurbs(&c, e, opts), c)),
+    }
     let order = c.degree() + 1;
     let knots = c.knots();
     let n = c.len();
@@ -651,4 +833,51 @@ fn nurbs_body(
     let top = (0..n).map(|i| c.control_point(i).z).fold(sample_top(design), f64::max);
     let start = c.control_point(0);
     Ok((Body { start, text: e, path_blocks: n + order, top_z: top }, c))
+}
+
+/// Sinumerik `BSPLINE`: the start point (the rapid's end) is the first control point; one
+/// block per further control point with its weight `PW` and the knot interval `PL` — the
+/// same on every block, since the fit has equal spans (so the curve does not depend on which
+/// interval a block's `PL` is taken for; rounding `PL` only rescales the parameter).
+fn sinumerik_nurbs(c: &NurbsCurve, mut e: Emitter, design: &dyn Curve3, opts: &ProgramOptions) -> Body {
+    let n = c.len();
+    let p = c.degree();
+    let knots = c.knots();
+    let spans = (n - p).max(1);
+    let pl = e.q((knots[knots.len() - 1] - knots[0]) / spans as f64).max(opts.resolution_mm);
+    let pl = e.num(pl);
+    e.axis_words(c.control_point(0), true);
+    for i in 1..n {
+        let words = e.axis_words(c.control_point(i), true);
+        let w = e.num(c.weight(i));
+        if i == 1 {
+            e.block(&format!("BSPLINE SD={p} {words} PW={w} PL={pl} F{}", e.num(opts.feed_mm_per_min)));
+        } else {
+            e.block(&format!("{words} PW={w} PL={pl}"));
+        }
+    }
+    let top = (0..n).map(|i| c.control_point(i).z).fold(sample_top(design), f64::max);
+    Body { start: c.control_point(0), text: e, path_blocks: Dialect::Sinumerik.nurbs_blocks(c), top_z: top }
+}
+
+/// LinuxCNC `G5.2`/`G5.3`: the start point is the first control point; `G5.2` carries the
+/// second with its weight `P` and the order `L`, one block `X Y P` per further control point,
+/// then `G5.3`. The knots are implied uniform, which the equal-span fit matches; Z stays at
+/// the start's (the curve was fitted in that plane).
+fn linuxcnc_nurbs(c: &NurbsCurve, mut e: Emitter, opts: &ProgramOptions) -> Body {
+    let n = c.len();
+    let order = c.degree() + 1;
+    for i in 1..n {
+        let q = c.control_point(i);
+        let words = format!("X{} Y{}", e.num(q.x), e.num(q.y));
+        let w = e.num(c.weight(i));
+        if i == 1 {
+            e.block(&format!("G5.2 {words} P{w} L{order} F{}", e.num(opts.feed_mm_per_min)));
+        } else {
+            e.block(&format!("{words} P{w}"));
+        }
+    }
+    e.block("G5.3");
+    let start = c.control_point(0);
+    Body { start, text: e, path_blocks: Dialect::LinuxCnc.nurbs_blocks(c), top_z: start.z }
 }

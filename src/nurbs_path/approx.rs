@@ -64,6 +64,12 @@ pub struct ApproxOptions {
     /// After refinement, redistribute the knots so every span errs about equally
     /// (default true): fewer control points for the same tolerance.
     pub equidistribute: bool,
+    /// Keep every knot span equally long (default false): a controller that implies uniform
+    /// knots (Sinumerik `BSPLINE` with one `PL`, LinuxCNC `G5.2`) can carry only such a
+    /// curve. Refinement then raises the span count for the whole curve (by the h^{p+1} error
+    /// model, at least one more span per round) instead of splitting spans; the knot quantum
+    /// and equidistribution are not used.
+    pub uniform: bool,
 }
 
 impl Default for ApproxOptions {
@@ -78,6 +84,7 @@ impl Default for ApproxOptions {
             max_control_points: 20_000,
             knot_quantum_mm: None,
             equidistribute: true,
+            uniform: false,
         }
     }
 }
@@ -105,6 +112,12 @@ impl ApproxOptions {
     #[must_use]
     pub fn with_equidistribution(mut self, on: bool) -> Self {
         self.equidistribute = on;
+        self
+    }
+    /// Sets whether the knot spans stay equal.
+    #[must_use]
+    pub fn with_uniform_knots(mut self, on: bool) -> Self {
+        self.uniform = on;
         self
     }
     /// Sets the initial span length (mm).
@@ -415,7 +428,8 @@ pub fn approximate_curve(design: &dyn Curve3, tol_mm: f64, opts: &ApproxOptions)
     if !(length.is_finite() && length > crate::tolerance::FIT_DUPLICATE_MM) {
         return Err(FitError::EmptyCurve);
     }
-    let end = quantize(length, opts.knot_quantum_mm);
+    let quantum = if opts.uniform { None } else { opts.knot_quantum_mm };
+    let end = quantize(length, quantum);
     if !(end > 0.0) {
         return Err(FitError::EmptyCurve);
     }
@@ -432,7 +446,7 @@ pub fn approximate_curve(design: &dyn Curve3, tol_mm: f64, opts: &ApproxOptions)
     let ends = ends(&());
     let min_spans = if opts.end_tangents { 4usize.saturating_sub(p).max(1) } else { 1 };
     let spans = ((length / opts.initial_span_mm.max(1e-6)).ceil() as usize).max(min_spans);
-    let mut knots = uniform_knots(p, end, spans, opts.knot_quantum_mm);
+    let mut knots = uniform_knots(p, end, spans, quantum);
     let fit_with = |knots: &[f64]| -> Result<(NurbsCurve, Vec<f64>), FitError> {
         let bps = breakpoints(knots, p);
         let data = sample_design(&map, &bps, opts);
@@ -450,6 +464,19 @@ pub fn approximate_curve(design: &dyn Curve3, tol_mm: f64, opts: &ApproxOptions)
             break (curve, errs);
         }
         let worst = errs.iter().copied().fold(0.0_f64, f64::max);
+        if opts.uniform {
+            // Equal spans: an error e of spans h scales as h^{p+1}, so the count that brings
+            // the worst to 0.85·E, and at least one span more.
+            let spans_now = curve.len() - p;
+            let grow = (worst / (0.85 * tol_mm)).powf(1.0 / (p as f64 + 1.0));
+            let next = if grow.is_finite() { (spans_now as f64 * grow).ceil() as usize } else { 0 };
+            let next = next.max(spans_now + 1);
+            if next + p > opts.max_control_points {
+                return Err(FitError::NotConverged { tol_mm, achieved_mm: worst, control_points: curve.len() });
+            }
+            knots = uniform_knots(p, end, next, None);
+            continue;
+        }
         if curve.len() + bad.len() > opts.max_control_points {
             return Err(FitError::NotConverged { tol_mm, achieved_mm: worst, control_points: curve.len() });
         }
@@ -461,7 +488,7 @@ pub fn approximate_curve(design: &dyn Curve3, tol_mm: f64, opts: &ApproxOptions)
         };
         knots = split;
     };
-    if opts.equidistribute {
+    if opts.equidistribute && !opts.uniform {
         // At most 10 refits: each round tries the predicted span count, then one more, …,
         // up to one fewer than now; the first that holds E is kept and the next round
         // starts from its errors.

@@ -160,6 +160,10 @@ fn gauss_length(curve: &dyn Curve3, a: f64, b: f64) -> f64 {
     GAUSS5.iter().map(|&(x, w)| w * curve.derivatives_at(m + r * x)[1].length()).sum::<f64>() * r
 }
 
+/// Rounding noise of a cell's length comparison, in units of the machine epsilon times the
+/// lengths compared (five Gauss terms each for three sums).
+const ARC_NOISE_ULPS: f64 = 64.0;
+
 /// Arc length s(t) = ∫|C'| dt of a curve, tabulated on an adaptive grid of its parameter
 /// (five-point Gauss–Legendre per cell, cells halved until the two halves agree with the
 /// whole to [`tolerance::ARC_LENGTH_REL`] of the total), and its inverse t(s).
@@ -206,7 +210,12 @@ impl ArcLengthTable {
     ) {
         let m = 0.5 * (a + b);
         let (l, r) = (gauss_length(curve, a, m), gauss_length(curve, m, b));
-        if depth >= 30 || (l + r - whole).abs() <= eps {
+        // Beside the relative tolerance, a difference within the rounding of the sums
+        // themselves is agreement (a nanometre-long curve never meets 1e-8 of its length
+        // otherwise), and the table stops growing at its node budget: the work is bounded by
+        // the budget whatever the curve.
+        let noise = ARC_NOISE_ULPS * f64::EPSILON * (l.abs() + r.abs() + whole.abs());
+        if depth >= 30 || (l + r - whole).abs() <= eps.max(noise) || t.len() >= crate::limits::MAX_ARC_TABLE_NODES {
             let base = s[s.len() - 1];
             t.push(m);
             s.push(base + l);

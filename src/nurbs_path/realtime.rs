@@ -123,6 +123,10 @@ impl RealtimeOptions {
     }
 }
 
+/// Samples of the curve whose polyline bounds its length from below, to refuse a run
+/// needing more than `max_periods` before it starts.
+const LENGTH_SAMPLES: usize = 64;
+
 /// Why a real-time run could not be made.
 #[derive(Clone, Debug, Error, PartialEq)]
 pub enum RealtimeError {
@@ -148,7 +152,7 @@ pub enum RealtimeError {
         u: f64,
     },
     /// Too many periods.
-    #[error("more than {max} periods would be needed; raise the feed or shorten the curve")]
+    #[error("more than {max} periods would be needed; raise the feed or the period, or shorten the curve")]
     TooManyPeriods {
         /// The limit.
         max: u64,
@@ -324,7 +328,19 @@ impl RealtimeStepper {
         {
             return Err(RealtimeError::BadChordTol(t));
         }
-        let (u0, _) = curve.range();
+        let (u0, u1) = curve.range();
+        // Refuse before the work: a polyline through samples of the curve is no longer than
+        // the curve, so this many periods at least would be needed.
+        let mut lower_mm = 0.0;
+        let mut prev = curve.point_at(u0);
+        for i in 1..=LENGTH_SAMPLES {
+            let p = curve.point_at(u0 + (u1 - u0) * i as f64 / LENGTH_SAMPLES as f64);
+            lower_mm += (p - prev).length();
+            prev = p;
+        }
+        if lower_mm / f > opts.max_periods as f64 {
+            return Err(RealtimeError::TooManyPeriods { max: opts.max_periods });
+        }
         Ok(Self {
             opts: *opts,
             f,

@@ -87,6 +87,17 @@ pub(super) fn validate(s: &Scene) -> Result<(), SceneError> {
     }
     positive("motion.feed", s.motion.feed, "the feed in mm/min")?;
     positive("motion.period", s.motion.period, "the interpolation period in ms")?;
+    let f = s.feed_per_period_mm();
+    if !(f >= crate::tolerance::NEWTON_LENGTH_MM) {
+        return Err(SceneError::new(
+            "motion",
+            format!(
+                "the feed per period F·Ts = {f:.3e} mm is below {:e} mm, the accuracy of a crease point: the cutter centre could not advance",
+                crate::tolerance::NEWTON_LENGTH_MM
+            ),
+            "raise motion.feed (mm/min) or motion.period (ms)",
+        ));
+    }
     positive("tolerance.t1", s.tolerance.t1, "the tolerance on surface 1 in mm")?;
     positive("tolerance.t2", s.tolerance.t2, "the tolerance on surface 2 in mm")?;
     if !(s.tolerance.share > 0.0 && s.tolerance.share <= 1.0) {
@@ -102,6 +113,16 @@ pub(super) fn validate(s: &Scene) -> Result<(), SceneError> {
             && v.iter().any(|x| !x.is_finite())
         {
             return Err(SceneError::new(key, "holds a non-finite number", "give finite coordinates in mm"));
+        }
+        if let Some(v) = v
+            && key != "path.direction"
+            && v.iter().any(|x| x.abs() > crate::limits::MAX_COORDINATE_MM)
+        {
+            return Err(SceneError::new(
+                key,
+                format!("lies beyond ±{:e} mm (1 km) of the origin", crate::limits::MAX_COORDINATE_MM),
+                "give the point in mm near the surfaces",
+            ));
         }
     }
     if s.path.max_steps == 0 {

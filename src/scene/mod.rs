@@ -7,6 +7,7 @@
 //! (radians, unit frames, NURBS in homogeneous form).
 
 mod build;
+mod dupkeys;
 pub mod finish;
 pub mod link;
 mod parse;
@@ -39,8 +40,44 @@ pub struct SceneError {
 
 impl SceneError {
     pub(crate) fn new(path: impl Into<String>, problem: impl Into<String>, fix: impl Into<String>) -> Self {
-        Self { path: path.into(), problem: problem.into(), fix: fix.into() }
+        Self { path: path.into(), problem: tidy_numbers(&problem.into()), fix: fix.into() }
     }
+}
+
+/// Longest decimal a message shows as written; longer ones (Rust prints 1e300 with all its
+/// 301 digits) are rewritten in exponent form.
+const MAX_DECIMAL_CHARS: usize = 24;
+
+/// Rewrites every decimal number longer than [`MAX_DECIMAL_CHARS`] in `text` as the shortest
+/// exponent form of the same double (`1e300`, `-2.5e-200`), so a message never shows a
+/// runaway number.
+fn tidy_numbers(text: &str) -> String {
+    let b = text.as_bytes();
+    let mut out = String::with_capacity(text.len());
+    let mut i = 0;
+    while i < b.len() {
+        let start = i;
+        let mut j = i;
+        if b[j] == b'-' && j + 1 < b.len() && b[j + 1].is_ascii_digit() {
+            j += 1;
+        }
+        if j < b.len() && b[j].is_ascii_digit() && (start == 0 || !b[start - 1].is_ascii_alphanumeric()) {
+            while j < b.len() && (b[j].is_ascii_digit() || b[j] == b'.') {
+                j += 1;
+            }
+            let token = &text[start..j];
+            match token.trim_end_matches('.').parse::<f64>() {
+                Ok(x) if token.len() > MAX_DECIMAL_CHARS => out.push_str(&format!("{x:e}")),
+                _ => out.push_str(token),
+            }
+            i = j;
+        } else {
+            let ch = text[i..].chars().next().unwrap_or(' ');
+            out.push(ch);
+            i += ch.len_utf8();
+        }
+    }
+    out
 }
 
 /// Which side of a closed analytic surface the cutter is on.
@@ -317,5 +354,15 @@ impl Scene {
     #[must_use]
     pub fn effective_radius_mm(&self) -> f64 {
         self.tool.radius + self.tool.allowance
+    }
+}
+
+#[cfg(test)]
+mod tidy_tests {
+    #[test]
+    fn runaway_decimals_are_written_in_exponent_form() {
+        let long = format!("got {}, range [-80, {}]", 1e300, -1e-200);
+        assert_eq!(super::tidy_numbers(&long), "got 1e300, range [-80, -1e-200]");
+        assert_eq!(super::tidy_numbers("u = 0.5 mm, knot 6 (0.25), 1.5°"), "u = 0.5 mm, knot 6 (0.25), 1.5°");
     }
 }

@@ -224,6 +224,13 @@ pub(super) fn parse(text: &str) -> Result<Scene, SceneError> {
             "fix the JSON syntax at that line and column (a scene is one JSON object)",
         )
     })?;
+    if let Some(key) = super::dupkeys::first_duplicate_key(text) {
+        return Err(SceneError::new(
+            key,
+            "appears twice in the same object (the second would silently replace the first)",
+            "keep one of the two values and delete the other",
+        ));
+    }
     let at = At { v: &root, path: String::new() };
     if root.get("finish").is_some() {
         return Err(SceneError::new(

@@ -868,6 +868,7 @@ impl Panel for FiveAxisPanel {
                             ui.label(egui::RichText::new("(the plans with steps inserted, as in \"after\")").weak());
                         }
                         plots::iterations_table(ui, plan);
+                        plots::iterations_lesson(ui, plan);
                     }
                     ui.separator();
                     ui.label(egui::RichText::new("Selected segment").strong());

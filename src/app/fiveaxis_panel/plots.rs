@@ -280,3 +280,35 @@ pub fn iterations_table(ui: &mut egui::Ui, plan: &Plan) {
         }
     });
 }
+
+/// The lesson of the iteration table, read from its numbers: whether the paper's modified
+/// secant beat bisection here, and why not when it did not (Example 1: the √(8ρE) bracket
+/// ignores the nonlinear error, and regula falsi keeps the far end fixed).
+pub fn iterations_lesson(ui: &mut egui::Ui, plan: &Plan) {
+    let count = |m: RootMethod| {
+        RootMethod::ALL.iter().zip(&plan.compare).find(|(k, _)| **k == m).and_then(|(_, row)| match row {
+            CompareRow::Done { iterations, .. } => Some(*iterations),
+            _ => None,
+        })
+    };
+    let (Some(bisection), Some(secant), Some(illinois)) =
+        (count(RootMethod::Bisection), count(RootMethod::Secant), count(RootMethod::Illinois))
+    else {
+        return;
+    };
+    let text = if secant > bisection {
+        format!(
+            "Here the paper's claim fails: its modified secant needs {secant} iterations, bisection {bisection}. \
+             The first bracket comes from √(8ρE), which knows nothing of the nonlinear error, so it overshoots \
+             far; on a convex error function regula falsi then keeps that far end fixed and creeps toward the \
+             root from one side. Bisection only halves the bracket, whatever the function. Illinois scales \
+             down the kept end's value each time it stays, so the secant swings to the other side: {illinois}."
+        )
+    } else {
+        format!(
+            "The paper's order holds here: modified secant {secant} iterations against bisection's {bisection} \
+             (the bracket is close to the root); Illinois, which keeps regula falsi from stalling on one end, {illinois}."
+        )
+    };
+    ui.label(egui::RichText::new(text).small());
+}

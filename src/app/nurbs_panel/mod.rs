@@ -19,7 +19,7 @@ use glam::DVec3;
 
 use super::panel::{Panel, PanelContext};
 use super::platform::FileKind;
-use crate::gcode::{ProgramKind, ProgrammedPoint, format_comparison};
+use crate::gcode::{Dialect, ProgramKind, ProgrammedPoint, format_comparison};
 use crate::nurbs_path::Update;
 use crate::report::fmt_fixed;
 use plots::FeedPlot;
@@ -63,6 +63,7 @@ struct Settings {
     chord_tol_mm: f64,
     chord_limit: bool,
     degree: usize,
+    dialect: Dialect,
 }
 
 impl Default for Settings {
@@ -77,6 +78,7 @@ impl Default for Settings {
             chord_tol_mm: 0.00002,
             chord_limit: false,
             degree: 3,
+            dialect: Dialect::Fanuc,
         }
     }
 }
@@ -162,6 +164,7 @@ impl NurbsPanel {
                 point,
                 feed_mm_per_min: s.feed_mm_per_min.unwrap_or(feed),
                 degree: s.degree,
+                dialect: s.dialect,
             },
             realtime: RealtimeInput {
                 update: s.update,
@@ -256,6 +259,17 @@ impl NurbsPanel {
                         ui.selectable_value(&mut s.degree, d, format!("degree {d} (order P{})", d + 1));
                     }
                 });
+            egui::ComboBox::from_id_salt("nurbs-dialect")
+                .selected_text(format!("dialect {}", s.dialect.label()))
+                .show_ui(ui, |ui| {
+                    for d in Dialect::ALL {
+                        ui.selectable_value(&mut s.dialect, d, d.label());
+                    }
+                })
+                .response
+                .on_hover_text(
+                    "The controller the programs are written for: FANUC G06.2, Sinumerik 840D BSPLINE, LinuxCNC G5.2 (XY only); each is read back by its own reader",
+                );
         });
         ui.horizontal_wrapped(|ui| {
             ui.label("programmed point:");
@@ -430,7 +444,7 @@ impl NurbsPanel {
         ui.horizontal_wrapped(|ui| {
             ui.label(egui::RichText::new("G-code:").strong());
             for kind in ProgramKind::ALL {
-                let r = ui.selectable_label(self.shown == Shown::Kind(kind), kind.label());
+                let r = ui.selectable_label(self.shown == Shown::Kind(kind), self.settings.dialect.kind_label(kind));
                 self.rects.push((kind.label(), r.rect));
                 if r.clicked() {
                     self.shown = Shown::Kind(kind);
@@ -465,7 +479,10 @@ impl NurbsPanel {
                 match self.work.rows[i].ok() {
                     Some(r) => (
                         Some(r.program.text.as_str()),
-                        format!("{}-{}.nc", self.file_stem(cx), kind.as_str()),
+                        match self.settings.dialect {
+                            Dialect::Fanuc => format!("{}-{}.nc", self.file_stem(cx), kind.as_str()),
+                            d => format!("{}-{d}-{}.nc", self.file_stem(cx), kind.as_str()),
+                        },
                         Some(r.program.deviation.program_line),
                     ),
                     None => (None, String::new(), None),
@@ -758,6 +775,7 @@ impl Panel for NurbsPanel {
                     s.chord_limit = true;
                 }
             }
+            "dialect" => s.dialect = value.parse::<Dialect>().map_err(|e| e.to_string())?,
             "degree" => {
                 s.degree = match value {
                     "1" => 1,
@@ -777,7 +795,7 @@ impl Panel for NurbsPanel {
             }
             _ => {
                 return Err(format!(
-                    "no option \"{key}\"; give source, tol_mm, resolution_mm, point, update, feed_mm_per_min, chord_tol_mm, degree or program"
+                    "no option \"{key}\"; give source, tol_mm, resolution_mm, point, update, feed_mm_per_min, chord_tol_mm, degree, dialect or program"
                 ));
             }
         }

@@ -43,7 +43,9 @@ pub fn programs_table(ui: &mut egui::Ui, work: &Work, wanted: Option<&Wanted>) {
         for (i, kind) in ProgramKind::ALL.into_iter().enumerate() {
             let fresh = wanted.is_some_and(|w| work.row_fresh(i, w));
             let color = if fresh { ui.visuals().text_color() } else { STALE };
-            ui.label(egui::RichText::new(kind.label()).color(kind_color(kind)).strong());
+            let dialect = wanted.map_or_else(Default::default, |w| w.program.dialect);
+            ui.label(egui::RichText::new(dialect.kind_label(kind)).color(kind_color(kind)).strong())
+                .on_hover_text(format!("{} program", dialect.label()));
             match &work.rows[i].value {
                 None => {
                     ui.label(egui::RichText::new("computing…").color(STALE).italics());

@@ -13,8 +13,9 @@ use web_time::{Duration, Instant};
 
 use crate::crease::{CreaseCurve, CreaseJob};
 use crate::gcode::{
-    CompareOptions, CompareRow, Comparison, DesignBuilder, DesignError, Deviation, DeviationOptions, ParsedProgram,
-    ProgramError, ProgramKind, ProgramOptions, ProgrammedPoint, compare_row, deviation, parse_program,
+    CompareOptions, CompareRow, Comparison, DesignBuilder, DesignError, Deviation, DeviationOptions, Dialect,
+    ParsedProgram, ProgramError, ProgramKind, ProgramOptions, ProgrammedPoint, compare_row, deviation,
+    parse_program_in,
 };
 use crate::geom::Curve3;
 use crate::nurbs_path::measure::{ArcLengthTable, Translated};
@@ -113,6 +114,8 @@ pub struct ProgramInput {
     pub feed_mm_per_min: f64,
     /// G06.2 degree.
     pub degree: usize,
+    /// Controller dialect of the programs.
+    pub dialect: Dialect,
 }
 
 /// Every input of the real-time runs besides the G06.2 curve.
@@ -265,7 +268,8 @@ impl Work {
                 .with_feed(p.feed_mm_per_min)
                 .with_point(p.point)
                 .with_title(title)
-                .with_degree(p.degree),
+                .with_degree(p.degree)
+                .with_dialect(p.dialect),
             period_ms: r.period_ms,
             chord_tol_mm: r.chord_tol_mm,
         }
@@ -273,7 +277,8 @@ impl Work {
 
     /// Loads a program's text (parsed at once: reading is fast).
     pub fn load(&mut self, name: &str, text: String) {
-        let parsed = parse_program(&text);
+        // The dialect as the program says (our header) or its words show.
+        let parsed = parse_program_in(&text, Dialect::guess(&text));
         let error_line = parsed.as_ref().err().map(crate::gcode::ParseError::line);
         let parsed = parsed.map_err(|e| e.to_string());
         let point = parsed.as_ref().ok().and_then(|p| ProgrammedPoint::from_comments(&p.comments));
@@ -516,7 +521,13 @@ impl Work {
         }
         let rows: Vec<CompareRow> = self.rows.iter().map(|r| r.ok().cloned()).collect::<Option<_>>()?;
         let realtime = if self.realtime_fresh(w) { self.realtime.ok()?.stats.clone() } else { Vec::new() };
-        Some(Comparison { tol_mm: w.program.tol_mm, feed_mm_per_min: w.program.feed_mm_per_min, rows, realtime })
+        Some(Comparison {
+            tol_mm: w.program.tol_mm,
+            feed_mm_per_min: w.program.feed_mm_per_min,
+            rows,
+            realtime,
+            notes: Vec::new(),
+        })
     }
 }
 

@@ -1,0 +1,215 @@
+//! Speed and memory of the dexel cutting simulation, and the same programs through the
+//! `cutrail` crate (a mesh stock with robust booleans) for comparison.
+//!
+//! Programs: a 3-axis ball raster on a 51.2 × 51.2 mm block at pitch 0.1 (512 × 512 rays),
+//! 0.5 mm moves, 1 mm step-over (5 000 moves); a 10 000-move 5-axis program on the same grid
+//! (table A/C machine; the raster's tips with the tool axis swinging ±15° about X over 40
+//! moves, joints from the inverse kinematics). Printed once before the
+//! timings: ray-interval updates per second, rays visited, memory of a 1024 × 1024 stock.
+#![allow(missing_docs)]
+
+use std::hint::black_box;
+use std::time::{Duration, Instant};
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use glam::DVec3;
+use interpolab::fiveaxis::{Joints, Machine};
+use interpolab::geom::Cutter;
+use interpolab::simulate::{DexelStock, MoveKind, Program, SimMove, Simulation};
+
+const SIDE_MM: f64 = 51.2;
+const PITCH_MM: f64 = 0.1;
+const BALL_MM: f64 = 3.0;
+
+fn stock() -> DexelStock {
+    match DexelStock::block([0.0, 0.0, 0.0], [SIDE_MM, SIDE_MM, 20.0], PITCH_MM) {
+        Ok(s) => s,
+        Err(e) => panic!("stock: {e}"),
+    }
+}
+
+fn ball() -> Cutter {
+    match Cutter::ball(BALL_MM) {
+        Ok(c) => c,
+        Err(e) => panic!("cutter: {e}"),
+    }
+}
+
+/// Tip points of a zigzag raster at z = 17: rows 1 mm apart, 0.5 mm moves.
+fn raster_points(n_moves: usize) -> Vec<DVec3> {
+    let mut pts = vec![DVec3::new(0.0, 0.0, 17.0)];
+    let mut row = 0;
+    while pts.len() <= n_moves {
+        let y = row as f64 % SIDE_MM;
+        for k in 1..=100 {
+            let x = if row % 2 == 0 { 0.5 * k as f64 } else { SIDE_MM - 0.5 * k as f64 };
+            pts.push(DVec3::new(x.clamp(0.0, SIDE_MM), y, 17.0));
+        }
+        row += 1;
+        pts.push(DVec3::new(pts[pts.len() - 1].x, (row as f64) % SIDE_MM, 17.0));
+    }
+    pts.truncate(n_moves + 1);
+    pts
+}
+
+fn three_axis(n: usize) -> Program {
+    let moves = raster_points(n)
+        .windows(2)
+        .map(|w| SimMove { kind: MoveKind::Line { from: w[0], to: w[1] }, line: 0, rapid: false })
+        .collect();
+    Program { moves, chord_error_mm: 0.0 }
+}
+
+fn machine() -> Machine {
+    Machine { limits_rad: [None, None], ..Machine::default() }
+}
+
+/// A tilt of A for move k: ±15° over 40 moves.
+fn tilt_rad(k: usize) -> f64 {
+    15f64.to_radians() * (std::f64::consts::TAU * k as f64 / 40.0).sin()
+}
+
+/// Unit tool axis of move k: tilted by [`tilt_rad`] about X.
+fn axis(k: usize) -> DVec3 {
+    let (sn, cs) = tilt_rad(k).sin_cos();
+    DVec3::new(0.0, -sn, cs)
+}
+
+fn five_axis(n: usize) -> Program {
+    let m = machine();
+    // The raster's tips with the axis swinging about X, through the machine's inverse
+    // kinematics (nearest branch to the previous block).
+    let mut joints: Vec<Joints> = Vec::with_capacity(n + 1);
+    for (k, p) in raster_points(n).iter().enumerate() {
+        match m.joints_from_pose(*p, axis(k), joints.last()) {
+            Ok(j) => joints.push(j),
+            Err(e) => panic!("inverse kinematics at block {k}: {e}"),
+        }
+    }
+    let moves = joints
+        .windows(2)
+        .map(|w| SimMove { kind: MoveKind::Joints { machine: m, from: w[0], to: w[1] }, line: 0, rapid: false })
+        .collect();
+    Program { moves, chord_error_mm: 0.0 }
+}
+
+fn simulate(program: &Program) -> Simulation {
+    let mut sim = Simulation::new(stock(), &ball());
+    if let Err(e) = sim.run(program) {
+        panic!("run: {e}");
+    }
+    sim
+}
+
+/// CPU time of this thread (s) from /proc/thread-self/schedstat (ns), `None` elsewhere: on
+/// a shared machine the wall clock counts other processes' time slices too.
+fn thread_cpu_s() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    text.split_whitespace().next()?.parse::<f64>().ok().map(|ns| ns * 1e-9)
+}
+
+fn report_once() {
+    for (name, p) in [("3-axis 5 000 moves", three_axis(5_000)), ("5-axis 10 000 moves", five_axis(10_000))] {
+        let t = Instant::now();
+        let cpu0 = thread_cpu_s();
+        let sim = simulate(&p);
+        let s = t.elapsed().as_secs_f64();
+        let cpu = thread_cpu_s().zip(cpu0).map_or(f64::NAN, |(b, a)| b - a);
+        let c = sim.counters();
+        eprintln!(
+            "{name} on 512×512: wall {:.3} s, CPU {:.3} s, {} ray updates ({:.1} M/s wall, {:.1} M/s CPU), {} rays visited, {} samples, {:.1} µs/move (wall), removed {:.0} mm³",
+            s,
+            cpu,
+            c.ray_updates,
+            c.ray_updates as f64 / s / 1e6,
+            c.ray_updates as f64 / cpu / 1e6,
+            c.rays_visited,
+            c.samples,
+            s / p.moves.len() as f64 * 1e6,
+            c.removed_mm3
+        );
+    }
+    match DexelStock::block([0.0, 0.0, 0.0], [102.4, 102.4, 20.0], PITCH_MM) {
+        Ok(big) => {
+            let mut sim = Simulation::new(big, &ball());
+            if let Err(e) = sim.run(&three_axis(5_000)) {
+                panic!("{e}");
+            }
+            eprintln!(
+                "1024×1024 stock after the 3-axis program: {} rays, {:.1} MiB",
+                sim.stock().grid().len(),
+                sim.stock().memory_bytes() as f64 / (1 << 20) as f64
+            );
+        }
+        Err(e) => panic!("{e}"),
+    }
+}
+
+/// The same raster (first `n` moves) through cutrail: a box stock, a ball end mill of the same
+/// diameter, one linear segment per move; returns seconds per segment.
+fn cutrail_per_segment(n: usize, tilted: bool) -> f64 {
+    use cutrail::{Engine, EngineOptions, ManifoldKernel, MotionSegment, Pose, StockShape, Tool};
+    let stock = StockShape::Box { min: [0.0, 0.0, 0.0], max: [SIDE_MM, SIDE_MM, 20.0] };
+    let mut engine = match Engine::new(ManifoldKernel, &[stock], EngineOptions::default()) {
+        Ok(e) => e,
+        Err(e) => panic!("cutrail engine: {e}"),
+    };
+    let tool = Tool::ball_end_mill(2.0 * BALL_MM, 3.0 * BALL_MM);
+    let pts = raster_points(n);
+    let pose = |k: usize, p: DVec3| {
+        if tilted {
+            Pose::tilted_about_y([p.x, p.y, p.z], tilt_rad(k).to_degrees())
+        } else {
+            Pose::vertical([p.x, p.y, p.z])
+        }
+    };
+    let t = Instant::now();
+    for (k, w) in pts.windows(2).enumerate() {
+        let seg = MotionSegment::linear(pose(k, w[0]), pose(k + 1, w[1]));
+        if let Err(e) = engine.cut(&tool, &seg) {
+            panic!("cutrail cut {k}: {e}");
+        }
+    }
+    t.elapsed().as_secs_f64() / n as f64
+}
+
+fn benches(c: &mut Criterion) {
+    report_once();
+    let n_peer = 500;
+    let ours3 = {
+        let p = three_axis(n_peer);
+        let t = Instant::now();
+        black_box(simulate(&p));
+        t.elapsed().as_secs_f64() / n_peer as f64
+    };
+    let ours5 = {
+        let p = five_axis(n_peer);
+        let t = Instant::now();
+        black_box(simulate(&p));
+        t.elapsed().as_secs_f64() / n_peer as f64
+    };
+    let peer3 = cutrail_per_segment(n_peer, false);
+    let peer5 = cutrail_per_segment(n_peer, true);
+    eprintln!(
+        "first {n_peer} moves, per move: dexel 3-axis {:.1} µs vs cutrail {:.1} µs ({:.0}×); dexel 5-axis {:.1} µs vs cutrail {:.1} µs ({:.0}×)",
+        ours3 * 1e6,
+        peer3 * 1e6,
+        peer3 / ours3,
+        ours5 * 1e6,
+        peer5 * 1e6,
+        peer5 / ours5
+    );
+
+    let mut g = c.benchmark_group("simulate_512x512");
+    g.sample_size(10).measurement_time(Duration::from_secs(10));
+    let p3 = three_axis(5_000);
+    g.bench_function("three_axis_5000_moves", |b| b.iter(|| black_box(simulate(&p3))));
+    // The whole 10 000-move 5-axis program is timed once by `report_once` (tens of seconds);
+    // criterion repeats its first 1 000 moves.
+    let p5 = five_axis(1_000);
+    g.bench_function("five_axis_1000_moves", |b| b.iter(|| black_box(simulate(&p5))));
+    g.finish();
+}
+
+criterion_group!(simulate_benches, benches);
+criterion_main!(simulate_benches);

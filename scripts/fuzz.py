@@ -1,0 +1,110 @@
+#!/usr/bin/env python3
+"""Fuzz-style campaign of the command line (issue 11), for as long as wanted.
+
+Mutates the example scenes (numbers replaced by extreme values, keys dropped or repeated,
+bytes flipped) and small G-code programs, runs `run`, `check`, `gcode`, `steps`, `nurbs` and
+`replay` on them with a time and memory limit, and keeps every case that breaks a promise:
+a panic, an exit status other than 0/1/2, a refusal longer than one line, NaN/inf/runaway
+digits in a message, a hang (time limit) or a memory blow-up (address-space limit).
+
+    python3 scripts/fuzz.py --minutes 60 --seed 7 [--bin target/release/interpolab]
+
+Failures go to target/fuzz/<n>/ (input, command, stderr). Exit status 1 if any.
+"""
+import argparse, json, os, random, re, resource, subprocess, sys, time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+EXTREMES = [0, -0.0, 1, -1, 1e-13, 1e-9, 1e-300, 1e6, 1e12, 1e308, -1e308, 0.5, 3, 360, 99999999, 200000]
+
+
+def mutate_scene(rng, doc):
+    """Replaces one number (or drops/repeats a key) somewhere in the scene."""
+    text = json.dumps(doc)
+    roll = rng.random()
+    nums = list(re.finditer(r"-?\d+(\.\d+)?(e-?\d+)?", text))
+    if roll < 0.7 and nums:
+        m = rng.choice(nums)
+        return text[: m.start()] + repr(rng.choice(EXTREMES)) + text[m.end():]
+    keys = list(re.finditer(r'"[a-z_0-9]+": ', text))
+    if roll < 0.85 and keys:
+        m = rng.choice(keys)
+        return text[: m.end()] + "1, " + text[m.start():]  # the key twice
+    b = bytearray(text.encode())
+    b[rng.randrange(len(b))] = rng.randrange(256)
+    return bytes(b)
+
+
+def gcode(rng):
+    lines = ["G90 G21", "G00 X0 Y0 Z5", "G01 F1000"]
+    for _ in range(rng.randrange(1, 30)):
+        w = rng.choice("XYZIJKRFG")
+        v = rng.choice(["1", "-2.5", "0", "9" * rng.choice([3, 40, 400]), "1e5", "0.0000001", "99999999", "6.2", ""])
+        lines.append(f"G0{rng.choice('0123')} {w}{v} X{rng.uniform(-50, 50):.3f}")
+    return ("\n".join(lines) + "\nM30\n").encode()
+
+
+def limits(mem_mb):
+    def apply():
+        resource.setrlimit(resource.RLIMIT_AS, (mem_mb << 20, mem_mb << 20))
+    return apply
+
+
+def check(bin_, args, timeout_s, mem_mb):
+    t0 = time.time()
+    try:
+        p = subprocess.run([bin_] + args, capture_output=True, timeout=timeout_s, preexec_fn=limits(mem_mb))
+    except subprocess.TimeoutExpired:
+        return f"hang: more than {timeout_s} s"
+    err = p.stderr.decode("utf-8", "replace")
+    if "panicked" in err or p.returncode not in (0, 1, 2):
+        return f"exit {p.returncode}: {err[-500:]}"
+    if p.returncode == 2 and len(err.strip().splitlines()) != 1:
+        return f"refusal not one line: {err[-500:]}"
+    if re.search(r"NaN|\binf\b|\d{40}|-0\.0000\b|\x00", err):
+        return f"bad value in message: {err[-500:]}"
+    return None
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--minutes", type=float, default=60)
+    ap.add_argument("--seed", type=int, default=int(time.time()))
+    ap.add_argument("--bin", default=os.path.join(ROOT, "target/release/interpolab"))
+    ap.add_argument("--timeout", type=float, default=30, help="seconds per command")
+    ap.add_argument("--mem-mb", type=int, default=2048, help="address-space limit per command")
+    a = ap.parse_args()
+    rng = random.Random(a.seed)
+    ex = os.path.join(ROOT, "examples")
+    scenes = [json.load(open(os.path.join(ex, f))) for f in sorted(os.listdir(ex)) if f.endswith(".json")]
+    out = os.path.join(ROOT, "target/fuzz")
+    os.makedirs(out, exist_ok=True)
+    end, runs, fails = time.time() + 60 * a.minutes, 0, 0
+    while time.time() < end:
+        if rng.random() < 0.75:
+            data, name = mutate_scene(rng, rng.choice(scenes)), "case.json"
+            cmds = [["run", "{f}"], ["check", "{f}"], ["steps", "{f}", "--tolerance", "0.01"],
+                    ["gcode", "{f}", "--kind", rng.choice(["g01", "arcs", "nurbs"]), "--tolerance", "0.01"],
+                    ["nurbs", "{f}", "--tolerance", "0.01"]]
+        else:
+            data, name = gcode(rng), "case.nc"
+            cmds = [["replay", "{f}"], ["replay", "{f}", "--scene", os.path.join(ex, "floor-round-wall.json")]]
+        path = os.path.join(out, name)
+        with open(path, "wb") as fh:
+            fh.write(data if isinstance(data, bytes) else data.encode())
+        args = [x.replace("{f}", path) for x in rng.choice(cmds)]
+        runs += 1
+        why = check(a.bin, args, a.timeout, a.mem_mb)
+        if why:
+            fails += 1
+            d = os.path.join(out, str(fails))
+            os.makedirs(d, exist_ok=True)
+            os.replace(path, os.path.join(d, name))
+            with open(os.path.join(d, "why.txt"), "w") as fh:
+                fh.write(" ".join(args) + "\n" + why + "\n")
+            print(f"FAIL {fails}: {' '.join(args)}: {why.splitlines()[0][:200]}", flush=True)
+    print(f"{runs} runs, {fails} failures (seed {a.seed}); failures in {out}")
+    sys.exit(1 if fails else 0)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,233 @@
+//! `interpolab simulate`: machine a G-code program into a dexel stock and write its height
+//! map (CSV), a PNG, and the statistics (JSON on standard output). Format: docs/simulation.md.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::Args;
+use glam::DVec3;
+use interpolab::crease::CreaseJob;
+use interpolab::gcode::{ProgrammedPoint, parse_program};
+use interpolab::geom::Cutter;
+use interpolab::scene::Scene;
+use interpolab::simulate::{Design, DexelStock, HeightMap, Program, SimStats, Simulation, heights_csv, png_rgb};
+use serde_json::json;
+
+use super::Fatal;
+
+/// Largest program file read (bytes).
+const MAX_PROGRAM_BYTES: u64 = 64 << 20;
+
+/// Which point of the tool the program's coordinates give.
+#[derive(Clone, Copy, clap::ValueEnum)]
+pub(crate) enum PointArg {
+    /// The header comment of a program written by `interpolab gcode` decides; else the tip.
+    Auto,
+    /// The tool tip (bottom centre of the cutter).
+    Tip,
+    /// The ball centre: the tip is R below it.
+    Centre,
+}
+
+#[derive(Args)]
+pub(crate) struct SimulateArgs {
+    /// G-code program (G00/G01/G02/G03 in G17/G18/G19, helical, G06.2 NURBS).
+    program: PathBuf,
+    /// Cutter: `ball:R`, `flat:R` or `fillet:R,r` (mm), e.g. `ball:5`.
+    #[arg(long)]
+    cutter: String,
+    /// Stock block `x0,y0,z0,x1,y1,z1` (mm).
+    #[arg(long, allow_hyphen_values = true)]
+    stock: String,
+    /// Ray spacing in x and y (mm).
+    #[arg(long, default_value_t = 0.1)]
+    pitch: f64,
+    /// Which tool point the program gives.
+    #[arg(long, value_enum, default_value = "auto")]
+    point: PointArg,
+    /// Chord tolerance for arcs and NURBS (mm); default a tenth of the pitch.
+    #[arg(long)]
+    chord_tol: Option<f64>,
+    /// Design: the horizontal plane z = this (mm), material below.
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "scene")]
+    design_z: Option<f64>,
+    /// Design: the two surfaces of this scene (interpolab-scene/1), normals toward the cutter.
+    #[arg(long)]
+    scene: Option<PathBuf>,
+    /// Write the height map as CSV to this file.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Write a PNG of the result (deviation colours with a design, heights without).
+    #[arg(long)]
+    png: Option<PathBuf>,
+    /// PROGRAM is a scene: simulate its seed-002 five-axis tool steps at this tolerance (mm),
+    /// joints interpolated linearly on the scene's machine; the design is its two surfaces.
+    #[arg(long, conflicts_with_all = ["design_z", "scene"])]
+    steps: Option<f64>,
+    /// Deviation shown at full colour in the PNG (µm).
+    #[arg(long, default_value_t = 50.0)]
+    band_um: f64,
+}
+
+fn numbers(text: &str, what: &str, n: usize) -> Result<Vec<f64>, Fatal> {
+    let v: Vec<f64> = text
+        .split(',')
+        .map(|s| s.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| Fatal(format!("--{what} `{text}`: expected {n} comma-separated numbers in mm")))?;
+    if v.len() != n || v.iter().any(|x| !x.is_finite()) {
+        return Err(Fatal(format!("--{what} `{text}`: expected {n} comma-separated finite numbers in mm")));
+    }
+    Ok(v)
+}
+
+/// Parses `ball:R`, `flat:R`, `fillet:R,r`.
+fn parse_cutter(text: &str) -> Result<Cutter, Fatal> {
+    let bad = || Fatal(format!("--cutter `{text}`: give ball:R, flat:R or fillet:R,r in mm (e.g. ball:5, fillet:5,1)"));
+    let (kind, dims) = text.split_once(':').ok_or_else(bad)?;
+    let c = match kind.trim() {
+        "ball" => Cutter::ball(numbers(dims, "cutter", 1)?[0]),
+        "flat" => Cutter::flat(numbers(dims, "cutter", 1)?[0]),
+        "fillet" => {
+            let v = numbers(dims, "cutter", 2)?;
+            Cutter::fillet(v[0], v[1])
+        }
+        _ => return Err(bad()),
+    };
+    c.map_err(|e| Fatal(format!("--cutter `{text}`: {e}")))
+}
+
+fn read_program(path: &Path) -> Result<String, Fatal> {
+    let len = fs::metadata(path).map_err(|e| Fatal(format!("cannot read program {}: {e}", path.display())))?.len();
+    if len > MAX_PROGRAM_BYTES {
+        return Err(Fatal(format!(
+            "program {} is {len} bytes, more than the {MAX_PROGRAM_BYTES} read; split it",
+            path.display()
+        )));
+    }
+    fs::read_to_string(path).map_err(|e| Fatal(format!("cannot read program {}: {e}", path.display())))
+}
+
+/// Where the design comes from.
+struct SimulateDesign<'a> {
+    design_z: Option<f64>,
+    scene: Option<&'a Path>,
+}
+
+fn load_design(a: &SimulateDesign<'_>) -> Result<Design, Fatal> {
+    if let Some(z) = a.design_z {
+        if !z.is_finite() {
+            return Err(Fatal(format!("--design-z {z}: give a finite height in mm")));
+        }
+        return Ok(Design::PlaneZ(z));
+    }
+    let Some(path) = a.scene else {
+        return Ok(Design::None);
+    };
+    let text = fs::read_to_string(path).map_err(|e| Fatal(format!("cannot read scene {}: {e}", path.display())))?;
+    let scene = Scene::from_json(&text).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
+    let job = CreaseJob::from_scene(&scene).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
+    Ok(Design::Surfaces(job.surfaces.to_vec()))
+}
+
+fn write(path: &Path, bytes: &[u8]) -> Result<(), Fatal> {
+    fs::write(path, bytes).map_err(|e| Fatal(format!("cannot write {}: {e}", path.display())))
+}
+
+pub(super) fn simulate(a: &SimulateArgs) -> Result<ExitCode, Fatal> {
+    let cutter = parse_cutter(&a.cutter)?;
+    let s = numbers(&a.stock, "stock", 6)?;
+    let stock = DexelStock::block([s[0], s[1], s[2]], [s[3], s[4], s[5]], a.pitch).map_err(|e| Fatal(e.to_string()))?;
+    if !(a.band_um > 0.0 && a.band_um.is_finite()) {
+        return Err(Fatal(format!("--band-um {}: give a positive deviation in µm", a.band_um)));
+    }
+    if let Some(tol) = a.steps {
+        let (machine, blocks, _) = super::fiveaxis::scene_blocks(&a.program, tol)?;
+        let program = Program::from_blocks(&machine, &blocks).map_err(|e| Fatal(e.to_string()))?;
+        let design = load_design(&SimulateDesign { design_z: None, scene: Some(&a.program) })?;
+        return finish(a, &cutter, stock, &program, &design, false);
+    }
+    let design = load_design(&SimulateDesign { design_z: a.design_z, scene: a.scene.as_deref() })?;
+    let text = read_program(&a.program)?;
+    let parsed = parse_program(&text).map_err(|e| Fatal(format!("{}: {e}", a.program.display())))?;
+    for u in &parsed.unsupported {
+        eprintln!("interpolab: UNSUPPORTED line {}: {} ({}); its effect is left out", u.line, u.word, u.reason);
+    }
+    let centre = match a.point {
+        PointArg::Tip => false,
+        PointArg::Centre => true,
+        PointArg::Auto => {
+            matches!(ProgrammedPoint::from_comments(&parsed.comments), Some(ProgrammedPoint::BallCentre))
+        }
+    };
+    let offset = if centre { DVec3::new(0.0, 0.0, -cutter.radius_mm) } else { DVec3::ZERO };
+    let chord_tol = a.chord_tol.unwrap_or(a.pitch / 10.0);
+    let program = Program::from_toolpath(&parsed.toolpath, offset, chord_tol)
+        .map_err(|e| Fatal(format!("{}: {e}", a.program.display())))?;
+    finish(a, &cutter, stock, &program, &design, centre)
+}
+
+/// Runs the program and writes the outputs.
+fn finish(
+    a: &SimulateArgs,
+    cutter: &Cutter,
+    stock: DexelStock,
+    program: &Program,
+    design: &Design,
+    centre: bool,
+) -> Result<ExitCode, Fatal> {
+    let chord_tol = a.chord_tol.unwrap_or(a.pitch / 10.0);
+    let mut sim = Simulation::new(stock, cutter);
+    let t0 = Instant::now();
+    sim.run(program).map_err(|e| Fatal(format!("{}: {e}", a.program.display())))?;
+    let run_ms = t0.elapsed().as_secs_f64() * 1e3;
+    let map = HeightMap::of(sim.stock());
+    let stats = SimStats::of(&map, sim.stock(), design);
+    let has_design = !matches!(design, Design::None);
+    if let Some(out) = &a.out {
+        write(out, heights_csv(&map, has_design.then_some(&stats)).as_bytes())?;
+    }
+    if let Some(png) = &a.png {
+        write(png, &png_rgb(&map, has_design.then_some(&stats), sim.stock().z_range_mm(), a.band_um * 1e-3))?;
+    }
+    let c = sim.counters();
+    if c.rapid_cuts > 0 {
+        eprintln!(
+            "interpolab: warning: {} rapid (G00) move(s) cut material, the first at line {}",
+            c.rapid_cuts,
+            c.first_rapid_cut_line.unwrap_or(0)
+        );
+    }
+    let g = map.grid;
+    let um = |mm: f64| (mm * 1e6).round() / 1e3;
+    let summary = json!({
+        "format": "interpolab-simulate/1",
+        "program": a.program.display().to_string(),
+        "cutter": cutter.describe(),
+        "programmed_point": if centre { "ball centre" } else { "tool tip" },
+        "grid": { "nx": g.nx, "ny": g.ny, "pitch_mm": g.pitch_mm, "x0_mm": g.x0_mm, "y0_mm": g.y0_mm },
+        "moves": c.moves,
+        "chord_tol_mm": chord_tol,
+        "chord_error_mm": program.chord_error_mm,
+        "ray_updates": c.ray_updates,
+        "run_ms": (run_ms * 1e3).round() / 1e3,
+        "removed_volume_mm3": (c.removed_mm3 * 1e6).round() / 1e6,
+        "machined_rays": stats.machined_rays,
+        "through_rays": stats.through_rays,
+        "split_rays": stats.split_rays,
+        "rapid_cuts": c.rapid_cuts,
+        "memory_bytes": sim.stock().memory_bytes(),
+        "design": match design { Design::None => "none", Design::PlaneZ(_) => "plane", Design::Surfaces(_) => "scene surfaces" },
+        "scallop_um": has_design.then(|| json!({
+            "rays": stats.scallop.count,
+            "max": um(stats.scallop.max_mm),
+            "mean": um(stats.scallop.mean_mm),
+            "p95": um(stats.scallop.p95_mm),
+        })),
+        "gouge": stats.worst_gouge.map(|(d, p)| json!({ "worst_um": um(d), "x_mm": p.x, "y_mm": p.y, "rays": stats.gouge_rays })),
+    });
+    println!("{}", serde_json::to_string_pretty(&summary).unwrap_or_default());
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,123 @@
+//! Size limits on what the program reads and how much work one request may ask for.
+//!
+//! Every file the command line and the app read is read through a size cap, so a wrong
+//! path (`/dev/zero`, a video) is refused with a message instead of filling the memory, and
+//! work whose amount follows from the input (periods, samples) is estimated and refused
+//! before it starts when it exceeds a cap. The caps are far above any real scene or
+//! program: they bound the damage of a mistake, not the size of honest work.
+
+/// Largest scene file read (bytes, 64 MiB): a NURBS scene with a million control points
+/// written out in full decimal is about 60 MB.
+pub const MAX_SCENE_BYTES: u64 = 64 << 20;
+
+/// Largest G-code program read (bytes, 256 MiB): about eight million G01 lines.
+pub const MAX_PROGRAM_BYTES: u64 = 256 << 20;
+
+/// Most nodes of an arc-length table (`nurbs_path::measure::ArcLengthTable`): about 16 MB
+/// of table. A crease of 200 000 periods needs about 4 nodes per period at the table's 1e-8
+/// relative accuracy; past the budget, cells are accepted as they are (the lengths are
+/// then accurate to the Gauss rule on the cell, still far below any output resolution).
+pub const MAX_ARC_TABLE_NODES: usize = 1 << 20;
+
+/// Most samples a G-code check (`gcode::replay::deviation`) takes of the program and the
+/// design together (about 50 MB of samples and their grid): past it the sample spacing
+/// grows, and the spacing used is reported with the result.
+pub const MAX_REPLAY_SAMPLES: usize = 1_000_000;
+
+/// Largest |coordinate| of a scene's `path.start` and `path.end` (mm): a kilometre, past any
+/// machine's travel. Beyond it, the squares and cross products of the crease solve lose all
+/// precision or overflow (z = 1e308 would square to infinity).
+pub const MAX_COORDINATE_MM: f64 = 1e6;
+
+/// Largest programmed feed a G-code program is written with (mm/min): a kilometre a minute,
+/// beyond any machine.
+pub const MAX_FEED_MM_PER_MIN: f64 = 1e6;
+
+/// Why a file's bytes are not usable as text.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum TextError {
+    /// The file is larger than the cap.
+    #[error(
+        "the file is larger than {cap_mib} MiB, the most this command reads; check the path (a {what} is far smaller)"
+    )]
+    TooLarge {
+        /// The cap (MiB).
+        cap_mib: u64,
+        /// What kind of file was expected ("scene", "G-code program").
+        what: &'static str,
+    },
+    /// Not UTF-8: the 1-based line and byte column of the first invalid byte.
+    #[error("line {line}: byte {column} is not UTF-8 text (the file must be plain text: ASCII or UTF-8)")]
+    NotUtf8 {
+        /// Line (1-based).
+        line: usize,
+        /// Byte column in that line (1-based).
+        column: usize,
+    },
+}
+
+/// Turns bytes into text, naming the line of the first byte that is not UTF-8.
+///
+/// # Errors
+/// [`TextError::NotUtf8`].
+pub fn text_from_bytes(bytes: Vec<u8>) -> Result<String, TextError> {
+    String::from_utf8(bytes).map_err(|e| {
+        let valid = e.utf8_error().valid_up_to();
+        let head = &e.as_bytes()[..valid];
+        let line = head.iter().filter(|&&b| b == b'\n').count() + 1;
+        let column = valid - head.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1) + 1;
+        TextError::NotUtf8 { line, column }
+    })
+}
+
+/// Reads at most `cap` bytes from `reader` (an opened file) as UTF-8 text: one byte past
+/// the cap is read to tell a file of exactly `cap` bytes from a larger one, never more.
+///
+/// # Errors
+/// An I/O error's text, [`TextError::TooLarge`] or [`TextError::NotUtf8`], as one line.
+pub fn read_text(reader: impl std::io::Read, cap: u64, what: &'static str) -> Result<String, String> {
+    use std::io::Read;
+    let mut bytes = Vec::new();
+    reader.take(cap.saturating_add(1)).read_to_end(&mut bytes).map_err(|e| e.to_string())?;
+    check_size(bytes.len(), cap, what).map_err(|e| e.to_string())?;
+    text_from_bytes(bytes).map_err(|e| e.to_string())
+}
+
+/// Refuses `len` bytes above `cap`.
+///
+/// # Errors
+/// [`TextError::TooLarge`].
+pub fn check_size(len: usize, cap: u64, what: &'static str) -> Result<(), TextError> {
+    if len as u64 > cap { Err(TextError::TooLarge { cap_mib: cap >> 20, what }) } else { Ok(()) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn invalid_utf8_names_its_line_and_column() {
+        let bytes = b"G01 X1\nG01 Y2\nG01 \xffZ3\n".to_vec();
+        assert_eq!(text_from_bytes(bytes), Err(TextError::NotUtf8 { line: 3, column: 5 }));
+        assert_eq!(text_from_bytes(b"\xfe".to_vec()), Err(TextError::NotUtf8 { line: 1, column: 1 }));
+        assert_eq!(text_from_bytes(b"ok\n".to_vec()).as_deref(), Ok("ok\n"));
+    }
+
+    #[test]
+    fn sizes_above_the_cap_are_refused() {
+        assert!(check_size(10, 10, "scene").is_ok());
+        assert!(check_size(11, 10, "scene").is_err());
+        assert_eq!(
+            check_size((64 << 20) + 1, 64 << 20, "scene"),
+            Err(TextError::TooLarge { cap_mib: 64, what: "scene" })
+        );
+    }
+
+    #[test]
+    fn an_endless_reader_stops_at_the_cap() {
+        let e = read_text(std::io::repeat(0), 1 << 20, "scene").err().unwrap_or_default();
+        assert!(e.contains("larger than 1 MiB") && e.contains("a scene is far smaller"), "{e}");
+        assert_eq!(read_text(&b"exactly"[..], 7, "scene").as_deref(), Ok("exactly"));
+        assert!(read_text(&b"exactly!"[..], 7, "scene").is_err());
+    }
+}

@@ -1,0 +1,347 @@
+//! Cutting simulation on a dexel (extended Z-buffer) stock: any program the product writes
+//! or reads is machined into a block, and the result is measured (height map, deviation
+//! from a design surface, scallops, gouges, removed volume).
+//!
+//! Glossary:
+//! - *ray*: a vertical line of the stock's grid, at the centre of a square cell;
+//! - *pitch*: the spacing of the rays in x and y (mm), the simulation's resolution;
+//! - *material interval*: a span (lo, hi) of z along a ray that holds material; a ray holds
+//!   a sorted list of disjoint ones, so undercuts and side cuts of a tilted tool are kept;
+//! - *dexel*: a ray with its material intervals (a "depth pixel"); the stock is a grid of
+//!   them ([`stock::DexelStock`]);
+//! - *swept envelope*: the solid a cutter sweeps along one move; removing it from the stock
+//!   is, ray by ray, a 1-D interval subtraction of the span the ray crosses it in
+//!   ([`sweep`]).
+//!
+//! Only Z rays (not tri-dexel): every program of the product machines from above (3-axis,
+//! and 5-axis with the tool axis in the upper half-space), and the quantities measured —
+//! height map, scallops, gouges against a surface seen from above — are read along Z. The
+//! price is that a wall steeper than the pitch allows is resolved only to one pitch in x, y
+//! (see docs/simulation.md for the error budget).
+//!
+//! Modules: [`stock`] (rays, interval subtraction), [`sweep`] (cutter and envelope against
+//! a ray), [`program`] (moves from G-code and 5-axis plans), [`measure`] (maps and
+//! statistics, CSV and PNG output). Layout and error bounds: `docs/simulation.md`.
+
+pub mod measure;
+pub mod program;
+pub mod stock;
+pub mod sweep;
+
+use glam::DVec3;
+use thiserror::Error;
+
+pub use measure::{Design, HeightMap, SimStats, heights_csv, png_rgb};
+pub use program::{MoveKind, Program, SimMove};
+pub use stock::{DexelStock, Grid, Interval};
+pub use sweep::{LineSweep, ToolShape, line_span, tilted_span};
+
+use crate::geom::Cutter;
+
+/// A cell count this close below a whole number (relative) is that whole number: a stock
+/// 10 mm wide at pitch 0.1 has 100 rays, not 101, whatever the rounding of 10/0.1.
+pub const GRID_ROUND_REL: f64 = 1e-9;
+
+/// Accuracy (mm) of the iterative ray solves (fillet corner against a ray, fillet on a
+/// sloped 3-axis move): far below any pitch.
+pub const ROOT_TOL_MM: f64 = 1e-7;
+
+/// Iteration cap of those solves (golden sections shrink a bracket 0.618× per step).
+pub const MAX_SOLVE_ITERATIONS: usize = 100;
+
+/// Horizontal motion (mm) below which a 3-axis move is a plunge; vertical motion below
+/// which it is horizontal.
+pub const SAME_POINT_MM: f64 = 1e-12;
+
+/// |sin| below which a tool axis counts as horizontal (for the slab of a cylinder) or as
+/// vertical (for its radial quadratic).
+pub const AXIS_FLAT_SIN: f64 = 1e-12;
+
+/// Material (mm of ray length, summed over a move's rays) below which a move is said to
+/// remove nothing: the rounding of two envelopes that touch (a rapid retracting from the
+/// end of a cut re-cuts that end's surface to within ~1e-15 mm).
+pub const CUT_NOISE_MM: f64 = 1e-6;
+
+/// Most tool positions one 5-axis move is sampled at.
+pub const MAX_SAMPLES_PER_MOVE: usize = 10_000;
+
+/// Most ray visits (rays inside the boxes of all moves and samples) a run may need; a
+/// program estimated above it is refused before it starts (about a minute of work).
+pub const MAX_RAY_VISITS: f64 = 4e9;
+
+/// Why a simulation could not be set up or run. Messages name the problem and the fix.
+#[derive(Clone, Debug, Error, PartialEq)]
+pub enum SimError {
+    /// The stock block or pitch is unusable.
+    #[error("{0}")]
+    Stock(String),
+    /// The grid would have too many rays.
+    #[error(
+        "a pitch of {pitch_mm} mm gives {rays:.0} rays, more than the {max} allowed; raise the pitch or shrink the stock"
+    )]
+    TooManyRays {
+        /// Rays the grid would have.
+        rays: f64,
+        /// The cap.
+        max: usize,
+        /// The pitch asked for (mm).
+        pitch_mm: f64,
+    },
+    /// The program cannot be turned into moves.
+    #[error("{0}")]
+    Program(String),
+    /// The program would take too long on this grid.
+    #[error(
+        "the program would visit about {visits:.2e} rays on this grid, more than {max:.0e}; raise the pitch, shrink the stock or split the program"
+    )]
+    TooMuchWork {
+        /// Estimated ray visits.
+        visits: f64,
+        /// The cap.
+        max: f64,
+    },
+}
+
+/// Counts of a run.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Counters {
+    /// Moves applied.
+    pub moves: usize,
+    /// Tool positions of 5-axis moves applied.
+    pub samples: u64,
+    /// Rays inside the moves' boxes.
+    pub rays_visited: u64,
+    /// Ray-interval updates: spans subtracted from a ray.
+    pub ray_updates: u64,
+    /// Material removed (mm³).
+    pub removed_mm3: f64,
+    /// Rapid moves (G00) that removed material.
+    pub rapid_cuts: usize,
+    /// Line of the first of them (0 for in-memory programs).
+    pub first_rapid_cut_line: Option<usize>,
+}
+
+/// A stock being machined by one cutter.
+#[derive(Clone, Debug)]
+pub struct Simulation {
+    stock: DexelStock,
+    tool: ToolShape,
+    /// Largest displacement (mm) of any point of the cutter's body between two samples of a
+    /// 5-axis move (default: the pitch).
+    sample_step_mm: f64,
+    counters: Counters,
+}
+
+impl Simulation {
+    /// A simulation of `cutter` on `stock`; 5-axis moves are sampled so no point of the
+    /// cutter moves more than one pitch between samples.
+    #[must_use]
+    pub fn new(stock: DexelStock, cutter: &Cutter) -> Self {
+        let sample_step_mm = stock.grid().pitch_mm;
+        Self { stock, tool: ToolShape::of(cutter), sample_step_mm, counters: Counters::default() }
+    }
+
+    /// The same simulation sampling 5-axis moves so no point of the cutter's body moves
+    /// more than `step_mm` between two tool positions (a non-positive or non-finite step
+    /// keeps the pitch).
+    #[must_use]
+    pub fn with_sample_step(mut self, step_mm: f64) -> Self {
+        if step_mm > 0.0 && step_mm.is_finite() {
+            self.sample_step_mm = step_mm;
+        }
+        self
+    }
+
+    /// The stock as machined so far.
+    #[must_use]
+    pub fn stock(&self) -> &DexelStock {
+        &self.stock
+    }
+
+    /// The simulated cutter shape.
+    #[must_use]
+    pub fn tool(&self) -> &ToolShape {
+        &self.tool
+    }
+
+    /// Counts so far.
+    #[must_use]
+    pub fn counters(&self) -> &Counters {
+        &self.counters
+    }
+
+    /// Height above the tip (mm) up to which the body of a tool at this pose can reach below
+    /// the stock's top: a body point at height h along the axis a lies at least
+    /// h·a_z − R·√(1 − a_z²) above the tip, so above the stock beyond this. Negative when the
+    /// whole tool is above the stock; H for an axis pointing sideways or down.
+    #[must_use]
+    pub fn reach_mm(&self, tip: DVec3, axis: DVec3) -> f64 {
+        let (_, z1) = self.stock.z_range_mm();
+        let t = &self.tool;
+        let sin = (1.0 - axis.z * axis.z).max(0.0).sqrt();
+        if axis.z > AXIS_FLAT_SIN { ((z1 - tip.z + t.radius_mm * sin) / axis.z).min(t.top_mm) } else { t.top_mm }
+    }
+
+    /// Tool positions a 5-axis move is sampled at (2 to [`MAX_SAMPLES_PER_MOVE`]): enough
+    /// that no point of the body that can reach below the stock's top ([`Self::reach_mm`])
+    /// moves more than the sample step between two of them — the tip's travel plus the axis'
+    /// turn times that reach — judged on a 32-chord estimate of the move raised by a quarter.
+    #[must_use]
+    pub fn samples_of(
+        &self,
+        machine: &crate::fiveaxis::Machine,
+        from: &crate::fiveaxis::Joints,
+        to: &crate::fiveaxis::Joints,
+    ) -> usize {
+        const PRE: usize = 32;
+        let pose = |k: usize| machine.pose_from_joints(&from.lerp(to, k as f64 / PRE as f64));
+        let reach = |p: &crate::fiveaxis::ToolPose| self.reach_mm(p.tip_in_workpiece, p.axis_in_workpiece).max(0.0);
+        let mut prev = pose(0);
+        let mut travel = 0.0;
+        for k in 1..=PRE {
+            let p = pose(k);
+            let turn = prev.axis_in_workpiece.angle_between(p.axis_in_workpiece);
+            let arm = reach(&prev).max(reach(&p));
+            travel += (p.tip_in_workpiece - prev.tip_in_workpiece).length() + turn * arm;
+            prev = p;
+        }
+        let n = (1.25 * travel / self.sample_step_mm).ceil();
+        if n.is_finite() { (n as usize).clamp(1, MAX_SAMPLES_PER_MOVE - 1) + 1 } else { MAX_SAMPLES_PER_MOVE }
+    }
+
+    /// Estimated rays visited by a program (the sum of its moves' and samples' boxes), to
+    /// refuse a run before it starts.
+    #[must_use]
+    pub fn estimate_visits(&self, program: &Program) -> f64 {
+        let g = self.stock.grid();
+        let area = |lo: DVec3, hi: DVec3| {
+            let w = ((hi.x - lo.x) / g.pitch_mm + 1.0).min(g.nx as f64);
+            let h = ((hi.y - lo.y) / g.pitch_mm + 1.0).min(g.ny as f64);
+            w.max(0.0) * h.max(0.0)
+        };
+        let r = DVec3::new(self.tool.radius_mm, self.tool.radius_mm, 0.0);
+        program
+            .moves
+            .iter()
+            .map(|m| match m.kind {
+                MoveKind::Line { from, to } => area(from.min(to) - r, from.max(to) + r),
+                MoveKind::Joints { machine, from, to } => {
+                    let n = self.samples_of(&machine, &from, &to);
+                    let p = machine.pose_from_joints(&from);
+                    let (lo, hi) = sweep::tilted_box(
+                        &self.tool,
+                        p.tip_in_workpiece,
+                        p.axis_in_workpiece,
+                        self.tool.radius_mm * 2.0,
+                    );
+                    n as f64 * area(lo, hi)
+                }
+            })
+            .sum()
+    }
+
+    /// Runs a whole program.
+    ///
+    /// # Errors
+    /// [`SimError::TooMuchWork`] when [`Simulation::estimate_visits`] exceeds
+    /// [`MAX_RAY_VISITS`], before any move is applied.
+    pub fn run(&mut self, program: &Program) -> Result<(), SimError> {
+        let visits = self.estimate_visits(program);
+        if !(visits <= MAX_RAY_VISITS) {
+            return Err(SimError::TooMuchWork { visits, max: MAX_RAY_VISITS });
+        }
+        for m in &program.moves {
+            self.apply(m);
+        }
+        Ok(())
+    }
+
+    /// Applies one move; returns the material it removed (mm³).
+    pub fn apply(&mut self, m: &SimMove) -> f64 {
+        let removed = match m.kind {
+            MoveKind::Line { from, to } => self.cut_line(from, to),
+            MoveKind::Joints { machine, from, to } => {
+                let n = self.samples_of(&machine, &from, &to);
+                let mut removed = 0.0;
+                for k in 0..n {
+                    let tau = k as f64 / (n - 1).max(1) as f64;
+                    let pose = machine.pose_from_joints(&from.lerp(&to, tau));
+                    removed += self.cut_pose(pose.tip_in_workpiece, pose.axis_in_workpiece.normalize_or_zero());
+                }
+                self.counters.samples += n as u64;
+                removed
+            }
+        };
+        self.counters.moves += 1;
+        self.counters.removed_mm3 += removed;
+        let pitch = self.stock.grid().pitch_mm;
+        if m.rapid && removed > CUT_NOISE_MM * pitch * pitch {
+            self.counters.rapid_cuts += 1;
+            if self.counters.first_rapid_cut_line.is_none() {
+                self.counters.first_rapid_cut_line = Some(m.line);
+            }
+        }
+        removed
+    }
+
+    /// A straight 3-axis move of the tip from `a` to `b`; the material removed (mm³).
+    fn cut_line(&mut self, a: DVec3, b: DVec3) -> f64 {
+        let (_, z1) = self.stock.z_range_mm();
+        if a.z.min(b.z) >= z1 {
+            return 0.0;
+        }
+        let g = *self.stock.grid();
+        let r = self.tool.radius_mm;
+        let (Some((i0, i1)), Some((j0, j1))) =
+            (g.columns(a.x.min(b.x) - r, a.x.max(b.x) + r), g.rows(a.y.min(b.y) - r, a.y.max(b.y) + r))
+        else {
+            return 0.0;
+        };
+        let sweep = LineSweep::new(&self.tool, a, b);
+        let mut removed = 0.0;
+        for j in j0..=j1 {
+            let y = g.y_mm(j);
+            for i in i0..=i1 {
+                self.counters.rays_visited += 1;
+                if let Some((lo, hi)) = sweep.span(g.x_mm(i), y) {
+                    self.counters.ray_updates += 1;
+                    removed += self.stock.subtract(j * g.nx + i, lo, hi);
+                }
+            }
+        }
+        removed * g.pitch_mm * g.pitch_mm
+    }
+
+    /// One position of a tilted cutter; the material removed (mm³).
+    fn cut_pose(&mut self, tip: DVec3, axis: DVec3) -> f64 {
+        let (_, z1) = self.stock.z_range_mm();
+        let t = &self.tool;
+        // Only the part of the body that can reach below the stock's top matters.
+        let sin = (1.0 - axis.z * axis.z).max(0.0).sqrt();
+        let h =
+            if axis.z > AXIS_FLAT_SIN { ((z1 - tip.z + t.radius_mm * sin) / axis.z).min(t.top_mm) } else { t.top_mm };
+        if h < 0.0 {
+            return 0.0;
+        }
+        let (lo, hi) = sweep::tilted_box(t, tip, axis, h);
+        if lo.z >= z1 {
+            return 0.0;
+        }
+        let g = *self.stock.grid();
+        let (Some((i0, i1)), Some((j0, j1))) = (g.columns(lo.x, hi.x), g.rows(lo.y, hi.y)) else {
+            return 0.0;
+        };
+        let mut removed = 0.0;
+        for j in j0..=j1 {
+            let y = g.y_mm(j);
+            for i in i0..=i1 {
+                self.counters.rays_visited += 1;
+                if let Some((zl, zh)) = tilted_span(&self.tool, tip, axis, g.x_mm(i), y) {
+                    self.counters.ray_updates += 1;
+                    removed += self.stock.subtract(j * g.nx + i, zl, zh);
+                }
+            }
+        }
+        removed * g.pitch_mm * g.pitch_mm
+    }
+}

@@ -1,0 +1,112 @@
+//! Issue 11's command-line cases: each ends at once with bounded memory, and a refusal is
+//! one line naming the problem (exit status 2). Timing is not asserted; the numbers are in
+//! docs/bounded-work.md.
+#![cfg(not(target_arch = "wasm32"))]
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn example(name: &str) -> String {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples").join(format!("{name}.json")).display().to_string()
+}
+
+fn temp_file(name: &str, bytes: &[u8]) -> String {
+    let dir = std::env::temp_dir().join(format!("interpolab-bounded-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let p = dir.join(name);
+    std::fs::write(&p, bytes).expect("write");
+    p.display().to_string()
+}
+
+fn run(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_interpolab")).args(args).output().expect("runs")
+}
+
+/// Exit status 2 with one line on stderr that contains every one of `words`.
+fn refused(o: &Output, words: &[&str]) {
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    for w in words {
+        assert!(err.contains(w), "{w:?} not in: {err}");
+    }
+    for bad in ["NaN", " inf", "please report"] {
+        assert!(!err.contains(bad), "{bad:?} in: {err}");
+    }
+}
+
+fn frw_with(edit: impl Fn(&mut serde_json::Value)) -> serde_json::Value {
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(example("floor-round-wall")).expect("example")).expect("json");
+    edit(&mut v);
+    v
+}
+
+#[test]
+fn an_endless_file_is_refused_at_the_size_cap() {
+    if std::path::Path::new("/dev/zero").exists() {
+        refused(&run(&["run", "/dev/zero"]), &["larger than 64 MiB"]);
+        refused(&run(&["replay", "/dev/zero"]), &["larger than 256 MiB"]);
+    }
+}
+
+#[test]
+fn bad_numbers_and_bytes_in_gcode_name_their_line() {
+    let nines = format!("G90 G21\nG00 X0 Y0 Z5\nG01 X{} F100\nM30\n", "9".repeat(400));
+    refused(&run(&["replay", &temp_file("nines.nc", nines.as_bytes())]), &["line 3", "too large"]);
+    let bad = temp_file("bad-utf8.nc", b"G90 G21\nG00 X0 Y0 Z5\nG01 X1 \xff F100\nM30\n");
+    refused(&run(&["replay", &bad]), &["line 3", "not UTF-8"]);
+}
+
+#[test]
+fn scene_values_that_must_not_pass() {
+    let text = std::fs::read_to_string(example("floor-round-wall")).expect("example");
+    let dup = text.replacen("\"radius\": 50.0,", "\"radius\": 50.0, \"radius\": 3.0,", 1);
+    refused(&run(&["run", &temp_file("dup.json", dup.as_bytes())]), &["surfaces[1].radius", "twice"]);
+    let far = frw_with(|v| v["path"]["start"][2] = 1e308.into()).to_string();
+    refused(&run(&["run", &temp_file("far.json", far.as_bytes())]), &["path.start", "1 km"]);
+    let slow = frw_with(|v| v["motion"]["feed"] = 1e-13.into()).to_string();
+    let o = run(&["run", &temp_file("slow.json", slow.as_bytes())]);
+    refused(&o, &["motion", "raise motion.feed"]);
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("lower"), "a tiny feed is not to be lowered");
+}
+
+#[test]
+fn gcode_options_are_checked_before_the_work() {
+    let s = example("floor-round-wall");
+    refused(&run(&["gcode", &s, "--kind", "g01", "--tolerance", "0.01", "--feed", "1e-9"]), &["feed", "1500"]);
+    refused(&run(&["gcode", &s, "--kind", "g01", "--tolerance", "0.01", "--safe-z", "NaN"]), &["safe Z"]);
+    refused(&run(&["nurbs", &s, "--tolerance", "0.01", "--period", "1e-9"]), &["periods would be needed"]);
+}
+
+#[test]
+fn a_blade_whose_error_jumps_is_refused_not_crept_along() {
+    // NACA 9999 and the other thick sections: the step search used to place 200 000
+    // nodes a rounding step apart at the jump of δ.
+    for b in ["9999", "4999", "5950"] {
+        refused(&run(&["steps", "--blade", b, "--tolerance", "0.01"]), &["underflow", "at s ="]);
+    }
+}
+
+#[test]
+fn a_ten_kilometre_move_is_checked_with_a_coarser_stated_spacing() {
+    let p = temp_file("far.nc", b"G90 G21\nG00 X0 Y0 Z5\nG01 X10000000 F1000\nM30\n");
+    let o = run(&["replay", &p, "--scene", &example("floor-round-wall")]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("samples") && out.contains("mm apart"), "{out}");
+    assert!(out.contains("program → design"), "{out}");
+}
+
+#[test]
+fn json_output_states_the_final_period() {
+    let o = run(&["run", &example("rational-nurbs-vault"), "--format", "json"]);
+    assert!(o.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    let rows = v["rows"].as_array().expect("rows");
+    let (last, prev) = (&rows[rows.len() - 1], &rows[rows.len() - 2]);
+    let ms = v["stop"]["final_period_ms"].as_f64().expect("final_period_ms");
+    let dt = last[1].as_f64().expect("t") - prev[1].as_f64().expect("t");
+    assert!((ms - dt).abs() < 1e-9 && ms > 0.0 && ms < 4.0, "{ms} vs {dt}");
+    assert_eq!(v["stop"]["reason"], "left_domain");
+    assert_eq!(last[5].as_f64(), Some(1.0), "u1 on its bound 1");
+}

@@ -1,0 +1,208 @@
+//! `interpolab simulate` run as a user would: its CSV height map against an independent
+//! Z-map of the same program (a dense brute force over ball positions), its statistics, PNG,
+//! and one-line refusals.
+#![cfg(not(target_arch = "wasm32"))]
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::float_cmp,
+    reason = "tests: a failure should fail the test; some values are exact"
+)]
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_interpolab"))
+}
+
+fn temp(name: &str, text: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("interpolab-sim-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+fn run(args: &[&str]) -> (i32, String, String) {
+    let o = bin().args(args).output().unwrap();
+    (
+        o.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn the_height_map_matches_an_independent_z_map() {
+    // Two ball passes 1.2 mm apart at z = 4, a sloped move, a full G03 circle at z = 3.
+    let prog = "G21 G90 G17\nG00 X-4 Y4 Z15\nG01 Z4 F600\nG01 X16\nG01 Y5.2\nG01 X-4\nG01 X16 Y12 Z6\n\
+                G00 Z15\nG00 X14 Y9\nG01 Z3\nG03 X14 Y9 I-4 J0\nG00 Z15\nM30\n";
+    let p = temp("zmap.nc", prog);
+    let out = p.with_extension("csv");
+    let png = p.with_extension("png");
+    let pitch = 0.1;
+    let (code, stdout, stderr) = run(&[
+        "simulate",
+        p.to_str().unwrap(),
+        "--cutter",
+        "ball:1.5",
+        "--stock",
+        "0,0,0,16,14,8",
+        "--pitch",
+        "0.1",
+        "--design-z",
+        "4",
+        "--out",
+        out.to_str().unwrap(),
+        "--png",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let summary: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(summary["grid"]["nx"], 160);
+    assert_eq!(summary["grid"]["ny"], 140);
+    assert_eq!(summary["rapid_cuts"], 0);
+    let png_bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&png_bytes[1..4], b"PNG");
+    // Independent Z-map: ball tips densely along each cutting move (arc by angle).
+    let r = 1.5f64;
+    let mut tips: Vec<[f64; 3]> = Vec::new();
+    let mut seg = |a: [f64; 3], b: [f64; 3]| {
+        for k in 0..=4000 {
+            let t = f64::from(k) / 4000.0;
+            tips.push([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])]);
+        }
+    };
+    seg([-4.0, 4.0, 15.0], [-4.0, 4.0, 4.0]);
+    seg([-4.0, 4.0, 4.0], [16.0, 4.0, 4.0]);
+    seg([16.0, 4.0, 4.0], [16.0, 5.2, 4.0]);
+    seg([16.0, 5.2, 4.0], [-4.0, 5.2, 4.0]);
+    seg([-4.0, 5.2, 4.0], [16.0, 12.0, 6.0]);
+    seg([14.0, 9.0, 15.0], [14.0, 9.0, 3.0]);
+    for k in 0..=20_000 {
+        let th = std::f64::consts::TAU * f64::from(k) / 20_000.0;
+        tips.push([10.0 + 4.0 * th.cos(), 9.0 + 4.0 * th.sin(), 3.0]);
+    }
+    let csv = std::fs::read_to_string(&out).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next().unwrap(), "i,j,x_mm,y_mm,top_mm,machined,deviation_mm");
+    let rows: Vec<Vec<String>> = lines.map(|l| l.split(',').map(str::to_owned).collect()).collect();
+    assert_eq!(rows.len(), 160 * 140);
+    let mut worst: f64 = 0.0;
+    for row in rows.iter().step_by(7) {
+        let (x, y, top): (f64, f64, f64) = (row[2].parse().unwrap(), row[3].parse().unwrap(), row[4].parse().unwrap());
+        let mut z = 8.0f64;
+        let mut d_of_z = f64::INFINITY;
+        let mut wall_near = false;
+        for t in &tips {
+            let d = ((x - t[0]).powi(2) + (y - t[1]).powi(2)).sqrt();
+            // A groove wall within the stock passes near this ray.
+            wall_near |= (d - r).abs() < 0.05 && t[2] + r < 8.0;
+            if d <= r && t[2] + r - (r * r - d * d).sqrt() < z {
+                z = t[2] + r - (r * r - d * d).sqrt();
+                d_of_z = d;
+            }
+        }
+        // Compare off the groove walls (where the chords' lateral error, ≤ pitch/10, turns
+        // into any vertical difference up to the wall's height): the lowest position is well
+        // inside the cutter (slope below 2.1:1) or the ray is not cut at all.
+        if !wall_near && (d_of_z < 0.9 * r || d_of_z.is_infinite()) {
+            worst = worst.max((top - z).abs());
+        }
+        if !row[6].is_empty() {
+            let dev: f64 = row[6].parse().unwrap();
+            assert!((dev - (top - 4.0)).abs() < 2e-6, "{row:?}");
+        }
+    }
+    // Documented error: chord tolerance pitch/10 for the arc (× the slope, ≤ 2.1 here), the
+    // brute force's sample spacing ≤ 5 µm, output rounding 1 nm.
+    assert!(worst < 2.1 * pitch / 10.0 + 0.005, "worst {worst}");
+    // The circle at z = 3 gouges the z = 4 design by 1 mm.
+    assert!((summary["gouge"]["worst_um"].as_f64().unwrap() + 1000.0).abs() < 1e-3, "{summary}");
+}
+
+#[test]
+fn refusals_are_one_line_messages() {
+    let p = temp("bad.nc", "G21 G90\nG01 X1 Y1 Z1 F100\nG41 D1\nG01 X2\n");
+    let base = ["simulate", p.to_str().unwrap(), "--stock", "0,0,0,10,10,10"];
+    let (code, _, err) = run(&[&base[..], &["--cutter", "cone:3"]].concat());
+    assert_eq!(code, 2);
+    assert!(err.contains("ball:R, flat:R or fillet:R,r") && err.lines().count() == 1, "{err}");
+    let (code, _, err) = run(&[&base[..], &["--cutter", "fillet:3,4"]].concat());
+    assert_eq!(code, 2);
+    assert!(err.contains("corner radius"), "{err}");
+    let (code, _, err) = run(&[&base[..], &["--cutter", "ball:3", "--pitch", "0.0005"]].concat());
+    assert_eq!(code, 2);
+    assert!(err.contains("raise the pitch"), "{err}");
+    let (code, _, err) = run(&["simulate", p.to_str().unwrap(), "--stock", "0,0,0,10,10", "--cutter", "ball:3"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("6 comma-separated"), "{err}");
+    // Unsupported words are named by line, and the run goes on.
+    let (code, out, err) = run(&[&base[..], &["--cutter", "ball:3"]].concat());
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("line 3: G41"), "{err}");
+    assert!(out.contains("\"moves\""));
+}
+
+#[test]
+fn five_axis_steps_of_a_scene_gouge_no_deeper_than_their_tolerance() {
+    // The seed-002 steps at E = 0.01 mm hold every segment's swept ball within E of the
+    // surfaces; the simulated cut (joints linear on the head B/C machine, sampled at least
+    // every pitch) must then not go below the scene's surfaces by more than E.
+    let scene = format!("{}/examples/torus-plate-head-bc.json", env!("CARGO_MANIFEST_DIR"));
+    let (code, out, err) = run(&[
+        "simulate",
+        &scene,
+        "--steps",
+        "0.01",
+        "--cutter",
+        "ball:4",
+        "--stock",
+        "-70,-70,-20,70,70,12",
+        "--pitch",
+        "0.5",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let s: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(s["design"], "scene surfaces");
+    assert!(s["moves"].as_u64().unwrap() > 100, "{s}");
+    let worst = s["gouge"]["worst_um"].as_f64().unwrap_or(0.0);
+    assert!(worst >= -10.0 - 1e-3, "worst gouge {worst} µm deeper than the 10 µm tolerance");
+    assert!(s["removed_volume_mm3"].as_f64().unwrap() > 1000.0);
+}
+
+#[test]
+fn the_crease_programs_of_a_scene_gouge_no_deeper_than_their_tolerance() {
+    // `interpolab gcode` writes ball-centre programs of the floor/round-wall crease within
+    // E = 0.01 mm (G01, arcs, G06.2); simulated with the scene's ball into a block, none may
+    // cut below the floor or into the wall by more than E (the Z rays see the floor).
+    let scene = format!("{}/examples/floor-round-wall.json", env!("CARGO_MANIFEST_DIR"));
+    for kind in ["g01", "arcs", "nurbs"] {
+        let (code, program, err) = run(&["gcode", &scene, "--kind", kind, "--tolerance", "0.01"]);
+        assert_eq!(code, 0, "{err}");
+        let p = temp(&format!("frw-{kind}.nc"), &program);
+        let (code, out, err) = run(&[
+            "simulate",
+            p.to_str().unwrap(),
+            "--cutter",
+            "ball:5",
+            "--stock",
+            "-52,-52,-2,52,52,8",
+            "--pitch",
+            "0.2",
+            "--scene",
+            &scene,
+        ]);
+        assert_eq!(code, 0, "{kind}: {err}");
+        let s: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(s["programmed_point"], "ball centre", "{kind}");
+        assert!(s["chord_error_mm"].as_f64().unwrap() <= 0.02 + 1e-12, "{kind}: {s}");
+        let worst = s["gouge"]["worst_um"].as_f64().unwrap_or(0.0);
+        assert!(worst >= -10.0, "{kind}: gouge {worst} µm");
+        // The programs rapid down to the cutting depth inside the block: reported.
+        assert!(s["rapid_cuts"].as_u64().unwrap() >= 1 && err.contains("rapid (G00)"), "{kind}: {err}");
+        // The floor ring the ball's bottom sweeps is machined to z = 0 (radius 45 around Z).
+        assert!(s["machined_rays"].as_u64().unwrap() > 10_000, "{kind}");
+    }
+}
