@@ -1,6 +1,9 @@
 //! Seed 001 (fillet-end finishing): every formula of `src/fillet/` against an independent
 //! brute-force computation.
 
+#[cfg(target_arch = "wasm32")]
+use wasm_bindgen_test::wasm_bindgen_test as test;
+
 use glam::{DVec2, DVec3};
 use interpolab::fillet::contact::{ContactFrame, CrossProfile, Pose, effective_curvature, gouge_margin, place};
 use interpolab::fillet::orient::{OrientOptions, Strategy, pose_at};
