@@ -766,3 +766,45 @@ fn the_simulation_view_machines_the_scenes_crease_program_against_its_surfaces()
     assert!(s["removed_volume_mm3"].as_f64().expect("volume") > 0.0, "{s}");
     assert!(s["scallop_um"]["rays"].as_u64().expect("rays") > 0, "{s}");
 }
+
+#[test]
+fn the_simulation_view_gives_the_command_lines_numbers_for_the_scenes_programs() {
+    // The default scene (floor-round-wall) as a G06.2 program and as seed-002 steps: the
+    // view's automatic stock and pitch given to `interpolab simulate` give the same numbers.
+    let mut h = Harness::new();
+    h.settle();
+    assert_eq!(h.app.scene().name, Scene::from_json(PRESETS[0].json).expect("preset").name);
+    let radius = h.app.scene().tool.radius.to_string();
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/floor-round-wall.json");
+    for source in ["crease-nurbs", "steps"] {
+        set(&mut h, SIMULATION, "source", source);
+        set(&mut h, SIMULATION, "stock", "auto");
+        set(&mut h, SIMULATION, "pitch", "auto");
+        let s = settle_panel(&mut h, source);
+        assert_eq!(s["error"], serde_json::Value::Null, "{source}: {s}");
+        let b: Vec<String> = s["stock_mm"].as_array().expect("stock").iter().map(ToString::to_string).collect();
+        let stock = b.join(",");
+        let pitch = s["grid"]["pitch_mm"].to_string();
+        let cutter = format!("ball:{radius}");
+        let cli = if source == "steps" {
+            let out = std::process::Command::new(env!("CARGO_BIN_EXE_interpolab"))
+                .args(["simulate", scene, "--steps", "0.01", "--cutter", &cutter, "--stock", &stock, "--pitch", &pitch])
+                .output()
+                .expect("runs");
+            assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+            serde_json::from_slice(&out.stdout).expect("JSON")
+        } else {
+            let out = std::process::Command::new(env!("CARGO_BIN_EXE_interpolab"))
+                .args(["gcode", scene, "--kind", "nurbs", "--tolerance", "0.01"])
+                .output()
+                .expect("runs");
+            assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+            let program = String::from_utf8(out.stdout).expect("utf-8");
+            simulate_cli(&program, &["--cutter", &cutter, "--stock", &stock, "--pitch", &pitch, "--scene", scene])
+        };
+        assert_eq!(s["moves_total"], cli["moves"], "{source}: {s}\n{cli}");
+        assert_eq!(s["removed_volume_mm3"], cli["removed_volume_mm3"], "{source}: {s}\n{cli}");
+        assert_eq!(s["gouge"], cli["gouge"], "{source}: {s}\n{cli}");
+        assert_eq!(s["scallop_um"], cli["scallop_um"], "{source}: {s}\n{cli}");
+    }
+}
