@@ -20,6 +20,8 @@ use crate::simulate::{Design, DeviationScan, DexelStock, HeightMap, MoveKind, Pr
 
 /// Periods of the crease run per call while building the design curve.
 const PERIODS_PER_CALL: usize = 200;
+/// How often the view's mesh follows the stock while moves are being cut.
+const MAP_REFRESH: Duration = Duration::from_millis(200);
 /// Grid rows of the deviation scan per call.
 const ROWS_PER_CALL: usize = 4;
 /// Most rays the tab simulates (a 1024 × 1024 grid, 24 MiB); above it the run is refused.
@@ -224,6 +226,8 @@ pub struct Job {
     pub map_generation: u64,
     /// Whether the user cancelled.
     pub cancelled: bool,
+    /// When the height map was last handed to the view while cutting.
+    shown_at: Option<Instant>,
 }
 
 impl Job {
@@ -243,6 +247,7 @@ impl Job {
             slowest_call_ms: 0.0,
             map_generation: 0,
             cancelled: false,
+            shown_at: None,
         };
         if job.inputs.source.needs_crease() {
             match crease.map(DesignBuilder::new) {
@@ -425,7 +430,12 @@ impl Job {
                     sim.apply(&p.program.moves[sim.counters().moves]);
                 }
                 self.sim_ms += t.elapsed().as_secs_f64() * 1e3;
-                self.map_generation += 1;
+                // The view rebuilds its mesh (one vertex per ray) when this changes: a few
+                // times a second while cutting, not every frame.
+                if self.shown_at.is_none_or(|at| at.elapsed() >= MAP_REFRESH) || sim.counters().moves >= target {
+                    self.map_generation += 1;
+                    self.shown_at = Some(Instant::now());
+                }
                 if sim.counters().moves >= target {
                     let map = HeightMap::of(sim.stock());
                     let scan = DeviationScan::new(&map, &p.design);
