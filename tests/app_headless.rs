@@ -651,3 +651,160 @@ mod nurbs_panel {
         assert!(!s.to_string().contains("NaN"));
     }
 }
+
+const SIMULATION: &str = "Cutting simulation";
+
+/// A small program of tool tips (no header): a plunge, two lines (one 0.1 mm below the
+/// design plane z = 0.5), a clockwise arc, a rising line and a retract.
+const SIM_PROGRAM: &str = "G21 G90 G17
+G00 X2 Y3 Z5
+G01 Z0.5 F600
+G01 X18 Y3 Z0.4
+G01 X18 Y7
+G02 X10 Y7 I-4 J0
+G01 X2 Y7 Z0.6
+G00 Z5
+";
+
+/// The core's own numbers for the same inputs, as `interpolab simulate` prints them.
+fn simulate_cli(program: &str, extra: &[&str]) -> serde_json::Value {
+    let dir = std::env::temp_dir().join(format!("interpolab-simview-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let path = dir.join("prog.nc");
+    std::fs::write(&path, program).expect("write program");
+    let mut args = vec!["simulate", path.to_str().expect("utf-8 path")];
+    args.extend_from_slice(extra);
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_interpolab")).args(&args).output().expect("runs");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    serde_json::from_slice(&out.stdout).expect("JSON")
+}
+
+#[test]
+fn the_simulation_view_gives_the_command_lines_numbers_and_plays_back_move_by_move() {
+    let mut h = Harness::new();
+    set(&mut h, SIMULATION, "program_text", SIM_PROGRAM);
+    set(&mut h, SIMULATION, "cutter", "ball:1.5");
+    set(&mut h, SIMULATION, "stock", "0,0,0,20,10,2");
+    set(&mut h, SIMULATION, "pitch", "0.1");
+    set(&mut h, SIMULATION, "design", "plane:0.5");
+    let s = settle_panel(&mut h, "simulation");
+    assert_eq!(s["error"], serde_json::Value::Null, "{s}");
+    assert_eq!(s["stage"], "done", "{s}");
+    let cli = simulate_cli(
+        SIM_PROGRAM,
+        &["--cutter", "ball:1.5", "--stock", "0,0,0,20,10,2", "--pitch", "0.1", "--design-z", "0.5"],
+    );
+    assert_eq!(s["grid"]["nx"], cli["grid"]["nx"]);
+    assert_eq!(s["grid"]["ny"], cli["grid"]["ny"]);
+    assert_eq!(s["moves_total"], cli["moves"], "{s}\n{cli}");
+    assert_eq!(s["moves_simulated"], cli["moves"]);
+    assert_eq!(s["removed_volume_mm3"], cli["removed_volume_mm3"], "{s}\n{cli}");
+    assert_eq!(s["ray_updates"], cli["ray_updates"]);
+    assert_eq!(s["scallop_um"], cli["scallop_um"], "{s}\n{cli}");
+    assert_eq!(s["gouge"], cli["gouge"], "{s}\n{cli}");
+    // The moves at tip z = 0.4 cut 0.1 mm below the plane: the worst gouge is −100 µm.
+    let worst = s["gouge"]["worst_um"].as_f64().expect("a gouge");
+    assert!((worst + 100.0).abs() < 1e-6, "{s}");
+    let total = s["removed_volume_mm3"].as_f64().expect("volume");
+    assert!(total > 0.0);
+
+    // "go there" moves the camera's target to the gouge (local coordinates: relative to
+    // the stock's centre (10, 5, 1)).
+    set(&mut h, SIMULATION, "go_to_gouge", "");
+    h.frame();
+    let s: serde_json::Value = serde_json::from_str(&h.app.status()).expect("JSON");
+    let t = &s["panel"]["status"]["camera_target_local_mm"];
+    let gx = cli["gouge"]["x_mm"].as_f64().expect("x");
+    assert!((t[0].as_f64().expect("x") - (gx - 10.0)).abs() < 1e-3, "{t}");
+    let gy = cli["gouge"]["y_mm"].as_f64().expect("y");
+    assert!((t[1].as_f64().expect("y") - (gy - 5.0)).abs() < 1e-3, "{t}");
+    assert!((t[2].as_f64().expect("z") - (0.5 - 0.1 - 1.0)).abs() < 0.05, "{t}");
+
+    // The slider: back to move 2 restarts from the block and gives the core's first two
+    // moves; forward to the end again gives the whole run.
+    let first_two = {
+        use interpolab::geom::Cutter;
+        use interpolab::simulate::{DexelStock, Program, Simulation};
+        let parsed = interpolab::gcode::parse_program(SIM_PROGRAM).expect("parses");
+        let program = Program::from_toolpath(&parsed.toolpath, glam::DVec3::ZERO, 0.01).expect("moves");
+        let stock = DexelStock::block([0.0, 0.0, 0.0], [20.0, 10.0, 2.0], 0.1).expect("stock");
+        let mut sim = Simulation::new(stock, &Cutter::ball(1.5).expect("cutter"));
+        for m in &program.moves[..2] {
+            sim.apply(m);
+        }
+        (sim.counters().removed_mm3 * 1e6).round() / 1e6
+    };
+    set(&mut h, SIMULATION, "move", "2");
+    let s = settle_panel(&mut h, "simulation to move 2");
+    assert_eq!(s["moves_simulated"], 2, "{s}");
+    assert_eq!(s["removed_volume_mm3"].as_f64(), Some(first_two), "{s}");
+    assert!(first_two < total);
+    set(&mut h, SIMULATION, "move", "all");
+    let s = settle_panel(&mut h, "simulation to the end");
+    assert_eq!(s["removed_volume_mm3"], cli["removed_volume_mm3"], "{s}");
+    assert_eq!(s["gouge"], cli["gouge"], "{s}");
+
+    // Bad options say what they accept; a grid over the cap is refused with a message.
+    assert!(h.app.set_panel_option(SIMULATION, "pitch", "0.001").is_err_and(|e| e.contains("0.02")));
+    assert!(h.app.set_panel_option(SIMULATION, "cutter", "drill:3").is_err_and(|e| e.contains("ball:R")));
+    set(&mut h, SIMULATION, "stock", "0,0,0,300,300,2");
+    set(&mut h, SIMULATION, "pitch", "0.02");
+    let s = settle_panel(&mut h, "simulation over the cap");
+    let e = s["error"].as_str().expect("refused");
+    assert!(e.contains("raise the pitch") && e.contains("rays"), "{e}");
+}
+
+#[test]
+fn the_simulation_view_machines_the_scenes_crease_program_against_its_surfaces() {
+    let mut h = Harness::new();
+    h.settle();
+    set(&mut h, SIMULATION, "source", "crease-g01");
+    let s = settle_panel(&mut h, "crease G01 simulation");
+    assert_eq!(s["error"], serde_json::Value::Null, "{s}");
+    assert_eq!(s["design"], "scene surfaces");
+    assert!(s["grid"]["nx"].as_u64().expect("nx") <= 256 && s["grid"]["ny"].as_u64().expect("ny") <= 256, "{s}");
+    assert!(s["removed_volume_mm3"].as_f64().expect("volume") > 0.0, "{s}");
+    assert!(s["scallop_um"]["rays"].as_u64().expect("rays") > 0, "{s}");
+}
+
+#[test]
+fn the_simulation_view_gives_the_command_lines_numbers_for_the_scenes_programs() {
+    // The default scene (floor-round-wall) as a G06.2 program and as seed-002 steps: the
+    // view's automatic stock and pitch given to `interpolab simulate` give the same numbers.
+    let mut h = Harness::new();
+    h.settle();
+    assert_eq!(h.app.scene().name, Scene::from_json(PRESETS[0].json).expect("preset").name);
+    let radius = h.app.scene().tool.radius.to_string();
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/floor-round-wall.json");
+    for source in ["crease-nurbs", "steps"] {
+        set(&mut h, SIMULATION, "source", source);
+        set(&mut h, SIMULATION, "stock", "auto");
+        set(&mut h, SIMULATION, "pitch", "auto");
+        let s = settle_panel(&mut h, source);
+        assert_eq!(s["error"], serde_json::Value::Null, "{source}: {s}");
+        let b: Vec<String> = s["stock_mm"].as_array().expect("stock").iter().map(ToString::to_string).collect();
+        let stock = b.join(",");
+        let pitch = s["grid"]["pitch_mm"].to_string();
+        let cutter = format!("ball:{radius}");
+        let cli = if source == "steps" {
+            let out = std::process::Command::new(env!("CARGO_BIN_EXE_interpolab"))
+                .args(["simulate", scene, "--steps", "0.01", "--cutter", &cutter, "--stock", &stock, "--pitch", &pitch])
+                .output()
+                .expect("runs");
+            assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+            serde_json::from_slice(&out.stdout).expect("JSON")
+        } else {
+            let out = std::process::Command::new(env!("CARGO_BIN_EXE_interpolab"))
+                .args(["gcode", scene, "--kind", "nurbs", "--tolerance", "0.01"])
+                .output()
+                .expect("runs");
+            assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+            let program = String::from_utf8(out.stdout).expect("utf-8");
+            simulate_cli(&program, &["--cutter", &cutter, "--stock", &stock, "--pitch", &pitch, "--scene", scene])
+        };
+        assert_eq!(s["moves_total"], cli["moves"], "{source}: {s}\n{cli}");
+        assert_eq!(s["removed_volume_mm3"], cli["removed_volume_mm3"], "{source}: {s}\n{cli}");
+        assert_eq!(s["gouge"], cli["gouge"], "{source}: {s}\n{cli}");
+        assert_eq!(s["scallop_um"], cli["scallop_um"], "{source}: {s}\n{cli}");
+    }
+}

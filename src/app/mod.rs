@@ -17,6 +17,7 @@ mod overlay;
 pub mod panel;
 mod platform;
 mod plots;
+mod simulate_panel;
 mod view3d;
 
 #[cfg(not(target_arch = "wasm32"))]
@@ -100,6 +101,10 @@ pub struct InterpolabApp {
     show_help: bool,
     /// Rectangles of key widgets this frame (points), published in the status element.
     widget_rects: Vec<(&'static str, egui::Rect)>,
+    /// The last G-code file opened (name, text): the NURBS tab reads it, the simulation
+    /// tab machines it.
+    program: Option<(String, String)>,
+    program_generation: u64,
 }
 
 fn default_scene() -> Scene {
@@ -163,6 +168,8 @@ impl InterpolabApp {
             last_fragment: fragment,
             show_help: false,
             widget_rects: Vec::new(),
+            program: None,
+            program_generation: 0,
         };
         if from_link.is_some() {
             app.info("Opened the scene from the link.");
@@ -430,6 +437,7 @@ fn panels() -> Vec<Box<dyn Panel>> {
         Box::new(fiveaxis_panel::FiveAxisPanel::default()),
         Box::new(chords_panel::ChordsPanel::default()),
         Box::new(nurbs_panel::NurbsPanel::default()),
+        Box::new(simulate_panel::SimulatePanel::default()),
     ]
 }
 
@@ -454,6 +462,13 @@ impl eframe::App for InterpolabApp {
             files.into_iter().partition(|f| f.kind == FileKind::Scene);
         if !scene_files.is_empty() {
             self.handle_files(scene_files);
+        }
+        // The last program opened is kept for the simulation tab.
+        if let Some(f) = other_files.iter().rev().find(|f| f.kind == FileKind::GCode)
+            && let Ok(text) = &f.text
+        {
+            self.program = Some((f.name.clone(), text.clone()));
+            self.program_generation += 1;
         }
         // Files for a panel switch to it; with no panel for them, say so.
         if let Some(f) = other_files.first() {
@@ -566,6 +581,8 @@ impl eframe::App for InterpolabApp {
                         playback: &self.playback,
                         platform: &mut self.platform,
                         incoming,
+                        program: &self.program,
+                        program_generation: self.program_generation,
                         messages: Vec::new(),
                     };
                     panel.ui(ui, &mut cx);

@@ -26,6 +26,10 @@ pub struct PanelContext<'a> {
     pub platform: &'a mut Platform,
     /// Files of this view's kind given to the app this frame (e.g. a dropped `.nc`).
     pub incoming: Vec<Incoming>,
+    /// The last G-code file opened in the app (name, text), whichever view read it.
+    pub program: &'a Option<(String, String)>,
+    /// Bumped for every G-code file opened.
+    pub program_generation: u64,
     /// Messages for the banner: `Err` for problems, `Ok` for information.
     pub messages: Vec<Result<String, String>>,
 }

@@ -118,25 +118,56 @@ impl SimStats {
     /// Compares a height map with a design.
     #[must_use]
     pub fn of(map: &HeightMap, stock: &DexelStock, design: &Design) -> Self {
-        let g = map.grid;
-        let mut dev = vec![None; g.len()];
-        let mut guesses: Vec<Option<DVec2>> = match design {
+        let mut scan = DeviationScan::new(map, design);
+        scan.rows(map, design, map.grid.ny);
+        scan.finish(map, stock)
+    }
+}
+
+/// [`SimStats::of`] a number of grid rows at a time, for callers that must not block (the
+/// app measures a few rows per frame): the same projections in the same order (each
+/// surface's foot point seeds the next ray's), so the same numbers however it is split.
+#[derive(Clone, Debug)]
+pub struct DeviationScan {
+    dev: Vec<Option<f64>>,
+    guesses: Vec<Option<DVec2>>,
+    next_row: usize,
+}
+
+impl DeviationScan {
+    /// Starts the scan of `map` against `design`.
+    #[must_use]
+    pub fn new(map: &HeightMap, design: &Design) -> Self {
+        let guesses = match design {
             Design::Surfaces(s) => vec![None; s.len()],
             _ => Vec::new(),
         };
-        for j in 0..g.ny {
+        Self { dev: vec![None; map.grid.len()], guesses, next_row: 0 }
+    }
+
+    /// Rows scanned so far (of `map.grid.ny`).
+    #[must_use]
+    pub fn rows_done(&self) -> usize {
+        self.next_row
+    }
+
+    /// Scans at most `rows` more rows of `map` (the map and design [`Self::new`] was given).
+    pub fn rows(&mut self, map: &HeightMap, design: &Design, rows: usize) {
+        let g = map.grid;
+        let end = self.next_row.saturating_add(rows).min(g.ny);
+        for j in self.next_row..end {
             for i in 0..g.nx {
                 let k = j * g.nx + i;
                 if !map.machined[k] {
                     continue;
                 }
                 let p = DVec3::new(g.x_mm(i), g.y_mm(j), map.top_mm[k]);
-                dev[k] = match design {
+                self.dev[k] = match design {
                     Design::None => None,
                     Design::PlaneZ(z) => Some(p.z - z),
                     Design::Surfaces(surfaces) => {
                         let mut best: Option<f64> = None;
-                        for (s, guess) in surfaces.iter().zip(guesses.iter_mut()) {
+                        for (s, guess) in surfaces.iter().zip(self.guesses.iter_mut()) {
                             let foot = match guess {
                                 Some(uv) => project_point(s, p, *uv, ProjectOptions::default()),
                                 None => project_point_global(s, p, 16),
@@ -153,6 +184,14 @@ impl SimStats {
                 };
             }
         }
+        self.next_row = end;
+    }
+
+    /// The statistics once every row is scanned (rows not scanned count as unmachined).
+    #[must_use]
+    pub fn finish(self, map: &HeightMap, stock: &DexelStock) -> SimStats {
+        let g = map.grid;
+        let dev = self.dev;
         let mut scallops = Vec::new();
         let mut worst: Option<(f64, DVec2)> = None;
         let mut gouge_rays = 0;
@@ -169,7 +208,7 @@ impl SimStats {
                 }
             }
         }
-        Self {
+        SimStats {
             machined_rays: map.machined.iter().filter(|&&m| m).count(),
             through_rays: map.through,
             split_rays: stock.split_rays(),

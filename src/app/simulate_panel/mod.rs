@@ -1,0 +1,512 @@
+//! The "Cutting simulation" view: a program of the product (the scene's crease as G01,
+//! G02/G03 or G06.2, the seed-002 five-axis steps of the scene, or the last G-code file
+//! opened in the app) machined into a dexel stock by `simulate::Simulation`, move by move
+//! within a time budget per frame; the machined stock drawn as a height field coloured by
+//! its deviation from the design, with the scallop and gouge statistics and the removed
+//! volume. Format and error bounds of the core: docs/simulation.md.
+//!
+//! Loaded files: the NURBS & G-code tab owns `.nc` files (opening, dropping, the reader's
+//! messages by line); the app keeps the last one opened and hands it to this view as the
+//! source "Loaded G-code file", so a file is opened once and seen in both tabs.
+
+mod view;
+pub mod work;
+
+use eframe::egui;
+use web_time::Duration;
+
+use super::panel::{Panel, PanelContext};
+use view::SimView;
+use work::{AUTO_GRID_SIDE, CutterChoice, DesignChoice, Inputs, Job, MAX_APP_RAYS, PITCH_RANGE_MM, SourceKind};
+
+/// Simulation work per frame (the core's moves are bounded, so a frame overshoots by at
+/// most one move or one grid row).
+const BUDGET: Duration = Duration::from_millis(25);
+
+/// The user's choices.
+#[derive(Clone, Debug, PartialEq)]
+struct Settings {
+    source: SourceKind,
+    cutter: CutterChoice,
+    pitch_mm: Option<f64>,
+    stock_mm: Option<[f64; 6]>,
+    margin_mm: f64,
+    design: DesignChoice,
+    band_um: f64,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            source: SourceKind::CreaseG01,
+            cutter: CutterChoice::SceneBall,
+            pitch_mm: None,
+            stock_mm: None,
+            margin_mm: 2.0,
+            design: DesignChoice::Auto,
+            band_um: 50.0,
+        }
+    }
+}
+
+/// The panel.
+#[derive(Default)]
+pub struct SimulatePanel {
+    settings: Settings,
+    job: Option<Job>,
+    view: SimView,
+    /// A program given as text (`set_option("program_text", …)`), replacing the app's
+    /// loaded file.
+    own_program: Option<(String, String)>,
+    own_generation: u64,
+    /// Move the slider asks for (`None`: the whole program).
+    target: Option<usize>,
+    /// Restart requested by the user.
+    restart: bool,
+    /// The inputs refused by the stock or grid checks, with the message (not retried until
+    /// they change).
+    rects: Vec<(&'static str, egui::Rect)>,
+}
+
+fn um(mm: f64) -> f64 {
+    (mm * 1e6).round() / 1e3
+}
+
+impl SimulatePanel {
+    fn inputs(&self, cx: &PanelContext<'_>) -> Inputs {
+        let s = &self.settings;
+        let loaded_generation = if self.own_program.is_some() { self.own_generation } else { cx.program_generation };
+        Inputs {
+            source: s.source,
+            cutter: s.cutter,
+            pitch_mm: s.pitch_mm,
+            stock_mm: s.stock_mm,
+            margin_mm: s.margin_mm,
+            design: s.design,
+            scene_generation: cx.compute.generation,
+            loaded_generation,
+        }
+    }
+
+    fn controls(&mut self, ui: &mut egui::Ui, cx: &PanelContext<'_>) {
+        let s = &mut self.settings;
+        ui.horizontal_wrapped(|ui| {
+            ui.label("Program:");
+            let r = egui::ComboBox::from_id_salt("sim_source").selected_text(s.source.label()).show_ui(ui, |ui| {
+                for k in SourceKind::ALL {
+                    ui.selectable_value(&mut s.source, k, k.label());
+                }
+            });
+            self.rects.push(("sim_source", r.response.rect));
+            if s.source == SourceKind::Loaded {
+                let name = self.own_program.as_ref().or(cx.program.as_ref()).map(|(n, _)| n.as_str());
+                ui.label(name.map_or("(none: open one in the NURBS & G-code tab)".to_owned(), |n| n.to_owned()));
+            }
+            ui.separator();
+            ui.label("Cutter:");
+            let kind = match s.cutter {
+                CutterChoice::SceneBall => 0,
+                CutterChoice::Ball(_) => 1,
+                CutterChoice::Flat(_) => 2,
+                CutterChoice::Fillet(..) => 3,
+            };
+            let names = ["scene's ball", "ball", "flat", "fillet"];
+            let mut chosen = kind;
+            egui::ComboBox::from_id_salt("sim_cutter").selected_text(names[kind]).show_ui(ui, |ui| {
+                for (i, n) in names.iter().enumerate() {
+                    ui.selectable_value(&mut chosen, i, *n);
+                }
+            });
+            let r0 = match s.cutter {
+                CutterChoice::SceneBall => cx.scene.tool.radius,
+                CutterChoice::Ball(r) | CutterChoice::Flat(r) | CutterChoice::Fillet(r, _) => r,
+            };
+            if chosen != kind {
+                s.cutter = match chosen {
+                    1 => CutterChoice::Ball(r0),
+                    2 => CutterChoice::Flat(r0),
+                    3 => CutterChoice::Fillet(r0, r0 * 0.2),
+                    _ => CutterChoice::SceneBall,
+                };
+            }
+            match &mut s.cutter {
+                CutterChoice::SceneBall => {
+                    ui.label(format!("R = {} mm", cx.scene.tool.radius));
+                }
+                CutterChoice::Ball(r) | CutterChoice::Flat(r) => {
+                    ui.add(egui::DragValue::new(r).range(0.05..=50.0).speed(0.05).prefix("R ").suffix(" mm"));
+                }
+                CutterChoice::Fillet(r, c) => {
+                    ui.add(egui::DragValue::new(r).range(0.05..=50.0).speed(0.05).prefix("R ").suffix(" mm"));
+                    ui.add(egui::DragValue::new(c).range(0.01..=50.0).speed(0.02).prefix("r ").suffix(" mm"));
+                }
+            }
+        });
+        ui.horizontal_wrapped(|ui| {
+            ui.label("Pitch:");
+            let mut auto = s.pitch_mm.is_none();
+            if ui
+                .checkbox(&mut auto, "auto")
+                .on_hover_text(format!("Grid of at most {AUTO_GRID_SIDE} rays a side"))
+                .changed()
+            {
+                s.pitch_mm = if auto {
+                    None
+                } else {
+                    self.job.as_ref().and_then(|j| j.prepared.as_ref()).map(|p| p.pitch_mm).or(Some(0.1))
+                };
+            }
+            if let Some(p) = &mut s.pitch_mm {
+                ui.add(egui::DragValue::new(p).range(PITCH_RANGE_MM.0..=PITCH_RANGE_MM.1).speed(0.002).suffix(" mm"));
+            }
+            ui.separator();
+            ui.label("Stock (mm):");
+            let mut auto = s.stock_mm.is_none();
+            if ui
+                .checkbox(&mut auto, "auto")
+                .on_hover_text("The program's cutting moves' box plus the cutter radius and the margin")
+                .changed()
+            {
+                s.stock_mm =
+                    if auto { None } else { self.job.as_ref().and_then(|j| j.prepared.as_ref()).map(|p| p.stock_mm) };
+            }
+            match &mut s.stock_mm {
+                None => {
+                    ui.add(
+                        egui::DragValue::new(&mut s.margin_mm)
+                            .range(0.0..=100.0)
+                            .speed(0.1)
+                            .prefix("margin ")
+                            .suffix(" mm"),
+                    );
+                }
+                Some(b) => {
+                    for (v, n) in b.iter_mut().zip(["x0 ", "y0 ", "z0 ", "x1 ", "y1 ", "z1 "]) {
+                        ui.add(egui::DragValue::new(v).speed(0.1).prefix(n).max_decimals(3));
+                    }
+                }
+            }
+            ui.separator();
+            ui.label("Design:");
+            let label = match s.design {
+                DesignChoice::Auto => "auto".to_owned(),
+                DesignChoice::None => "none".to_owned(),
+                DesignChoice::Scene => "scene surfaces".to_owned(),
+                DesignChoice::PlaneZ(z) => format!("plane z = {z} mm"),
+            };
+            egui::ComboBox::from_id_salt("sim_design").selected_text(label).show_ui(ui, |ui| {
+                ui.selectable_value(&mut s.design, DesignChoice::Auto, "auto (scene surfaces; none for a file)");
+                ui.selectable_value(&mut s.design, DesignChoice::None, "none");
+                ui.selectable_value(&mut s.design, DesignChoice::Scene, "scene surfaces");
+                if ui.selectable_label(matches!(s.design, DesignChoice::PlaneZ(_)), "plane z = …").clicked() {
+                    s.design = DesignChoice::PlaneZ(0.0);
+                }
+            });
+            if let DesignChoice::PlaneZ(z) = &mut s.design {
+                ui.add(egui::DragValue::new(z).speed(0.01).prefix("z ").suffix(" mm"));
+            }
+            ui.add(egui::DragValue::new(&mut s.band_um).range(1.0..=1000.0).speed(0.5).prefix("band ± ").suffix(" µm"))
+                .on_hover_text("Deviation shown at full colour");
+        });
+    }
+
+    fn playback(&mut self, ui: &mut egui::Ui) {
+        let Some(job) = &mut self.job else { return };
+        let total = job.total_moves();
+        ui.horizontal_wrapped(|ui| {
+            if total > 0 {
+                let mut k = self.target.unwrap_or(total).min(total);
+                let r = ui.add(egui::Slider::new(&mut k, 0..=total).text(format!("of {total} moves")));
+                self.rects.push(("sim_move_slider", r.rect));
+                if r.changed() {
+                    self.target = (k < total).then_some(k);
+                }
+            }
+            if job.computing() {
+                let (f, text) = job.progress();
+                ui.add(egui::ProgressBar::new(f).desired_width(220.0).text(text));
+                let r = ui.button("Cancel");
+                self.rects.push(("sim_cancel", r.rect));
+                if r.clicked() {
+                    job.cancel();
+                }
+            }
+            let r = ui.button("Restart").on_hover_text("Simulate again from the block");
+            self.rects.push(("sim_restart", r.rect));
+            if r.clicked() {
+                self.restart = true;
+            }
+        });
+    }
+
+    fn numbers(&mut self, ui: &mut egui::Ui) {
+        let Some(job) = &self.job else { return };
+        if let Some(e) = &job.error {
+            ui.colored_label(egui::Color32::LIGHT_RED, format!("⚠ {e}"));
+            return;
+        }
+        let Some(p) = &job.prepared else { return };
+        let mut go = None;
+        ui.horizontal_wrapped(|ui| {
+            if let Some(sim) = &job.sim {
+                let g = sim.stock().grid();
+                ui.label(format!(
+                    "grid {} × {} at {} mm · moves {} / {} · removed {:.3} mm³ · simulation {:.0} ms (all steps {:.0} ms, longest frame {:.1} ms)",
+                    g.nx,
+                    g.ny,
+                    g.pitch_mm,
+                    job.applied(),
+                    job.total_moves(),
+                    sim.counters().removed_mm3,
+                    job.sim_ms,
+                    job.total_ms,
+                    job.slowest_call_ms
+                ));
+            }
+            if let Some(r) = job.results.as_ref().filter(|r| r.moves == job.applied()) {
+                if p.design_name != "none" {
+                    let s = &r.stats.scallop;
+                    ui.label(format!(
+                        "· scallop max {} / mean {} / p95 {} µm ({} rays)",
+                        um(s.max_mm),
+                        um(s.mean_mm),
+                        um(s.p95_mm),
+                        s.count
+                    ));
+                    match r.stats.worst_gouge {
+                        Some((d, at)) => {
+                            ui.label(format!("· worst gouge {} µm at ({:.3}, {:.3}) mm", um(d), at.x, at.y));
+                            let b = ui.button("go there").on_hover_text("Centre the view on the worst gouge");
+                            if b.clicked() {
+                                let z = r.map.top_mm[index_of(&r.map.grid, at.x, at.y)];
+                                go = Some(glam::DVec3::new(at.x, at.y, z));
+                            }
+                        }
+                        None => {
+                            ui.label("· no gouge");
+                        }
+                    }
+                } else {
+                    ui.label("· no design: heights only");
+                }
+            }
+        });
+        if let Some(pt) = go {
+            self.view.go_to(pt);
+        }
+    }
+}
+
+/// Index of the ray nearest (x, y) (mm).
+fn index_of(g: &crate::simulate::Grid, x: f64, y: f64) -> usize {
+    let i = (((x - g.x0_mm) / g.pitch_mm - 0.5).round().max(0.0) as usize).min(g.nx.saturating_sub(1));
+    let j = (((y - g.y0_mm) / g.pitch_mm - 0.5).round().max(0.0) as usize).min(g.ny.saturating_sub(1));
+    j * g.nx + i
+}
+
+fn parse_f64(key: &str, value: &str, what: &str) -> Result<f64, String> {
+    value
+        .trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|v| v.is_finite())
+        .ok_or_else(|| format!("{key}: \"{value}\" is not {what}"))
+}
+
+impl Panel for SimulatePanel {
+    fn title(&self) -> &'static str {
+        "Cutting simulation"
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
+        self.rects.clear();
+        self.controls(ui, cx);
+        let inputs = self.inputs(cx);
+        let waiting = inputs.source != SourceKind::Loaded && cx.compute.running();
+        if !waiting && (self.restart || self.job.as_ref().is_none_or(|j| j.inputs != inputs)) {
+            if self
+                .job
+                .as_ref()
+                .is_none_or(|j| j.inputs.stock_mm != inputs.stock_mm || j.inputs.source != inputs.source)
+            {
+                self.view.refit = true;
+            }
+            self.job = Some(Job::new(inputs, cx.compute.job.as_ref()));
+            self.restart = false;
+        }
+        if let Some(job) = &mut self.job {
+            job.set_target(self.target);
+            if job.computing() {
+                let loaded = self.own_program.as_ref().or(cx.program.as_ref());
+                job.advance(BUDGET, cx.scene, loaded);
+                ui.ctx().request_repaint();
+            }
+        }
+        if waiting {
+            ui.label(format!(
+                "Waiting for the scene's crease: {} periods computed…",
+                cx.compute.periods.len().saturating_sub(1)
+            ));
+            ui.ctx().request_repaint();
+        }
+        self.playback(ui);
+        self.numbers(ui);
+        let rect = ui.available_rect_before_wrap();
+        let legend = self.job.as_ref().and_then(|j| j.prepared.as_ref()).is_some_and(|p| p.design_name != "none");
+        self.view.ui(ui, rect, cx.render_state, self.job.as_ref(), self.settings.band_um, legend);
+    }
+
+    fn status(&self) -> serde_json::Value {
+        let s = &self.settings;
+        let Some(job) = &self.job else {
+            return serde_json::json!({ "computing": false, "source": s.source.key(), "stage": "waiting" });
+        };
+        let prepared = job.prepared.as_ref();
+        let results = job.results.as_ref().filter(|r| r.moves == job.applied());
+        let has_design = prepared.is_some_and(|p| p.design_name != "none");
+        let t = self.view.camera.target;
+        let camera = [t.x, t.y, t.z];
+        serde_json::json!({
+            "computing": job.computing(),
+            "stage": job.stage_name(),
+            "source": s.source.key(),
+            "error": job.error,
+            "cutter": prepared.map(|p| p.cutter.describe()),
+            "grid": job.sim.as_ref().map(|sim| {
+                let g = sim.stock().grid();
+                serde_json::json!({ "nx": g.nx, "ny": g.ny, "pitch_mm": g.pitch_mm })
+            }),
+            "stock_mm": prepared.map(|p| p.stock_mm),
+            "moves_total": job.total_moves(),
+            "moves_simulated": job.applied(),
+            "target_move": job.target_moves(),
+            "removed_volume_mm3": job.sim.as_ref().map(|sim| (sim.counters().removed_mm3 * 1e6).round() / 1e6),
+            "ray_updates": job.sim.as_ref().map(|sim| sim.counters().ray_updates),
+            "chord_error_mm": prepared.map(|p| p.program.chord_error_mm),
+            "design": prepared.map(|p| p.design_name),
+            "measured": results.is_some(),
+            "scallop_um": results.filter(|_| has_design).map(|r| serde_json::json!({
+                "rays": r.stats.scallop.count,
+                "max": um(r.stats.scallop.max_mm),
+                "mean": um(r.stats.scallop.mean_mm),
+                "p95": um(r.stats.scallop.p95_mm),
+            })),
+            "gouge": results.and_then(|r| r.stats.worst_gouge.map(|(d, p)| serde_json::json!({
+                "worst_um": um(d), "x_mm": p.x, "y_mm": p.y, "rays": r.stats.gouge_rays
+            }))),
+            "sim_ms": job.sim_ms,
+            "total_ms": job.total_ms,
+            "slowest_frame_ms": job.slowest_call_ms,
+            "camera_target_local_mm": camera,
+        })
+    }
+
+    fn set_option(&mut self, key: &str, value: &str) -> Result<(), String> {
+        let s = &mut self.settings;
+        match key {
+            "source" => {
+                s.source = SourceKind::ALL.into_iter().find(|k| k.key() == value).ok_or_else(|| {
+                    format!("source: \"{value}\" is not one of crease-g01, crease-arcs, crease-nurbs, steps, loaded")
+                })?;
+            }
+            "program_text" => {
+                self.own_generation += 1;
+                self.own_program = Some(("program".to_owned(), value.to_owned()));
+                s.source = SourceKind::Loaded;
+            }
+            "cutter" => {
+                let bad = || format!("cutter: \"{value}\" — give scene, ball:R, flat:R or fillet:R,r in mm");
+                s.cutter = if value == "scene" {
+                    CutterChoice::SceneBall
+                } else {
+                    let (kind, dims) = value.split_once(':').ok_or_else(bad)?;
+                    let v: Vec<f64> = dims
+                        .split(',')
+                        .map(|d| d.trim().parse::<f64>())
+                        .collect::<Result<_, _>>()
+                        .map_err(|_| bad())?;
+                    match (kind, v.as_slice()) {
+                        ("ball", [r]) => CutterChoice::Ball(*r),
+                        ("flat", [r]) => CutterChoice::Flat(*r),
+                        ("fillet", [r, c]) => CutterChoice::Fillet(*r, *c),
+                        _ => return Err(bad()),
+                    }
+                };
+            }
+            "pitch" => {
+                if value == "auto" {
+                    s.pitch_mm = None;
+                } else {
+                    let p = parse_f64(key, value, "a pitch in mm")?;
+                    if !(PITCH_RANGE_MM.0..=PITCH_RANGE_MM.1).contains(&p) {
+                        return Err(format!("pitch: {p} mm is outside {} … {} mm", PITCH_RANGE_MM.0, PITCH_RANGE_MM.1));
+                    }
+                    s.pitch_mm = Some(p);
+                }
+            }
+            "stock" => {
+                if value == "auto" {
+                    s.stock_mm = None;
+                } else {
+                    let v: Vec<f64> = value
+                        .split(',')
+                        .map(|d| d.trim().parse::<f64>())
+                        .collect::<Result<_, _>>()
+                        .map_err(|_| format!("stock: \"{value}\" — give auto or x0,y0,z0,x1,y1,z1 in mm"))?;
+                    let b: [f64; 6] = v.try_into().map_err(|_| {
+                        format!("stock: \"{value}\" — give auto or six numbers x0,y0,z0,x1,y1,z1 in mm")
+                    })?;
+                    s.stock_mm = Some(b);
+                }
+            }
+            "margin" => s.margin_mm = parse_f64(key, value, "a margin in mm")?.max(0.0),
+            "design" => {
+                s.design = match value {
+                    "auto" => DesignChoice::Auto,
+                    "none" => DesignChoice::None,
+                    "scene" => DesignChoice::Scene,
+                    _ => match value.strip_prefix("plane:") {
+                        Some(z) => DesignChoice::PlaneZ(parse_f64(key, z, "a height in mm")?),
+                        None => return Err(format!("design: \"{value}\" — give auto, none, scene or plane:Z (mm)")),
+                    },
+                };
+            }
+            "band_um" => s.band_um = parse_f64(key, value, "a deviation in µm")?.clamp(1.0, 1000.0),
+            "move" => {
+                self.target = if value == "all" {
+                    None
+                } else {
+                    Some(
+                        value
+                            .trim()
+                            .parse::<usize>()
+                            .map_err(|_| format!("move: \"{value}\" — give all or a move number"))?,
+                    )
+                };
+            }
+            "cancel" => {
+                if let Some(j) = &mut self.job {
+                    j.cancel();
+                }
+            }
+            "restart" => self.restart = true,
+            "go_to_gouge" => {
+                let at = self.job.as_ref().and_then(|j| j.results.as_ref()).and_then(|r| {
+                    r.stats
+                        .worst_gouge
+                        .map(|(_, at)| glam::DVec3::new(at.x, at.y, r.map.top_mm[index_of(&r.map.grid, at.x, at.y)]))
+                });
+                match at {
+                    Some(p) => self.view.go_to(p),
+                    None => return Err("go_to_gouge: no gouge measured".to_owned()),
+                }
+            }
+            _ => {
+                return Err(format!(
+                    "this view has no option \"{key}\"; it has source, program_text, cutter, pitch, stock, margin, design, band_um, move, cancel, restart, go_to_gouge (max {MAX_APP_RAYS} rays)"
+                ));
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,279 @@
+//! The 3D view of the simulation tab: the machined stock's top as a shaded height-field
+//! mesh (one vertex per ray, normals from the height differences), coloured by signed
+//! deviation from the design (blue gouge / green within the band / red stock left) or grey
+//! by height without one; the program's tool-tip path over it (moves simulated bright, the
+//! rest dim); the cutter at the current move; a legend in µm.
+
+use eframe::egui;
+use eframe::egui_wgpu::RenderState;
+use glam::{DVec3, Vec3};
+
+use super::work::Job;
+use crate::app::overlay::{
+    ViewButton, axis_triad, no_gpu, orbit_and_pan, paint_view, scale_bar, view_buttons, zoom_factor,
+};
+use crate::render::geometry::Origin;
+use crate::render::{Layer, LineSegment, Mesh, MeshVertex, OrbitCamera, Renderer3d, SphereInstance, ViewId};
+use crate::simulate::MoveKind;
+
+/// This view's GPU id.
+pub const VIEW_ID: ViewId = 3;
+const BACKGROUND: [f32; 4] = [0.07, 0.08, 0.1, 1.0];
+/// Most path segments drawn (longer programs are drawn every n-th move).
+const MAX_PATH_SEGMENTS: usize = 20_000;
+/// Colour of unmachined rays.
+const UNCUT: [f32; 4] = [0.62, 0.62, 0.6, 1.0];
+
+/// Colour of a deviation `d_mm` for a band of `band_mm`: blue (≤ −band) → green (0) → red
+/// (≥ +band).
+#[must_use]
+pub fn deviation_color(d_mm: f64, band_mm: f64) -> [f32; 4] {
+    let t = (d_mm / band_mm).clamp(-1.0, 1.0) as f32;
+    let green = [0.2, 0.75, 0.3];
+    let end = if t < 0.0 { [0.15, 0.35, 0.95] } else { [0.9, 0.2, 0.15] };
+    let a = t.abs();
+    [green[0] + (end[0] - green[0]) * a, green[1] + (end[1] - green[1]) * a, green[2] + (end[2] - green[2]) * a, 1.0]
+}
+
+/// What was last uploaded.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Built {
+    map_generation: u64,
+    band_um: f64,
+    applied: usize,
+    origin: [u64; 3],
+}
+
+/// The view's camera and upload state.
+pub struct SimView {
+    /// Camera.
+    pub camera: OrbitCamera,
+    origin: Origin,
+    built: Option<Built>,
+    radius: f32,
+    /// Refit the camera at the next upload.
+    pub refit: bool,
+}
+
+impl Default for SimView {
+    fn default() -> Self {
+        Self { camera: OrbitCamera::default(), origin: Origin(DVec3::ZERO), built: None, radius: 50.0, refit: true }
+    }
+}
+
+impl SimView {
+    /// Moves the camera's target to a point of the part (mm) and zooms in on it.
+    pub fn go_to(&mut self, p: DVec3) {
+        self.camera.target = self.origin.local_vec(p);
+        self.camera.distance = (self.radius * 0.3).max(1.0);
+    }
+
+    fn upload(&mut self, rs: &RenderState, job: &Job, band_um: f64) {
+        let (Some(p), Some(sim)) = (&job.prepared, &job.sim) else {
+            Renderer3d::with(rs, |r| r.clear_view(VIEW_ID));
+            self.built = None;
+            return;
+        };
+        let s = p.stock_mm;
+        let origin = self.origin.0;
+        let key = Built {
+            map_generation: job.map_generation,
+            band_um,
+            applied: job.applied(),
+            origin: [origin.x.to_bits(), origin.y.to_bits(), origin.z.to_bits()],
+        };
+        if self.built == Some(key) {
+            return;
+        }
+        if self.refit {
+            self.camera.fit(Vec3::ZERO, self.radius);
+            self.refit = false;
+        }
+        let o = self.origin;
+        // The measured map when it is current, else the stock's heights as they are now.
+        let current = job.results.as_ref().filter(|r| r.moves == job.applied());
+        let fresh;
+        let (map, dev) = match current {
+            Some(r) => (&r.map, Some(&r.stats.deviation_mm)),
+            None => {
+                fresh = crate::simulate::HeightMap::of(sim.stock());
+                (&fresh, None)
+            }
+        };
+        let g = map.grid;
+        let (z0, z1) = (s[2], s[5]);
+        let band = band_um * 1e-3;
+        let mut mesh = Mesh::default();
+        mesh.vertices.reserve(g.len());
+        let h = |i: usize, j: usize| map.top_mm[j * g.nx + i];
+        for j in 0..g.ny {
+            for i in 0..g.nx {
+                let k = j * g.nx + i;
+                let (il, ir) = (i.saturating_sub(1), (i + 1).min(g.nx - 1));
+                let (jl, jr) = (j.saturating_sub(1), (j + 1).min(g.ny - 1));
+                let dx = (h(ir, j) - h(il, j)) / (((ir - il).max(1)) as f64 * g.pitch_mm);
+                let dy = (h(i, jr) - h(i, jl)) / (((jr - jl).max(1)) as f64 * g.pitch_mm);
+                let n = DVec3::new(-dx, -dy, 1.0).normalize_or(DVec3::Z);
+                let color = if !map.machined[k] {
+                    UNCUT
+                } else if let Some(d) = dev.and_then(|d| d[k]) {
+                    deviation_color(d, band)
+                } else {
+                    let t = ((map.top_mm[k] - z0) / (z1 - z0).max(f64::MIN_POSITIVE)).clamp(0.0, 1.0) as f32;
+                    [0.35 + 0.5 * t, 0.38 + 0.5 * t, 0.45 + 0.45 * t, 1.0]
+                };
+                mesh.vertices.push(MeshVertex {
+                    position: o.local(DVec3::new(g.x_mm(i), g.y_mm(j), map.top_mm[k])),
+                    normal: [n.x as f32, n.y as f32, n.z as f32],
+                    color,
+                });
+            }
+        }
+        for j in 0..g.ny.saturating_sub(1) {
+            for i in 0..g.nx.saturating_sub(1) {
+                let a = (j * g.nx + i) as u32;
+                let b = a + 1;
+                let c = a + g.nx as u32;
+                let d = c + 1;
+                mesh.indices.extend_from_slice(&[a, b, d, a, d, c]);
+            }
+        }
+        // The path: tips at move ends, simulated part bright.
+        let applied = job.applied();
+        let every = (p.tips.len() / MAX_PATH_SEGMENTS).max(1);
+        let mut lines = Vec::new();
+        let mut k = 0;
+        while k + 1 < p.tips.len() {
+            let next = (k + every).min(p.tips.len() - 1);
+            let rapid = p.program.moves.get(k).is_some_and(|m| m.rapid);
+            let color = match (k < applied, rapid) {
+                (true, false) => [1.0, 0.85, 0.2, 1.0],
+                (true, true) => [0.9, 0.5, 0.9, 0.8],
+                (false, _) => [0.55, 0.6, 0.7, 0.45],
+            };
+            lines.push(LineSegment::new(o.local(p.tips[k]), o.local(p.tips[next]), 1.5, color).with_depth_bias(0.002));
+            k = next;
+        }
+        // The cutter at the current move's end (its centre for a ball: tip + R along the
+        // axis), drawn as a translucent sphere of radius R.
+        let mut spheres = Vec::new();
+        if applied > 0
+            && let Some(m) = p.program.moves.get(applied - 1)
+        {
+            let (tip, axis) = match m.kind {
+                MoveKind::Line { to, .. } => (to, DVec3::Z),
+                MoveKind::Joints { machine, to, .. } => {
+                    let pose = machine.pose_from_joints(&to);
+                    (pose.tip_in_workpiece, pose.axis_in_workpiece.normalize_or(DVec3::Z))
+                }
+            };
+            let r = p.cutter.radius_mm;
+            spheres.push(SphereInstance {
+                center: o.local(tip + axis * r),
+                radius: r as f32,
+                color: [0.85, 0.85, 0.95, 0.35],
+            });
+        }
+        Renderer3d::with(rs, |r| {
+            r.set_mesh(VIEW_ID, Layer::Surfaces, &mesh);
+            r.set_lines(VIEW_ID, Layer::PathLines, &lines, 0);
+            r.set_spheres(VIEW_ID, Layer::Cutters, &spheres);
+        });
+        self.built = Some(key);
+    }
+
+    /// Draws the view into `rect`; returns the button clicked, if any.
+    pub fn ui(
+        &mut self,
+        ui: &mut egui::Ui,
+        rect: egui::Rect,
+        rs: Option<&RenderState>,
+        job: Option<&Job>,
+        band_um: f64,
+        legend: bool,
+    ) {
+        let response = ui.allocate_rect(rect, egui::Sense::click_and_drag());
+        // The frame of the drawing: the stock's centre is the origin.
+        if let Some(p) = job.and_then(|j| j.prepared.as_ref()) {
+            let s = p.stock_mm;
+            self.origin = Origin(DVec3::new((s[0] + s[3]) * 0.5, (s[1] + s[4]) * 0.5, (s[2] + s[5]) * 0.5));
+            self.radius = (0.5 * DVec3::new(s[3] - s[0], s[4] - s[1], s[5] - s[2]).length()) as f32;
+        }
+        let Some(rs) = rs else {
+            no_gpu(ui.painter(), rect);
+            return;
+        };
+        orbit_and_pan(&mut self.camera, ui, &response, rect);
+        let factor = zoom_factor(ui, &response);
+        if (factor - 1.0).abs() > f32::EPSILON {
+            self.camera.zoom(factor);
+        }
+        if response.double_clicked() {
+            self.camera.fit(Vec3::ZERO, self.radius);
+        }
+        match job {
+            Some(job) => self.upload(rs, job, band_um),
+            None => {
+                Renderer3d::with(rs, |r| r.clear_view(VIEW_ID));
+                self.built = None;
+            }
+        }
+        paint_view(ui, rect, &self.camera, VIEW_ID, BACKGROUND, false);
+        let painter = ui.painter_at(rect);
+        let font = egui::FontId::proportional(13.0);
+        if legend {
+            deviation_legend(&painter, egui::pos2(rect.right() - 256.0, rect.bottom() - 66.0), 240.0, band_um, &font);
+        }
+        axis_triad(&painter, rect.left_bottom() + egui::vec2(40.0, -40.0), 26.0, &self.camera, &font);
+        scale_bar(
+            &painter,
+            rect.right_bottom() + egui::vec2(-20.0, -22.0),
+            f64::from(self.camera.mm_per_point(rect.height())),
+            &font,
+        );
+        let buttons = egui::Rect::from_min_size(rect.right_top() + egui::vec2(-120.0, 6.0), egui::vec2(112.0, 20.0));
+        if let Some(b) = view_buttons(ui, buttons, "Frame the stock") {
+            if b == ViewButton::Reset {
+                self.camera = OrbitCamera::default();
+            }
+            self.camera.fit(Vec3::ZERO, self.radius);
+        }
+    }
+}
+
+/// The deviation colour bar: −band … 0 … +band µm.
+fn deviation_legend(painter: &egui::Painter, left_bottom: egui::Pos2, width: f32, band_um: f64, font: &egui::FontId) {
+    let n = 48;
+    let top = left_bottom.y - 30.0;
+    let bg = egui::Rect::from_min_max(
+        egui::pos2(left_bottom.x - 8.0, top - 22.0),
+        egui::pos2(left_bottom.x + width + 8.0, left_bottom.y + 4.0),
+    );
+    painter.rect_filled(bg, 3.0, egui::Color32::from_black_alpha(170));
+    for k in 0..n {
+        let t0 = k as f32 / n as f32;
+        let t = (k as f64 + 0.5) / n as f64 * 2.0 - 1.0;
+        let c = deviation_color(t, 1.0);
+        let r = egui::Rect::from_min_size(
+            egui::pos2(left_bottom.x + t0 * width, top),
+            egui::vec2(width / n as f32 + 0.5, 12.0),
+        );
+        painter.rect_filled(
+            r,
+            0.0,
+            egui::Color32::from_rgb((c[0] * 255.0) as u8, (c[1] * 255.0) as u8, (c[2] * 255.0) as u8),
+        );
+    }
+    let text = egui::Color32::from_gray(225);
+    let label = |x: f32, s: String, align| painter.text(egui::pos2(x, top + 14.0), align, s, font.clone(), text);
+    label(left_bottom.x, format!("−{band_um} µm gouge"), egui::Align2::LEFT_TOP);
+    label(left_bottom.x + width * 0.5, "0".to_owned(), egui::Align2::CENTER_TOP);
+    label(left_bottom.x + width, format!("+{band_um} µm left"), egui::Align2::RIGHT_TOP);
+    painter.text(
+        egui::pos2(left_bottom.x, top - 4.0),
+        egui::Align2::LEFT_BOTTOM,
+        "signed deviation from the design (grey: not machined)",
+        font.clone(),
+        text,
+    );
+}
