@@ -9,6 +9,7 @@
 mod build;
 mod dupkeys;
 pub mod finish;
+mod job;
 pub mod link;
 mod parse;
 pub mod presets;
