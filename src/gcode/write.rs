@@ -31,7 +31,7 @@ use super::replay::{Deviation, DeviationOptions, ReplayError, deviation};
 use crate::chords::{ChordError, equal_error_chords};
 use crate::geom::{Curve3, NurbsCurve};
 use crate::numerics::format::fmt_fixed;
-use crate::nurbs_path::measure::Translated;
+use crate::numerics::measure::Translated;
 use crate::nurbs_path::{ApproxOptions, FitError, approximate_curve};
 use crate::tolerance;
 
@@ -601,7 +601,7 @@ impl Curve3 for FlatZ<'_> {
 fn z_spread(design: &dyn Curve3, z0: f64) -> f64 {
     let (a, b) = design.range();
     let mut f = |t: f64| (design.point_at(t).z - z0).abs();
-    crate::nurbs_path::measure::max_on_interval(&mut f, a, b, Z_SPREAD_SAMPLES, 20).0
+    crate::numerics::maximise::max_on_interval(&mut f, a, b, Z_SPREAD_SAMPLES, 20).0
 }
 
 /// Samples of the planarity check of LinuxCNC G5.2 programs.

@@ -35,9 +35,10 @@ use glam::DVec3;
 use super::FitError;
 use super::band::{self, BandRow};
 use super::fit::{Parametrization, basis_row, check_points, parameters};
-use super::measure::{ArcLengthTable, max_on_interval, nearest_on_curve};
 use crate::geom::nurbs::MAX_DEGREE;
 use crate::geom::{Curve3, NurbsCurve};
+use crate::numerics::maximise::max_on_interval;
+use crate::numerics::measure::{ArcLengthTable, nearest_on_curve};
 
 /// Options of [`approximate_curve`] and [`approximate_points`].
 #[derive(Clone, Copy, Debug, PartialEq)]
