@@ -8,12 +8,14 @@
 //!
 //! - [`format`]: number text (shortest round-trip decimals, fixed decimals);
 //! - [`measure`]: distances to segments and curves (foot points), arc-length tables;
+//! - [`knots`]: span breaks (distinct knots) of a clamped knot vector;
 //! - [`maximise`]: the largest value of a 1-D function on an interval;
 //! - [`roots`]: bracketing and root finders for "the next parameter where g(s) = E";
 //! - [`planefit`]: the best-fit plane of points (covariance, Jacobi eigen-solver);
 //! - [`units`]: conversions between the file's units and the core's.
 
 pub mod format;
+pub mod knots;
 pub mod maximise;
 pub mod measure;
 pub mod planefit;
