@@ -30,6 +30,7 @@ pub mod gcode;
 pub mod geom;
 pub mod limits;
 pub mod linalg;
+pub mod numerics;
 pub mod nurbs_path;
 pub mod report;
 pub mod scene;

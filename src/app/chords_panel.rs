@@ -25,7 +25,8 @@ use crate::chords::expr::{Expr, parametric_curve};
 use crate::chords::planar::{Ellipse, Hyperbola, Sizing, Spacing, SpacingRow, spacing_nodes};
 use crate::crease::CreaseCurve;
 use crate::geom::Curve3;
-use crate::nurbs_path::Parabola;
+use crate::geom::Parabola;
+use crate::numerics::planefit::best_fit_plane;
 
 /// Range of the tolerance slider (mm).
 const TOL_RANGE: std::ops::RangeInclusive<f64> = 0.001..=1.0;
@@ -123,55 +124,10 @@ impl Projection {
     }
 
     /// The plane through the centroid spanned by the two largest principal directions of the
-    /// points (eigenvectors of their covariance, by Jacobi rotations).
+    /// points ([`best_fit_plane`]).
     fn best_fit(points: &[DVec3]) -> Self {
-        let n = points.len().max(1) as f64;
-        let c = points.iter().copied().sum::<DVec3>() / n;
-        let mut a = [[0.0f64; 3]; 3];
-        for p in points {
-            let d = (*p - c).to_array();
-            for (i, row) in a.iter_mut().enumerate() {
-                for (j, x) in row.iter_mut().enumerate() {
-                    *x += d[i] * d[j] / n;
-                }
-            }
-        }
-        let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-        for _ in 0..50 {
-            let (mut p, mut q, mut big) = (0, 1, 0.0f64);
-            for (i, j) in [(0, 1), (0, 2), (1, 2)] {
-                if a[i][j].abs() > big {
-                    (p, q, big) = (i, j, a[i][j].abs());
-                }
-            }
-            if big < 1e-15 * (a[0][0].abs() + a[1][1].abs() + a[2][2].abs()).max(1e-300) {
-                break;
-            }
-            let theta = 0.5 * (2.0 * a[p][q]).atan2(a[q][q] - a[p][p]);
-            let (s, co) = theta.sin_cos();
-            for k in 0..3 {
-                let (akp, akq) = (a[k][p], a[k][q]);
-                a[k][p] = co * akp - s * akq;
-                a[k][q] = s * akp + co * akq;
-            }
-            for k in 0..3 {
-                let (apk, aqk) = (a[p][k], a[q][k]);
-                a[p][k] = co * apk - s * aqk;
-                a[q][k] = s * apk + co * aqk;
-            }
-            for row in &mut v {
-                let (vp, vq) = (row[p], row[q]);
-                row[p] = co * vp - s * vq;
-                row[q] = s * vp + co * vq;
-            }
-        }
-        // The eigenvectors are the columns of v (v ← v·J at every rotation).
-        let column = |k: usize| DVec3::new(v[0][k], v[1][k], v[2][k]);
-        let mut order = [0usize, 1, 2];
-        order.sort_by(|&i, &j| a[j][j].total_cmp(&a[i][i]));
-        let u = column(order[0]).normalize_or(DVec3::X);
-        let w = column(order[1]).normalize_or(DVec3::Y);
-        Self { origin: c, u, v: u.cross(w).cross(u).normalize_or(w) }
+        let fit = best_fit_plane(points);
+        Self { origin: fit.origin, u: fit.u, v: fit.v }
     }
 }
 

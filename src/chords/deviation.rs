@@ -19,8 +19,9 @@ use std::convert::Infallible;
 
 use glam::DVec3;
 
-use super::maximise::brent_max;
 use crate::geom::Curve3;
+use crate::numerics::maximise::brent_max;
+use crate::numerics::measure::distance_to_segment;
 use crate::tolerance;
 
 /// Settings of [`chord_deviation`].
@@ -66,15 +67,6 @@ pub struct ChordDeviation {
     pub at_s: f64,
     /// Curve evaluations spent.
     pub curve_evaluations: u32,
-}
-
-/// Distance from `x` to the segment `a`–`b` (to the point `a` when they coincide).
-#[must_use]
-pub fn distance_to_segment(x: DVec3, a: DVec3, b: DVec3) -> f64 {
-    let ab = b - a;
-    let l2 = ab.length_squared();
-    let t = if l2 > 0.0 { ((x - a).dot(ab) / l2).clamp(0.0, 1.0) } else { 0.0 };
-    (x - (a + ab * t)).length()
 }
 
 #[derive(Clone, Copy)]

@@ -14,16 +14,19 @@
 
 pub mod deviation;
 pub mod expr;
-pub mod maximise;
 pub mod planar;
-pub mod search;
 
 use thiserror::Error;
 
 use crate::geom::Curve3;
 
-pub use deviation::{ChordDeviation, DeviationOptions, chord_deviation, distance_to_segment};
-pub use search::{FoundNode, RootMethod, SearchFailure, SearchOptions, next_node};
+pub use deviation::{ChordDeviation, DeviationOptions, chord_deviation};
+// The helpers this paper used to own, now on the numerics floor; re-exported so the
+// public paths (`chords::maximise::MaxOptions`, `chords::RootMethod`, …) stay.
+pub use crate::numerics::maximise;
+pub use crate::numerics::measure::distance_to_segment;
+pub use crate::numerics::roots as search;
+pub use crate::numerics::roots::{FoundNode, RootMethod, SearchFailure, SearchOptions, next_node};
 
 /// Why equal-error chords could not be computed. Every message says what to change.
 #[derive(Clone, Debug, Error, PartialEq)]

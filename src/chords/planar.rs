@@ -30,7 +30,7 @@ use glam::{DVec2, DVec3};
 use super::deviation::{DeviationOptions, chord_deviation};
 use super::{ChordError, ChordOptions, equal_error_chords_with};
 use crate::geom::Curve3;
-use crate::nurbs_path::Parabola;
+use crate::geom::Parabola;
 
 /// The rectangular hyperbola x·y = k (k > 0) in z = 0, parametrised by x over `[x0, x1]`
 /// (0 < x0 < x1). Its radius of curvature `(x² + y²)^{3/2}/(2k)` is smallest, √(2k), at
@@ -184,7 +184,7 @@ pub fn min_radius(curve: &dyn Curve3) -> (f64, f64) {
     }
     let f = |s: f64| -> Result<f64, std::convert::Infallible> { Ok(curve.curvature_at(s)) };
     let (a, b) = ((best.0 - h).max(lo), (best.0 + h).min(hi));
-    let Ok((s, k, _)) = super::maximise::brent_max(f, a, b, 1e-9 * (hi - lo), best);
+    let Ok((s, k, _)) = crate::numerics::maximise::brent_max(f, a, b, 1e-9 * (hi - lo), best);
     if k > best.1 {
         best = (s, k);
     }

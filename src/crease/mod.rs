@@ -26,7 +26,6 @@ use glam::{DVec2, DVec3};
 use thiserror::Error;
 
 use crate::geom::{ParametricSurface, Surface};
-use crate::scene::{Scene, SceneError, build_surface};
 
 pub use curve::{CreaseCurve, CreaseFrame};
 pub use estimate::{Diagnostics, WorstError, diagnose, measured_errors};
@@ -63,31 +62,6 @@ pub struct CreaseJob {
 }
 
 impl CreaseJob {
-    /// Validates the scene and converts it to internal units.
-    ///
-    /// # Errors
-    /// The scene's first problem, with its key path.
-    pub fn from_scene(scene: &Scene) -> Result<Self, SceneError> {
-        scene.validate()?;
-        let s0 = build_surface(&scene.surfaces[0], "surfaces[0]")?;
-        let s1 = build_surface(&scene.surfaces[1], "surfaces[1]")?;
-        let v = DVec3::from_array;
-        Ok(Self {
-            surfaces: [s0, s1],
-            ball_radius_mm: scene.tool.radius,
-            r_eff_mm: scene.effective_radius_mm(),
-            feed_mm_per_min: scene.motion.feed,
-            period_ms: scene.motion.period,
-            feed_per_period_mm: scene.feed_per_period_mm(),
-            tol_mm: [scene.tolerance.t1, scene.tolerance.t2],
-            share: scene.tolerance.share,
-            start: v(scene.path.start),
-            end: scene.path.end.map(v),
-            direction: scene.path.direction.map(v),
-            max_steps: scene.path.max_steps,
-        })
-    }
-
     /// The interpolation's error budget on surface i, b·T_i (mm).
     #[must_use]
     pub fn allowed_error_mm(&self, i: usize) -> f64 {
@@ -135,7 +109,7 @@ impl fmt::Display for Location {
         match self {
             Self::Start => write!(f, "path.start"),
             Self::End => write!(f, "path.end"),
-            Self::Period { k, t_ms } => write!(f, "period {k} (t = {} ms)", crate::report::fmt_num(*t_ms)),
+            Self::Period { k, t_ms } => write!(f, "period {k} (t = {} ms)", crate::numerics::format::fmt_num(*t_ms)),
         }
     }
 }
@@ -190,9 +164,13 @@ impl fmt::Display for StopReason {
                 f,
                 "the contact point on surface {} would leave its domain ({param} = {} outside [{}, {}])",
                 surface + 1,
-                if (1e-4..1e9).contains(&value.abs()) { format!("{value:.6}") } else { crate::report::fmt_num(*value) },
-                crate::report::fmt_num(range[0]),
-                crate::report::fmt_num(range[1])
+                if (1e-4..1e9).contains(&value.abs()) {
+                    format!("{value:.6}")
+                } else {
+                    crate::numerics::format::fmt_num(*value)
+                },
+                crate::numerics::format::fmt_num(range[0]),
+                crate::numerics::format::fmt_num(range[1])
             ),
             Self::MaxSteps => write!(f, "path.max_steps periods were run"),
         }

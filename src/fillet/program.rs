@@ -131,7 +131,7 @@ pub fn plan_path(
         // The design is only piecewise smooth (linear between CC nodes): where the secant
         // stalls at a kink, bisection still brackets the step.
         Err(FiveAxisError::NoConvergence { .. }) => {
-            plan_steps(machine, &path, &opts.with_method(crate::chords::RootMethod::Bisection))
+            plan_steps(machine, &path, &opts.with_method(crate::numerics::roots::RootMethod::Bisection))
         }
         other => other,
     }

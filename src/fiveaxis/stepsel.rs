@@ -5,7 +5,7 @@
 //! s, with the candidate's joints from inverse kinematics nearest the farthest candidate
 //! already found within E ([`super::swept::block_at`]) and δ measured on the swept tool
 //! ([`super::swept::segment_total`]). The next node solves |δ(s)| = E by
-//! [`crate::chords::next_node`]: bracketing from the first step √(8ρE) (later the previous
+//! [`crate::numerics::roots::next_node`]: bracketing from the first step √(8ρE) (later the previous
 //! step), doubling, then the chosen [`RootMethod`]. Each δ counts as one iteration.
 //!
 //! Everything here is a pure function of its inputs (no clocks, no globals): an app can call
@@ -15,8 +15,8 @@ use super::FiveAxisError;
 use super::machine::Machine;
 use super::path::DesignPath;
 use super::swept::{Block, SegmentReport, block_at, segment_report, segment_total, tip_design_deviation};
-use crate::chords::maximise::MaxOptions;
-use crate::chords::{RootMethod, SearchFailure, SearchOptions, next_node};
+use crate::numerics::maximise::MaxOptions;
+use crate::numerics::roots::{RootMethod, SearchFailure, SearchOptions, next_node};
 use crate::tolerance;
 
 /// Settings of [`plan_steps`].

@@ -25,8 +25,8 @@ use glam::DVec3;
 use super::FiveAxisError;
 use super::machine::{Joints, Machine};
 use super::path::{CutterLocation, DesignPath};
-use crate::chords::deviation::distance_to_segment;
-use crate::chords::maximise::{MaxOptions, brent_max, sampled_max};
+use crate::numerics::maximise::{MaxOptions, brent_max, sampled_max};
+use crate::numerics::measure::distance_to_segment;
 
 /// One NC block: a cutter location and the machine's joint values for it.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -22,7 +22,8 @@ use thiserror::Error;
 
 use super::path::{ArcMove, LineMove, Plane};
 use crate::geom::Curve3;
-use crate::nurbs_path::measure::{ArcLengthTable, distance_to_segment, max_on_interval};
+use crate::numerics::maximise::max_on_interval;
+use crate::numerics::measure::{ArcLengthTable, distance_to_segment};
 use crate::tolerance;
 
 /// Options of [`fit_arcs`].

@@ -20,8 +20,8 @@ use super::dialect::Dialect;
 use super::path::{PathBlock, Toolpath};
 use super::write::{Program, ProgramError, ProgramKind, ProgramOptions, write_program};
 use crate::geom::Curve3;
+use crate::numerics::format::fmt_fixed;
 use crate::nurbs_path::realtime::{FeedStats, RealtimeOptions, Update, interpolate_realtime};
-use crate::report::fmt_fixed;
 
 /// Options of [`compare`].
 #[derive(Clone, Debug, PartialEq)]

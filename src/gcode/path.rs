@@ -303,17 +303,7 @@ pub fn sample_params(seg: &Segment, per_piece: usize) -> Vec<f64> {
     let n = per_piece.max(1);
     let mut out = Vec::new();
     let breaks: Vec<f64> = match seg {
-        Segment::Nurbs(c) => {
-            let p = c.degree();
-            let k = c.knots();
-            let mut b: Vec<f64> = Vec::new();
-            for &x in &k[p..k.len() - p] {
-                if b.last().is_none_or(|&l| x > l) {
-                    b.push(x);
-                }
-            }
-            b
-        }
+        Segment::Nurbs(c) => crate::numerics::knots::span_breaks(c.knots(), c.degree()),
         _ => vec![0.0, 1.0],
     };
     out.push(breaks[0]);

@@ -26,7 +26,8 @@ use thiserror::Error;
 
 use super::path::{Motion, PathBlock, Segment, Toolpath, sample_params};
 use crate::geom::Curve3;
-use crate::nurbs_path::measure::{ArcLengthTable, max_on_interval, nearest_on_curve};
+use crate::numerics::maximise::max_on_interval;
+use crate::numerics::measure::{ArcLengthTable, nearest_on_curve};
 
 /// Options of [`deviation`].
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -30,9 +30,9 @@ use super::path::{Plane, Segment};
 use super::replay::{Deviation, DeviationOptions, ReplayError, deviation};
 use crate::chords::{ChordError, equal_error_chords};
 use crate::geom::{Curve3, NurbsCurve};
-use crate::nurbs_path::measure::Translated;
+use crate::numerics::format::fmt_fixed;
+use crate::numerics::measure::Translated;
 use crate::nurbs_path::{ApproxOptions, FitError, approximate_curve};
-use crate::report::fmt_fixed;
 use crate::tolerance;
 
 /// The three program kinds of seed 004's comparison.
@@ -476,7 +476,7 @@ pub fn write_program(
     // The feed as written (rounded to the resolution's decimals) must still be positive, or
     // the program would not read back.
     let feed = opts.feed_mm_per_min;
-    let written: f64 = crate::report::fmt_fixed(feed, d).parse().unwrap_or(0.0);
+    let written: f64 = crate::numerics::format::fmt_fixed(feed, d).parse().unwrap_or(0.0);
     if !(feed.is_finite() && feed > 0.0 && written > 0.0 && feed <= crate::limits::MAX_FEED_MM_PER_MIN) {
         return Err(ProgramError::BadFeed { min_mm_per_min: 10f64.powi(-(d as i32)) });
     }
@@ -601,7 +601,7 @@ impl Curve3 for FlatZ<'_> {
 fn z_spread(design: &dyn Curve3, z0: f64) -> f64 {
     let (a, b) = design.range();
     let mut f = |t: f64| (design.point_at(t).z - z0).abs();
-    crate::nurbs_path::measure::max_on_interval(&mut f, a, b, Z_SPREAD_SAMPLES, 20).0
+    crate::numerics::maximise::max_on_interval(&mut f, a, b, Z_SPREAD_SAMPLES, 20).0
 }
 
 /// Samples of the planarity check of LinuxCNC G5.2 programs.

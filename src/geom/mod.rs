@@ -19,6 +19,7 @@ mod diffgeo;
 mod domain;
 mod frame;
 pub mod nurbs;
+mod parabola;
 mod project;
 mod surface;
 
@@ -29,5 +30,6 @@ pub use diffgeo::{LocalGeometry, Principal};
 pub use domain::{Domain, ParamRange, ParamUnit};
 pub use frame::{Frame, any_perpendicular};
 pub use nurbs::{NurbsCurve, NurbsError, NurbsSurface};
+pub use parabola::Parabola;
 pub use project::{Foot, ProjectOptions, project_point, project_point_global};
 pub use surface::{Cylinder, ParametricSurface, Plane, Sphere, Surface, SurfaceDerivs, Torus};

@@ -35,9 +35,11 @@ use glam::DVec3;
 use super::FitError;
 use super::band::{self, BandRow};
 use super::fit::{Parametrization, basis_row, check_points, parameters};
-use super::measure::{ArcLengthTable, max_on_interval, nearest_on_curve};
 use crate::geom::nurbs::MAX_DEGREE;
 use crate::geom::{Curve3, NurbsCurve};
+use crate::numerics::knots::span_breaks;
+use crate::numerics::maximise::max_on_interval;
+use crate::numerics::measure::{ArcLengthTable, nearest_on_curve};
 
 /// Options of [`approximate_curve`] and [`approximate_points`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -166,18 +168,6 @@ fn uniform_knots(p: usize, end: f64, spans: usize, q: Option<f64>) -> Vec<f64> {
     k
 }
 
-/// Distinct span boundaries `[u_p, …, u_{n+1}]` of a clamped knot vector.
-fn breakpoints(knots: &[f64], p: usize) -> Vec<f64> {
-    let inner = &knots[p..knots.len() - p];
-    let mut b: Vec<f64> = Vec::with_capacity(inner.len());
-    for &k in inner {
-        if b.last().is_none_or(|&l| k > l) {
-            b.push(k);
-        }
-    }
-    b
-}
-
 /// The clamped knot vector of degree `p` ending at `end` with a knot added inside each span
 /// `i` (between breakpoints `w[0] < w[1]`) for which `split(i, w)` gives a value strictly
 /// inside it; `None` when no span was split.
@@ -187,7 +177,7 @@ fn refine_knots(
     end: f64,
     mut split: impl FnMut(usize, [f64; 2]) -> Option<f64>,
 ) -> Option<Vec<f64>> {
-    let bps = breakpoints(knots, p);
+    let bps = span_breaks(knots, p);
     let mut refined: Vec<f64> = knots[..=p].to_vec();
     let mut added = false;
     for (i, w) in bps.windows(2).enumerate() {
@@ -448,7 +438,7 @@ pub fn approximate_curve(design: &dyn Curve3, tol_mm: f64, opts: &ApproxOptions)
     let spans = ((length / opts.initial_span_mm.max(1e-6)).ceil() as usize).max(min_spans);
     let mut knots = uniform_knots(p, end, spans, quantum);
     let fit_with = |knots: &[f64]| -> Result<(NurbsCurve, Vec<f64>), FitError> {
-        let bps = breakpoints(knots, p);
+        let bps = span_breaks(knots, p);
         let data = sample_design(&map, &bps, opts);
         let ctrl = least_squares(p, knots, &data.u, &data.q, ends)?;
         let curve = NurbsCurve::try_new(p, knots.to_vec(), &ctrl, None).map_err(FitError::Nurbs)?;
@@ -494,7 +484,7 @@ pub fn approximate_curve(design: &dyn Curve3, tol_mm: f64, opts: &ApproxOptions)
         // starts from its errors.
         let mut budget = 10;
         'rounds: while budget > 0 {
-            let bps = breakpoints(&knots, p);
+            let bps = span_breaks(&knots, p);
             let spans_now = bps.len() - 1;
             let Some(first) = predicted_spans(&errs, p, tol_mm) else {
                 break;
@@ -590,7 +580,7 @@ pub fn approximate_points(
             return interp();
         };
         let curve = NurbsCurve::try_new(p, knots.clone(), &ctrl, None).map_err(FitError::Nurbs)?;
-        let bps = breakpoints(&knots, p);
+        let bps = span_breaks(&knots, p);
         let mut worst = vec![0.0_f64; bps.len() - 1];
         for (&uk, &qk) in u.iter().zip(points.iter()) {
             let span = bps.partition_point(|&b| b <= uk).clamp(1, bps.len() - 1) - 1;

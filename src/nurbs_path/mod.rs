@@ -21,18 +21,18 @@
 pub mod approx;
 mod band;
 pub mod fit;
-pub mod measure;
-pub mod profile;
+// Measuring helpers now on the numerics floor; the old path `nurbs_path::measure` stays.
+pub use crate::numerics::measure;
 pub mod realtime;
 
 use thiserror::Error;
 
 use crate::geom::NurbsError;
 
+pub use crate::geom::Parabola;
 pub use approx::{ApproxOptions, CurveFit, PointsFit, approximate_curve, approximate_points};
 pub use fit::{EndCondition, InterpolateOptions, KnotRule, Parametrization, interpolate, parameters};
 pub use measure::{ArcLengthTable, CurveFoot, Translated, nearest_on_curve};
-pub use profile::Parabola;
 pub use realtime::{
     FeedStats, PeriodSample, RealtimeError, RealtimeOptions, RealtimeRun, RealtimeStepper, Update, interpolate_realtime,
 };

@@ -28,8 +28,8 @@
 use glam::DVec3;
 use thiserror::Error;
 
-use super::measure::distance_to_segment;
 use crate::geom::Curve3;
+use crate::numerics::measure::distance_to_segment;
 
 /// The parameter update of each period.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -119,7 +119,7 @@ impl RealtimeOptions {
     /// The feed per period f = F·Ts (mm).
     #[must_use]
     pub fn feed_per_period_mm(&self) -> f64 {
-        self.feed_mm_per_min * self.period_ms / 60_000.0
+        crate::numerics::units::mm_per_period(self.feed_mm_per_min, self.period_ms)
     }
 }
 

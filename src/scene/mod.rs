@@ -9,6 +9,7 @@
 mod build;
 mod dupkeys;
 pub mod finish;
+mod job;
 pub mod link;
 mod parse;
 pub mod presets;
@@ -347,7 +348,7 @@ impl Scene {
     /// Feed per period f = F·Ts/60000 (mm).
     #[must_use]
     pub fn feed_per_period_mm(&self) -> f64 {
-        self.motion.feed * self.motion.period / 60_000.0
+        crate::numerics::units::mm_per_period(self.motion.feed, self.motion.period)
     }
 
     /// Effective cutter radius R' = R + C (mm).

@@ -10,7 +10,7 @@ use glam::{DVec2, DVec3};
 
 use super::stock::{DexelStock, Grid};
 use crate::geom::{ProjectOptions, Surface, project_point, project_point_global};
-use crate::report::fmt_fixed;
+use crate::numerics::format::fmt_fixed;
 
 /// The surface the machining is compared with.
 #[derive(Clone, Debug, Default)]

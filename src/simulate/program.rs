@@ -157,7 +157,7 @@ impl Program {
 
     fn measure(&mut self, pts: &[DVec3], mid: impl Fn(usize) -> DVec3) {
         for k in 0..pts.len().saturating_sub(1) {
-            let d = crate::chords::distance_to_segment(mid(k), pts[k], pts[k + 1]);
+            let d = crate::numerics::measure::distance_to_segment(mid(k), pts[k], pts[k + 1]);
             self.chord_error_mm = self.chord_error_mm.max(d);
         }
     }

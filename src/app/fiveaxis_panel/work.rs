@@ -9,13 +9,13 @@ use std::rc::Rc;
 use glam::DVec3;
 use web_time::{Duration, Instant};
 
-use crate::chords::RootMethod;
-use crate::chords::maximise::MaxOptions;
 use crate::crease::{CreaseCurve, CreaseJob};
 use crate::fiveaxis::{
     CreasePath, CutterLocation, DesignPath, Example1, FiveAxisError, Machine, NacaProfile, ProfilePath, StepNode,
     StepOptions, StepPlanner, ToolAxisRule, ToolSide, blade_case, evaluate_nodes, example1, tip_design_deviation,
 };
+use crate::numerics::maximise::MaxOptions;
+use crate::numerics::roots::RootMethod;
 
 /// What the panel plans along.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]

@@ -18,7 +18,7 @@ use crate::gcode::{
     parse_program_in,
 };
 use crate::geom::Curve3;
-use crate::nurbs_path::measure::{ArcLengthTable, Translated};
+use crate::numerics::measure::{ArcLengthTable, Translated};
 use crate::nurbs_path::{FeedStats, FitError, Parabola, RealtimeRun, RealtimeStepper, Update};
 
 /// Periods of the crease or of a real-time run per step: a few ms natively, ~10 ms in a

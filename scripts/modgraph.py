@@ -1,0 +1,137 @@
+#!/usr/bin/env python3
+"""Print the module-level import graph of src/ and any cycle in it.
+
+A "module" is the first path segment under src/ (src/chords/maximise.rs and
+src/chords/mod.rs are both `chords`; src/tolerance.rs is `tolerance`).
+Edges come from `use crate::X...`, `crate::X::` paths in code, and
+`super::` paths that climb out of the top-level module.  Usage:
+
+    python3 scripts/modgraph.py [src_dir]
+
+Exit status 1 when a cycle exists between top-level modules.
+"""
+import os
+import re
+import sys
+
+CRATE_RE = re.compile(r"\bcrate::([a-z_][a-z0-9_]*)")
+USE_GROUP_RE = re.compile(r"\buse\s+crate::\{([^;]*)\}", re.S)
+SUPER_RE = re.compile(r"\b((?:super::)+)([a-z_][a-z0-9_]*)")
+
+
+def top_module(rel):
+    parts = rel.split(os.sep)
+    if len(parts) == 1:
+        return parts[0][:-3]  # foo.rs -> foo (lib, main included)
+    return parts[0]
+
+
+def depth_in_module(rel):
+    """Segments of the file's module path: a.rs and a/mod.rs are 1, a/b.rs is 2.
+
+    `super::` hops fewer than this stay inside the top-level module; with as
+    many hops the path names a top-level module (inline `mod tests` blocks
+    add one level, so a `super::` chain there is read one hop short, which
+    only ever hides an edge into the module itself).
+    """
+    parts = rel.split(os.sep)
+    d = len(parts)
+    if parts[-1] == "mod.rs":
+        d -= 1
+    return d
+
+
+def strip_comments(text):
+    text = re.sub(r"/\*.*?\*/", "", text, flags=re.S)
+    return re.sub(r"//[^\n]*", "", text)
+
+
+def main():
+    src = sys.argv[1] if len(sys.argv) > 1 else "src"
+    edges = {}
+    known = {
+        (e[:-3] if e.endswith(".rs") else e)
+        for e in os.listdir(src)
+        if e.endswith(".rs") or os.path.isdir(os.path.join(src, e))
+    }
+    for root, _, files in os.walk(src):
+        for f in files:
+            if not f.endswith(".rs"):
+                continue
+            path = os.path.join(root, f)
+            rel = os.path.relpath(path, src)
+            me = top_module(rel)
+            with open(path, encoding="utf-8") as fh:
+                text = strip_comments(fh.read())
+            targets = set(CRATE_RE.findall(text))
+            for group in USE_GROUP_RE.findall(text):
+                for item in re.split(r",(?![^{]*\})", group):
+                    item = item.strip()
+                    m = re.match(r"([a-z_][a-z0-9_]*)", item)
+                    if m:
+                        targets.add(m.group(1))
+            depth = depth_in_module(rel)
+            for supers, name in SUPER_RE.findall(text):
+                if supers.count("super::") == depth:
+                    targets.add(name)
+            edges.setdefault(me, set())
+            for t in targets:
+                if t != me and t in known:
+                    edges[me].add(t)
+    for m in sorted(edges):
+        print(f"{m} -> {', '.join(sorted(edges[m])) or '(nothing)'}")
+    # cycles: strongly connected components with more than one member
+    index, low, stack, on, sccs = {}, {}, [], set(), []
+    counter = [0]
+
+    def strong(v):
+        work = [(v, iter(sorted(edges.get(v, ()))))]
+        index[v] = low[v] = counter[0]
+        counter[0] += 1
+        stack.append(v)
+        on.add(v)
+        while work:
+            node, it = work[-1]
+            advanced = False
+            for w in it:
+                if w not in edges:
+                    continue
+                if w not in index:
+                    index[w] = low[w] = counter[0]
+                    counter[0] += 1
+                    stack.append(w)
+                    on.add(w)
+                    work.append((w, iter(sorted(edges.get(w, ())))))
+                    advanced = True
+                    break
+                if w in on:
+                    low[node] = min(low[node], index[w])
+            if advanced:
+                continue
+            work.pop()
+            if work:
+                low[work[-1][0]] = min(low[work[-1][0]], low[node])
+            if low[node] == index[node]:
+                comp = []
+                while True:
+                    w = stack.pop()
+                    on.discard(w)
+                    comp.append(w)
+                    if w == node:
+                        break
+                if len(comp) > 1:
+                    sccs.append(sorted(comp))
+
+    for v in sorted(edges):
+        if v not in index:
+            strong(v)
+    if sccs:
+        for c in sccs:
+            print("CYCLE among: " + ", ".join(c))
+        return 1
+    print("no cycle")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
