@@ -24,6 +24,7 @@
 
 pub mod chords;
 pub mod crease;
+pub mod fillet;
 pub mod fiveaxis;
 pub mod gcode;
 pub mod geom;

@@ -9,6 +9,7 @@
 //! One file per area: [`crease`] (`run`, `check`).
 
 mod crease;
+mod finish;
 mod fiveaxis;
 mod gcode;
 mod simulate;
@@ -88,6 +89,8 @@ enum Command {
     Table1(fiveaxis::Table1Args),
     /// Equal-error chords (seed 003) of a planar curve or a scene's crease; --table compares spacings.
     Chords(fiveaxis::ChordsArgs),
+    /// Five-axis finishing of one surface with a fillet-end mill (seed 001): CL data, --table, --gcode.
+    Finish(finish::FinishArgs),
     /// Cutting simulation: machine a G-code program into a dexel stock; height map (CSV), PNG, statistics (JSON).
     Simulate(simulate::SimulateArgs),
 }
@@ -119,6 +122,7 @@ pub fn main() -> ExitCode {
         Some(Command::Example1(a)) => fiveaxis::example1_cmd(&a),
         Some(Command::Table1(a)) => fiveaxis::table1(&a),
         Some(Command::Chords(a)) => fiveaxis::chords(&a),
+        Some(Command::Finish(a)) => finish::finish(&a),
         Some(Command::Simulate(a)) => simulate::simulate(&a),
     };
     match result {

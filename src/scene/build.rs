@@ -145,7 +145,7 @@ pub(super) fn validate(s: &Scene) -> Result<(), SceneError> {
 }
 
 /// Range checks of `machine`.
-fn validate_machine(m: &MachineSpec) -> Result<(), SceneError> {
+pub(super) fn validate_machine(m: &MachineSpec) -> Result<(), SceneError> {
     let names = m.kind.axis_names().map(str::to_ascii_lowercase);
     for (i, has) in m.kind.has_pivot().into_iter().enumerate() {
         if has && m.pivots[i].iter().any(|x| !x.is_finite()) {

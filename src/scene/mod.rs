@@ -8,6 +8,7 @@
 
 mod build;
 mod dupkeys;
+pub mod finish;
 pub mod link;
 mod parse;
 pub mod presets;

@@ -232,6 +232,13 @@ pub(super) fn parse(text: &str) -> Result<Scene, SceneError> {
         ));
     }
     let at = At { v: &root, path: String::new() };
+    if root.get("finish").is_some() {
+        return Err(SceneError::new(
+            "finish",
+            "this is a finishing scene (one surface and a fillet-end cutter), not a crease scene",
+            "run it with `interpolab finish`",
+        ));
+    }
     let o = Obj::new(&at, TOP_KEYS)?;
     let format = o.req("format", &format!("\"{FORMAT}\""))?;
     let tag = format.string(&format!("\"{FORMAT}\""))?;
@@ -522,4 +529,99 @@ fn parse_surface(at: &At<'_>) -> Result<SurfaceSpec, SceneError> {
             format!("use one of {TYPES}"),
         )),
     }
+}
+
+const FINISH_TOP_KEYS: &[&str] = &["format", "name", "surfaces", "finish", "machine"];
+const FINISH_KEYS: &[&str] = &[
+    "cutter",
+    "strategy",
+    "lead",
+    "scallop",
+    "tolerance",
+    "max_step",
+    "direction",
+    "margin",
+    "max_inclination",
+    "feed",
+];
+const CUTTER_KEYS: &[&str] =
+    &["radius", "corner_radius", "flute_length", "shank_radius", "gauge_length", "holder_radius", "holder_length"];
+
+/// Parses a finishing scene's structure and types (`docs/scene-format.md`, finishing jobs).
+pub(super) fn parse_finish(text: &str) -> Result<super::finish::FinishScene, SceneError> {
+    use super::finish::{CutterSpec, FinishScene, FinishSpec};
+    let root: Value = serde_json::from_str(text).map_err(|e| {
+        SceneError::new(
+            "(file)",
+            format!("not valid JSON: {e}"),
+            "fix the JSON syntax at that line and column (a scene is one JSON object)",
+        )
+    })?;
+    let at = At { v: &root, path: String::new() };
+    if root.get("finish").is_none() && root.is_object() {
+        return Err(SceneError::new(
+            "finish",
+            "missing key: this is not a finishing scene",
+            "add \"finish\": { \"cutter\": …, \"scallop\": … } (docs/scene-format.md), or run a crease scene with `interpolab run`",
+        ));
+    }
+    let o = Obj::new(&at, FINISH_TOP_KEYS)?;
+    let tag = o.req("format", &format!("\"{FORMAT}\""))?.string(&format!("\"{FORMAT}\""))?;
+    if tag != FORMAT {
+        return Err(SceneError::new(
+            "format",
+            format!("\"{tag}\" is not a format this version reads"),
+            format!("write \"{FORMAT}\""),
+        ));
+    }
+    let name = match o.opt_non_null("name") {
+        Some(n) => n.string("a name for the scene")?.to_owned(),
+        None => String::new(),
+    };
+    let surfaces_at = o.req("surfaces", "[the surface to finish]")?;
+    let list = surfaces_at.array("the surface to finish")?;
+    if list.len() != 1 {
+        return Err(SceneError::new(
+            "surfaces",
+            format!("a finishing scene machines exactly 1 surface, got {}", list.len()),
+            "give the one surface to finish",
+        ));
+    }
+    let surface = parse_surface(&surfaces_at.idx(0, &list[0]))?;
+    let f = Obj::new(&o.req("finish", "{ \"cutter\": …, \"scallop\": … }")?, FINISH_KEYS)?;
+    let c = Obj::new(&f.req("cutter", "{ \"radius\": …, \"corner_radius\": … }")?, CUTTER_KEYS)?;
+    let opt_num = |obj: &Obj<'_>, key: &str, what: &str| -> Result<Option<f64>, SceneError> {
+        obj.opt_non_null(key).map(|a| a.num(what)).transpose()
+    };
+    let cutter = CutterSpec {
+        radius: c.req("radius", "the cutter radius R in mm")?.num("the cutter radius R in mm")?,
+        corner_radius: c.req("corner_radius", "the corner radius r in mm")?.num("the corner radius r in mm")?,
+        flute_length: opt_num(&c, "flute_length", "the flute length in mm")?,
+        shank_radius: opt_num(&c, "shank_radius", "the shank radius in mm")?,
+        gauge_length: opt_num(&c, "gauge_length", "the gauge length in mm")?,
+        holder_radius: opt_num(&c, "holder_radius", "the holder radius in mm")?,
+        holder_length: opt_num(&c, "holder_length", "the holder length in mm")?,
+    };
+    let strategy = match f.opt_non_null("strategy") {
+        Some(s) => s.string("\"matched\", \"fixed-lead\", \"principal\" or \"ball\"")?.to_owned(),
+        None => "matched".to_owned(),
+    };
+    let direction = match f.opt_non_null("direction") {
+        Some(s) => s.string("\"u\", \"v\" or \"auto\"")?.to_owned(),
+        None => "auto".to_owned(),
+    };
+    let finish = FinishSpec {
+        cutter,
+        strategy,
+        lead: opt_num(&f, "lead", "the lead angle in degrees")?,
+        scallop: f.req("scallop", "the scallop height h in mm")?.num("the scallop height h in mm")?,
+        tolerance: f.req("tolerance", "the chord tolerance E in mm")?.num("the chord tolerance E in mm")?,
+        max_step: opt_num(&f, "max_step", "the longest forward step in mm")?,
+        direction,
+        margin: opt_num(&f, "margin", "the curvature margin in 1/mm")?,
+        max_inclination: opt_num(&f, "max_inclination", "the largest inclination in degrees")?,
+        feed: opt_num(&f, "feed", "the feed in mm/min")?,
+    };
+    let machine = o.opt_non_null("machine").map(|m| parse_machine(&m)).transpose()?;
+    Ok(FinishScene { name, surface, finish, machine })
 }

@@ -1,0 +1,340 @@
+//! `finish`: seed 001's five-axis finishing of one surface with a fillet-end mill — the CL
+//! data (CSV or JSON), the comparison table (`--table`) and a five-axis G-code program
+//! through a seed-002 machine (`--gcode`).
+//!
+//! Exit status: 0 success; 1 some CC points were refused (each named on standard error; the
+//! other points are still written); 2 bad input (one line naming the problem and what to
+//! change).
+
+use std::fs;
+use std::io::{self, BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Args, ValueEnum};
+use serde_json::{Value, json};
+
+use super::{Fatal, OutFormat};
+
+use interpolab::fillet::program::plan_path;
+use interpolab::fillet::{PartSamples, PathSet, Strategy, compare, iso_parametric, iso_scallop};
+use interpolab::report::fmt_num;
+use interpolab::scene::finish::{FinishJob, FinishScene};
+
+/// Orientation strategies by their command-line names.
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum StrategyArg {
+    /// Curvature matching (widest strip without local gouging).
+    Matched,
+    /// Fixed lead angle (--lead, default 5°).
+    FixedLead,
+    /// The principal-axis method.
+    Principal,
+    /// A ball end mill of the same radius.
+    Ball,
+}
+
+/// Path layouts by their command-line names.
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum LayoutArg {
+    /// Iso-scallop paths.
+    IsoScallop,
+    /// Iso-parametric paths at the same worst scallop.
+    IsoParametric,
+}
+
+/// `interpolab finish`.
+#[derive(Args)]
+pub(crate) struct FinishArgs {
+    /// Finishing scene file (interpolab-scene/1 JSON with a `finish` key).
+    scene: PathBuf,
+    /// Output format of the CL data.
+    #[arg(long, value_enum, default_value = "csv")]
+    format: OutFormat,
+    /// Write the CL data (or the table) to this file instead of standard output.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Orientation strategy (default: the scene's `finish.strategy`).
+    #[arg(long, value_enum)]
+    strategy: Option<StrategyArg>,
+    /// Lead angle for --strategy fixed-lead (degrees).
+    #[arg(long, default_value_t = 5.0)]
+    lead: f64,
+    /// Path layout.
+    #[arg(long, value_enum, default_value = "iso-scallop")]
+    layout: LayoutArg,
+    /// Print the comparison table (matched / fixed lead 5°, 10° / principal axis / ball;
+    /// iso-scallop / iso-parametric) instead of the CL data.
+    #[arg(long)]
+    table: bool,
+    /// Also write a five-axis G-code program (G01 with the machine's joints, steps by the
+    /// seed-002 step selection within the scene's tolerance) to this file.
+    #[arg(long)]
+    gcode: Option<PathBuf>,
+    /// Tolerance E of the G-code steps (mm): the swept tool tip stays within E of its design
+    /// path between blocks.
+    #[arg(long, default_value_t = 0.01)]
+    gcode_tolerance: f64,
+}
+
+fn load(path: &Path) -> Result<FinishJob, Fatal> {
+    let text = super::read_capped(path, interpolab::limits::MAX_SCENE_BYTES, "scene")
+        .map_err(|e| Fatal(format!("cannot read scene file {}: {e}", path.display())))?;
+    let scene = FinishScene::from_json(&text).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
+    scene.job().map_err(|e| Fatal(format!("{}: {e}", path.display())))
+}
+
+fn sink(out: Option<&Path>) -> Result<Box<dyn Write>, Fatal> {
+    Ok(match out {
+        Some(p) => Box::new(BufWriter::new(
+            fs::File::create(p).map_err(|e| Fatal(format!("cannot create {}: {e}", p.display())))?,
+        )),
+        None => Box::new(BufWriter::new(io::stdout().lock())),
+    })
+}
+
+fn fatal_io(e: &io::Error) -> Fatal {
+    if e.kind() == io::ErrorKind::BrokenPipe {
+        std::process::exit(0);
+    }
+    Fatal(format!("cannot write the output: {e}"))
+}
+
+/// Columns of the CL data (units in `docs/fillet.md`).
+const COLUMNS: [&str; 19] = [
+    "path",
+    "node",
+    "x",
+    "y",
+    "z",
+    "i",
+    "j",
+    "k",
+    "cc_x",
+    "cc_y",
+    "cc_z",
+    "u",
+    "v",
+    "lead_deg",
+    "tilt_deg",
+    "strip_mm",
+    "side_step_mm",
+    "scallop_mm",
+    "adjusted",
+];
+
+fn rows(job: &FinishJob, set: &PathSet) -> Vec<Vec<Value>> {
+    let dom = interpolab::geom::ParametricSurface::domain(&job.surface);
+    let mut out = Vec::new();
+    for (pi, p) in set.paths.iter().enumerate() {
+        for (ni, n) in p.nodes.iter().enumerate() {
+            let uv = dom.to_file(n.frame.uv);
+            let num = |x: f64| json!(x);
+            out.push(vec![
+                json!(pi),
+                json!(ni),
+                num(n.tip.x),
+                num(n.tip.y),
+                num(n.tip.z),
+                num(n.axis.x),
+                num(n.axis.y),
+                num(n.axis.z),
+                num(n.frame.point.x),
+                num(n.frame.point.y),
+                num(n.frame.point.z),
+                num(uv.x),
+                num(uv.y),
+                num(n.pose.lead_rad().to_degrees()),
+                num(n.pose.tilt_rad().to_degrees()),
+                num(n.strip_mm),
+                n.side_step_mm.map_or(Value::Null, num),
+                n.scallop_mm.map_or(Value::Null, num),
+                json!(n.adjusted.is_some()),
+            ]);
+        }
+    }
+    out
+}
+
+fn csv_cell(v: &Value) -> String {
+    match v {
+        Value::Null => String::new(),
+        Value::Bool(b) => if *b { "1" } else { "0" }.to_owned(),
+        Value::Number(n) => {
+            n.as_f64().map_or_else(String::new, |x| if n.is_u64() { n.to_string() } else { fmt_num(x) })
+        }
+        other => other.to_string(),
+    }
+}
+
+fn strategy_of(a: &FinishArgs, job: &FinishJob) -> Result<Strategy, Fatal> {
+    Ok(match a.strategy {
+        None => job.strategy,
+        Some(StrategyArg::Matched) => Strategy::Matched,
+        Some(StrategyArg::Principal) => Strategy::PrincipalAxis,
+        Some(StrategyArg::Ball) => Strategy::Ball,
+        Some(StrategyArg::FixedLead) => {
+            if !(a.lead.abs() < 80.0) {
+                return Err(Fatal(format!(
+                    "--lead {} is not a usable lead angle; give one between -80 and 80 degrees",
+                    a.lead
+                )));
+            }
+            Strategy::FixedLead { lead_rad: a.lead.to_radians() }
+        }
+    })
+}
+
+pub(super) fn finish(a: &FinishArgs) -> Result<ExitCode, Fatal> {
+    let job = load(&a.scene)?;
+    let name = a.scene.display().to_string();
+    let part = PartSamples::new(&job.surface, job.options.part_grid);
+    if a.table {
+        let rows =
+            compare(&job.surface, &job.cutter, &job.options, &part).map_err(|e| Fatal(format!("{name}: {e}")))?;
+        let mut w = sink(a.out.as_deref())?;
+        let h = job.options.scallop_mm;
+        let mut text = format!(
+            "{}: {}, scallop h {h} mm, chord tolerance {} mm, feed {} mm/min\n",
+            if job.name.is_empty() { &name } else { &job.name },
+            job.cutter.describe(),
+            job.options.chord_tol_mm,
+            job.options.feed_mm_per_min
+        );
+        text.push_str("| strategy | layout | passes | CC points | length mm | strip min mm | strip mean mm | strip max mm | time min | adjusted |\n|---|---|---|---|---|---|---|---|---|---|\n");
+        for r in &rows {
+            let s = &r.stats;
+            text.push_str(&format!(
+                "| {} | {} | {} | {} | {:.1} | {:.3} | {:.3} | {:.3} | {:.2} | {} |\n",
+                r.strategy.name(),
+                r.layout.name(),
+                s.passes,
+                s.nodes,
+                s.length_mm,
+                s.strip_mm[0],
+                s.strip_mm[1],
+                s.strip_mm[2],
+                s.time_min,
+                s.adjusted
+            ));
+        }
+        w.write_all(text.as_bytes()).map_err(|e| fatal_io(&e))?;
+        w.flush().map_err(|e| fatal_io(&e))?;
+        return Ok(ExitCode::SUCCESS);
+    }
+    let strategy = strategy_of(a, &job)?;
+    let set = match a.layout {
+        LayoutArg::IsoScallop => iso_scallop(&job.surface, &job.cutter, strategy, &job.options, &part),
+        LayoutArg::IsoParametric => iso_parametric(&job.surface, &job.cutter, strategy, &job.options, &part),
+    }
+    .map_err(|e| Fatal(format!("{name}: {e}")))?;
+    let data = rows(&job, &set);
+    let mut w = sink(a.out.as_deref())?;
+    match a.format {
+        OutFormat::Csv => {
+            let mut text = COLUMNS.join(",");
+            text.push('\n');
+            for r in &data {
+                text.push_str(&r.iter().map(csv_cell).collect::<Vec<_>>().join(","));
+                text.push('\n');
+            }
+            w.write_all(text.as_bytes()).map_err(|e| fatal_io(&e))?;
+        }
+        OutFormat::Json => {
+            let s = set.stats(job.options.feed_mm_per_min);
+            let c = &job.cutter;
+            let doc = json!({
+                "format": "interpolab-finish/1",
+                "scene": job.name,
+                "cutter": {
+                    "radius_mm": c.radius_mm, "corner_radius_mm": c.corner_radius_mm,
+                    "flute_length_mm": c.flute_length_mm, "shank_radius_mm": c.shank_radius_mm,
+                    "gauge_length_mm": c.gauge_length_mm, "holder_radius_mm": c.holder_radius_mm,
+                    "holder_length_mm": c.holder_length_mm,
+                    "machined_with": set.strategy.cutter_for(c).describe(),
+                },
+                "strategy": set.strategy.name(),
+                "layout": set.layout.name(),
+                "along": if set.along == 0 { "u" } else { "v" },
+                "scallop_mm": job.options.scallop_mm,
+                "chord_tol_mm": job.options.chord_tol_mm,
+                "columns": COLUMNS,
+                "rows": data,
+                "stats": {
+                    "passes": s.passes, "nodes": s.nodes, "length_mm": s.length_mm,
+                    "strip_min_mm": s.strip_mm[0], "strip_mean_mm": s.strip_mm[1], "strip_max_mm": s.strip_mm[2],
+                    "time_min": s.time_min, "adjusted": s.adjusted,
+                },
+                "refused": set.refused.iter().map(|r| json!({
+                    "u": r.uv.x, "v": r.uv.y, "x": r.point.x, "y": r.point.y, "z": r.point.z,
+                    "reason": r.reason, "depth_mm": r.depth_mm,
+                })).collect::<Vec<_>>(),
+            });
+            let text = serde_json::to_string_pretty(&doc).map_err(|e| Fatal(format!("cannot write JSON: {e}")))?;
+            w.write_all(text.as_bytes()).map_err(|e| fatal_io(&e))?;
+            w.write_all(b"\n").map_err(|e| fatal_io(&e))?;
+        }
+    }
+    w.flush().map_err(|e| fatal_io(&e))?;
+    if let Some(g) = &a.gcode {
+        if !(a.gcode_tolerance > 0.0 && a.gcode_tolerance.is_finite()) {
+            return Err(Fatal(format!(
+                "--gcode-tolerance {} is not a positive length; give it in mm, e.g. 0.01",
+                a.gcode_tolerance
+            )));
+        }
+        write_gcode(&job, &set, g, &name, a.gcode_tolerance)?;
+    }
+    let mut err = io::stderr().lock();
+    for r in &set.refused {
+        let _ = writeln!(
+            err,
+            "interpolab: {name}: refused the CC point ({:.3}, {:.3}, {:.3}) mm: {}; use a smaller cutter, a larger finish.max_inclination or a shorter gauge length",
+            r.point.x, r.point.y, r.point.z, r.reason
+        );
+    }
+    Ok(if set.refused.is_empty() { ExitCode::SUCCESS } else { ExitCode::from(1) })
+}
+
+fn write_gcode(job: &FinishJob, set: &PathSet, path: &Path, name: &str, tol_mm: f64) -> Result<(), Fatal> {
+    let tool = set.strategy.cutter_for(&job.cutter);
+    let m = &job.machine;
+    let [ta, ca] = m.axis_names();
+    let mut text = format!(
+        "(interpolab finish: {})\n(cutter {}, strategy {}, {} paths, steps within {} mm by seed-002 step selection, machine {})\n(X Y Z in mm, {ta} {ca} in degrees; each pass starts with a rapid move: check the clearance)\nG90 G21 G94\n",
+        if job.name.is_empty() { name } else { &job.name },
+        tool.describe(),
+        set.strategy.name(),
+        set.paths.len(),
+        tol_mm,
+        m.kind.as_str()
+    );
+    let mut blocks = 0usize;
+    for (pi, p) in set.paths.iter().enumerate() {
+        if p.nodes.len() < 2 {
+            continue;
+        }
+        let plan = plan_path(m, &job.surface, &tool, &p.nodes, tol_mm)
+            .map_err(|e| Fatal(format!("{name}: path {pi}: {e}")))?;
+        text.push_str(&format!("(pass {pi})\n"));
+        for (k, n) in plan.nodes.iter().enumerate() {
+            let j = &n.block.joints;
+            let word = if k == 0 { "G00" } else { "G01" };
+            text.push_str(&format!(
+                "{word} X{:.4} Y{:.4} Z{:.4} {ta}{:.4} {ca}{:.4}",
+                j.xyz_mm.x,
+                j.xyz_mm.y,
+                j.xyz_mm.z,
+                j.rotary_rad[0].to_degrees(),
+                j.rotary_rad[1].to_degrees()
+            ));
+            if k == 1 {
+                text.push_str(&format!(" F{}", fmt_num(job.options.feed_mm_per_min)));
+            }
+            text.push('\n');
+            blocks += 1;
+        }
+    }
+    text.push_str(&format!("M30\n({blocks} blocks)\n"));
+    fs::write(path, text).map_err(|e| Fatal(format!("cannot write {}: {e}", path.display())))
+}

@@ -1,0 +1,429 @@
+//! The cutter at one contact point: the local frame, the orientation (inclination and
+//! azimuth, or lead and tilt), where the tool tip goes, the cutter's curvature in every
+//! direction of the tangent plane (its *effective cutting curvature*), and the height of the
+//! swept cutter above the surface across the feed (the profile that leaves the scallop).
+//!
+//! # Frame and orientation
+//!
+//! At the CC point q with unit normal n (toward the cutter) and unit feed direction f in the
+//! tangent plane, c = n × f points across the feed (to the left of the travel seen from the
+//! spindle). Directions of the tangent plane are `t(θ) = cos θ·f + sin θ·c`.
+//!
+//! The tool axis is `a = cos α·n + sin α·d` with the *inclination* α (angle from the normal)
+//! and the *meridian direction* `d = t(ψ)`, ψ the *azimuth*. In lead/tilt terms
+//! `a = cos ω·(cos λ·n + sin λ·f) + sin ω·c`: `sin ω = sin α·sin ψ`, `tan λ = tan α·cos ψ`.
+//!
+//! # Where the cutter touches
+//!
+//! The cutter's lower surface is the torus swept by the corner circle (radius r, centre on
+//! the circle of radius R0 = R − r at height r above the tip). At the contact its outward
+//! normal is −n, so the contact lies on the corner's meridian in the plane of a and n, on the
+//! side of d: with `e = −sin α·n + cos α·d` (the unit radial direction of the contact, ⊥ a)
+//! the tip is `T = q + r·n − R0·e − r·a`.
+//!
+//! # Effective cutting curvature (closed form)
+//!
+//! The torus' principal directions at the contact are the meridian (in the plane of a and n,
+//! tangent direction d) and the parallel (d⊥ = n × d). Along the meridian the curvature is
+//! that of the corner circle, `k_mer = 1/r`. The parallel is a circle of radius
+//! `ρ = R0 + r·sin α` in a plane ⊥ a; its principal normal makes the angle 90° − α with −n,
+//! so by Meusnier `k_par = sin α / (R0 + r·sin α)`: the effective cutting radius
+//! `R0/sin α + r` of the literature, here exact. By Euler, in the direction t(θ)
+//! `κ(θ) = k_mer·cos²(θ − ψ) + k_par·sin²(θ − ψ)` — the curvature of the normal section
+//! of the cutter's envelope (the torus is the envelope of the rotating cutting edge). Signs
+//! as the surface's ([`crate::geom::LocalGeometry`]): positive when the section bends toward
+//! n. A ball (R0 = 0) gives 1/R in every direction; a flat end mill (r = 0) gives
+//! `sin α / R` across its meridian and a sharp edge (∞) elsewhere.
+//!
+//! # Local gouging and the strip
+//!
+//! With Q_c and Q_s the second fundamental forms of cutter and surface in the basis (f, c),
+//! the cutter clears the surface near q to second order iff `D = Q_c − Q_s` is positive
+//! definite; we ask `λ_min(D) ≥ m` (a margin m, 1/mm), i.e. `κ(θ) ≥ k_s(θ) + m` for every θ.
+//! Moving along the path, the cutter at distance x behind the cross plane stands at height
+//! `½·D(x, y)` above the surface at the cross offset y; the envelope is the minimum over x:
+//! `½·Δκ·y²` with `Δκ = D_cc − D_fc²/D_ff`. Between two passes w apart the scallop is then
+//! `h = Δκ·w²/8`, so `w = √(8h/Δκ)`.
+
+use glam::{DVec2, DVec3};
+
+use crate::geom::{Cutter, LocalGeometry, ParametricSurface, Surface};
+use crate::tolerance;
+
+/// A symmetric 2×2 form in the basis (f, c) of the tangent plane (1/mm).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Form2 {
+    /// Value on (f, f).
+    pub ff: f64,
+    /// Value on (f, c).
+    pub fc: f64,
+    /// Value on (c, c).
+    pub cc: f64,
+}
+
+impl Form2 {
+    /// The form on the unit direction t(θ) (θ rad from f toward c).
+    #[must_use]
+    pub fn at(&self, theta: f64) -> f64 {
+        let (s, c) = theta.sin_cos();
+        self.ff * c * c + 2.0 * self.fc * s * c + self.cc * s * s
+    }
+
+    /// `self − other`.
+    #[must_use]
+    pub fn minus(&self, other: &Self) -> Self {
+        Self { ff: self.ff - other.ff, fc: self.fc - other.fc, cc: self.cc - other.cc }
+    }
+
+    /// Smallest eigenvalue: the minimum of [`Self::at`] over θ.
+    #[must_use]
+    pub fn min_eigen(&self) -> f64 {
+        let half = 0.5 * (self.ff - self.cc);
+        0.5 * (self.ff + self.cc) - half.hypot(self.fc)
+    }
+
+    /// Curvature of the form's silhouette seen along f: `cc − fc²/ff` (∞ when ff ≤ 0).
+    #[must_use]
+    pub fn silhouette(&self) -> f64 {
+        if self.ff > 0.0 { self.cc - self.fc * self.fc / self.ff } else { f64::INFINITY }
+    }
+}
+
+/// The local frame at a CC point (module docs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactFrame {
+    /// Surface parameters (internal units).
+    pub uv: DVec2,
+    /// The CC point q (mm).
+    pub point: DVec3,
+    /// Unit normal n, toward the cutter.
+    pub normal: DVec3,
+    /// Unit feed direction f (tangent).
+    pub feed: DVec3,
+    /// Unit cross direction c = n × f.
+    pub cross: DVec3,
+    /// The surface's second fundamental form in (f, c) (1/mm; positive = concave toward n).
+    pub surface_form: Form2,
+}
+
+impl ContactFrame {
+    /// The frame at `uv` with the feed along the tangential part of `feed_hint`; `None` at a
+    /// singular point or when the hint is (almost) normal to the surface.
+    #[must_use]
+    pub fn new(surface: &Surface, uv: DVec2, feed_hint: DVec3) -> Option<Self> {
+        let d = surface.derivatives_at(uv);
+        let geo = LocalGeometry::try_new(d)?;
+        let n = d.normal;
+        let f = (feed_hint - feed_hint.dot(n) * n).try_normalize()?;
+        let c = n.cross(f);
+        let (cf, cc) = (geo.tangent_coords(f), geo.tangent_coords(c));
+        let surface_form =
+            Form2 { ff: geo.second_form(cf, cf), fc: geo.second_form(cf, cc), cc: geo.second_form(cc, cc) };
+        Some(Self { uv, point: d.point, normal: n, feed: f, cross: c, surface_form })
+    }
+
+    /// The unit tangent t(θ) = cos θ·f + sin θ·c.
+    #[must_use]
+    pub fn direction(&self, theta: f64) -> DVec3 {
+        let (s, c) = theta.sin_cos();
+        c * self.feed + s * self.cross
+    }
+}
+
+/// The cutter's orientation at a contact point (module docs), radians.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pose {
+    /// Inclination α of the axis from the surface normal (rad, ≥ 0).
+    pub inclination_rad: f64,
+    /// Azimuth ψ of the meridian direction d from the feed toward c (rad).
+    pub azimuth_rad: f64,
+}
+
+impl Pose {
+    /// The pose of lead λ (toward the feed) and tilt ω (toward c), radians.
+    #[must_use]
+    pub fn from_lead_tilt(lead_rad: f64, tilt_rad: f64) -> Self {
+        let a = DVec3::new(tilt_rad.cos() * lead_rad.sin(), tilt_rad.sin(), tilt_rad.cos() * lead_rad.cos());
+        let incl = a.z.clamp(-1.0, 1.0).acos();
+        let azim = if a.x.hypot(a.y) > 0.0 { a.y.atan2(a.x) } else { 0.0 };
+        Self { inclination_rad: incl, azimuth_rad: azim }
+    }
+
+    /// Lead angle λ (rad): the axis' turn toward the feed.
+    #[must_use]
+    pub fn lead_rad(&self) -> f64 {
+        (self.inclination_rad.sin() * self.azimuth_rad.cos()).atan2(self.inclination_rad.cos())
+    }
+
+    /// Tilt angle ω (rad): the axis' turn toward c, sideways.
+    #[must_use]
+    pub fn tilt_rad(&self) -> f64 {
+        (self.inclination_rad.sin() * self.azimuth_rad.sin()).clamp(-1.0, 1.0).asin()
+    }
+
+    /// The unit tool axis at `frame`.
+    #[must_use]
+    pub fn axis(&self, frame: &ContactFrame) -> DVec3 {
+        let (s, c) = self.inclination_rad.sin_cos();
+        c * frame.normal + s * frame.direction(self.azimuth_rad)
+    }
+}
+
+/// Principal curvatures `(k_mer, k_par)` of the cutter's lower surface at the contact for
+/// inclination α (1/mm; module docs).
+#[must_use]
+pub fn cutter_principal(cutter: &Cutter, inclination_rad: f64) -> (f64, f64) {
+    let r = cutter.corner_radius_mm;
+    let r0 = cutter.torus_radius_mm();
+    let k_mer = 1.0 / r.max(tolerance::FILLET_SHARP_EDGE_MM);
+    if r0 <= 0.0 {
+        return (k_mer, k_mer);
+    }
+    let s = inclination_rad.sin().max(0.0);
+    (k_mer, s / (r0 + r * s))
+}
+
+/// The inclination α (rad) whose parallel curvature `k_par` equals `kappa` (1/mm): the
+/// inverse of `sin α/(R0 + r sin α)`; `None` when no α ≤ 90° reaches it (κ ≥ 1/R).
+#[must_use]
+pub fn inclination_for(cutter: &Cutter, kappa: f64) -> Option<f64> {
+    let r = cutter.corner_radius_mm;
+    let r0 = cutter.torus_radius_mm();
+    if kappa <= 0.0 {
+        return Some(0.0);
+    }
+    if r0 <= 0.0 {
+        return (kappa * r <= 1.0).then_some(0.0);
+    }
+    let den = 1.0 - kappa * r;
+    if den <= 0.0 {
+        return None;
+    }
+    let s = kappa * r0 / den;
+    (s <= 1.0).then(|| s.asin())
+}
+
+/// The cutter's second fundamental form Q_c in (f, c) for this pose (1/mm).
+#[must_use]
+pub fn cutter_form(cutter: &Cutter, pose: &Pose) -> Form2 {
+    let (k_mer, k_par) = cutter_principal(cutter, pose.inclination_rad);
+    let (s, c) = pose.azimuth_rad.sin_cos();
+    Form2 { ff: k_mer * c * c + k_par * s * s, fc: (k_mer - k_par) * s * c, cc: k_mer * s * s + k_par * c * c }
+}
+
+/// The effective cutting curvature κ(θ) (1/mm) of the cutter in the direction t(θ) of the
+/// tangent plane (θ rad from the feed toward c): Euler's formula on the torus' principal
+/// curvatures (module docs).
+#[must_use]
+pub fn effective_curvature(cutter: &Cutter, pose: &Pose, theta_rad: f64) -> f64 {
+    let (k_mer, k_par) = cutter_principal(cutter, pose.inclination_rad);
+    let (s, c) = (theta_rad - pose.azimuth_rad).sin_cos();
+    k_mer * c * c + k_par * s * s
+}
+
+/// Tool tip and unit axis for the cutter touching at `frame` with `pose` (mm; module docs).
+#[must_use]
+pub fn place(cutter: &Cutter, frame: &ContactFrame, pose: &Pose) -> (DVec3, DVec3) {
+    let a = pose.axis(frame);
+    let (s, c) = pose.inclination_rad.sin_cos();
+    let e = -s * frame.normal + c * frame.direction(pose.azimuth_rad);
+    let r = cutter.corner_radius_mm;
+    let tip = frame.point + r * frame.normal - cutter.torus_radius_mm() * e - r * a;
+    (tip, a)
+}
+
+/// Δκ = silhouette of D = Q_c − Q_s along the feed (1/mm): the curvature of the swept
+/// cutter's envelope above the surface across the feed, to second order (module docs).
+#[must_use]
+pub fn cross_curvature(cutter: &Cutter, frame: &ContactFrame, pose: &Pose) -> f64 {
+    cutter_form(cutter, pose).minus(&frame.surface_form).silhouette()
+}
+
+/// The local no-gouge margin `min_θ (κ(θ) − k_s(θ))` = λ_min(Q_c − Q_s) (1/mm).
+#[must_use]
+pub fn gouge_margin(cutter: &Cutter, frame: &ContactFrame, pose: &Pose) -> f64 {
+    cutter_form(cutter, pose).minus(&frame.surface_form).min_eigen()
+}
+
+/// Golden-section iterations of [`projected_height`]: the bracket [−4, 4] of slopes shrinks
+/// by 0.618 each, to 1e-12 after 60.
+const SLOPE_ITERATIONS: usize = 60;
+
+/// Height (mm, along n) above the tangent plane at q of the lower boundary of the cutter
+/// solid projected along the feed f onto the cross plane, at the cross offset y (mm): the
+/// section of the cutter swept along a straight line. Exact for the solid
+/// `disc(R0) ⊕ ball(r)` by the support function: the lower boundary is
+/// `z(y) = max_s [s·y − h(s·c − n)]` with `h(U) = U·C0 + R0·|U − (U·a)a| + r·|U|`, C0 the
+/// corner circle's centre relative to q (concave in s; golden section).
+#[must_use]
+pub fn projected_height(cutter: &Cutter, frame: &ContactFrame, tip: DVec3, axis: DVec3, y: f64) -> f64 {
+    let r = cutter.corner_radius_mm;
+    let r0 = cutter.torus_radius_mm();
+    let c0 = tip + r * axis - frame.point;
+    let (c0c, c0n) = (c0.dot(frame.cross), c0.dot(frame.normal));
+    let (ac, an) = (axis.dot(frame.cross), axis.dot(frame.normal));
+    let g = |s: f64| {
+        // U = s·c − n; |U − (U·a)a|² = |U|² − (U·a)².
+        let ua = s * ac - an;
+        let uu = s * s + 1.0;
+        let h = s * c0c - c0n + r0 * (uu - ua * ua).max(0.0).sqrt() + r * uu.sqrt();
+        s * y - h
+    };
+    let (mut lo, mut hi) = (-4.0f64, 4.0f64);
+    let phi = 0.5 * (5f64.sqrt() - 1.0);
+    let mut x1 = hi - phi * (hi - lo);
+    let mut x2 = lo + phi * (hi - lo);
+    let (mut g1, mut g2) = (g(x1), g(x2));
+    for _ in 0..SLOPE_ITERATIONS {
+        if g1 < g2 {
+            lo = x1;
+            x1 = x2;
+            g1 = g2;
+            x2 = lo + phi * (hi - lo);
+            g2 = g(x2);
+        } else {
+            hi = x2;
+            x2 = x1;
+            g2 = g1;
+            x1 = hi - phi * (hi - lo);
+            g1 = g(x1);
+        }
+    }
+    g1.max(g2)
+}
+
+/// Height (mm, along n) of the surface's section by the cross plane (through q, ⊥ f) at the
+/// cross offset y, by Newton from the tangent-plane guess; `None` when it leaves the domain
+/// or does not converge in 12 steps.
+#[must_use]
+pub fn section_height(surface: &Surface, frame: &ContactFrame, y: f64) -> Option<f64> {
+    let domain = surface.domain();
+    let d0 = surface.derivatives_at(frame.uv);
+    let geo = LocalGeometry::try_new(d0)?;
+    let mut uv = frame.uv + geo.tangent_coords(frame.cross) * y;
+    for _ in 0..12 {
+        if !domain.contains(uv) {
+            return None;
+        }
+        let d = surface.derivatives_at(uv);
+        let w = d.point - frame.point;
+        let (r1, r2) = (w.dot(frame.feed), w.dot(frame.cross) - y);
+        if r1.abs().max(r2.abs()) < tolerance::FILLET_HEIGHT_MM {
+            return Some(w.dot(frame.normal));
+        }
+        let step = crate::linalg::solve2(
+            d.du.dot(frame.feed),
+            d.dv.dot(frame.feed),
+            d.du.dot(frame.cross),
+            d.dv.dot(frame.cross),
+            DVec2::new(-r1, -r2),
+        )?;
+        uv += step;
+    }
+    None
+}
+
+/// The swept cutter's height above the design surface at the cross offset y (mm): the
+/// exact straight-line projection of the cutter ([`projected_height`]) with its
+/// second-order term replaced by the moving cutter's (`½·Δκ·y²`, module docs), minus the
+/// surface section's departure from its own second-order term. Exact to second order for
+/// any path and exact for a straight path on a plane.
+#[derive(Clone, Copy, Debug)]
+pub struct CrossProfile<'a> {
+    cutter: &'a Cutter,
+    surface: &'a Surface,
+    frame: ContactFrame,
+    tip: DVec3,
+    axis: DVec3,
+    /// Second-order coefficient of the straight projection (1/mm).
+    k_proj: f64,
+    /// Δκ of the moving cutter (1/mm).
+    k_move: f64,
+}
+
+impl<'a> CrossProfile<'a> {
+    /// The profile of the cutter at `frame` with `pose`.
+    #[must_use]
+    pub fn new(cutter: &'a Cutter, surface: &'a Surface, frame: ContactFrame, pose: &Pose) -> Self {
+        let (tip, axis) = place(cutter, &frame, pose);
+        let qc = cutter_form(cutter, pose);
+        Self {
+            cutter,
+            surface,
+            frame,
+            tip,
+            axis,
+            k_proj: qc.silhouette(),
+            k_move: qc.minus(&frame.surface_form).silhouette(),
+        }
+    }
+
+    /// Height (mm) above the design surface at the cross offset y (mm, toward c).
+    #[must_use]
+    pub fn height(&self, y: f64) -> f64 {
+        let z = projected_height(self.cutter, &self.frame, self.tip, self.axis, y);
+        let ks = self.frame.surface_form.cc;
+        let zs = section_height(self.surface, &self.frame, y).unwrap_or(0.5 * ks * y * y);
+        let y2 = 0.5 * y * y;
+        (z - self.k_proj * y2) + self.k_move * y2 - (zs - ks * y2)
+    }
+
+    /// Offset y > 0 (sign +1) or y < 0 (sign −1) where the height reaches `h_mm`, by
+    /// bisection; capped at the cutter radius R.
+    #[must_use]
+    pub fn reach(&self, h_mm: f64, sign: f64) -> f64 {
+        let big_r = self.cutter.radius_mm;
+        let mut lo = 0.0;
+        let mut hi = big_r;
+        if self.height(sign * hi) < h_mm {
+            return hi;
+        }
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            if self.height(sign * mid) < h_mm {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+            if hi - lo < tolerance::FILLET_HEIGHT_MM {
+                break;
+            }
+        }
+        0.5 * (lo + hi)
+    }
+
+    /// The frame.
+    #[must_use]
+    pub fn frame(&self) -> &ContactFrame {
+        &self.frame
+    }
+
+    /// Tool tip and axis.
+    #[must_use]
+    pub fn tool(&self) -> (DVec3, DVec3) {
+        (self.tip, self.axis)
+    }
+}
+
+/// Scallop (mm) left between the cutter of profile `a` and the cutter of profile `b` whose
+/// CC point lies `w_mm` across a (toward a's c when positive, the other way when negative):
+/// the height where the two profiles cross, `a.height(y) = b.height(y − w)`, found by
+/// bisection on y between 0 and w.
+#[must_use]
+pub fn scallop_between(a: &CrossProfile<'_>, b: &CrossProfile<'_>, w_mm: f64) -> f64 {
+    let sign = if w_mm < 0.0 { -1.0 } else { 1.0 };
+    let (mut lo, mut hi) = (0.0, w_mm.abs());
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if a.height(sign * mid) < b.height(sign * mid - w_mm) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+        if hi - lo < tolerance::FILLET_HEIGHT_MM {
+            break;
+        }
+    }
+    let y = sign * 0.5 * (lo + hi);
+    a.height(y).min(b.height(y - w_mm))
+}

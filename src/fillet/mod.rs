@@ -1,0 +1,119 @@
+//! Seed 001: five-axis finishing of a free-form surface with a fillet-end (toroidal,
+//! "bull-nose") mill — effective cutting curvature, curvature-matched tool orientation,
+//! iso-scallop paths, gouge and interference checks. Conventions and derivations:
+//! `docs/fillet.md`.
+//!
+//! Glossary:
+//! - *CC point* (cutter contact) q: where the cutter touches the design surface; n the
+//!   surface's unit normal there, toward the cutter;
+//! - *CL point* (cutter location): what a program positions — here the *tool tip* T (centre
+//!   of the cutter's bottom face) and the unit *tool axis* a (tip → spindle), workpiece
+//!   coordinates;
+//! - *feed direction* f: the unit tangent of the path at q; c = n × f across it;
+//! - *lead angle* λ: the axis turned from n toward f; *tilt angle* ω: turned sideways toward
+//!   c (`a = cos ω (cos λ n + sin λ f) + sin ω c`); equivalently the *inclination* α from n
+//!   and the *azimuth* ψ of the turn in the tangent plane;
+//! - *effective cutting curvature* κ(θ): the curvature, at q, of the cutter's envelope
+//!   (the torus of its rotating edge) cut by the normal plane of the tangent direction θ;
+//!   the cutter clears the surface locally when κ(θ) ≥ the surface's normal curvature k_s(θ)
+//!   in every direction (signs: positive when bending toward n);
+//! - *machining strip*: the band along a path where the swept cutter stays within the
+//!   scallop height h of the surface; its width is the side step it allows;
+//! - *scallop*: the ridge of material left between two neighbouring paths, h its height
+//!   above the design surface.
+//!
+//! Modules: [`contact`] (frame, pose, placement, curvatures, cross profile), [`orient`]
+//! (strategies, smoothing), [`gouge`] (checks and adjustment), [`paths`] (forward and side
+//! steps, iso-scallop and iso-parametric paths, comparison numbers), [`program`] (CL data as
+//! a seed-002 design path for the machines and step selection).
+
+pub mod contact;
+pub mod gouge;
+pub mod orient;
+pub mod paths;
+pub mod program;
+
+use thiserror::Error;
+
+pub use contact::{ContactFrame, CrossProfile, Form2, Pose, effective_curvature, place, scallop_between};
+pub use gouge::{Adjustment, Clash, ClashPart, PartSamples};
+pub use orient::{OrientOptions, Strategy};
+pub use paths::{
+    CcNode, FeedDirection, FinishOptions, Layout, PathSet, Refusal, Stats, ToolPath, iso_parametric, iso_scallop,
+};
+
+/// Why a finishing job failed. Each message says what to change.
+#[derive(Clone, Debug, Error, PartialEq)]
+pub enum FinishError {
+    /// An option that must be a positive length is not.
+    #[error("the {name} must be a positive length in mm, got {value}; give a value above 0")]
+    BadOption {
+        /// Which option.
+        name: &'static str,
+        /// The value.
+        value: f64,
+    },
+    /// Not even the first path could be built.
+    #[error(
+        "no path could be started on the first boundary: {reason}; use a smaller cutter or a larger max_inclination"
+    )]
+    NoPath {
+        /// Why.
+        reason: &'static str,
+    },
+    /// The paths would exceed their cap.
+    #[error(
+        "the surface needs more than {max_paths} paths at this scallop height; raise the scallop height or use a larger cutter"
+    )]
+    TooManyPaths {
+        /// The cap.
+        max_paths: usize,
+    },
+    /// The CC points would exceed their cap.
+    #[error(
+        "the paths need more than {max_nodes} CC points; raise the chord tolerance, the max step or the scallop height"
+    )]
+    TooManyNodes {
+        /// The cap.
+        max_nodes: usize,
+    },
+}
+
+/// One row of the comparison table.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Comparison {
+    /// The strategy.
+    pub strategy: Strategy,
+    /// The layout.
+    pub layout: Layout,
+    /// Its numbers.
+    pub stats: Stats,
+}
+
+/// The comparison table: matched, fixed lead 5° and 10°, principal axis and ball, each with
+/// iso-scallop and iso-parametric paths.
+///
+/// # Errors
+/// The first job that fails.
+pub fn compare(
+    surface: &crate::geom::Surface,
+    cutter: &crate::geom::Cutter,
+    opts: &FinishOptions,
+    part: &PartSamples,
+) -> Result<Vec<Comparison>, FinishError> {
+    let strategies = [
+        Strategy::Matched,
+        Strategy::FixedLead { lead_rad: 5f64.to_radians() },
+        Strategy::FixedLead { lead_rad: 10f64.to_radians() },
+        Strategy::PrincipalAxis,
+        Strategy::Ball,
+    ];
+    let mut rows = Vec::new();
+    for s in strategies {
+        let iso = iso_scallop(surface, cutter, s, opts, part)?;
+        rows.push(Comparison { strategy: s, layout: Layout::IsoScallop, stats: iso.stats(opts.feed_mm_per_min) });
+        let par = iso_parametric(surface, cutter, s, opts, part)?;
+        rows.push(Comparison { strategy: s, layout: Layout::IsoParametric, stats: par.stats(opts.feed_mm_per_min) });
+    }
+    Ok(rows)
+}

@@ -1,0 +1,722 @@
+//! Tool paths over a whole surface: iso-scallop paths and, for comparison, iso-parametric
+//! paths at the same worst scallop.
+//!
+//! Paths run along one parameter (the *along* parameter a, u or v) and follow each other
+//! across the other (b). Along a path the CC points are spaced by the **forward step** from
+//! the chord error E and the normal curvature k_f of the path: `ℓ = √(8E/|k_f|)`, at most
+//! [`FinishOptions::max_step_mm`]. The nodes of a path are oriented by the strategy and
+//! smoothed ([`super::orient`]), checked for gouges ([`super::gouge`]), and then:
+//!
+//! - **iso-scallop**: the first path is the boundary b = b_min. From every node of a path the
+//!   **side step** w to the next path is solved so the scallop between the two cutters is h:
+//!   the second-order guess `w = 2·√(2h/Δκ)` is corrected with the exact cross profiles of
+//!   both cutters ([`super::contact::CrossProfile`], [`super::contact::scallop_between`]),
+//!   `w ← w·√(h/scallop)`, until within 0.5 % of h (at most 6 rounds). The next path goes
+//!   through the points w away across the surface (a walk along c in 4 sub-steps), is
+//!   trimmed to the domain (points beyond b_max are put on it; its ends are extended to the
+//!   a-boundaries) and resampled by the forward step. Paths follow until one lies on
+//!   b = b_max entirely.
+//! - **iso-parametric**: paths b = const, equally spaced, as many as needed so that at every
+//!   node the scallop to the next path is at most h.
+//!
+//! All loops are capped ([`FinishOptions::max_paths`], [`FinishOptions::max_nodes`]).
+
+use glam::{DVec2, DVec3};
+
+use super::FinishError;
+use super::contact::{ContactFrame, CrossProfile, Pose, place, scallop_between};
+use super::gouge::{Adjustment, PartSamples, adjust};
+use super::orient::{OrientOptions, Strategy, pose_at, smooth_inclinations};
+use crate::geom::{Cutter, LocalGeometry, ParametricSurface, Surface};
+
+/// Which parameter the paths run along.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FeedDirection {
+    /// Along u (paths v = const for iso-parametric).
+    U,
+    /// Along v.
+    V,
+    /// The one of the two with the wider mean strip (the widest-strip rule).
+    Auto,
+}
+
+/// Which layout of paths.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Layout {
+    /// Iso-scallop paths.
+    IsoScallop,
+    /// Iso-parametric paths at the same worst scallop.
+    IsoParametric,
+}
+
+impl Layout {
+    /// Name.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::IsoScallop => "iso-scallop",
+            Self::IsoParametric => "iso-parametric",
+        }
+    }
+}
+
+/// Settings of a finishing job (mm, rad, mm/min).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FinishOptions {
+    /// Scallop height h (mm).
+    pub scallop_mm: f64,
+    /// Chord error E of the forward step (mm).
+    pub chord_tol_mm: f64,
+    /// Longest forward step (mm).
+    pub max_step_mm: f64,
+    /// Along which parameter.
+    pub direction: FeedDirection,
+    /// Orientation settings.
+    pub orient: OrientOptions,
+    /// Feed for the machining time (mm/min).
+    pub feed_mm_per_min: f64,
+    /// Tolerance of the gouge checks (mm).
+    pub gouge_tol_mm: f64,
+    /// Grid size of the part samples of the global check (n × n).
+    pub part_grid: usize,
+    /// Most paths.
+    pub max_paths: usize,
+    /// Most CC points over all paths.
+    pub max_nodes: usize,
+}
+
+impl FinishOptions {
+    /// Defaults for scallop h and chord error E (mm): max step 2 mm, feed 1000 mm/min, gouge
+    /// tolerance E, a 48 × 48 part grid, at most 2000 paths and 400 000 nodes.
+    #[must_use]
+    pub fn new(scallop_mm: f64, chord_tol_mm: f64) -> Self {
+        Self {
+            scallop_mm,
+            chord_tol_mm,
+            max_step_mm: 2.0,
+            direction: FeedDirection::Auto,
+            orient: OrientOptions::default(),
+            feed_mm_per_min: 1000.0,
+            gouge_tol_mm: chord_tol_mm,
+            part_grid: 48,
+            max_paths: 2000,
+            max_nodes: 400_000,
+        }
+    }
+}
+
+/// One CC point of a path with its cutter location.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CcNode {
+    /// The local frame (CC point, normal, feed).
+    pub frame: ContactFrame,
+    /// The orientation.
+    pub pose: Pose,
+    /// Tool tip (mm, workpiece coordinates).
+    pub tip: DVec3,
+    /// Unit tool axis.
+    pub axis: DVec3,
+    /// Width of the strip within the scallop height h (mm).
+    pub strip_mm: f64,
+    /// Side step to the next path from this node (mm), if solved here.
+    pub side_step_mm: Option<f64>,
+    /// Scallop to the next path at this node as solved (mm).
+    pub scallop_mm: Option<f64>,
+    /// What the gouge checks changed, if anything.
+    pub adjusted: Option<Adjustment>,
+}
+
+/// One path: its nodes in the order of travel.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ToolPath {
+    /// The CC nodes.
+    pub nodes: Vec<CcNode>,
+}
+
+impl ToolPath {
+    /// Length of the CC polyline (mm).
+    #[must_use]
+    pub fn length_mm(&self) -> f64 {
+        self.nodes.windows(2).map(|w| (w[1].frame.point - w[0].frame.point).length()).sum()
+    }
+}
+
+/// A point that could not be machined.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Refusal {
+    /// Surface parameters (internal units).
+    pub uv: DVec2,
+    /// The CC point (mm).
+    pub point: DVec3,
+    /// Why.
+    pub reason: &'static str,
+    /// Depth of the clash (mm), if one.
+    pub depth_mm: f64,
+}
+
+/// The paths of one strategy and layout, with their statistics.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PathSet {
+    /// The paths, first to last.
+    pub paths: Vec<ToolPath>,
+    /// The layout.
+    pub layout: Layout,
+    /// The strategy.
+    pub strategy: Strategy,
+    /// 0: paths along u, 1: along v.
+    pub along: usize,
+    /// Points refused (left out of their path).
+    pub refused: Vec<Refusal>,
+}
+
+/// Numbers comparing path sets.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stats {
+    /// Passes.
+    pub passes: usize,
+    /// CC points.
+    pub nodes: usize,
+    /// Total path length (mm).
+    pub length_mm: f64,
+    /// Strip width min, mean, max (mm).
+    pub strip_mm: [f64; 3],
+    /// Solved scallop min and max over the nodes with a next path (mm).
+    pub scallop_mm: [f64; 2],
+    /// Machining time at the feed (min), cutting moves only.
+    pub time_min: f64,
+    /// Nodes whose orientation the gouge checks changed.
+    pub adjusted: usize,
+}
+
+impl PathSet {
+    /// The statistics at feed `feed_mm_per_min`.
+    #[must_use]
+    pub fn stats(&self, feed_mm_per_min: f64) -> Stats {
+        let nodes: Vec<&CcNode> = self.paths.iter().flat_map(|p| p.nodes.iter()).collect();
+        let length_mm: f64 = self.paths.iter().map(ToolPath::length_mm).sum();
+        let (mut lo, mut hi, mut sum) = (f64::INFINITY, 0.0f64, 0.0);
+        for n in &nodes {
+            lo = lo.min(n.strip_mm);
+            hi = hi.max(n.strip_mm);
+            sum += n.strip_mm;
+        }
+        let (mut slo, mut shi) = (f64::INFINITY, 0.0f64);
+        for s in nodes.iter().filter_map(|n| n.scallop_mm) {
+            slo = slo.min(s);
+            shi = shi.max(s);
+        }
+        let count = nodes.len().max(1) as f64;
+        Stats {
+            passes: self.paths.len(),
+            nodes: nodes.len(),
+            length_mm,
+            strip_mm: [if lo.is_finite() { lo } else { 0.0 }, sum / count, hi],
+            scallop_mm: [if slo.is_finite() { slo } else { 0.0 }, shi],
+            time_min: if feed_mm_per_min > 0.0 { length_mm / feed_mm_per_min } else { 0.0 },
+            adjusted: nodes.iter().filter(|n| n.adjusted.is_some()).count(),
+        }
+    }
+}
+
+/// A forward-step sample: uv, the polyline's direction there (mm), the azimuth window.
+type Sample = (DVec2, DVec3, Option<(f64, f64)>);
+
+/// Everything a job needs, borrowed.
+struct Ctx<'a> {
+    surface: &'a Surface,
+    cutter: Cutter,
+    strategy: Strategy,
+    opts: &'a FinishOptions,
+    part: &'a PartSamples,
+    along: usize,
+    /// +1 when c points toward increasing b, else −1 (decided on the first path).
+    side: f64,
+}
+
+fn a_of(uv: DVec2, along: usize) -> f64 {
+    if along == 0 { uv.x } else { uv.y }
+}
+fn b_of(uv: DVec2, along: usize) -> f64 {
+    if along == 0 { uv.y } else { uv.x }
+}
+fn make_uv(a: f64, b: f64, along: usize) -> DVec2 {
+    if along == 0 { DVec2::new(a, b) } else { DVec2::new(b, a) }
+}
+
+impl Ctx<'_> {
+    fn ranges(&self) -> ((f64, f64), (f64, f64)) {
+        let d = self.surface.domain();
+        let (ra, rb) = if self.along == 0 { (d.u, d.v) } else { (d.v, d.u) };
+        ((ra.min, ra.max), (rb.min, rb.max))
+    }
+
+    /// Nodes along a uv polyline by the forward step, oriented, smoothed, checked.
+    /// `psi_ref`: per polyline vertex, the azimuth window (centre, half width, rad) the
+    /// side step assumed for it (offset paths); without it each node's window is centred on
+    /// the previous node's azimuth.
+    fn build_path(
+        &self,
+        poly: &[DVec2],
+        psi_ref: Option<&[(f64, f64)]>,
+        refused: &mut Vec<Refusal>,
+        budget: &mut usize,
+    ) -> Result<ToolPath, FinishError> {
+        let pts: Vec<DVec3> = poly.iter().map(|&uv| self.surface.point_at(uv)).collect();
+        let mut cum = vec![0.0];
+        for w in pts.windows(2) {
+            let l = cum.last().copied().unwrap_or(0.0) + (w[1] - w[0]).length();
+            cum.push(l);
+        }
+        let total = cum.last().copied().unwrap_or(0.0);
+        let at = |s: f64| -> (DVec2, DVec3, Option<(f64, f64)>) {
+            let k = cum.partition_point(|&c| c <= s).clamp(1, cum.len().max(2) - 1);
+            let (c0, c1) = (cum[k - 1], cum[k]);
+            let t = if c1 > c0 { ((s - c0) / (c1 - c0)).clamp(0.0, 1.0) } else { 0.0 };
+            let psi = psi_ref.and_then(|r| {
+                let (a, b) = (r.get(k - 1)?, r.get(k)?);
+                Some((a.0 + t * (b.0 - a.0), a.1.max(b.1)))
+            });
+            (poly[k - 1].lerp(poly[k], t), pts[k] - pts[k - 1], psi)
+        };
+        // Forward steps.
+        let mut samples: Vec<Sample> = Vec::new();
+        let mut s = 0.0;
+        loop {
+            if *budget == 0 {
+                return Err(FinishError::TooManyNodes { max_nodes: self.opts.max_nodes });
+            }
+            *budget -= 1;
+            let (uv, dir, psi) = at(s);
+            samples.push((uv, dir, psi));
+            if s >= total {
+                break;
+            }
+            let k = ContactFrame::new(self.surface, uv, dir).map_or(0.0, |f| f.surface_form.ff.abs());
+            let step = if k > 0.0 { (8.0 * self.opts.chord_tol_mm / k).sqrt() } else { f64::INFINITY };
+            let step = step.min(self.opts.max_step_mm).max(1e-3 * self.opts.max_step_mm);
+            s = if s + step >= total - 1e-9 * total.max(1.0) { total } else { s + step };
+        }
+        // Frames and poses, ψ warm-started from the previous node.
+        let mut frames = Vec::with_capacity(samples.len());
+        let mut poses: Vec<Pose> = Vec::with_capacity(samples.len());
+        let mut prev: Option<(DVec3, Pose)> = None;
+        let oo = &self.opts.orient;
+        for (uv, dir, psi_win) in samples {
+            let Some(frame) = ContactFrame::new(self.surface, uv, dir) else {
+                refused.push(Refusal {
+                    uv,
+                    point: self.surface.point_at(uv),
+                    reason: "singular point of the surface (no normal)",
+                    depth_mm: 0.0,
+                });
+                continue;
+            };
+            let window = match (psi_win, prev) {
+                (Some((c, d)), _) => ((c - d).max(-oo.max_azimuth_rad), (c + d).min(oo.max_azimuth_rad)),
+                (None, Some((p, pose))) => {
+                    let d = oo.max_turn_rad_per_mm * (frame.point - p).length();
+                    ((pose.azimuth_rad - d).max(-oo.max_azimuth_rad), (pose.azimuth_rad + d).min(oo.max_azimuth_rad))
+                }
+                (None, None) => (-oo.max_azimuth_rad, oo.max_azimuth_rad),
+            };
+            let found = pose_at(&self.strategy, &self.cutter, &frame, oo, window).or_else(|| {
+                pose_at(&self.strategy, &self.cutter, &frame, oo, (-oo.max_azimuth_rad, oo.max_azimuth_rad))
+            });
+            let Some((pose, _)) = found else {
+                refused.push(Refusal {
+                    uv,
+                    point: frame.point,
+                    reason: "the surface is more concave than the cutter's largest effective curvature",
+                    depth_mm: 0.0,
+                });
+                continue;
+            };
+            prev = Some((frame.point, pose));
+            frames.push(frame);
+            poses.push(pose);
+        }
+        let ds: Vec<f64> = frames.windows(2).map(|w| (w[1].point - w[0].point).length()).collect();
+        smooth_inclinations(&mut poses, &ds, oo.max_turn_rad_per_mm);
+        let tool = self.strategy.cutter_for(&self.cutter);
+        // Gouge checks and adjustment, then the inclinations smoothed again (raising only).
+        let mut checked: Vec<(ContactFrame, Pose, Option<Adjustment>)> = Vec::with_capacity(frames.len());
+        for (frame, pose) in frames.into_iter().zip(poses) {
+            match adjust(&tool, self.surface, self.part, &frame, pose, oo, self.opts.gouge_tol_mm) {
+                Ok((pose, adjusted)) => checked.push((frame, pose, adjusted)),
+                Err(clash) => refused.push(Refusal {
+                    uv: frame.uv,
+                    point: frame.point,
+                    reason: match clash.part {
+                        super::gouge::ClashPart::Bottom => {
+                            "the cutter's bottom gouges the surface at every inclination tried"
+                        }
+                        super::gouge::ClashPart::Flank => {
+                            "the cutter's flank gouges the part at every inclination tried"
+                        }
+                        super::gouge::ClashPart::Shank => "the shank collides with the part at every inclination tried",
+                        super::gouge::ClashPart::Holder => {
+                            "the holder collides with the part at every inclination tried"
+                        }
+                    },
+                    depth_mm: clash.depth_mm,
+                }),
+            }
+        }
+        let mut poses: Vec<Pose> = checked.iter().map(|c| c.1).collect();
+        let ds: Vec<f64> = checked.windows(2).map(|w| (w[1].0.point - w[0].0.point).length()).collect();
+        smooth_inclinations(&mut poses, &ds, oo.max_turn_rad_per_mm);
+        let mut nodes = Vec::with_capacity(checked.len());
+        for ((frame, _, adjusted), pose) in checked.into_iter().zip(poses) {
+            {
+                {
+                    let (tip, axis) = place(&tool, &frame, &pose);
+                    let prof = CrossProfile::new(&tool, self.surface, frame, &pose);
+                    let h = self.opts.scallop_mm;
+                    let strip_mm = prof.reach(h, 1.0) + prof.reach(h, -1.0);
+                    nodes.push(CcNode {
+                        frame,
+                        pose,
+                        tip,
+                        axis,
+                        strip_mm,
+                        side_step_mm: None,
+                        scallop_mm: None,
+                        adjusted,
+                    });
+                }
+            }
+        }
+        Ok(ToolPath { nodes })
+    }
+
+    /// Walks `w_mm` across the surface from `frame` along ±c; returns the uv (clamped to the
+    /// domain) and whether it reached or passed b's far end.
+    fn walk(&self, frame: &ContactFrame, w_mm: f64) -> (DVec2, bool) {
+        let dom = self.surface.domain();
+        let mut uv = frame.uv;
+        let mut t = self.side * frame.cross;
+        let sub = 4;
+        for _ in 0..sub {
+            let d = self.surface.derivatives_at(uv);
+            let Some(g) = LocalGeometry::try_new(d) else { break };
+            t = (t - t.dot(d.normal) * d.normal).normalize_or_zero();
+            uv += g.tangent_coords(t) * (w_mm / sub as f64);
+        }
+        let ((_, _), (_, b1)) = self.ranges();
+        let beyond = b_of(uv, self.along) >= b1;
+        (dom.clamp(uv), beyond)
+    }
+
+    /// Side step from `node` solved so the scallop is h; the uv of the next path's point,
+    /// whether it lies on (or beyond) the far boundary, the step and the scallop.
+    fn side_step(&self, node: &CcNode) -> (DVec2, bool, f64, f64) {
+        let h = self.opts.scallop_mm;
+        let tool = self.strategy.cutter_for(&self.cutter);
+        let a = CrossProfile::new(&tool, self.surface, node.frame, &node.pose);
+        // No strip is wider than the cutter: the side step stays within (0, 2R].
+        let w_max = 2.0 * tool.radius_mm;
+        let mut w = (a.reach(h, self.side) * 2.0).min(w_max);
+        // Bracket of w: scallop below h at `lo`, above at `hi`.
+        let (mut lo, mut hi) = (0.0f64, f64::INFINITY);
+        let mut result = (node.frame.uv, true, w, 0.0);
+        let oo = &self.opts.orient;
+        for _ in 0..SIDE_STEP_ROUNDS {
+            let (uv, beyond) = self.walk(&node.frame, w);
+            if beyond {
+                return (uv, true, w, 0.0);
+            }
+            let Some(frame_b) = ContactFrame::new(self.surface, uv, node.frame.feed) else {
+                return (uv, beyond, w, 0.0);
+            };
+            let psi = node.pose.azimuth_rad;
+            let d = oo.max_turn_rad_per_mm * w;
+            let pose_b = pose_at(
+                &self.strategy,
+                &self.cutter,
+                &frame_b,
+                oo,
+                ((psi - d).max(-oo.max_azimuth_rad), (psi + d).min(oo.max_azimuth_rad)),
+            )
+            .map_or(node.pose, |p| p.0);
+            let pose_b = Pose { inclination_rad: pose_b.inclination_rad.max(node.pose.inclination_rad - d), ..pose_b };
+            // The pose the next path's node will get after the gouge checks.
+            let pose_b = adjust(&tool, self.surface, self.part, &frame_b, pose_b, oo, self.opts.gouge_tol_mm)
+                .map_or(pose_b, |(p, _)| p);
+            let b = CrossProfile::new(&tool, self.surface, frame_b, &pose_b);
+            let s = scallop_between(&a, &b, self.side * w);
+            result = (uv, beyond, w, s);
+            if (s - h).abs() < SIDE_STEP_REL * h {
+                break;
+            }
+            if s < h {
+                lo = lo.max(w);
+            } else {
+                hi = hi.min(w);
+            }
+            // h ∝ w² near the solution; the step is kept inside the bracket and within a
+            // factor 2.
+            let mut next = w * (h / s.max(1e-3 * h)).sqrt().clamp(0.5, 2.0);
+            if next <= lo || next >= hi {
+                next = if hi.is_finite() { 0.5 * (lo + hi) } else { 2.0 * lo.max(w) };
+            }
+            if next > w_max {
+                next = w_max;
+                if lo >= w_max {
+                    break;
+                }
+            }
+            w = next;
+        }
+        result
+    }
+}
+
+/// Most rounds of the side-step correction, and its acceptance (relative to h).
+const SIDE_STEP_ROUNDS: usize = 12;
+const SIDE_STEP_REL: f64 = 0.005;
+
+fn check_options(opts: &FinishOptions) -> Result<(), FinishError> {
+    for (name, v) in [
+        ("scallop height", opts.scallop_mm),
+        ("chord tolerance", opts.chord_tol_mm),
+        ("max step", opts.max_step_mm),
+        ("gouge tolerance", opts.gouge_tol_mm),
+    ] {
+        if !(v > 0.0 && v.is_finite()) {
+            return Err(FinishError::BadOption { name, value: v });
+        }
+    }
+    Ok(())
+}
+
+/// A dense polyline of the iso-curve b = const (64 segments).
+fn iso_curve(a_range: (f64, f64), b: f64, along: usize) -> Vec<DVec2> {
+    (0..=64).map(|i| make_uv(a_range.0 + (a_range.1 - a_range.0) * f64::from(i) / 64.0, b, along)).collect()
+}
+
+/// Mean strip width (mm) over a 3 × 3 grid with paths along parameter `along`.
+fn mean_strip(surface: &Surface, cutter: &Cutter, strategy: &Strategy, opts: &FinishOptions, along: usize) -> f64 {
+    let d = surface.domain();
+    let tool = strategy.cutter_for(cutter);
+    let oo = &opts.orient;
+    let mut sum = 0.0;
+    let mut count = 0.0;
+    for i in 0..3 {
+        for j in 0..3 {
+            let uv = DVec2::new(
+                d.u.min + d.u.width() * (0.2 + 0.3 * f64::from(i)),
+                d.v.min + d.v.width() * (0.2 + 0.3 * f64::from(j)),
+            );
+            let der = surface.derivatives_at(uv);
+            let dir = if along == 0 { der.du } else { der.dv };
+            let Some(frame) = ContactFrame::new(surface, uv, dir) else { continue };
+            let Some((pose, _)) = pose_at(strategy, cutter, &frame, oo, (-oo.max_azimuth_rad, oo.max_azimuth_rad))
+            else {
+                continue;
+            };
+            let prof = CrossProfile::new(&tool, surface, frame, &pose);
+            sum += prof.reach(opts.scallop_mm, 1.0) + prof.reach(opts.scallop_mm, -1.0);
+            count += 1.0;
+        }
+    }
+    if count > 0.0 { sum / count } else { 0.0 }
+}
+
+/// The parameter (0 = u, 1 = v) the paths run along: as asked, or for
+/// [`FeedDirection::Auto`] the one with the wider mean strip (the widest-strip rule applied
+/// to the two families of iso-curves).
+#[must_use]
+pub fn choose_along(surface: &Surface, cutter: &Cutter, strategy: &Strategy, opts: &FinishOptions) -> usize {
+    match opts.direction {
+        FeedDirection::U => 0,
+        FeedDirection::V => 1,
+        FeedDirection::Auto => {
+            let wu = mean_strip(surface, cutter, strategy, opts, 0);
+            let wv = mean_strip(surface, cutter, strategy, opts, 1);
+            usize::from(wv > wu)
+        }
+    }
+}
+
+/// The strip width (mm) at `uv` for every feed direction θ (rad, from r_u toward n × r_u) in
+/// `steps` equal steps over [0°, 180°), with the strategy's orientation: the thesis' rule
+/// picks the widest.
+#[must_use]
+pub fn strip_by_direction(
+    surface: &Surface,
+    cutter: &Cutter,
+    strategy: &Strategy,
+    opts: &FinishOptions,
+    uv: DVec2,
+    steps: usize,
+) -> Vec<(f64, f64)> {
+    let der = surface.derivatives_at(uv);
+    let Some(base) = ContactFrame::new(surface, uv, der.du) else { return Vec::new() };
+    let tool = strategy.cutter_for(cutter);
+    let oo = &opts.orient;
+    let steps = steps.clamp(2, 720);
+    (0..steps)
+        .filter_map(|i| {
+            let theta = std::f64::consts::PI * i as f64 / steps as f64;
+            let frame = ContactFrame::new(surface, uv, base.direction(theta))?;
+            let (pose, _) = pose_at(strategy, cutter, &frame, oo, (-oo.max_azimuth_rad, oo.max_azimuth_rad))?;
+            let prof = CrossProfile::new(&tool, surface, frame, &pose);
+            Some((theta, prof.reach(opts.scallop_mm, 1.0) + prof.reach(opts.scallop_mm, -1.0)))
+        })
+        .collect()
+}
+
+/// Iso-scallop paths (module docs).
+///
+/// # Errors
+/// A bad option, no path at the first boundary, or too many paths or nodes.
+pub fn iso_scallop(
+    surface: &Surface,
+    cutter: &Cutter,
+    strategy: Strategy,
+    opts: &FinishOptions,
+    part: &PartSamples,
+) -> Result<PathSet, FinishError> {
+    check_options(opts)?;
+    let along = choose_along(surface, cutter, &strategy, opts);
+    let mut ctx = Ctx { surface, cutter: *cutter, strategy, opts, part, along, side: 1.0 };
+    let ((a0, a1), (b0, b1)) = ctx.ranges();
+    let mut refused = Vec::new();
+    let mut budget = opts.max_nodes;
+    let first = ctx.build_path(&iso_curve((a0, a1), b0, along), None, &mut refused, &mut budget)?;
+    let Some(n0) = first.nodes.first() else {
+        return Err(FinishError::NoPath { reason: refused.first().map_or("no CC point", |r| r.reason) });
+    };
+    // c toward increasing b?
+    let g = LocalGeometry::try_new(surface.derivatives_at(n0.frame.uv));
+    let tc = g.map_or(DVec2::ZERO, |g| g.tangent_coords(n0.frame.cross));
+    ctx.side = if b_of(tc, along) >= 0.0 { 1.0 } else { -1.0 };
+    let mut paths = vec![first];
+    loop {
+        if paths.len() >= opts.max_paths {
+            return Err(FinishError::TooManyPaths { max_paths: opts.max_paths });
+        }
+        let Some(last) = paths.last_mut() else { break };
+        if last.nodes.iter().all(|n| b_of(n.frame.uv, along) >= b1 - 1e-12 * (b1 - b0)) {
+            break;
+        }
+        let mut poly: Vec<DVec2> = Vec::with_capacity(last.nodes.len() + 2);
+        let mut refs: Vec<(f64, f64)> = Vec::with_capacity(last.nodes.len() + 2);
+        let rate = opts.orient.max_turn_rad_per_mm;
+        for node in &mut last.nodes {
+            let (uv, _beyond, w, s) = ctx.side_step(node);
+            node.side_step_mm = Some(w);
+            node.scallop_mm = Some(s);
+            // Keep the along parameter increasing (drop loops of the offset curve).
+            if poly.last().is_none_or(|p| a_of(uv, along) > a_of(*p, along)) {
+                poly.push(uv);
+                refs.push((node.pose.azimuth_rad, rate * w));
+            }
+        }
+        let (Some(&f), Some(&l)) = (poly.first(), poly.last()) else { break };
+        if a_of(f, along) > a0 {
+            poly.insert(0, make_uv(a0, b_of(f, along), along));
+            refs.insert(0, refs[0]);
+        }
+        if a_of(l, along) < a1 {
+            poly.push(make_uv(a1, b_of(l, along), along));
+            refs.push(refs[refs.len() - 1]);
+        }
+        if poly.len() < 2 {
+            break;
+        }
+        let next = ctx.build_path(&poly, Some(&refs), &mut refused, &mut budget)?;
+        if next.nodes.is_empty() {
+            break;
+        }
+        paths.push(next);
+    }
+    Ok(PathSet { paths, layout: Layout::IsoScallop, strategy, along, refused })
+}
+
+/// Iso-parametric paths b = const at the same worst scallop h (module docs): the spacing
+/// starts from the narrowest strip over a trial set of 9 iso-curves and is narrowed until
+/// the scallop solved at every node to the next path is at most h (at most 8 rounds).
+///
+/// # Errors
+/// As [`iso_scallop`].
+pub fn iso_parametric(
+    surface: &Surface,
+    cutter: &Cutter,
+    strategy: Strategy,
+    opts: &FinishOptions,
+    part: &PartSamples,
+) -> Result<PathSet, FinishError> {
+    check_options(opts)?;
+    let along = choose_along(surface, cutter, &strategy, opts);
+    let ctx = Ctx { surface, cutter: *cutter, strategy, opts, part, along, side: 1.0 };
+    let ((a0, a1), (b0, b1)) = ctx.ranges();
+    let tool = strategy.cutter_for(cutter);
+    let h = opts.scallop_mm;
+    let mut refused = Vec::new();
+    let mut budget = opts.max_nodes;
+    // The first guess of the spacing: the narrowest strip over 9 trial curves, in b.
+    let mut db = f64::INFINITY;
+    for k in 0..9 {
+        let b = b0 + (b1 - b0) * f64::from(k) / 8.0;
+        let mut scratch = Vec::new();
+        let p = ctx.build_path(&iso_curve((a0, a1), b, along), None, &mut scratch, &mut budget)?;
+        for n in &p.nodes {
+            let d = surface.derivatives_at(n.frame.uv);
+            let sb = if along == 0 { d.dv } else { d.du };
+            let across = sb.dot(n.frame.cross).abs();
+            if across > 0.0 {
+                db = db.min(n.strip_mm / across);
+            }
+        }
+    }
+    if !db.is_finite() || db <= 0.0 {
+        return Err(FinishError::NoPath { reason: "no strip width could be computed on the trial paths" });
+    }
+    let mut budget = opts.max_nodes;
+    for _round in 0..8 {
+        let count = (((b1 - b0) / db).ceil() as usize + 1).max(2);
+        if count > opts.max_paths {
+            return Err(FinishError::TooManyPaths { max_paths: opts.max_paths });
+        }
+        budget = opts.max_nodes;
+        refused.clear();
+        let mut paths = Vec::with_capacity(count);
+        for k in 0..count {
+            let b = b0 + (b1 - b0) * k as f64 / (count - 1) as f64;
+            paths.push(ctx.build_path(&iso_curve((a0, a1), b, along), None, &mut refused, &mut budget)?);
+        }
+        let spacing = (b1 - b0) / (count - 1) as f64;
+        let mut worst = 0.0f64;
+        for k in 0..count - 1 {
+            let b_next = b0 + (b1 - b0) * (k + 1) as f64 / (count - 1) as f64;
+            for node in &mut paths[k].nodes {
+                let uv_b = make_uv(a_of(node.frame.uv, along), b_next, along);
+                let Some(fb) = ContactFrame::new(surface, uv_b, node.frame.feed) else { continue };
+                let oo = &opts.orient;
+                let psi = node.pose.azimuth_rad;
+                let pose_b = pose_at(
+                    &strategy,
+                    cutter,
+                    &fb,
+                    oo,
+                    ((psi - 0.5).max(-oo.max_azimuth_rad), (psi + 0.5).min(oo.max_azimuth_rad)),
+                )
+                .map_or(node.pose, |p| p.0);
+                let w = (fb.point - node.frame.point).dot(node.frame.cross);
+                let pa = CrossProfile::new(&tool, surface, node.frame, &node.pose);
+                let pb = CrossProfile::new(&tool, surface, fb, &pose_b);
+                let s = scallop_between(&pa, &pb, w);
+                node.side_step_mm = Some(w.abs());
+                node.scallop_mm = Some(s);
+                worst = worst.max(s);
+            }
+        }
+        if worst <= h * 1.0001 {
+            return Ok(PathSet { paths, layout: Layout::IsoParametric, strategy, along, refused });
+        }
+        db = spacing * (h / worst).sqrt() * 0.999;
+    }
+    let _ = budget;
+    Err(FinishError::NoPath { reason: "the iso-parametric spacing did not settle in 8 rounds" })
+}

@@ -1,0 +1,216 @@
+//! Finishing scenes (seed 001): one surface, a fillet-end cutter and the path parameters, in
+//! the same `interpolab-scene/1` format as crease scenes, told apart by the `finish` key
+//! (`docs/scene-format.md`, "Finishing jobs"). Values in file units (mm, degrees, mm/min,
+//! 1/mm for the curvature margin).
+
+use super::build::{build_machine, build_surface, validate_machine};
+use super::{MachineSpec, SceneError, SurfaceSpec};
+use crate::fillet::{FeedDirection, FinishOptions, Strategy};
+use crate::fiveaxis::Machine;
+use crate::geom::{Cutter, Surface};
+
+/// `finish.cutter` (mm). Absent dimensions take [`Cutter::fillet`]'s proportions.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CutterSpec {
+    /// Cutter radius R (mm).
+    pub radius: f64,
+    /// Corner radius r (mm), 0 ≤ r ≤ R.
+    pub corner_radius: f64,
+    /// Flute length (mm; default 3R).
+    pub flute_length: Option<f64>,
+    /// Shank radius (mm; default R).
+    pub shank_radius: Option<f64>,
+    /// Gauge length, tip to holder (mm; default 6R).
+    pub gauge_length: Option<f64>,
+    /// Holder radius (mm; default 2.5R).
+    pub holder_radius: Option<f64>,
+    /// Holder length (mm; default 6R).
+    pub holder_length: Option<f64>,
+}
+
+/// `finish`: the cutter and the path parameters.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FinishSpec {
+    /// The cutter.
+    pub cutter: CutterSpec,
+    /// `matched` (default), `fixed-lead`, `principal` or `ball`.
+    pub strategy: String,
+    /// Lead angle for `fixed-lead` (degrees; default 5).
+    pub lead: Option<f64>,
+    /// Scallop height h (mm).
+    pub scallop: f64,
+    /// Chord tolerance E (mm): forward step, gouge tolerance and G-code steps.
+    pub tolerance: f64,
+    /// Longest forward step (mm; default 2).
+    pub max_step: Option<f64>,
+    /// `u`, `v` or `auto` (default).
+    pub direction: String,
+    /// Curvature margin m (1/mm; default 0.002).
+    pub margin: Option<f64>,
+    /// Largest inclination of the axis from the normal (degrees; default 45).
+    pub max_inclination: Option<f64>,
+    /// Feed for the machining time and the G-code (mm/min; default 1000).
+    pub feed: Option<f64>,
+}
+
+/// A whole finishing scene in file units.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FinishScene {
+    /// Display name.
+    pub name: String,
+    /// The surface to finish.
+    pub surface: SurfaceSpec,
+    /// Cutter and path parameters.
+    pub finish: FinishSpec,
+    /// The five-axis machine for G-code (`None`: the key is absent).
+    pub machine: Option<MachineSpec>,
+}
+
+/// A finishing scene in core units, ready to compute.
+#[derive(Clone, Debug)]
+pub struct FinishJob {
+    /// Display name.
+    pub name: String,
+    /// The surface.
+    pub surface: Surface,
+    /// The cutter.
+    pub cutter: Cutter,
+    /// The strategy.
+    pub strategy: Strategy,
+    /// Path options.
+    pub options: FinishOptions,
+    /// The machine (the default table A/C when the scene has none).
+    pub machine: Machine,
+}
+
+fn positive(path: &str, x: f64, what: &str) -> Result<(), SceneError> {
+    if x > 0.0 && x.is_finite() {
+        Ok(())
+    } else {
+        Err(SceneError::new(path, format!("must be > 0, got {x}"), format!("give {what}")))
+    }
+}
+
+impl FinishScene {
+    /// Parses and validates a finishing scene.
+    ///
+    /// # Errors
+    /// The first problem, with its key path and a fix.
+    pub fn from_json(text: &str) -> Result<Self, SceneError> {
+        let scene = super::parse::parse_finish(text)?;
+        scene.job()?;
+        Ok(scene)
+    }
+
+    /// Converts to core units, checking every value's range.
+    ///
+    /// # Errors
+    /// The first problem, with its key path and a fix.
+    pub fn job(&self) -> Result<FinishJob, SceneError> {
+        let surface = build_surface(&self.surface, "surfaces[0]")?;
+        let f = &self.finish;
+        let c = &f.cutter;
+        positive("finish.cutter.radius", c.radius, "the cutter radius R in mm")?;
+        let big_r = c.radius;
+        let dims = [
+            ("flute_length", c.flute_length.unwrap_or(3.0 * big_r)),
+            ("shank_radius", c.shank_radius.unwrap_or(big_r)),
+            ("gauge_length", c.gauge_length.unwrap_or(6.0 * big_r)),
+            ("holder_radius", c.holder_radius.unwrap_or(2.5 * big_r)),
+            ("holder_length", c.holder_length.unwrap_or(6.0 * big_r)),
+        ];
+        for (k, v) in dims {
+            positive(&format!("finish.cutter.{k}"), v, "a length in mm")?;
+        }
+        let cutter = Cutter::try_new(big_r, c.corner_radius, dims[0].1, dims[1].1, dims[2].1, dims[3].1, dims[4].1)
+            .map_err(|e| SceneError::new("finish.cutter", e.to_string(), "change that dimension"))?;
+        let strategy = match f.strategy.as_str() {
+            "matched" => Strategy::Matched,
+            "principal" => Strategy::PrincipalAxis,
+            "ball" => Strategy::Ball,
+            "fixed-lead" => {
+                let lead = f.lead.unwrap_or(5.0);
+                if !(lead.abs() < 80.0) {
+                    return Err(SceneError::new(
+                        "finish.lead",
+                        format!("{lead}° is not a usable lead angle"),
+                        "give a lead between -80 and 80 degrees",
+                    ));
+                }
+                Strategy::FixedLead { lead_rad: lead.to_radians() }
+            }
+            other => {
+                return Err(SceneError::new(
+                    "finish.strategy",
+                    format!("\"{other}\" is not a strategy"),
+                    "use \"matched\", \"fixed-lead\", \"principal\" or \"ball\"",
+                ));
+            }
+        };
+        positive("finish.scallop", f.scallop, "the scallop height h in mm, e.g. 0.01")?;
+        positive("finish.tolerance", f.tolerance, "the chord tolerance E in mm, e.g. 0.01")?;
+        if f.scallop >= big_r {
+            return Err(SceneError::new(
+                "finish.scallop",
+                format!("{} mm is not below the cutter radius {big_r} mm", f.scallop),
+                "give a scallop height well below R, e.g. 0.01",
+            ));
+        }
+        let mut options = FinishOptions::new(f.scallop, f.tolerance);
+        if let Some(s) = f.max_step {
+            positive("finish.max_step", s, "the longest forward step in mm")?;
+            options.max_step_mm = s;
+        }
+        options.direction = match f.direction.as_str() {
+            "u" => FeedDirection::U,
+            "v" => FeedDirection::V,
+            "auto" => FeedDirection::Auto,
+            other => {
+                return Err(SceneError::new(
+                    "finish.direction",
+                    format!("\"{other}\" is not a direction"),
+                    "use \"u\", \"v\" or \"auto\"",
+                ));
+            }
+        };
+        if let Some(m) = f.margin {
+            if !(m >= 0.0 && m.is_finite()) {
+                return Err(SceneError::new(
+                    "finish.margin",
+                    format!("must be ≥ 0, got {m}"),
+                    "give the curvature margin in 1/mm, e.g. 0.002",
+                ));
+            }
+            options.orient.margin_per_mm = m;
+        }
+        if let Some(a) = f.max_inclination {
+            if !(a > 0.0 && a <= 80.0) {
+                return Err(SceneError::new(
+                    "finish.max_inclination",
+                    format!("{a}° is outside (0°, 80°]"),
+                    "give the largest inclination in degrees, e.g. 45",
+                ));
+            }
+            options.orient.max_inclination_rad = a.to_radians();
+        }
+        if let Some(v) = f.feed {
+            positive("finish.feed", v, "the feed in mm/min")?;
+            options.feed_mm_per_min = v;
+        }
+        let machine = match &self.machine {
+            Some(m) => {
+                validate_machine(m)?;
+                build_machine(m)
+            }
+            None => Machine::default(),
+        };
+        Ok(FinishJob { name: self.name.clone(), surface, cutter, strategy, options, machine })
+    }
+}
+
+/// The finishing examples shipped in `examples/` (compiled in).
+pub const FINISH_PRESETS: &[super::Preset] = &[
+    super::Preset { id: "finish-bicubic-patch", json: include_str!("../../examples/finish/bicubic-patch.json") },
+    super::Preset { id: "finish-concave-mould", json: include_str!("../../examples/finish/concave-mould.json") },
+    super::Preset { id: "finish-naca-blade", json: include_str!("../../examples/finish/naca-blade.json") },
+];

@@ -1,0 +1,116 @@
+//! `interpolab finish` as a script would use it: the CL data re-checked from the printed
+//! numbers alone (tool geometry by `Cutter`'s profile), G-code, exit statuses and one-line
+//! errors.
+#![cfg(not(target_arch = "wasm32"))]
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+use glam::DVec3;
+use interpolab::geom::Cutter;
+
+fn run(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_interpolab")).args(args).output().expect("runs")
+}
+
+fn example(name: &str) -> String {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("examples")
+        .join("finish")
+        .join(format!("{name}.json"))
+        .display()
+        .to_string()
+}
+
+fn temp(name: &str, text: &str) -> String {
+    let dir = std::env::temp_dir().join(format!("interpolab-finish-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let p = dir.join(name);
+    std::fs::write(&p, text).expect("write");
+    p.display().to_string()
+}
+
+#[test]
+fn cl_data_puts_every_cc_point_on_the_cutter_and_the_program_has_blocks() {
+    let nc = temp("blade.nc", "");
+    let o = run(&["finish", &example("naca-blade"), "--gcode", &nc]);
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8(o.stdout).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "path,node,x,y,z,i,j,k,cc_x,cc_y,cc_z,u,v,lead_deg,tilt_deg,strip_mm,side_step_mm,scallop_mm,adjusted"
+    );
+    let cutter = Cutter::fillet(4.0, 1.0).unwrap();
+    let mut rows = 0;
+    let mut paths = std::collections::BTreeSet::new();
+    for line in lines {
+        let v: Vec<f64> = line.split(',').map(|c| if c.is_empty() { f64::NAN } else { c.parse().unwrap() }).collect();
+        let tip = DVec3::new(v[2], v[3], v[4]);
+        let axis = DVec3::new(v[5], v[6], v[7]);
+        let cc = DVec3::new(v[8], v[9], v[10]);
+        assert!((axis.length() - 1.0).abs() < 1e-12);
+        // The CC point lies on the cutter's lower surface: its height above the tip equals
+        // the profile's height at its distance from the axis.
+        let w = cc - tip;
+        let z = w.dot(axis);
+        let rho = (w - z * axis).length();
+        let on = cutter.bottom_height_mm(rho).expect("within the cutter radius");
+        assert!((z - on).abs() < 1e-9, "row {rows}: CC point {z} vs profile {on} at ρ {rho}");
+        assert!(v[15] > 0.0 && v[13] >= 3.0 - 1e-9, "strip and lead ≥ 3°: {line}");
+        paths.insert(v[0] as i64);
+        rows += 1;
+    }
+    assert!(rows > 500 && paths.len() > 20, "{rows} rows, {} paths", paths.len());
+    let program = std::fs::read_to_string(&nc).unwrap();
+    let g01 = program.lines().filter(|l| l.starts_with("G01 X")).count();
+    assert!(g01 > 200 && program.contains(" A") && program.contains(" C") && program.ends_with("blocks)\n"));
+}
+
+#[test]
+fn the_table_compares_every_strategy_and_layout() {
+    let o = run(&["finish", &example("naca-blade"), "--table"]);
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8(o.stdout).unwrap();
+    for s in [
+        "| matched | iso-scallop",
+        "| matched | iso-parametric",
+        "| fixed-lead 5.0° |",
+        "| fixed-lead 10.0° |",
+        "| principal |",
+        "| ball |",
+    ] {
+        assert!(text.contains(s), "missing {s}:\n{text}");
+    }
+}
+
+#[test]
+fn bad_input_gets_one_line_and_status_2() {
+    let cases = [
+        (r#"{"format":"interpolab-scene/1","surfaces":[],"finish":{}}"#, "exactly 1 surface"),
+        (
+            r#"{"format":"interpolab-scene/1","surfaces":[{"type":"plane","origin":[0,0,0],"normal":[0,0,1],"u_axis":[1,0,0],"domain":{"u":[0,10],"v":[0,10]}}],"finish":{"cutter":{"radius":5,"corner_radius":6},"scallop":0.01,"tolerance":0.001}}"#,
+            "corner radius",
+        ),
+        (
+            r#"{"format":"interpolab-scene/1","surfaces":[{"type":"plane","origin":[0,0,0],"normal":[0,0,1],"u_axis":[1,0,0],"domain":{"u":[0,10],"v":[0,10]}}],"finish":{"cutter":{"radius":5,"corner_radius":1},"scallop":-1,"tolerance":0.001}}"#,
+            "finish.scallop",
+        ),
+        (
+            r#"{"format":"interpolab-scene/1","surfaces":[{"type":"plane","origin":[0,0,0],"normal":[0,0,1],"u_axis":[1,0,0],"domain":{"u":[0,10],"v":[0,10]}}],"finish":{"cutter":{"radius":5,"corner_radius":1},"scallop":0.01,"tolerance":0.001,"strategy":"best"}}"#,
+            "finish.strategy",
+        ),
+    ];
+    for (i, (json, needle)) in cases.iter().enumerate() {
+        let p = temp(&format!("bad{i}.json"), json);
+        let o = run(&["finish", &p]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{json}: {err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(err.contains(needle), "{needle} not in {err}");
+    }
+    // A crease command on a finishing scene says which command to use.
+    let o = run(&["run", &example("bicubic-patch")]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("interpolab finish"));
+}
