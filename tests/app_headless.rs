@@ -808,3 +808,86 @@ fn the_simulation_view_gives_the_command_lines_numbers_for_the_scenes_programs()
         assert_eq!(s["scallop_um"], cli["scallop_um"], "{source}: {s}\n{cli}");
     }
 }
+
+const FILLET: &str = "Fillet end mill (seed 001)";
+
+#[test]
+fn the_fillet_view_builds_the_cores_iso_scallop_paths_over_frames_and_restarts_on_a_change() {
+    use interpolab::fillet::{PartSamples, iso_scallop};
+    use interpolab::scene::finish::{FINISH_PRESETS, FinishScene};
+    let mut h = Harness::new();
+    h.settle();
+    set(&mut h, FILLET, "preset", "finish-bicubic-patch");
+    set(&mut h, FILLET, "strategy", "matched");
+    set(&mut h, FILLET, "h", "0.02");
+    // A few frames into the job, then a change: the old job is dropped.
+    h.frame();
+    h.frame();
+    set(&mut h, FILLET, "h", "0.04");
+    set(&mut h, FILLET, "R", "6");
+    set(&mut h, FILLET, "r", "1.5");
+    let mut seen = std::collections::BTreeSet::new();
+    let s = loop {
+        h.frame();
+        let all: serde_json::Value = serde_json::from_str(&h.app.status()).expect("status is JSON");
+        let p = all["panel"]["status"].clone();
+        if p["computing_paths"] == true {
+            seen.insert(p["paths_so_far"].as_u64().expect("paths so far"));
+        }
+        if p["computing"] == false {
+            break p;
+        }
+    };
+    assert_eq!(s["error"], serde_json::Value::Null, "{s}");
+    // The core's own result on the same inputs.
+    let mut scene = FinishScene::from_json(FINISH_PRESETS[0].json).expect("preset");
+    scene.finish.scallop = 0.04;
+    scene.finish.cutter.radius = 6.0;
+    scene.finish.cutter.corner_radius = 1.5;
+    "matched".clone_into(&mut scene.finish.strategy);
+    scene.finish.lead = None;
+    let job = scene.job().expect("job");
+    let part = PartSamples::new(&job.surface, job.options.part_grid);
+    let core = iso_scallop(&job.surface, &job.cutter, job.strategy, &job.options, &part).expect("core");
+    let st = core.stats(job.options.feed_mm_per_min);
+    assert!(st.passes > 2, "a case with several passes: {}", st.passes);
+    assert_eq!(s["passes"], st.passes, "{s}");
+    assert_eq!(s["nodes"], st.nodes, "{s}");
+    // Equal to the last bit but for serde_json's float parsing (within 1 ulp).
+    let same = |key: &serde_json::Value, want: f64| {
+        let got = key.as_f64().expect("number");
+        assert!((got - want).abs() <= 1e-14 * want.abs().max(1.0), "{got} against the core's {want}: {s}");
+    };
+    same(&s["length_mm"], st.length_mm);
+    same(&s["strip_mm"]["min"], st.strip_mm[0]);
+    same(&s["strip_mm"]["mean"], st.strip_mm[1]);
+    same(&s["strip_mm"]["max"], st.strip_mm[2]);
+    assert_eq!(s["adjusted"], st.adjusted, "{s}");
+    assert_eq!(s["refused"], core.refused.len(), "{s}");
+    assert!((s["h_mm"].as_f64().expect("h") - 0.04).abs() < 1e-12, "{s}");
+    // The paths were built over several frames, not in one.
+    assert!(seen.len() >= 2, "path counts seen while computing: {seen:?} of {}", st.passes);
+    // The inset's numbers at the selected CC point: the matched cutter clears the surface.
+    let sel = &s["selected"];
+    assert!(sel["k_cutter_per_mm"].as_f64().expect("κ") >= sel["k_surface_per_mm"].as_f64().expect("k") - 1e-9, "{s}");
+}
+
+#[test]
+fn the_fillet_view_refuses_bad_options_with_a_message() {
+    let mut h = Harness::new();
+    h.settle();
+    for (k, v, want) in [
+        ("h", "0", "outside"),
+        ("R", "nan", "outside"),
+        ("r", "abc", "number"),
+        ("strategy", "sideways", "not one of"),
+        ("preset", "teapot", "not one of"),
+        ("speed", "1", "no option"),
+    ] {
+        let e = h.app.set_panel_option(FILLET, k, v).expect_err("refused");
+        assert!(e.contains(want), "{k}={v}: {e}");
+    }
+    set(&mut h, FILLET, "R", "2");
+    let e = h.app.set_panel_option(FILLET, "r", "3").expect_err("r above R");
+    assert!(e.contains("r ≤ R"), "{e}");
+}

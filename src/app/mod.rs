@@ -11,6 +11,7 @@
 mod chords_panel;
 mod compute;
 mod controls;
+mod fillet_panel;
 mod fiveaxis_panel;
 mod nurbs_panel;
 mod overlay;
@@ -438,6 +439,7 @@ fn panels() -> Vec<Box<dyn Panel>> {
         Box::new(chords_panel::ChordsPanel::default()),
         Box::new(nurbs_panel::NurbsPanel::default()),
         Box::new(simulate_panel::SimulatePanel::default()),
+        Box::new(fillet_panel::FilletPanel::default()),
     ]
 }
 

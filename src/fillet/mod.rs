@@ -39,7 +39,8 @@ pub use contact::{ContactFrame, CrossProfile, Form2, Pose, effective_curvature, 
 pub use gouge::{Adjustment, Clash, ClashPart, PartSamples};
 pub use orient::{OrientOptions, Strategy};
 pub use paths::{
-    CcNode, FeedDirection, FinishOptions, Layout, PathSet, Refusal, Stats, ToolPath, iso_parametric, iso_scallop,
+    CcNode, FeedDirection, FinishOptions, IsoScallopSteps, Layout, PathSet, Refusal, Stats, ToolPath, iso_parametric,
+    iso_scallop,
 };
 
 /// Why a finishing job failed. Each message says what to change.

@@ -566,7 +566,7 @@ pub fn strip_by_direction(
         .collect()
 }
 
-/// Iso-scallop paths (module docs).
+/// Iso-scallop paths (module docs). The same as running [`IsoScallopSteps`] to its end.
 ///
 /// # Errors
 /// A bad option, no path at the first boundary, or too many paths or nodes.
@@ -577,28 +577,84 @@ pub fn iso_scallop(
     opts: &FinishOptions,
     part: &PartSamples,
 ) -> Result<PathSet, FinishError> {
-    check_options(opts)?;
-    let along = choose_along(surface, cutter, &strategy, opts);
-    let mut ctx = Ctx { surface, cutter: *cutter, strategy, opts, part, along, side: 1.0 };
-    let ((a0, a1), (b0, b1)) = ctx.ranges();
-    let mut refused = Vec::new();
-    let mut budget = opts.max_nodes;
-    let first = ctx.build_path(&iso_curve((a0, a1), b0, along), None, &mut refused, &mut budget)?;
-    let Some(n0) = first.nodes.first() else {
-        return Err(FinishError::NoPath { reason: refused.first().map_or("no CC point", |r| r.reason) });
-    };
-    // c toward increasing b?
-    let g = LocalGeometry::try_new(surface.derivatives_at(n0.frame.uv));
-    let tc = g.map_or(DVec2::ZERO, |g| g.tangent_coords(n0.frame.cross));
-    ctx.side = if b_of(tc, along) >= 0.0 { 1.0 } else { -1.0 };
-    let mut paths = vec![first];
-    loop {
-        if paths.len() >= opts.max_paths {
+    let mut steps = IsoScallopSteps::start(surface, cutter, strategy, opts, part)?;
+    while !steps.step(surface, cutter, opts, part)? {}
+    Ok(steps.finish())
+}
+
+/// Iso-scallop paths built one path per call, for callers that spread the work over time
+/// (the app's tab). [`IsoScallopSteps::start`] builds the first path; every
+/// [`IsoScallopSteps::step`] builds the next one from the side steps of the last; the
+/// result is exactly [`iso_scallop`]'s. Every call must get the same surface, cutter,
+/// options and part samples as `start`.
+#[derive(Clone, Debug)]
+pub struct IsoScallopSteps {
+    strategy: Strategy,
+    along: usize,
+    side: f64,
+    refused: Vec<Refusal>,
+    budget: usize,
+    paths: Vec<ToolPath>,
+    done: bool,
+}
+
+impl IsoScallopSteps {
+    /// Checks the options and builds the first path (on the boundary b = b0).
+    ///
+    /// # Errors
+    /// A bad option or no path at the first boundary.
+    pub fn start(
+        surface: &Surface,
+        cutter: &Cutter,
+        strategy: Strategy,
+        opts: &FinishOptions,
+        part: &PartSamples,
+    ) -> Result<Self, FinishError> {
+        check_options(opts)?;
+        let along = choose_along(surface, cutter, &strategy, opts);
+        let ctx = Ctx { surface, cutter: *cutter, strategy, opts, part, along, side: 1.0 };
+        let ((a0, a1), (b0, _)) = ctx.ranges();
+        let mut refused = Vec::new();
+        let mut budget = opts.max_nodes;
+        let first = ctx.build_path(&iso_curve((a0, a1), b0, along), None, &mut refused, &mut budget)?;
+        let Some(n0) = first.nodes.first() else {
+            return Err(FinishError::NoPath { reason: refused.first().map_or("no CC point", |r| r.reason) });
+        };
+        // c toward increasing b?
+        let g = LocalGeometry::try_new(surface.derivatives_at(n0.frame.uv));
+        let tc = g.map_or(DVec2::ZERO, |g| g.tangent_coords(n0.frame.cross));
+        let side = if b_of(tc, along) >= 0.0 { 1.0 } else { -1.0 };
+        Ok(Self { strategy, along, side, refused, budget, paths: vec![first], done: false })
+    }
+
+    /// Builds the next path; `Ok(true)` when the surface is covered (then further calls do
+    /// nothing).
+    ///
+    /// # Errors
+    /// Too many paths or nodes.
+    pub fn step(
+        &mut self,
+        surface: &Surface,
+        cutter: &Cutter,
+        opts: &FinishOptions,
+        part: &PartSamples,
+    ) -> Result<bool, FinishError> {
+        if self.done {
+            return Ok(true);
+        }
+        let along = self.along;
+        let ctx = Ctx { surface, cutter: *cutter, strategy: self.strategy, opts, part, along, side: self.side };
+        let ((a0, a1), (b0, b1)) = ctx.ranges();
+        if self.paths.len() >= opts.max_paths {
             return Err(FinishError::TooManyPaths { max_paths: opts.max_paths });
         }
-        let Some(last) = paths.last_mut() else { break };
+        let Some(last) = self.paths.last_mut() else {
+            self.done = true;
+            return Ok(true);
+        };
         if last.nodes.iter().all(|n| b_of(n.frame.uv, along) >= b1 - 1e-12 * (b1 - b0)) {
-            break;
+            self.done = true;
+            return Ok(true);
         }
         let mut poly: Vec<DVec2> = Vec::with_capacity(last.nodes.len() + 2);
         let mut refs: Vec<(f64, f64)> = Vec::with_capacity(last.nodes.len() + 2);
@@ -613,7 +669,10 @@ pub fn iso_scallop(
                 refs.push((node.pose.azimuth_rad, rate * w));
             }
         }
-        let (Some(&f), Some(&l)) = (poly.first(), poly.last()) else { break };
+        let (Some(&f), Some(&l)) = (poly.first(), poly.last()) else {
+            self.done = true;
+            return Ok(true);
+        };
         if a_of(f, along) > a0 {
             poly.insert(0, make_uv(a0, b_of(f, along), along));
             refs.insert(0, refs[0]);
@@ -623,15 +682,66 @@ pub fn iso_scallop(
             refs.push(refs[refs.len() - 1]);
         }
         if poly.len() < 2 {
-            break;
+            self.done = true;
+            return Ok(true);
         }
-        let next = ctx.build_path(&poly, Some(&refs), &mut refused, &mut budget)?;
+        let next = ctx.build_path(&poly, Some(&refs), &mut self.refused, &mut self.budget)?;
         if next.nodes.is_empty() {
-            break;
+            self.done = true;
+            return Ok(true);
         }
-        paths.push(next);
+        self.paths.push(next);
+        Ok(false)
     }
-    Ok(PathSet { paths, layout: Layout::IsoScallop, strategy, along, refused })
+
+    /// The paths built so far (the last one's side steps and scallops are filled by the
+    /// next `step`).
+    #[must_use]
+    pub fn paths(&self) -> &[ToolPath] {
+        &self.paths
+    }
+
+    /// How far the paths have come across the surface, 0 … 1: the smallest across
+    /// parameter b of the last path's nodes over the surface's b range (1 when done).
+    #[must_use]
+    pub fn progress(&self, surface: &Surface) -> f64 {
+        if self.done {
+            return 1.0;
+        }
+        let d = surface.domain();
+        let rb = if self.along == 0 { d.v } else { d.u };
+        let span = rb.max - rb.min;
+        let b =
+            self.paths.last().and_then(|p| p.nodes.iter().map(|n| b_of(n.frame.uv, self.along)).min_by(f64::total_cmp));
+        match b {
+            Some(b) if span > 0.0 => ((b - rb.min) / span).clamp(0.0, 1.0),
+            _ => 0.0,
+        }
+    }
+
+    /// Whether the surface is covered.
+    #[must_use]
+    pub fn is_done(&self) -> bool {
+        self.done
+    }
+
+    /// The CC points refused so far.
+    #[must_use]
+    pub fn refused(&self) -> &[Refusal] {
+        &self.refused
+    }
+
+    /// The path set built so far (all of it once `step` returned `Ok(true)`).
+    #[must_use]
+    pub fn finish(self) -> PathSet {
+        PathSet {
+            paths: self.paths,
+            layout: Layout::IsoScallop,
+            strategy: self.strategy,
+            along: self.along,
+            refused: self.refused,
+        }
+    }
 }
 
 /// Iso-parametric paths b = const at the same worst scallop h (module docs): the spacing

@@ -1,0 +1,474 @@
+//! The "Fillet end mill (seed 001)" view: a finishing preset (`scene::finish::FINISH_PRESETS`)
+//! machined with a fillet-end mill of the user's R and r at scallop height h and chord
+//! tolerance E under one orientation strategy; its iso-scallop paths built path by path
+//! within a time budget per frame (`fillet::IsoScallopSteps`, the same result as
+//! `fillet::iso_scallop`), drawn over the surface coloured by strip width; the cutter at a
+//! selected CC point; an inset of the normal section in a direction θ there (the surface's
+//! osculating circle against the cutter's effective cutting curvature — the picture of
+//! curvature matching); the comparison table on request. Core and formulas: docs/fillet.md.
+
+mod view;
+pub mod work;
+
+use eframe::egui;
+use egui_plot::{Corner, Legend, Line, Plot, PlotPoints};
+use web_time::Duration;
+
+use super::panel::{Panel, PanelContext};
+use crate::fillet::{CcNode, effective_curvature};
+use crate::scene::finish::FINISH_PRESETS;
+use view::FilletView;
+use work::{CORNER_RANGE_MM, Job, RADIUS_RANGE_MM, SCALLOP_RANGE_UM, Settings, StrategyChoice, TOLERANCE_RANGE_MM};
+
+/// Core work per frame (one path is the smallest step; a step of a large surface may
+/// overshoot by one path).
+const BUDGET: Duration = Duration::from_millis(25);
+/// Points of a section curve in the inset.
+const SECTION_POINTS: usize = 121;
+
+/// The panel.
+pub struct FilletPanel {
+    settings: Settings,
+    job: Option<Job>,
+    /// Why the settings give no job (the scene's message).
+    refused: Option<String>,
+    /// The settings refused last (not retried until they change).
+    last_refused: Option<Settings>,
+    job_id: u64,
+    view: FilletView,
+    /// Selected path and position along it (0 … 1).
+    sel_path: usize,
+    sel_along: f64,
+    /// Direction of the inset's normal section from the feed direction (degrees).
+    theta_deg: f64,
+    /// Table requested for the next job as well.
+    want_table: bool,
+}
+
+impl Default for FilletPanel {
+    fn default() -> Self {
+        Self {
+            settings: Settings::of_preset(0),
+            job: None,
+            refused: None,
+            last_refused: None,
+            job_id: 0,
+            view: FilletView::default(),
+            sel_path: 0,
+            sel_along: 0.5,
+            theta_deg: 90.0,
+            want_table: false,
+        }
+    }
+}
+
+fn parse_in(key: &str, value: &str, range: (f64, f64), unit: &str) -> Result<f64, String> {
+    let v: f64 = value.trim().parse().map_err(|_| format!("{key} must be a number in {unit}, got \"{value}\""))?;
+    if v.is_finite() && v >= range.0 && v <= range.1 {
+        Ok(v)
+    } else {
+        Err(format!("{key} = {value} {unit} is outside {} … {} {unit}; give a value in that range", range.0, range.1))
+    }
+}
+
+impl FilletPanel {
+    /// Starts a new job when the settings changed (the old one is dropped: cancelled).
+    fn sync(&mut self) {
+        let s = &mut self.settings;
+        s.corner_mm = s.corner_mm.min(s.radius_mm);
+        if self.job.as_ref().is_some_and(|j| j.settings == self.settings) {
+            return;
+        }
+        if self.job.is_none() && self.last_refused == Some(self.settings) {
+            return;
+        }
+        self.job_id += 1;
+        match Job::new(self.settings) {
+            Ok(mut j) => {
+                j.table_requested = self.want_table;
+                if self.job.as_ref().is_none_or(|old| old.settings.preset != self.settings.preset) {
+                    self.view.refit();
+                }
+                self.job = Some(j);
+                self.refused = None;
+                self.last_refused = None;
+            }
+            Err(e) => {
+                self.job = None;
+                self.refused = Some(e);
+                self.last_refused = Some(self.settings);
+            }
+        }
+    }
+
+    fn selected(&self) -> Option<(usize, usize, &CcNode)> {
+        let paths = self.job.as_ref()?.paths_so_far();
+        let p = self.sel_path.min(paths.len().checked_sub(1)?);
+        let nodes = &paths[p].nodes;
+        let k = ((nodes.len().checked_sub(1)?) as f64 * self.sel_along.clamp(0.0, 1.0)).round() as usize;
+        Some((p, k, nodes.get(k)?))
+    }
+
+    fn controls(&mut self, ui: &mut egui::Ui) {
+        let s = &mut self.settings;
+        ui.horizontal_wrapped(|ui| {
+            ui.label("Part:");
+            let name = |i: usize| FINISH_PRESETS.get(i).map_or("?", |p| p.id);
+            let mut preset = s.preset;
+            egui::ComboBox::from_id_salt("fillet_preset").selected_text(name(preset)).show_ui(ui, |ui| {
+                for i in 0..FINISH_PRESETS.len() {
+                    ui.selectable_value(&mut preset, i, name(i));
+                }
+            });
+            if preset != s.preset {
+                *s = Settings::of_preset(preset);
+            }
+            ui.separator();
+            ui.label("Orientation:");
+            egui::ComboBox::from_id_salt("fillet_strategy").selected_text(s.strategy.label()).show_ui(ui, |ui| {
+                for c in StrategyChoice::ALL {
+                    ui.selectable_value(&mut s.strategy, c, c.label());
+                }
+            });
+            ui.separator();
+            ui.add(
+                egui::Slider::new(&mut s.radius_mm, RADIUS_RANGE_MM.0..=RADIUS_RANGE_MM.1)
+                    .text("R (mm)")
+                    .logarithmic(true),
+            )
+            .on_hover_text("Cutter radius");
+            let r_max = s.radius_mm.min(CORNER_RANGE_MM.1);
+            ui.add(egui::Slider::new(&mut s.corner_mm, CORNER_RANGE_MM.0..=r_max).text("r (mm)"))
+                .on_hover_text("Corner radius: r = R is a ball, r = 0 a flat end mill");
+        });
+        ui.horizontal_wrapped(|ui| {
+            ui.add(
+                egui::Slider::new(&mut s.scallop_um, SCALLOP_RANGE_UM.0..=SCALLOP_RANGE_UM.1)
+                    .text("scallop h (µm)")
+                    .logarithmic(true),
+            );
+            ui.add(
+                egui::Slider::new(&mut s.tol_mm, TOLERANCE_RANGE_MM.0..=TOLERANCE_RANGE_MM.1)
+                    .text("tolerance E (mm)")
+                    .logarithmic(true),
+            )
+            .on_hover_text("Chord error of the forward step and tolerance of the gouge checks");
+        });
+    }
+
+    fn summary(&mut self, ui: &mut egui::Ui) {
+        let Some(job) = &self.job else {
+            if let Some(e) = &self.refused {
+                ui.colored_label(egui::Color32::from_rgb(240, 110, 100), e);
+            }
+            return;
+        };
+        ui.horizontal_wrapped(|ui| {
+            if let Some(e) = &job.error {
+                ui.colored_label(egui::Color32::from_rgb(240, 110, 100), e);
+            } else if job.computing_paths() {
+                ui.add(
+                    egui::ProgressBar::new(job.progress() as f32)
+                        .desired_width(200.0)
+                        .text(format!("paths: {} so far", job.paths_so_far().len())),
+                );
+                ui.ctx().request_repaint();
+            } else if let Some(r) = &job.result {
+                let st = r.stats(job.options.feed_mm_per_min);
+                ui.label(format!(
+                    "{} passes, {} CC points, {:.1} mm, strip {:.3} / {:.3} / {:.3} mm (min / mean / max), {:.2} min at {} mm/min, {} adjusted, {} refused; core {:.0} ms",
+                    st.passes,
+                    st.nodes,
+                    st.length_mm,
+                    st.strip_mm[0],
+                    st.strip_mm[1],
+                    st.strip_mm[2],
+                    st.time_min,
+                    job.options.feed_mm_per_min,
+                    st.adjusted,
+                    r.refused.len(),
+                    job.core_ms
+                ));
+            }
+        });
+    }
+
+    fn selection(&mut self, ui: &mut egui::Ui) {
+        let n_paths = self.job.as_ref().map_or(0, |j| j.paths_so_far().len());
+        ui.horizontal_wrapped(|ui| {
+            ui.label("CC point:");
+            let mut p = self.sel_path.min(n_paths.saturating_sub(1));
+            ui.add_enabled(n_paths > 1, egui::Slider::new(&mut p, 0..=n_paths.saturating_sub(1).max(1)).text("path"));
+            self.sel_path = p;
+            ui.add(egui::Slider::new(&mut self.sel_along, 0.0..=1.0).text("along").fixed_decimals(2));
+            ui.add(egui::Slider::new(&mut self.theta_deg, 0.0..=180.0).text("θ (°) from the feed").fixed_decimals(0));
+        });
+    }
+
+    fn inset(&self, ui: &mut egui::Ui, height: f32) {
+        let (Some(job), Some((_, _, node))) = (&self.job, self.selected()) else {
+            ui.label("The section appears when a path exists.");
+            return;
+        };
+        let tool = job.strategy.cutter_for(&job.cutter);
+        let theta = self.theta_deg.to_radians();
+        let ks = node.frame.surface_form.at(theta);
+        let kc = effective_curvature(&tool, &node.pose, theta);
+        let h = job.options.scallop_mm;
+        let gap = kc - ks;
+        let half = if gap > 1e-9 { (2.0 * h / gap).sqrt() } else { f64::INFINITY };
+        let y_max = (1.6 * half).min(tool.radius_mm).max(1e-3);
+        // Height of a circle of curvature k through the origin, tangent to the plane.
+        let arc = |k: f64, y: f64| {
+            let ky = k * y;
+            if ky.abs() < 1.0 { ky * y / (1.0 + (1.0 - ky * ky).sqrt()) } else { y.abs() * k.signum() }
+        };
+        let curve = |f: &dyn Fn(f64) -> f64| -> Vec<[f64; 2]> {
+            (0..SECTION_POINTS)
+                .map(|i| {
+                    let y = -y_max + 2.0 * y_max * i as f64 / (SECTION_POINTS - 1) as f64;
+                    [y, f(y) * 1e3]
+                })
+                .collect()
+        };
+        ui.label(format!(
+            "Normal section at θ = {:.0}° (lead {:.1}°, tilt {:.1}°): surface k_s = {:.4} 1/mm, cutter κ_eff = {:.4} 1/mm, κ_eff − k_s = {:.4} 1/mm{}",
+            self.theta_deg,
+            node.pose.lead_rad().to_degrees(),
+            node.pose.tilt_rad().to_degrees(),
+            ks,
+            kc,
+            gap,
+            if half.is_finite() { format!("; half strip at h: {half:.3} mm") } else { String::new() }
+        ));
+        Plot::new("fillet_section")
+            .height(height)
+            .legend(Legend::default().position(Corner::LeftTop))
+            .x_axis_label("across, in direction θ (mm)")
+            .y_axis_label("height along the normal (µm)")
+            .show(ui, |pl| {
+                pl.line(Line::new("surface (osculating circle)", PlotPoints::from(curve(&|y| arc(ks, y)))).width(1.8));
+                pl.line(Line::new("cutter's effective profile", PlotPoints::from(curve(&|y| arc(kc, y)))).width(1.8));
+                pl.line(
+                    Line::new("surface + h", PlotPoints::from(curve(&|y| arc(ks, y) + h)))
+                        .style(egui_plot::LineStyle::dashed_loose())
+                        .width(1.0),
+                );
+            });
+    }
+
+    fn table(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal_wrapped(|ui| {
+            let computing = self.job.as_ref().is_some_and(Job::computing_table);
+            let has = self.job.as_ref().is_some_and(|j| j.table_requested);
+            if ui
+                .add_enabled(!has, egui::Button::new("Compute the comparison table"))
+                .on_hover_text("Ten whole core runs (5 strategies × iso-scallop / iso-parametric), one per frame")
+                .clicked()
+            {
+                self.want_table = true;
+                if let Some(j) = &mut self.job {
+                    j.table_requested = true;
+                }
+            }
+            ui.label(if computing {
+                "computing one row per frame; each row is a whole core run, the view may pause briefly"
+            } else {
+                "each row is a whole core run (about as long as the paths above), so the table is computed on request"
+            });
+        });
+        let Some(job) = &self.job else { return };
+        if job.table.is_empty() {
+            return;
+        }
+        egui::Grid::new("fillet_table").striped(true).num_columns(9).show(ui, |ui| {
+            for h in [
+                "strategy",
+                "layout",
+                "passes",
+                "length (mm)",
+                "strip min",
+                "mean",
+                "max (mm)",
+                "time (min)",
+                "core (ms)",
+            ] {
+                ui.strong(h);
+            }
+            ui.end_row();
+            for row in &job.table {
+                ui.label(row.strategy.label());
+                ui.label(row.layout.name());
+                match &row.stats {
+                    Ok(s) => {
+                        ui.label(s.passes.to_string());
+                        ui.label(format!("{:.1}", s.length_mm));
+                        for w in s.strip_mm {
+                            ui.label(format!("{w:.3}"));
+                        }
+                        ui.label(format!("{:.2}", s.time_min));
+                    }
+                    Err(e) => {
+                        ui.label(e);
+                        for _ in 0..5 {
+                            ui.label("");
+                        }
+                    }
+                }
+                ui.label(format!("{:.0}", row.ms));
+                ui.end_row();
+            }
+        });
+    }
+}
+
+impl Panel for FilletPanel {
+    fn title(&self) -> &'static str {
+        "Fillet end mill (seed 001)"
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
+        self.sync();
+        if let Some(j) = &mut self.job {
+            j.advance(BUDGET);
+            if j.computing_paths() || j.computing_table() {
+                ui.ctx().request_repaint();
+            }
+        }
+        self.controls(ui);
+        self.sync();
+        self.summary(ui);
+        self.selection(ui);
+        let avail = ui.available_size();
+        let side = (avail.x * 0.36).clamp(260.0, 520.0);
+        ui.horizontal_top(|ui| {
+            let h = ui.available_height().max(200.0);
+            let rect = egui::Rect::from_min_size(ui.cursor().min, egui::vec2((avail.x - side - 12.0).max(200.0), h));
+            let mut view = std::mem::take(&mut self.view);
+            let job = self.job.as_ref().map(|j| (j, self.job_id));
+            view.ui(ui, rect, cx.render_state, job, self.selected());
+            self.view = view;
+            ui.vertical(|ui| {
+                ui.set_width(side);
+                egui::ScrollArea::vertical().id_salt("fillet_side").show(ui, |ui| {
+                    self.inset(ui, 220.0);
+                    ui.separator();
+                    self.table(ui);
+                });
+            });
+        });
+    }
+
+    fn status(&self) -> serde_json::Value {
+        let s = &self.settings;
+        let mut v = serde_json::json!({
+            "preset": FINISH_PRESETS.get(s.preset).map(|p| p.id),
+            "strategy": s.strategy.key(),
+            "R_mm": s.radius_mm,
+            "r_mm": s.corner_mm,
+            "h_mm": s.scallop_um * 1e-3,
+            "tol_mm": s.tol_mm,
+            "error": self.refused,
+        });
+        let Some(job) = &self.job else {
+            v["computing"] = false.into();
+            return v;
+        };
+        v["computing"] = (job.computing_paths() || job.computing_table()).into();
+        v["computing_paths"] = job.computing_paths().into();
+        v["progress"] = job.progress().into();
+        v["paths_so_far"] = job.paths_so_far().len().into();
+        v["core_ms"] = job.core_ms.into();
+        v["longest_step_ms"] = job.longest_step_ms.into();
+        if let Some(e) = &job.error {
+            v["error"] = e.clone().into();
+        }
+        if let Some(r) = &job.result {
+            let st = r.stats(job.options.feed_mm_per_min);
+            v["passes"] = st.passes.into();
+            v["nodes"] = st.nodes.into();
+            v["length_mm"] = st.length_mm.into();
+            v["strip_mm"] = serde_json::json!({"min": st.strip_mm[0], "mean": st.strip_mm[1], "max": st.strip_mm[2]});
+            v["scallop_mm"] = serde_json::json!({"mean": st.scallop_mm[0], "max": st.scallop_mm[1]});
+            v["time_min"] = st.time_min.into();
+            v["adjusted"] = st.adjusted.into();
+            v["refused"] = r.refused.len().into();
+        }
+        if let Some((p, k, n)) = self.selected() {
+            v["selected"] = serde_json::json!({
+                "path": p, "node": k,
+                "lead_deg": n.pose.lead_rad().to_degrees(), "tilt_deg": n.pose.tilt_rad().to_degrees(),
+                "theta_deg": self.theta_deg,
+                "k_surface_per_mm": n.frame.surface_form.at(self.theta_deg.to_radians()),
+                "k_cutter_per_mm": effective_curvature(&job.strategy.cutter_for(&job.cutter), &n.pose, self.theta_deg.to_radians()),
+            });
+        }
+        v["table_requested"] = job.table_requested.into();
+        v["table"] = job
+            .table
+            .iter()
+            .map(|r| match &r.stats {
+                Ok(s) => serde_json::json!({
+                    "strategy": r.strategy.key(), "layout": r.layout.name(), "passes": s.passes,
+                    "length_mm": s.length_mm, "strip_mm": s.strip_mm, "time_min": s.time_min,
+                }),
+                Err(e) => serde_json::json!({"strategy": r.strategy.key(), "layout": r.layout.name(), "error": e}),
+            })
+            .collect();
+        v
+    }
+
+    fn set_option(&mut self, key: &str, value: &str) -> Result<(), String> {
+        let s = &mut self.settings;
+        match key {
+            "preset" => {
+                let i = FINISH_PRESETS
+                    .iter()
+                    .position(|p| p.id == value)
+                    .or_else(|| value.parse::<usize>().ok().filter(|&i| i < FINISH_PRESETS.len()))
+                    .ok_or_else(|| {
+                        let ids: Vec<&str> = FINISH_PRESETS.iter().map(|p| p.id).collect();
+                        format!("preset \"{value}\" is not one of {}", ids.join(", "))
+                    })?;
+                *s = Settings::of_preset(i);
+            }
+            "strategy" => {
+                s.strategy = StrategyChoice::from_key(value).ok_or_else(|| {
+                    format!("strategy \"{value}\" is not one of matched, lead5, lead10, principal, ball")
+                })?;
+            }
+            "R" => s.radius_mm = parse_in("R", value, RADIUS_RANGE_MM, "mm")?,
+            "r" => {
+                let r = parse_in("r", value, CORNER_RANGE_MM, "mm")?;
+                if r > s.radius_mm {
+                    return Err(format!("r = {r} mm is above R = {} mm; give r ≤ R", s.radius_mm));
+                }
+                s.corner_mm = r;
+            }
+            "h" => {
+                let r = (SCALLOP_RANGE_UM.0 * 1e-3, SCALLOP_RANGE_UM.1 * 1e-3);
+                s.scallop_um = parse_in("h", value, r, "mm")? * 1e3;
+            }
+            "E" => s.tol_mm = parse_in("E", value, TOLERANCE_RANGE_MM, "mm")?,
+            "theta" => self.theta_deg = parse_in("theta", value, (0.0, 180.0), "degrees")?,
+            "path" => {
+                self.sel_path =
+                    value.trim().parse().map_err(|_| format!("path must be a pass index, got \"{value}\""))?;
+            }
+            "along" => self.sel_along = parse_in("along", value, (0.0, 1.0), "(fraction)")?,
+            "table" => {
+                self.want_table = value == "true";
+                if let Some(j) = &mut self.job {
+                    j.table_requested = self.want_table;
+                }
+            }
+            _ => {
+                return Err(format!(
+                    "this view has no option \"{key}\"; use preset, strategy, R, r, h, E (mm), theta (degrees), path, along, table"
+                ));
+            }
+        }
+        self.sync();
+        Ok(())
+    }
+}

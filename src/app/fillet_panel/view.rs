@@ -1,0 +1,283 @@
+//! The fillet tab's 3D view: the surface shaded, the iso-scallop paths as lines coloured by
+//! strip width (blue narrow → red wide, legend in mm), CC points whose orientation the gouge
+//! checks adjusted as orange markers, and the cutter at the selected CC point as a line
+//! drawing of its fillet-end edge (rings and generators) with its axis.
+
+use eframe::egui;
+use eframe::egui_wgpu::RenderState;
+use glam::{DVec3, Vec3};
+
+use super::work::Job;
+use crate::app::overlay::{
+    ViewButton, axis_triad, no_gpu, orbit_and_pan, paint_view, scale_bar, view_buttons, zoom_factor,
+};
+use crate::fillet::CcNode;
+use crate::geom::{Cutter, ParametricSurface, any_perpendicular};
+use crate::render::geometry::{Origin, bounds, tessellate};
+use crate::render::{Layer, LineSegment, OrbitCamera, Renderer3d, SphereInstance, ViewId};
+
+/// This view's GPU id.
+pub const VIEW_ID: ViewId = 4;
+const BACKGROUND: [f32; 4] = [0.07, 0.08, 0.1, 1.0];
+/// Surface samples a side.
+const MESH_SIDE: usize = 64;
+/// Segments of a ring of the cutter drawing.
+const RING_SEGMENTS: usize = 48;
+
+/// Colour of a strip width `w` between `lo` and `hi` (mm): blue → green → red.
+#[must_use]
+pub fn strip_color(w: f64, lo: f64, hi: f64) -> [f32; 4] {
+    let t = if hi > lo { ((w - lo) / (hi - lo)).clamp(0.0, 1.0) as f32 } else { 0.5 };
+    if t < 0.5 {
+        let a = t * 2.0;
+        [0.15 + 0.05 * a, 0.35 + 0.45 * a, 0.95 - 0.65 * a, 1.0]
+    } else {
+        let a = (t - 0.5) * 2.0;
+        [0.2 + 0.7 * a, 0.8 - 0.6 * a, 0.3 - 0.15 * a, 1.0]
+    }
+}
+
+/// Strip width range of the paths (mm), `None` without nodes.
+#[must_use]
+pub fn strip_range(job: &Job) -> Option<(f64, f64)> {
+    let mut r: Option<(f64, f64)> = None;
+    for n in job.paths_so_far().iter().flat_map(|p| &p.nodes) {
+        if n.strip_mm.is_finite() {
+            r = Some(r.map_or((n.strip_mm, n.strip_mm), |(a, b)| (a.min(n.strip_mm), b.max(n.strip_mm))));
+        }
+    }
+    r
+}
+
+/// The cutter's edge as line segments: rings of the corner torus and the flutes' cylinder,
+/// eight generators, and the axis.
+fn cutter_lines(o: Origin, cutter: &Cutter, tip: DVec3, axis: DVec3) -> Vec<LineSegment> {
+    let a = axis.normalize_or(DVec3::Z);
+    let e1 = any_perpendicular(a);
+    let e2 = a.cross(e1);
+    let big_r = cutter.radius_mm;
+    let r = cutter.corner_radius_mm.min(big_r);
+    let r0 = big_r - r;
+    let flute = cutter.flute_length_mm;
+    // Profile points (radius from the axis, height above the tip).
+    let mut profile: Vec<(f64, f64)> = (0..=6)
+        .map(|k| {
+            let phi = std::f64::consts::FRAC_PI_2 * f64::from(k) / 6.0;
+            (r0 + r * phi.sin(), r - r * phi.cos())
+        })
+        .collect();
+    profile.push((big_r, flute.max(r)));
+    let color = [0.9, 0.9, 1.0, 0.9];
+    let at = |rad: f64, z: f64, t: f64| o.local(tip + a * z + (e1 * t.cos() + e2 * t.sin()) * rad);
+    let mut lines = Vec::new();
+    for &(rad, z) in &profile {
+        for k in 0..RING_SEGMENTS {
+            let t0 = std::f64::consts::TAU * k as f64 / RING_SEGMENTS as f64;
+            let t1 = std::f64::consts::TAU * (k + 1) as f64 / RING_SEGMENTS as f64;
+            lines.push(LineSegment::new(at(rad, z, t0), at(rad, z, t1), 1.2, color));
+        }
+    }
+    for g in 0..8 {
+        let t = std::f64::consts::TAU * f64::from(g) / 8.0;
+        for w in profile.windows(2) {
+            lines.push(LineSegment::new(at(w[0].0, w[0].1, t), at(w[1].0, w[1].1, t), 1.2, color));
+        }
+        lines.push(LineSegment::new(at(0.0, 0.0, t), at(r0, 0.0, t), 1.2, color));
+    }
+    lines.push(LineSegment::new(o.local(tip), o.local(tip + a * (flute + 2.0 * big_r)), 2.5, [1.0, 0.95, 0.3, 1.0]));
+    lines
+}
+
+/// What was last uploaded.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Built {
+    job_id: u64,
+    paths: usize,
+    done: bool,
+    selected: Option<(usize, usize)>,
+}
+
+/// Camera and upload state.
+pub struct FilletView {
+    /// Camera.
+    pub camera: OrbitCamera,
+    origin: Origin,
+    radius: f32,
+    built: Option<Built>,
+    refit: bool,
+}
+
+impl Default for FilletView {
+    fn default() -> Self {
+        Self { camera: OrbitCamera::default(), origin: Origin(DVec3::ZERO), radius: 50.0, built: None, refit: true }
+    }
+}
+
+impl FilletView {
+    /// Frames the next job's surface.
+    pub fn refit(&mut self) {
+        self.refit = true;
+    }
+
+    fn upload(&mut self, rs: &RenderState, job: &Job, job_id: u64, selected: Option<(usize, usize, &CcNode)>) {
+        let paths = job.paths_so_far();
+        let key = Built {
+            job_id,
+            paths: paths.len(),
+            done: !job.computing_paths(),
+            selected: selected.map(|(p, n, _)| (p, n)),
+        };
+        if self.built == Some(key) {
+            return;
+        }
+        let new_job = self.built.is_none_or(|b| b.job_id != job_id);
+        let o = self.origin;
+        if new_job {
+            let mesh = tessellate(&job.surface, o, MESH_SIDE, 0.0, [0.62, 0.64, 0.68, 1.0]);
+            Renderer3d::with(rs, |r| r.set_mesh(VIEW_ID, Layer::Surfaces, &mesh));
+        }
+        if self.refit {
+            self.camera.fit(Vec3::ZERO, self.radius);
+            self.refit = false;
+        }
+        let (lo, hi) = strip_range(job).unwrap_or((0.0, 1.0));
+        let mut lines = Vec::new();
+        let mut markers = Vec::new();
+        let mark = (job.cutter.radius_mm * 0.06).max(0.02) as f32;
+        for p in paths {
+            for w in p.nodes.windows(2) {
+                let c = strip_color(0.5 * (w[0].strip_mm + w[1].strip_mm), lo, hi);
+                lines.push(
+                    LineSegment::new(o.local(w[0].frame.point), o.local(w[1].frame.point), 1.6, c)
+                        .with_depth_bias(0.002),
+                );
+            }
+            for n in p.nodes.iter().filter(|n| n.adjusted.is_some()) {
+                markers.push(SphereInstance {
+                    center: o.local(n.frame.point),
+                    radius: mark,
+                    color: [1.0, 0.55, 0.1, 1.0],
+                });
+            }
+        }
+        for r in job.result.as_ref().map_or(&[][..], |r| &r.refused[..]) {
+            markers.push(SphereInstance { center: o.local(r.point), radius: mark, color: [0.9, 0.1, 0.1, 1.0] });
+        }
+        let mut tool = Vec::new();
+        if let Some((_, _, n)) = selected {
+            tool = cutter_lines(o, &job.strategy.cutter_for(&job.cutter), n.tip, n.axis);
+            markers.push(SphereInstance {
+                center: o.local(n.frame.point),
+                radius: mark * 1.6,
+                color: [1.0, 1.0, 0.3, 1.0],
+            });
+        }
+        Renderer3d::with(rs, |r| {
+            r.set_lines(VIEW_ID, Layer::PathLines, &lines, 0);
+            r.set_lines(VIEW_ID, Layer::DynamicLines, &tool, 0);
+            r.set_spheres(VIEW_ID, Layer::Markers, &markers);
+        });
+        self.built = Some(key);
+    }
+
+    /// Draws the view into `rect`.
+    pub fn ui(
+        &mut self,
+        ui: &mut egui::Ui,
+        rect: egui::Rect,
+        rs: Option<&RenderState>,
+        job: Option<(&Job, u64)>,
+        selected: Option<(usize, usize, &CcNode)>,
+    ) {
+        let response = ui.allocate_rect(rect, egui::Sense::click_and_drag());
+        if let Some((job, _)) = job {
+            let d = job.surface.domain();
+            let pts = (0..=8).flat_map(|i| {
+                (0..=8).map(move |j| {
+                    let u = d.u.min + (d.u.max - d.u.min) * f64::from(i) / 8.0;
+                    let v = d.v.min + (d.v.max - d.v.min) * f64::from(j) / 8.0;
+                    (u, v)
+                })
+            });
+            let pts: Vec<DVec3> = pts.map(|(u, v)| job.surface.point_at(glam::DVec2::new(u, v))).collect();
+            if let Some((c, r)) = bounds(pts) {
+                self.origin = Origin(c);
+                self.radius = r.max(1.0) as f32;
+            }
+        }
+        let Some(rs) = rs else {
+            no_gpu(ui.painter(), rect);
+            return;
+        };
+        orbit_and_pan(&mut self.camera, ui, &response, rect);
+        let factor = zoom_factor(ui, &response);
+        if (factor - 1.0).abs() > f32::EPSILON {
+            self.camera.zoom(factor);
+        }
+        if response.double_clicked() {
+            self.camera.fit(Vec3::ZERO, self.radius);
+        }
+        match job {
+            Some((job, id)) => self.upload(rs, job, id, selected),
+            None => {
+                Renderer3d::with(rs, |r| r.clear_view(VIEW_ID));
+                self.built = None;
+            }
+        }
+        paint_view(ui, rect, &self.camera, VIEW_ID, BACKGROUND, false);
+        let painter = ui.painter_at(rect);
+        let font = egui::FontId::proportional(13.0);
+        if let Some((lo, hi)) = job.and_then(|(j, _)| strip_range(j)) {
+            strip_legend(&painter, egui::pos2(rect.right() - 256.0, rect.bottom() - 66.0), 240.0, lo, hi, &font);
+        }
+        axis_triad(&painter, rect.left_bottom() + egui::vec2(40.0, -40.0), 26.0, &self.camera, &font);
+        scale_bar(
+            &painter,
+            rect.right_bottom() + egui::vec2(-20.0, -22.0),
+            f64::from(self.camera.mm_per_point(rect.height())),
+            &font,
+        );
+        let buttons = egui::Rect::from_min_size(rect.right_top() + egui::vec2(-120.0, 6.0), egui::vec2(112.0, 20.0));
+        if let Some(b) = view_buttons(ui, buttons, "Frame the surface") {
+            if b == ViewButton::Reset {
+                self.camera = OrbitCamera::default();
+            }
+            self.camera.fit(Vec3::ZERO, self.radius);
+        }
+    }
+}
+
+/// The strip-width colour bar (mm).
+fn strip_legend(painter: &egui::Painter, left_bottom: egui::Pos2, width: f32, lo: f64, hi: f64, font: &egui::FontId) {
+    let n = 48;
+    let top = left_bottom.y - 30.0;
+    let bg = egui::Rect::from_min_max(
+        egui::pos2(left_bottom.x - 8.0, top - 22.0),
+        egui::pos2(left_bottom.x + width + 8.0, left_bottom.y + 4.0),
+    );
+    painter.rect_filled(bg, 3.0, egui::Color32::from_black_alpha(170));
+    for k in 0..n {
+        let t0 = k as f32 / n as f32;
+        let c = strip_color((f64::from(k) + 0.5) / f64::from(n), 0.0, 1.0);
+        let r = egui::Rect::from_min_size(
+            egui::pos2(left_bottom.x + t0 * width, top),
+            egui::vec2(width / n as f32 + 0.5, 12.0),
+        );
+        painter.rect_filled(
+            r,
+            0.0,
+            egui::Color32::from_rgb((c[0] * 255.0) as u8, (c[1] * 255.0) as u8, (c[2] * 255.0) as u8),
+        );
+    }
+    let text = egui::Color32::from_gray(225);
+    let label = |x: f32, s: String, align| painter.text(egui::pos2(x, top + 14.0), align, s, font.clone(), text);
+    label(left_bottom.x, format!("{lo:.3} mm"), egui::Align2::LEFT_TOP);
+    label(left_bottom.x + width, format!("{hi:.3} mm"), egui::Align2::RIGHT_TOP);
+    painter.text(
+        egui::pos2(left_bottom.x, top - 4.0),
+        egui::Align2::LEFT_BOTTOM,
+        "strip width (orange: adjusted, red: refused)",
+        font.clone(),
+        text,
+    );
+}
