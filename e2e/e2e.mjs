@@ -359,6 +359,31 @@ try {
     check("simulation tab: the machined stock is drawn (not blank)", vS > 40, `${vS} distinct colours in the view`);
     await pageS.close();
   }
+
+  // 11. Fillet end mill (seed 001): the default finishing part's iso-scallop paths, built
+  // path by path over frames, drawn with the cutter at a contact point.
+  {
+    const TAB = "Fillet end mill (seed 001)";
+    const pageF = await context.newPage();
+    await pageF.goto(url);
+    let sf = await waitFor(pageF, "the app for the fillet tab", settled);
+    const tabF = sf.ui[TAB];
+    await resetFrames(pageF);
+    await pageF.mouse.click(tabF[0] + tabF[2] / 2, tabF[1] + tabF[3] / 2);
+    sf = await waitFor(pageF, "the fillet paths", (s) => s.panel && s.panel.title === TAB && s.panel.status
+      && s.panel.status.computing === false && s.panel.status.passes > 0, 180000);
+    await recordFrames(pageF, "the fillet tab builds its paths");
+    await pageF.waitForTimeout(500);
+    const shotF = await pageF.screenshot({ path: path.join(artifacts, "12-fillet-end-mill.png") });
+    const fs1 = sf.panel.status;
+    check("fillet tab: the iso-scallop paths are built, the cutter's curvature above the surface's",
+      fs1.error === null && fs1.passes > 0 && fs1.strip_mm.min > 0 && fs1.selected
+        && fs1.selected.k_cutter_per_mm >= fs1.selected.k_surface_per_mm,
+      `${fs1.passes} passes, ${fs1.length_mm.toFixed(1)} mm, strip ${fs1.strip_mm.min.toFixed(3)}–${fs1.strip_mm.max.toFixed(3)} mm, core ${Math.round(fs1.core_ms)} ms, longest step ${Math.round(fs1.longest_step_ms)} ms`);
+    const vF = colourVariety(shotF, [420, 60, 900, 520]);
+    check("fillet tab: the surface and paths are drawn (not blank)", vF > 40, `${vF} distinct colours in the view`);
+    await pageF.close();
+  }
 } catch (e) {
   failed = true;
   console.log(`FAIL  ${e.message}`);
