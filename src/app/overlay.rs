@@ -34,6 +34,26 @@ pub fn orbit_and_pan(camera: &mut OrbitCamera, ui: &egui::Ui, response: &egui::R
     }
 }
 
+/// The whole camera control of a view that zooms about its centre: drags
+/// ([`orbit_and_pan`]), the wheel and pinching ([`zoom_factor`]), and a double click that
+/// fits a sphere of `radius` (view units) about the origin.
+pub fn camera_controls(
+    camera: &mut OrbitCamera,
+    ui: &egui::Ui,
+    response: &egui::Response,
+    rect: egui::Rect,
+    radius: f32,
+) {
+    orbit_and_pan(camera, ui, response, rect);
+    let factor = zoom_factor(ui, response);
+    if (factor - 1.0).abs() > f32::EPSILON {
+        camera.zoom(factor);
+    }
+    if response.double_clicked() {
+        camera.fit(Vec3::ZERO, radius);
+    }
+}
+
 /// The zoom asked for this frame by the wheel and by pinching, as a factor for
 /// [`OrbitCamera::zoom`] (1 when the pointer is not over the view).
 #[must_use]

@@ -9,9 +9,7 @@ use eframe::egui_wgpu::RenderState;
 use glam::{DVec3, Vec3};
 
 use super::work::Job;
-use crate::app::overlay::{
-    ViewButton, axis_triad, no_gpu, orbit_and_pan, paint_view, scale_bar, view_buttons, zoom_factor,
-};
+use crate::app::overlay::{ViewButton, axis_triad, camera_controls, no_gpu, paint_view, scale_bar, view_buttons};
 use crate::render::geometry::Origin;
 use crate::render::{Layer, LineSegment, Mesh, MeshVertex, OrbitCamera, Renderer3d, SphereInstance, ViewId};
 use crate::simulate::MoveKind;
@@ -203,14 +201,7 @@ impl SimView {
             no_gpu(ui.painter(), rect);
             return;
         };
-        orbit_and_pan(&mut self.camera, ui, &response, rect);
-        let factor = zoom_factor(ui, &response);
-        if (factor - 1.0).abs() > f32::EPSILON {
-            self.camera.zoom(factor);
-        }
-        if response.double_clicked() {
-            self.camera.fit(Vec3::ZERO, self.radius);
-        }
+        camera_controls(&mut self.camera, ui, &response, rect, self.radius);
         match job {
             Some(job) => self.upload(rs, job, band_um),
             None => {
