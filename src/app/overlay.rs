@@ -179,6 +179,74 @@ pub fn decimate(points: &[[f64; 2]], buckets: usize) -> Vec<[f64; 2]> {
     out
 }
 
+/// A colour-bar legend over a 3D view, its right edge `right_bottom.x`, its bottom
+/// `right_bottom.y`: `title` above a bar of `width` points whose colour at a fraction t in
+/// [0, 1] is `colour(t)` (RGB(A) in 0…1), and `labels` under it at their fractions. The dark
+/// background grows to the title, so no text is clipped.
+pub fn colour_bar(
+    painter: &egui::Painter,
+    right_bottom: egui::Pos2,
+    width: f32,
+    title: &str,
+    labels: &[(f32, String)],
+    colour: impl Fn(f64) -> [f32; 4],
+    font: &egui::FontId,
+) {
+    let text = egui::Color32::from_gray(225);
+    let galley = painter.layout_no_wrap(title.to_owned(), font.clone(), text);
+    let full = width.max(galley.size().x);
+    let left = right_bottom.x - 8.0 - full;
+    let top = right_bottom.y - 30.0;
+    let bg = egui::Rect::from_min_max(
+        egui::pos2(left - 8.0, top - 22.0),
+        egui::pos2(left + full + 8.0, right_bottom.y + 4.0),
+    );
+    painter.rect_filled(bg, 3.0, egui::Color32::from_black_alpha(170));
+    let n = 48;
+    for k in 0..n {
+        let c = colour((f64::from(k) + 0.5) / f64::from(n));
+        let r = egui::Rect::from_min_size(
+            egui::pos2(left + k as f32 / n as f32 * width, top),
+            egui::vec2(width / n as f32 + 0.5, 12.0),
+        );
+        let byte = |v: f32| (v.clamp(0.0, 1.0) * 255.0) as u8;
+        painter.rect_filled(r, 0.0, egui::Color32::from_rgb(byte(c[0]), byte(c[1]), byte(c[2])));
+    }
+    for (at, s) in labels {
+        let align = if *at <= 0.0 {
+            egui::Align2::LEFT_TOP
+        } else if *at >= 1.0 {
+            egui::Align2::RIGHT_TOP
+        } else {
+            egui::Align2::CENTER_TOP
+        };
+        painter.text(egui::pos2(left + at * width, top + 14.0), align, s, font.clone(), text);
+    }
+    painter.galley(egui::pos2(left, top - 4.0 - galley.size().y), galley, text);
+}
+
+/// What every 3D view draws over its image and answers below it: the axis triad, the scale
+/// bar in mm, and the fit / reset buttons (`fit_hint` on hover), which frame a sphere of
+/// `radius` (view units) about the origin.
+pub fn view_frame(ui: &mut egui::Ui, rect: egui::Rect, camera: &mut OrbitCamera, radius: f32, fit_hint: &str) {
+    let painter = ui.painter_at(rect);
+    let font = egui::FontId::proportional(13.0);
+    axis_triad(&painter, rect.left_bottom() + egui::vec2(40.0, -40.0), 26.0, camera, &font);
+    scale_bar(
+        &painter,
+        rect.right_bottom() + egui::vec2(-20.0, -22.0),
+        f64::from(camera.mm_per_point(rect.height())),
+        &font,
+    );
+    let buttons = egui::Rect::from_min_size(rect.right_top() + egui::vec2(-120.0, 6.0), egui::vec2(112.0, 20.0));
+    if let Some(b) = view_buttons(ui, buttons, fit_hint) {
+        if b == ViewButton::Reset {
+            *camera = OrbitCamera::default();
+        }
+        camera.fit(Vec3::ZERO, radius);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -8,7 +8,7 @@ use eframe::egui_wgpu::RenderState;
 use glam::{DVec3, Vec3};
 
 use super::work::Job;
-use crate::app::overlay::{ViewButton, axis_triad, camera_controls, no_gpu, paint_view, scale_bar, view_buttons};
+use crate::app::overlay::{camera_controls, colour_bar, no_gpu, paint_view, view_frame};
 use crate::fillet::CcNode;
 use crate::geom::{Cutter, ParametricSurface, any_perpendicular};
 use crate::render::geometry::{Origin, bounds, tessellate};
@@ -216,59 +216,17 @@ impl FilletView {
             }
         }
         paint_view(ui, rect, &self.camera, VIEW_ID, BACKGROUND, false);
-        let painter = ui.painter_at(rect);
-        let font = egui::FontId::proportional(13.0);
         if let Some((lo, hi)) = job.and_then(|(j, _)| strip_range(j)) {
-            strip_legend(&painter, egui::pos2(rect.right() - 256.0, rect.bottom() - 66.0), 240.0, lo, hi, &font);
+            colour_bar(
+                &ui.painter_at(rect),
+                rect.right_bottom() + egui::vec2(-8.0, -66.0),
+                240.0,
+                "strip width (orange: adjusted, red: refused)",
+                &[(0.0, format!("{lo:.3} mm")), (1.0, format!("{hi:.3} mm"))],
+                |t| strip_color(t, 0.0, 1.0),
+                &egui::FontId::proportional(13.0),
+            );
         }
-        axis_triad(&painter, rect.left_bottom() + egui::vec2(40.0, -40.0), 26.0, &self.camera, &font);
-        scale_bar(
-            &painter,
-            rect.right_bottom() + egui::vec2(-20.0, -22.0),
-            f64::from(self.camera.mm_per_point(rect.height())),
-            &font,
-        );
-        let buttons = egui::Rect::from_min_size(rect.right_top() + egui::vec2(-120.0, 6.0), egui::vec2(112.0, 20.0));
-        if let Some(b) = view_buttons(ui, buttons, "Frame the surface") {
-            if b == ViewButton::Reset {
-                self.camera = OrbitCamera::default();
-            }
-            self.camera.fit(Vec3::ZERO, self.radius);
-        }
+        view_frame(ui, rect, &mut self.camera, self.radius, "Frame the surface");
     }
-}
-
-/// The strip-width colour bar (mm).
-fn strip_legend(painter: &egui::Painter, left_bottom: egui::Pos2, width: f32, lo: f64, hi: f64, font: &egui::FontId) {
-    let n = 48;
-    let top = left_bottom.y - 30.0;
-    let bg = egui::Rect::from_min_max(
-        egui::pos2(left_bottom.x - 8.0, top - 22.0),
-        egui::pos2(left_bottom.x + width + 8.0, left_bottom.y + 4.0),
-    );
-    painter.rect_filled(bg, 3.0, egui::Color32::from_black_alpha(170));
-    for k in 0..n {
-        let t0 = k as f32 / n as f32;
-        let c = strip_color((f64::from(k) + 0.5) / f64::from(n), 0.0, 1.0);
-        let r = egui::Rect::from_min_size(
-            egui::pos2(left_bottom.x + t0 * width, top),
-            egui::vec2(width / n as f32 + 0.5, 12.0),
-        );
-        painter.rect_filled(
-            r,
-            0.0,
-            egui::Color32::from_rgb((c[0] * 255.0) as u8, (c[1] * 255.0) as u8, (c[2] * 255.0) as u8),
-        );
-    }
-    let text = egui::Color32::from_gray(225);
-    let label = |x: f32, s: String, align| painter.text(egui::pos2(x, top + 14.0), align, s, font.clone(), text);
-    label(left_bottom.x, format!("{lo:.3} mm"), egui::Align2::LEFT_TOP);
-    label(left_bottom.x + width, format!("{hi:.3} mm"), egui::Align2::RIGHT_TOP);
-    painter.text(
-        egui::pos2(left_bottom.x, top - 4.0),
-        egui::Align2::LEFT_BOTTOM,
-        "strip width (orange: adjusted, red: refused)",
-        font.clone(),
-        text,
-    );
 }
