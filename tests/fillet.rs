@@ -421,3 +421,64 @@ fn a_bore_narrower_than_the_cutter_is_refused() {
     let msg = err.to_string();
     assert!(msg.contains("no path could be started"), "{msg}");
 }
+
+/// How deep (mm) the point `p` lies inside the cutter's solid below its flute length: the
+/// solid is the corner ball swept over the cylinder of radius R − r between heights r and
+/// the flute length; depth = r − (distance to that cylinder), ≤ 0 outside.
+fn depth_inside(cutter: &Cutter, tip: DVec3, axis: DVec3, p: DVec3) -> f64 {
+    let (r, r0) = (cutter.corner_radius_mm, cutter.torus_radius_mm());
+    let w = p - tip;
+    let z = w.dot(axis);
+    let rho = (w - z * axis).length();
+    let dz = if z < r {
+        r - z
+    } else if z > cutter.flute_length_mm {
+        z - cutter.flute_length_mm
+    } else {
+        0.0
+    };
+    r - dz.hypot((rho - r0).max(0.0))
+}
+
+/// The bottom check cannot miss a pocket: over many poses on the mould (lead 2°–9°, tilt
+/// −6°–6°, at the centre, the walls and the corners), whenever a dense brute force (the
+/// surface sampled 400 × 400, every sample's depth inside the cutter) finds the part deeper
+/// than the tolerance inside the cutter, the check reports a clash; and every clash it
+/// reports is a point of the part at least that deep.
+#[test]
+fn the_bottom_check_finds_every_pocket_the_brute_force_finds() {
+    let j = job("finish-concave-mould");
+    let part = PartSamples::new(&j.surface, 48);
+    let tol = 0.0005;
+    let (mut found, mut clear) = (0, 0);
+    for (u, v) in [(0.5, 0.5), (0.26, 0.0), (0.98, 0.73), (0.1, 0.9), (0.5, 0.04), (0.95, 0.5)] {
+        let uv = DVec2::new(u, v);
+        let d = j.surface.derivatives_at(uv);
+        let frame = ContactFrame::new(&j.surface, uv, d.du + 0.3 * d.dv).unwrap();
+        for lead in [2.0f64, 3.5, 4.5, 5.5, 7.0, 9.0] {
+            for tilt in [-6.0f64, 0.0, 6.0] {
+                let pose = Pose::from_lead_tilt(lead.to_radians(), tilt.to_radians());
+                let (tip, axis) = place(&j.cutter, &frame, &pose);
+                let mut deepest = 0.0f64;
+                for a in 0..=400 {
+                    for b in 0..=400 {
+                        let p = j.surface.point_at(DVec2::new(f64::from(a) / 400.0, f64::from(b) / 400.0));
+                        deepest = deepest.max(depth_inside(&j.cutter, tip, axis, p));
+                    }
+                }
+                let clash = gouge::check(&j.cutter, &j.surface, &part, &frame, &pose, tol);
+                if deepest > 1.02 * tol {
+                    assert!(clash.is_some(), "{uv} lead {lead} tilt {tilt}: brute force {deepest} mm, check none");
+                }
+                if let Some(c) = clash {
+                    let at = depth_inside(&j.cutter, tip, axis, c.at);
+                    assert!(at >= 0.99 * tol, "{uv} lead {lead} tilt {tilt}: the clash point is only {at} mm deep");
+                    found += 1;
+                } else {
+                    clear += 1;
+                }
+            }
+        }
+    }
+    assert!(found >= 10 && clear >= 10, "{found} clashes, {clear} clear: the cases should go both ways");
+}

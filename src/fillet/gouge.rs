@@ -1,14 +1,13 @@
 //! Gouge and interference checks of a placed cutter against the part, and the adjustment of
 //! the orientation until they pass.
 //!
-//! - **Local, bottom and rear**: points of the cutter's lower surface (flat bottom and
-//!   corner, 36 meridians × 8 heights) are projected onto the surface; one more than the
-//!   tolerance below it is a gouge, unless its foot is on an edge of the domain and the point
-//!   lies beyond that edge (over no material). Points that lie higher above the
-//!   tangent plane than the part can rise within that distance (½·k⁺·d², k⁺ the part's
-//!   largest concave normal curvature, sampled once) cannot be below it and are skipped; on
-//!   a part convex everywhere (k⁺ ≤ 0) the cutter, a convex solid resting on the tangent
-//!   plane, cannot gouge, and this check costs nothing.
+//! - **Local, bottom and rear**: how deep the part reaches into the cutter's convex solid
+//!   (the bottom `disc(R0) ⊕ ball(r)` extended up the flutes), certified by branch and bound
+//!   over the parameter plane with a bound of the surface's second derivative (see
+//!   `bottom_clash`): deeper than the tolerance anywhere on the part is a gouge. Only points
+//!   of the part count, so a cutter overhanging an edge of the domain is over no material.
+//!   On a part convex everywhere (k⁺ ≤ 0 on the sample grid) the cutter, a convex solid
+//!   resting on the tangent plane, cannot gouge, and this check costs nothing.
 //! - **Global**: the part's sample points (a grid) against the cutter's solid of revolution
 //!   around the axis: a point at height z above the tip and distance ρ from the axis
 //!   collides when ρ < (the solid's radius at z) − tolerance — with the flutes (a gouge), the
@@ -22,7 +21,7 @@ use glam::{DVec2, DVec3};
 
 use super::contact::{ContactFrame, Pose, gouge_margin, place};
 use super::orient::OrientOptions;
-use crate::geom::{Cutter, LocalGeometry, ParametricSurface, ProjectOptions, Surface, project_point};
+use crate::geom::{Cutter, LocalGeometry, ParametricSurface, Surface};
 
 /// Which part of the cutter met the part.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -69,7 +68,17 @@ pub struct PartSamples {
     /// The largest concave normal curvature k⁺ found on the grid (1/mm; ≤ 0 when convex
     /// everywhere).
     pub k_concave_max: f64,
+    /// K: a bound of the second derivative of the surface along any unit direction of the
+    /// parameter plane, `|r_uu e_u² + 2 r_uv e_u e_v + r_vv e_v²| ≤ K` (mm per internal
+    /// parameter unit²): the largest eigenvalue of `[[|r_uu|, |r_uv|], [|r_uv|, |r_vv|]]`
+    /// over the grid, times [`SECOND_DERIVATIVE_ALLOWANCE`]. The plane, cylinder, sphere and
+    /// torus have constant or trigonometric second derivatives whose largest values lie on
+    /// the grid's rows; for a NURBS the allowance covers the variation between grid points.
+    pub second_bound: f64,
 }
+
+/// Factor on the grid's largest second derivative for [`PartSamples::second_bound`].
+pub const SECOND_DERIVATIVE_ALLOWANCE: f64 = 1.25;
 
 impl PartSamples {
     /// An n × n grid over the domain (n clamped to [4, 200]).
@@ -79,6 +88,7 @@ impl PartSamples {
         let dom = surface.domain();
         let mut points = Vec::with_capacity(n * n);
         let mut kmax = f64::NEG_INFINITY;
+        let mut second = 0.0f64;
         for i in 0..n {
             for j in 0..n {
                 let uv = DVec2::new(
@@ -87,43 +97,164 @@ impl PartSamples {
                 );
                 let d = surface.derivatives_at(uv);
                 points.push(d.point);
+                let (a, b, c) = (d.duu.length(), d.duv.length(), d.dvv.length());
+                second = second.max(0.5 * (a + c) + (0.5 * (a - c)).hypot(b));
                 if let Some(g) = LocalGeometry::try_new(d) {
                     kmax = kmax.max(g.principal_curvatures().0);
                 }
             }
         }
-        Self { points, k_concave_max: kmax }
+        Self { points, k_concave_max: kmax, second_bound: SECOND_DERIVATIVE_ALLOWANCE * second }
     }
 }
 
-/// Share of the gouge tolerance allowed at the sample points by [`adjust`].
-const SAMPLE_SHARE: f64 = 0.5;
+/// Cells of the first grid of [`bottom_clash`] along each parameter.
+const FIRST_CELLS: usize = 16;
+/// Most cells [`bottom_clash`] evaluates; beyond it the cell with the lowest bound is
+/// reported as a clash (a refusal errs on the safe side).
+const MAX_CELLS: usize = 40_000;
+/// Deepest subdivision of a first-grid cell.
+const MAX_DEPTH: u32 = 16;
 
-/// Meridians and heights of the lower-surface sample of the bottom check.
-const MERIDIANS: usize = 36;
+/// The cutter's convex solid near the part: the corner ball (radius r) swept over the solid
+/// cylinder ("core") of radius R0 between the corner centres' height r and the flute length
+/// — the bottom `disc(R0) ⊕ ball(r)` extended up the flutes. A flat end mill (r below twice
+/// the tolerance) is taken with a corner of twice the tolerance, which differs from its
+/// sharp rim by less than the tolerance.
+#[derive(Clone, Copy, Debug)]
+struct CutterBody {
+    tip: DVec3,
+    axis: DVec3,
+    r: f64,
+    r0: f64,
+    top: f64,
+}
 
-/// The cutter's lower-surface sample points (mm): the flat bottom at radii 0, R0/2, R0 and
-/// the corner at 5°, 10°, 20°, 35°, 55°, 90° from the bottom, on 36 meridians.
-fn lower_points(cutter: &Cutter, tip: DVec3, axis: DVec3) -> Vec<DVec3> {
-    let e1 = crate::geom::any_perpendicular(axis);
-    let e2 = axis.cross(e1);
-    let (r, r0) = (cutter.corner_radius_mm, cutter.torus_radius_mm());
-    let mut pts = vec![tip];
-    for k in 0..MERIDIANS {
-        let phi = std::f64::consts::TAU * k as f64 / MERIDIANS as f64;
-        let e = phi.cos() * e1 + phi.sin() * e2;
-        for rho in [0.5 * r0, r0] {
-            if rho > 0.0 {
-                pts.push(tip + rho * e);
+impl CutterBody {
+    fn new(cutter: &Cutter, tip: DVec3, axis: DVec3, tol_mm: f64) -> Self {
+        let r = cutter.corner_radius_mm.max(2.0 * tol_mm).min(cutter.radius_mm);
+        Self { tip, axis, r, r0: (cutter.radius_mm - r).max(0.0), top: cutter.flute_length_mm.max(r) }
+    }
+
+    /// Signed distance (mm, negative inside) of `p` and its gradient: the distance to the
+    /// core − r.
+    fn signed_distance(&self, p: DVec3) -> (f64, DVec3) {
+        let w = p - self.tip;
+        let z = w.dot(self.axis);
+        let radial = w - z * self.axis;
+        let rho = radial.length();
+        let zc = z.clamp(self.r, self.top);
+        let near = self.tip + zc * self.axis + if rho > self.r0 { radial * (self.r0 / rho) } else { radial };
+        let d = (p - near).length();
+        let grad = if d > 0.0 { (p - near) / d } else { DVec3::ZERO };
+        (d - self.r, grad)
+    }
+}
+
+/// One cell of the parameter plane: centre, half sizes, the gouge function's lower bound.
+#[derive(Clone, Copy, Debug)]
+struct Cell {
+    centre: DVec2,
+    half: DVec2,
+    depth: u32,
+    /// The gouge function at the centre (mm).
+    g: f64,
+    /// Lower bound of the gouge function over the cell (mm).
+    bound: f64,
+}
+
+impl PartialEq for Cell {
+    fn eq(&self, other: &Self) -> bool {
+        self.bound.total_cmp(&other.bound).is_eq()
+    }
+}
+impl Eq for Cell {}
+impl PartialOrd for Cell {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for Cell {
+    /// The lowest bound comes first out of the max-heap.
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        other.bound.total_cmp(&self.bound)
+    }
+}
+
+/// The bottom/rear gouge check, certified: a point of the part inside the cutter's solid
+/// ([`CutterBody`]) by more than `tol_mm`, found by branch and bound over the parameter
+/// plane, or `None` when there is none.
+///
+/// The gouge function is `g(u, v) = d(r(u, v)) − r`, d the distance to the core (a convex
+/// set). Along a parameter line of unit direction e, `g'' = r_eᵀ·∇²d·r_e + ∇d·r_ee`; the
+/// Hessian of the distance to a convex set has eigenvalues in [0, 1/d] and |∇d| ≤ 1, so
+/// wherever g ≥ −tol (d ≥ r − tol): `g'' ≤ M = |r_e|²/(r − tol) + K`, K the bound of
+/// |r_ee| ([`PartSamples::second_bound`]) and `|r_e| ≤ σ(c) + K·ρ` on a cell of centre c and
+/// half-diagonal ρ (σ the largest singular value of (r_u, r_v) at c). On the cell of half
+/// sizes (hu, hv) g is therefore at least
+/// `g(c) − |g_u|·hu − |g_v|·hv − ½·M·(hu² + hv²)` up to the first point where it reaches
+/// −tol, so a cell whose bound is above −tol has no point below −tol. A centre below −tol
+/// is a gouge; the other cells are split in four, the lowest bound first. Far from the
+/// cutter the Lipschitz bound `g(c) − σ·ρ − ½·K·ρ²` (g is 1-Lipschitz in space) is the
+/// better one and is used where it is. A pocket between samples cannot be missed.
+fn bottom_clash(surface: &Surface, body: &CutterBody, k2: f64, tol_mm: f64) -> Option<Clash> {
+    let dom = surface.domain();
+    let inv_r = 1.0 / (body.r - tol_mm).max(0.5 * body.r);
+    let make = |centre: DVec2, half: DVec2, depth: u32| {
+        let d = surface.derivatives_at(centre);
+        let (g, grad) = body.signed_distance(d.point);
+        let (e, f, gg) = (d.du.length_squared(), d.du.dot(d.dv), d.dv.length_squared());
+        let sigma = (0.5 * (e + gg) + (0.5 * (e - gg)).hypot(f)).sqrt();
+        let rho = half.length();
+        let m = (sigma + k2 * rho).powi(2) * inv_r + k2;
+        let taylor = g - grad.dot(d.du).abs() * half.x - grad.dot(d.dv).abs() * half.y - 0.5 * m * rho * rho;
+        // g is 1-Lipschitz in space and |r(x) − r(c)| ≤ σ·ρ + ½·K·ρ²: the better bound far away.
+        let lipschitz = g - sigma * rho - 0.5 * k2 * rho * rho;
+        let bound = taylor.max(lipschitz);
+        (Cell { centre, half, depth, g, bound }, d.point)
+    };
+    let n = FIRST_CELLS;
+    let half = DVec2::new(0.5 * dom.u.width() / n as f64, 0.5 * dom.v.width() / n as f64);
+    let origin = DVec2::new(dom.u.min, dom.v.min);
+    let mut heap = std::collections::BinaryHeap::new();
+    for i in 0..n {
+        for j in 0..n {
+            let centre = origin + DVec2::new((2 * i + 1) as f64 * half.x, (2 * j + 1) as f64 * half.y);
+            let (cell, at) = make(centre, half, 0);
+            if cell.g < -tol_mm {
+                return Some(Clash { part: ClashPart::Bottom, depth_mm: -cell.g, at });
+            }
+            if cell.bound < -tol_mm {
+                heap.push(cell);
             }
         }
-        for deg in [5.0f64, 10.0, 20.0, 35.0, 55.0, 90.0] {
-            let b = deg.to_radians();
-            pts.push(tip + (r0 + r * b.sin()) * e + r * (1.0 - b.cos()) * axis);
+    }
+    let mut evaluated = n * n;
+    while let Some(cell) = heap.pop() {
+        if evaluated > MAX_CELLS || cell.depth >= MAX_DEPTH {
+            // Out of budget: err on the safe side.
+            return Some(Clash { part: ClashPart::Bottom, depth_mm: -cell.bound, at: surface.point_at(cell.centre) });
+        }
+        let h = 0.5 * cell.half;
+        for (su, sv) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
+            let (child, at) = make(cell.centre + DVec2::new(su * h.x, sv * h.y), h, cell.depth + 1);
+            evaluated += 1;
+            if child.g < -tol_mm {
+                return Some(Clash { part: ClashPart::Bottom, depth_mm: -child.g, at });
+            }
+            if child.bound < -tol_mm {
+                heap.push(child);
+            }
         }
     }
-    pts
+    None
 }
+
+/// Share of the gouge tolerance allowed by [`adjust`]: the check measures how deep the
+/// part reaches into the cutter, the independent re-computation how deep the cutter reaches
+/// below the part; the two agree at the deepest point to first order, and the share keeps
+/// the print's rounding and that second-order difference inside the tolerance.
+const CHECK_SHARE: f64 = 0.9;
 
 /// Checks the cutter placed at `frame` with `pose` (module docs); the deepest clash, or
 /// `None` when it is clear to `tol_mm`.
@@ -143,31 +274,11 @@ pub fn check(
             worst = Some(c);
         }
     };
-    // Local and rear: the lower surface against the surface.
-    if part.k_concave_max > 0.0 {
-        let geo = LocalGeometry::try_new(surface.derivatives_at(frame.uv));
-        let dom = surface.domain();
-        let opts = ProjectOptions { max_iterations: 8, ..ProjectOptions::default() };
-        for p in lower_points(cutter, tip, axis) {
-            let w = p - frame.point;
-            let d2 = w.length_squared();
-            if w.dot(frame.normal) > 0.5 * part.k_concave_max * d2 + tol_mm {
-                continue;
-            }
-            let guess = geo.map_or(frame.uv, |g| frame.uv + g.tangent_coords(w));
-            let foot = project_point(surface, p, guess, opts);
-            // A foot on an edge of the domain: the point is over the part only when it does
-            // not lie beyond that edge (outward along the parameter's tangent).
-            let fd = surface.derivatives_at(foot.uv);
-            let w = p - foot.point;
-            let beyond = (foot.uv.x <= dom.u.min && !dom.u.periodic && w.dot(fd.du) < 0.0)
-                || (foot.uv.x >= dom.u.max && !dom.u.periodic && w.dot(fd.du) > 0.0)
-                || (foot.uv.y <= dom.v.min && !dom.v.periodic && w.dot(fd.dv) < 0.0)
-                || (foot.uv.y >= dom.v.max && !dom.v.periodic && w.dot(fd.dv) > 0.0);
-            if !beyond && foot.signed_distance < -tol_mm {
-                note(Clash { part: ClashPart::Bottom, depth_mm: -foot.signed_distance, at: foot.point });
-            }
-        }
+    // Local and rear: the part against the cutter's convex solid, certified.
+    if part.k_concave_max > 0.0
+        && let Some(c) = bottom_clash(surface, &CutterBody::new(cutter, tip, axis, tol_mm), part.second_bound, tol_mm)
+    {
+        note(c);
     }
     // Global: the part's points against the solid of revolution.
     for &p in &part.points {
@@ -217,9 +328,7 @@ pub fn adjust(
     opts: &OrientOptions,
     tol_mm: f64,
 ) -> Result<(Pose, Option<Adjustment>), Clash> {
-    // The sample is finite: half the tolerance at the samples keeps the cutter within the
-    // tolerance between them (tested against a dense brute force).
-    let tol = SAMPLE_SHARE * tol_mm;
+    let tol = CHECK_SHARE * tol_mm;
     let Some(first) = check(cutter, surface, part, frame, &pose, tol) else {
         return Ok((pose, None));
     };

@@ -243,7 +243,21 @@ fn make_uv(a: f64, b: f64, along: usize) -> DVec2 {
     if along == 0 { DVec2::new(a, b) } else { DVec2::new(b, a) }
 }
 
-impl Ctx<'_> {
+impl<'a> Ctx<'a> {
+    /// A job's context after checking its options: the along parameter chosen
+    /// ([`choose_along`]), c taken toward increasing b until the first path says otherwise.
+    fn start(
+        surface: &'a Surface,
+        cutter: &Cutter,
+        strategy: Strategy,
+        opts: &'a FinishOptions,
+        part: &'a PartSamples,
+    ) -> Result<Self, FinishError> {
+        check_options(opts)?;
+        let along = choose_along(surface, cutter, &strategy, opts);
+        Ok(Self { surface, cutter: *cutter, strategy, opts, part, along, side: 1.0 })
+    }
+
     fn ranges(&self) -> ((f64, f64), (f64, f64)) {
         let d = self.surface.domain();
         let (ra, rb) = if self.along == 0 { (d.u, d.v) } else { (d.v, d.u) };
@@ -610,9 +624,8 @@ impl IsoScallopSteps {
         opts: &FinishOptions,
         part: &PartSamples,
     ) -> Result<Self, FinishError> {
-        check_options(opts)?;
-        let along = choose_along(surface, cutter, &strategy, opts);
-        let ctx = Ctx { surface, cutter: *cutter, strategy, opts, part, along, side: 1.0 };
+        let ctx = Ctx::start(surface, cutter, strategy, opts, part)?;
+        let along = ctx.along;
         let ((a0, a1), (b0, _)) = ctx.ranges();
         let mut refused = Vec::new();
         let mut budget = opts.max_nodes;
@@ -757,9 +770,8 @@ pub fn iso_parametric(
     opts: &FinishOptions,
     part: &PartSamples,
 ) -> Result<PathSet, FinishError> {
-    check_options(opts)?;
-    let along = choose_along(surface, cutter, &strategy, opts);
-    let ctx = Ctx { surface, cutter: *cutter, strategy, opts, part, along, side: 1.0 };
+    let ctx = Ctx::start(surface, cutter, strategy, opts, part)?;
+    let along = ctx.along;
     let ((a0, a1), (b0, b1)) = ctx.ranges();
     let tool = strategy.cutter_for(cutter);
     let h = opts.scallop_mm;
