@@ -109,7 +109,7 @@ impl PartSamples {
 }
 
 /// Cells of the first grid of [`bottom_clash`] along each parameter.
-const FIRST_CELLS: usize = 16;
+const FIRST_CELLS: usize = 4;
 /// Most cells [`bottom_clash`] evaluates; beyond it the cell with the lowest bound is
 /// reported as a clash (a refusal errs on the safe side).
 const MAX_CELLS: usize = 40_000;
@@ -148,6 +148,24 @@ impl CutterBody {
         let d = (p - near).length();
         let grad = if d > 0.0 { (p - near) / d } else { DVec3::ZERO };
         (d - self.r, grad)
+    }
+
+    /// A bound of the largest eigenvalue of the distance's Hessian (1/mm) over the points
+    /// within `reach` (mm) of `p`, where the distance is at least `d_min` (mm). Below the
+    /// core's bottom face and inside its radius the nearest point lies on that face and the
+    /// distance is linear (Hessian 0); beside the side face it is `1/ρ ≤ 1/R0`; elsewhere
+    /// (about the rim) `1/d ≤ 1/d_min`.
+    fn hessian_bound(&self, p: DVec3, reach: f64, d_min: f64) -> f64 {
+        let w = p - self.tip;
+        let z = w.dot(self.axis);
+        let rho = (w - z * self.axis).length();
+        if rho + reach <= self.r0 && z + reach <= self.r {
+            0.0
+        } else if self.r0 > 0.0 && rho - reach >= self.r0 && z - reach >= self.r && z + reach <= self.top {
+            1.0 / self.r0
+        } else {
+            1.0 / d_min
+        }
     }
 }
 
@@ -188,7 +206,8 @@ impl Ord for Cell {
 /// The gouge function is `g(u, v) = d(r(u, v)) − r`, d the distance to the core (a convex
 /// set). Along a parameter line of unit direction e, `g'' = r_eᵀ·∇²d·r_e + ∇d·r_ee`; the
 /// Hessian of the distance to a convex set has eigenvalues in [0, 1/d] and |∇d| ≤ 1, so
-/// wherever g ≥ −tol (d ≥ r − tol): `g'' ≤ M = |r_e|²/(r − tol) + K`, K the bound of
+/// wherever g ≥ −tol (d ≥ r − tol): `g'' ≤ M = |r_e|²/(r − tol) + K` (tighter where the
+/// whole cell faces the core's flat bottom or its side, `CutterBody::hessian_bound`), K the bound of
 /// |r_ee| ([`PartSamples::second_bound`]) and `|r_e| ≤ σ(c) + K·ρ` on a cell of centre c and
 /// half-diagonal ρ (σ the largest singular value of (r_u, r_v) at c). On the cell of half
 /// sizes (hu, hv) g is therefore at least
@@ -199,17 +218,19 @@ impl Ord for Cell {
 /// better one and is used where it is. A pocket between samples cannot be missed.
 fn bottom_clash(surface: &Surface, body: &CutterBody, k2: f64, tol_mm: f64) -> Option<Clash> {
     let dom = surface.domain();
-    let inv_r = 1.0 / (body.r - tol_mm).max(0.5 * body.r);
+    let d_min = (body.r - tol_mm).max(0.5 * body.r);
     let make = |centre: DVec2, half: DVec2, depth: u32| {
         let d = surface.derivatives_at(centre);
         let (g, grad) = body.signed_distance(d.point);
         let (e, f, gg) = (d.du.length_squared(), d.du.dot(d.dv), d.dv.length_squared());
         let sigma = (0.5 * (e + gg) + (0.5 * (e - gg)).hypot(f)).sqrt();
         let rho = half.length();
-        let m = (sigma + k2 * rho).powi(2) * inv_r + k2;
+        // Every point of the cell lies within `reach` of the centre's point.
+        let reach = sigma * rho + 0.5 * k2 * rho * rho;
+        let m = (sigma + k2 * rho).powi(2) * body.hessian_bound(d.point, reach, d_min) + k2;
         let taylor = g - grad.dot(d.du).abs() * half.x - grad.dot(d.dv).abs() * half.y - 0.5 * m * rho * rho;
-        // g is 1-Lipschitz in space and |r(x) − r(c)| ≤ σ·ρ + ½·K·ρ²: the better bound far away.
-        let lipschitz = g - sigma * rho - 0.5 * k2 * rho * rho;
+        // g is 1-Lipschitz in space: the better bound far away.
+        let lipschitz = g - reach;
         let bound = taylor.max(lipschitz);
         (Cell { centre, half, depth, g, bound }, d.point)
     };

@@ -421,9 +421,44 @@ impl<'a> Ctx<'a> {
         (dom.clamp(uv), beyond)
     }
 
+    /// The pose the next path's node at `frame_b`, `w_mm` across from `node`, will get: the
+    /// strategy's within the azimuth window around the node's, α held within the turn rate
+    /// of the node's, and (when `checked`) after the gouge checks; with whether the checks
+    /// changed it.
+    fn next_pose(&self, node: &CcNode, frame_b: &ContactFrame, w_mm: f64, checked: bool) -> (Pose, bool) {
+        let oo = &self.opts.orient;
+        let psi = node.pose.azimuth_rad;
+        let d = oo.max_turn_rad_per_mm * w_mm;
+        let window = ((psi - d).max(-oo.max_azimuth_rad), (psi + d).min(oo.max_azimuth_rad));
+        let pose_b = pose_at(&self.strategy, &self.cutter, frame_b, oo, window).map_or(node.pose, |p| p.0);
+        let pose_b = Pose { inclination_rad: pose_b.inclination_rad.max(node.pose.inclination_rad - d), ..pose_b };
+        if !checked {
+            return (pose_b, false);
+        }
+        let tool = self.strategy.cutter_for(&self.cutter);
+        match adjust(&tool, self.surface, self.part, frame_b, pose_b, oo, self.opts.gouge_tol_mm) {
+            Ok((p, adj)) => (p, adj.is_some()),
+            Err(_) => (pose_b, false),
+        }
+    }
+
     /// Side step from `node` solved so the scallop is h; the uv of the next path's point,
-    /// whether it lies on (or beyond) the far boundary, the step and the scallop.
+    /// whether it lies on (or beyond) the far boundary, the step and the scallop. Solved
+    /// first with the next poses unchecked (the gouge checks are the costly part); when the
+    /// checks change the pose at the solution, solved again with every trial pose checked.
     fn side_step(&self, node: &CcNode) -> (DVec2, bool, f64, f64) {
+        let first = self.solve_side_step(node, false);
+        let (uv, beyond, w, _) = first;
+        if beyond {
+            return first;
+        }
+        match ContactFrame::new(self.surface, uv, node.frame.feed) {
+            Some(frame_b) if self.next_pose(node, &frame_b, w, true).1 => self.solve_side_step(node, true),
+            _ => first,
+        }
+    }
+
+    fn solve_side_step(&self, node: &CcNode, checked: bool) -> (DVec2, bool, f64, f64) {
         let h = self.opts.scallop_mm;
         let tool = self.strategy.cutter_for(&self.cutter);
         let a = CrossProfile::new(&tool, self.surface, node.frame, &node.pose);
@@ -433,7 +468,6 @@ impl<'a> Ctx<'a> {
         // Bracket of w: scallop below h at `lo`, above at `hi`.
         let (mut lo, mut hi) = (0.0f64, f64::INFINITY);
         let mut result = (node.frame.uv, true, w, 0.0);
-        let oo = &self.opts.orient;
         for _ in 0..SIDE_STEP_ROUNDS {
             let (uv, beyond) = self.walk(&node.frame, w);
             if beyond {
@@ -442,20 +476,7 @@ impl<'a> Ctx<'a> {
             let Some(frame_b) = ContactFrame::new(self.surface, uv, node.frame.feed) else {
                 return (uv, beyond, w, 0.0);
             };
-            let psi = node.pose.azimuth_rad;
-            let d = oo.max_turn_rad_per_mm * w;
-            let pose_b = pose_at(
-                &self.strategy,
-                &self.cutter,
-                &frame_b,
-                oo,
-                ((psi - d).max(-oo.max_azimuth_rad), (psi + d).min(oo.max_azimuth_rad)),
-            )
-            .map_or(node.pose, |p| p.0);
-            let pose_b = Pose { inclination_rad: pose_b.inclination_rad.max(node.pose.inclination_rad - d), ..pose_b };
-            // The pose the next path's node will get after the gouge checks.
-            let pose_b = adjust(&tool, self.surface, self.part, &frame_b, pose_b, oo, self.opts.gouge_tol_mm)
-                .map_or(pose_b, |(p, _)| p);
+            let (pose_b, _) = self.next_pose(node, &frame_b, w, checked);
             let b = CrossProfile::new(&tool, self.surface, frame_b, &pose_b);
             let s = scallop_between(&a, &b, self.side * w);
             result = (uv, beyond, w, s);
