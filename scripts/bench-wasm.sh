@@ -6,3 +6,6 @@ cd "$(dirname "$0")/.."
 export PATH="$HOME/.cargo/bin:$PATH"
 cargo test --release --no-default-features --test bench_recompute -- --ignored --nocapture 2>/dev/null | grep -E "^native"
 cargo test --release --no-default-features --target wasm32-unknown-unknown --test bench_recompute -- --include-ignored --nocapture 2>/dev/null | grep -E "wasm32"
+# Seed 001: a whole example surface's iso-scallop paths (tests/bench_fillet.rs).
+cargo test --release --no-default-features --test bench_fillet -- --ignored --nocapture 2>/dev/null | grep -E "^native"
+cargo test --release --no-default-features --target wasm32-unknown-unknown --test bench_fillet -- --include-ignored --nocapture 2>/dev/null | grep -E "wasm32"

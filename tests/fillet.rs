@@ -482,3 +482,18 @@ fn the_bottom_check_finds_every_pocket_the_brute_force_finds() {
     }
     assert!(found >= 10 && clear >= 10, "{found} clashes, {clear} clear: the cases should go both ways");
 }
+
+/// The concave mould, matched: the scallop measured by brute force between neighbouring
+/// interior paths, from their CL data alone, should be h within ±5 %. **Known to fail**
+/// (docs/fillet.md, "Scallop by brute force"): measured 0.29·h–1.28·h, the gouge checks
+/// adjust most of the mould's nodes after the side step has assumed their poses. Run it with
+/// `cargo test --release --no-default-features --test fillet -- --ignored the_mould --nocapture`.
+#[test]
+#[ignore = "known defect: the mould's scallop is 0.29 h – 1.28 h (docs/fillet.md)"]
+fn the_mould_leaves_h_by_brute_force() {
+    let id = "finish-concave-mould";
+    let h = job(id).options.scallop_mm;
+    let (lo, hi, n) = check_scallops(id, Strategy::Matched);
+    assert!(n >= 6, "{id}: only {n} sections measured");
+    assert!(lo >= 0.95 * h && hi <= 1.05 * h, "{id}: scallop {lo}..{hi} outside h ± 5 %");
+}
