@@ -445,11 +445,18 @@ impl<'a> Ctx<'a> {
     /// Side step from `node` solved so the scallop is h; the uv of the next path's point,
     /// whether it lies on (or beyond) the far boundary, the step and the scallop. Solved
     /// first with the next poses unchecked (the gouge checks are the costly part); when the
-    /// checks change the pose at the solution, solved again with every trial pose checked.
+    /// checks changed this node's pose and change the next one's at the solution, solved
+    /// again with every trial pose checked.
     fn side_step(&self, node: &CcNode) -> (DVec2, bool, f64, f64) {
         let first = self.solve_side_step(node, false);
         let (uv, beyond, w, _) = first;
         if beyond {
+            return first;
+        }
+        // The prediction matters only where the checks act: where they left this node as it
+        // was, the next one is taken unchecked too (its own checks run when its path is built,
+        // so this affects the scallop's accuracy, never the gouge-freedom).
+        if node.adjusted.is_none() {
             return first;
         }
         match ContactFrame::new(self.surface, uv, node.frame.feed) {
