@@ -23,6 +23,7 @@ use glam::DVec3;
 
 use super::{MAX_SOLVE_ITERATIONS, ROOT_TOL_MM};
 use crate::geom::{Cutter, CutterKind};
+use crate::numerics::maximise::golden_bracket;
 
 /// The simulated shape of a cutter (mm): what [`Cutter`] says, reduced to what cuts.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -246,35 +247,14 @@ fn capsule_low(
     low
 }
 
-/// Golden-section search for the minimum of a convex f on [a, b] down to a bracket of
-/// width `tol` (at most [`MAX_SOLVE_ITERATIONS`] steps): `(argmin, min)`.
+/// The minimum of a convex f on [a, b]: golden sections ([`golden_bracket`] on −f) down to
+/// a bracket of width `tol` (at most [`MAX_SOLVE_ITERATIONS`] steps), then the bracket's
+/// ends too (the minimum of a monotone f sits there): `(argmin, min)`.
 fn golden_min(f: impl Fn(f64) -> f64, a: f64, b: f64, tol: f64) -> (f64, f64) {
-    const INV_PHI: f64 = 0.618_033_988_749_894_8;
-    let (mut a, mut b) = (a, b);
-    let mut c = b - INV_PHI * (b - a);
-    let mut d = a + INV_PHI * (b - a);
-    let (mut fc, mut fd) = (f(c), f(d));
-    for _ in 0..MAX_SOLVE_ITERATIONS {
-        if b - a <= tol {
-            break;
-        }
-        if fc <= fd {
-            b = d;
-            d = c;
-            fd = fc;
-            c = b - INV_PHI * (b - a);
-            fc = f(c);
-        } else {
-            a = c;
-            c = d;
-            fc = fd;
-            d = a + INV_PHI * (b - a);
-            fd = f(d);
-        }
-    }
-    // The ends too: the minimum of a monotone f sits there.
-    let mut best = if fc <= fd { (c, fc) } else { (d, fd) };
-    for t in [a, b] {
+    let g = golden_bracket(&mut |t| -f(t), a, b, tol, MAX_SOLVE_ITERATIONS);
+    let (x, v) = g.best_inner();
+    let mut best = (x, -v);
+    for t in [g.lo, g.hi] {
         let v = f(t);
         if v < best.1 {
             best = (t, v);
