@@ -543,3 +543,43 @@ fn bad_stock_and_huge_grids_are_refused_with_a_message() {
     assert_eq!(stock.grid().len(), 1 << 20);
     assert!(stock.memory_bytes() < 64 << 20, "{}", stock.memory_bytes());
 }
+
+#[test]
+fn the_deviation_is_the_signed_distance_to_the_union_of_the_torus_and_the_plate() {
+    // examples/torus-plate-head-bc.json: a torus (centre circle ρ = 40 in z = 0, tube 15,
+    // material inside the tube) standing on a tilted plate (through (0, 0, 4), normal
+    // n = (0, −0.2079, 0.9781), material below). The part is their union.
+    use interpolab::simulate::part_signed_distance;
+    // Compiled in, so the wasm32 build (no file system) runs it too.
+    let scene = interpolab::scene::Scene::from_json(include_str!("../examples/torus-plate-head-bc.json")).unwrap();
+    let surfaces = interpolab::crease::CreaseJob::from_scene(&scene).unwrap().surfaces.to_vec();
+    let n = DVec3::new(0.0, -0.207_911_690_817_759_37, 0.978_147_600_733_805_6);
+    let plate = |p: DVec3| n.dot(p - DVec3::new(0.0, 0.0, 4.0));
+    let tube = |p: DVec3| (glam::DVec2::new(p.truncate().length() - 40.0, p.z)).length() - 15.0;
+    let union = |p: DVec3| plate(p).min(tube(p));
+    // 1. Just above the plate but 1.4 mm inside the ring: the nearest surface (the plate,
+    //    +3 µm) would call it stock left; the part says a 1.4 mm gouge of the ring.
+    let p1 = DVec3::new(53.0, 0.0, 4.0 + 0.003 / n.z);
+    assert!(plate(p1) > 0.0 && plate(p1) < 0.004 && tube(p1) < -1.3);
+    // 2. Outside both, nearer the plate; 3. above the ring's top; 4. beside the ring on the
+    //    far side of the plate's tilt, nearer the ring.
+    let points = [p1, DVec3::new(60.0, 0.0, 6.0), DVec3::new(0.0, 40.0, 15.2), DVec3::new(-57.0, -3.0, 5.5)];
+    for (k, p) in points.into_iter().enumerate() {
+        let mut guesses = vec![None; surfaces.len()];
+        let d = part_signed_distance(&surfaces, p, &mut guesses).unwrap();
+        assert!((d - union(p)).abs() < 1e-6, "point {k}: {d} vs {}", union(p));
+    }
+    // A walk of 0.1 mm steps from beside the ring, up its outer side, over its top and down
+    // into the hole, each step seeded by the previous one (as the scan does ray by ray):
+    // every step on the closed form, nearest-surface switches and the tube's sides included.
+    let mut seeds = vec![None; surfaces.len()];
+    let mut switched = [false; 2];
+    for k in 0..=700 {
+        let t = f64::from(k) / 700.0;
+        let p = DVec3::new(62.0 - 40.0 * t, 1.0, 5.0 + 12.0 * (std::f64::consts::PI * t).sin());
+        let d = part_signed_distance(&surfaces, p, &mut seeds).unwrap();
+        assert!((d - union(p)).abs() < 1e-6, "step {k} at {p}: {d} vs {}", union(p));
+        switched[usize::from(plate(p) < tube(p))] = true;
+    }
+    assert!(switched[0] && switched[1], "the walk meets both surfaces nearest");
+}

@@ -31,7 +31,7 @@ pub mod sweep;
 use glam::DVec3;
 use thiserror::Error;
 
-pub use measure::{Design, DeviationScan, HeightMap, SimStats, heights_csv, png_rgb};
+pub use measure::{Design, DeviationScan, FootSeed, HeightMap, SimStats, heights_csv, part_signed_distance, png_rgb};
 pub use program::{MoveKind, Program, SimMove};
 pub use stock::{DexelStock, Grid, Interval};
 pub use sweep::{BallSegment, LineSweep, ToolShape, line_span, tilted_span};
