@@ -6,3 +6,6 @@ cd "$(dirname "$0")/.."
 export PATH="$HOME/.cargo/bin:$PATH"
 cargo test --release --no-default-features --test bench_recompute -- --ignored --nocapture 2>/dev/null | grep -E "^native"
 cargo test --release --no-default-features --target wasm32-unknown-unknown --test bench_recompute -- --include-ignored --nocapture 2>/dev/null | grep -E "wasm32"
+# Ray-interval updates per second of the cutting simulation (tests/bench_simulate.rs).
+cargo test --release --no-default-features --test bench_simulate -- --ignored --nocapture 2>/dev/null | grep -E "^native"
+cargo test --release --no-default-features --target wasm32-unknown-unknown --test bench_simulate -- --include-ignored --nocapture 2>/dev/null | grep -E "wasm32"

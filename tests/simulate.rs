@@ -17,7 +17,8 @@ use interpolab::fiveaxis::{Joints, Machine};
 use interpolab::gcode::parse_program;
 use interpolab::geom::Cutter;
 use interpolab::simulate::{
-    Design, DexelStock, HeightMap, MoveKind, Program, SimMove, SimStats, Simulation, ToolShape, tilted_span,
+    BallSegment, Design, DexelStock, HeightMap, MoveKind, Program, SimMove, SimStats, Simulation, ToolShape,
+    tilted_span,
 };
 use support::Rng;
 
@@ -524,12 +525,35 @@ fn the_same_program_gives_identical_rays() {
         }
     }
     sums.push(h);
+    // The ball's closed-form swept segment (a 5-axis move's piece) between fixed poses: only
+    // arithmetic and sqrt too (the poses' sin/cos are left out: libm may differ per platform).
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let (a0, a1) = (DVec3::new(0.3, -0.2, 0.9).normalize(), DVec3::new(-0.1, 0.25, 0.95).normalize());
+    let seg = BallSegment::new(1.5, DVec3::new(0.1, 0.2, 1.8), a0, DVec3::new(0.9, -0.4, 1.6), a1, 2.5, 0.01);
+    let mut hits = 0;
+    for k in 0..4096 {
+        let (x, y) = (f64::from(k % 64) * 0.08 - 2.2, f64::from(k / 64) * 0.08 - 2.6);
+        if let Some((lo, hi)) = seg.span(x, y) {
+            hits += 1;
+            for v in [lo.to_bits(), hi.to_bits()] {
+                h ^= v;
+                h = h.wrapping_mul(0x0000_0100_0000_01b3);
+            }
+        }
+    }
+    assert!(hits > 1000 && hits < 4096, "{hits}");
+    sums.push(h);
     // Native x86-64 values; the wasm32 build under Node must reproduce them bit for bit.
     assert_eq!(sums, EXPECTED_SUMS, "ray checksums differ from the native run");
 }
 
-const EXPECTED_SUMS: [u64; 4] =
-    [14_732_471_149_034_804_484, 16_391_303_642_899_386_748, 8_957_791_105_948_524_568, 11_372_898_439_228_079_387];
+const EXPECTED_SUMS: [u64; 5] = [
+    14_732_471_149_034_804_484,
+    16_391_303_642_899_386_748,
+    8_957_791_105_948_524_568,
+    11_372_898_439_228_079_387,
+    15_668_402_580_591_005_269,
+];
 
 #[test]
 fn bad_stock_and_huge_grids_are_refused_with_a_message() {

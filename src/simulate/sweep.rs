@@ -380,6 +380,19 @@ pub fn tilted_box(tool: &ToolShape, tip: DVec3, axis: DVec3, h_mm: f64) -> (DVec
     (tip.min(top) - ext, tip.max(top) + ext)
 }
 
+/// The smaller of two numbers that are not NaN: a plain comparison (one select in wasm32,
+/// where `f64::min` must also handle NaN and costs several instructions).
+#[inline]
+fn lesser(a: f64, b: f64) -> f64 {
+    if b < a { b } else { a }
+}
+
+/// The larger of two numbers that are not NaN (see [`lesser`]).
+#[inline]
+fn greater(a: f64, b: f64) -> f64 {
+    if b > a { b } else { a }
+}
+
 /// A solid cylinder without end caps, set up for vertical rays: radius R around the segment
 /// from `p0` along the unit `axis` for `len` mm (the region between the two end planes
 /// perpendicular to the axis). Everything that does not depend on the ray is precomputed, so
@@ -424,7 +437,7 @@ impl RayCyl {
         let (mut lo, mut hi) = if self.inv_az != 0.0 {
             let za = -wa * self.inv_az;
             let zb = (self.len - wa) * self.inv_az;
-            (za.min(zb), za.max(zb))
+            (lesser(za, zb), greater(za, zb))
         } else if (0.0..=self.len).contains(&wa) {
             (f64::NEG_INFINITY, f64::INFINITY)
         } else {
@@ -442,8 +455,8 @@ impl RayCyl {
                 return None;
             }
             let s = disc.sqrt();
-            lo = lo.max((-qb - s) * self.inv_2qa);
-            hi = hi.min((-qb + s) * self.inv_2qa);
+            lo = greater(lo, (-qb - s) * self.inv_2qa);
+            hi = lesser(hi, (-qb + s) * self.inv_2qa);
         }
         (lo <= hi && lo.is_finite() && hi.is_finite()).then_some((lo, hi))
     }
@@ -475,9 +488,9 @@ impl HalfSpace {
         }
         let z = -f0 * self.inv_mz;
         if self.inv_mz > 0.0 {
-            *lo = lo.max(z);
+            *lo = greater(*lo, z);
         } else {
-            *hi = hi.min(z);
+            *hi = lesser(*hi, z);
         }
         *lo <= *hi
     }
@@ -620,20 +633,20 @@ impl BallSegment {
             let s2 = self.r2 - ex * ex - ey * ey;
             if s2 >= 0.0 {
                 let s = s2.sqrt();
-                lo = lo.min(c.z - s);
-                hi = hi.max(c.z + s);
+                lo = lesser(lo, c.z - s);
+                hi = greater(hi, c.z + s);
             }
         }
         for cyl in self.cyls.iter().flatten() {
             if let Some((l, h)) = cyl.span(x, y) {
-                lo = lo.min(l);
-                hi = hi.max(h);
+                lo = lesser(lo, l);
+                hi = greater(hi, h);
             }
         }
         for t in self.tri.iter().flatten() {
             if let Some((l, h)) = t.span(x, y) {
-                lo = lo.min(l);
-                hi = hi.max(h);
+                lo = lesser(lo, l);
+                hi = greater(hi, h);
             }
         }
         (lo <= hi).then_some((lo, hi))
