@@ -333,18 +333,7 @@ impl Simulation {
             seg = seg.continuing();
         }
         self.last_pose = Some((p1.tip_in_workpiece, a1));
-        let mut removed = 0.0;
-        for j in j0..=j1 {
-            let y = g.y_mm(j);
-            for i in i0..=i1 {
-                self.counters.rays_visited += 1;
-                if let Some((zl, zh)) = seg.span(g.x_mm(i), y) {
-                    self.counters.ray_updates += 1;
-                    removed += self.stock.subtract(j * g.nx + i, zl, zh);
-                }
-            }
-        }
-        removed * g.pitch_mm * g.pitch_mm
+        self.subtract_spans((i0, i1), (j0, j1), |x, y| seg.span(x, y))
     }
 
     /// Estimated rays visited by a program (the sum of its moves' and samples' boxes), to
@@ -463,12 +452,25 @@ impl Simulation {
             return 0.0;
         };
         let sweep = LineSweep::new(&self.tool, a, b);
+        self.subtract_spans((i0, i1), (j0, j1), |x, y| sweep.span(x, y))
+    }
+
+    /// Subtracts from every ray of columns i0..=i1 and rows j0..=j1 the span `span(x, y)`
+    /// gives it (none: the ray is missed), counting visits and updates; the material
+    /// removed (mm³).
+    fn subtract_spans(
+        &mut self,
+        (i0, i1): (usize, usize),
+        (j0, j1): (usize, usize),
+        span: impl Fn(f64, f64) -> Option<(f64, f64)>,
+    ) -> f64 {
+        let g = *self.stock.grid();
         let mut removed = 0.0;
         for j in j0..=j1 {
             let y = g.y_mm(j);
             for i in i0..=i1 {
                 self.counters.rays_visited += 1;
-                if let Some((lo, hi)) = sweep.span(g.x_mm(i), y) {
+                if let Some((lo, hi)) = span(g.x_mm(i), y) {
                     self.counters.ray_updates += 1;
                     removed += self.stock.subtract(j * g.nx + i, lo, hi);
                 }
@@ -496,17 +498,7 @@ impl Simulation {
         let (Some((i0, i1)), Some((j0, j1))) = (g.columns(lo.x, hi.x), g.rows(lo.y, hi.y)) else {
             return 0.0;
         };
-        let mut removed = 0.0;
-        for j in j0..=j1 {
-            let y = g.y_mm(j);
-            for i in i0..=i1 {
-                self.counters.rays_visited += 1;
-                if let Some((zl, zh)) = tilted_span(&self.tool, tip, axis, g.x_mm(i), y) {
-                    self.counters.ray_updates += 1;
-                    removed += self.stock.subtract(j * g.nx + i, zl, zh);
-                }
-            }
-        }
-        removed * g.pitch_mm * g.pitch_mm
+        let tool = self.tool;
+        self.subtract_spans((i0, i1), (j0, j1), |x, y| tilted_span(&tool, tip, axis, x, y))
     }
 }
