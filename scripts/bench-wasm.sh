@@ -9,3 +9,6 @@ cargo test --release --no-default-features --target wasm32-unknown-unknown --tes
 # Seed 001: a whole example surface's iso-scallop paths (tests/bench_fillet.rs).
 cargo test --release --no-default-features --test bench_fillet -- --ignored --nocapture 2>/dev/null | grep -E "^native"
 cargo test --release --no-default-features --target wasm32-unknown-unknown --test bench_fillet -- --include-ignored --nocapture 2>/dev/null | grep -E "wasm32"
+# Ray-interval updates per second of the cutting simulation (tests/bench_simulate.rs).
+cargo test --release --no-default-features --test bench_simulate -- --ignored --nocapture 2>/dev/null | grep -E "^native"
+cargo test --release --no-default-features --target wasm32-unknown-unknown --test bench_simulate -- --include-ignored --nocapture 2>/dev/null | grep -E "wasm32"

@@ -167,6 +167,12 @@ fn five_axis_steps_of_a_scene_gouge_no_deeper_than_their_tolerance() {
     let s: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(s["design"], "scene surfaces");
     assert!(s["moves"].as_u64().unwrap() > 100, "{s}");
+    // Numbers as every command prints them (shortest round trip, no `.0`), lengths to 1e-6 mm.
+    assert!(out.contains("\"x0_mm\": -70,") && out.contains("\"pitch_mm\": 0.5,"), "{out}");
+    assert!(!out.contains(".0,") && !out.contains(".0\n") && !out.contains("0000000"), "{out}");
+    // The ball's 5-axis moves are cut in swept segments within half a pitch.
+    assert_eq!(s["sweep_tol_mm"], 0.25);
+    assert!(s["sweep_sagitta_mm"].as_f64().unwrap() < 0.25 * 3.0 / 8.0, "{s}");
     let worst = s["gouge"]["worst_um"].as_f64().unwrap_or(0.0);
     assert!(worst >= -10.0 - 1e-3, "worst gouge {worst} µm deeper than the 10 µm tolerance");
     assert!(s["removed_volume_mm3"].as_f64().unwrap() > 1000.0);

@@ -277,6 +277,22 @@ impl InterpolabApp {
         if key.is_empty() { Ok(()) } else { self.panels[i].set_option(key, value) }
     }
 
+    /// Shows the view a [`panel::Handoff`] names and sets its options; a refused option is
+    /// shown in the banner.
+    fn route_handoff(&mut self, h: panel::Handoff) {
+        let Some(i) = self.panels.iter().position(|p| p.title() == h.to) else {
+            self.error(format!("No view titled {} to hand the program to.", h.to));
+            return;
+        };
+        self.tab = Some(i);
+        for (key, value) in &h.options {
+            if let Err(e) = self.panels[i].set_option(key, value) {
+                self.error(format!("{}: {e}", h.to));
+                return;
+            }
+        }
+    }
+
     /// The current (valid) scene.
     #[must_use]
     pub fn scene(&self) -> &Scene {
@@ -555,6 +571,7 @@ impl eframe::App for InterpolabApp {
         }
 
         let mut messages = Vec::new();
+        let mut handoff = None;
         egui::CentralPanel::default().show(ui, |ui| {
             self.banner(ui);
             if self.show_help {
@@ -586,9 +603,11 @@ impl eframe::App for InterpolabApp {
                         program: &self.program,
                         program_generation: self.program_generation,
                         messages: Vec::new(),
+                        handoff: None,
                     };
                     panel.ui(ui, &mut cx);
                     messages = cx.messages;
+                    handoff = cx.handoff;
                 }
             }
         });
@@ -597,6 +616,9 @@ impl eframe::App for InterpolabApp {
                 Ok(t) => self.info(t),
                 Err(t) => self.error(t),
             }
+        }
+        if let Some(h) = handoff {
+            self.route_handoff(h);
         }
 
         let status = self.status_json();

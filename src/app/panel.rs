@@ -32,6 +32,24 @@ pub struct PanelContext<'a> {
     pub program_generation: u64,
     /// Messages for the banner: `Err` for problems, `Ok` for information.
     pub messages: Vec<Result<String, String>>,
+    /// A request to hand something to another view (set by the view, routed by the app
+    /// after the frame).
+    pub handoff: Option<Handoff>,
+}
+
+/// Title of the cutting simulation view, the target of the "Simulate this program" buttons.
+pub const SIMULATION_TITLE: &str = "Cutting simulation";
+
+/// A request from one view to another, routed by the app after the frame: show the view
+/// titled `to` and set its options in order, as [`Panel::set_option`] would — e.g. the 5-axis
+/// tab's "Simulate this program" is `("Cutting simulation", [("source", "steps")])`. A view
+/// hands over what it shows without knowing the other view's type.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Handoff {
+    /// Title of the receiving view.
+    pub to: &'static str,
+    /// Options to set on it, in order (key, value).
+    pub options: Vec<(&'static str, String)>,
 }
 
 impl PanelContext<'_> {

@@ -202,15 +202,19 @@ fn finish(
     }
     let g = map.grid;
     let um = |mm: f64| (mm * 1e6).round() / 1e3;
+    // Lengths to the CSV's resolution (1e-6 mm), so a ray's x0 + (i + ½)·p prints as 45.75.
+    let nm = |mm: f64| (mm * 1e6).round() / 1e6;
     let summary = json!({
         "format": "interpolab-simulate/1",
         "program": a.program.display().to_string(),
         "cutter": cutter.describe(),
         "programmed_point": if centre { "ball centre" } else { "tool tip" },
-        "grid": { "nx": g.nx, "ny": g.ny, "pitch_mm": g.pitch_mm, "x0_mm": g.x0_mm, "y0_mm": g.y0_mm },
+        "grid": { "nx": g.nx, "ny": g.ny, "pitch_mm": nm(g.pitch_mm), "x0_mm": nm(g.x0_mm), "y0_mm": nm(g.y0_mm) },
         "moves": c.moves,
         "chord_tol_mm": chord_tol,
-        "chord_error_mm": program.chord_error_mm,
+        "chord_error_mm": nm(program.chord_error_mm),
+        "sweep_tol_mm": sim.sweep_tol_mm().map(nm),
+        "sweep_sagitta_mm": nm(c.sweep_sagitta_mm),
         "ray_updates": c.ray_updates,
         "run_ms": (run_ms * 1e3).round() / 1e3,
         "removed_volume_mm3": (c.removed_mm3 * 1e6).round() / 1e6,
@@ -226,8 +230,52 @@ fn finish(
             "mean": um(stats.scallop.mean_mm),
             "p95": um(stats.scallop.p95_mm),
         })),
-        "gouge": stats.worst_gouge.map(|(d, p)| json!({ "worst_um": um(d), "x_mm": p.x, "y_mm": p.y, "rays": stats.gouge_rays })),
+        "gouge": stats.worst_gouge.map(|(d, p)| json!({ "worst_um": um(d), "x_mm": nm(p.x), "y_mm": nm(p.y), "rays": stats.gouge_rays })),
     });
-    println!("{}", serde_json::to_string_pretty(&summary).unwrap_or_default());
+    let mut text = String::new();
+    pretty_json(&summary, 0, &mut text);
+    println!("{text}");
     Ok(ExitCode::SUCCESS)
+}
+
+/// Pretty-prints a JSON document (two-space indent, keys in insertion order) with every
+/// number as the shortest decimal that reads back to the same double
+/// ([`interpolab::numerics::format::push_num`], as every other command prints numbers:
+/// `4`, not `4.0`); a non-finite number prints as null.
+fn pretty_json(v: &serde_json::Value, depth: usize, out: &mut String) {
+    use serde_json::Value;
+    let pad = |out: &mut String, d: usize| out.extend(std::iter::repeat_n("  ", d));
+    match v {
+        Value::Number(n) => match (n.as_i64(), n.as_u64(), n.as_f64()) {
+            (Some(i), _, _) => out.push_str(&i.to_string()),
+            (_, Some(u), _) => out.push_str(&u.to_string()),
+            (_, _, Some(x)) if x.is_finite() => interpolab::numerics::format::push_num(out, x),
+            _ => out.push_str("null"),
+        },
+        Value::Array(items) if !items.is_empty() => {
+            out.push('[');
+            for (k, item) in items.iter().enumerate() {
+                out.push_str(if k == 0 { "\n" } else { ",\n" });
+                pad(out, depth + 1);
+                pretty_json(item, depth + 1, out);
+            }
+            out.push('\n');
+            pad(out, depth);
+            out.push(']');
+        }
+        Value::Object(map) if !map.is_empty() => {
+            out.push('{');
+            for (k, (key, item)) in map.iter().enumerate() {
+                out.push_str(if k == 0 { "\n" } else { ",\n" });
+                pad(out, depth + 1);
+                out.push_str(&serde_json::to_string(key).unwrap_or_default());
+                out.push_str(": ");
+                pretty_json(item, depth + 1, out);
+            }
+            out.push('\n');
+            pad(out, depth);
+            out.push('}');
+        }
+        other => out.push_str(&serde_json::to_string(other).unwrap_or_default()),
+    }
 }

@@ -207,14 +207,57 @@ pub fn max_on_interval(f: &mut dyn FnMut(f64) -> f64, a: f64, b: f64, n: usize, 
     if refine == 0 || !(h > 0.0) {
         return (best.1, best.0);
     }
-    let mut lo = if best_i == 0 { a } else { a + h * (best_i - 1) as f64 };
-    let mut hi = if best_i == n { b } else { a + h * (best_i + 1) as f64 };
+    let lo = if best_i == 0 { a } else { a + h * (best_i - 1) as f64 };
+    let hi = if best_i == n { b } else { a + h * (best_i + 1) as f64 };
+    let g = golden_bracket(f, lo, hi, 0.0, refine);
+    for (t, v) in g.inner {
+        if v > best.1 {
+            best = (t, v);
+        }
+    }
+    (best.1, best.0)
+}
+
+/// The end state of [`golden_bracket`]: the last bracket and its two interior points.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GoldenBracket {
+    /// Lower end of the bracket.
+    pub lo: f64,
+    /// Upper end of the bracket.
+    pub hi: f64,
+    /// The two interior points `(x, f(x))`, lower one first.
+    pub inner: [(f64, f64); 2],
+}
+
+impl GoldenBracket {
+    /// The better of the two interior points (the lower one on a tie).
+    #[must_use]
+    pub fn best_inner(&self) -> (f64, f64) {
+        if self.inner[0].1 >= self.inner[1].1 { self.inner[0] } else { self.inner[1] }
+    }
+}
+
+/// Golden-section search for the largest value of a unimodal `f` on `[lo, hi]`: the bracket
+/// shrinks by 0.618 per step (one evaluation each) until it is at most `tol` wide or after
+/// `max_steps` steps. The shared refinement of [`max_on_interval`] and of the cutting
+/// simulation's convex minimisations (which maximise −f).
+pub fn golden_bracket<F: FnMut(f64) -> f64 + ?Sized>(
+    f: &mut F,
+    lo: f64,
+    hi: f64,
+    tol: f64,
+    max_steps: usize,
+) -> GoldenBracket {
     const INV_PHI: f64 = 0.618_033_988_749_894_8;
+    let (mut lo, mut hi) = (lo, hi);
     let mut x1 = hi - INV_PHI * (hi - lo);
     let mut x2 = lo + INV_PHI * (hi - lo);
     let mut f1 = f(x1);
     let mut f2 = f(x2);
-    for _ in 0..refine {
+    for _ in 0..max_steps {
+        if hi - lo <= tol {
+            break;
+        }
         if f1 >= f2 {
             hi = x2;
             x2 = x1;
@@ -229,10 +272,5 @@ pub fn max_on_interval(f: &mut dyn FnMut(f64) -> f64, a: f64, b: f64, n: usize, 
             f2 = f(x2);
         }
     }
-    for (t, v) in [(x1, f1), (x2, f2)] {
-        if v > best.1 {
-            best = (t, v);
-        }
-    }
-    (best.1, best.0)
+    GoldenBracket { lo, hi, inner: [(x1, f1), (x2, f2)] }
 }

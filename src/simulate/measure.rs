@@ -21,7 +21,8 @@ pub enum Design {
     /// The horizontal plane z = value (mm), material below it.
     PlaneZ(f64),
     /// Parametric surfaces with normals toward the cutter (a scene's two surfaces): the
-    /// deviation of a point is its signed distance from the nearest of them.
+    /// deviation of a point is its signed distance from the part, the union of the
+    /// surfaces' material sides ([`part_signed_distance`]).
     Surfaces(Vec<Surface>),
 }
 
@@ -130,7 +131,7 @@ impl SimStats {
 #[derive(Clone, Debug)]
 pub struct DeviationScan {
     dev: Vec<Option<f64>>,
-    guesses: Vec<Option<DVec2>>,
+    guesses: Vec<Option<FootSeed>>,
     next_row: usize,
 }
 
@@ -165,22 +166,7 @@ impl DeviationScan {
                 self.dev[k] = match design {
                     Design::None => None,
                     Design::PlaneZ(z) => Some(p.z - z),
-                    Design::Surfaces(surfaces) => {
-                        let mut best: Option<f64> = None;
-                        for (s, guess) in surfaces.iter().zip(self.guesses.iter_mut()) {
-                            let foot = match guess {
-                                Some(uv) => project_point(s, p, *uv, ProjectOptions::default()),
-                                None => project_point_global(s, p, 16),
-                            };
-                            *guess = Some(foot.uv);
-                            if foot.signed_distance.is_finite()
-                                && best.is_none_or(|b: f64| foot.signed_distance.abs() < b.abs())
-                            {
-                                best = Some(foot.signed_distance);
-                            }
-                        }
-                        best
-                    }
+                    Design::Surfaces(surfaces) => part_signed_distance(surfaces, p, &mut self.guesses),
                 };
             }
         }
@@ -218,6 +204,74 @@ impl DeviationScan {
             gouge_rays,
         }
     }
+}
+
+/// A foot whose offset p − r leaves the normal by more than this (cosine) lies on the edge
+/// of its patch with p beside it, not above or below: the surface says nothing of the side
+/// p is on.
+pub const FOOT_ALONG_NORMAL_COS: f64 = 0.999;
+
+/// Slack (mm) of the Lipschitz check of [`part_signed_distance`]: Newton's own accuracy.
+pub const FOOT_SLACK_MM: f64 = 1e-6;
+
+/// Where the last projection onto a surface landed: its parameters, the point projected
+/// and its distance (mm), the seed and the yardstick of the next projection.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FootSeed {
+    /// Parameters of the foot (the surface's internal units).
+    pub uv: DVec2,
+    /// The point that was projected (mm).
+    pub point: DVec3,
+    /// Its distance from the foot (mm).
+    pub distance_mm: f64,
+}
+
+/// Signed distance (mm) of `p` from the part bounded by `surfaces` (normals toward the
+/// cutter, material on the other side): the part is the union of the surfaces' material
+/// sides, so its signed distance is the smallest of theirs — exact outside the part (the
+/// distance to a union is the smallest distance to its members), and inside it −(the largest
+/// depth below one surface), the depth below the part's boundary wherever the nearest
+/// boundary point lies on one surface outside the other's material. Per surface the foot is
+/// found by Newton from `seeds` (the previous ray's feet; a global search when there is
+/// none, and `seeds` is updated), and checked by a global search when it claims p inside that
+/// surface's material or lies farther than the seed's distance plus the step (a local
+/// projection may converge to a far foot — the far side of a torus' tube, say — which would
+/// read as a deep gouge or hide one). A foot on its patch's edge with p beside it
+/// ([`FOOT_ALONG_NORMAL_COS`]) counts as outside that material, at its distance. `None` when
+/// no surface gives a finite distance.
+pub fn part_signed_distance(surfaces: &[Surface], p: DVec3, seeds: &mut [Option<FootSeed>]) -> Option<f64> {
+    const GLOBAL_SAMPLES: usize = 16;
+    let mut best: Option<f64> = None;
+    for (s, seed) in surfaces.iter().zip(seeds.iter_mut()) {
+        let mut foot = match seed {
+            Some(f) => project_point(s, p, f.uv, ProjectOptions::default()),
+            None => project_point_global(s, p, GLOBAL_SAMPLES),
+        };
+        // The distance to a surface is 1-Lipschitz: farther than the seed's distance plus
+        // the step means Newton settled on a foot that is not the nearest.
+        let suspect = seed.is_some_and(|f| {
+            foot.signed_distance < 0.0 || foot.distance > f.distance_mm + (p - f.point).length() + FOOT_SLACK_MM
+        });
+        if suspect {
+            let global = project_point_global(s, p, GLOBAL_SAMPLES);
+            if global.distance < foot.distance {
+                foot = global;
+            }
+        }
+        *seed = Some(FootSeed { uv: foot.uv, point: p, distance_mm: foot.distance });
+        if !foot.signed_distance.is_finite() {
+            continue;
+        }
+        let sd = if foot.signed_distance.abs() >= FOOT_ALONG_NORMAL_COS * foot.distance {
+            foot.signed_distance
+        } else {
+            foot.distance
+        };
+        if best.is_none_or(|b: f64| sd < b) {
+            best = Some(sd);
+        }
+    }
+    best
 }
 
 /// The height map as CSV: a header line `i,j,x_mm,y_mm,top_mm,machined,deviation_mm`, then

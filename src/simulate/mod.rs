@@ -31,12 +31,12 @@ pub mod sweep;
 use glam::DVec3;
 use thiserror::Error;
 
-pub use measure::{Design, DeviationScan, HeightMap, SimStats, heights_csv, png_rgb};
+pub use measure::{Design, DeviationScan, FootSeed, HeightMap, SimStats, heights_csv, part_signed_distance, png_rgb};
 pub use program::{MoveKind, Program, SimMove};
 pub use stock::{DexelStock, Grid, Interval};
-pub use sweep::{LineSweep, ToolShape, line_span, tilted_span};
+pub use sweep::{BallSegment, LineSweep, ToolShape, line_span, tilted_span};
 
-use crate::geom::Cutter;
+use crate::geom::{Cutter, CutterKind};
 
 /// A cell count this close below a whole number (relative) is that whole number: a stock
 /// 10 mm wide at pitch 0.1 has 100 rays, not 101, whatever the rounding of 10/0.1.
@@ -62,8 +62,15 @@ pub const AXIS_FLAT_SIN: f64 = 1e-12;
 /// end of a cut re-cuts that end's surface to within ~1e-15 mm).
 pub const CUT_NOISE_MM: f64 = 1e-6;
 
-/// Most tool positions one 5-axis move is sampled at.
+/// Most tool positions one 5-axis move is sampled at (and most swept segments + 1).
 pub const MAX_SAMPLES_PER_MOVE: usize = 10_000;
+
+/// Default error bound of a ball end mill's swept 5-axis segments, as a fraction of the
+/// pitch (Hausdorff distance between the segments' envelope and the interpolated motion's).
+pub const SWEEP_TOL_PER_PITCH: f64 = 0.5;
+
+/// Poses a 5-axis move is pre-sampled at to plan its samples or segments.
+const PRE_SAMPLES: usize = 32;
 
 /// Most ray visits (rays inside the boxes of all moves and samples) a run may need; a
 /// program estimated above it is refused before it starts (about a minute of work).
@@ -119,6 +126,10 @@ pub struct Counters {
     pub rapid_cuts: usize,
     /// Line of the first of them (0 for in-memory programs).
     pub first_rapid_cut_line: Option<usize>,
+    /// Largest measured distance (mm) between the true pose at the middle of a swept
+    /// ball-end segment of a 5-axis move and the straight interpolation the segment uses
+    /// (its centre, and the top of its body): the sagitta part of the sweep error.
+    pub sweep_sagitta_mm: f64,
 }
 
 /// A stock being machined by one cutter.
@@ -127,8 +138,14 @@ pub struct Simulation {
     stock: DexelStock,
     tool: ToolShape,
     /// Largest displacement (mm) of any point of the cutter's body between two samples of a
-    /// 5-axis move (default: the pitch).
+    /// 5-axis move (default: the pitch), where 5-axis moves are sampled pose by pose.
     sample_step_mm: f64,
+    /// Error bound (mm, Hausdorff) of the closed-form swept segments a ball end mill's 5-axis
+    /// moves are cut in; `None` samples them pose by pose as the other cutters.
+    sweep_tol_mm: Option<f64>,
+    /// Tip and axis (mm, unit) where the last swept segment ended: a segment starting there
+    /// skips the pose it shares with it.
+    last_pose: Option<(DVec3, DVec3)>,
     counters: Counters,
 }
 
@@ -137,19 +154,44 @@ impl Simulation {
     /// cutter moves more than one pitch between samples.
     #[must_use]
     pub fn new(stock: DexelStock, cutter: &Cutter) -> Self {
-        let sample_step_mm = stock.grid().pitch_mm;
-        Self { stock, tool: ToolShape::of(cutter), sample_step_mm, counters: Counters::default() }
+        let pitch = stock.grid().pitch_mm;
+        let tool = ToolShape::of(cutter);
+        let sweep_tol_mm = (tool.kind == CutterKind::Ball).then_some(pitch * SWEEP_TOL_PER_PITCH);
+        Self { stock, tool, sample_step_mm: pitch, sweep_tol_mm, last_pose: None, counters: Counters::default() }
     }
 
-    /// The same simulation sampling 5-axis moves so no point of the cutter's body moves
-    /// more than `step_mm` between two tool positions (a non-positive or non-finite step
-    /// keeps the pitch).
+    /// The same simulation sampling 5-axis moves pose by pose (every cutter, the ball end
+    /// mill included) so no point of the cutter's body moves more than `step_mm` between two
+    /// tool positions (a non-positive or non-finite step keeps the pitch): the dense
+    /// reference the swept segments are measured against.
     #[must_use]
     pub fn with_sample_step(mut self, step_mm: f64) -> Self {
         if step_mm > 0.0 && step_mm.is_finite() {
             self.sample_step_mm = step_mm;
         }
+        self.sweep_tol_mm = None;
         self
+    }
+
+    /// The same simulation cutting a ball end mill's 5-axis moves in closed-form swept
+    /// segments within `tol_mm` (Hausdorff) of the interpolated motion (a non-positive or
+    /// non-finite value keeps the default, [`SWEEP_TOL_PER_PITCH`] × pitch). No effect on
+    /// other cutters.
+    #[must_use]
+    pub fn with_sweep_tol(mut self, tol_mm: f64) -> Self {
+        if self.tool.kind == CutterKind::Ball {
+            let pitch = self.stock.grid().pitch_mm;
+            self.sweep_tol_mm =
+                Some(if tol_mm > 0.0 && tol_mm.is_finite() { tol_mm } else { pitch * SWEEP_TOL_PER_PITCH });
+        }
+        self
+    }
+
+    /// The sweep tolerance (mm) of a ball end mill's 5-axis segments, `None` when 5-axis
+    /// moves are sampled pose by pose.
+    #[must_use]
+    pub fn sweep_tol_mm(&self) -> Option<f64> {
+        self.sweep_tol_mm
     }
 
     /// The stock as machined so far.
@@ -193,7 +235,7 @@ impl Simulation {
         from: &crate::fiveaxis::Joints,
         to: &crate::fiveaxis::Joints,
     ) -> usize {
-        const PRE: usize = 32;
+        const PRE: usize = PRE_SAMPLES;
         let pose = |k: usize| machine.pose_from_joints(&from.lerp(to, k as f64 / PRE as f64));
         let reach = |p: &crate::fiveaxis::ToolPose| self.reach_mm(p.tip_in_workpiece, p.axis_in_workpiece).max(0.0);
         let mut prev = pose(0);
@@ -207,6 +249,91 @@ impl Simulation {
         }
         let n = (1.25 * travel / self.sample_step_mm).ceil();
         if n.is_finite() { (n as usize).clamp(1, MAX_SAMPLES_PER_MOVE - 1) + 1 } else { MAX_SAMPLES_PER_MOVE }
+    }
+
+    /// Body length above the ball centre (mm) a swept segment between two poses needs: up
+    /// to where the body of both poses is above the stock's top ([`Self::reach_mm`]) plus
+    /// `tol_mm`, at most H − R; 0 when only the ball can reach the stock.
+    fn segment_body_mm(&self, p0: &crate::fiveaxis::ToolPose, p1: &crate::fiveaxis::ToolPose, tol_mm: f64) -> f64 {
+        let r = self.tool.radius_mm;
+        let reach = |p: &crate::fiveaxis::ToolPose| self.reach_mm(p.tip_in_workpiece, p.axis_in_workpiece);
+        (reach(p0).max(reach(p1)) + tol_mm - r).clamp(0.0, (self.tool.top_mm - r).max(0.0))
+    }
+
+    /// Swept segments a ball end mill's 5-axis move is cut in (1 to
+    /// [`MAX_SAMPLES_PER_MOVE`] − 1) so that the envelope is within `tol_mm` of the
+    /// interpolated motion's: half of it for the twist of the ruled surface the axis sweeps
+    /// (L·|Δa|/4 per segment, from the axis' chordal turn on a 32-chord estimate raised by a
+    /// quarter), 3/8 for the sagitta of the centre's and the body top's paths against their
+    /// chords (max|c''|/(8n²), max|c''| from second differences of the same 33 poses raised
+    /// by a half), and the last 1/8 ([`sweep::NOTCH_SHARE`]) for the notch along a segment's
+    /// diagonal when its cylinder is left out.
+    #[must_use]
+    pub fn segments_of(
+        &self,
+        machine: &crate::fiveaxis::Machine,
+        from: &crate::fiveaxis::Joints,
+        to: &crate::fiveaxis::Joints,
+        tol_mm: f64,
+    ) -> usize {
+        let r = self.tool.radius_mm;
+        let poses: [crate::fiveaxis::ToolPose; PRE_SAMPLES + 1] =
+            std::array::from_fn(|k| machine.pose_from_joints(&from.lerp(to, k as f64 / PRE_SAMPLES as f64)));
+        let body = poses.iter().fold(0.0_f64, |b, p| b.max(self.segment_body_mm(p, p, tol_mm)));
+        let centre = |p: &crate::fiveaxis::ToolPose| p.tip_in_workpiece + r * p.axis_in_workpiece;
+        let mut turn = 0.0;
+        let mut bend: f64 = 0.0;
+        for k in 1..=PRE_SAMPLES {
+            turn += (poses[k].axis_in_workpiece - poses[k - 1].axis_in_workpiece).length();
+            if k < PRE_SAMPLES {
+                let (a, b, c) = (&poses[k - 1], &poses[k], &poses[k + 1]);
+                let dc = centre(c) - 2.0 * centre(b) + centre(a);
+                let da = c.axis_in_workpiece - 2.0 * b.axis_in_workpiece + a.axis_in_workpiece;
+                bend = bend.max(dc.length() + body * da.length());
+            }
+        }
+        let bend = bend * (PRE_SAMPLES * PRE_SAMPLES) as f64;
+        let n_twist = 1.25 * body * turn / (2.0 * tol_mm);
+        let n_sagitta = (1.5 * bend / (3.0 * tol_mm)).sqrt();
+        let n = n_twist.max(n_sagitta).ceil();
+        if n.is_finite() { (n as usize).clamp(1, MAX_SAMPLES_PER_MOVE - 1) } else { MAX_SAMPLES_PER_MOVE - 1 }
+    }
+
+    /// One swept segment of a ball end mill between two poses (`mid` is the true pose
+    /// halfway, measured against the segment's interpolation); the material removed (mm³).
+    fn cut_segment(
+        &mut self,
+        p0: &crate::fiveaxis::ToolPose,
+        p1: &crate::fiveaxis::ToolPose,
+        mid: &crate::fiveaxis::ToolPose,
+        tol_mm: f64,
+    ) -> f64 {
+        let r = self.tool.radius_mm;
+        let body = self.segment_body_mm(p0, p1, tol_mm);
+        let (a0, a1) = (p0.axis_in_workpiece.normalize_or_zero(), p1.axis_in_workpiece.normalize_or_zero());
+        let (c0, c1) = (p0.tip_in_workpiece + r * a0, p1.tip_in_workpiece + r * a1);
+        let am = mid.axis_in_workpiece.normalize_or_zero();
+        let cm = mid.tip_in_workpiece + r * am;
+        let sagitta =
+            (cm - 0.5 * (c0 + c1)).length().max((cm + body * am - 0.5 * (c0 + body * a0 + c1 + body * a1)).length());
+        self.counters.sweep_sagitta_mm = self.counters.sweep_sagitta_mm.max(sagitta);
+        let (_, z1) = self.stock.z_range_mm();
+        let (t0, t1) = (c0 + body * a0, c1 + body * a1);
+        let lo = c0.min(c1).min(t0).min(t1) - DVec3::splat(r);
+        let hi = c0.max(c1).max(t0).max(t1) + DVec3::splat(r);
+        if lo.z >= z1 {
+            return 0.0;
+        }
+        let g = *self.stock.grid();
+        let (Some((i0, i1)), Some((j0, j1))) = (g.columns(lo.x, hi.x), g.rows(lo.y, hi.y)) else {
+            return 0.0;
+        };
+        let mut seg = BallSegment::new(r, c0, a0, c1, a1, body, tol_mm);
+        if self.last_pose == Some((p0.tip_in_workpiece, a0)) {
+            seg = seg.continuing();
+        }
+        self.last_pose = Some((p1.tip_in_workpiece, a1));
+        self.subtract_spans((i0, i1), (j0, j1), |x, y| seg.span(x, y))
     }
 
     /// Estimated rays visited by a program (the sum of its moves' and samples' boxes), to
@@ -225,6 +352,18 @@ impl Simulation {
             .iter()
             .map(|m| match m.kind {
                 MoveKind::Line { from, to } => area(from.min(to) - r, from.max(to) + r),
+                MoveKind::Joints { machine, from, to } if self.sweep_tol_mm.is_some() => {
+                    let n = self.segments_of(&machine, &from, &to, self.sweep_tol_mm.unwrap_or(0.0));
+                    let (p, q) = (machine.pose_from_joints(&from), machine.pose_from_joints(&to));
+                    let step = DVec3::splat((q.tip_in_workpiece - p.tip_in_workpiece).length() / n as f64);
+                    let (lo, hi) = sweep::tilted_box(
+                        &self.tool,
+                        p.tip_in_workpiece,
+                        p.axis_in_workpiece,
+                        self.tool.radius_mm * 2.0,
+                    );
+                    n as f64 * area(lo - step, hi + step)
+                }
                 MoveKind::Joints { machine, from, to } => {
                     let n = self.samples_of(&machine, &from, &to);
                     let p = machine.pose_from_joints(&from);
@@ -260,6 +399,21 @@ impl Simulation {
     pub fn apply(&mut self, m: &SimMove) -> f64 {
         let removed = match m.kind {
             MoveKind::Line { from, to } => self.cut_line(from, to),
+            MoveKind::Joints { machine, from, to } if self.sweep_tol_mm.is_some() => {
+                let tol = self.sweep_tol_mm.unwrap_or(0.0);
+                let n = self.segments_of(&machine, &from, &to, tol);
+                let pose = |tau: f64| machine.pose_from_joints(&from.lerp(&to, tau));
+                let mut prev = pose(0.0);
+                let mut removed = 0.0;
+                for k in 1..=n {
+                    let next = pose(k as f64 / n as f64);
+                    let mid = pose((k as f64 - 0.5) / n as f64);
+                    removed += self.cut_segment(&prev, &next, &mid, tol);
+                    prev = next;
+                }
+                self.counters.samples += n as u64 + 1;
+                removed
+            }
             MoveKind::Joints { machine, from, to } => {
                 let n = self.samples_of(&machine, &from, &to);
                 let mut removed = 0.0;
@@ -298,12 +452,25 @@ impl Simulation {
             return 0.0;
         };
         let sweep = LineSweep::new(&self.tool, a, b);
+        self.subtract_spans((i0, i1), (j0, j1), |x, y| sweep.span(x, y))
+    }
+
+    /// Subtracts from every ray of columns i0..=i1 and rows j0..=j1 the span `span(x, y)`
+    /// gives it (none: the ray is missed), counting visits and updates; the material
+    /// removed (mm³).
+    fn subtract_spans(
+        &mut self,
+        (i0, i1): (usize, usize),
+        (j0, j1): (usize, usize),
+        span: impl Fn(f64, f64) -> Option<(f64, f64)>,
+    ) -> f64 {
+        let g = *self.stock.grid();
         let mut removed = 0.0;
         for j in j0..=j1 {
             let y = g.y_mm(j);
             for i in i0..=i1 {
                 self.counters.rays_visited += 1;
-                if let Some((lo, hi)) = sweep.span(g.x_mm(i), y) {
+                if let Some((lo, hi)) = span(g.x_mm(i), y) {
                     self.counters.ray_updates += 1;
                     removed += self.stock.subtract(j * g.nx + i, lo, hi);
                 }
@@ -331,17 +498,7 @@ impl Simulation {
         let (Some((i0, i1)), Some((j0, j1))) = (g.columns(lo.x, hi.x), g.rows(lo.y, hi.y)) else {
             return 0.0;
         };
-        let mut removed = 0.0;
-        for j in j0..=j1 {
-            let y = g.y_mm(j);
-            for i in i0..=i1 {
-                self.counters.rays_visited += 1;
-                if let Some((zl, zh)) = tilted_span(&self.tool, tip, axis, g.x_mm(i), y) {
-                    self.counters.ray_updates += 1;
-                    removed += self.stock.subtract(j * g.nx + i, zl, zh);
-                }
-            }
-        }
-        removed * g.pitch_mm * g.pitch_mm
+        let tool = self.tool;
+        self.subtract_spans((i0, i1), (j0, j1), |x, y| tilted_span(&tool, tip, axis, x, y))
     }
 }

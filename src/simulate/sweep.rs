@@ -23,6 +23,7 @@ use glam::DVec3;
 
 use super::{MAX_SOLVE_ITERATIONS, ROOT_TOL_MM};
 use crate::geom::{Cutter, CutterKind};
+use crate::numerics::maximise::golden_bracket;
 
 /// The simulated shape of a cutter (mm): what [`Cutter`] says, reduced to what cuts.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -246,35 +247,14 @@ fn capsule_low(
     low
 }
 
-/// Golden-section search for the minimum of a convex f on [a, b] down to a bracket of
-/// width `tol` (at most [`MAX_SOLVE_ITERATIONS`] steps): `(argmin, min)`.
+/// The minimum of a convex f on [a, b]: golden sections ([`golden_bracket`] on −f) down to
+/// a bracket of width `tol` (at most [`MAX_SOLVE_ITERATIONS`] steps), then the bracket's
+/// ends too (the minimum of a monotone f sits there): `(argmin, min)`.
 fn golden_min(f: impl Fn(f64) -> f64, a: f64, b: f64, tol: f64) -> (f64, f64) {
-    const INV_PHI: f64 = 0.618_033_988_749_894_8;
-    let (mut a, mut b) = (a, b);
-    let mut c = b - INV_PHI * (b - a);
-    let mut d = a + INV_PHI * (b - a);
-    let (mut fc, mut fd) = (f(c), f(d));
-    for _ in 0..MAX_SOLVE_ITERATIONS {
-        if b - a <= tol {
-            break;
-        }
-        if fc <= fd {
-            b = d;
-            d = c;
-            fd = fc;
-            c = b - INV_PHI * (b - a);
-            fc = f(c);
-        } else {
-            a = c;
-            c = d;
-            fc = fd;
-            d = a + INV_PHI * (b - a);
-            fd = f(d);
-        }
-    }
-    // The ends too: the minimum of a monotone f sits there.
-    let mut best = if fc <= fd { (c, fc) } else { (d, fd) };
-    for t in [a, b] {
+    let g = golden_bracket(&mut |t| -f(t), a, b, tol, MAX_SOLVE_ITERATIONS);
+    let (x, v) = g.best_inner();
+    let mut best = (x, -v);
+    for t in [g.lo, g.hi] {
         let v = f(t);
         if v < best.1 {
             best = (t, v);
@@ -398,4 +378,277 @@ pub fn tilted_box(tool: &ToolShape, tip: DVec3, axis: DVec3, h_mm: f64) -> (DVec
     );
     let top = tip + h_mm * axis;
     (tip.min(top) - ext, tip.max(top) + ext)
+}
+
+/// The smaller of two numbers that are not NaN: a plain comparison (one select in wasm32,
+/// where `f64::min` must also handle NaN and costs several instructions).
+#[inline]
+fn lesser(a: f64, b: f64) -> f64 {
+    if b < a { b } else { a }
+}
+
+/// The larger of two numbers that are not NaN (see [`lesser`]).
+#[inline]
+fn greater(a: f64, b: f64) -> f64 {
+    if b > a { b } else { a }
+}
+
+/// A solid cylinder without end caps, set up for vertical rays: radius R around the segment
+/// from `p0` along the unit `axis` for `len` mm (the region between the two end planes
+/// perpendicular to the axis). Everything that does not depend on the ray is precomputed, so
+/// a ray costs a few multiplications and, when it hits, one square root.
+#[derive(Clone, Copy, Debug)]
+struct RayCyl {
+    p0: DVec3,
+    axis: DVec3,
+    len: f64,
+    r2: f64,
+    /// 1 / a_z, or 0 when the axis is horizontal (the slab does not bound z).
+    inv_az: f64,
+    /// 1 − a_z², and 1 / (2(1 − a_z²)) or 0 when the axis is vertical.
+    qa: f64,
+    inv_2qa: f64,
+    /// The x range (mm) of the cylinder's box: rays outside miss it.
+    x_range: (f64, f64),
+}
+
+impl RayCyl {
+    fn new(p0: DVec3, axis: DVec3, len: f64, radius: f64) -> Self {
+        let p1 = p0 + len * axis;
+        let x_range = (p0.x.min(p1.x) - radius, p0.x.max(p1.x) + radius);
+        let az = axis.z;
+        let inv_az = if az.abs() > super::AXIS_FLAT_SIN { 1.0 / az } else { 0.0 };
+        let qa = 1.0 - az * az;
+        let inv_2qa = if qa > super::AXIS_FLAT_SIN * super::AXIS_FLAT_SIN { 0.5 / qa } else { 0.0 };
+        Self { p0, axis, len, r2: radius * radius, inv_az, qa, inv_2qa, x_range }
+    }
+
+    /// The span of z of the ray at (x, y) inside the cylinder (the same solid as
+    /// `ray_cylinder`).
+    #[inline]
+    fn span(&self, x: f64, y: f64) -> Option<(f64, f64)> {
+        if x < self.x_range.0 || x > self.x_range.1 {
+            return None;
+        }
+        let (dx, dy, pz) = (x - self.p0.x, y - self.p0.y, self.p0.z);
+        let a = self.axis;
+        // w(z) = (dx, dy, z − pz); w·a = wa + z·a_z.
+        let wa = dx * a.x + dy * a.y - pz * a.z;
+        let (mut lo, mut hi) = if self.inv_az != 0.0 {
+            let za = -wa * self.inv_az;
+            let zb = (self.len - wa) * self.inv_az;
+            (lesser(za, zb), greater(za, zb))
+        } else if (0.0..=self.len).contains(&wa) {
+            (f64::NEG_INFINITY, f64::INFINITY)
+        } else {
+            return None;
+        };
+        let qc = dx * dx + dy * dy + pz * pz - wa * wa - self.r2;
+        if self.inv_2qa == 0.0 {
+            if qc > 0.0 {
+                return None;
+            }
+        } else {
+            let qb = 2.0 * (-pz - wa * a.z);
+            let disc = qb * qb - 4.0 * self.qa * qc;
+            if disc < 0.0 {
+                return None;
+            }
+            let s = disc.sqrt();
+            lo = greater(lo, (-qb - s) * self.inv_2qa);
+            hi = lesser(hi, (-qb + s) * self.inv_2qa);
+        }
+        (lo <= hi && lo.is_finite() && hi.is_finite()).then_some((lo, hi))
+    }
+}
+
+/// One linear constraint m·p + k ≥ 0 on the points p of a ray, as a bound on z.
+#[derive(Clone, Copy, Debug)]
+struct HalfSpace {
+    mx: f64,
+    my: f64,
+    k: f64,
+    /// 1 / m_z, or 0 when m is horizontal.
+    inv_mz: f64,
+}
+
+impl HalfSpace {
+    /// The half-space of p with m·(p − v) ≥ 0.
+    fn new(m: DVec3, v: DVec3) -> Self {
+        let inv_mz = if m.z.abs() > super::AXIS_FLAT_SIN { 1.0 / m.z } else { 0.0 };
+        Self { mx: m.x, my: m.y, k: -m.dot(v), inv_mz }
+    }
+
+    /// Narrows [lo, hi] to the ray's part inside; false when nothing is left.
+    #[inline]
+    fn clip(&self, x: f64, y: f64, lo: &mut f64, hi: &mut f64) -> bool {
+        let f0 = self.mx * x + self.my * y + self.k;
+        if self.inv_mz == 0.0 {
+            return f0 >= 0.0;
+        }
+        let z = -f0 * self.inv_mz;
+        if self.inv_mz > 0.0 {
+            *lo = greater(*lo, z);
+        } else {
+            *hi = lesser(*hi, z);
+        }
+        *lo <= *hi
+    }
+}
+
+/// The points within R of a triangle's plane, over the triangle: the slab of thickness 2R
+/// around its plane cut by the three planes through its edges perpendicular to it.
+#[derive(Clone, Copy, Debug)]
+struct ThickTriangle {
+    faces: [HalfSpace; 5],
+    /// The x range (mm) of the triangle's box widened by R: rays outside miss it.
+    x_range: (f64, f64),
+}
+
+impl ThickTriangle {
+    /// `None` for a triangle with no area (its edges' capsules cover it).
+    fn new(v: [DVec3; 3], radius: f64) -> Option<Self> {
+        let n = (v[1] - v[0]).cross(v[2] - v[0]);
+        let area2 = n.length();
+        if !(area2 > super::SAME_POINT_MM * super::SAME_POINT_MM) {
+            return None;
+        }
+        let n = n / area2;
+        let edge = |i: usize| {
+            let (a, b, c) = (v[i], v[(i + 1) % 3], v[(i + 2) % 3]);
+            let m = n.cross(b - a);
+            HalfSpace::new(if m.dot(c - a) >= 0.0 { m } else { -m }, a)
+        };
+        Some(Self {
+            faces: [
+                HalfSpace::new(n, v[0] - radius * n),
+                HalfSpace::new(-n, v[0] + radius * n),
+                edge(0),
+                edge(1),
+                edge(2),
+            ],
+            x_range: (v[0].x.min(v[1].x).min(v[2].x) - radius, v[0].x.max(v[1].x).max(v[2].x) + radius),
+        })
+    }
+
+    #[inline]
+    fn span(&self, x: f64, y: f64) -> Option<(f64, f64)> {
+        if x < self.x_range.0 || x > self.x_range.1 {
+            return None;
+        }
+        let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+        for f in &self.faces {
+            if !f.clip(x, y, &mut lo, &mut hi) {
+                return None;
+            }
+        }
+        (lo.is_finite() && hi.is_finite()).then_some((lo, hi))
+    }
+}
+
+/// The envelope a ball-end cutter sweeps between two poses, in closed form.
+///
+/// The simulated ball-end tool is the set of points within R of its axis segment from the
+/// ball centre c up to the body length L above it (the ball, and the flank cylinder; its top
+/// is flat, see below). Moving from pose (c₀, a₀) to (c₁, a₁) with the centre and the axis
+/// interpolated linearly, the axis segment sweeps the ruled quadrilateral c₀, c₁, c₁ + L·a₁,
+/// c₀ + L·a₀, so the envelope is the set of points within R of it. That quadrilateral is
+/// taken as its two triangles (c₀, c₁, c₁ + L·a₁) and (c₀, c₁ + L·a₁, c₀ + L·a₀): within
+/// |L·(a₁ − a₀)|/4 of the ruled surface (its twist), exact when the axis does not turn. The
+/// points within R of the triangles are the pieces this sweep tests a ray against: the
+/// capsule of the centres' chord (two spheres and a cylinder — the ball's sweep, exact for a
+/// straight centre path), the flank cylinders of the two poses, the cylinder around the
+/// diagonal (it fills the notch where the two triangles fold) and the two triangles
+/// thickened by R. The rounding along the top edge is left out: L is chosen where the body
+/// is above the stock, so it removes nothing; otherwise the top stays flat as in
+/// [`tilted_span`].
+#[derive(Clone, Copy, Debug)]
+pub struct BallSegment {
+    /// Ball centres tested (the start pose's is left out when the previous segment ended at
+    /// the same pose and has cut it already).
+    centres: [DVec3; 2],
+    n_centres: usize,
+    r2: f64,
+    /// The chord's cylinder, the flanks, the diagonal's cylinder (those that exist).
+    cyls: [Option<RayCyl>; 4],
+    tri: [Option<ThickTriangle>; 2],
+}
+
+/// Part of the sweep tolerance the notch along the diagonal may take before its cylinder is
+/// tested (the rest goes to the twist and the sagitta, see `Simulation::segments_of`).
+pub const NOTCH_SHARE: f64 = 0.125;
+
+impl BallSegment {
+    /// The sweep of a ball of radius `radius_mm` whose centre moves from `c0` to `c1` while
+    /// its unit axis turns from `a0` to `a1`, with `body_mm` (L) of flank above the centre.
+    /// The diagonal's cylinder is left out when the notch it fills, R(1 − cos δ/2) for the
+    /// fold δ between the two triangles, is at most [`NOTCH_SHARE`] × `tol_mm`.
+    #[must_use]
+    pub fn new(radius_mm: f64, c0: DVec3, a0: DVec3, c1: DVec3, a1: DVec3, body_mm: f64, tol_mm: f64) -> Self {
+        let d = c1 - c0;
+        let len = d.length();
+        let chord = (len > super::SAME_POINT_MM).then(|| RayCyl::new(c0, d / len, len, radius_mm));
+        let flank = |c: DVec3, a: DVec3| (body_mm > 0.0).then(|| RayCyl::new(c, a, body_mm, radius_mm));
+        let (t0, t1) = (c0 + body_mm * a0, c1 + body_mm * a1);
+        let tri = if body_mm > 0.0 {
+            [ThickTriangle::new([c0, c1, t1], radius_mm), ThickTriangle::new([c0, t1, t0], radius_mm)]
+        } else {
+            [None, None]
+        };
+        // cos δ between the triangles' normals (1 when either is degenerate: no fold).
+        let n1 = (c1 - c0).cross(t1 - c0).normalize_or_zero();
+        let n2 = (t1 - c0).cross(t0 - c0).normalize_or_zero();
+        let cos_fold = if n1 == DVec3::ZERO || n2 == DVec3::ZERO { 1.0 } else { n1.dot(n2).clamp(-1.0, 1.0) };
+        let notch = radius_mm * (1.0 - (0.5 * (1.0 + cos_fold)).sqrt());
+        let diag = t1 - c0;
+        let diag_len = diag.length();
+        let diagonal = (body_mm > 0.0 && diag_len > super::SAME_POINT_MM && notch > NOTCH_SHARE * tol_mm)
+            .then(|| RayCyl::new(c0, diag / diag_len, diag_len, radius_mm));
+        Self {
+            centres: [c1, c0],
+            n_centres: 2,
+            r2: radius_mm * radius_mm,
+            cyls: [chord, flank(c1, a1), diagonal, flank(c0, a0)],
+            tri,
+        }
+    }
+
+    /// The same sweep without the start pose's ball and flank: for a segment that begins
+    /// where the previous one, already subtracted, ended (the union of the two subtractions
+    /// is unchanged).
+    #[must_use]
+    pub fn continuing(mut self) -> Self {
+        self.n_centres = 1;
+        self.cyls[3] = None;
+        self
+    }
+
+    /// The span of z of the ray at (x, y) inside the sweep (mm), `None` when it misses.
+    #[inline]
+    #[must_use]
+    pub fn span(&self, x: f64, y: f64) -> Option<(f64, f64)> {
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for c in &self.centres[..self.n_centres] {
+            let (ex, ey) = (x - c.x, y - c.y);
+            let s2 = self.r2 - ex * ex - ey * ey;
+            if s2 >= 0.0 {
+                let s = s2.sqrt();
+                lo = lesser(lo, c.z - s);
+                hi = greater(hi, c.z + s);
+            }
+        }
+        for cyl in self.cyls.iter().flatten() {
+            if let Some((l, h)) = cyl.span(x, y) {
+                lo = lesser(lo, l);
+                hi = greater(hi, h);
+            }
+        }
+        for t in self.tri.iter().flatten() {
+            if let Some((l, h)) = t.span(x, y) {
+                lo = lesser(lo, l);
+                hi = greater(hi, h);
+            }
+        }
+        (lo <= hi).then_some((lo, hi))
+    }
 }

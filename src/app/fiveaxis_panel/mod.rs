@@ -19,7 +19,7 @@ use eframe::egui;
 use web_time::Duration;
 
 use super::fmt_len;
-use super::panel::{Panel, PanelContext};
+use super::panel::{Handoff, Panel, PanelContext, SIMULATION_TITLE};
 use crate::chords::RootMethod;
 use crate::crease::CreaseCurve;
 use crate::fiveaxis::{Machine, MachineKind, StepNode, ToolAxisRule};
@@ -110,6 +110,8 @@ pub struct FiveAxisPanel {
     rects: Vec<(&'static str, egui::Rect)>,
     /// The scene computation's generation seen last.
     generation: u64,
+    /// "Simulate this program" asked for by `set_option` (handed over in the next frame).
+    simulate_requested: bool,
 }
 
 impl Default for FiveAxisPanel {
@@ -137,6 +139,7 @@ impl Default for FiveAxisPanel {
             surface_names: ["", ""],
             rects: Vec::new(),
             generation: 0,
+            simulate_requested: false,
         }
     }
 }
@@ -828,11 +831,20 @@ impl Panel for FiveAxisPanel {
         if self.source == Source::Scene && self.waiting.is_some() {
             ui.ctx().request_repaint();
         }
+        let mut simulate = std::mem::take(&mut self.simulate_requested) && self.source == Source::Scene;
         egui::Panel::left("fa_controls").resizable(true).default_size(310.0).min_size(260.0).max_size(520.0).show(
             ui,
             |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| {
                     self.controls(ui, cx.scene);
+                    let r = ui
+                        .add_enabled(self.source == Source::Scene, egui::Button::new("▶ Simulate this program"))
+                        .on_hover_text(
+                            "Machine the scene's tool steps (its machine and tool-axis rule, 0.01 mm) in the Cutting simulation tab",
+                        )
+                        .on_disabled_hover_text("The Cutting simulation runs the scene's steps: choose the scene's crease as the source");
+                    self.rects.push(("fa_simulate", r.rect));
+                    simulate |= r.clicked();
                     ui.separator();
                     if let Some(w) = &self.waiting {
                         ui.horizontal(|ui| {
@@ -876,6 +888,9 @@ impl Panel for FiveAxisPanel {
                 });
             },
         );
+        if simulate {
+            cx.handoff = Some(Handoff { to: SIMULATION_TITLE, options: vec![("source", "steps".to_owned())] });
+        }
         egui::Panel::bottom("fa_plots").resizable(true).default_size(240.0).min_size(140.0).show(ui, |ui| {
             let Some(plan) = self.shown() else {
                 ui.label("No plan yet.");
@@ -918,6 +933,15 @@ impl Panel for FiveAxisPanel {
                     .ok_or_else(|| format!("source: \"{value}\"; give example1, scene or naca2412"))?;
             }
             "before" => self.before = value == "true",
+            // As the "Simulate this program" button: handed over in the next frame.
+            "simulate" => {
+                if self.source != Source::Scene {
+                    return Err(
+                        "simulate: the Cutting simulation runs the scene's steps; set source scene first".to_owned()
+                    );
+                }
+                self.simulate_requested = true;
+            }
             "tol_mm" => {
                 let t = number()?;
                 if !(t > 0.0 && t.is_finite()) {

@@ -17,7 +17,7 @@ pub mod work;
 use eframe::egui;
 use glam::DVec3;
 
-use super::panel::{Panel, PanelContext};
+use super::panel::{Handoff, Panel, PanelContext, SIMULATION_TITLE};
 use super::platform::FileKind;
 use crate::gcode::{Dialect, ProgramKind, ProgrammedPoint, format_comparison};
 use crate::nurbs_path::Update;
@@ -105,6 +105,8 @@ pub struct NurbsPanel {
     series: plots::Series,
     /// The last program downloaded (file name).
     downloaded: Option<String>,
+    /// "Simulate this program" asked for by `set_option` (handed over in the next frame).
+    simulate_requested: bool,
 }
 
 impl Default for NurbsPanel {
@@ -123,6 +125,7 @@ impl Default for NurbsPanel {
             slowest_step_ms: 0.0,
             series: plots::Series::default(),
             downloaded: None,
+            simulate_requested: false,
         }
     }
 }
@@ -557,6 +560,39 @@ impl NurbsPanel {
         }
     }
 
+    /// "Simulate this program": hands the shown program's text (a written crease program,
+    /// or the loaded file) to the Cutting simulation tab, with the scene's surfaces as the
+    /// design and the scene's ball for a program of the scene's crease.
+    fn simulate_button(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
+        let (text, of_scene, name) = match self.shown {
+            Shown::Kind(kind) => {
+                let i = ProgramKind::ALL.iter().position(|k| *k == kind).unwrap_or(0);
+                let text = self.work.rows[i].ok().map(|r| r.program.text.clone());
+                (text, self.settings.source == Source::Crease, format!("NURBS & G-code tab: {}", kind.label()))
+            }
+            Shown::Loaded => {
+                let l = self.work.loaded.as_ref();
+                (l.map(|l| l.text.clone()), false, l.map_or(String::new(), |l| l.name.clone()))
+            }
+        };
+        let r = ui
+            .add_enabled(text.is_some(), egui::Button::new("▶ Simulate this program"))
+            .on_hover_text("Machine the program shown below in the Cutting simulation tab")
+            .on_disabled_hover_text("No program yet");
+        self.rects.push(("nurbs_simulate", r.rect));
+        let asked = std::mem::take(&mut self.simulate_requested);
+        if let Some(text) = text.filter(|_| r.clicked() || asked) {
+            let mut options = vec![("program_text", text), ("program_name", name)];
+            if of_scene {
+                options.push(("design", "scene".to_owned()));
+                options.push(("cutter", "scene".to_owned()));
+            } else {
+                options.push(("design", "auto".to_owned()));
+            }
+            cx.handoff = Some(Handoff { to: SIMULATION_TITLE, options });
+        }
+    }
+
     /// A line about the shown program: its size and deviation, or the reader's complaints.
     fn about_shown(&self, ui: &mut egui::Ui) {
         let red = egui::Color32::from_rgb(255, 120, 110);
@@ -734,6 +770,8 @@ impl Panel for NurbsPanel {
             if x.is_finite() && x > 0.0 { Ok(x) } else { Err(format!("{key}: {x} is not a positive number")) }
         };
         match key {
+            // As the "Simulate this program" button: handed over in the next frame.
+            "simulate" => self.simulate_requested = true,
             "source" => {
                 s.source = match value {
                     "crease" => Source::Crease,
@@ -805,6 +843,7 @@ impl Panel for NurbsPanel {
     fn ui(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
         self.handle_files(cx);
         self.controls(ui, cx);
+        self.simulate_button(ui, cx);
         ui.separator();
         match self.wanted(cx) {
             Ok(w) => {

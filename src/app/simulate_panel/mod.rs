@@ -15,7 +15,7 @@ pub mod work;
 use eframe::egui;
 use web_time::Duration;
 
-use super::panel::{Panel, PanelContext};
+use super::panel::{Panel, PanelContext, SIMULATION_TITLE};
 use view::SimView;
 use work::{AUTO_GRID_SIDE, CutterChoice, DesignChoice, Inputs, Job, MAX_APP_RAYS, PITCH_RANGE_MM, SourceKind};
 
@@ -66,10 +66,44 @@ pub struct SimulatePanel {
     /// The inputs refused by the stock or grid checks, with the message (not retried until
     /// they change).
     rects: Vec<(&'static str, egui::Rect)>,
+    /// Program A of the side-by-side comparison: the numbers of a run pinned by the user,
+    /// shown next to the current run's (B).
+    pinned: Option<Numbers>,
+}
+
+/// The numbers of a finished run, for the A/B comparison of two programs of the same part.
+#[derive(Clone, Debug, PartialEq)]
+struct Numbers {
+    program: String,
+    moves: usize,
+    removed_mm3: f64,
+    design: &'static str,
+    /// max, mean, p95 (µm) and rays.
+    scallop_um: Option<([f64; 3], usize)>,
+    /// Worst gouge (µm) and gouge rays.
+    gouge_um: Option<(f64, usize)>,
+}
+
+impl Numbers {
+    fn json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "program": self.program,
+            "moves": self.moves,
+            "removed_volume_mm3": (self.removed_mm3 * 1e6).round() / 1e6,
+            "design": self.design,
+            "scallop_um": self.scallop_um.map(|(v, n)| serde_json::json!({"max": v[0], "mean": v[1], "p95": v[2], "rays": n})),
+            "gouge": self.gouge_um.map(|(w, n)| serde_json::json!({"worst_um": w, "rays": n})),
+        })
+    }
 }
 
 fn um(mm: f64) -> f64 {
     (mm * 1e6).round() / 1e3
+}
+
+/// A length rounded to 1e-6 mm, as `interpolab simulate` prints lengths.
+fn nm(mm: f64) -> f64 {
+    (mm * 1e6).round() / 1e6
 }
 
 impl SimulatePanel {
@@ -239,6 +273,86 @@ impl SimulatePanel {
         });
     }
 
+    /// The current run's numbers once it is measured to its last move.
+    fn current_numbers(&self) -> Option<Numbers> {
+        let job = self.job.as_ref()?;
+        let p = job.prepared.as_ref()?;
+        let sim = job.sim.as_ref()?;
+        let r = job.results.as_ref().filter(|r| r.moves == job.applied() && !job.computing())?;
+        let has_design = p.design_name != "none";
+        let sc = &r.stats.scallop;
+        let program = match (&self.own_program, self.settings.source) {
+            (Some((name, _)), SourceKind::Loaded) => format!("{} ({name})", SourceKind::Loaded.label()),
+            (_, k) => k.label().to_owned(),
+        };
+        Some(Numbers {
+            program,
+            moves: job.applied(),
+            removed_mm3: sim.counters().removed_mm3,
+            design: p.design_name,
+            scallop_um: has_design.then(|| ([um(sc.max_mm), um(sc.mean_mm), um(sc.p95_mm)], sc.count)),
+            gouge_um: r.stats.worst_gouge.filter(|_| has_design).map(|(d, _)| (um(d), r.stats.gouge_rays)),
+        })
+    }
+
+    /// Pin as A / clear A, and the two runs' numbers side by side.
+    fn comparison(&mut self, ui: &mut egui::Ui) {
+        let current = self.current_numbers();
+        ui.horizontal(|ui| {
+            let r = ui.add_enabled(current.is_some(), egui::Button::new("Pin as A")).on_hover_text(
+                "Keep this run's numbers as program A, to compare with the next program (B) side by side",
+            );
+            self.rects.push(("sim_pin_a", r.rect));
+            if r.clicked() {
+                self.pinned.clone_from(&current);
+            }
+            if self.pinned.is_some() && ui.button("Clear A").clicked() {
+                self.pinned = None;
+            }
+        });
+        let Some(a) = &self.pinned else { return };
+        let fmt_sc = |n: Option<&Numbers>| {
+            n.map_or("—".to_owned(), |n| {
+                n.scallop_um
+                    .map_or("no design".to_owned(), |(v, c)| format!("{} / {} / {} ({c} rays)", v[0], v[1], v[2]))
+            })
+        };
+        let fmt_g = |n: Option<&Numbers>| {
+            n.map_or("—".to_owned(), |n| match (n.design, n.gouge_um) {
+                ("none", _) => "no design".to_owned(),
+                (_, Some((w, c))) => format!("{w} ({c} rays)"),
+                (_, None) => "none".to_owned(),
+            })
+        };
+        let b = current.as_ref();
+        egui::Grid::new("sim_ab").striped(true).show(ui, |ui| {
+            ui.label("");
+            ui.strong("A (pinned)");
+            ui.strong("B (current)");
+            ui.end_row();
+            ui.label("program");
+            ui.label(&a.program);
+            ui.label(b.map_or("computing…", |n| n.program.as_str()));
+            ui.end_row();
+            ui.label("moves");
+            ui.label(a.moves.to_string());
+            ui.label(b.map_or("—".to_owned(), |n| n.moves.to_string()));
+            ui.end_row();
+            ui.label("removed volume (mm³)");
+            ui.label(format!("{:.3}", a.removed_mm3));
+            ui.label(b.map_or("—".to_owned(), |n| format!("{:.3}", n.removed_mm3)));
+            ui.end_row();
+            ui.label("scallop max / mean / p95 (µm)");
+            ui.label(fmt_sc(Some(a)));
+            ui.label(fmt_sc(b));
+            ui.end_row();
+            ui.label("worst gouge (µm)");
+            ui.label(fmt_g(Some(a)));
+            ui.label(fmt_g(b));
+            ui.end_row();
+        });
+    }
+
     fn numbers(&mut self, ui: &mut egui::Ui) {
         let Some(job) = &self.job else { return };
         if let Some(e) = &job.error {
@@ -315,7 +429,7 @@ fn parse_f64(key: &str, value: &str, what: &str) -> Result<f64, String> {
 
 impl Panel for SimulatePanel {
     fn title(&self) -> &'static str {
-        "Cutting simulation"
+        SIMULATION_TITLE
     }
 
     fn ui(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
@@ -351,6 +465,7 @@ impl Panel for SimulatePanel {
         }
         self.playback(ui);
         self.numbers(ui);
+        self.comparison(ui);
         let rect = ui.available_rect_before_wrap();
         let legend = self.job.as_ref().and_then(|j| j.prepared.as_ref()).is_some_and(|p| p.design_name != "none");
         self.view.ui(ui, rect, cx.render_state, self.job.as_ref(), self.settings.band_um, legend);
@@ -392,12 +507,17 @@ impl Panel for SimulatePanel {
                 "p95": um(r.stats.scallop.p95_mm),
             })),
             "gouge": results.and_then(|r| r.stats.worst_gouge.map(|(d, p)| serde_json::json!({
-                "worst_um": um(d), "x_mm": p.x, "y_mm": p.y, "rays": r.stats.gouge_rays
+                "worst_um": um(d), "x_mm": nm(p.x), "y_mm": nm(p.y), "rays": r.stats.gouge_rays
             }))),
             "sim_ms": job.sim_ms,
             "total_ms": job.total_ms,
             "slowest_frame_ms": job.slowest_call_ms,
             "camera_target_local_mm": camera,
+            "ui": self.rects.iter().map(|(k, r)| ((*k).to_owned(), serde_json::json!([r.min.x, r.min.y, r.width(), r.height()]))).collect::<serde_json::Map<_, _>>(),
+            "comparison": self.pinned.as_ref().map(|a| serde_json::json!({
+                "a": a.json(),
+                "b": self.current_numbers().map(|b| b.json()),
+            })),
         })
     }
 
@@ -414,6 +534,11 @@ impl Panel for SimulatePanel {
                 self.own_program = Some(("program".to_owned(), value.to_owned()));
                 s.source = SourceKind::Loaded;
             }
+            // The name a program given as text is shown under (after `program_text`).
+            "program_name" => match &mut self.own_program {
+                Some((name, _)) => value.clone_into(name),
+                None => return Err("program_name: give program_text first".to_owned()),
+            },
             "cutter" => {
                 let bad = || format!("cutter: \"{value}\" — give scene, ball:R, flat:R or fillet:R,r in mm");
                 s.cutter = if value == "scene" {
@@ -490,6 +615,10 @@ impl Panel for SimulatePanel {
                 }
             }
             "restart" => self.restart = true,
+            "pin_a" => {
+                self.pinned = Some(self.current_numbers().ok_or("pin_a: the run is not finished and measured yet")?);
+            }
+            "clear_a" => self.pinned = None,
             "go_to_gouge" => {
                 let at = self.job.as_ref().and_then(|j| j.results.as_ref()).and_then(|r| {
                     r.stats
@@ -503,7 +632,7 @@ impl Panel for SimulatePanel {
             }
             _ => {
                 return Err(format!(
-                    "this view has no option \"{key}\"; it has source, program_text, cutter, pitch, stock, margin, design, band_um, move, cancel, restart, go_to_gouge (max {MAX_APP_RAYS} rays)"
+                    "this view has no option \"{key}\"; it has source, program_text, cutter, pitch, stock, margin, design, band_um, move, cancel, restart, go_to_gouge, pin_a, clear_a, program_name (max {MAX_APP_RAYS} rays)"
                 ));
             }
         }
