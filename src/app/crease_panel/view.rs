@@ -9,7 +9,7 @@ use glam::{DVec3, Vec3};
 
 use crate::app::Playback;
 use crate::app::compute::{Computation, Period};
-use crate::app::overlay::{ViewButton, axis_triad, camera_controls, no_gpu, paint_view, scale_bar, view_buttons};
+use crate::app::overlay::{axis_triad, camera_controls, fit_buttons, no_gpu, paint_view, scale_bar};
 use crate::app::widgets::{SURFACE_COLORS, legend_entry, view_status};
 use crate::geom::ParametricSurface;
 use crate::render::geometry::{Origin, bounds, iso_lines, tessellate};
@@ -345,10 +345,6 @@ impl CreaseView {
         self.overlays(ui, rect, scene, compute);
     }
 
-    fn fit(&mut self) {
-        self.camera.fit(Vec3::ZERO, self.scene_radius as f32);
-    }
-
     fn overlays(&mut self, ui: &mut egui::Ui, rect: egui::Rect, scene: &Scene, compute: &Computation) {
         let painter = ui.painter_at(rect);
         let font = egui::FontId::proportional(13.0);
@@ -380,13 +376,6 @@ impl CreaseView {
         view_status(&painter, rect, ok, text, font);
         // Fit / reset buttons, under the status line.
         let buttons = egui::Rect::from_min_size(rect.right_top() + egui::vec2(-140.0, 32.0), egui::vec2(130.0, 24.0));
-        match view_buttons(ui, buttons, "Frame the whole scene (double-click)") {
-            Some(ViewButton::Reset) => {
-                self.camera = OrbitCamera::default();
-                self.fit();
-            }
-            Some(ViewButton::Fit) => self.fit(),
-            None => {}
-        }
+        fit_buttons(ui, buttons, &mut self.camera, self.scene_radius as f32, "Frame the whole scene (double-click)");
     }
 }

@@ -4,7 +4,7 @@
 //! tool-tip (or ball-centre) curves coloured by the ball's signed error. Layers are rebuilt
 //! only when what they show changes; interaction as in the crease view.
 
-use crate::app::overlay::{ViewButton, axis_triad, camera_controls, no_gpu, paint_view, scale_bar, view_buttons};
+use crate::app::overlay::{axis_triad, camera_controls, fit_buttons, no_gpu, paint_view, scale_bar};
 use eframe::egui;
 use eframe::egui_wgpu::RenderState;
 use glam::{DVec3, Vec3};
@@ -485,14 +485,7 @@ impl FiveAxisView {
         overlay(&painter, rect, &|p| self.project(p, rect));
         let buttons =
             egui::Rect::from_min_size(rect.right_bottom() + egui::vec2(-140.0, -60.0), egui::vec2(130.0, 24.0));
-        match view_buttons(ui, buttons, "Frame the whole path (double-click)") {
-            Some(ViewButton::Reset) => {
-                self.camera = OrbitCamera::default();
-                self.fit();
-            }
-            Some(ViewButton::Fit) => self.fit(),
-            None => {}
-        }
+        fit_buttons(ui, buttons, &mut self.camera, self.radius as f32, "Frame the whole path (double-click)");
         rect
     }
 
