@@ -174,6 +174,44 @@ fn sliders_at_their_extremes_never_panic_or_show_nan() {
     }
 }
 
+/// Whether the side panel shows the scene's controls this frame (the feed slider and the
+/// share button publish their rectangles only when drawn).
+fn scene_controls_shown(h: &mut Harness) -> bool {
+    h.frame();
+    h.frame();
+    let s: serde_json::Value = serde_json::from_str(&h.app.status()).expect("status is JSON");
+    let feed = s["ui"].get("feed_slider").is_some();
+    assert_eq!(feed, s["ui"].get("share_button").is_some(), "the scene's controls come as one: {}", s["ui"]);
+    feed
+}
+
+#[test]
+fn each_tab_shows_the_scene_controls_only_where_it_uses_the_scene() {
+    let mut h = Harness::new();
+    h.settle();
+    // The crease tab is a tab like the others: shown by its title, named in the status.
+    set(&mut h, "Crease (seed 000)", "", "");
+    assert!(scene_controls_shown(&mut h));
+    let s: serde_json::Value = serde_json::from_str(&h.app.status()).expect("JSON");
+    assert_eq!(s["panel"]["title"], "Crease (seed 000)");
+    for title in ["Crease (seed 000)", FIVE_AXIS, CHORDS, "NURBS & G-code (seed 004)", SIMULATION, FILLET] {
+        assert!(s["ui"].get(title).is_some(), "tab {title} not on screen: {}", s["ui"]);
+    }
+    // Tabs on their own curves or parts: no scene controls; on the scene's crease: shown.
+    for (title, key, own, scene) in [
+        (FIVE_AXIS, "source", "example1", "scene"),
+        (CHORDS, "curve", "parabola", "crease"),
+        ("NURBS & G-code (seed 004)", "source", "parabola", "crease"),
+    ] {
+        set(&mut h, title, key, own);
+        assert!(!scene_controls_shown(&mut h), "{title} on {own}");
+        set(&mut h, title, key, scene);
+        assert!(scene_controls_shown(&mut h), "{title} on {scene}");
+    }
+    set(&mut h, FILLET, "", "");
+    assert!(!scene_controls_shown(&mut h), "the fillet tab has its own parts");
+}
+
 /// Shows a view and sets an option as its widgets would.
 fn set(h: &mut Harness, title: &str, key: &str, value: &str) {
     if let Err(e) = h.app.set_panel_option(title, key, value) {
