@@ -322,7 +322,9 @@ impl Panel for SimulatePanel {
     fn controls(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
         self.rects.clear();
         self.controls(ui, cx);
-        if self.settings.source != SourceKind::Loaded || self.settings.cutter == CutterChoice::SceneBall {
+        let s = &self.settings;
+        // The scene's controls where the scene is used: its programs, its ball, its surfaces.
+        if s.source != SourceKind::Loaded || s.cutter == CutterChoice::SceneBall || s.design == DesignChoice::Scene {
             ui.separator();
             cx.scene_controls(ui);
         }
