@@ -4,7 +4,9 @@
 #![cfg(all(feature = "app", not(target_arch = "wasm32")))]
 
 use eframe::egui;
-use interpolab::app::InterpolabApp;
+use std::ops::RangeInclusive;
+
+use interpolab::app::{InterpolabApp, ranges};
 use interpolab::crease::{CreaseJob, InterpOptions, run_to_end};
 use interpolab::scene::{PRESETS, Scene};
 
@@ -120,20 +122,26 @@ fn a_run_that_misses_path_end_tells_which_direction_to_set() {
     assert!(s["ui"].get("run_toward_end").is_none(), "the button goes with the note");
 }
 
-/// Pushes each slider to both ends of its range (the ranges of `controls.rs`).
+/// One end of a slider's range.
+fn end(range: &RangeInclusive<f64>, hi: bool) -> f64 {
+    if hi { *range.end() } else { *range.start() }
+}
+
+/// Pushes each slider to both ends of its range (`interpolab::app::ranges`).
 #[test]
 fn sliders_at_their_extremes_never_panic_or_show_nan() {
     type Edit = fn(&mut Scene, bool);
-    let edits: [(&str, Edit); 7] = [
-        ("feed", |s, hi| s.motion.feed = if hi { 60_000.0 } else { 10.0 }),
-        ("period", |s, hi| s.motion.period = if hi { 50.0 } else { 0.1 }),
-        ("radius", |s, hi| s.tool.radius = if hi { 25.0 } else { 0.2 }),
-        ("allowance", |s, hi| s.tool.allowance = if hi { 3.0 } else { -1.0 }),
-        ("t1", |s, hi| s.tolerance.t1 = if hi { 0.5 } else { 1e-5 }),
-        ("share", |s, hi| s.tolerance.share = if hi { 1.0 } else { 0.01 }),
+    let edits: [(&str, Edit); 8] = [
+        ("feed", |s, hi| s.motion.feed = end(&ranges::FEED_MM_PER_MIN, hi)),
+        ("period", |s, hi| s.motion.period = end(&ranges::PERIOD_MS, hi)),
+        ("radius", |s, hi| s.tool.radius = end(&ranges::BALL_RADIUS_MM, hi)),
+        ("allowance", |s, hi| s.tool.allowance = end(&ranges::ALLOWANCE_MM, hi)),
+        ("t1", |s, hi| s.tolerance.t1 = end(&ranges::SURFACE_TOL_MM, hi)),
+        ("t2", |s, hi| s.tolerance.t2 = end(&ranges::SURFACE_TOL_MM, hi)),
+        ("share", |s, hi| s.tolerance.share = end(&ranges::TOL_SHARE, hi)),
         ("feed and period", |s, hi| {
-            s.motion.feed = if hi { 60_000.0 } else { 10.0 };
-            s.motion.period = if hi { 50.0 } else { 0.1 };
+            s.motion.feed = end(&ranges::FEED_MM_PER_MIN, hi);
+            s.motion.period = end(&ranges::PERIOD_MS, hi);
             s.path.max_steps = 20_000;
         }),
     ];
@@ -164,6 +172,44 @@ fn sliders_at_their_extremes_never_panic_or_show_nan() {
             }
         }
     }
+}
+
+/// Whether the side panel shows the scene's controls this frame (the feed slider and the
+/// share button publish their rectangles only when drawn).
+fn scene_controls_shown(h: &mut Harness) -> bool {
+    h.frame();
+    h.frame();
+    let s: serde_json::Value = serde_json::from_str(&h.app.status()).expect("status is JSON");
+    let feed = s["ui"].get("feed_slider").is_some();
+    assert_eq!(feed, s["ui"].get("share_button").is_some(), "the scene's controls come as one: {}", s["ui"]);
+    feed
+}
+
+#[test]
+fn each_tab_shows_the_scene_controls_only_where_it_uses_the_scene() {
+    let mut h = Harness::new();
+    h.settle();
+    // The crease tab is a tab like the others: shown by its title, named in the status.
+    set(&mut h, "Crease (seed 000)", "", "");
+    assert!(scene_controls_shown(&mut h));
+    let s: serde_json::Value = serde_json::from_str(&h.app.status()).expect("JSON");
+    assert_eq!(s["panel"]["title"], "Crease (seed 000)");
+    for title in ["Crease (seed 000)", FIVE_AXIS, CHORDS, "NURBS & G-code (seed 004)", SIMULATION, FILLET] {
+        assert!(s["ui"].get(title).is_some(), "tab {title} not on screen: {}", s["ui"]);
+    }
+    // Tabs on their own curves or parts: no scene controls; on the scene's crease: shown.
+    for (title, key, own, scene) in [
+        (FIVE_AXIS, "source", "example1", "scene"),
+        (CHORDS, "curve", "parabola", "crease"),
+        ("NURBS & G-code (seed 004)", "source", "parabola", "crease"),
+    ] {
+        set(&mut h, title, key, own);
+        assert!(!scene_controls_shown(&mut h), "{title} on {own}");
+        set(&mut h, title, key, scene);
+        assert!(scene_controls_shown(&mut h), "{title} on {scene}");
+    }
+    set(&mut h, FILLET, "", "");
+    assert!(!scene_controls_shown(&mut h), "the fillet tab has its own parts");
 }
 
 /// Shows a view and sets an option as its widgets would.
@@ -229,7 +275,8 @@ fn the_five_axis_view_plans_every_preset_and_reports_bad_input() {
     }
     // The blade, at the extremes of the tolerance slider.
     set(&mut h, FIVE_AXIS, "source", "naca2412");
-    for tol in ["1.0", "0.0005"] {
+    for tol in [ranges::FIVEAXIS_TOL_MM.end(), ranges::FIVEAXIS_TOL_MM.start()] {
+        let tol = &tol.to_string();
         set(&mut h, FIVE_AXIS, "tol_mm", tol);
         let s = settle_panel(&mut h, "blade");
         assert_eq!(s["error"], "", "{tol}: {s}");
@@ -346,7 +393,8 @@ fn the_chords_view_takes_typed_curves_and_says_what_is_wrong_with_bad_ones() {
         set(&mut h, CHORDS, "t1", "pi/2");
     }
     // The ends of the tolerance slider.
-    for tol in ["1.0", "0.001"] {
+    for tol in [ranges::CHORDS_TOL_MM.end(), ranges::CHORDS_TOL_MM.start()] {
+        let tol = &tol.to_string();
         set(&mut h, CHORDS, "tol_mm", tol);
         let s = settle_panel(&mut h, tol);
         assert_eq!(s["error"], "", "{tol}: {s}");
@@ -642,7 +690,8 @@ mod nurbs_panel {
         frame_with(&mut h, vec![egui::Event::PointerMoved(egui::pos2(f(0) - 200.0, y))], Vec::new());
         frame_with(&mut h, vec![button(egui::pos2(f(0) - 200.0, y), false), egui::Event::PointerGone], Vec::new());
         let s = until_done(&mut h);
-        assert!((s["tol_mm"].as_f64().expect("tolerance") - 0.001).abs() < 1e-12, "{}", s["tol_mm"]);
+        let left_end = *interpolab::app::ranges::NURBS_TOL_MM.start();
+        assert!((s["tol_mm"].as_f64().expect("tolerance") - left_end).abs() < 1e-12, "{}", s["tol_mm"]);
         assert_eq!(s["status_ok"], false, "{s}");
         for row in s["rows"].as_array().expect("rows") {
             let e = row["error"].as_str().expect("every program is refused");
@@ -759,10 +808,12 @@ fn the_simulation_view_gives_the_command_lines_numbers_and_plays_back_move_by_mo
     assert!(num_eq(&s["gouge"], &cli["gouge"]), "{s}");
 
     // Bad options say what they accept; a grid over the cap is refused with a message.
-    assert!(h.app.set_panel_option(SIMULATION, "pitch", "0.001").is_err_and(|e| e.contains("0.02")));
+    let (finest, _) = ranges::PITCH_RANGE_MM;
+    let below = (finest / 20.0).to_string();
+    assert!(h.app.set_panel_option(SIMULATION, "pitch", &below).is_err_and(|e| e.contains(&finest.to_string())));
     assert!(h.app.set_panel_option(SIMULATION, "cutter", "drill:3").is_err_and(|e| e.contains("ball:R")));
     set(&mut h, SIMULATION, "stock", "0,0,0,300,300,2");
-    set(&mut h, SIMULATION, "pitch", "0.02");
+    set(&mut h, SIMULATION, "pitch", &finest.to_string());
     let s = settle_panel(&mut h, "simulation over the cap");
     let e = s["error"].as_str().expect("refused");
     assert!(e.contains("raise the pitch") && e.contains("rays"), "{e}");

@@ -10,16 +10,17 @@
 
 mod chords_panel;
 mod compute;
-mod controls;
+mod crease_panel;
 mod fillet_panel;
 mod fiveaxis_panel;
 mod nurbs_panel;
 mod overlay;
 pub mod panel;
 mod platform;
-mod plots;
+pub mod ranges;
+mod scene_controls;
 mod simulate_panel;
-mod view3d;
+mod widgets;
 
 #[cfg(not(target_arch = "wasm32"))]
 pub mod native;
@@ -30,10 +31,11 @@ use eframe::egui;
 use web_time::{Duration, Instant};
 
 use crate::crease::{InterpOptions, Method, StopReason};
-use crate::scene::{PRESETS, Scene, SceneError};
+use crate::scene::{PRESETS, Scene};
 use compute::Computation;
 use panel::{Panel, PanelContext};
 use platform::{FileKind, Incoming, Platform};
+use scene_controls::{Asked, SceneEditor, preset_of, preset_title};
 
 /// Storage key of the last scene (browser local storage / native app data).
 const STORAGE_SCENE: &str = "interpolab.scene";
@@ -75,25 +77,19 @@ impl Default for Playback {
     }
 }
 
-/// The central view shown: the crease (index `None`) or one of the panels.
-type Tab = Option<usize>;
-
 /// The interpolab app.
 pub struct InterpolabApp {
     scene: Scene,
-    draft: Scene,
-    draft_error: Option<SceneError>,
-    preset: Option<usize>,
-    opts: InterpOptions,
+    /// The scene as the shared controls edit it, the method, and the frame's requests.
+    editor: SceneEditor,
     compute: Computation,
-    view: view3d::CreaseView,
-    plots: plots::PlotState,
     playback: Playback,
     notice: Option<Notice>,
     platform: Platform,
     render_state: Option<eframe::egui_wgpu::RenderState>,
-    tab: Tab,
-    /// The other central views (5-axis, chords, NURBS & G-code), one tab each.
+    /// The tab shown: an index into `panels`.
+    tab: usize,
+    /// The tabs (crease, 5-axis, chords, NURBS & G-code, simulation, fillet), in order.
     panels: Vec<Box<dyn Panel>>,
     frames: u64,
     first_frame_ms: Option<f64>,
@@ -147,21 +143,15 @@ impl InterpolabApp {
         };
         let stored = cc.storage.and_then(|s| s.get_string(STORAGE_SCENE)).and_then(|text| Scene::from_json(&text).ok());
         let scene = from_link.clone().or(stored).unwrap_or_else(default_scene);
-        let preset = PRESETS.iter().position(|p| Scene::from_json(p.json).ok().as_ref() == Some(&scene));
         let mut app = Self {
-            draft: scene.clone(),
+            editor: SceneEditor::new(&scene),
             scene,
-            draft_error: None,
-            preset,
-            opts: InterpOptions::default(),
             compute: Computation::default(),
-            view: view3d::CreaseView::new(0),
-            plots: plots::PlotState::default(),
             playback: Playback::default(),
             notice,
             platform,
             render_state,
-            tab: None,
+            tab: 0,
             panels: panels(),
             frames: 0,
             first_frame_ms: None,
@@ -189,7 +179,7 @@ impl InterpolabApp {
 
     /// Recomputes the current scene from the start.
     fn restart(&mut self) {
-        if let Err(e) = self.compute.restart(&self.scene, self.opts) {
+        if let Err(e) = self.compute.restart(&self.scene, self.editor.opts) {
             // The scene was validated before it became current; report rather than panic.
             self.error(format!("The scene cannot be computed — {e}"));
         }
@@ -198,12 +188,14 @@ impl InterpolabApp {
 
     /// Makes `scene` current (a loaded file, a link, a preset) and frames it.
     fn load_scene(&mut self, scene: Scene, source: &str) {
-        self.preset = PRESETS.iter().position(|p| Scene::from_json(p.json).ok().as_ref() == Some(&scene));
+        self.editor.preset = preset_of(&scene);
         self.scene = scene.clone();
-        self.draft = scene;
-        self.draft_error = None;
+        self.editor.draft = scene;
+        self.editor.error = None;
         self.restart();
-        self.view.request_fit();
+        for p in &mut self.panels {
+            p.scene_opened();
+        }
         self.playback = Playback::default();
         self.info(format!("Opened {source}."));
     }
@@ -236,16 +228,16 @@ impl InterpolabApp {
 
     /// Applies the draft if it is valid; otherwise keeps computing the last valid scene.
     fn apply_draft(&mut self) {
-        match self.draft.validate() {
+        match self.editor.draft.validate() {
             Ok(()) => {
-                self.draft_error = None;
-                if self.draft != self.scene {
-                    self.scene = self.draft.clone();
-                    self.preset = None;
+                self.editor.error = None;
+                if self.editor.draft != self.scene {
+                    self.scene = self.editor.draft.clone();
+                    self.editor.preset = None;
                     self.restart();
                 }
             }
-            Err(e) => self.draft_error = Some(e),
+            Err(e) => self.editor.error = Some(e),
         }
     }
 
@@ -257,23 +249,19 @@ impl InterpolabApp {
 
     /// Edits the draft scene as the controls do, then applies it if valid.
     pub fn edit_draft(&mut self, edit: impl FnOnce(&mut Scene)) {
-        edit(&mut self.draft);
+        edit(&mut self.editor.draft);
         self.apply_draft();
     }
 
-    /// Shows the view titled `title` (the crease view for `"Crease (seed 000)"`) and sets
-    /// one of its options as its widgets would, e.g. `("5-axis (seed 002)", "source",
-    /// "scene")`; with an empty `key` only shows it. For headless tests and automation.
+    /// Shows the tab titled `title` and sets one of its options as its widgets would, e.g.
+    /// `("5-axis (seed 002)", "source", "scene")`; with an empty `key` only shows it. For
+    /// headless tests and automation.
     ///
     /// # Errors
     /// No view with that title, or the view's own message for an unknown option or value.
     pub fn set_panel_option(&mut self, title: &str, key: &str, value: &str) -> Result<(), String> {
-        if title == "Crease (seed 000)" {
-            self.tab = None;
-            return Ok(());
-        }
         let i = self.panels.iter().position(|p| p.title() == title).ok_or_else(|| format!("no view titled {title}"))?;
-        self.tab = Some(i);
+        self.tab = i;
         if key.is_empty() { Ok(()) } else { self.panels[i].set_option(key, value) }
     }
 
@@ -284,7 +272,7 @@ impl InterpolabApp {
             self.error(format!("No view titled {} to hand the program to.", h.to));
             return;
         };
-        self.tab = Some(i);
+        self.tab = i;
         for (key, value) in &h.options {
             if let Err(e) = self.panels[i].set_option(key, value) {
                 self.error(format!("{}: {e}", h.to));
@@ -330,53 +318,40 @@ impl InterpolabApp {
             ui.heading("interpolab");
             ui.label(egui::RichText::new("crease interpolation lab").weak());
             ui.separator();
-            let label = match self.preset {
-                Some(i) => preset_title(i),
-                None => "(custom scene)".to_owned(),
-            };
-            let mut chosen = None;
-            egui::ComboBox::from_id_salt("preset")
-                .selected_text(label)
-                .width(300.0)
-                .show_ui(ui, |ui| {
-                    for i in 0..PRESETS.len() {
-                        if ui.selectable_label(self.preset == Some(i), preset_title(i)).clicked() {
-                            chosen = Some(i);
-                        }
-                    }
-                })
-                .response
-                .on_hover_text("Example scenes (examples/*.json)");
-            if let Some(i) = chosen {
-                match Scene::from_json(PRESETS[i].json) {
-                    Ok(s) => self.load_scene(s, &format!("the preset \"{}\"", preset_title(i))),
-                    Err(e) => self.error(format!("preset {}: {e}", PRESETS[i].id)),
-                }
-            }
-            if Platform::can_pick_files() {
-                let open = ui.button("Open…").on_hover_text("Open a scene file (or drop one on the window)");
-                self.widget_rects.push(("open_button", open.rect));
-                if open.clicked() {
-                    self.platform.pick_file(FileKind::Scene);
-                }
-            }
-            if ui.button("Save").on_hover_text("Download the current scene as JSON").clicked() {
-                let name = self.file_name();
-                match self.platform.save_text(&name, &self.scene.to_json()) {
-                    Ok(msg) => self.info(msg),
-                    Err(e) => self.error(format!("Saving failed: {e}")),
-                }
-            }
-            let share = ui.button("Share link").on_hover_text("Copy a link that opens this exact scene");
-            self.widget_rects.push(("share_button", share.rect));
-            if share.clicked() {
-                self.share_link(ui.ctx());
-            }
-            ui.separator();
             if ui.selectable_label(self.show_help, "Help").clicked() {
                 self.show_help = !self.show_help;
             }
         });
+    }
+
+    /// Acts on what the scene's controls asked this frame: a preset, a file, saving, a share
+    /// link, an edited draft, a changed method.
+    fn act_on(&mut self, asked: Asked, ctx: &egui::Context) {
+        if let Some(i) = asked.preset {
+            match Scene::from_json(PRESETS[i].json) {
+                Ok(s) => self.load_scene(s, &format!("the preset \"{}\"", preset_title(i))),
+                Err(e) => self.error(format!("preset {}: {e}", PRESETS[i].id)),
+            }
+        }
+        if asked.open {
+            self.platform.pick_file(FileKind::Scene);
+        }
+        if asked.save {
+            let name = self.file_name();
+            match self.platform.save_text(&name, &self.scene.to_json()) {
+                Ok(msg) => self.info(msg),
+                Err(e) => self.error(format!("Saving failed: {e}")),
+            }
+        }
+        if asked.share {
+            self.share_link(ctx);
+        }
+        if asked.scene_changed {
+            self.apply_draft();
+        }
+        if asked.options_changed {
+            self.restart();
+        }
     }
 
     fn banner(&mut self, ui: &mut egui::Ui) {
@@ -407,13 +382,33 @@ impl InterpolabApp {
         }
     }
 
+    /// The tab shown and the context it draws from (disjoint borrows of the app's fields).
+    fn context(&mut self, incoming: Vec<Incoming>) -> (&mut dyn Panel, PanelContext<'_>) {
+        let tab = self.tab.min(self.panels.len().saturating_sub(1));
+        let cx = PanelContext {
+            scene: &self.scene,
+            compute: &self.compute,
+            render_state: self.render_state.as_ref(),
+            playback: &mut self.playback,
+            editor: &mut self.editor,
+            rects: &mut self.widget_rects,
+            platform: &mut self.platform,
+            incoming,
+            program: &self.program,
+            program_generation: self.program_generation,
+            messages: Vec::new(),
+            handoff: None,
+        };
+        (self.panels[tab].as_mut(), cx)
+    }
+
     fn status_json(&self) -> String {
         let stop = match &self.compute.outcome {
             None => serde_json::Value::Null,
             Some(Ok(r)) => r.tag().into(),
             Some(Err(_)) => "error".into(),
         };
-        let error = match (&self.compute.outcome, &self.draft_error, &self.notice) {
+        let error = match (&self.compute.outcome, &self.editor.error, &self.notice) {
             (Some(Err(e)), _, _) => e.to_string(),
             (_, Some(e), _) => e.to_string(),
             (_, _, Some(n)) if n.level == Level::Error => n.text.clone(),
@@ -440,7 +435,7 @@ impl InterpolabApp {
             "gpu_backend": self.render_state.as_ref().map(|rs| format!("{:?}", rs.adapter.get_info().backend)),
             "playback_k": self.playback.k.floor(),
             "ui": ui,
-            "panel": self.tab.and_then(|i| self.panels.get(i)).map_or(serde_json::Value::Null, |p| {
+            "panel": self.panels.get(self.tab).map_or(serde_json::Value::Null, |p| {
                 serde_json::json!({ "title": p.title(), "status": p.status() })
             }),
         })
@@ -448,20 +443,16 @@ impl InterpolabApp {
     }
 }
 
-/// The central views besides the crease view, in tab order.
+/// The tabs, in order.
 fn panels() -> Vec<Box<dyn Panel>> {
     vec![
+        Box::new(crease_panel::CreasePanel::default()),
         Box::new(fiveaxis_panel::FiveAxisPanel::default()),
         Box::new(chords_panel::ChordsPanel::default()),
         Box::new(nurbs_panel::NurbsPanel::default()),
         Box::new(simulate_panel::SimulatePanel::default()),
         Box::new(fillet_panel::FilletPanel::default()),
     ]
-}
-
-/// Display title of preset `i` (its scene name).
-fn preset_title(i: usize) -> String {
-    Scene::from_json(PRESETS[i].json).map_or_else(|_| PRESETS[i].id.to_owned(), |s| s.name)
 }
 
 impl eframe::App for InterpolabApp {
@@ -491,7 +482,7 @@ impl eframe::App for InterpolabApp {
         // Files for a panel switch to it; with no panel for them, say so.
         if let Some(f) = other_files.first() {
             match self.panels.iter().position(|p| p.accepts() == Some(f.kind)) {
-                Some(i) => self.tab = Some(i),
+                Some(i) => self.tab = i,
                 None => {
                     self.error(format!("{}: this app version has no view for this kind of file.", f.name));
                     other_files.clear();
@@ -527,90 +518,42 @@ impl eframe::App for InterpolabApp {
             ui.add_space(2.0);
         });
 
-        let mut changed = false;
-        egui::Panel::left("controls").resizable(true).default_size(300.0).min_size(240.0).show(ui, |ui| {
-            egui::ScrollArea::vertical().show(ui, |ui| {
-                let sense = self.compute.start_sense().map(|d| [d.x, d.y, d.z]);
-                let out = controls::controls(
-                    ui,
-                    &mut self.draft,
-                    self.draft_error.as_ref(),
-                    &mut self.opts,
-                    &mut self.view.settings,
-                    sense,
-                );
-                changed |= out.scene_changed;
-                if let Some(r) = out.feed_rect {
-                    self.widget_rects.push(("feed_slider", r));
-                }
-                if out.options_changed {
-                    self.restart();
-                }
-            });
-        });
-        if changed {
-            self.apply_draft();
-        }
-
-        if self.tab.is_none() {
-            egui::Panel::bottom("plots").resizable(true).default_size(260.0).min_size(140.0).show(ui, |ui| {
-                plots::playback_bar(ui, &mut self.playback, &self.compute, self.scene.motion.period);
-                ui.separator();
-                let out = plots::plots(ui, &mut self.plots, &self.compute, &self.scene, self.playback.k);
-                if let Some(r) = out.toward_end_rect {
-                    self.widget_rects.push(("run_toward_end", r));
-                }
-                if let Some(d) = out.direction {
-                    self.draft.path.direction = Some(d);
-                    changed = true;
-                }
-            });
-            if changed {
-                self.apply_draft();
-            }
-        }
-
+        // The tab's controls in the side panel, then its view in the central area; both see
+        // the same context, and the scene's edits are applied after each.
+        let kind = self.panels.get(self.tab).and_then(|p| p.accepts());
+        let mut incoming: Vec<Incoming> = other_files.drain(..).filter(|f| Some(f.kind) == kind).collect();
         let mut messages = Vec::new();
         let mut handoff = None;
+        egui::Panel::left("controls").resizable(true).default_size(320.0).min_size(240.0).show(ui, |ui| {
+            egui::ScrollArea::vertical().show(ui, |ui| {
+                let (panel, mut cx) = self.context(Vec::new());
+                panel.controls(ui, &mut cx);
+                messages.append(&mut cx.messages);
+                handoff = handoff.take().or(cx.handoff);
+            });
+        });
+        let asked = std::mem::take(&mut self.editor.asked);
+        self.act_on(asked, &ctx);
+
         egui::CentralPanel::default().show(ui, |ui| {
             self.banner(ui);
             if self.show_help {
                 help(ui);
             }
-            if !self.panels.is_empty() {
-                ui.horizontal(|ui| {
-                    let r = ui.selectable_value(&mut self.tab, None, "Crease (seed 000)");
-                    self.widget_rects.push(("tab_crease", r.rect));
-                    for (i, p) in self.panels.iter().enumerate() {
-                        let r = ui.selectable_value(&mut self.tab, Some(i), p.title());
-                        self.widget_rects.push((p.title(), r.rect));
-                    }
-                });
-                ui.separator();
-            }
-            match self.tab.and_then(|i| self.panels.get_mut(i)) {
-                None => self.view.ui(ui, self.render_state.as_ref(), &self.scene, &self.compute, &self.playback),
-                Some(panel) => {
-                    let kind = panel.accepts();
-                    let incoming = other_files.drain(..).filter(|f| Some(f.kind) == kind).collect();
-                    let mut cx = PanelContext {
-                        scene: &self.scene,
-                        compute: &self.compute,
-                        render_state: self.render_state.as_ref(),
-                        playback: &self.playback,
-                        platform: &mut self.platform,
-                        incoming,
-                        program: &self.program,
-                        program_generation: self.program_generation,
-                        messages: Vec::new(),
-                        handoff: None,
-                    };
-                    panel.ui(ui, &mut cx);
-                    messages = cx.messages;
-                    handoff = cx.handoff;
+            ui.horizontal(|ui| {
+                for (i, p) in self.panels.iter().enumerate() {
+                    let r = ui.selectable_value(&mut self.tab, i, p.title());
+                    self.widget_rects.push((p.title(), r.rect));
                 }
-            }
+            });
+            ui.separator();
+            let (panel, mut cx) = self.context(std::mem::take(&mut incoming));
+            panel.ui(ui, &mut cx);
+            messages.append(&mut cx.messages);
+            handoff = handoff.take().or(cx.handoff);
         });
+        let asked = std::mem::take(&mut self.editor.asked);
+        self.act_on(asked, &ctx);
         for m in messages {
             match m {
                 Ok(t) => self.info(t),

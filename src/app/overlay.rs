@@ -239,7 +239,13 @@ pub fn view_frame(ui: &mut egui::Ui, rect: egui::Rect, camera: &mut OrbitCamera,
         &font,
     );
     let buttons = egui::Rect::from_min_size(rect.right_top() + egui::vec2(-120.0, 6.0), egui::vec2(112.0, 20.0));
-    if let Some(b) = view_buttons(ui, buttons, fit_hint) {
+    fit_buttons(ui, buttons, camera, radius, fit_hint);
+}
+
+/// The [`view_buttons`] in `at` acting on `camera`: "reset" turns it back to its default
+/// direction, and both frame a sphere of `radius` (view units) about the origin.
+pub fn fit_buttons(ui: &mut egui::Ui, at: egui::Rect, camera: &mut OrbitCamera, radius: f32, fit_hint: &str) {
+    if let Some(b) = view_buttons(ui, at, fit_hint) {
         if b == ViewButton::Reset {
             *camera = OrbitCamera::default();
         }

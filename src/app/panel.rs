@@ -1,7 +1,10 @@
-//! The interface every central view besides the crease view implements (one struct per
-//! view, as egui's demo apps do): a title for its tab and a `ui` that draws it from a shared
-//! context. Views own their state and their GPU view id; they read the scene and the
-//! computed crease, never change them.
+//! The interface every tab implements, the crease view included (one struct per tab, as
+//! egui's demo apps do): a title, the controls it shows in the app's side panel, and a `ui`
+//! that draws the central area, both from a shared context. Tabs own their state and their
+//! GPU view id; they read the scene and its computed crease and change the scene only
+//! through the shared scene controls ([`PanelContext::scene_controls`]).
+
+use std::rc::Rc;
 
 use eframe::egui;
 use eframe::egui_wgpu::RenderState;
@@ -9,6 +12,8 @@ use eframe::egui_wgpu::RenderState;
 use super::Playback;
 use super::compute::Computation;
 use super::platform::{FileKind, Incoming, Platform};
+use super::scene_controls::{SceneEditor, scene_controls};
+use crate::crease::CreaseCurve;
 use crate::scene::Scene;
 
 /// What a view may read and do this frame.
@@ -20,8 +25,12 @@ pub struct PanelContext<'a> {
     pub compute: &'a Computation,
     /// The GPU, when the app runs with wgpu (for 3D views: `crate::render`).
     pub render_state: Option<&'a RenderState>,
-    /// The crease view's playback position.
-    pub playback: &'a Playback,
+    /// The crease's playback position (the app advances it every frame).
+    pub playback: &'a mut Playback,
+    /// The scene as the shared controls edit it (draft, method, requests to the app).
+    pub editor: &'a mut SceneEditor,
+    /// Rectangles of widgets published at the top level of the status element's `ui`.
+    pub rects: &'a mut Vec<(&'static str, egui::Rect)>,
     /// File picker / download.
     pub platform: &'a mut Platform,
     /// Files of this view's kind given to the app this frame (e.g. a dropped `.nc`).
@@ -53,6 +62,16 @@ pub struct Handoff {
 }
 
 impl PanelContext<'_> {
+    /// Draws the scene's controls (picker, every input, the method) for a tab that shows the
+    /// scene or its crease; the app applies the edits after the frame's panels.
+    pub fn scene_controls(&mut self, ui: &mut egui::Ui) {
+        let sense = self.compute.start_sense().map(|d| [d.x, d.y, d.z]);
+        scene_controls(ui, self.editor, sense, self.rects);
+    }
+    /// Publishes a widget's rectangle under `name` at the top level of the status's `ui`.
+    pub fn publish(&mut self, name: &'static str, rect: egui::Rect) {
+        self.rects.push((name, rect));
+    }
     /// Shows an error in the app's banner.
     pub fn error(&mut self, text: impl Into<String>) {
         self.messages.push(Err(text.into()));
@@ -74,16 +93,23 @@ impl PanelContext<'_> {
     }
 }
 
-/// A central view with its own tab.
+/// A tab: its controls in the side panel and its view in the central area.
 pub trait Panel {
-    /// Tab title.
+    /// Tab title (also the key of its tab button in the status element, and what the
+    /// end-to-end test clicks).
     fn title(&self) -> &'static str;
     /// The kind of files this view accepts (routed to it when opened or dropped).
     fn accepts(&self) -> Option<FileKind> {
         None
     }
-    /// Draws the view into the whole central area.
+    /// Draws the controls that act on what this tab shows into the app's side panel; a tab
+    /// that shows the scene or its crease adds the shared [`PanelContext::scene_controls`].
+    /// Called every frame before [`Panel::ui`].
+    fn controls(&mut self, _ui: &mut egui::Ui, _cx: &mut PanelContext<'_>) {}
+    /// Draws the view into the whole central area (its own plots, tables and prose included).
     fn ui(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>);
+    /// A new scene was opened (a file, a preset, a link): e.g. frame it again.
+    fn scene_opened(&mut self) {}
     /// What the view shows, for the app's status element (end-to-end and headless tests):
     /// e.g. whether it is computing, its main numbers, its error. `Null` by default.
     fn status(&self) -> serde_json::Value {
@@ -94,5 +120,50 @@ pub trait Panel {
     /// saying what the view accepts.
     fn set_option(&mut self, key: &str, value: &str) -> Result<(), String> {
         Err(format!("this view has no option \"{key}\" (value \"{value}\")"))
+    }
+}
+
+/// Why the scene's crease is not (yet) a design curve.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum CreaseProblem {
+    /// Its computation is still running (the text says how far it is).
+    Waiting(String),
+    /// It failed or is too short (the text says why).
+    Failed(String),
+}
+
+/// The scene's computed crease as a design curve (`CreaseCurve::from_rows`), built once per
+/// computation: what the tabs that cut, step or fit along the crease start from.
+#[derive(Default)]
+pub struct SceneCrease {
+    built: Option<(u64, Result<Rc<CreaseCurve>, String>)>,
+}
+
+impl SceneCrease {
+    /// The crease of the finished computation `c`, or why there is none yet.
+    pub fn get(&mut self, c: &Computation) -> Result<Rc<CreaseCurve>, CreaseProblem> {
+        if c.running() {
+            return Err(CreaseProblem::Waiting(format!(
+                "waiting for the crease of the scene: {} periods so far…",
+                c.periods.len()
+            )));
+        }
+        if self.built.as_ref().is_none_or(|(g, _)| *g != c.generation) {
+            let built = match (&c.job, &c.outcome) {
+                (_, Some(Err(e))) => Err(format!("the crease of this scene could not be computed — {e}")),
+                (Some(job), _) => {
+                    let rows: Vec<_> = c.periods.iter().map(|p| p.row).collect();
+                    CreaseCurve::from_rows(job, &rows)
+                        .map(Rc::new)
+                        .ok_or_else(|| "the crease of this scene has fewer than two points".to_owned())
+                }
+                (None, _) => Err("the scene has no valid crease".to_owned()),
+            };
+            self.built = Some((c.generation, built));
+        }
+        match &self.built {
+            Some((_, r)) => r.clone().map_err(CreaseProblem::Failed),
+            None => Err(CreaseProblem::Failed("the scene has no valid crease".to_owned())),
+        }
     }
 }

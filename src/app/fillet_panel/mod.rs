@@ -18,7 +18,8 @@ use super::panel::{Panel, PanelContext};
 use crate::fillet::{CcNode, effective_curvature};
 use crate::scene::finish::FINISH_PRESETS;
 use view::FilletView;
-use work::{CORNER_RANGE_MM, Job, RADIUS_RANGE_MM, SCALLOP_RANGE_UM, Settings, StrategyChoice, TOLERANCE_RANGE_MM};
+pub use work::{CORNER_RANGE_MM, RADIUS_RANGE_MM, SCALLOP_RANGE_UM, TOLERANCE_RANGE_MM};
+use work::{Job, Settings, StrategyChoice};
 
 /// Core work per frame (one path is the smallest step; a step of a large surface may
 /// overshoot by one path).
@@ -327,6 +328,10 @@ impl Panel for FilletPanel {
         "Fillet end mill (seed 001)"
     }
 
+    fn controls(&mut self, ui: &mut egui::Ui, _cx: &mut PanelContext<'_>) {
+        self.controls(ui);
+    }
+
     fn ui(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
         self.sync();
         if let Some(j) = &mut self.job {
@@ -335,7 +340,6 @@ impl Panel for FilletPanel {
                 ui.ctx().request_repaint();
             }
         }
-        self.controls(ui);
         self.sync();
         self.summary(ui);
         self.selection(ui);

@@ -193,7 +193,7 @@ pub fn errors_plot(ui: &mut egui::Ui, plan: &Plan, s_unit: &str, selected: Optio
         .include_y(-1.2 * tol_um)
         .show(ui, |p| {
             spans_rotary_limited(p, plan);
-            let e = super::fmt_len(plan.inputs.tol_mm);
+            let e = crate::app::fmt_len(plan.inputs.tol_mm);
             p.hline(HLine::new(format!("±E = {e}"), tol_um).color(OVERCUT.gamma_multiply(0.8)).width(1.0));
             p.hline(HLine::new(format!("±E = {e}"), -tol_um).color(STOCK.gamma_multiply(0.9)).width(1.0));
             p.line(

@@ -4,14 +4,13 @@
 //! tool-tip (or ball-centre) curves coloured by the ball's signed error. Layers are rebuilt
 //! only when what they show changes; interaction as in the crease view.
 
-use crate::app::overlay::{
-    ViewButton, axis_triad, no_gpu, orbit_and_pan, paint_view, scale_bar, view_buttons, zoom_factor,
-};
+use crate::app::overlay::{axis_triad, camera_controls, fit_buttons, no_gpu, paint_view, scale_bar};
 use eframe::egui;
 use eframe::egui_wgpu::RenderState;
 use glam::{DVec3, Vec3};
 
 use super::work::{Design, Plan, Shape};
+use crate::app::widgets::SURFACE_COLORS;
 use crate::render::geometry::{Origin, bounds, iso_lines, polyline, tessellate};
 use crate::render::{Layer, LineSegment, Mesh, MeshVertex, OrbitCamera, Renderer3d, SphereInstance, ViewId};
 
@@ -39,8 +38,6 @@ pub const OVERCUT: egui::Color32 = egui::Color32::from_rgb(245, 60, 50);
 pub const OVERCUT_BEYOND: egui::Color32 = egui::Color32::from_rgb(255, 40, 230);
 /// Stock beyond E.
 pub const STOCK_BEYOND: egui::Color32 = egui::Color32::from_rgb(20, 235, 255);
-const SURFACE_COLORS: [egui::Color32; 2] =
-    [egui::Color32::from_rgb(90, 150, 220), egui::Color32::from_rgb(220, 150, 80)];
 
 /// Which swept curve is drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -334,21 +331,16 @@ impl FiveAxisView {
                 .collect();
             for w in picked.windows(2) {
                 let color = rgba(error_color(0.5 * (w[0].delta_mm + w[1].delta_mm), scale_mm), 1.0);
-                if display.swept != Swept::Centre {
-                    swept.push(LineSegment::new(
-                        self.drawn(w[0].tip, w[0].tip_chord, display.magnify),
-                        self.drawn(w[1].tip, w[1].tip_chord, display.magnify),
-                        3.2,
-                        color,
-                    ));
-                }
-                if display.swept != Swept::Tip {
-                    swept.push(LineSegment::new(
-                        self.drawn(w[0].centre, w[0].centre_chord, display.magnify),
-                        self.drawn(w[1].centre, w[1].centre_chord, display.magnify),
-                        3.2,
-                        color,
-                    ));
+                // The tip's curve unless only the centre's is asked for, and the other way round.
+                let curves = [
+                    (Swept::Centre, [(w[0].tip, w[0].tip_chord), (w[1].tip, w[1].tip_chord)]),
+                    (Swept::Tip, [(w[0].centre, w[0].centre_chord), (w[1].centre, w[1].centre_chord)]),
+                ];
+                for (unless, [(p0, c0), (p1, c1)]) in curves {
+                    if display.swept != unless {
+                        let (a, b) = (self.drawn(p0, c0, display.magnify), self.drawn(p1, c1, display.magnify));
+                        swept.push(LineSegment::new(a, b, 3.2, color));
+                    }
                 }
             }
         }
@@ -483,12 +475,8 @@ impl FiveAxisView {
             }
             None => self.clear_plan(rs),
         }
-        orbit_and_pan(&mut self.camera, ui, &response, rect);
-        let factor = zoom_factor(ui, &response);
-        if (factor - 1.0).abs() > f32::EPSILON {
-            self.camera.zoom(factor);
-        }
-        if response.double_clicked() || self.fit_requested && design.is_some() {
+        camera_controls(&mut self.camera, ui, &response, rect, self.radius as f32);
+        if self.fit_requested && design.is_some() {
             self.fit();
         }
         paint_view(ui, rect, &self.camera, VIEW_ID, BACKGROUND, true);
@@ -497,14 +485,7 @@ impl FiveAxisView {
         overlay(&painter, rect, &|p| self.project(p, rect));
         let buttons =
             egui::Rect::from_min_size(rect.right_bottom() + egui::vec2(-140.0, -60.0), egui::vec2(130.0, 24.0));
-        match view_buttons(ui, buttons, "Frame the whole path (double-click)") {
-            Some(ViewButton::Reset) => {
-                self.camera = OrbitCamera::default();
-                self.fit();
-            }
-            Some(ViewButton::Fit) => self.fit(),
-            None => {}
-        }
+        fit_buttons(ui, buttons, &mut self.camera, self.radius as f32, "Frame the whole path (double-click)");
         rect
     }
 

@@ -19,6 +19,7 @@ use glam::DVec3;
 
 use super::panel::{Handoff, Panel, PanelContext, SIMULATION_TITLE};
 use super::platform::FileKind;
+use super::ranges;
 use crate::gcode::{Dialect, ProgramKind, ProgrammedPoint, format_comparison};
 use crate::nurbs_path::Update;
 use crate::report::fmt_fixed;
@@ -238,7 +239,7 @@ impl NurbsPanel {
             ui.spacing_mut().slider_width = 140.0;
             let r = ui
                 .add(
-                    egui::Slider::new(&mut s.tol_mm, 0.001..=0.5)
+                    egui::Slider::new(&mut s.tol_mm, ranges::NURBS_TOL_MM)
                         .logarithmic(true)
                         .text("tolerance E")
                         .suffix(" mm")
@@ -287,7 +288,7 @@ impl NurbsPanel {
             ui.spacing_mut().slider_width = 140.0;
             if ui
                 .add(
-                    egui::Slider::new(&mut feed, 60.0..=30_000.0)
+                    egui::Slider::new(&mut feed, ranges::NURBS_FEED_MM_PER_MIN)
                         .logarithmic(true)
                         .text("feed F")
                         .suffix(" mm/min")
@@ -333,7 +334,7 @@ impl NurbsPanel {
                 let mut d_um = s.chord_tol_mm * 1000.0;
                 if ui
                     .add(
-                        egui::Slider::new(&mut d_um, 0.001..=10.0)
+                        egui::Slider::new(&mut d_um, ranges::NURBS_CHORD_TOL_UM)
                             .logarithmic(true)
                             .suffix(" µm")
                             .custom_formatter(|v, _| fmt_fixed(v, 3)),
@@ -780,7 +781,9 @@ impl Panel for NurbsPanel {
                 }
             }
             // The slider's range, as a user could set it.
-            "tol_mm" => s.tol_mm = positive(number()?)?.clamp(0.001, 0.5),
+            "tol_mm" => {
+                s.tol_mm = positive(number()?)?.clamp(*ranges::NURBS_TOL_MM.start(), *ranges::NURBS_TOL_MM.end())
+            }
             "resolution_mm" => {
                 let r = number()?;
                 s.resolution_mm = [0.01, 0.001, 0.0001]
@@ -802,8 +805,14 @@ impl Panel for NurbsPanel {
                     .ok_or_else(|| format!("update: \"{value}\"; give first, second or corrected"))?;
             }
             "feed_mm_per_min" => {
-                s.feed_mm_per_min =
-                    if value == "default" { None } else { Some(positive(number()?)?.clamp(60.0, 30_000.0)) };
+                s.feed_mm_per_min = if value == "default" {
+                    None
+                } else {
+                    Some(
+                        positive(number()?)?
+                            .clamp(*ranges::NURBS_FEED_MM_PER_MIN.start(), *ranges::NURBS_FEED_MM_PER_MIN.end()),
+                    )
+                };
             }
             "chord_tol_mm" => {
                 if value == "off" {
@@ -840,11 +849,17 @@ impl Panel for NurbsPanel {
         Ok(())
     }
 
-    fn ui(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
-        self.handle_files(cx);
+    fn controls(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
         self.controls(ui, cx);
         self.simulate_button(ui, cx);
-        ui.separator();
+        if self.settings.source == Source::Crease {
+            ui.separator();
+            cx.scene_controls(ui);
+        }
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
+        self.handle_files(cx);
         match self.wanted(cx) {
             Ok(w) => {
                 self.waiting = None;

@@ -17,7 +17,8 @@ use web_time::Duration;
 
 use super::panel::{Panel, PanelContext, SIMULATION_TITLE};
 use view::SimView;
-use work::{AUTO_GRID_SIDE, CutterChoice, DesignChoice, Inputs, Job, MAX_APP_RAYS, PITCH_RANGE_MM, SourceKind};
+pub use work::PITCH_RANGE_MM;
+use work::{AUTO_GRID_SIDE, CutterChoice, DesignChoice, Inputs, Job, MAX_APP_RAYS, SourceKind};
 
 /// Simulation work per frame (the core's moves are bounded, so a frame overshoots by at
 /// most one move or one grid row).
@@ -432,9 +433,18 @@ impl Panel for SimulatePanel {
         SIMULATION_TITLE
     }
 
-    fn ui(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
+    fn controls(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
         self.rects.clear();
         self.controls(ui, cx);
+        let s = &self.settings;
+        // The scene's controls where the scene is used: its programs, its ball, its surfaces.
+        if s.source != SourceKind::Loaded || s.cutter == CutterChoice::SceneBall || s.design == DesignChoice::Scene {
+            ui.separator();
+            cx.scene_controls(ui);
+        }
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
         let inputs = self.inputs(cx);
         let waiting = inputs.source != SourceKind::Loaded && cx.compute.running();
         if !waiting && (self.restart || self.job.as_ref().is_none_or(|j| j.inputs != inputs)) {

@@ -10,16 +10,24 @@
 //! onto the crease's best-fit plane (the plane of its two principal directions).
 //!
 //! Each spacing is computed on its own frame, so the page never waits for all five.
+//!
+//! Files: this one holds the state (inputs, the prepared curve, the comparison) and the
+//! tab; `controls.rs` the side panel's widgets, `plots.rs` the drawing, `text.rs` the words
+//! and the table.
+
+mod controls;
+mod plots;
+mod text;
 
 use std::rc::Rc;
 
 use eframe::egui;
-use egui_plot::{Corner, HLine, Legend, Line, MarkerShape, Plot, PlotPoints, Points};
 use glam::DVec3;
 use web_time::Instant;
 
-use super::fmt_len;
-use super::panel::{Panel, PanelContext};
+use super::panel::{CreaseProblem, Panel, PanelContext, SceneCrease};
+use super::ranges;
+use super::widgets::{error_text, rects_json, tolerance_option};
 use crate::chords::ChordOptions;
 use crate::chords::expr::{Expr, parametric_curve};
 use crate::chords::planar::{Ellipse, Hyperbola, Sizing, Spacing, SpacingRow, spacing_nodes};
@@ -27,9 +35,6 @@ use crate::crease::CreaseCurve;
 use crate::geom::Curve3;
 use crate::geom::Parabola;
 use crate::numerics::planefit::best_fit_plane;
-
-/// Range of the tolerance slider (mm).
-const TOL_RANGE: std::ops::RangeInclusive<f64> = 0.001..=1.0;
 
 /// Which curve.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -139,14 +144,6 @@ struct Comparison {
     ms: f64,
 }
 
-const SET_COLORS: [egui::Color32; 3] = [
-    egui::Color32::from_rgb(120, 230, 120),
-    egui::Color32::from_rgb(255, 170, 60),
-    egui::Color32::from_rgb(110, 170, 255),
-];
-const CURVE_COLOR: egui::Color32 = egui::Color32::from_rgb(230, 230, 230);
-const TOL_COLOR: egui::Color32 = egui::Color32::from_rgb(235, 90, 80);
-
 /// The chords panel.
 pub struct ChordsPanel {
     inputs: Inputs,
@@ -157,7 +154,7 @@ pub struct ChordsPanel {
     prepared_for: Option<Inputs>,
     problem: Option<String>,
     waiting: Option<String>,
-    crease: Option<(u64, Result<Rc<CreaseCurve>, String>)>,
+    crease: SceneCrease,
     comparison: Option<Comparison>,
     tol_rect: Option<egui::Rect>,
     plot_rect: Option<egui::Rect>,
@@ -175,7 +172,7 @@ impl Default for ChordsPanel {
             prepared_for: None,
             problem: None,
             waiting: None,
-            crease: None,
+            crease: SceneCrease::default(),
             comparison: None,
             tol_rect: None,
             plot_rect: None,
@@ -200,24 +197,9 @@ fn spacing_index(s: Spacing) -> usize {
 
 impl ChordsPanel {
     fn crease(&mut self, cx: &PanelContext<'_>) -> Result<Rc<CreaseCurve>, String> {
-        let c = cx.compute;
-        if c.running() {
-            return Err(format!("waiting for the crease of the scene: {} periods so far…", c.periods.len()));
-        }
-        if self.crease.as_ref().is_none_or(|(g, _)| *g != c.generation) {
-            let built = match (&c.job, &c.outcome) {
-                (_, Some(Err(e))) => Err(format!("the crease of this scene could not be computed — {e}")),
-                (Some(job), _) => {
-                    let rows: Vec<_> = c.periods.iter().map(|p| p.row).collect();
-                    CreaseCurve::from_rows(job, &rows)
-                        .map(Rc::new)
-                        .ok_or_else(|| "the crease of this scene has fewer than two points".to_owned())
-                }
-                (None, _) => Err("the scene has no valid crease".to_owned()),
-            };
-            self.crease = Some((c.generation, built));
-        }
-        self.crease.as_ref().map_or_else(|| Err("no crease".to_owned()), |(_, r)| r.clone())
+        self.crease.get(cx.compute).map_err(|e| match e {
+            CreaseProblem::Waiting(w) | CreaseProblem::Failed(w) => w,
+        })
     }
 
     /// The curve for the inputs, or what is wrong with them.
@@ -349,282 +331,8 @@ impl ChordsPanel {
         running || c.rows.iter().any(Option::is_none)
     }
 
-    fn controls(&mut self, ui: &mut egui::Ui) {
-        ui.heading("Equal-error chords");
-        ui.label(
-            egui::RichText::new(
-                "Straight chords between nodes on a curve. Seed 003 puts the nodes so that every chord deviates from the curve by exactly the tolerance d, and compares it with constant parameter steps and constant chord lengths.",
-            )
-            .weak(),
-        );
-        let i = &mut self.inputs;
-        ui.horizontal(|ui| {
-            ui.label("curve");
-            let r =
-                egui::ComboBox::from_id_salt("ch_curve").selected_text(i.kind.label()).width(210.0).show_ui(ui, |ui| {
-                    for k in CurveKind::ALL {
-                        ui.selectable_value(&mut i.kind, k, k.label());
-                    }
-                });
-            self.curve_rect = Some(r.response.rect);
-        });
-        let num = |ui: &mut egui::Ui, label: &str, v: &mut f64, speed: f64, suffix: &str| {
-            ui.horizontal(|ui| {
-                ui.label(label);
-                ui.add(egui::DragValue::new(v).speed(speed).range(-1.0e5..=1.0e5).suffix(suffix));
-            });
-        };
-        match i.kind {
-            CurveKind::Parabola => {
-                num(ui, "a", &mut i.parabola[0], 0.001, " 1/mm");
-                num(ui, "x from", &mut i.parabola[1], 0.5, " mm");
-                num(ui, "x to", &mut i.parabola[2], 0.5, " mm");
-            }
-            CurveKind::Hyperbola => {
-                num(ui, "k", &mut i.hyperbola[0], 5.0, " mm²");
-                num(ui, "x from", &mut i.hyperbola[1], 0.5, " mm");
-                num(ui, "x to", &mut i.hyperbola[2], 0.5, " mm");
-            }
-            CurveKind::Ellipse => {
-                num(ui, "a", &mut i.ellipse[0], 0.5, " mm");
-                num(ui, "b", &mut i.ellipse[1], 0.5, " mm");
-                num(ui, "t from", &mut i.ellipse[2], 1.0, "°");
-                num(ui, "t to", &mut i.ellipse[3], 1.0, "°");
-            }
-            CurveKind::Typed => {
-                for (label, text) in [("x(t) =", &mut i.x_text), ("y(t) =", &mut i.y_text)] {
-                    ui.horizontal(|ui| {
-                        ui.label(label);
-                        ui.add(egui::TextEdit::singleline(text).desired_width(230.0).font(egui::TextStyle::Monospace));
-                    });
-                }
-                ui.horizontal(|ui| {
-                    ui.label("t from");
-                    ui.add(
-                        egui::TextEdit::singleline(&mut i.t0_text).desired_width(70.0).font(egui::TextStyle::Monospace),
-                    );
-                    ui.label("to");
-                    ui.add(
-                        egui::TextEdit::singleline(&mut i.t1_text).desired_width(70.0).font(egui::TextStyle::Monospace),
-                    );
-                });
-                ui.label(
-                    egui::RichText::new("mm; numbers, t, pi, + − * / ^, ( ), sin cos tan exp ln sqrt abs (radians)")
-                        .weak()
-                        .small(),
-                );
-            }
-            CurveKind::Crease => {
-                ui.label(
-                    egui::RichText::new(
-                        "The ball-centre crease of the scene, a space curve: its chords are found and measured in 3D; the plot shows it projected onto its best-fit plane.",
-                    )
-                    .weak(),
-                );
-            }
-        }
-        ui.separator();
-        let mut tol = i.tol_mm;
-        let r = ui.add(
-            egui::Slider::new(&mut tol, TOL_RANGE)
-                .logarithmic(true)
-                .text("tolerance d")
-                .suffix(" mm")
-                .custom_formatter(|v, _| format!("{v:.4}"))
-                .clamping(egui::SliderClamping::Always),
-        );
-        self.tol_rect = Some(r.rect);
-        if r.changed() && tol.is_finite() {
-            i.tol_mm = tol.clamp(*TOL_RANGE.start(), *TOL_RANGE.end());
-        }
-        ui.horizontal(|ui| {
-            ui.label("uniform spacings sized");
-            ui.selectable_value(&mut self.sizing, Sizing::MinRadius, "by ρ_min (seed 003)")
-                .on_hover_text("chord L = 2√(2ρ_min·d − d²) at the smallest radius of curvature");
-            ui.selectable_value(&mut self.sizing, Sizing::Widest, "widest within d")
-                .on_hover_text("the widest uniform spacing whose every chord stays within d (searched)");
-        });
-        ui.horizontal(|ui| {
-            ui.checkbox(&mut self.auto_magnify, "auto")
-                .on_hover_text("Magnify so that d shows as about 1.5 % of the curve's size");
-            ui.add_enabled(
-                !self.auto_magnify,
-                egui::Slider::new(&mut self.magnify, 1.0..=100_000.0).logarithmic(true).text("× chord error"),
-            );
-        });
-    }
-
-    fn table(&self, ui: &mut egui::Ui) {
-        let Some(c) = &self.comparison else { return };
-        let d = c.inputs.tol_mm;
-        egui::Grid::new("ch_table").num_columns(4).spacing([8.0, 3.0]).striped(true).show(ui, |ui| {
-            for h in ["spacing", "nodes", "worst error", "step"] {
-                ui.label(egui::RichText::new(h).strong());
-            }
-            ui.end_row();
-            for sp in Spacing::ALL {
-                let shown = self.shown_sets().iter().position(|s| *s == sp);
-                ui.horizontal(|ui| {
-                    let (rect, _) = ui.allocate_exact_size(egui::vec2(10.0, 10.0), egui::Sense::hover());
-                    if let Some(k) = shown {
-                        ui.painter().rect_filled(rect, 2.0, SET_COLORS[k]);
-                    }
-                    let label = egui::RichText::new(sp.label());
-                    ui.label(if shown.is_some() { label } else { label.weak() });
-                });
-                match &c.rows[spacing_index(sp)] {
-                    None => {
-                        ui.label(egui::RichText::new("…").weak());
-                        ui.label("");
-                        ui.label("");
-                    }
-                    Some(Err(e)) => {
-                        ui.label(egui::RichText::new("failed").color(TOL_COLOR)).on_hover_text(e);
-                        ui.label("");
-                        ui.label("");
-                    }
-                    Some(Ok(row)) => {
-                        ui.label(format!("{}", row.params.len()));
-                        let w = row.worst_mm();
-                        let over = w > d * (1.0 + 1e-9);
-                        ui.label(
-                            egui::RichText::new(format!("{}{}", fmt_len(w), if over { " > d" } else { "" }))
-                                .color(if over { TOL_COLOR } else { ui.visuals().text_color() }),
-                        );
-                        ui.label(match sp {
-                            Spacing::EqualError => "—".to_owned(),
-                            Spacing::EqualInterval(_) => format!("Δ{} = {:.4}", c.prepared.param_symbol(), row.step),
-                            Spacing::EqualStep(_) => format!("L = {:.4} mm", row.step),
-                        });
-                    }
-                }
-                ui.end_row();
-            }
-        });
-        let done = c.rows.iter().filter(|r| r.is_some()).count();
-        if done < c.rows.len() {
-            ui.label(egui::RichText::new(format!("computing… {done} of {}", c.rows.len())).weak());
-        } else {
-            ui.label(egui::RichText::new(format!("computed in {:.1} ms on this device", c.ms)).weak());
-        }
-    }
-
     fn shown_sets(&self) -> [Spacing; 3] {
         [Spacing::EqualError, Spacing::EqualInterval(self.sizing), Spacing::EqualStep(self.sizing)]
-    }
-
-    fn plots(&mut self, ui: &mut egui::Ui) {
-        let Some(c) = &self.comparison else {
-            ui.centered_and_justified(|ui| ui.label(self.waiting.as_deref().unwrap_or("No curve yet.")));
-            return;
-        };
-        let p = &c.prepared;
-        let curve = p.curve.as_ref();
-        let (lo, hi) = curve.range();
-        let dense: Vec<[f64; 2]> =
-            (0..=1500).map(|k| p.project.apply(curve.point_at(lo + (hi - lo) * f64::from(k) / 1500.0))).collect();
-        let extent = {
-            let (mut a, mut b) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-            for q in &dense {
-                for i in 0..2 {
-                    a[i] = a[i].min(q[i]);
-                    b[i] = b[i].max(q[i]);
-                }
-            }
-            (b[0] - a[0]).max(b[1] - a[1]).max(1e-6)
-        };
-        let d = c.inputs.tol_mm;
-        if self.auto_magnify {
-            self.magnify = (0.015 * extent / d).clamp(1.0, 100_000.0).round();
-        }
-        let k = self.magnify;
-        let sets: Vec<(usize, &SpacingRow)> = self
-            .shown_sets()
-            .iter()
-            .enumerate()
-            .filter_map(|(i, sp)| c.rows[spacing_index(*sp)].as_ref().and_then(|r| r.as_ref().ok()).map(|r| (i, r)))
-            .collect();
-        let available = ui.available_size();
-        let geometry_h = (available.y * 0.64).max(120.0);
-        let magnified = if k > 1.0 { format!(", chords' distance from the curve ×{k:.0}") } else { String::new() };
-        ui.label(egui::RichText::new(format!("{}{magnified}", p.title)).strong());
-        Plot::new("ch_geometry")
-            .height(geometry_h - 20.0)
-            .data_aspect(1.0)
-            .legend(
-                Legend::default()
-                    .position(Corner::RightBottom)
-                    .background_alpha(0.6)
-                    .text_style(egui::TextStyle::Small),
-            )
-            .x_axis_label(if matches!(self.inputs.kind, CurveKind::Crease) {
-                "u (mm, best-fit plane)"
-            } else {
-                "x (mm)"
-            })
-            .y_axis_label(if matches!(self.inputs.kind, CurveKind::Crease) { "v (mm)" } else { "y (mm)" })
-            .allow_scroll(false)
-            .show(ui, |pl| {
-                pl.line(Line::new("curve", PlotPoints::from(dense.clone())).color(CURVE_COLOR).width(1.2));
-                for (i, row) in &sets {
-                    let name = format!("{} ({} nodes)", self.shown_sets()[*i].label(), row.params.len());
-                    // Each chord drawn with its distance from the arc magnified k times.
-                    let mut pts = Vec::new();
-                    for w in row.params.windows(2) {
-                        let (a, b) = (curve.point_at(w[0]), curve.point_at(w[1]));
-                        let ab = b - a;
-                        let len2 = ab.length_squared().max(1e-300);
-                        for j in 0..=24 {
-                            let u = w[0] + (w[1] - w[0]) * f64::from(j) / 24.0;
-                            let q = curve.point_at(u);
-                            let lam = ((q - a).dot(ab) / len2).clamp(0.0, 1.0);
-                            let on_chord = a + ab * lam;
-                            pts.push(p.project.apply(q + (on_chord - q) * k));
-                        }
-                    }
-                    let color = SET_COLORS[*i];
-                    pl.line(Line::new(name.clone(), PlotPoints::from(pts)).color(color).width(1.6));
-                    let nodes: Vec<[f64; 2]> = row.params.iter().map(|s| p.project.apply(curve.point_at(*s))).collect();
-                    let (shape, radius) =
-                        [(MarkerShape::Circle, 4.5), (MarkerShape::Square, 3.5), (MarkerShape::Diamond, 3.0)][*i];
-                    pl.points(
-                        Points::new(name, PlotPoints::from(nodes))
-                            .color(color)
-                            .shape(shape)
-                            .radius(radius)
-                            .filled(*i == 0),
-                    );
-                }
-            });
-        ui.label(egui::RichText::new("every chord's error along the curve").strong());
-        Plot::new("ch_errors")
-            .legend(
-                Legend::default()
-                    .position(Corner::RightBottom)
-                    .background_alpha(0.6)
-                    .text_style(egui::TextStyle::Small),
-            )
-            .x_axis_label(p.param)
-            .y_axis_label("chord error (µm)")
-            .include_y(0.0)
-            .include_y(1.15 * d * 1e3)
-            .allow_scroll(false)
-            .show(ui, |pl| {
-                pl.hline(HLine::new(format!("d = {}", fmt_len(d)), d * 1e3).color(TOL_COLOR).width(1.2));
-                for (i, row) in &sets {
-                    let mut pts = Vec::with_capacity(2 * row.errors_mm.len());
-                    for (w, e) in row.params.windows(2).zip(&row.errors_mm) {
-                        pts.push([w[0], e * 1e3]);
-                        pts.push([w[1], e * 1e3]);
-                    }
-                    pl.line(
-                        Line::new(self.shown_sets()[*i].label(), PlotPoints::from(pts))
-                            .color(SET_COLORS[*i])
-                            .width(if *i == 0 { 2.2 } else { 1.4 })
-                            .allow_band(false),
-                    );
-                }
-            });
     }
 }
 
@@ -650,15 +358,22 @@ impl Panel for ChordsPanel {
         "Chords (seed 003)"
     }
 
+    fn controls(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
+        self.inputs_ui(ui);
+        if self.inputs.kind == CurveKind::Crease {
+            ui.separator();
+            cx.scene_controls(ui);
+        }
+    }
+
     fn ui(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
         if self.update(cx) {
             ui.ctx().request_repaint();
         }
-        egui::Panel::left("ch_controls").resizable(true).default_size(330.0).min_size(260.0).max_size(520.0).show(
+        egui::Panel::right("ch_results").resizable(true).default_size(360.0).min_size(260.0).max_size(560.0).show(
             ui,
             |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| {
-                    self.controls(ui);
                     if let Some(w) = &self.waiting {
                         ui.horizontal(|ui| {
                             ui.spinner();
@@ -666,15 +381,8 @@ impl Panel for ChordsPanel {
                         });
                     }
                     if let Some(e) = &self.problem {
-                        egui::Frame::new()
-                            .fill(egui::Color32::from_rgb(80, 24, 24))
-                            .inner_margin(6.0)
-                            .corner_radius(4.0)
-                            .show(ui, |ui| {
-                                ui.colored_label(egui::Color32::WHITE, format!("{e}. The last valid curve is shown."));
-                            });
+                        error_text(ui, format!("{e}. The last valid curve is shown."));
                     }
-                    ui.separator();
                     self.table(ui);
                 });
             },
@@ -720,7 +428,7 @@ impl Panel for ChordsPanel {
                 || self.comparison.as_ref().is_some_and(|c| c.inputs.tol_mm.to_bits() != self.inputs.tol_mm.to_bits()),
             "rows": rows,
             "error": self.problem.clone().unwrap_or_default(),
-            "ui": super::fiveaxis_panel::rects_json(
+            "ui": rects_json(
                 &[("tolerance", self.tol_rect), ("plots", self.plot_rect), ("curve", self.curve_rect)]
                     .into_iter()
                     .filter_map(|(k, r)| r.map(|r| (k, r)))
@@ -744,13 +452,7 @@ impl Panel for ChordsPanel {
             "t0" => i.t0_text = value.to_owned(),
             "t1" => i.t1_text = value.to_owned(),
             "a" => i.parabola[0] = number()?,
-            "tol_mm" => {
-                let t = number()?;
-                if !(t > 0.0 && t.is_finite()) {
-                    return Err(format!("tol_mm: {t} is not a positive length"));
-                }
-                i.tol_mm = t.clamp(*TOL_RANGE.start(), *TOL_RANGE.end());
-            }
+            "tol_mm" => i.tol_mm = tolerance_option(key, value, &ranges::CHORDS_TOL_MM)?,
             "sizing" => {
                 self.sizing = match value {
                     "min-radius" => Sizing::MinRadius,

@@ -7,10 +7,10 @@ use eframe::egui;
 use eframe::egui_wgpu::RenderState;
 use glam::{DVec3, Vec3};
 
-use super::Playback;
-use super::compute::Computation;
-use super::controls::SURFACE_COLORS;
-use super::overlay::{ViewButton, axis_triad, no_gpu, orbit_and_pan, paint_view, scale_bar, view_buttons, zoom_factor};
+use crate::app::Playback;
+use crate::app::compute::{Computation, Period};
+use crate::app::overlay::{axis_triad, camera_controls, fit_buttons, no_gpu, paint_view, scale_bar};
+use crate::app::widgets::{SURFACE_COLORS, legend_entry, view_status};
 use crate::geom::ParametricSurface;
 use crate::render::geometry::{Origin, bounds, iso_lines, tessellate};
 use crate::render::{Layer, LineSegment, Mesh, OrbitCamera, Renderer3d, SphereInstance, ViewId};
@@ -54,7 +54,7 @@ fn rgba(c: egui::Color32, a: f32) -> [f32; 4] {
 const DRAW_GAP: f64 = 2.5e-4;
 
 /// Where a period's centre is drawn: on the exact crease plus the deviation × `magnify`.
-fn centre_drawn(p: &super::compute::Period, magnify: f64) -> DVec3 {
+fn centre_drawn(p: &Period, magnify: f64) -> DVec3 {
     match p.exact {
         Some(e) if magnify > 1.0 => e + (p.row.p - e) * magnify,
         _ => p.row.p,
@@ -198,7 +198,7 @@ impl CreaseView {
         }
     }
 
-    fn centre_drawn(&self, p: &super::compute::Period) -> DVec3 {
+    fn centre_drawn(&self, p: &Period) -> DVec3 {
         centre_drawn(p, self.settings.magnify)
     }
 
@@ -339,22 +339,10 @@ impl CreaseView {
         self.update_path(rs, compute);
         self.update_cutters(rs, scene, compute, playback);
 
-        // Interaction.
-        orbit_and_pan(&mut self.camera, ui, &response, rect);
-        let factor = zoom_factor(ui, &response);
-        if (factor - 1.0).abs() > f32::EPSILON {
-            self.camera.zoom(factor);
-        }
-        if response.double_clicked() {
-            self.fit();
-        }
+        camera_controls(&mut self.camera, ui, &response, rect, self.scene_radius as f32);
 
         paint_view(ui, rect, &self.camera, self.id, BACKGROUND, self.settings.cutter_side_only);
         self.overlays(ui, rect, scene, compute);
-    }
-
-    fn fit(&mut self) {
-        self.camera.fit(Vec3::ZERO, self.scene_radius as f32);
     }
 
     fn overlays(&mut self, ui: &mut egui::Ui, rect: egui::Rect, scene: &Scene, compute: &Computation) {
@@ -370,17 +358,7 @@ impl CreaseView {
         // Legend, top left.
         let mut y = rect.top() + 10.0;
         let x = rect.left() + 10.0;
-        let mut entry = |color: egui::Color32, text: String| {
-            painter.rect_filled(egui::Rect::from_min_size(egui::pos2(x, y + 3.0), egui::vec2(12.0, 10.0)), 2.0, color);
-            painter.text(
-                egui::pos2(x + 18.0, y),
-                egui::Align2::LEFT_TOP,
-                text,
-                font.clone(),
-                egui::Color32::from_gray(225),
-            );
-            y += 18.0;
-        };
+        let mut entry = |color: egui::Color32, text: String| legend_entry(&painter, x, &mut y, color, text);
         for (i, s) in scene.surfaces.iter().enumerate() {
             entry(SURFACE_COLORS[i], format!("S{} {}", i + 1, s.type_name()));
         }
@@ -394,23 +372,10 @@ impl CreaseView {
             entry(EXACT_COLOR, "exact crease (Newton)".to_owned());
         }
         entry(egui::Color32::from_gray(200), format!("ball R = {} mm", scene.tool.radius));
-        let (ok, text) = super::describe_outcome(compute);
-        painter.text(
-            egui::pos2(rect.right() - 10.0, rect.top() + 10.0),
-            egui::Align2::RIGHT_TOP,
-            text,
-            font,
-            if ok { egui::Color32::from_gray(210) } else { egui::Color32::from_rgb(255, 120, 110) },
-        );
+        let (ok, text) = crate::app::describe_outcome(compute);
+        view_status(&painter, rect, ok, text, font);
         // Fit / reset buttons, under the status line.
         let buttons = egui::Rect::from_min_size(rect.right_top() + egui::vec2(-140.0, 32.0), egui::vec2(130.0, 24.0));
-        match view_buttons(ui, buttons, "Frame the whole scene (double-click)") {
-            Some(ViewButton::Reset) => {
-                self.camera = OrbitCamera::default();
-                self.fit();
-            }
-            Some(ViewButton::Fit) => self.fit(),
-            None => {}
-        }
+        fit_buttons(ui, buttons, &mut self.camera, self.scene_radius as f32, "Frame the whole scene (double-click)");
     }
 }

@@ -1,26 +1,69 @@
-//! The left panel: every input of the scene with its unit, the interpolation method and the
-//! display options. Widgets edit a *draft* scene; the app validates it with the core.
+//! The scene's controls, shared by every tab that shows the scene or its crease: the scene
+//! picker (presets, open, save, share link), every input of the scene with its unit and the
+//! interpolation method. Widgets edit the *draft* scene in [`SceneEditor`]; the app validates
+//! it with the core and restarts the crease's computation.
 
 use eframe::egui;
 
-use super::view3d::ViewSettings;
+use super::ranges;
+use super::widgets::{SURFACE_COLORS, error_frame, section};
 use super::{fmt_len, is_seed000};
 use crate::crease::{InterpOptions, Method};
-use crate::scene::{Orientation, Scene, SceneError, SurfaceSpec};
+use crate::scene::{Orientation, PRESETS, Scene, SceneError, SurfaceSpec};
 
-/// What the user changed this frame.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct ControlsOutput {
-    /// Any scene value.
-    pub scene_changed: bool,
-    /// The interpolation options (method, exact feed).
-    pub options_changed: bool,
-    /// Where the feed slider is (published for end-to-end tests).
-    pub feed_rect: Option<egui::Rect>,
+/// The scene being edited and what the user asked of it this frame (the app acts on it after
+/// the panels have drawn).
+pub struct SceneEditor {
+    /// The scene as the widgets edit it (may be invalid).
+    pub draft: Scene,
+    /// Why the draft is not applied, if it is invalid.
+    pub error: Option<SceneError>,
+    /// The crease's interpolation method and options.
+    pub opts: InterpOptions,
+    /// The preset the scene is, if it is one.
+    pub preset: Option<usize>,
+    /// Requests of this frame.
+    pub asked: Asked,
 }
 
-fn section(ui: &mut egui::Ui, title: &str, open: bool, add: impl FnOnce(&mut egui::Ui)) {
-    egui::CollapsingHeader::new(egui::RichText::new(title).strong()).default_open(open).show(ui, add);
+/// What the user asked of the scene this frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Asked {
+    /// Any value of the draft changed.
+    pub scene_changed: bool,
+    /// The interpolation options changed (method, exact feed).
+    pub options_changed: bool,
+    /// Open this preset.
+    pub preset: Option<usize>,
+    /// Open a scene file.
+    pub open: bool,
+    /// Save the scene.
+    pub save: bool,
+    /// Copy a share link.
+    pub share: bool,
+}
+
+impl SceneEditor {
+    /// An editor of `scene`.
+    pub fn new(scene: &Scene) -> Self {
+        Self {
+            draft: scene.clone(),
+            error: None,
+            opts: InterpOptions::default(),
+            preset: preset_of(scene),
+            asked: Asked::default(),
+        }
+    }
+}
+
+/// The index of the preset equal to `scene`, if any.
+pub fn preset_of(scene: &Scene) -> Option<usize> {
+    PRESETS.iter().position(|p| Scene::from_json(p.json).ok().as_ref() == Some(scene))
+}
+
+/// Display title of preset `i` (its scene name).
+pub fn preset_title(i: usize) -> String {
+    Scene::from_json(PRESETS[i].json).map_or_else(|_| PRESETS[i].id.to_owned(), |s| s.name)
 }
 
 fn slider(
@@ -54,7 +97,7 @@ fn vec3(ui: &mut egui::Ui, label: &str, v: &mut [f64; 3]) -> bool {
 fn length(ui: &mut egui::Ui, label: &str, v: &mut f64, min: f64) -> bool {
     ui.horizontal(|ui| {
         ui.label(label);
-        ui.add(egui::DragValue::new(v).speed(0.05).range(min..=1.0e4).suffix(" mm")).changed()
+        ui.add(egui::DragValue::new(v).speed(0.05).range(min..=ranges::LENGTH_MAX_MM).suffix(" mm")).changed()
     })
     .inner
 }
@@ -112,52 +155,74 @@ fn surface_ui(ui: &mut egui::Ui, i: usize, s: &mut SurfaceSpec) -> bool {
     c
 }
 
-/// Display colours of S1 and S2 (also used by the 3D view).
-pub const SURFACE_COLORS: [egui::Color32; 2] =
-    [egui::Color32::from_rgb(105, 155, 230), egui::Color32::from_rgb(236, 160, 72)];
+/// The scene picker: the presets, open, save and share link (their rectangles are published
+/// as `open_button` and `share_button`).
+fn picker(ui: &mut egui::Ui, ed: &mut SceneEditor, rects: &mut Vec<(&'static str, egui::Rect)>) {
+    let label = ed.preset.map_or_else(|| "(custom scene)".to_owned(), preset_title);
+    egui::ComboBox::from_id_salt("preset")
+        .selected_text(label)
+        .width(ui.available_width().min(300.0))
+        .show_ui(ui, |ui| {
+            for i in 0..PRESETS.len() {
+                if ui.selectable_label(ed.preset == Some(i), preset_title(i)).clicked() {
+                    ed.asked.preset = Some(i);
+                }
+            }
+        })
+        .response
+        .on_hover_text("Example scenes (examples/*.json)");
+    ui.horizontal_wrapped(|ui| {
+        if super::platform::Platform::can_pick_files() {
+            let open = ui.button("Open…").on_hover_text("Open a scene file (or drop one on the window)");
+            rects.push(("open_button", open.rect));
+            ed.asked.open |= open.clicked();
+        }
+        ed.asked.save |= ui.button("Save").on_hover_text("Download the current scene as JSON").clicked();
+        let share = ui.button("Share link").on_hover_text("Copy a link that opens this exact scene");
+        rects.push(("share_button", share.rect));
+        ed.asked.share |= share.clicked();
+    });
+}
 
-/// Draws the panel. `sense` is the unit sense of travel of the present run at its start
-/// (for the Path section's "reverse").
-pub fn controls(
+/// Draws the scene's controls: the picker, the draft's error, every input of the scene and
+/// the interpolation method. `sense` is the unit sense of travel of the present run at its
+/// start (for the Path section's "reverse"); the feed slider's rectangle is published as
+/// `feed_slider`.
+pub fn scene_controls(
     ui: &mut egui::Ui,
-    draft: &mut Scene,
-    error: Option<&SceneError>,
-    opts: &mut InterpOptions,
-    view: &mut ViewSettings,
+    ed: &mut SceneEditor,
     sense: Option<[f64; 3]>,
-) -> ControlsOutput {
-    let mut out = ControlsOutput::default();
+    rects: &mut Vec<(&'static str, egui::Rect)>,
+) {
+    ui.label(egui::RichText::new("Scene").heading());
+    picker(ui, ed, rects);
     let mut c = false;
-    if let Some(e) = error {
-        egui::Frame::new().fill(egui::Color32::from_rgb(80, 24, 24)).inner_margin(6.0).corner_radius(4.0).show(
-            ui,
-            |ui| {
-                ui.label(egui::RichText::new(format!("⚠ Not applied: {e}")).color(egui::Color32::WHITE));
-                ui.label(
-                    egui::RichText::new("The last valid scene is still shown.")
-                        .color(egui::Color32::LIGHT_GRAY)
-                        .small(),
-                );
-            },
-        );
+    let draft = &mut ed.draft;
+    if let Some(e) = &ed.error {
+        error_frame(ui, |ui| {
+            ui.label(egui::RichText::new(format!("⚠ Not applied: {e}")).color(egui::Color32::WHITE));
+            ui.label(
+                egui::RichText::new("The last valid scene is still shown.").color(egui::Color32::LIGHT_GRAY).small(),
+            );
+        });
     }
     section(ui, "Motion", true, |ui| {
-        let feed = slider(ui, &mut draft.motion.feed, 10.0..=60_000.0, " mm/min", "feed F", true);
+        let feed = slider(ui, &mut draft.motion.feed, ranges::FEED_MM_PER_MIN, " mm/min", "feed F", true);
         c |= feed.changed();
-        out.feed_rect = Some(feed.rect);
-        c |= slider(ui, &mut draft.motion.period, 0.1..=50.0, " ms", "period Ts", true).changed();
+        rects.push(("feed_slider", feed.rect));
+        c |= slider(ui, &mut draft.motion.period, ranges::PERIOD_MS, " ms", "period Ts", true).changed();
         let f = draft.feed_per_period_mm();
         ui.label(format!("feed per period f = F·Ts = {f:.5} mm"));
     });
     section(ui, "Tool", true, |ui| {
-        c |= slider(ui, &mut draft.tool.radius, 0.2..=25.0, " mm", "ball radius R", true).changed();
-        c |= slider(ui, &mut draft.tool.allowance, -1.0..=3.0, " mm", "allowance C", false).changed();
+        c |= slider(ui, &mut draft.tool.radius, ranges::BALL_RADIUS_MM, " mm", "ball radius R", true).changed();
+        c |= slider(ui, &mut draft.tool.allowance, ranges::ALLOWANCE_MM, " mm", "allowance C", false).changed();
         ui.label(format!("centre offset R' = R + C = {:.4} mm", draft.effective_radius_mm()));
     });
     section(ui, "Tolerance", true, |ui| {
-        c |= slider(ui, &mut draft.tolerance.t1, 1e-5..=0.5, " mm", "T1 on S1", true).changed();
-        c |= slider(ui, &mut draft.tolerance.t2, 1e-5..=0.5, " mm", "T2 on S2", true).changed();
-        c |= slider(ui, &mut draft.tolerance.share, 0.01..=1.0, "", "share b", false).changed();
+        c |= slider(ui, &mut draft.tolerance.t1, ranges::SURFACE_TOL_MM, " mm", "T1 on S1", true).changed();
+        c |= slider(ui, &mut draft.tolerance.t2, ranges::SURFACE_TOL_MM, " mm", "T2 on S2", true).changed();
+        c |= slider(ui, &mut draft.tolerance.share, ranges::TOL_SHARE, "", "share b", false).changed();
         ui.label(format!(
             "interpolation may use b·T1 = {}, b·T2 = {}",
             fmt_len(draft.tolerance.share * draft.tolerance.t1),
@@ -213,7 +278,8 @@ pub fn controls(
         });
         ui.horizontal(|ui| {
             ui.label("max periods");
-            c |= ui.add(egui::DragValue::new(&mut draft.path.max_steps).range(1..=2_000_000).speed(100)).changed();
+            c |=
+                ui.add(egui::DragValue::new(&mut draft.path.max_steps).range(ranges::MAX_PERIODS).speed(100)).changed();
         });
         let mut name = draft.name.clone();
         ui.horizontal(|ui| {
@@ -225,26 +291,14 @@ pub fn controls(
         });
     });
     section(ui, "Interpolation", true, |ui| {
+        let opts = &mut ed.opts;
         let before = *opts;
         ui.radio_value(&mut opts.method, Method::Seed000, "seed 000: track, correct, re-solve (no iteration)");
         ui.radio_value(&mut opts.method, Method::Exact, "exact: Newton onto the crease (reference)");
         if is_seed000(opts) {
             ui.checkbox(&mut opts.exact_feed, "rescale each step to exactly f (eq. 2)");
         }
-        out.options_changed = *opts != before;
+        ed.asked.options_changed |= *opts != before;
     });
-    section(ui, "Display", true, |ui| {
-        ui.checkbox(&mut view.cutter_side_only, "surfaces from the cutter side only");
-        ui.checkbox(&mut view.show_offsets, "offset surfaces (translucent)");
-        ui.checkbox(&mut view.show_iso, "iso-parameter lines");
-        ui.checkbox(&mut view.show_cutters, "ball cutters along the path");
-        ui.checkbox(&mut view.show_exact, "exact crease");
-        ui.add(
-            egui::Slider::new(&mut view.magnify, 1.0..=1.0e6)
-                .logarithmic(true)
-                .text("× deviation from the exact crease"),
-        );
-    });
-    out.scene_changed = c;
-    out
+    ed.asked.scene_changed |= c;
 }

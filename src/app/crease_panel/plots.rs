@@ -5,10 +5,11 @@
 use eframe::egui;
 use egui_plot::{Corner, HLine, Legend, Line, LineStyle, Plot, PlotPoints, VLine};
 
-use super::compute::Computation;
-use super::controls::SURFACE_COLORS;
-use super::overlay::decimate;
-use super::{Playback, describe_outcome, fmt_len};
+use crate::app::compute::Computation;
+use crate::app::overlay::decimate;
+use crate::app::ranges;
+use crate::app::widgets::{PROBLEM_TEXT, SURFACE_COLORS};
+use crate::app::{Playback, describe_outcome, fmt_len};
 use crate::scene::Scene;
 
 /// Which plot is shown.
@@ -121,7 +122,7 @@ pub fn playback_bar(ui: &mut egui::Ui, pb: &mut Playback, compute: &Computation,
             pb.playing = false;
         }
         ui.spacing_mut().slider_width = 90.0;
-        ui.add(egui::Slider::new(&mut pb.speed, 0.05..=200.0).logarithmic(true).suffix("×").text("speed"));
+        ui.add(egui::Slider::new(&mut pb.speed, ranges::PLAYBACK_SPEED).logarithmic(true).suffix("×").text("speed"));
         ui.label(format!("t = {:.3} s of {:.3} s", pb.k.floor() * period_ms / 1000.0, last * period_ms / 1000.0));
     });
 }
@@ -148,7 +149,7 @@ fn summary(ui: &mut egui::Ui, compute: &Computation, scene: &Scene, out: &mut Pl
         ui.vertical(|ui| {
             // Long messages (a domain exit, an error) wrap instead of widening the table.
             ui.set_max_width(300.0);
-            let color = if ok { ui.visuals().text_color() } else { egui::Color32::from_rgb(255, 120, 110) };
+            let color = if ok { ui.visuals().text_color() } else { PROBLEM_TEXT };
             ui.add(egui::Label::new(egui::RichText::new(text).color(color)).wrap());
         });
         ui.end_row();
@@ -185,7 +186,7 @@ fn summary(ui: &mut egui::Ui, compute: &Computation, scene: &Scene, out: &mut Pl
             let within = worst[i] <= allowed;
             ui.label(
                 egui::RichText::new(format!("{}  (b·T{} = {})", fmt_len(worst[i]), i + 1, fmt_len(allowed)))
-                    .color(if within { ui.visuals().text_color() } else { egui::Color32::from_rgb(255, 120, 110) }),
+                    .color(if within { ui.visuals().text_color() } else { PROBLEM_TEXT }),
             );
             ui.end_row();
             ui.label(format!("bound (16) on S{}", i + 1));
