@@ -7,7 +7,8 @@
 
 use glam::{DVec2, DVec3};
 
-use super::surface::{ParametricSurface, Surface};
+use super::parametric::ParametricSurface;
+use super::surface::Surface;
 use crate::linalg;
 
 /// Settings of [`project_point`].
