@@ -277,7 +277,7 @@ fn every_program_of_a_crease_is_within_tolerance_for_an_outside_reader() {
                 };
                 worst = worst.max(foot(i).min(foot(j)));
             }
-            assert!(worst <= tol, "{} ({}): {worst}", kind.label(), job.feed_mm_per_min);
+            assert!(worst <= tol, "{} ({}): {worst}", kind.label(), job.feed_mm_per_s);
             let back = design_to_polyline(&design, &pts, 3000);
             assert!(back <= tol, "{}: back {back}", kind.label());
         }

@@ -8,7 +8,9 @@
 //! - [`ProfilePath`]: a planar profile extruded along Z (a blade section, the circle of the
 //!   paper's Example 1) — the ball touches one surface, the extrusion of the profile.
 //!
-//! **Signed error** of a ball with centre p on surface i (seed 002's sign rule: overcut +):
+//! **Signed error** of a ball with centre p on surface i, in the core's sign convention
+//! ([`crate::numerics::sign`]), which is seed 002's rule (overcut +), so δ, δt and δn are the
+//! paper's own:
 //! `e_i = R' − d_i(p)`, with `d_i` the signed distance from p to S_i, positive on the cutter
 //! side, and R' = R + C. `e_i > 0`: the ball cuts into S_i by e_i (gouge, overcut);
 //! `e_i < 0`: it leaves |e_i| of stock (undercut). At a cutter location of the path, e_i = 0.
@@ -19,6 +21,7 @@ use super::FiveAxisError;
 use super::toolaxis::{AxisFrame, ToolAxisRule};
 use crate::crease::CreaseCurve;
 use crate::geom::{Curve3, ProjectOptions, project_point};
+use crate::numerics::sign;
 
 /// The cutter at one parameter of a design path (workpiece coordinates).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -136,7 +139,7 @@ impl DesignPath for CreasePath {
         let opts = ProjectOptions { step_tol_mm: crate::tolerance::NEWTON_LENGTH_MM, ..ProjectOptions::default() };
         let e = |i: usize| {
             let foot = project_point(&job.surfaces[i], p, mix_hint(a.hints[i], b.hints[i], tau), opts);
-            r_eff - foot.signed_distance
+            sign::overcut_mm(foot.signed_distance, r_eff)
         };
         [Some(e(0)), Some(e(1))]
     }
@@ -274,7 +277,7 @@ impl DesignPath for ProfilePath {
     }
     fn surface_errors(&self, p: DVec3, a: &CutterLocation, b: &CutterLocation, tau: f64) -> [Option<f64>; 2] {
         let guess = a.hints[0].x + tau * (b.hints[0].x - a.hints[0].x);
-        [Some(self.effective_radius_mm() - self.signed_distance(p, guess)), None]
+        [Some(sign::overcut_mm(self.signed_distance(p, guess), self.effective_radius_mm())), None]
     }
     fn first_step(&self, s: f64, tol_mm: f64) -> Option<f64> {
         crate::chords::first_step_estimate(self.curve.as_ref(), s, tol_mm)

@@ -55,7 +55,7 @@ fn range(path: &str, r: [f64; 2], unit: &str, max_width: Option<f64>) -> Result<
         ));
     }
     if let Some(w) = max_width
-        && r[1] - r[0] > w + 1e-9
+        && r[1] - r[0] > w + crate::tolerance::FILE_DEGREE_SLACK_DEG
     {
         return Err(SceneError::new(
             path,
@@ -322,7 +322,9 @@ pub fn build_surface(spec: &SurfaceSpec, path: &str) -> Result<Surface, SceneErr
             }
             let d = domain.unwrap_or(DomainSpec { u: [-180.0, 180.0], v: [-90.0, 90.0] });
             angle_domain(&p("domain"), &d)?;
-            if d.v[0] < -90.0 - 1e-9 || d.v[1] > 90.0 + 1e-9 {
+            if d.v[0] < -90.0 - crate::tolerance::FILE_DEGREE_SLACK_DEG
+                || d.v[1] > 90.0 + crate::tolerance::FILE_DEGREE_SLACK_DEG
+            {
                 return Err(SceneError::new(
                     p("domain.v"),
                     format!("latitude range [{}, {}] leaves [-90, 90]", d.v[0], d.v[1]),
