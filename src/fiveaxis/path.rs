@@ -157,14 +157,23 @@ pub enum ToolSide {
     Right,
 }
 
+/// The ball that follows a profile: its side, radius R and allowance C (R' = R + C).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProfileBall {
+    /// Side of the profile the tool is on.
+    pub side: ToolSide,
+    /// Ball radius R (mm).
+    pub ball_radius_mm: f64,
+    /// Stock C left on the profile (mm).
+    pub allowance_mm: f64,
+}
+
 /// A planar profile (a curve in a plane z = const) extruded along Z, cut by a ball on one
 /// side: the contact point runs along the profile, the centre along its offset by R'.
 pub struct ProfilePath {
     curve: Box<dyn Curve3>,
     range: (f64, f64),
-    side: ToolSide,
-    ball_radius_mm: f64,
-    allowance_mm: f64,
+    ball: ProfileBall,
     rule: ToolAxisRule,
 }
 
@@ -172,8 +181,7 @@ impl std::fmt::Debug for ProfilePath {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("ProfilePath")
             .field("range", &self.range)
-            .field("side", &self.side)
-            .field("ball_radius_mm", &self.ball_radius_mm)
+            .field("ball", &self.ball)
             .field("rule", &self.rule)
             .finish_non_exhaustive()
     }
@@ -181,17 +189,10 @@ impl std::fmt::Debug for ProfilePath {
 
 impl ProfilePath {
     /// A profile path over `range` of `curve` (which must lie in a plane z = const and be
-    /// regular there).
+    /// regular there), followed by `ball` with the tool axis by `rule`.
     #[must_use]
-    pub fn new(
-        curve: Box<dyn Curve3>,
-        range: (f64, f64),
-        side: ToolSide,
-        ball_radius_mm: f64,
-        allowance_mm: f64,
-        rule: ToolAxisRule,
-    ) -> Self {
-        Self { curve, range, side, ball_radius_mm, allowance_mm, rule }
+    pub fn new(curve: Box<dyn Curve3>, range: (f64, f64), ball: ProfileBall, rule: ToolAxisRule) -> Self {
+        Self { curve, range, ball, rule }
     }
 
     /// The profile curve.
@@ -205,7 +206,7 @@ impl ProfilePath {
         let d1 = self.curve.derivatives_at(s)[1];
         let t = DVec3::new(d1.x, d1.y, 0.0).try_normalize()?;
         let left = DVec3::Z.cross(t);
-        Some((if self.side == ToolSide::Left { left } else { -left }, t))
+        Some((if self.ball.side == ToolSide::Left { left } else { -left }, t))
     }
 
     /// Foot point of p's projection on the profile (in the plane), by Newton from `guess`:
@@ -247,10 +248,10 @@ impl DesignPath for ProfilePath {
         self.range
     }
     fn ball_radius_mm(&self) -> f64 {
-        self.ball_radius_mm
+        self.ball.ball_radius_mm
     }
     fn effective_radius_mm(&self) -> f64 {
-        self.ball_radius_mm + self.allowance_mm
+        self.ball.ball_radius_mm + self.ball.allowance_mm
     }
     fn surface_count(&self) -> usize {
         1
@@ -269,7 +270,7 @@ impl DesignPath for ProfilePath {
             s,
             centre,
             axis,
-            tip: centre - self.ball_radius_mm * axis,
+            tip: centre - self.ball.ball_radius_mm * axis,
             normals: [n, n],
             travel: t,
             hints: [DVec2::new(s, 0.0), DVec2::new(s, 0.0)],

@@ -387,28 +387,23 @@ pub fn build_surface(spec: &SurfaceSpec, path: &str) -> Result<Surface, SceneErr
             if let Some((row, r)) = points.iter().enumerate().find(|(_, r)| r.len() != n_v) {
                 return Err(map_nurbs(path, NurbsError::Ragged { row, got: r.len(), expected: n_v }));
             }
-            crate::geom::nurbs::validate_knots(knots_u, n_u, degree[0]).map_err(|e| {
-                let mut err = map_nurbs(path, e);
-                if err.path.ends_with(".knots") {
-                    err.path = p("knots_u");
-                } else if err.path.ends_with(".degree") {
-                    err.path = p("degree[0]");
-                } else if err.path.ends_with(".points") {
-                    err.problem = format!("along u: {}", err.problem);
-                }
-                err
-            })?;
-            crate::geom::nurbs::validate_knots(knots_v, n_v, degree[1]).map_err(|e| {
-                let mut err = map_nurbs(path, e);
-                if err.path.ends_with(".knots") {
-                    err.path = p("knots_v");
-                } else if err.path.ends_with(".degree") {
-                    err.path = p("degree[1]");
-                } else if err.path.ends_with(".points") {
-                    err.problem = format!("along v (each row): {}", err.problem);
-                }
-                err
-            })?;
+            // One knot vector against its count of control points and degree; a problem is
+            // reported at that direction's keys.
+            let check = |knots: &[f64], n: usize, deg: usize, keys: [&str; 2], along: &str| {
+                crate::geom::nurbs::validate_knots(knots, n, deg).map_err(|e| {
+                    let mut err = map_nurbs(path, e);
+                    if err.path.ends_with(".knots") {
+                        err.path = p(keys[0]);
+                    } else if err.path.ends_with(".degree") {
+                        err.path = p(keys[1]);
+                    } else if err.path.ends_with(".points") {
+                        err.problem = format!("{along}: {}", err.problem);
+                    }
+                    err
+                })
+            };
+            check(knots_u, n_u, degree[0], ["knots_u", "degree[0]"], "along u")?;
+            check(knots_v, n_v, degree[1], ["knots_v", "degree[1]"], "along v (each row)")?;
             let surface = NurbsSurface::try_new(
                 *degree,
                 knots_u.clone(),
