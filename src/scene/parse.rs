@@ -580,8 +580,8 @@ const CUTTER_KEYS: &[&str] =
     &["radius", "corner_radius", "flute_length", "shank_radius", "gauge_length", "holder_radius", "holder_length"];
 
 /// Parses a finishing scene's structure and types (`docs/scene-format.md`, finishing jobs).
-pub(super) fn parse_finish(text: &str) -> Result<super::finish::FinishScene, SceneError> {
-    use super::finish::{CutterSpec, FinishScene, FinishSpec};
+pub(super) fn parse_finish(text: &str) -> Result<super::finish_spec::FinishScene, SceneError> {
+    use super::finish_spec::{CutterSpec, FinishScene, FinishSpec};
     let root = parse_json(text)?;
     let at = At { v: &root, path: String::new() };
     if root.get("finish").is_none() && root.is_object() {
