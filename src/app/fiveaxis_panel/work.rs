@@ -11,9 +11,8 @@ use web_time::{Duration, Instant};
 
 use crate::crease::{CreaseCurve, CreaseJob};
 use crate::fiveaxis::{
-    CreasePath, CutterLocation, DesignPath, Example1, FiveAxisError, Machine, NacaProfile, ProfileBall, ProfilePath,
-    StepNode, StepOptions, StepPlanner, ToolAxisRule, ToolSide, blade_case, evaluate_nodes, example1,
-    tip_design_deviation,
+    CreasePath, CutterLocation, DesignPath, Example1, FiveAxisError, Machine, NacaProfile, ProfilePath, StepNode,
+    StepOptions, StepPlanner, ToolAxisRule, blade_case, evaluate_nodes, example1, tip_design_deviation,
 };
 use crate::numerics::maximise::MaxOptions;
 use crate::numerics::roots::RootMethod;
