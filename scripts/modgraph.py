@@ -9,6 +9,13 @@ Edges come from `use crate::X...`, `crate::X::` paths in code, and
     python3 scripts/modgraph.py [src_dir]
 
 Exit status 1 when a cycle exists between top-level modules.
+
+    python3 scripts/modgraph.py --files [src_dir]
+
+also looks for cycles between the files of one directory (src/geom/nurbs.rs using
+`super::surface` while src/geom/surface.rs uses `super::nurbs`) and fails on those too: a
+file's edges there are its `super::X` paths (from a file that is not mod.rs, outside its
+inline `mod tests`) and `crate::a::b::X` paths naming a sibling X of the same directory.
 """
 import os
 import re
@@ -46,41 +53,8 @@ def strip_comments(text):
     return re.sub(r"//[^\n]*", "", text)
 
 
-def main():
-    src = sys.argv[1] if len(sys.argv) > 1 else "src"
-    edges = {}
-    known = {
-        (e[:-3] if e.endswith(".rs") else e)
-        for e in os.listdir(src)
-        if e.endswith(".rs") or os.path.isdir(os.path.join(src, e))
-    }
-    for root, _, files in os.walk(src):
-        for f in files:
-            if not f.endswith(".rs"):
-                continue
-            path = os.path.join(root, f)
-            rel = os.path.relpath(path, src)
-            me = top_module(rel)
-            with open(path, encoding="utf-8") as fh:
-                text = strip_comments(fh.read())
-            targets = set(CRATE_RE.findall(text))
-            for group in USE_GROUP_RE.findall(text):
-                for item in re.split(r",(?![^{]*\})", group):
-                    item = item.strip()
-                    m = re.match(r"([a-z_][a-z0-9_]*)", item)
-                    if m:
-                        targets.add(m.group(1))
-            depth = depth_in_module(rel)
-            for supers, name in SUPER_RE.findall(text):
-                if supers.count("super::") == depth:
-                    targets.add(name)
-            edges.setdefault(me, set())
-            for t in targets:
-                if t != me and t in known:
-                    edges[me].add(t)
-    for m in sorted(edges):
-        print(f"{m} -> {', '.join(sorted(edges[m])) or '(nothing)'}")
-    # cycles: strongly connected components with more than one member
+def strongly_connected(edges):
+    """Strongly connected components with more than one member (the cycles)."""
     index, low, stack, on, sccs = {}, {}, [], set(), []
     counter = [0]
 
@@ -125,11 +99,94 @@ def main():
     for v in sorted(edges):
         if v not in index:
             strong(v)
-    if sccs:
+    for v in sorted(edges):
+        if v not in index:
+            strong(v)
+    return sccs
+
+
+def file_edges(src):
+    """Edges between sibling files of each directory: {dir: {file: {sibling, ...}}}."""
+    out = {}
+    for root, dirs, files in os.walk(src):
+        rel_dir = os.path.relpath(root, src)
+        if rel_dir == ".":
+            continue
+        siblings = {f[:-3] for f in files if f.endswith(".rs") and f != "mod.rs"}
+        siblings |= {d for d in dirs if os.path.exists(os.path.join(root, d, "mod.rs"))}
+        crate_path = "crate::" + rel_dir.replace(os.sep, "::") + "::"
+        sib_re = re.compile(r"(?<![a-z_:])(?:super::|" + re.escape(crate_path) + r")([a-z_][a-z0-9_]*)")
+        group_re = re.compile(r"\buse\s+super::\{([^;]*)\}", re.S)
+        edges = out.setdefault(rel_dir, {})
+        for f in files:
+            if not f.endswith(".rs") or f == "mod.rs":
+                continue
+            me = f[:-3]
+            with open(os.path.join(root, f), encoding="utf-8") as fh:
+                text = strip_comments(fh.read())
+            # inline `mod tests` blocks reach the file itself through super::; ignore them
+            text = re.split(r"#\[cfg\(test\)\]\s*mod\s+tests", text)[0]
+            targets = set(sib_re.findall(text))
+            for group in group_re.findall(text):
+                for item in re.split(r",(?![^{]*\})", group):
+                    m = re.match(r"\s*([a-z_][a-z0-9_]*)", item)
+                    if m:
+                        targets.add(m.group(1))
+            edges[me] = {t for t in targets if t in siblings and t != me}
+        for d in dirs:
+            if os.path.exists(os.path.join(root, d, "mod.rs")):
+                edges.setdefault(d, set())
+    return out
+
+
+def main():
+    args = [a for a in sys.argv[1:] if a != "--files"]
+    check_files = "--files" in sys.argv[1:]
+    src = args[0] if args else "src"
+    edges = {}
+    known = {
+        (e[:-3] if e.endswith(".rs") else e)
+        for e in os.listdir(src)
+        if e.endswith(".rs") or os.path.isdir(os.path.join(src, e))
+    }
+    for root, _, files in os.walk(src):
+        for f in files:
+            if not f.endswith(".rs"):
+                continue
+            path = os.path.join(root, f)
+            rel = os.path.relpath(path, src)
+            me = top_module(rel)
+            with open(path, encoding="utf-8") as fh:
+                text = strip_comments(fh.read())
+            targets = set(CRATE_RE.findall(text))
+            for group in USE_GROUP_RE.findall(text):
+                for item in re.split(r",(?![^{]*\})", group):
+                    item = item.strip()
+                    m = re.match(r"([a-z_][a-z0-9_]*)", item)
+                    if m:
+                        targets.add(m.group(1))
+            depth = depth_in_module(rel)
+            for supers, name in SUPER_RE.findall(text):
+                if supers.count("super::") == depth:
+                    targets.add(name)
+            edges.setdefault(me, set())
+            for t in targets:
+                if t != me and t in known:
+                    edges[me].add(t)
+    for m in sorted(edges):
+        print(f"{m} -> {', '.join(sorted(edges[m])) or '(nothing)'}")
+    sccs = strongly_connected(edges)
+    file_cycles = []
+    for d, edges_d in sorted(file_edges(src).items() if check_files else []):
+        for c in strongly_connected(edges_d):
+            file_cycles.append(d + "/{" + ", ".join(f + ".rs" for f in c) + "}")
+    if sccs or file_cycles:
         for c in sccs:
             print("CYCLE among: " + ", ".join(c))
+        for c in file_cycles:
+            print("FILE CYCLE among: " + c)
         return 1
-    print("no cycle")
+    print("no cycle" + (" (between modules, nor between the files of a directory)" if check_files else ""))
     return 0
 
 

@@ -8,6 +8,7 @@ use std::fmt::Write as _;
 use std::io::{self, Write};
 
 use crate::crease::{CreaseError, CreaseJob, Diagnostics, Row, StopReason};
+use crate::numerics::sign::stock_positive;
 
 pub use crate::numerics::format::{fmt_fixed, fmt_num, push_num};
 
@@ -26,15 +27,45 @@ pub const COLUMNS: [&str; 9] = ["k", "t_ms", "x", "y", "z", "u1", "v1", "u2", "v
 /// Extra columns printed with `--errors` (all mm): measured e1, e2 and the estimates.
 pub const ERROR_COLUMNS: [&str; 8] = ["e1", "e2", "est11_1", "est11_2", "est12_1", "est12_2", "est16_1", "est16_2"];
 
-fn row_values(job: &CreaseJob, row: &Row) -> [f64; 8] {
+fn row_values(job: &CreaseJob, row: &Row, t_ms: f64) -> [f64; 8] {
     let uv = job.params_to_file(row.uv);
-    [row.t_ms, row.p.x, row.p.y, row.p.z, uv[0].x, uv[0].y, uv[1].x, uv[1].y]
+    [t_ms, row.p.x, row.p.y, row.p.z, uv[0].x, uv[0].y, uv[1].x, uv[1].y]
+}
+
+/// The `t_ms` column, from the scene's period in ms (the file's number, see
+/// [`crate::numerics::units`]): k·Ts for a whole period, and for the shortened final row the
+/// previous time plus its chord at the feed, Ts·|p_k − p_(k−1)|/f — the same expressions the
+/// run's time `Row::t_s` is formed by in seconds, evaluated in ms so the printed digits do not
+/// depend on a conversion's rounding.
+struct RowClock {
+    period_ms: f64,
+    /// Time (ms) and centre of the row written last.
+    prev: Option<(f64, glam::DVec3)>,
+    /// Duration (ms) of the shortened final period, once written.
+    final_period_ms: Option<f64>,
+}
+
+impl RowClock {
+    fn t_ms(&mut self, job: &CreaseJob, row: &Row, shortened: bool) -> f64 {
+        let t = match self.prev {
+            Some((t_prev, p_prev)) if shortened => {
+                let ms = self.period_ms * (row.p - p_prev).length() / job.feed_per_period_mm;
+                self.final_period_ms = Some(ms);
+                t_prev + ms
+            }
+            _ => row.k as f64 * self.period_ms,
+        };
+        self.prev = Some((t, row.p));
+        t
+    }
 }
 
 fn diag_values(d: &Diagnostics) -> [f64; 8] {
+    // e1, e2 print seed 000's sign (negative = gouge, docs/scene-format.md); the core's is
+    // overcut positive.
     [
-        d.measured[0],
-        d.measured[1],
+        stock_positive(d.measured[0]),
+        stock_positive(d.measured[1]),
         d.est11[0],
         d.est11[1],
         d.est12[0],
@@ -52,14 +83,23 @@ pub struct RowWriter<W: Write> {
     first: bool,
     /// The row being written (reused).
     line: String,
+    clock: RowClock,
 }
 
 impl<W: Write> RowWriter<W> {
-    /// Starts the output (CSV header, or the opening of the JSON document).
+    /// Starts the output (CSV header, or the opening of the JSON document). `period_ms` is the
+    /// scene's `motion.period` (ms), from which the `t_ms` column is printed.
     ///
     /// # Errors
     /// I/O errors of `out`.
-    pub fn new(mut out: W, format: Format, errors: bool, job: &CreaseJob, name: &str) -> io::Result<Self> {
+    pub fn new(
+        mut out: W,
+        format: Format,
+        errors: bool,
+        job: &CreaseJob,
+        name: &str,
+        period_ms: f64,
+    ) -> io::Result<Self> {
         match format {
             Format::Csv => {
                 let mut cols: Vec<&str> = COLUMNS.to_vec();
@@ -83,14 +123,41 @@ impl<W: Write> RowWriter<W> {
                 write!(out, "{}],\n  \"rows\": [", quoted.join(", "))?;
             }
         }
-        Ok(Self { out, format, errors, first: true, line: String::with_capacity(256) })
+        Ok(Self {
+            out,
+            format,
+            errors,
+            first: true,
+            line: String::with_capacity(256),
+            clock: RowClock { period_ms, prev: None, final_period_ms: None },
+        })
     }
 
-    /// Writes one row (with its diagnostics when the writer prints errors).
+    /// Writes one row of a whole period (with its diagnostics when the writer prints errors).
     ///
     /// # Errors
     /// I/O errors of `out`.
     pub fn row(&mut self, job: &CreaseJob, row: &Row, diag: Option<&Diagnostics>) -> io::Result<()> {
+        self.write_row(job, row, diag, false)
+    }
+
+    /// Writes the shortened final row of a run that ended on an exact point (the
+    /// interpolator's `final_period_s` is set once it has produced that row).
+    ///
+    /// # Errors
+    /// I/O errors of `out`.
+    pub fn final_row(&mut self, job: &CreaseJob, row: &Row, diag: Option<&Diagnostics>) -> io::Result<()> {
+        self.write_row(job, row, diag, true)
+    }
+
+    /// Duration (ms) of the shortened final period, once [`Self::final_row`] wrote it.
+    #[must_use]
+    pub fn final_period_ms(&self) -> Option<f64> {
+        self.clock.final_period_ms
+    }
+
+    fn write_row(&mut self, job: &CreaseJob, row: &Row, diag: Option<&Diagnostics>, shortened: bool) -> io::Result<()> {
+        let t_ms = self.clock.t_ms(job, row, shortened);
         // The whole line is built in one reused buffer and written at once: no allocation
         // per number or per row.
         let line = &mut self.line;
@@ -107,7 +174,7 @@ impl<W: Write> RowWriter<W> {
             line.push_str(sep);
             if v.is_finite() { push_num(line, v) } else { line.push_str(empty) }
         };
-        for v in row_values(job, row) {
+        for v in row_values(job, row, t_ms) {
             field(line, v);
         }
         if self.errors {

@@ -178,3 +178,108 @@ pub const FILLET_SHARP_EDGE_MM: f64 = 1e-6;
 /// Resolution (mm) to which heights of the cutter's profile and scallops are solved: 1 nm,
 /// far below any scallop height worth machining (≥ 1 µm).
 pub const FILLET_HEIGHT_MM: f64 = 1e-9;
+
+// --- Small numbers that were written inside functions (issue 13), named here ---
+
+/// Resolution of a 1-D Brent search (for a segment's worst point, a curvature peak),
+/// relative to the searched parameter range: the value at a smooth peak is then exact to about
+/// the square of this.
+pub const PARAM_SEARCH_REL: f64 = 1e-9;
+
+/// Relative slack of a comparison between two numbers that should be equal but were formed by
+/// different roundings (a resolution against its power of ten, a tolerance against twice the
+/// resolution, an arc radius against half its chord, a chord error against its tolerance).
+pub const ROUNDING_REL: f64 = 1e-9;
+
+/// Two unit vectors whose angle has a sine below this are parallel: the spherical
+/// interpolation between them is the first one (the formula divides by the sine).
+pub const PARALLEL_SIN: f64 = 1e-12;
+
+/// Floor of the swept-error maximiser relative to the step tolerance E: an interval whose
+/// error leaves the straight line between its ends by less than E/1000 is not split further.
+pub const SWEPT_FLOOR_REL_TOL: f64 = 1e-3;
+
+/// Default absolute floor of the sampled maximiser (`numerics::maximise::MaxOptions::floor`,
+/// in the function's unit, mm for every error it is used on).
+pub const MAX_FLOOR: f64 = 1e-9;
+
+/// Shortest trial length (mm) of an arc fit's piece: the search starts at least this long.
+pub const ARC_MIN_TRIAL_MM: f64 = 1e-9;
+
+/// An arc fit that halves its trial piece below this fraction of the path length (at least
+/// 1 mm) stops: the path cannot be held by arcs there.
+pub const ARC_MIN_PIECE_REL: f64 = 1e-7;
+
+/// A G06.2 block's first control point may differ from the current position by this much
+/// (mm, times 25.4 for inch programs): the rounding of a written coordinate, far below the
+/// least input increment.
+pub const NURBS_START_MATCH_MM: f64 = 1e-6;
+
+/// Finest spacing (mm) of the design samples a replayed program is compared with, and the
+/// smallest cell of their search grid.
+pub const REPLAY_MIN_SPACING_MM: f64 = 1e-3;
+
+/// Slack (degrees, file units) of a scene's angular range checks (at most 360° wide, sphere
+/// latitudes within ±90°): absorbs the rounding of a typed value.
+pub const FILE_DEGREE_SLACK_DEG: f64 = 1e-9;
+
+/// An angular domain this close (rad) to one full turn is periodic.
+pub const FULL_TURN_SLACK_RAD: f64 = 1e-9;
+
+/// The crease Newton iteration gives up as tangential when the sine of the angle between the
+/// normals falls below this fraction of the accepted minimum (far from it, not rounding).
+pub const TANGENTIAL_GIVE_UP_REL: f64 = 1e-3;
+
+/// |w1 × w2|² (unit-free: the w are unit surface normals' combinations) below which the
+/// interpolator's correction system is singular (the normals are parallel to about 1e-9 rad).
+pub const CORRECTION_SINGULAR_SIN2: f64 = 1e-18;
+
+/// Slack (mm) of the cap on one correction step, so a step exactly at the cap passes.
+pub const CORRECTION_SLACK_MM: f64 = 1e-9;
+
+/// Default floor of a chord's deviation search, relative to the chord tolerance
+/// (`chords::ChordOptions::deviation_floor_rel`).
+pub const CHORD_DEVIATION_FLOOR_REL: f64 = 1e-3;
+
+/// Step of central finite differences on a planar test curve, relative to its parameter range.
+pub const FD_STEP_REL: f64 = 1e-5;
+
+/// A bisection on a parameter stops when its bracket is narrower than this, relative to the
+/// parameter's magnitude (at least 1): a few ulps.
+pub const BISECTION_REL: f64 = 1e-15;
+
+/// A curve typed as expressions whose points all lie within this distance (mm) of the first
+/// has no extent to follow.
+pub const MIN_CURVE_EXTENT_MM: f64 = 1e-9;
+
+/// A 2×2 or 3×3 determinant below this fraction of the product of its rows' sizes marks a
+/// singular system (`linalg::solve2`, `solve3`).
+pub const SINGULAR_DET_REL: f64 = 1e-14;
+
+/// Pivot threshold of the small dense eliminations (`linalg`), relative to the matrix's scale.
+pub const DENSE_PIVOT_REL: f64 = 1e-13;
+
+/// Error shares of a knot refinement are floored at this fraction of the tolerance, so a span
+/// that already fits exactly still gets a share.
+pub const ERROR_SHARE_FLOOR_REL: f64 = 1e-6;
+
+/// Shortest initial span (mm) of an approximation's knot vector.
+pub const MIN_SPAN_MM: f64 = 1e-6;
+
+/// A real-time interpolator's Newton step on the curve parameter has converged when it moves
+/// less than this fraction of the parameter range.
+pub const PARAM_NEWTON_REL: f64 = 1e-14;
+
+/// Default convergence of a foot-point projection onto a surface (mm): the Newton step moved
+/// the foot point by less than this (`geom::ProjectOptions::step_tol_mm`).
+pub const FOOT_STEP_MM: f64 = 1e-11;
+
+/// A foot-point Newton step is kept when the squared distance grows by at most this fraction
+/// (rounding of an already-converged step) …
+pub const DESCENT_SLACK_REL: f64 = 1e-15;
+
+/// … plus this (mm²), for a distance of zero.
+pub const DESCENT_SLACK_MM2: f64 = 1e-30;
+
+/// A corner radius within this fraction of the cutter radius makes a ball end mill.
+pub const CORNER_IS_RADIUS_REL: f64 = 1e-12;

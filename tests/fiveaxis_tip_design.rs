@@ -21,8 +21,8 @@ mod support;
 use interpolab::chords::maximise::MaxOptions;
 use interpolab::crease::{CreaseCurve, InterpOptions, run_to_end};
 use interpolab::fiveaxis::{
-    CreasePath, DesignPath, Joints, Machine, NacaProfile, StepOptions, ToolAxisRule, blade_case,
-    centre_design_deviation, evaluate_nodes, example1, plan_steps, tip_design_deviation,
+    CreasePath, DesignPath, Followed, Joints, Machine, NacaProfile, StepOptions, ToolAxisRule, blade_case,
+    design_deviation, evaluate_nodes, example1, plan_steps, tip_design_deviation,
 };
 use interpolab::scene::{build_machine, build_tool_axis};
 
@@ -85,7 +85,8 @@ fn the_swept_tool_strays_from_the_design_path_in_proportion_to_the_tolerance() {
             for (k, w) in plan.nodes.windows(2).enumerate() {
                 let (a, b) = (&w[0].block, &w[1].block);
                 let tip = tip_design_deviation(&case.machine, case.path.as_ref(), a, b, &swept).unwrap();
-                let centre = centre_design_deviation(&case.machine, case.path.as_ref(), a, b, &swept).unwrap();
+                let centre =
+                    design_deviation(&case.machine, case.path.as_ref(), a, b, &swept, Followed::Centre).unwrap();
                 tip_worst = tip_worst.max(tip);
                 centre_worst = centre_worst.max(centre);
                 over += usize::from(tip > tol);

@@ -13,58 +13,15 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
+mod support;
+
 use glam::DVec3;
 use interpolab::gcode::{
     Dialect, ParseError, ProgramError, ProgramKind, ProgramOptions, Segment, parse_program_in, write_program,
 };
 use interpolab::geom::Curve3;
 use interpolab::nurbs_path::Parabola;
-
-/// A NURBS as the test reader builds it.
-struct Raw {
-    degree: usize,
-    knots: Vec<f64>,
-    points: Vec<DVec3>,
-    weights: Vec<f64>,
-}
-
-impl Raw {
-    /// Cox–de Boor with 0/0 = 0; the end of the range belongs to the last non-empty span.
-    fn point(&self, u: f64) -> DVec3 {
-        let k = &self.knots;
-        let end = k[k.len() - 1];
-        let mut n: Vec<f64> = (0..k.len() - 1)
-            .map(|i| {
-                let inside = k[i] <= u && u < k[i + 1];
-                let last = u >= end && k[i] < k[i + 1] && k[i + 1] >= end;
-                if inside || last { 1.0 } else { 0.0 }
-            })
-            .collect();
-        for q in 1..=self.degree {
-            n = (0..n.len() - 1)
-                .map(|i| {
-                    let a = if k[i + q] > k[i] { (u - k[i]) / (k[i + q] - k[i]) * n[i] } else { 0.0 };
-                    let b = if k[i + q + 1] > k[i + 1] {
-                        (k[i + q + 1] - u) / (k[i + q + 1] - k[i + 1]) * n[i + 1]
-                    } else {
-                        0.0
-                    };
-                    a + b
-                })
-                .collect();
-        }
-        let (mut num, mut den) = (DVec3::ZERO, 0.0);
-        for i in 0..self.points.len() {
-            num += n[i] * self.weights[i] * self.points[i];
-            den += n[i] * self.weights[i];
-        }
-        num / den
-    }
-
-    fn range(&self) -> (f64, f64) {
-        (self.knots[0], self.knots[self.knots.len() - 1])
-    }
-}
+use support::outside::{RawNurbs, feed_move, parabola_distance, seg_dist};
 
 /// LinuxCNC's implied knots for `cps` control points of order k, written out as its source
 /// builds them: index i from 0 to n + k (n = cps − 1) is 0 below k, i − k + 1 up to n, and
@@ -98,12 +55,12 @@ fn sinumerik_knots(cps: usize, degree: usize, pl: f64) -> Vec<f64> {
 /// Points along the feed moves of a program at most `step` mm apart, and its NURBS curves:
 /// whitespace-separated words (`NAME=value` or letter + number), comments `( … )` and `; …`
 /// dropped, modal motion and plane, absolute coordinates, IJK arc centres.
-fn read_feed_points(text: &str, dialect: Dialect, step: f64) -> (Vec<DVec3>, Vec<Raw>) {
+fn read_feed_points(text: &str, dialect: Dialect, step: f64) -> (Vec<DVec3>, Vec<RawNurbs>) {
     let mut pos = DVec3::ZERO;
     let mut motion = 0i64;
     let mut plane = 17;
     let mut out = Vec::new();
-    let mut curves: Vec<Raw> = Vec::new();
+    let mut curves: Vec<RawNurbs> = Vec::new();
     // An open spline: degree, points, weights, PL.
     let mut spline: Option<(usize, Vec<DVec3>, Vec<f64>, f64)> = None;
     let mut close = |sp: (usize, Vec<DVec3>, Vec<f64>, f64), out: &mut Vec<DVec3>, pos: &mut DVec3| {
@@ -112,7 +69,7 @@ fn read_feed_points(text: &str, dialect: Dialect, step: f64) -> (Vec<DVec3>, Vec
             Dialect::LinuxCnc => linuxcnc_knots(points.len(), degree + 1),
             _ => sinumerik_knots(points.len(), degree, pl),
         };
-        let raw = Raw { degree, knots, points, weights };
+        let raw = RawNurbs { order: degree + 1, knots, points, weights };
         let (a, b) = raw.range();
         let m = 4000;
         out.extend((0..=m).map(|i| raw.point(a + (b - a) * i as f64 / m as f64)));
@@ -196,58 +153,14 @@ fn read_feed_points(text: &str, dialect: Dialect, step: f64) -> (Vec<DVec3>, Vec
             continue;
         }
         let end = DVec3::new(get("X").unwrap_or(pos.x), get("Y").unwrap_or(pos.y), get("Z").unwrap_or(pos.z));
-        if motion == 10 {
-            let n = ((end - pos).length() / step).ceil().max(1.0) as usize;
-            out.extend((0..=n).map(|i| pos.lerp(end, i as f64 / n as f64)));
-        } else if motion == 20 || motion == 30 {
-            let (a, b, nn) = match plane {
-                17 => (0, 1, 2),
-                18 => (2, 0, 1),
-                _ => (1, 2, 0),
-            };
-            let off = [get("I").unwrap_or(0.0), get("J").unwrap_or(0.0), get("K").unwrap_or(0.0)];
-            let (ca, cb) = (pos[a] + off[a], pos[b] + off[b]);
-            let (rs, re) = ((pos[a] - ca).hypot(pos[b] - cb), (end[a] - ca).hypot(end[b] - cb));
-            let t0 = (pos[b] - cb).atan2(pos[a] - ca);
-            let t1 = (end[b] - cb).atan2(end[a] - ca);
-            let tau = std::f64::consts::TAU;
-            let sweep = if motion == 30 { (t1 - t0).rem_euclid(tau) } else { -(t0 - t1).rem_euclid(tau) };
-            let n = ((sweep.abs() * rs.max(re)) / step).ceil().max(8.0) as usize;
-            for i in 0..=n {
-                let f = i as f64 / n as f64;
-                let (r, th) = (rs + (re - rs) * f, t0 + sweep * f);
-                let mut p = DVec3::ZERO;
-                p[a] = ca + r * th.cos();
-                p[b] = cb + r * th.sin();
-                p[nn] = pos[nn] + (end[nn] - pos[nn]) * f;
-                out.push(p);
-            }
-        }
+        let ijk = [get("I").unwrap_or(0.0), get("J").unwrap_or(0.0), get("K").unwrap_or(0.0)];
+        feed_move(&mut out, pos, end, motion, plane, ijk, step);
         pos = end;
     }
     if let Some(sp) = spline.take() {
         close(sp, &mut out, &mut pos);
     }
     (out, curves)
-}
-
-/// Distance from p to the parabola y = a·x² (z = 0): Newton on the foot condition.
-fn parabola_distance(para: &Parabola, p: DVec3) -> f64 {
-    let a = para.a;
-    let mut x = p.x.clamp(para.x0, para.x1);
-    for _ in 0..60 {
-        let g = (x - p.x) + 2.0 * a * x * (a * x * x - p.y);
-        let gp = 1.0 + 2.0 * a * (3.0 * a * x * x - p.y);
-        x = (x - g / gp).clamp(para.x0, para.x1);
-    }
-    ((x - p.x).powi(2) + (a * x * x - p.y).powi(2) + p.z * p.z).sqrt()
-}
-
-fn seg_dist(x: DVec3, a: DVec3, b: DVec3) -> f64 {
-    let ab = b - a;
-    let l2 = ab.length_squared();
-    let t = if l2 > 0.0 { ((x - a).dot(ab) / l2).clamp(0.0, 1.0) } else { 0.0 };
-    (a + t * ab - x).length()
 }
 
 /// Largest distance from `n + 1` design points to the program polyline (brute force).
@@ -433,8 +346,8 @@ fn linuxcnc_reader_implies_uniform_knots_and_refuses_z_inside_the_curve() {
     text.push_str("G5.3\nG1 X0 Y0\n");
     let p = parse_program_in(&text, Dialect::LinuxCnc).expect("program");
     let Segment::Nurbs(c) = &p.toolpath.cuts().next().expect("cut").segment else { panic!("not a NURBS") };
-    let raw = Raw {
-        degree: 3,
+    let raw = RawNurbs {
+        order: 4,
         knots: linuxcnc_knots(6, 4),
         points: pts.iter().map(|(x, y)| DVec3::new(*x, *y, 2.0)).collect(),
         weights: vec![1.0, 1.0, 1.0, 2.5, 1.0, 1.0],

@@ -14,6 +14,8 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 
 mod support;
 
+use support::outside::{RawNurbs, feed_move, parabola_distance, seg_dist};
+
 use glam::DVec3;
 use interpolab::chords::equal_error_chords;
 use interpolab::gcode::{
@@ -25,47 +27,6 @@ use interpolab::nurbs_path::measure::nearest_on_curve;
 use interpolab::nurbs_path::{Parabola, interpolate_realtime};
 
 const RES: f64 = 0.001;
-
-/// A G06.2 curve as read by the test reader.
-struct RawNurbs {
-    order: usize,
-    knots: Vec<f64>,
-    points: Vec<DVec3>,
-    weights: Vec<f64>,
-}
-
-impl RawNurbs {
-    /// Cox–de Boor for order p: N_{i,1} = [k_i ≤ u < k_{i+1}], and N_{i,p} is the sum of
-    /// (u−k_i)/(k_{i+p−1}−k_i)·N_{i,p−1} and (k_{i+p}−u)/(k_{i+p}−k_{i+1})·N_{i+1,p−1}, with
-    /// 0/0 = 0; the end of the range belongs to the last non-empty span.
-    fn point(&self, u: f64) -> DVec3 {
-        let k = &self.knots;
-        let n = self.points.len();
-        let end = k[k.len() - 1];
-        let mut basis: Vec<f64> = (0..k.len() - 1)
-            .map(|i| {
-                let inside = k[i] <= u && u < k[i + 1];
-                let last = u >= end && k[i] < k[i + 1] && k[i + 1] >= end;
-                if inside || last { 1.0 } else { 0.0 }
-            })
-            .collect();
-        for p in 2..=self.order {
-            let mut next = vec![0.0; k.len() - p];
-            for (i, v) in next.iter_mut().enumerate() {
-                let a = if k[i + p - 1] > k[i] { (u - k[i]) / (k[i + p - 1] - k[i]) * basis[i] } else { 0.0 };
-                let b = if k[i + p] > k[i + 1] { (k[i + p] - u) / (k[i + p] - k[i + 1]) * basis[i + 1] } else { 0.0 };
-                *v = a + b;
-            }
-            basis = next;
-        }
-        let (mut num, mut den) = (DVec3::ZERO, 0.0);
-        for i in 0..n {
-            num += basis[i] * self.weights[i] * self.points[i];
-            den += basis[i] * self.weights[i];
-        }
-        num / den
-    }
-}
 
 /// Points along the feed moves of a program (G01, G02/G03 in G17/G18/G19, G06.2), at most
 /// `step` mm apart, read with a deliberately simple reader: whitespace-separated words,
@@ -146,58 +107,13 @@ fn read_feed_points(text: &str, step: f64) -> (Vec<DVec3>, Vec<RawNurbs>, Vec<(f
         }
         let end = DVec3::new(get('X').unwrap_or(pos.x), get('Y').unwrap_or(pos.y), get('Z').unwrap_or(pos.z));
         let m = (motion * 10.0_f64).round() as i64;
-        if m == 10 {
-            let n = ((end - pos).length() / step).ceil().max(1.0) as usize;
-            out.extend((0..=n).map(|i| pos.lerp(end, i as f64 / n as f64)));
-        } else if m == 20 || m == 30 {
-            // In-plane axes (a, b) and normal n.
-            let (a, b, nn) = match plane {
-                17 => (0, 1, 2),
-                18 => (2, 0, 1),
-                _ => (1, 2, 0),
-            };
-            let off = [get('I').unwrap_or(0.0), get('J').unwrap_or(0.0), get('K').unwrap_or(0.0)];
-            let (ca, cb) = (pos[a] + off[a], pos[b] + off[b]);
-            let (rs, re) = ((pos[a] - ca).hypot(pos[b] - cb), (end[a] - ca).hypot(end[b] - cb));
-            radii.push((rs, re));
-            let t0 = (pos[b] - cb).atan2(pos[a] - ca);
-            let t1 = (end[b] - cb).atan2(end[a] - ca);
-            let tau = std::f64::consts::TAU;
-            let sweep = if m == 30 { (t1 - t0).rem_euclid(tau) } else { -(t0 - t1).rem_euclid(tau) };
-            let n = ((sweep.abs() * rs.max(re)) / step).ceil().max(8.0) as usize;
-            for i in 0..=n {
-                let f = i as f64 / n as f64;
-                let (r, th) = (rs + (re - rs) * f, t0 + sweep * f);
-                let mut p = DVec3::ZERO;
-                p[a] = ca + r * th.cos();
-                p[b] = cb + r * th.sin();
-                p[nn] = pos[nn] + (end[nn] - pos[nn]) * f;
-                out.push(p);
-            }
+        let ijk = [get('I').unwrap_or(0.0), get('J').unwrap_or(0.0), get('K').unwrap_or(0.0)];
+        if let Some(r) = feed_move(&mut out, pos, end, m, plane, ijk, step) {
+            radii.push(r);
         }
         pos = end;
     }
     (out, curves, radii)
-}
-
-/// Distance from p to the parabola y = a·x² (z = 0) near p: Newton on the foot condition
-/// (x − X) + 2ax(ax² − Y) = 0 from x = X, clamped to the profile.
-fn parabola_distance(para: &Parabola, p: DVec3) -> f64 {
-    let a = para.a;
-    let mut x = p.x.clamp(para.x0, para.x1);
-    for _ in 0..60 {
-        let g = (x - p.x) + 2.0 * a * x * (a * x * x - p.y);
-        let gp = 1.0 + 2.0 * a * (3.0 * a * x * x - p.y);
-        x = (x - g / gp).clamp(para.x0, para.x1);
-    }
-    ((x - p.x).powi(2) + (a * x * x - p.y).powi(2) + p.z * p.z).sqrt()
-}
-
-fn seg_dist(x: DVec3, a: DVec3, b: DVec3) -> f64 {
-    let ab = b - a;
-    let l2 = ab.length_squared();
-    let t = if l2 > 0.0 { ((x - a).dot(ab) / l2).clamp(0.0, 1.0) } else { 0.0 };
-    (a + t * ab - x).length()
 }
 
 /// Largest distance from the design to the polyline of program points.
@@ -277,7 +193,7 @@ fn every_program_of_a_crease_is_within_tolerance_for_an_outside_reader() {
                 };
                 worst = worst.max(foot(i).min(foot(j)));
             }
-            assert!(worst <= tol, "{} ({}): {worst}", kind.label(), job.feed_mm_per_min);
+            assert!(worst <= tol, "{} ({}): {worst}", kind.label(), job.feed_mm_per_s);
             let back = design_to_polyline(&design, &pts, 3000);
             assert!(back <= tol, "{}: back {back}", kind.label());
         }

@@ -30,7 +30,7 @@ fn preset(id: &str) -> CreaseJob {
 /// A job with another feed per period f (mm), F changed with it at the same Ts.
 fn with_feed(mut job: CreaseJob, f: f64) -> CreaseJob {
     job.feed_per_period_mm = f;
-    job.feed_mm_per_min = f / job.period_ms * 60_000.0;
+    job.feed_mm_per_s = f / job.period_s;
     job
 }
 
@@ -63,9 +63,9 @@ fn assert_exact_end(name: &str, job: &CreaseJob, rows: &[Row], reason: StopReaso
         let chord = (last.p - prev.p).length();
         let f = job.feed_per_period_mm;
         assert!(chord <= f * (1.0 + 1e-6), "{name}: final chord {chord} longer than f = {f}");
-        let dt = last.t_ms - prev.t_ms;
-        assert!((dt - job.period_ms * chord / f).abs() <= 1e-9 * job.period_ms, "{name}: final period {dt} ms");
-        assert!(last.t_ms <= last.k as f64 * job.period_ms + 1e-9, "{name}: t_ms of the final row");
+        let dt = last.t_s - prev.t_s;
+        assert!((dt - job.period_s * chord / f).abs() <= 1e-9 * job.period_s, "{name}: final period {dt} s");
+        assert!(last.t_s <= last.k as f64 * job.period_s + 1e-12, "{name}: t_s of the final row");
         assert_eq!(last.k, prev.k + 1);
     }
 }

@@ -214,7 +214,7 @@ pub fn parametric_curve(x: &str, y: &str, t0: f64, t1: f64) -> Result<FnCurve, C
         }
         extent = extent.max((DVec2::new(ex.eval(t), ey.eval(t)) - first).length());
     }
-    if extent <= 1e-9 {
+    if extent <= crate::tolerance::MIN_CURVE_EXTENT_MM {
         return Err(CurveExprError::Degenerate { t0, t1 });
     }
     Ok(FnCurve::new(move |t| DVec2::new(ex.eval(t), ey.eval(t)), (t0, t1)))
@@ -330,21 +330,26 @@ impl Parser<'_> {
     }
 
     fn expr(&mut self) -> Result<Node, ExprError> {
-        let mut left = self.term()?;
-        while let Some(op) = self.at_op(&['+', '-']) {
-            self.pos += 1;
-            let right = self.term()?;
-            left = if op == '+' { Node::Add(left.into(), right.into()) } else { Node::Sub(left.into(), right.into()) };
-        }
-        Ok(left)
+        self.left_assoc(['+', '-'], Self::term, |first, l, r| if first { Node::Add(l, r) } else { Node::Sub(l, r) })
     }
 
     fn term(&mut self) -> Result<Node, ExprError> {
-        let mut left = self.unary()?;
-        while let Some(op) = self.at_op(&['*', '/']) {
+        self.left_assoc(['*', '/'], Self::unary, |first, l, r| if first { Node::Mul(l, r) } else { Node::Div(l, r) })
+    }
+
+    /// One level of left-associative binary operators `ops` over operands read by `operand`;
+    /// `node(is_first_op, left, right)` builds the node.
+    fn left_assoc(
+        &mut self,
+        ops: [char; 2],
+        operand: fn(&mut Self) -> Result<Node, ExprError>,
+        node: fn(bool, Box<Node>, Box<Node>) -> Node,
+    ) -> Result<Node, ExprError> {
+        let mut left = operand(self)?;
+        while let Some(op) = self.at_op(&ops) {
             self.pos += 1;
-            let right = self.unary()?;
-            left = if op == '*' { Node::Mul(left.into(), right.into()) } else { Node::Div(left.into(), right.into()) };
+            let right = operand(self)?;
+            left = node(op == ops[0], left.into(), right.into());
         }
         Ok(left)
     }

@@ -45,7 +45,7 @@ pub(super) fn run(
         }
         Fatal(format!("cannot write the output: {e}"))
     };
-    let mut writer = RowWriter::new(sink, format, errors, &job, &scene.name).map_err(io_err)?;
+    let mut writer = RowWriter::new(sink, format, errors, &job, &scene.name, scene.motion.period).map_err(io_err)?;
     let opts = InterpOptions {
         method: match method {
             MethodArg::Seed000 => Method::Seed000,
@@ -55,11 +55,10 @@ pub(super) fn run(
         ..InterpOptions::default()
     };
     let mut note = None;
-    let mut final_period_ms = None;
     // The largest measured |e_i| (mm) and the period where it occurred, for the b·T warning.
     let mut worst = WorstError::default();
     let outcome = Interpolator::new(job.clone(), opts).and_then(|mut it| {
-        let mut emit = |row: &interpolab::crease::Row| -> Result<(), io::Error> {
+        let mut emit = |row: &interpolab::crease::Row, shortened: bool| -> Result<(), io::Error> {
             let d = if errors { diagnose(&job, row) } else { None };
             // Measured on every row (screened cheaply, see `WorstError`), so a run whose feed
             // is too long for the crease's curvature says so.
@@ -67,26 +66,28 @@ pub(super) fn run(
                 Some(d) => worst.observe_measured(d.measured, row.k),
                 None => worst.observe(&job, row),
             }
-            writer.row(&job, row, d.as_ref())
+            if shortened { writer.final_row(&job, row, d.as_ref()) } else { writer.row(&job, row, d.as_ref()) }
         };
-        if let Err(e) = emit(&it.first_row()) {
+        if let Err(e) = emit(&it.first_row(), false) {
             write_failed(&e);
         }
         loop {
             match it.step()? {
                 Step::Row(r) => {
-                    if let Err(e) = emit(&r) {
+                    // The final period of a run ending on an exact point is shorter; the
+                    // interpolator says so as soon as it has produced that row.
+                    if let Err(e) = emit(&r, it.final_period_s().is_some()) {
                         write_failed(&e);
                     }
                 }
                 Step::Stopped(reason) => {
                     note = it.end_not_reached().map(|n| n.to_string());
-                    final_period_ms = it.final_period_ms();
                     return Ok(reason);
                 }
             }
         }
     });
+    let final_period_ms = writer.final_period_ms();
     writer.finish_exact(&outcome, note.as_deref(), final_period_ms).map_err(io_err)?;
     match outcome {
         Ok(reason) => {
@@ -150,10 +151,10 @@ pub(super) fn check(path: &Path) -> Result<ExitCode, Fatal> {
             angle[1] = angle[1].max(d.crease_angle_deg);
         }
     };
-    let mut t_last_ms = 0.0;
+    let mut t_last_s = 0.0;
     let outcome = it.run(|r| {
         n = r.k;
-        t_last_ms = r.t_ms;
+        t_last_s = r.t_s;
         observe(r);
     });
     let f = job.feed_per_period_mm;
@@ -180,8 +181,8 @@ pub(super) fn check(path: &Path) -> Result<ExitCode, Fatal> {
         &mut o,
         format!(
             "motion       F = {} mm/min, Ts = {} ms, feed per period f = {} mm",
-            fmt_num(job.feed_mm_per_min),
-            fmt_num(job.period_ms),
+            fmt_num(scene.motion.feed),
+            fmt_num(scene.motion.period),
             fmt_num(f)
         ),
     );
@@ -197,7 +198,7 @@ pub(super) fn check(path: &Path) -> Result<ExitCode, Fatal> {
     w(
         &mut o,
         // The last period may be the shorter final one: the time says how far the path went.
-        format!("length       {:.4} mm, machining time {:.3} s", t_last_ms / job.period_ms * f, t_last_ms / 1000.0),
+        format!("length       {:.4} mm, machining time {:.3} s", t_last_s / job.period_s * f, t_last_s),
     );
     w(&mut o, format!("crease angle {:.3}° to {:.3}° between the normals", angle[0], angle[1]));
     let mut exceeded = false;

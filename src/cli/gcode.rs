@@ -222,8 +222,8 @@ fn load_design(scene: Option<&Path>, profile: Option<ProfileArg>) -> Result<Desi
             Ok(Design {
                 curve: Box::new(curve),
                 title,
-                feed: job.feed_mm_per_min,
-                period_ms: job.period_ms,
+                feed: scene.motion.feed,
+                period_ms: scene.motion.period,
                 ball_radius: Some(job.ball_radius_mm),
             })
         }

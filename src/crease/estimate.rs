@@ -1,8 +1,10 @@
 //! Measured interpolation errors and the paper's error estimates, per period.
 //!
-//! *Measured* (the truth): `e_i = dist(p, S_i) − R'`, the signed distance from the centre to
-//! S_i by foot-point projection minus R'. Negative: the ball cuts into S_i by |e_i|;
-//! positive: it leaves |e_i| of stock. Requirement (1) of seed 000 is `|e_i| ≤ b·T_i`.
+//! *Measured* (the truth): the signed distance from the centre to S_i by foot-point
+//! projection, against R'. The core states it overcut positive ([`crate::numerics::sign`]):
+//! `R' − dist(p, S_i)`, positive where the ball cuts into S_i. Seed 000 writes
+//! `e_i = dist(p, S_i) − R'` (negative: a gouge), and so do the `e1`, `e2` columns printed;
+//! requirement (1) of seed 000, `|e_i| ≤ b·T_i`, holds in either sign.
 //!
 //! *Estimated* (seed 000, §3–4), with k_i the normal curvature along the crease tangent t,
 //! k_max, k_min the principal curvatures, Δk = k_max − k_min, τ_i the geodesic torsion along
@@ -28,12 +30,14 @@ use glam::DVec3;
 
 use super::{CreaseJob, Row};
 use crate::geom::{LocalGeometry, ParametricSurface, ProjectOptions, project_point};
+use crate::numerics::sign;
 use crate::tolerance;
 
 /// Errors and estimates at one row. Lengths in mm, curvatures in 1/mm.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Diagnostics {
-    /// Measured signed deviation e_i = dist(p, S_i) − R' (mm; negative = gouge).
+    /// Measured signed error R' − dist(p, S_i) (mm; overcut positive, the core's sign — seed
+    /// 000's e_i is its negative, see [`measured_errors`]).
     pub measured: [f64; 2],
     /// Estimate (11) per surface (mm).
     pub est11: [f64; 2],
@@ -55,12 +59,20 @@ pub struct Diagnostics {
     pub crease_angle_deg: f64,
 }
 
-/// The measured errors e1, e2 at a row (mm): the signed distance from the centre to each
-/// surface by foot-point projection (from the row's contact parameters), minus R'.
+/// The measured errors at a row (mm, the core's sign: overcut positive, see
+/// [`crate::numerics::sign`]): R' minus the signed distance from the centre to each surface
+/// by foot-point projection (from the row's contact parameters).
+///
+/// Seed 000 writes the error the other way, e_i = dist(p, S_i) − R' (negative: the ball cuts
+/// into S_i); its e_i is `sign::stock_positive` of this, which is what `interpolab run
+/// --errors` prints. Requirement (1), |e_i| ≤ b·T_i, does not see the sign.
 #[must_use]
 pub fn measured_errors(job: &CreaseJob, row: &Row) -> [f64; 2] {
     std::array::from_fn(|i| {
-        project_point(&job.surfaces[i], row.p, row.uv[i], ProjectOptions::default()).signed_distance - job.r_eff_mm
+        sign::overcut_mm(
+            project_point(&job.surfaces[i], row.p, row.uv[i], ProjectOptions::default()).signed_distance,
+            job.r_eff_mm,
+        )
     })
 }
 

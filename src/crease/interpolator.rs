@@ -91,8 +91,8 @@ pub struct Interpolator {
     /// start itself: then the run goes round the closed crease).
     end: Option<CreasePoint>,
     turns: u32,
-    /// Duration of the last row's period (ms) once the run ended on an exact end point.
-    final_period_ms: Option<f64>,
+    /// Duration of the last row's period (s) once the run ended on an exact end point.
+    final_period_s: Option<f64>,
     /// Last emitted row.
     row: Row,
     /// Unit travel direction of the last period.
@@ -123,7 +123,7 @@ impl Interpolator {
         let sense = match job.direction {
             Some(d) => {
                 let c = d.normalize().dot(start.tangent);
-                if c.abs() < 1e-6 {
+                if c.abs() < tolerance::PERPENDICULAR_COS {
                     return Err(CreaseError::DirectionAmbiguous);
                 }
                 c.signum()
@@ -136,13 +136,13 @@ impl Interpolator {
         // bounded by half of f).
         let capture = job.feed_per_period_mm + tolerance::END_AT_START_MM;
         let domains = [job.surfaces[0].domain(), job.surfaces[1].domain()];
-        let row = Row { k: 0, t_ms: 0.0, p: start.p, uv: start.uv };
+        let row = Row { k: 0, t_s: 0.0, p: start.p, uv: start.uv };
         Ok(Self {
             opts,
             domains,
             end,
             turns: 0,
-            final_period_ms: None,
+            final_period_s: None,
             row,
             prev_t: sense * start.tangent,
             start_sense: sense * start.tangent,
@@ -170,7 +170,7 @@ impl Interpolator {
     /// Row 0: the start point brought onto the crease.
     #[must_use]
     pub fn first_row(&self) -> Row {
-        Row { k: 0, t_ms: 0.0, p: self.start.p, uv: self.start.uv }
+        Row { k: 0, t_s: 0.0, p: self.start.p, uv: self.start.uv }
     }
 
     /// The exact crease point of `path.start`.
@@ -211,11 +211,11 @@ impl Interpolator {
     }
 
     /// Once the run has stopped on an exact end point (`path.end`, the start of a closed
-    /// crease, or a domain edge): the duration of the last row's period (ms), at most Ts
+    /// crease, or a domain edge): the duration of the last row's period (s), at most Ts
     /// when the last period is the shorter final one (see docs/scene-format.md).
     #[must_use]
-    pub fn final_period_ms(&self) -> Option<f64> {
-        self.final_period_ms
+    pub fn final_period_s(&self) -> Option<f64> {
+        self.final_period_s
     }
 
     /// Why the run stopped, once it has.
@@ -237,7 +237,7 @@ impl Interpolator {
             return Ok(self.stop(StopReason::MaxSteps));
         }
         let k = self.row.k + 1;
-        let at = Location::Period { k, t_ms: k as f64 * self.job.period_ms };
+        let at = Location::Period { k, t_s: k as f64 * self.job.period_s };
         let (p_next, uv_next, t, geo_next) = match self.opts.method {
             Method::Seed000 => {
                 let (p, uv, t) = self.seed000_step(at)?;
@@ -294,7 +294,7 @@ impl Interpolator {
         let uv_next = [self.domains[0].wrap(uv_next[0]), self.domains[1].wrap(uv_next[1])];
         // Wrapping a periodic parameter does not change the point, so the geometry holds.
         self.pending = geo_next;
-        let next = Row { k, t_ms: at_time(at), p: p_next, uv: uv_next };
+        let next = Row { k, t_s: at_time(at), p: p_next, uv: uv_next };
         self.commit(next, t);
         Ok(Step::Row(next))
     }
@@ -310,14 +310,14 @@ impl Interpolator {
         if !(len > tolerance::END_MERGE_MM) {
             return self.stop(reason);
         }
-        let ms = self.job.period_ms * len / self.job.feed_per_period_mm;
+        let dt_s = self.job.period_s * len / self.job.feed_per_period_mm;
         let row = Row {
             k: prev.k + 1,
-            t_ms: prev.t_ms + ms,
+            t_s: prev.t_s + dt_s,
             p,
             uv: [self.domains[0].wrap(uv[0]), self.domains[1].wrap(uv[1])],
         };
-        self.final_period_ms = Some(ms);
+        self.final_period_s = Some(dt_s);
         self.pending = None;
         self.commit(row, chord / len);
         self.stop_with_row(reason)
@@ -465,7 +465,7 @@ impl Interpolator {
         // m = w1 × w2 the system's inverse has columns w2 × m, m × w1, m over det = |m|².
         let m = w[0].cross(w[1]);
         let det = m.length_squared();
-        if !(det > 1e-18) {
+        if !(det > tolerance::CORRECTION_SINGULAR_SIN2) {
             return Err(CreaseError::Tangential {
                 at,
                 angle_deg: det.sqrt().min(1.0).asin().to_degrees(),
@@ -473,7 +473,7 @@ impl Interpolator {
             });
         }
         let dp = (c[0] * w[1].cross(m) + c[1] * m.cross(w[0])) / det;
-        let max_dp = self.opts.max_correction_ratio * f + 1e-9;
+        let max_dp = self.opts.max_correction_ratio * f + tolerance::CORRECTION_SLACK_MM;
         if !(dp.length_squared() <= max_dp * max_dp) {
             return Err(CreaseError::StepTooLong { at, feed_mm: f, correction_mm: dp.length() });
         }
@@ -530,7 +530,7 @@ impl Interpolator {
 
 fn at_time(at: Location) -> f64 {
     match at {
-        Location::Period { t_ms, .. } => t_ms,
+        Location::Period { t_s, .. } => t_s,
         _ => 0.0,
     }
 }

@@ -7,8 +7,10 @@
 //! - *period*: one interpolation period Ts; per period the centre advances by the *feed per
 //!   period* f = F·Ts (eq. 2);
 //! - *contact points* q1, q2 with parameters (u_i, v_i): where the ball touches S1, S2;
-//! - *interpolation error* e_i: signed distance from the centre to S_i minus R'
-//!   (negative: the ball cuts into S_i; positive: stock is left).
+//! - *interpolation error* e_i: in the paper, the signed distance from the centre to S_i
+//!   minus R' (negative: the ball cuts into S_i; positive: stock is left). The core's
+//!   [`Diagnostics::measured`] is its negative, overcut positive as everywhere in the core
+//!   ([`crate::numerics::sign`]); the printed `e1`, `e2` keep the paper's sign.
 //!
 //! Modules: [`newton`] finds exact crease points (start, end, the precise mode, the
 //! truth the interpolator is measured against); [`interpolator`] is the per-period stepper
@@ -41,11 +43,13 @@ pub struct CreaseJob {
     pub ball_radius_mm: f64,
     /// Effective radius R' = R + C: the centre's offset from both surfaces (mm).
     pub r_eff_mm: f64,
-    /// Programmed feed F (mm/min), as in the scene.
-    pub feed_mm_per_min: f64,
-    /// Interpolation period Ts (ms), as in the scene.
-    pub period_ms: f64,
-    /// Feed per period f = F·Ts (mm).
+    /// Programmed feed F (mm/s; the scene gives mm/min, converted by
+    /// [`crate::numerics::units`]).
+    pub feed_mm_per_s: f64,
+    /// Interpolation period Ts (s; the scene gives ms).
+    pub period_s: f64,
+    /// Feed per period f = F·Ts (mm), formed once from the scene's numbers
+    /// ([`crate::numerics::units::mm_per_period`]) so every output keeps its last digit.
     pub feed_per_period_mm: f64,
     /// Tolerances T1, T2 (mm).
     pub tol_mm: [f64; 2],
@@ -80,8 +84,9 @@ impl CreaseJob {
 pub struct Row {
     /// Period index, 0 for the corrected start point.
     pub k: u64,
-    /// Time k·Ts (ms).
-    pub t_ms: f64,
+    /// Time k·Ts (s); the final row of a run that ends on an exact point is shorter than a
+    /// period (its time is the previous row's plus its chord at the feed).
+    pub t_s: f64,
     /// Cutter centre (mm).
     pub p: DVec3,
     /// Contact parameters on S1 and S2 (internal units: rad for angles).
@@ -99,17 +104,25 @@ pub enum Location {
     Period {
         /// Row index.
         k: u64,
-        /// Its time (ms).
-        t_ms: f64,
+        /// Its time (s).
+        t_s: f64,
     },
 }
+
+/// Nanoseconds per millisecond: the resolution of a time printed in a message.
+const MESSAGE_MS_PER_NS: f64 = 1e6;
 
 impl fmt::Display for Location {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::Start => write!(f, "path.start"),
             Self::End => write!(f, "path.end"),
-            Self::Period { k, t_ms } => write!(f, "period {k} (t = {} ms)", crate::numerics::format::fmt_num(*t_ms)),
+            // Printed in ms, the scene's unit, rounded to 1 ns: k·Ts computed in seconds and
+            // shown in ms would otherwise carry a last-bit tail (12.000000000000002 ms).
+            Self::Period { k, t_s } => {
+                let ms = (crate::numerics::units::ms_from_s(*t_s) * MESSAGE_MS_PER_NS).round() / MESSAGE_MS_PER_NS;
+                write!(f, "period {k} (t = {} ms)", crate::numerics::format::fmt_num(ms))
+            }
         }
     }
 }
@@ -164,6 +177,8 @@ impl fmt::Display for StopReason {
                 f,
                 "the contact point on surface {} would leave its domain ({param} = {} outside [{}, {}])",
                 surface + 1,
+                // Display range of a parameter in a message (fixed decimals inside it, an
+                // exponent outside), not a tolerance.
                 if (1e-4..1e9).contains(&value.abs()) {
                     format!("{value:.6}")
                 } else {
@@ -250,7 +265,8 @@ impl fmt::Display for EndNotReached {
     }
 }
 
-/// A length for a message: four decimals, or three significant digits when tiny or huge.
+/// A length for a message: four decimals, or three significant digits when tiny or huge
+/// (below 1e-4 or from 1e6 mm: display ranges, not tolerances).
 fn fmt_mm(x: f64) -> String {
     if x != 0.0 && !(1e-4..1e6).contains(&x.abs()) { format!("{x:.3e}") } else { format!("{x:.4}") }
 }

@@ -238,7 +238,7 @@ pub(crate) fn solve_with_geometry(
         if it == opts.max_iterations {
             break;
         }
-        if !(sin >= 1e-3 * min_sin) {
+        if !(sin >= tolerance::TANGENTIAL_GIVE_UP_REL * min_sin) {
             return Err(NewtonFail::Tangential(sin.min(1.0).asin().to_degrees(), g.length()));
         }
         last_res = res;

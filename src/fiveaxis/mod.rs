@@ -30,12 +30,12 @@ use thiserror::Error;
 
 pub use blade::NacaProfile;
 pub use machine::{Joints, KinematicsError, Machine, MachineKind, ToolPose};
-pub use path::{CreasePath, CutterLocation, DesignPath, ProfilePath, ToolSide};
+pub use path::{CreasePath, CutterLocation, DesignPath, ProfileBall, ProfilePath, ToolSide};
 pub use presets::{CircleArc, Example1, blade_case, example1};
 pub use stepsel::{StepNode, StepOptions, StepPlan, StepPlanner, evaluate_nodes, plan_steps, rotary_step_rad};
 pub use swept::{
-    Block, SegmentReport, SegmentTotal, SweptPoint, block_at, centre_design_deviation, segment_report, segment_total,
-    swept_point, swept_samples, tip_design_deviation,
+    Block, Followed, SegmentReport, SegmentTotal, SweptPoint, block_at, design_deviation, segment_report,
+    segment_total, swept_point, swept_samples, tip_design_deviation,
 };
 pub use toolaxis::{AxisFrame, ToolAxisRule};
 

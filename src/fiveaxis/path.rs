@@ -8,7 +8,9 @@
 //! - [`ProfilePath`]: a planar profile extruded along Z (a blade section, the circle of the
 //!   paper's Example 1) — the ball touches one surface, the extrusion of the profile.
 //!
-//! **Signed error** of a ball with centre p on surface i (seed 002's sign rule: overcut +):
+//! **Signed error** of a ball with centre p on surface i, in the core's sign convention
+//! ([`crate::numerics::sign`]), which is seed 002's rule (overcut +), so δ, δt and δn are the
+//! paper's own:
 //! `e_i = R' − d_i(p)`, with `d_i` the signed distance from p to S_i, positive on the cutter
 //! side, and R' = R + C. `e_i > 0`: the ball cuts into S_i by e_i (gouge, overcut);
 //! `e_i < 0`: it leaves |e_i| of stock (undercut). At a cutter location of the path, e_i = 0.
@@ -19,6 +21,7 @@ use super::FiveAxisError;
 use super::toolaxis::{AxisFrame, ToolAxisRule};
 use crate::crease::CreaseCurve;
 use crate::geom::{Curve3, ProjectOptions, project_point};
+use crate::numerics::sign;
 
 /// The cutter at one parameter of a design path (workpiece coordinates).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -136,7 +139,7 @@ impl DesignPath for CreasePath {
         let opts = ProjectOptions { step_tol_mm: crate::tolerance::NEWTON_LENGTH_MM, ..ProjectOptions::default() };
         let e = |i: usize| {
             let foot = project_point(&job.surfaces[i], p, mix_hint(a.hints[i], b.hints[i], tau), opts);
-            r_eff - foot.signed_distance
+            sign::overcut_mm(foot.signed_distance, r_eff)
         };
         [Some(e(0)), Some(e(1))]
     }
@@ -154,14 +157,23 @@ pub enum ToolSide {
     Right,
 }
 
+/// The ball that follows a profile: its side, radius R and allowance C (R' = R + C).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProfileBall {
+    /// Side of the profile the tool is on.
+    pub side: ToolSide,
+    /// Ball radius R (mm).
+    pub ball_radius_mm: f64,
+    /// Stock C left on the profile (mm).
+    pub allowance_mm: f64,
+}
+
 /// A planar profile (a curve in a plane z = const) extruded along Z, cut by a ball on one
 /// side: the contact point runs along the profile, the centre along its offset by R'.
 pub struct ProfilePath {
     curve: Box<dyn Curve3>,
     range: (f64, f64),
-    side: ToolSide,
-    ball_radius_mm: f64,
-    allowance_mm: f64,
+    ball: ProfileBall,
     rule: ToolAxisRule,
 }
 
@@ -169,8 +181,7 @@ impl std::fmt::Debug for ProfilePath {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("ProfilePath")
             .field("range", &self.range)
-            .field("side", &self.side)
-            .field("ball_radius_mm", &self.ball_radius_mm)
+            .field("ball", &self.ball)
             .field("rule", &self.rule)
             .finish_non_exhaustive()
     }
@@ -178,17 +189,10 @@ impl std::fmt::Debug for ProfilePath {
 
 impl ProfilePath {
     /// A profile path over `range` of `curve` (which must lie in a plane z = const and be
-    /// regular there).
+    /// regular there), followed by `ball` with the tool axis by `rule`.
     #[must_use]
-    pub fn new(
-        curve: Box<dyn Curve3>,
-        range: (f64, f64),
-        side: ToolSide,
-        ball_radius_mm: f64,
-        allowance_mm: f64,
-        rule: ToolAxisRule,
-    ) -> Self {
-        Self { curve, range, side, ball_radius_mm, allowance_mm, rule }
+    pub fn new(curve: Box<dyn Curve3>, range: (f64, f64), ball: ProfileBall, rule: ToolAxisRule) -> Self {
+        Self { curve, range, ball, rule }
     }
 
     /// The profile curve.
@@ -202,7 +206,7 @@ impl ProfilePath {
         let d1 = self.curve.derivatives_at(s)[1];
         let t = DVec3::new(d1.x, d1.y, 0.0).try_normalize()?;
         let left = DVec3::Z.cross(t);
-        Some((if self.side == ToolSide::Left { left } else { -left }, t))
+        Some((if self.ball.side == ToolSide::Left { left } else { -left }, t))
     }
 
     /// Foot point of p's projection on the profile (in the plane), by Newton from `guess`:
@@ -244,10 +248,10 @@ impl DesignPath for ProfilePath {
         self.range
     }
     fn ball_radius_mm(&self) -> f64 {
-        self.ball_radius_mm
+        self.ball.ball_radius_mm
     }
     fn effective_radius_mm(&self) -> f64 {
-        self.ball_radius_mm + self.allowance_mm
+        self.ball.ball_radius_mm + self.ball.allowance_mm
     }
     fn surface_count(&self) -> usize {
         1
@@ -266,7 +270,7 @@ impl DesignPath for ProfilePath {
             s,
             centre,
             axis,
-            tip: centre - self.ball_radius_mm * axis,
+            tip: centre - self.ball.ball_radius_mm * axis,
             normals: [n, n],
             travel: t,
             hints: [DVec2::new(s, 0.0), DVec2::new(s, 0.0)],
@@ -274,7 +278,7 @@ impl DesignPath for ProfilePath {
     }
     fn surface_errors(&self, p: DVec3, a: &CutterLocation, b: &CutterLocation, tau: f64) -> [Option<f64>; 2] {
         let guess = a.hints[0].x + tau * (b.hints[0].x - a.hints[0].x);
-        [Some(self.effective_radius_mm() - self.signed_distance(p, guess)), None]
+        [Some(sign::overcut_mm(self.signed_distance(p, guess), self.effective_radius_mm())), None]
     }
     fn first_step(&self, s: f64, tol_mm: f64) -> Option<f64> {
         crate::chords::first_step_estimate(self.curve.as_ref(), s, tol_mm)

@@ -4,7 +4,7 @@ use glam::DVec3;
 
 use super::blade::NacaProfile;
 use super::machine::{Machine, MachineKind};
-use super::path::{ProfilePath, ToolSide};
+use super::path::{ProfileBall, ProfilePath, ToolSide};
 use super::toolaxis::ToolAxisRule;
 use crate::geom::Curve3;
 
@@ -83,7 +83,12 @@ pub fn example1() -> Example1 {
     };
     let rule = ToolAxisRule::Interpolated { from: t1.normalize(), to: t2.normalize() };
     Example1 {
-        path: ProfilePath::new(Box::new(arc), (0.0, sweep), ToolSide::Left, 5.0, 0.0, rule),
+        path: ProfilePath::new(
+            Box::new(arc),
+            (0.0, sweep),
+            ProfileBall { side: ToolSide::Left, ball_radius_mm: 5.0, allowance_mm: 0.0 },
+            rule,
+        ),
         machine: Machine::default(),
         tol_mm: 0.01,
         contacts: [p1, p2],
@@ -99,15 +104,28 @@ pub fn example1() -> Example1 {
 /// plane.
 #[must_use]
 pub fn blade_case(profile: NacaProfile) -> Option<(ProfilePath, Machine)> {
+    blade_case_with_rule(profile, ToolAxisRule::Normal1 { lead_rad: 0.0, tilt_rad: -30f64.to_radians() })
+}
+
+/// [`blade_case`] with another tool-axis rule (the app's choice).
+#[must_use]
+pub fn blade_case_with_rule(profile: NacaProfile, rule: ToolAxisRule) -> Option<(ProfilePath, Machine)> {
     let curve = profile.to_path(4000)?;
     let range = curve.range();
     let mid = 0.5 * profile.chord_mm;
-    let rule = ToolAxisRule::Normal1 { lead_rad: 0.0, tilt_rad: -30f64.to_radians() };
     let machine = Machine {
         kind: MachineKind::TableAC,
         pivots_mm: [DVec3::new(mid, 0.0, profile.z_mm - 40.0), DVec3::new(mid, 0.0, profile.z_mm)],
         tool_length_mm: 0.0,
         limits_rad: [Some([-120f64.to_radians(), 120f64.to_radians()]), None],
     };
-    Some((ProfilePath::new(Box::new(curve), range, ToolSide::Right, 5.0, 0.0, rule), machine))
+    Some((
+        ProfilePath::new(
+            Box::new(curve),
+            range,
+            ProfileBall { side: ToolSide::Right, ball_radius_mm: 5.0, allowance_mm: 0.0 },
+            rule,
+        ),
+        machine,
+    ))
 }

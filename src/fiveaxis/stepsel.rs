@@ -78,7 +78,7 @@ impl StepOptions {
     }
 
     fn swept_for_tol(&self) -> MaxOptions {
-        MaxOptions { floor: 1e-3 * self.tol_mm, ..self.swept }
+        MaxOptions { floor: crate::tolerance::SWEPT_FLOOR_REL_TOL * self.tol_mm, ..self.swept }
     }
 }
 

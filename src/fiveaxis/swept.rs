@@ -268,19 +268,20 @@ pub fn segment_report(
     })
 }
 
+/// The point of the tool whose swept path [`design_deviation`] compares with its design path.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Followed {
+    /// The tool tip: design tip path `tip(s) = centre(s) − R·axis(s)`.
+    Tip,
+    /// The ball centre: design centre path (for a crease, the exact crease).
+    Centre,
+}
+
 /// The largest distance (mm) from the swept tool tip of the segment from `a` to `b` to the
-/// *design tip path* `tip(s) = centre(s) − R·axis(s)` of `path` (the exact design curve,
-/// the same tool-axis rule) — what a checker that compares the tip the machine sweeps with
-/// the tip the design asks for would measure. It is not what step selection bounds (that is
-/// the ball's signed surface error δ) and it is not bounded by E: see `docs/fiveaxis.md`.
-///
-/// For each τ the nearest point of the design tip path is searched over the segment's
-/// parameter interval widened by its own length on both sides (clamped to the path): the
-/// path is sampled there, then the squared distance is minimised by Brent's method around the
-/// nearest sample. The largest distance over τ is located like δ ([`sampled_max`]).
+/// *design tip path* of `path` ([`design_deviation`] with [`Followed::Tip`]).
 ///
 /// # Errors
-/// When a design location cannot be computed or a distance is not finite.
+/// As [`design_deviation`].
 pub fn tip_design_deviation(
     machine: &Machine,
     path: &dyn DesignPath,
@@ -288,33 +289,34 @@ pub fn tip_design_deviation(
     b: &Block,
     opts: &MaxOptions,
 ) -> Result<f64, FiveAxisError> {
-    design_deviation(machine, path, a, b, opts, |l| l.tip, |_, tip, _| tip)
+    design_deviation(machine, path, a, b, opts, Followed::Tip)
 }
 
-/// As [`tip_design_deviation`] for the ball centre: the largest distance from the swept
-/// ball centre to the design centre path (for a crease, the exact crease).
+/// The largest distance (mm) from the swept tool tip (or ball centre, `followed`) of the
+/// segment from `a` to `b` to its design path of `path` (the exact design curve, the same
+/// tool-axis rule): for the tip, what a checker that compares the tip the machine sweeps with
+/// the tip the design asks for would measure. It is not what step selection bounds (that is
+/// the ball's signed surface error δ) and it is not bounded by E: see `docs/fiveaxis.md`.
+///
+/// For each τ the nearest point of the design path is searched over the segment's
+/// parameter interval widened by its own length on both sides (clamped to the path): the
+/// path is sampled there, then the squared distance is minimised by Brent's method around the
+/// nearest sample. The largest distance over τ is located like δ ([`sampled_max`]).
 ///
 /// # Errors
-/// As [`tip_design_deviation`].
-pub fn centre_design_deviation(
+/// When a design location cannot be computed or a distance is not finite.
+pub fn design_deviation(
     machine: &Machine,
     path: &dyn DesignPath,
     a: &Block,
     b: &Block,
     opts: &MaxOptions,
+    followed: Followed,
 ) -> Result<f64, FiveAxisError> {
-    design_deviation(machine, path, a, b, opts, |l| l.centre, |_, _, centre| centre)
-}
-
-fn design_deviation(
-    machine: &Machine,
-    path: &dyn DesignPath,
-    a: &Block,
-    b: &Block,
-    opts: &MaxOptions,
-    design_point: impl Fn(&CutterLocation) -> DVec3,
-    swept_point_of: impl Fn(&Joints, DVec3, DVec3) -> DVec3,
-) -> Result<f64, FiveAxisError> {
+    let design_point = |l: &CutterLocation| match followed {
+        Followed::Tip => l.tip,
+        Followed::Centre => l.centre,
+    };
     const SAMPLES: usize = 24;
     let (sa, sb) = (a.location.s, b.location.s);
     let (lo_path, hi_path) = path.range();
@@ -326,7 +328,7 @@ fn design_deviation(
         let s = if i == SAMPLES { hi } else { lo + (hi - lo) * i as f64 / SAMPLES as f64 };
         samples.push((s, design_at(s)?));
     }
-    let tol_s = 1e-9 * (hi - lo).max(f64::MIN_POSITIVE);
+    let tol_s = crate::tolerance::PARAM_SEARCH_REL * (hi - lo).max(f64::MIN_POSITIVE);
     let distance = |p: DVec3| -> Result<f64, FiveAxisError> {
         let (i, _) = samples
             .iter()
@@ -341,8 +343,11 @@ fn design_deviation(
     };
     let peak = sampled_max(
         |tau| {
-            let (j, tip, _, centre) = swept_pose(machine, path, a, b, tau);
-            distance(swept_point_of(&j, tip, centre))
+            let (_, tip, _, centre) = swept_pose(machine, path, a, b, tau);
+            distance(match followed {
+                Followed::Tip => tip,
+                Followed::Centre => centre,
+            })
         },
         0.0,
         1.0,

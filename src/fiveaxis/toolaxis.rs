@@ -63,7 +63,7 @@ pub fn slerp(a: DVec3, b: DVec3, x: f64) -> DVec3 {
     let c = a.dot(b).clamp(-1.0, 1.0);
     let theta = c.acos();
     let s = theta.sin();
-    if s < 1e-12 {
+    if s < crate::tolerance::PARALLEL_SIN {
         return a.lerp(b, x).normalize_or_zero();
     }
     (a * ((1.0 - x) * theta).sin() + b * (x * theta).sin()) / s

@@ -57,10 +57,11 @@ impl Junctions {
     pub fn velocity_jump(&self, feed_mm_per_min: f64) -> f64 {
         2.0 * feed_mm_per_min * (0.5 * self.max_turn_deg.to_radians()).sin()
     }
-    /// Largest centripetal-acceleration jump at feed F (mm/s²): `(F/60)²·Δκ`.
+    /// Largest centripetal-acceleration jump at feed F (mm/s²): `(F/60)²·Δκ`, F given in
+    /// the program's mm/min.
     #[must_use]
     pub fn acceleration_jump(&self, feed_mm_per_min: f64) -> f64 {
-        (feed_mm_per_min / 60.0).powi(2) * self.max_curvature_jump
+        crate::numerics::units::mm_per_s_from_mm_per_min(feed_mm_per_min).powi(2) * self.max_curvature_jump
     }
 }
 

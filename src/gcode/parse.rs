@@ -740,7 +740,7 @@ fn arc(
             });
         }
         let half = 0.5 * chord;
-        if r.abs() < half * (1.0 - 1e-9) {
+        if r.abs() < half * (1.0 - crate::tolerance::ROUNDING_REL) {
             return Err(ParseError::ArcRadiusTooSmall { line, r: r / scale, half_chord: half / scale });
         }
         let h = (r * r - half * half).max(0.0).sqrt();
@@ -792,7 +792,7 @@ fn start_nurbs(line: usize, st: &mut State, get: &dyn Fn(char) -> Option<f64>) -
         }
     }
     let first = p0;
-    let tol = 1e-6 * scale.max(1.0);
+    let tol = crate::tolerance::NURBS_START_MATCH_MM * scale.max(1.0);
     if (first - st.pos).abs().max_element() > tol {
         return Err(ParseError::NurbsStartMismatch { line, first: first.to_array(), position: st.pos.to_array() });
     }

@@ -208,7 +208,7 @@ impl Cloud {
             pts.push(p);
             at.push((b, t, lo, hi));
         }
-        let cell = (2.0 * spacing).max(1e-3);
+        let cell = (2.0 * spacing).max(crate::tolerance::REPLAY_MIN_SPACING_MM);
         let grid = Grid::new(&pts, cell);
         Self { pts, at, spacing, grid }
     }
@@ -356,7 +356,8 @@ pub fn deviation(path: &Toolpath, design: &dyn Curve3, opts: &DeviationOptions) 
     let dense = pieces.saturating_mul(opts.samples_per_piece + 1) <= crate::limits::MAX_REPLAY_SAMPLES / 2;
     let per_piece = if dense { opts.samples_per_piece } else { 1 };
     let budget = crate::limits::MAX_REPLAY_SAMPLES.saturating_sub(pieces * (per_piece + 1)).max(1 << 16);
-    let spacing = opts.design_spacing_mm.max(1e-3).max((program_len + length) / budget as f64);
+    let spacing =
+        opts.design_spacing_mm.max(crate::tolerance::REPLAY_MIN_SPACING_MM).max((program_len + length) / budget as f64);
     if !spacing.is_finite() {
         return Err(ReplayError::EmptyDesign);
     }

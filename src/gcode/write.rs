@@ -366,7 +366,7 @@ fn decimals(res: f64) -> Option<usize> {
     }
     let d = -res.log10();
     let di = d.round();
-    if !(0.0..=6.0).contains(&di) || (10f64.powf(-di) - res).abs() > 1e-9 * res || di < 1.0 {
+    if !(0.0..=6.0).contains(&di) || (10f64.powf(-di) - res).abs() > crate::tolerance::ROUNDING_REL * res || di < 1.0 {
         return None;
     }
     Some(di as usize)
@@ -470,7 +470,7 @@ pub fn write_program(
     }
     let res = opts.resolution_mm;
     let d = decimals(res).ok_or(ProgramError::BadResolution(res))?;
-    if tol_mm < 2.0 * res * (1.0 - 1e-9) {
+    if tol_mm < 2.0 * res * (1.0 - crate::tolerance::ROUNDING_REL) {
         return Err(ProgramError::BelowResolution { tol_mm, resolution_mm: res });
     }
     // The feed as written (rounded to the resolution's decimals) must still be positive, or

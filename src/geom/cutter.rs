@@ -174,7 +174,7 @@ impl Cutter {
     pub fn kind(&self) -> CutterKind {
         if self.corner_radius_mm <= 0.0 {
             CutterKind::Flat
-        } else if self.corner_radius_mm >= self.radius_mm * (1.0 - 1e-12) {
+        } else if self.corner_radius_mm >= self.radius_mm * (1.0 - crate::tolerance::CORNER_IS_RADIUS_REL) {
             CutterKind::Ball
         } else {
             CutterKind::Fillet

@@ -14,7 +14,7 @@
 
 use glam::{DVec2, DVec3};
 
-use super::surface::SurfaceDerivs;
+use super::parametric::SurfaceDerivs;
 use crate::linalg;
 use crate::tolerance;
 

@@ -62,7 +62,7 @@ impl ParamRange {
     /// A range; an angular range of one full turn (to 1e-9 rad) is made periodic.
     #[must_use]
     pub fn new(min: f64, max: f64, unit: ParamUnit) -> Self {
-        let periodic = unit == ParamUnit::Angle && ((max - min) - TAU).abs() < 1e-9;
+        let periodic = unit == ParamUnit::Angle && ((max - min) - TAU).abs() < crate::tolerance::FULL_TURN_SLACK_RAD;
         Self { min, max, periodic, unit }
     }
 

@@ -20,6 +20,7 @@ mod domain;
 mod frame;
 pub mod nurbs;
 mod parabola;
+mod parametric;
 mod project;
 mod surface;
 
@@ -31,5 +32,6 @@ pub use domain::{Domain, ParamRange, ParamUnit};
 pub use frame::{Frame, any_perpendicular};
 pub use nurbs::{NurbsCurve, NurbsError, NurbsSurface};
 pub use parabola::Parabola;
+pub use parametric::{ParametricSurface, SurfaceDerivs};
 pub use project::{Foot, ProjectOptions, project_point, project_point_global};
-pub use surface::{Cylinder, ParametricSurface, Plane, Sphere, Surface, SurfaceDerivs, Torus};
+pub use surface::{Cylinder, Plane, Sphere, Surface, Torus};

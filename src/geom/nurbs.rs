@@ -17,7 +17,7 @@ use glam::{DVec2, DVec3, DVec4};
 use thiserror::Error;
 
 use super::domain::{Domain, ParamRange, ParamUnit};
-use super::surface::{ParametricSurface, SurfaceDerivs};
+use super::parametric::{ParametricSurface, SurfaceDerivs};
 use crate::tolerance;
 
 /// Highest supported degree. Basis tables live on the stack in fixed arrays of this order.

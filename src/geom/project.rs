@@ -7,7 +7,8 @@
 
 use glam::{DVec2, DVec3};
 
-use super::surface::{ParametricSurface, Surface};
+use super::parametric::ParametricSurface;
+use super::surface::Surface;
 use crate::linalg;
 
 /// Settings of [`project_point`].
@@ -21,7 +22,7 @@ pub struct ProjectOptions {
 
 impl Default for ProjectOptions {
     fn default() -> Self {
-        Self { max_iterations: 40, step_tol_mm: 1e-11 }
+        Self { max_iterations: 40, step_tol_mm: crate::tolerance::FOOT_STEP_MM }
     }
 }
 
@@ -67,7 +68,7 @@ pub fn project_point(surface: &Surface, p: DVec3, guess: DVec2, opts: ProjectOpt
             let cand = domain.clamp(uv + step);
             let dc = surface.derivatives_at(cand);
             let dist2c = (dc.point - p).length_squared();
-            if dist2c <= dist2 * (1.0 + 1e-15) + 1e-30 {
+            if dist2c <= dist2 * (1.0 + crate::tolerance::DESCENT_SLACK_REL) + crate::tolerance::DESCENT_SLACK_MM2 {
                 let moved = (dc.point - d.point).length();
                 uv = cand;
                 d = dc;

@@ -82,6 +82,7 @@ pub fn push_num(out: &mut String, x: f64) {
     if x < 0.0 {
         line.push(b"-");
     }
+    // Display range of Rust's positional `{}` form (not a tolerance): outside it, an exponent.
     if (1e-5..1e16).contains(&x.abs()) {
         // Rust's `{}`: positional, no exponent, no trailing `.0`.
         if point <= 0 {

@@ -25,7 +25,7 @@ impl Default for MaxOptions {
         Self {
             initial_intervals: 8,
             coverage_rel: 0.05,
-            floor: 1e-9,
+            floor: crate::tolerance::MAX_FLOOR,
             max_depth: 12,
             peak_rel: crate::tolerance::PEAK_PARAM_REL,
         }

@@ -12,7 +12,8 @@
 //! - [`maximise`]: the largest value of a 1-D function on an interval;
 //! - [`roots`]: bracketing and root finders for "the next parameter where g(s) = E";
 //! - [`planefit`]: the best-fit plane of points (covariance, Jacobi eigen-solver);
-//! - [`units`]: conversions between the file's units and the core's.
+//! - [`units`]: conversions between the file's units and the core's;
+//! - [`sign`]: the one sign convention of machining error (overcut positive).
 
 pub mod format;
 pub mod knots;
@@ -20,4 +21,5 @@ pub mod maximise;
 pub mod measure;
 pub mod planefit;
 pub mod roots;
+pub mod sign;
 pub mod units;

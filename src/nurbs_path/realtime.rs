@@ -30,6 +30,7 @@ use thiserror::Error;
 
 use crate::geom::Curve3;
 use crate::numerics::measure::distance_to_segment;
+use crate::numerics::units;
 
 /// The parameter update of each period.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -60,10 +61,11 @@ impl Update {
 /// Options of [`interpolate_realtime`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RealtimeOptions {
-    /// Programmed feed F (mm/min, default 1500 as in seed 000's example).
-    pub feed_mm_per_min: f64,
-    /// Interpolation period Ts (ms, default 4).
-    pub period_ms: f64,
+    /// Feed per period f = F·Ts (mm; default 0.1, F = 1500 mm/min as in seed 000's example
+    /// and Ts = 4 ms). Set from the file's units by [`Self::with_feed`].
+    pub feed_per_period_mm: f64,
+    /// Interpolation period Ts (s, default 0.004).
+    pub period_s: f64,
     /// Parameter update (default corrected).
     pub update: Update,
     /// Chord tolerance δ of the curvature-based feed limit (mm); `None` (default) runs at F.
@@ -79,8 +81,8 @@ pub struct RealtimeOptions {
 impl Default for RealtimeOptions {
     fn default() -> Self {
         Self {
-            feed_mm_per_min: 1500.0,
-            period_ms: 4.0,
+            feed_per_period_mm: units::mm_per_period(1500.0, 4.0),
+            period_s: units::s_from_ms(4.0),
             update: Update::Corrected,
             chord_tol_mm: None,
             corrector_steps: 1,
@@ -91,11 +93,12 @@ impl Default for RealtimeOptions {
 }
 
 impl RealtimeOptions {
-    /// Sets feed (mm/min) and period (ms).
+    /// Sets feed and period from the file's (and G-code's) units: F in mm/min, Ts in ms —
+    /// an edge conversion ([`units`]): f = F·Ts/60 000 is formed once from these numbers.
     #[must_use]
     pub fn with_feed(mut self, feed_mm_per_min: f64, period_ms: f64) -> Self {
-        self.feed_mm_per_min = feed_mm_per_min;
-        self.period_ms = period_ms;
+        self.feed_per_period_mm = units::mm_per_period(feed_mm_per_min, period_ms);
+        self.period_s = units::s_from_ms(period_ms);
         self
     }
     /// Sets the update.
@@ -119,7 +122,7 @@ impl RealtimeOptions {
     /// The feed per period f = F·Ts (mm).
     #[must_use]
     pub fn feed_per_period_mm(&self) -> f64 {
-        crate::numerics::units::mm_per_period(self.feed_mm_per_min, self.period_ms)
+        self.feed_per_period_mm
     }
 }
 
@@ -132,13 +135,14 @@ const LENGTH_SAMPLES: usize = 64;
 pub enum RealtimeError {
     /// Feed or period not a positive finite number.
     #[error(
-        "the feed ({feed_mm_per_min} mm/min) and period ({period_ms} ms) must be positive; give e.g. F = 1500 mm/min and Ts = 4 ms"
+        "the feed per period ({feed_per_period_mm} mm) and the period ({} ms) must be positive; give e.g. F = 1500 mm/min and Ts = 4 ms",
+        units::ms_from_s(*period_s)
     )]
     BadMotion {
-        /// F.
-        feed_mm_per_min: f64,
-        /// Ts.
-        period_ms: f64,
+        /// f = F·Ts (mm).
+        feed_per_period_mm: f64,
+        /// Ts (s).
+        period_s: f64,
     },
     /// The chord tolerance is not a positive length.
     #[error("the chord tolerance of the feed limit must be a positive length, got {0} mm")]
@@ -241,7 +245,7 @@ pub fn chord_error(curve: &dyn Curve3, u0: f64, u1: f64, a: DVec3, b: DVec3) -> 
             break;
         }
         let tn = (t - g / gp).clamp(u0, u1);
-        let done = (tn - t).abs() <= 1e-14 * (u1 - u0).abs().max(f64::MIN_POSITIVE);
+        let done = (tn - t).abs() <= crate::tolerance::PARAM_NEWTON_REL * (u1 - u0).abs().max(f64::MIN_POSITIVE);
         t = tn;
         if done {
             break;
@@ -320,8 +324,8 @@ impl RealtimeStepper {
     /// [`RealtimeError`] for bad options.
     pub fn new(curve: &dyn Curve3, opts: &RealtimeOptions) -> Result<Self, RealtimeError> {
         let f = opts.feed_per_period_mm();
-        if !(f.is_finite() && f > 0.0 && opts.period_ms > 0.0) {
-            return Err(RealtimeError::BadMotion { feed_mm_per_min: opts.feed_mm_per_min, period_ms: opts.period_ms });
+        if !(f.is_finite() && f > 0.0 && opts.period_s > 0.0) {
+            return Err(RealtimeError::BadMotion { feed_per_period_mm: f, period_s: opts.period_s });
         }
         if let Some(t) = opts.chord_tol_mm
             && !(t.is_finite() && t > 0.0)
@@ -445,7 +449,7 @@ impl RealtimeStepper {
                 rms_fluctuation: rms,
                 max_chord_error_mm: self.max_chord,
                 limited_periods: self.limited_n,
-                time_s: self.k as f64 * self.opts.period_ms / 1000.0,
+                time_s: self.k as f64 * self.opts.period_s,
                 length_mm: self.length,
             },
         }

@@ -55,7 +55,7 @@ fn range(path: &str, r: [f64; 2], unit: &str, max_width: Option<f64>) -> Result<
         ));
     }
     if let Some(w) = max_width
-        && r[1] - r[0] > w + 1e-9
+        && r[1] - r[0] > w + crate::tolerance::FILE_DEGREE_SLACK_DEG
     {
         return Err(SceneError::new(
             path,
@@ -322,7 +322,9 @@ pub fn build_surface(spec: &SurfaceSpec, path: &str) -> Result<Surface, SceneErr
             }
             let d = domain.unwrap_or(DomainSpec { u: [-180.0, 180.0], v: [-90.0, 90.0] });
             angle_domain(&p("domain"), &d)?;
-            if d.v[0] < -90.0 - 1e-9 || d.v[1] > 90.0 + 1e-9 {
+            if d.v[0] < -90.0 - crate::tolerance::FILE_DEGREE_SLACK_DEG
+                || d.v[1] > 90.0 + crate::tolerance::FILE_DEGREE_SLACK_DEG
+            {
                 return Err(SceneError::new(
                     p("domain.v"),
                     format!("latitude range [{}, {}] leaves [-90, 90]", d.v[0], d.v[1]),
@@ -385,28 +387,23 @@ pub fn build_surface(spec: &SurfaceSpec, path: &str) -> Result<Surface, SceneErr
             if let Some((row, r)) = points.iter().enumerate().find(|(_, r)| r.len() != n_v) {
                 return Err(map_nurbs(path, NurbsError::Ragged { row, got: r.len(), expected: n_v }));
             }
-            crate::geom::nurbs::validate_knots(knots_u, n_u, degree[0]).map_err(|e| {
-                let mut err = map_nurbs(path, e);
-                if err.path.ends_with(".knots") {
-                    err.path = p("knots_u");
-                } else if err.path.ends_with(".degree") {
-                    err.path = p("degree[0]");
-                } else if err.path.ends_with(".points") {
-                    err.problem = format!("along u: {}", err.problem);
-                }
-                err
-            })?;
-            crate::geom::nurbs::validate_knots(knots_v, n_v, degree[1]).map_err(|e| {
-                let mut err = map_nurbs(path, e);
-                if err.path.ends_with(".knots") {
-                    err.path = p("knots_v");
-                } else if err.path.ends_with(".degree") {
-                    err.path = p("degree[1]");
-                } else if err.path.ends_with(".points") {
-                    err.problem = format!("along v (each row): {}", err.problem);
-                }
-                err
-            })?;
+            // One knot vector against its count of control points and degree; a problem is
+            // reported at that direction's keys.
+            let check = |knots: &[f64], n: usize, deg: usize, keys: [&str; 2], along: &str| {
+                crate::geom::nurbs::validate_knots(knots, n, deg).map_err(|e| {
+                    let mut err = map_nurbs(path, e);
+                    if err.path.ends_with(".knots") {
+                        err.path = p(keys[0]);
+                    } else if err.path.ends_with(".degree") {
+                        err.path = p(keys[1]);
+                    } else if err.path.ends_with(".points") {
+                        err.problem = format!("{along}: {}", err.problem);
+                    }
+                    err
+                })
+            };
+            check(knots_u, n_u, degree[0], ["knots_u", "degree[0]"], "along u")?;
+            check(knots_v, n_v, degree[1], ["knots_v", "degree[1]"], "along v (each row)")?;
             let surface = NurbsSurface::try_new(
                 *degree,
                 knots_u.clone(),

@@ -7,6 +7,7 @@ use glam::DVec3;
 
 use super::{Scene, SceneError, build_surface};
 use crate::crease::CreaseJob;
+use crate::numerics::units;
 
 impl CreaseJob {
     /// Validates the scene and converts it to internal units.
@@ -22,8 +23,8 @@ impl CreaseJob {
             surfaces: [s0, s1],
             ball_radius_mm: scene.tool.radius,
             r_eff_mm: scene.effective_radius_mm(),
-            feed_mm_per_min: scene.motion.feed,
-            period_ms: scene.motion.period,
+            feed_mm_per_s: units::mm_per_s_from_mm_per_min(scene.motion.feed),
+            period_s: units::s_from_ms(scene.motion.period),
             feed_per_period_mm: scene.feed_per_period_mm(),
             tol_mm: [scene.tolerance.t1, scene.tolerance.t2],
             share: scene.tolerance.share,

@@ -9,6 +9,7 @@
 mod build;
 mod dupkeys;
 pub mod finish;
+mod finish_spec;
 mod job;
 pub mod link;
 mod parse;

@@ -215,15 +215,20 @@ impl<'a> At<'a> {
 const TOP_KEYS: &[&str] =
     &["format", "name", "surfaces", "tool", "motion", "tolerance", "path", "machine", "tool_axis"];
 
-/// Parses the document's structure and types.
-pub(super) fn parse(text: &str) -> Result<Scene, SceneError> {
-    let root: Value = serde_json::from_str(text).map_err(|e| {
+/// The document as JSON (either scene kind), or where its syntax is wrong.
+fn parse_json(text: &str) -> Result<Value, SceneError> {
+    serde_json::from_str(text).map_err(|e| {
         SceneError::new(
             "(file)",
             format!("not valid JSON: {e}"),
             "fix the JSON syntax at that line and column (a scene is one JSON object)",
         )
-    })?;
+    })
+}
+
+/// Parses the document's structure and types.
+pub(super) fn parse(text: &str) -> Result<Scene, SceneError> {
+    let root = parse_json(text)?;
     if let Some(key) = super::dupkeys::first_duplicate_key(text) {
         return Err(SceneError::new(
             key,
@@ -240,30 +245,16 @@ pub(super) fn parse(text: &str) -> Result<Scene, SceneError> {
         ));
     }
     let o = Obj::new(&at, TOP_KEYS)?;
-    let format = o.req("format", &format!("\"{FORMAT}\""))?;
-    let tag = format.string(&format!("\"{FORMAT}\""))?;
-    if tag != FORMAT {
-        return Err(SceneError::new(
-            "format",
-            format!("\"{tag}\" is not a format this version reads"),
-            format!("write \"{FORMAT}\""),
-        ));
-    }
-    let name = match o.opt_non_null("name") {
-        Some(n) => n.string("a name for the scene")?.to_owned(),
-        None => String::new(),
-    };
-    let surfaces_at = o.req("surfaces", "[surface 1, surface 2]")?;
-    let list = surfaces_at.array("the two surfaces")?;
-    if list.len() != 2 {
-        return Err(SceneError::new(
-            "surfaces",
-            format!("expected exactly 2 surfaces, got {}", list.len()),
-            "give the two surfaces whose crease is cut",
-        ));
-    }
-    let s0 = parse_surface(&surfaces_at.idx(0, &list[0]))?;
-    let s1 = parse_surface(&surfaces_at.idx(1, &list[1]))?;
+    let (name, surfaces) = parse_head(
+        &o,
+        &SurfaceList {
+            hint: "[surface 1, surface 2]",
+            what: "the two surfaces",
+            wrong_count: |n| format!("expected exactly 2 surfaces, got {n}"),
+            fix: "give the two surfaces whose crease is cut",
+        },
+    )?;
+    let [s0, s1] = surfaces;
 
     let tool_o = Obj::new(&o.req("tool", "{ \"radius\": …, \"allowance\": … }")?, &["radius", "allowance"])?;
     let tool = ToolSpec {
@@ -306,6 +297,66 @@ pub(super) fn parse(text: &str) -> Result<Scene, SceneError> {
     let machine = o.opt_non_null("machine").map(|m| parse_machine(&m)).transpose()?;
     let tool_axis = o.opt_non_null("tool_axis").map(|t| parse_tool_axis(&t)).transpose()?;
     Ok(Scene { name, surfaces: [s0, s1], tool, motion, tolerance, path, machine, tool_axis })
+}
+
+/// A list of lists (a NURBS net's points or weights), rows then columns, each entry read by
+/// `item`; `what` describes the outer and the inner lists for messages.
+fn grid<T>(
+    at: &At<'_>,
+    what: [&str; 2],
+    item: impl Fn(&At<'_>) -> Result<T, SceneError>,
+) -> Result<Vec<Vec<T>>, SceneError> {
+    let rows = at.array(what[0])?;
+    let mut out = Vec::with_capacity(rows.len());
+    for (i, row) in rows.iter().enumerate() {
+        let row_at = at.idx(i, row);
+        let cols = row_at.array(what[1])?;
+        let mut r = Vec::with_capacity(cols.len());
+        for (j, c) in cols.iter().enumerate() {
+            r.push(item(&row_at.idx(j, c))?);
+        }
+        out.push(r);
+    }
+    Ok(out)
+}
+
+/// How a scene kind's `surfaces` key is described in its messages.
+struct SurfaceList {
+    /// What to write when the key is missing.
+    hint: &'static str,
+    /// What the list holds, when it is not a list.
+    what: &'static str,
+    /// The message for a list of the wrong length.
+    wrong_count: fn(usize) -> String,
+    /// What to change then.
+    fix: &'static str,
+}
+
+/// The keys every scene opens with, crease or finishing: `format` (must be [`FORMAT`]),
+/// `name` (optional) and `surfaces`, a list of exactly `N` surfaces — checked in that order.
+fn parse_head<const N: usize>(o: &Obj<'_>, list: &SurfaceList) -> Result<(String, [SurfaceSpec; N]), SceneError> {
+    let tag = o.req("format", &format!("\"{FORMAT}\""))?.string(&format!("\"{FORMAT}\""))?;
+    if tag != FORMAT {
+        return Err(SceneError::new(
+            "format",
+            format!("\"{tag}\" is not a format this version reads"),
+            format!("write \"{FORMAT}\""),
+        ));
+    }
+    let name = match o.opt_non_null("name") {
+        Some(n) => n.string("a name for the scene")?.to_owned(),
+        None => String::new(),
+    };
+    let surfaces_at = o.req("surfaces", list.hint)?;
+    let items = surfaces_at.array(list.what)?;
+    if items.len() != N {
+        return Err(SceneError::new("surfaces", (list.wrong_count)(items.len()), list.fix));
+    }
+    let parsed =
+        items.iter().enumerate().map(|(i, s)| parse_surface(&surfaces_at.idx(i, s))).collect::<Result<Vec<_>, _>>()?;
+    let surfaces =
+        parsed.try_into().map_err(|_| SceneError::new("surfaces", (list.wrong_count)(items.len()), list.fix))?;
+    Ok((name, surfaces))
 }
 
 const KINDS: &str = "\"table-ac\", \"table-bc\", \"head-bc\" or \"head-a-table-c\"";
@@ -483,32 +534,13 @@ fn parse_surface(at: &At<'_>) -> Result<SurfaceSpec, SceneError> {
                 arr.iter().enumerate().map(|(i, v)| k.idx(i, v).num("a knot value")).collect()
             };
             let pts_at = o.req("points", "the control net [[[x, y, z], …], …]")?;
-            let rows = pts_at.array("the control net, rows along u")?;
-            let mut points = Vec::with_capacity(rows.len());
-            for (i, row) in rows.iter().enumerate() {
-                let row_at = pts_at.idx(i, row);
-                let cols = row_at.array("a row of control points")?;
-                let mut r = Vec::with_capacity(cols.len());
-                for (j, c) in cols.iter().enumerate() {
-                    r.push(row_at.idx(j, c).vec3("a control point in mm")?);
-                }
-                points.push(r);
-            }
+            let points = grid(&pts_at, ["the control net, rows along u", "a row of control points"], |a| {
+                a.vec3("a control point in mm")
+            })?;
             let weights = match o.opt_non_null("weights") {
-                Some(w_at) => {
-                    let rows = w_at.array("weights of the same shape as points")?;
-                    let mut w = Vec::with_capacity(rows.len());
-                    for (i, row) in rows.iter().enumerate() {
-                        let row_at = w_at.idx(i, row);
-                        let cols = row_at.array("a row of weights")?;
-                        let mut r = Vec::with_capacity(cols.len());
-                        for (j, c) in cols.iter().enumerate() {
-                            r.push(row_at.idx(j, c).num("a weight > 0")?);
-                        }
-                        w.push(r);
-                    }
-                    Some(w)
-                }
+                Some(w_at) => Some(grid(&w_at, ["weights of the same shape as points", "a row of weights"], |a| {
+                    a.num("a weight > 0")
+                })?),
                 None => None,
             };
             Ok(SurfaceSpec::Nurbs {
@@ -548,15 +580,9 @@ const CUTTER_KEYS: &[&str] =
     &["radius", "corner_radius", "flute_length", "shank_radius", "gauge_length", "holder_radius", "holder_length"];
 
 /// Parses a finishing scene's structure and types (`docs/scene-format.md`, finishing jobs).
-pub(super) fn parse_finish(text: &str) -> Result<super::finish::FinishScene, SceneError> {
-    use super::finish::{CutterSpec, FinishScene, FinishSpec};
-    let root: Value = serde_json::from_str(text).map_err(|e| {
-        SceneError::new(
-            "(file)",
-            format!("not valid JSON: {e}"),
-            "fix the JSON syntax at that line and column (a scene is one JSON object)",
-        )
-    })?;
+pub(super) fn parse_finish(text: &str) -> Result<super::finish_spec::FinishScene, SceneError> {
+    use super::finish_spec::{CutterSpec, FinishScene, FinishSpec};
+    let root = parse_json(text)?;
     let at = At { v: &root, path: String::new() };
     if root.get("finish").is_none() && root.is_object() {
         return Err(SceneError::new(
@@ -566,28 +592,15 @@ pub(super) fn parse_finish(text: &str) -> Result<super::finish::FinishScene, Sce
         ));
     }
     let o = Obj::new(&at, FINISH_TOP_KEYS)?;
-    let tag = o.req("format", &format!("\"{FORMAT}\""))?.string(&format!("\"{FORMAT}\""))?;
-    if tag != FORMAT {
-        return Err(SceneError::new(
-            "format",
-            format!("\"{tag}\" is not a format this version reads"),
-            format!("write \"{FORMAT}\""),
-        ));
-    }
-    let name = match o.opt_non_null("name") {
-        Some(n) => n.string("a name for the scene")?.to_owned(),
-        None => String::new(),
-    };
-    let surfaces_at = o.req("surfaces", "[the surface to finish]")?;
-    let list = surfaces_at.array("the surface to finish")?;
-    if list.len() != 1 {
-        return Err(SceneError::new(
-            "surfaces",
-            format!("a finishing scene machines exactly 1 surface, got {}", list.len()),
-            "give the one surface to finish",
-        ));
-    }
-    let surface = parse_surface(&surfaces_at.idx(0, &list[0]))?;
+    let (name, [surface]) = parse_head(
+        &o,
+        &SurfaceList {
+            hint: "[the surface to finish]",
+            what: "the surface to finish",
+            wrong_count: |n| format!("a finishing scene machines exactly 1 surface, got {n}"),
+            fix: "give the one surface to finish",
+        },
+    )?;
     let f = Obj::new(&o.req("finish", "{ \"cutter\": …, \"scallop\": … }")?, FINISH_KEYS)?;
     let c = Obj::new(&f.req("cutter", "{ \"radius\": …, \"corner_radius\": … }")?, CUTTER_KEYS)?;
     let opt_num = |obj: &Obj<'_>, key: &str, what: &str| -> Result<Option<f64>, SceneError> {

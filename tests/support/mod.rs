@@ -5,6 +5,8 @@
 //! so that one `#[test]` source runs natively and, compiled to wasm32, under Node.
 #![allow(dead_code)]
 
+pub mod outside;
+
 use interpolab::crease::CreaseJob;
 use interpolab::scene::Scene;
 

@@ -73,7 +73,7 @@ impl Series {
             let t = p.row.k as f64 * period;
             if let Some(d) = &p.diag {
                 for i in 0..2 {
-                    e[i].push([t, y(d.measured[i])]);
+                    e[i].push([t, y(crate::numerics::sign::stock_positive(d.measured[i]))]);
                     if let Some(b) = d.est16[i] {
                         b16[i].push([t, y(b)]);
                     }

@@ -12,7 +12,7 @@ use web_time::{Duration, Instant};
 use crate::crease::{CreaseCurve, CreaseJob};
 use crate::fiveaxis::{
     CreasePath, CutterLocation, DesignPath, Example1, FiveAxisError, Machine, NacaProfile, ProfilePath, StepNode,
-    StepOptions, StepPlanner, ToolAxisRule, ToolSide, blade_case, evaluate_nodes, example1, tip_design_deviation,
+    StepOptions, StepPlanner, ToolAxisRule, blade_case, evaluate_nodes, example1, tip_design_deviation,
 };
 use crate::numerics::maximise::MaxOptions;
 use crate::numerics::roots::RootMethod;
@@ -119,14 +119,7 @@ fn sample_design(path: &dyn DesignPath) -> Result<Vec<CutterLocation>, FiveAxisE
 
 /// The NACA 2412 case with another tool-axis rule (`blade_case` fixes normal1, tilt −30°).
 fn blade_with_rule(rule: ToolAxisRule) -> Option<(ProfilePath, Machine)> {
-    let naca = NacaProfile::naca2412();
-    let (default_path, machine) = blade_case(naca)?;
-    if rule == (ToolAxisRule::Normal1 { lead_rad: 0.0, tilt_rad: -30f64.to_radians() }) {
-        return Some((default_path, machine));
-    }
-    let curve = naca.to_path(4000)?;
-    let range = crate::geom::Curve3::range(&curve);
-    Some((ProfilePath::new(Box::new(curve), range, ToolSide::Right, 5.0, 0.0, rule), machine))
+    crate::fiveaxis::presets::blade_case_with_rule(NacaProfile::naca2412(), rule)
 }
 
 /// The default machine and rule of a source (the scene's keys for the crease).

@@ -153,7 +153,11 @@ impl NurbsPanel {
                         "The scene has no crease to follow (it failed to build). Fix the scene in the controls, or choose the parabola profile.".to_owned(),
                     ));
                 };
-                (DesignInput::Crease(Box::new(job.clone()), cx.scene.name.clone()), job.feed_mm_per_min, job.period_ms)
+                (
+                    DesignInput::Crease(Box::new(job.clone()), cx.scene.name.clone()),
+                    cx.scene.motion.feed,
+                    cx.scene.motion.period,
+                )
             }
         };
         let point = match s.point {

@@ -1,0 +1,42 @@
+//! What every surface gives: its point, partial derivatives to second order and oriented
+//! normal at a parameter pair ([`SurfaceDerivs`]), and its domain ([`ParametricSurface`]).
+//!
+//! A file of its own below both [`super::surface`] (the analytic types and the `Surface`
+//! enum) and [`super::nurbs`] (the NURBS surface): the enum holds a NURBS surface and the
+//! NURBS surface implements the trait, so with the trait in `surface.rs` the two files
+//! imported each other.
+
+use glam::{DVec2, DVec3};
+
+use super::domain::Domain;
+
+/// Point, partial derivatives up to second order and oriented unit normal of a surface at
+/// one parameter pair. Lengths in mm; derivatives in mm per internal parameter unit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfaceDerivs {
+    /// r(u, v).
+    pub point: DVec3,
+    /// ∂r/∂u.
+    pub du: DVec3,
+    /// ∂r/∂v.
+    pub dv: DVec3,
+    /// ∂²r/∂u².
+    pub duu: DVec3,
+    /// ∂²r/∂u∂v.
+    pub duv: DVec3,
+    /// ∂²r/∂v².
+    pub dvv: DVec3,
+    /// Oriented unit normal (the cutter's side). Zero where the parametrisation is singular
+    /// and the surface type has no closed form for it.
+    pub normal: DVec3,
+}
+
+/// A parametric surface with derivatives and an oriented normal.
+pub trait ParametricSurface {
+    /// r(u, v) in mm; `uv` in internal units.
+    fn point_at(&self, uv: DVec2) -> DVec3;
+    /// Point, derivatives to second order and oriented normal at `uv`.
+    fn derivatives_at(&self, uv: DVec2) -> SurfaceDerivs;
+    /// The parameter domain (internal units).
+    fn domain(&self) -> Domain;
+}
