@@ -59,23 +59,28 @@ pub(super) fn run(
     // The largest measured |e_i| (mm) and the period where it occurred, for the b·T warning.
     let mut worst = WorstError::default();
     let outcome = Interpolator::new(job.clone(), opts).and_then(|mut it| {
-        let mut emit = |row: &interpolab::crease::Row| -> Result<(), io::Error> {
+        // `derivs`: both surfaces at the row's contacts, the evaluation the next period
+        // starts from (`Interpolator::row_derivatives`), so the screen does not repeat it.
+        let mut emit = |row: &interpolab::crease::Row, derivs| -> Result<(), io::Error> {
             let d = if errors { diagnose(&job, row) } else { None };
             // Measured on every row (screened cheaply, see `WorstError`), so a run whose feed
             // is too long for the crease's curvature says so.
             match &d {
                 Some(d) => worst.observe_measured(d.measured, row.k),
-                None => worst.observe(&job, row),
+                None => worst.observe_with(&job, row, derivs),
             }
             writer.row(&job, row, d.as_ref())
         };
-        if let Err(e) = emit(&it.first_row()) {
+        let first = it.first_row();
+        let derivs = if errors { None } else { it.row_derivatives() };
+        if let Err(e) = emit(&first, derivs) {
             write_failed(&e);
         }
         loop {
             match it.step()? {
                 Step::Row(r) => {
-                    if let Err(e) = emit(&r) {
+                    let derivs = if errors { None } else { it.row_derivatives() };
+                    if let Err(e) = emit(&r, derivs) {
                         write_failed(&e);
                     }
                 }

@@ -31,5 +31,5 @@ pub use domain::{Domain, ParamRange, ParamUnit};
 pub use frame::{Frame, any_perpendicular};
 pub use nurbs::{NurbsCurve, NurbsError, NurbsSurface};
 pub use parabola::Parabola;
-pub use project::{Foot, ProjectOptions, project_point, project_point_global};
+pub use project::{Foot, ProjectOptions, project_point, project_point_from, project_point_global};
 pub use surface::{Cylinder, ParametricSurface, Plane, Sphere, Surface, SurfaceDerivs, Torus};
