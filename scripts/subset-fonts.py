@@ -7,8 +7,9 @@ below, so it embeds subsets of the two instead (src/app/fonts.rs), without TrueT
 instructions (egui's rasteriser, skrifa, then hints the outlines itself), renamed as their
 licences ask of modified versions, each beside its licence text.
 
-The sources are the epaint_default_fonts crate in the cargo registry (`cargo fetch` brings it);
-fontTools comes from PyPI into a virtual environment under target/fonts-venv.
+The sources are the fonts of the epaint_default_fonts 0.37.0 crate (cargo fetches it into its
+registry when it is not there); fontTools comes from PyPI into a virtual environment under
+target/fonts-venv.
 
     scripts/subset-fonts.py
 """
@@ -71,10 +72,19 @@ def main():
     from fontTools import subset
     from fontTools.ttLib import TTFont
 
-    src = sorted(glob.glob(os.path.expanduser("~/.cargo/registry/src/*/epaint_default_fonts-0.37.0/fonts")))
-    if not src:
-        raise SystemExit("epaint_default_fonts 0.37.0 is not in the cargo registry; run `cargo fetch` first")
-    src = src[-1]
+    pattern = os.path.join(os.environ.get("CARGO_HOME", os.path.expanduser("~/.cargo")), "registry", "src", "*",
+                           "epaint_default_fonts-0.37.0", "fonts")
+    if not glob.glob(pattern):
+        # The app no longer depends on the crate: let cargo fetch it for a throwaway manifest.
+        tmp = os.path.join(ROOT, "target", "fonts-src")
+        os.makedirs(os.path.join(tmp, "src"), exist_ok=True)
+        with open(os.path.join(tmp, "Cargo.toml"), "w") as fh:
+            fh.write('[package]\nname = "fonts-src"\nversion = "0.0.0"\nedition = "2021"\n\n'
+                     '[dependencies]\nepaint_default_fonts = "=0.37.0"\n')
+        with open(os.path.join(tmp, "src", "lib.rs"), "w") as fh:
+            fh.write("")
+        subprocess.run(["cargo", "fetch", "--manifest-path", os.path.join(tmp, "Cargo.toml")], check=True)
+    src = sorted(glob.glob(pattern))[-1]
     os.makedirs(OUT, exist_ok=True)
     for source, output, unicodes, family, licences in FONTS:
         opts = subset.Options()
@@ -84,7 +94,8 @@ def main():
         opts.name_IDs = [0, 1, 2, 3, 4, 5, 6, 13, 14]  # copyright, names, version, licence
         opts.name_languages = [0x409]
         opts.notdef_outline = True
-        font = TTFont(os.path.join(src, source))
+        # The original timestamp kept: the same input gives the same bytes.
+        font = TTFont(os.path.join(src, source), recalcTimestamp=False)
         sub = subset.Subsetter(opts)
         sub.populate(unicodes=subset.parse_unicodes(",".join(u.replace("U+", "") for u in unicodes)))
         sub.subset(font)
