@@ -17,4 +17,4 @@ mkdir -p target/cli
 cp target/release/interpolab target/cli/interpolab
 # Put the ordinary (dynamic) build back in target/release; its artefact is still cached.
 nice -n 5 cargo build --release --no-default-features --bin interpolab
-echo "target/cli/interpolab: $(file -b target/cli/interpolab | cut -d, -f1-2)"
+echo "target/cli/interpolab: $(file -b target/cli/interpolab | grep -o "static-pie linked\|statically linked\|dynamically linked")"
