@@ -4,7 +4,6 @@
 //! [`crate::numerics::format`] so the paper modules can use it without this module): the shortest decimal that reads back
 //! to the same f64, so files are exact and deterministic.
 
-use std::fmt::Write as _;
 use std::io::{self, Write};
 
 use crate::crease::{CreaseError, CreaseJob, Diagnostics, Row, StopReason};
@@ -169,7 +168,7 @@ impl<W: Write> RowWriter<W> {
                 (", ", "null")
             }
         };
-        let _ = write!(line, "{}", row.k);
+        push_index(line, row.k);
         let field = |line: &mut String, v: f64| {
             line.push_str(sep);
             if v.is_finite() { push_num(line, v) } else { line.push_str(empty) }
@@ -235,5 +234,44 @@ impl<W: Write> RowWriter<W> {
         }
         self.out.flush()?;
         Ok(self.out)
+    }
+}
+
+/// Appends the decimal digits of `k` (as `{}` prints it) without going through `fmt`.
+fn push_index(out: &mut String, k: u64) {
+    let mut digits = [0u8; 20];
+    let mut at = digits.len();
+    let mut rest = k;
+    loop {
+        at -= 1;
+        digits[at] = b'0' + (rest % 10) as u8;
+        rest /= 10;
+        if rest == 0 {
+            break;
+        }
+    }
+    for &d in &digits[at..] {
+        out.push(char::from(d));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::push_index;
+
+    #[test]
+    fn indices_print_as_display_does() {
+        let mut k = 1u64;
+        let mut samples = vec![0, 9, 10, 99, 100, 101, 999_999, u64::MAX, u64::MAX - 1];
+        for _ in 0..200 {
+            // A fixed pseudo-random walk over all magnitudes.
+            k = k.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            samples.push(k >> (k % 64));
+        }
+        for k in samples {
+            let mut s = String::from("x");
+            push_index(&mut s, k);
+            assert_eq!(s, format!("x{k}"));
+        }
     }
 }

@@ -6,7 +6,7 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 mod support;
 
 use glam::{DVec2, DVec3};
-use interpolab::geom::nurbs::{NurbsError, basis_derivatives, find_span, validate_knots};
+use interpolab::geom::nurbs::{NurbsError, basis_derivatives, basis_functions, find_span, validate_knots};
 use interpolab::geom::{NurbsCurve, NurbsSurface, ParametricSurface};
 use support::Rng;
 
@@ -100,6 +100,62 @@ fn basis_functions_sum_to_one_and_their_derivatives_to_zero() {
         let s2: f64 = d[2][..4].iter().sum();
         assert!((s0 - 1.0).abs() < 1e-14 && s1.abs() < 1e-11 && s2.abs() < 1e-9, "sums {s0} {s1} {s2}");
         assert!(d[0][..4].iter().all(|&n| n >= -1e-15), "basis functions are non-negative");
+    }
+}
+
+/// N_{i,p}(u) by the Cox–de Boor recursion (0/0 = 0), independent of the library's tables.
+fn cox_de_boor(knots: &[f64], i: usize, p: usize, u: f64) -> f64 {
+    if p == 0 {
+        return if knots[i] <= u && u < knots[i + 1] { 1.0 } else { 0.0 };
+    }
+    let a = knots[i + p] - knots[i];
+    let b = knots[i + p + 1] - knots[i + 1];
+    let left = if a > 0.0 { (u - knots[i]) / a * cox_de_boor(knots, i, p - 1, u) } else { 0.0 };
+    let right = if b > 0.0 { (knots[i + p + 1] - u) / b * cox_de_boor(knots, i + 1, p - 1, u) } else { 0.0 };
+    left + right
+}
+
+/// The point-only paths (unrolled for degrees 1 to 3, generic above) give exactly the bits of
+/// the full evaluation, and the basis functions agree with Cox–de Boor.
+#[test]
+fn point_only_evaluation_is_the_full_evaluation_bit_for_bit() {
+    let mut rng = Rng::new(17);
+    for p in 1..=5usize {
+        for q in 1..=4usize {
+            let (n_u, n_v) = (p + 3, q + 2);
+            let clamped = |n: usize, d: usize, rng: &mut Rng| -> Vec<f64> {
+                let mut inner: Vec<f64> = (0..n - d - 1).map(|_| rng.range(0.05, 0.95)).collect();
+                inner.sort_by(f64::total_cmp);
+                let mut k = vec![0.0; d + 1];
+                k.extend(inner);
+                k.extend(vec![1.0; d + 1]);
+                k
+            };
+            let (ku, kv) = (clamped(n_u, p, &mut rng), clamped(n_v, q, &mut rng));
+            let points: Vec<Vec<DVec3>> = (0..n_u)
+                .map(|i| (0..n_v).map(|j| DVec3::new(i as f64 * 10.0, j as f64 * 10.0, rng.range(-5.0, 5.0))).collect())
+                .collect();
+            let weights: Vec<Vec<f64>> = (0..n_u).map(|_| (0..n_v).map(|_| rng.range(0.5, 2.0)).collect()).collect();
+            let s = NurbsSurface::try_new([p, q], ku.clone(), kv, &points, Some(&weights), false).expect("valid");
+            for _ in 0..200 {
+                let uv = DVec2::new(rng.next_f64(), rng.next_f64());
+                let full = s.derivatives_at(uv).point;
+                let point = s.point_at(uv);
+                assert_eq!(
+                    point.to_array().map(f64::to_bits),
+                    full.to_array().map(f64::to_bits),
+                    "p {p} q {q} at {uv}"
+                );
+                let span = find_span(&ku, n_u, p, uv.x);
+                let n = basis_functions(&ku, span, p, uv.x);
+                let d = basis_derivatives(&ku, span, p, uv.x);
+                for j in 0..=p {
+                    assert_eq!(n[j].to_bits(), d[0][j].to_bits(), "p {p}: N_{j}");
+                    let reference = cox_de_boor(&ku, span - p + j, p, uv.x);
+                    assert!((n[j] - reference).abs() < 1e-14, "p {p}: N_{j} {} vs {reference}", n[j]);
+                }
+            }
+        }
     }
 }
 

@@ -64,3 +64,43 @@ fn the_screened_worst_error_is_the_full_one_on_every_example() {
     }
     assert!(fired >= PRESETS.len(), "the tightened runs exceed b·T on {fired} surfaces only");
 }
+
+/// The CLI hands the screen the stepper's own evaluation at each row
+/// (`Interpolator::row_derivatives`): the screened worst errors are the same bits as without
+/// it, and the run itself (every row) is unchanged by taking it.
+#[test]
+fn the_shared_evaluation_changes_neither_the_screen_nor_the_run() {
+    use interpolab::crease::{Interpolator, Step};
+    for preset in PRESETS {
+        let job = CreaseJob::from_scene(&support::scene(preset.json)).expect("example builds");
+        for method in [Method::Seed000, Method::Exact] {
+            let opts = InterpOptions { method, ..InterpOptions::default() };
+            let plain = run_to_end(job.clone(), opts);
+            let mut it = Interpolator::new(job.clone(), opts).expect("starts");
+            let (mut own, mut shared) = (WorstError::default(), WorstError::default());
+            let mut rows = vec![it.first_row()];
+            let mut given = 0;
+            loop {
+                let row = *rows.last().expect("a row");
+                let derivs = it.row_derivatives();
+                given += usize::from(derivs.is_some());
+                own.observe(&job, &row);
+                shared.observe_with(&job, &row, derivs);
+                match it.step().expect("runs") {
+                    Step::Row(r) => rows.push(r),
+                    Step::Stopped(_) => break,
+                }
+            }
+            assert_eq!(own.worst, shared.worst, "{} {method:?}", preset.id);
+            assert_eq!(rows, plain.rows, "{} {method:?}: the rows changed", preset.id);
+            if method == Method::Seed000 {
+                assert!(
+                    given + 1 >= rows.len(),
+                    "{}: the evaluation was shared on {given} of {} rows",
+                    preset.id,
+                    rows.len()
+                );
+            }
+        }
+    }
+}

@@ -13,6 +13,7 @@ mod compute;
 mod crease_panel;
 mod fillet_panel;
 mod fiveaxis_panel;
+pub mod fonts;
 mod nurbs_panel;
 mod overlay;
 pub mod panel;
@@ -123,6 +124,7 @@ impl InterpolabApp {
     pub fn new(cc: &eframe::CreationContext<'_>) -> Self {
         let ctx = &cc.egui_ctx;
         ctx.set_theme(egui::Theme::Dark);
+        fonts::install(ctx);
         let platform = Platform::new(ctx);
         let render_state = cc.wgpu_render_state.clone();
         if let Some(rs) = &render_state {

@@ -58,17 +58,21 @@ pub(super) fn run(
     // The largest measured |e_i| (mm) and the period where it occurred, for the b·T warning.
     let mut worst = WorstError::default();
     let outcome = Interpolator::new(job.clone(), opts).and_then(|mut it| {
-        let mut emit = |row: &interpolab::crease::Row, shortened: bool| -> Result<(), io::Error> {
+        // `derivs`: both surfaces at the row's contacts, the evaluation the next period
+        // starts from (`Interpolator::row_derivatives`), so the screen does not repeat it.
+        let mut emit = |row: &interpolab::crease::Row, shortened: bool, derivs| -> Result<(), io::Error> {
             let d = if errors { diagnose(&job, row) } else { None };
             // Measured on every row (screened cheaply, see `WorstError`), so a run whose feed
             // is too long for the crease's curvature says so.
             match &d {
                 Some(d) => worst.observe_measured(d.measured, row.k),
-                None => worst.observe(&job, row),
+                None => worst.observe_with(&job, row, derivs),
             }
             if shortened { writer.final_row(&job, row, d.as_ref()) } else { writer.row(&job, row, d.as_ref()) }
         };
-        if let Err(e) = emit(&it.first_row(), false) {
+        let first = it.first_row();
+        let derivs = if errors { None } else { it.row_derivatives() };
+        if let Err(e) = emit(&first, false, derivs) {
             write_failed(&e);
         }
         loop {
@@ -76,7 +80,8 @@ pub(super) fn run(
                 Step::Row(r) => {
                     // The final period of a run ending on an exact point is shorter; the
                     // interpolator says so as soon as it has produced that row.
-                    if let Err(e) = emit(&r, it.final_period_s().is_some()) {
+                    let derivs = if errors { None } else { it.row_derivatives() };
+                    if let Err(e) = emit(&r, it.final_period_s().is_some(), derivs) {
                         write_failed(&e);
                     }
                 }

@@ -29,7 +29,7 @@
 use glam::DVec3;
 
 use super::{CreaseJob, Row};
-use crate::geom::{LocalGeometry, ParametricSurface, ProjectOptions, project_point};
+use crate::geom::{LocalGeometry, ParametricSurface, ProjectOptions, SurfaceDerivs, project_point, project_point_from};
 use crate::numerics::sign;
 use crate::tolerance;
 
@@ -95,9 +95,23 @@ pub struct WorstError {
 impl WorstError {
     /// Screens (and when needed measures) the row's errors.
     pub fn observe(&mut self, job: &CreaseJob, row: &Row) {
+        self.observe_with(job, row, None);
+    }
+
+    /// [`Self::observe`] given both surfaces' derivatives at the row's contact parameters
+    /// (e.g. [`super::Interpolator::row_derivatives`]), which the screen then does not
+    /// evaluate again. The result is the same, bit for bit.
+    pub fn observe_with(&mut self, job: &CreaseJob, row: &Row, derivs: Option<[SurfaceDerivs; 2]>) {
         let screen = ProjectOptions { max_iterations: 3, step_tol_mm: tolerance::SCREEN_STEP_MM };
         for i in 0..2 {
-            let foot = project_point(&job.surfaces[i], row.p, row.uv[i], screen);
+            let s = &job.surfaces[i];
+            let uv = s.domain().clamp(row.uv[i]);
+            // The screen starts from the clamped parameters: the given evaluation serves only
+            // where clamping left them as they were.
+            let foot = match derivs {
+                Some(d) if uv == row.uv[i] => project_point_from(s, row.p, uv, d[i], screen),
+                _ => project_point(s, row.p, uv, screen),
+            };
             let mut e = (foot.signed_distance - job.r_eff_mm).abs();
             if !foot.converged || !(e < tolerance::SCREEN_FRACTION * job.allowed_error_mm(i)) {
                 e = (project_point(&job.surfaces[i], row.p, row.uv[i], ProjectOptions::default()).signed_distance

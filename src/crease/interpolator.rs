@@ -34,7 +34,7 @@ use glam::{DVec2, DVec3};
 
 use super::newton::{self, Constraint, CreasePoint, NewtonOptions, locate_crease_point};
 use super::{CreaseError, CreaseJob, EndNotReached, Location, Row, StopReason};
-use crate::geom::{Domain, LocalGeometry, ParametricSurface};
+use crate::geom::{Domain, LocalGeometry, ParametricSurface, SurfaceDerivs};
 use crate::tolerance;
 
 /// Which stepper runs each period.
@@ -165,6 +165,23 @@ impl Interpolator {
     #[must_use]
     pub fn options(&self) -> &InterpOptions {
         &self.opts
+    }
+
+    /// Both surfaces' derivatives at the current row's contact parameters, for a caller that
+    /// measures the row (the b·T warning): the next period starts from this very evaluation
+    /// (it is kept), so the row costs no extra evaluation. `None` once stopped, when the last
+    /// step already brought the geometry (the precise stepper), or at a singular point (the
+    /// next step reports it).
+    pub fn row_derivatives(&mut self) -> Option<[SurfaceDerivs; 2]> {
+        if self.stopped.is_some() || self.cached.is_some() {
+            return None;
+        }
+        let geo = [
+            LocalGeometry::try_new(self.job.surfaces[0].derivatives_at(self.row.uv[0]))?,
+            LocalGeometry::try_new(self.job.surfaces[1].derivatives_at(self.row.uv[1]))?,
+        ];
+        self.cached = Some(geo);
+        Some([geo[0].d, geo[1].d])
     }
 
     /// Row 0: the start point brought onto the crease.

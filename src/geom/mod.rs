@@ -33,5 +33,5 @@ pub use frame::{Frame, any_perpendicular};
 pub use nurbs::{NurbsCurve, NurbsError, NurbsSurface};
 pub use parabola::Parabola;
 pub use parametric::{ParametricSurface, SurfaceDerivs};
-pub use project::{Foot, ProjectOptions, project_point, project_point_global};
+pub use project::{Foot, ProjectOptions, project_point, project_point_from, project_point_global};
 pub use surface::{Cylinder, Plane, Sphere, Surface, Torus};

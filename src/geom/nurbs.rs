@@ -192,6 +192,51 @@ pub fn find_span(knots: &[f64], n_points: usize, p: usize, u: f64) -> usize {
 /// `ders[k][j]` is the k-th derivative, `j = 0..=p`. Derivatives above the degree are zero.
 #[must_use]
 pub fn basis_derivatives(knots: &[f64], span: usize, p: usize, u: f64) -> [[f64; MAX_ORDER]; 3] {
+    // The common degrees with p a constant, so the loops unroll and the unused parts of the
+    // tables vanish; the arithmetic (and so every bit of the result) is the same.
+    match p {
+        1 => basis_derivatives_of(knots, span, 1, u),
+        2 => basis_derivatives_of(knots, span, 2, u),
+        3 => basis_derivatives_of(knots, span, 3, u),
+        _ => basis_derivatives_of(knots, span, p, u),
+    }
+}
+
+/// The basis functions `N_{span−p+j, p}(u)`, `j = 0..=p`: the first row of
+/// [`basis_derivatives`], by the same arithmetic (the same bits) without the derivatives.
+#[must_use]
+pub fn basis_functions(knots: &[f64], span: usize, p: usize, u: f64) -> [f64; MAX_ORDER] {
+    match p {
+        1 => basis_functions_of(knots, span, 1, u),
+        2 => basis_functions_of(knots, span, 2, u),
+        3 => basis_functions_of(knots, span, 3, u),
+        _ => basis_functions_of(knots, span, p, u),
+    }
+}
+
+#[inline(always)]
+fn basis_functions_of(knots: &[f64], span: usize, p: usize, u: f64) -> [f64; MAX_ORDER] {
+    let mut n = [0.0; MAX_ORDER];
+    let mut left = [0.0; MAX_ORDER];
+    let mut right = [0.0; MAX_ORDER];
+    n[0] = 1.0;
+    for j in 1..=p {
+        left[j] = u - knots[span + 1 - j];
+        right[j] = knots[span + j] - u;
+        let mut saved = 0.0;
+        for r in 0..j {
+            // As in `basis_derivatives_of`: n[r] holds ndu[r][j − 1], the divisor ndu[j][r].
+            let temp = n[r] / (right[r + 1] + left[j - r]);
+            n[r] = saved + right[r + 1] * temp;
+            saved = left[j - r] * temp;
+        }
+        n[j] = saved;
+    }
+    n
+}
+
+#[inline(always)]
+fn basis_derivatives_of(knots: &[f64], span: usize, p: usize, u: f64) -> [[f64; MAX_ORDER]; 3] {
     let mut ndu = [[0.0; MAX_ORDER]; MAX_ORDER];
     let mut left = [0.0; MAX_ORDER];
     let mut right = [0.0; MAX_ORDER];
@@ -453,15 +498,62 @@ impl NurbsSurface {
 
 impl ParametricSurface for NurbsSurface {
     fn point_at(&self, uv: DVec2) -> DVec3 {
-        self.derivatives_at(uv).point
+        match self.degree {
+            [3, 3] => self.point_of(uv, 3, 3),
+            [2, 2] => self.point_of(uv, 2, 2),
+            [2, 1] => self.point_of(uv, 2, 1),
+            [1, 2] => self.point_of(uv, 1, 2),
+            [p, q] => self.point_of(uv, p, q),
+        }
     }
 
     fn derivatives_at(&self, uv: DVec2) -> SurfaceDerivs {
+        // The common degrees with constants, so the sums unroll (the same arithmetic).
+        match self.degree {
+            [3, 3] => self.derivatives_of(uv, 3, 3),
+            [2, 2] => self.derivatives_of(uv, 2, 2),
+            [2, 1] => self.derivatives_of(uv, 2, 1),
+            [1, 2] => self.derivatives_of(uv, 1, 2),
+            [p, q] => self.derivatives_of(uv, p, q),
+        }
+    }
+
+    fn domain(&self) -> Domain {
         let [p, q] = self.degree;
+        Domain {
+            u: ParamRange::new(self.knots_u[p], self.knots_u[self.n_u], ParamUnit::Knot),
+            v: ParamRange::new(self.knots_v[q], self.knots_v[self.n_v], ParamUnit::Knot),
+        }
+    }
+}
+
+impl NurbsSurface {
+    /// r(u, v) of degrees (p, q): the point of [`Self::derivatives_of`], by the same
+    /// arithmetic (the same bits), without the derivatives.
+    #[inline(always)]
+    fn point_of(&self, uv: DVec2, p: usize, q: usize) -> DVec3 {
         let su = find_span(&self.knots_u, self.n_u, p, uv.x);
         let sv = find_span(&self.knots_v, self.n_v, q, uv.y);
-        let nu = basis_derivatives(&self.knots_u, su, p, uv.x);
-        let nv = basis_derivatives(&self.knots_v, sv, q, uv.y);
+        let nu = basis_functions_of(&self.knots_u, su, p, uv.x);
+        let nv = basis_functions_of(&self.knots_v, sv, q, uv.y);
+        let mut a00 = DVec4::ZERO;
+        for i in 0..=p {
+            let row = (su - p + i) * self.n_v + (sv - q);
+            let mut t0 = DVec4::ZERO;
+            for j in 0..=q {
+                t0 += nv[j] * self.control[row + j];
+            }
+            a00 += nu[i] * t0;
+        }
+        a00.truncate() / a00.w
+    }
+
+    #[inline(always)]
+    fn derivatives_of(&self, uv: DVec2, p: usize, q: usize) -> SurfaceDerivs {
+        let su = find_span(&self.knots_u, self.n_u, p, uv.x);
+        let sv = find_span(&self.knots_v, self.n_v, q, uv.y);
+        let nu = basis_derivatives_of(&self.knots_u, su, p, uv.x);
+        let nv = basis_derivatives_of(&self.knots_v, sv, q, uv.y);
         // Homogeneous sums A^(k,l) = Σ_i Σ_j N_i^(k) N_j^(l) Pw_ij.
         let (mut a00, mut a10, mut a01) = (DVec4::ZERO, DVec4::ZERO, DVec4::ZERO);
         let (mut a20, mut a11, mut a02) = (DVec4::ZERO, DVec4::ZERO, DVec4::ZERO);
@@ -492,13 +584,5 @@ impl ParametricSurface for NurbsSurface {
         let len = cross.length();
         let normal = if len > tolerance::MIN_AREA_ELEMENT { self.sign * cross / len } else { DVec3::ZERO };
         SurfaceDerivs { point: s, du: su_, dv: sv_, duu: suu, duv: suv, dvv: svv, normal }
-    }
-
-    fn domain(&self) -> Domain {
-        let [p, q] = self.degree;
-        Domain {
-            u: ParamRange::new(self.knots_u[p], self.knots_u[self.n_u], ParamUnit::Knot),
-            v: ParamRange::new(self.knots_v[q], self.knots_v[self.n_v], ParamUnit::Knot),
-        }
     }
 }

@@ -7,7 +7,7 @@
 
 use glam::{DVec2, DVec3};
 
-use super::parametric::ParametricSurface;
+use super::parametric::{ParametricSurface, SurfaceDerivs};
 use super::surface::Surface;
 use crate::linalg;
 
@@ -46,9 +46,18 @@ pub struct Foot {
 /// Projects `p` onto `surface` starting from the parameters `guess`.
 #[must_use]
 pub fn project_point(surface: &Surface, p: DVec3, guess: DVec2, opts: ProjectOptions) -> Foot {
+    let uv = surface.domain().clamp(guess);
+    project_point_from(surface, p, uv, surface.derivatives_at(uv), opts)
+}
+
+/// [`project_point`] from parameters `uv` inside the domain whose derivatives `d` the caller
+/// already has (`d` must be `surface.derivatives_at(uv)`; the result is then the same, bit
+/// for bit, as `project_point(surface, p, uv, opts)`).
+#[must_use]
+pub fn project_point_from(surface: &Surface, p: DVec3, uv: DVec2, d: SurfaceDerivs, opts: ProjectOptions) -> Foot {
     let domain = surface.domain();
-    let mut uv = domain.clamp(guess);
-    let mut d = surface.derivatives_at(uv);
+    let mut uv = uv;
+    let mut d = d;
     let mut dist2 = (d.point - p).length_squared();
     let mut converged = false;
     for _ in 0..opts.max_iterations {
@@ -93,29 +102,41 @@ pub fn project_point(surface: &Surface, p: DVec3, guess: DVec2, opts: ProjectOpt
     Foot { uv, point: d.point, normal: d.normal, signed_distance: w.dot(d.normal), distance: w.length(), converged }
 }
 
+/// How many of the nearest grid samples [`project_point_global`] refines.
+const REFINED: usize = 4;
+
 /// Projects `p` onto `surface` without a starting guess: samples the domain on a grid,
 /// refines the nearest few samples by [`project_point`] and keeps the nearest foot.
 #[must_use]
 pub fn project_point_global(surface: &Surface, p: DVec3, samples: usize) -> Foot {
     let domain = surface.domain();
     let n = samples.max(2);
-    let mut best: Vec<(f64, DVec2)> = Vec::with_capacity(n * n);
+    // The `REFINED` nearest samples, nearest first, ties in sampling order (what a stable
+    // sort of all n² samples would put first, without sorting them).
+    let mut best: [(f64, DVec2); REFINED] = [(f64::INFINITY, DVec2::ZERO); REFINED];
+    let mut kept = 0;
     for i in 0..n {
         for j in 0..n {
             let su = if domain.u.periodic { i as f64 / n as f64 } else { i as f64 / (n - 1) as f64 };
             let sv = if domain.v.periodic { j as f64 / n as f64 } else { j as f64 / (n - 1) as f64 };
             let uv = DVec2::new(domain.u.min + su * domain.u.width(), domain.v.min + sv * domain.v.width());
-            best.push(((surface.point_at(uv) - p).length_squared(), uv));
+            let d2 = (surface.point_at(uv) - p).length_squared();
+            // After the samples that are not greater (total order, as `f64::total_cmp`).
+            let at = best[..kept].iter().position(|b| d2.total_cmp(&b.0).is_lt()).unwrap_or(kept);
+            if at < REFINED {
+                best.copy_within(at..REFINED - 1, at + 1);
+                best[at] = (d2, uv);
+                kept = (kept + 1).min(REFINED);
+            }
         }
     }
-    best.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut result: Option<Foot> = None;
-    for &(_, uv) in best.iter().take(4) {
+    for &(_, uv) in &best[..kept] {
         let foot = project_point(surface, p, uv, ProjectOptions::default());
         if result.is_none_or(|r| foot.distance < r.distance) {
             result = Some(foot);
         }
     }
-    // `best` has n² ≥ 4 entries, so the loop ran at least once.
+    // n² ≥ 4 samples were seen, so `best` is full and the loop ran.
     result.unwrap_or_else(|| project_point(surface, p, domain.clamp(DVec2::ZERO), ProjectOptions::default()))
 }
