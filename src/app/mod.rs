@@ -13,6 +13,7 @@ mod compute;
 mod controls;
 mod fillet_panel;
 mod fiveaxis_panel;
+pub mod jobs;
 mod nurbs_panel;
 mod overlay;
 pub mod panel;
@@ -422,6 +423,10 @@ impl InterpolabApp {
             "frames": self.frames,
             "first_frame_ms": self.first_frame_ms,
             "gpu_backend": self.render_state.as_ref().map(|rs| format!("{:?}", rs.adapter.get_info().backend)),
+            "gpu_adapter": self.render_state.as_ref().map(|rs| {
+                let i = rs.adapter.get_info();
+                format!("{} ({:?}{})", i.name, i.device_type, if crate::render::gpu::is_software(&i) { ", software: no MSAA" } else { "" })
+            }),
             "playback_k": self.playback.k.floor(),
             "ui": ui,
             "panel": self.tab.and_then(|i| self.panels.get(i)).map_or(serde_json::Value::Null, |p| {
