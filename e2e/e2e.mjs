@@ -307,15 +307,6 @@ try {
     check("NURBS panel compares the G01, G02/G03 and G06.2 programs", st.status_ok && st.rows.length === 3
       && st.rows.every((r) => r.fresh && r.path_blocks > 0 && r.deviation_mm <= st.tol_mm) && st.realtime.length === 3,
       `${blocks} path blocks at ${st.tol_mm} mm, in ${Date.now() - tn} ms`);
-    // Drag the tolerance slider: the three programs are written again (in Web Workers).
-    await resetFrames(pageN);
-    const td = Date.now();
-    await dragSlider(pageN, st.ui.tolerance_slider);
-    const sd = await waitFor(pageN, "the comparison at a new tolerance", (s) => panelDone(s) && s.panel.status.tol_mm !== st.tol_mm);
-    await recordFrames(pageN, "dragging the NURBS tolerance slider");
-    check("NURBS panel: the comparison follows the tolerance slider", sd.panel.status.rows.length === 3
-      && sd.panel.status.rows.every((r) => r.fresh && r.deviation_mm <= sd.panel.status.tol_mm),
-      `E ${st.tol_mm} → ${sd.panel.status.tol_mm.toFixed(4)} mm, recomputed in ${Date.now() - td} ms`);
     // Download the G01 program, then open the downloaded file: it is drawn over the design
     // and its deviation is the one the table reports.
     await clickUntil("the G01 program shown", "G01", (s) => s.panel.status.program === "g01");
@@ -355,6 +346,17 @@ try {
     await pageN.screenshot({ path: path.join(artifacts, "nurbs-3-bad-program.png") });
     check("a malformed G-code file shows the line and the fix", sn.error.includes("line 4") && sn.error.includes("plain numbers")
       && sn.panel.status.loaded.error.includes("line 4"), sn.error);
+    // Drag the tolerance slider: the three programs are written again (in Web Workers).
+    await resetFrames(pageN);
+    const td = Date.now();
+    await dragSlider(pageN, (await status(pageN)).panel.status.ui.tolerance_slider);
+    const sd = await waitFor(pageN, "the comparison at a new tolerance", (s) => panelDone(s) && s.panel.status.tol_mm !== st.tol_mm);
+    await recordFrames(pageN, "dragging the NURBS tolerance slider");
+    check("NURBS panel: the comparison follows the tolerance slider", sd.panel.status.rows.length === 3
+      && sd.panel.status.rows.every((r) => r.fresh && r.deviation_mm <= sd.panel.status.tol_mm),
+      `E ${st.tol_mm} → ${sd.panel.status.tol_mm.toFixed(4)} mm, recomputed in ${Date.now() - td} ms`);
+    check("NURBS panel: its programs are written in Web Workers, not on the page",
+      sd.jobs.background >= 6 && sd.jobs.on_page === 0, JSON.stringify(sd.jobs));
     await pageN.close();
   }
 
@@ -387,7 +389,8 @@ try {
     const ms = st.ui && st.ui.sim_move_slider;
     if (ms) {
       await resetFrames(pageS);
-      await dragSlider(pageS, ms, ms[2] * 0.9, ms[2] * 0.5);
+      // The rail is the slider's first 100 points (the rest is its text).
+      await dragSlider(pageS, ms, 90, 50);
       await waitFor(pageS, "the stock at the scrubbed move", (s) => s.panel.status.computing === false
         && s.panel.status.moves_simulated !== st.moves_simulated, 120000);
       await recordFrames(pageS, "dragging the simulation's move slider");

@@ -16,9 +16,20 @@
 //! time budget; what a single call could not cut (writing a G-code program: 0.1–6 s) is a
 //! job.
 
+use std::sync::atomic::{AtomicUsize, Ordering};
+
 use web_time::{Duration, Instant};
 
 use crate::jobs::JobKind;
+
+/// Jobs finished off the UI thread / on it (the app's status element shows both).
+static FINISHED: [AtomicUsize; 2] = [AtomicUsize::new(0), AtomicUsize::new(0)];
+
+/// Jobs finished so far: `(in the background, on the UI thread)`.
+#[must_use]
+pub fn finished_counts() -> (usize, usize) {
+    (FINISHED[0].load(Ordering::Relaxed), FINISHED[1].load(Ordering::Relaxed))
+}
 
 /// The worker's loader script, next to `index.html` (Trunk's `data-loader-shim`).
 pub const WORKER_SCRIPT: &str = "./interpolab-worker_loader.js";
@@ -59,7 +70,11 @@ impl<K: JobKind> Job<K> {
     /// it no more.
     pub fn poll(&mut self) -> Poll<K::Output> {
         match self.inner.poll(&mut self.progress) {
-            Some(out) => Poll::Done(out),
+            Some(out) => {
+                let i = usize::from(!self.inner.in_background_done());
+                FINISHED[i].fetch_add(1, Ordering::Relaxed);
+                Poll::Done(out)
+            }
             None => Poll::Running(self.progress),
         }
     }
@@ -110,6 +125,7 @@ mod imp {
         cancel: Arc<AtomicBool>,
         /// The thread could not be started: run on the first poll.
         here: Option<K::Request>,
+        ran_here: bool,
     }
 
     impl<K: JobKind> Inner<K> {
@@ -126,11 +142,12 @@ mod imp {
             });
             // No thread (a platform without them): the request is still in its slot.
             let here = if spawned.is_err() { slot.lock().ok().and_then(|mut r| r.take()) } else { None };
-            Self { rx, cancel, here }
+            Self { rx, cancel, here, ran_here: false }
         }
 
         pub fn poll(&mut self, progress: &mut Option<f64>) -> Option<K::Output> {
             if let Some(request) = self.here.take() {
+                self.ran_here = true;
                 return Some(K::run(&request, &mut crate::jobs::NoProgress));
             }
             while let Ok(m) = self.rx.try_recv() {
@@ -143,7 +160,11 @@ mod imp {
         }
 
         pub fn in_background(&self) -> bool {
-            self.here.is_none()
+            self.here.is_none() && !self.ran_here
+        }
+
+        pub fn in_background_done(&self) -> bool {
+            !self.ran_here
         }
     }
 
@@ -180,6 +201,7 @@ mod imp {
         /// The encoded request (kept to run it on the page if the worker fails).
         request: String,
         running: Option<Running>,
+        ran_here: bool,
         _kind: std::marker::PhantomData<K>,
     }
 
@@ -211,7 +233,7 @@ mod imp {
                     None
                 }
             };
-            Self { request: K::encode_request(&request), running, _kind: std::marker::PhantomData }
+            Self { request: K::encode_request(&request), running, ran_here: false, _kind: std::marker::PhantomData }
         }
 
         /// Runs the job on the page (the worker failed or is missing).
@@ -220,6 +242,7 @@ mod imp {
                 r.worker.terminate();
                 log::warn!("{} runs on the page: {why}", K::NAME);
             }
+            self.ran_here = true;
             match K::decode_request(&self.request) {
                 Ok(req) => Some(K::run(&req, &mut NoProgress)),
                 Err(e) => {
@@ -263,6 +286,10 @@ mod imp {
 
         pub fn in_background(&self) -> bool {
             self.running.is_some()
+        }
+
+        pub fn in_background_done(&self) -> bool {
+            !self.ran_here
         }
     }
 

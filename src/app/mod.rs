@@ -423,6 +423,10 @@ impl InterpolabApp {
             "frames": self.frames,
             "first_frame_ms": self.first_frame_ms,
             "gpu_backend": self.render_state.as_ref().map(|rs| format!("{:?}", rs.adapter.get_info().backend)),
+            "jobs": {
+                "background": jobs::finished_counts().0,
+                "on_page": jobs::finished_counts().1,
+            },
             "gpu_adapter": self.render_state.as_ref().map(|rs| {
                 let i = rs.adapter.get_info();
                 format!("{} ({:?}{})", i.name, i.device_type, if crate::render::gpu::is_software(&i) { ", software: no MSAA" } else { "" })
