@@ -205,6 +205,16 @@ mod imp {
         _kind: std::marker::PhantomData<K>,
     }
 
+    impl Running {
+        /// Ends the worker. Its handlers are unset first: an event already queued for them
+        /// must not reach a closure that is about to be dropped.
+        fn stop(self) {
+            self.worker.set_onmessage(None);
+            self.worker.set_onerror(None);
+            self.worker.terminate();
+        }
+    }
+
     fn spawn() -> Result<Running, JsValue> {
         let worker = web_sys::Worker::new(WORKER_SCRIPT)?;
         let inbox: Inbox = Rc::default();
@@ -239,7 +249,7 @@ mod imp {
         /// Runs the job on the page (the worker failed or is missing).
         fn here(&mut self, why: &str) -> Option<K::Output> {
             if let Some(r) = self.running.take() {
-                r.worker.terminate();
+                r.stop();
                 log::warn!("{} runs on the page: {why}", K::NAME);
             }
             self.ran_here = true;
@@ -257,7 +267,7 @@ mod imp {
                 return self.here("no worker");
             };
             loop {
-                let Some(msg) = r.inbox.borrow_mut().pop_front() else { return None };
+                let msg = r.inbox.borrow_mut().pop_front()?;
                 let (tag, body) = msg.split_once('\n').unwrap_or((msg.as_str(), ""));
                 match tag {
                     "ready" if !r.sent => {
@@ -272,7 +282,7 @@ mod imp {
                         return match K::decode_output(body) {
                             Ok(out) => {
                                 if let Some(r) = self.running.take() {
-                                    r.worker.terminate();
+                                    r.stop();
                                 }
                                 Some(out)
                             }
@@ -296,7 +306,7 @@ mod imp {
     impl<K: JobKind> Drop for Inner<K> {
         fn drop(&mut self) {
             if let Some(r) = self.running.take() {
-                r.worker.terminate();
+                r.stop();
             }
         }
     }
