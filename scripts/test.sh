@@ -24,6 +24,8 @@ cargo clippy --tests --benches --locked -- -D warnings -A clippy::unwrap_used -A
 say "lints: the core for wasm32, and the app for wasm32"
 cargo clippy --no-default-features --target wasm32-unknown-unknown --lib --locked -- -D warnings
 cargo clippy --target wasm32-unknown-unknown --lib --bins --locked -- -D warnings
+# The Web Worker's module (the core alone, feature `worker`; Trunk builds it beside the app).
+cargo clippy --no-default-features --features worker --target wasm32-unknown-unknown --lib --bins --locked -- -D warnings
 
 say "core tests, native (no GUI dependency)"
 cargo test --no-default-features --locked

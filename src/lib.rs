@@ -28,6 +28,7 @@ pub mod fillet;
 pub mod fiveaxis;
 pub mod gcode;
 pub mod geom;
+pub mod jobs;
 pub mod limits;
 pub mod linalg;
 pub mod numerics;

@@ -14,6 +14,7 @@ mod crease_panel;
 mod fillet_panel;
 mod fiveaxis_panel;
 pub mod fonts;
+pub mod jobs;
 mod nurbs_panel;
 mod overlay;
 pub mod panel;
@@ -435,6 +436,14 @@ impl InterpolabApp {
             "frames": self.frames,
             "first_frame_ms": self.first_frame_ms,
             "gpu_backend": self.render_state.as_ref().map(|rs| format!("{:?}", rs.adapter.get_info().backend)),
+            "jobs": {
+                "background": jobs::finished_counts().0,
+                "on_page": jobs::finished_counts().1,
+            },
+            "gpu_adapter": self.render_state.as_ref().map(|rs| {
+                let i = rs.adapter.get_info();
+                format!("{} ({:?}{})", i.name, i.device_type, if crate::render::gpu::is_software(&i) { ", software: no MSAA" } else { "" })
+            }),
             "playback_k": self.playback.k.floor(),
             "ui": ui,
             "panel": self.panels.get(self.tab).map_or(serde_json::Value::Null, |p| {

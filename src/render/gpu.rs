@@ -178,8 +178,18 @@ impl Renderer3d {
         let queue = rs.queue.clone();
         let supports =
             |f: wgpu::TextureFormat| rs.adapter.get_texture_format_features(f).flags.sample_count_supported(4);
-        let sample_count = if supports(COLOR_FORMAT) && supports(DEPTH_FORMAT) { 4 } else { 1 };
-        log::info!("3D views: {sample_count}× MSAA, target {:?}", rs.target_format);
+        // A CPU rasteriser (SwiftShader, llvmpipe: browsers without a GPU, headless tests)
+        // pays for every sample: 4× MSAA made each 3D view cost about four times the
+        // fragment work and a resolve pass per frame there. Lines and shading stay readable
+        // without it; GPUs keep 4×.
+        let software = is_software(&rs.adapter.get_info());
+        let sample_count = if !software && supports(COLOR_FORMAT) && supports(DEPTH_FORMAT) { 4 } else { 1 };
+        log::info!(
+            "3D views: {sample_count}× MSAA, target {:?}, adapter {:?} ({:?})",
+            rs.target_format,
+            rs.adapter.get_info().name,
+            rs.adapter.get_info().device_type
+        );
 
         let scene_shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("interpolab scene shader"),
@@ -661,6 +671,15 @@ impl CallbackTrait for ViewCallback {
         pass.set_bind_group(0, &t.composite, &[]);
         pass.draw(0..3, 0..1);
     }
+}
+
+/// Whether an adapter rasterises on the CPU (wgpu's own guess, or SwiftShader / llvmpipe
+/// in its name: WebGL reports the renderer string only through an extension).
+#[must_use]
+pub fn is_software(info: &wgpu::AdapterInfo) -> bool {
+    let name = info.name.to_ascii_lowercase();
+    info.device_type == wgpu::DeviceType::Cpu
+        || ["swiftshader", "llvmpipe", "software"].iter().any(|s| name.contains(s))
 }
 
 /// Wraps a view callback for egui's painter.

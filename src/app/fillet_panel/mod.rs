@@ -44,12 +44,15 @@ pub struct FilletPanel {
     theta_deg: f64,
     /// Table requested for the next job as well.
     want_table: bool,
+    /// The scallop slider's rectangle (status `ui.scallop_slider`, for end-to-end tests).
+    scallop_rect: Option<egui::Rect>,
 }
 
 impl Default for FilletPanel {
     fn default() -> Self {
         Self {
             settings: Settings::of_preset(0),
+            scallop_rect: None,
             job: None,
             refused: None,
             last_refused: None,
@@ -143,11 +146,12 @@ impl FilletPanel {
                 .on_hover_text("Corner radius: r = R is a ball, r = 0 a flat end mill");
         });
         ui.horizontal_wrapped(|ui| {
-            ui.add(
+            let r = ui.add(
                 egui::Slider::new(&mut s.scallop_um, SCALLOP_RANGE_UM.0..=SCALLOP_RANGE_UM.1)
                     .text("scallop h (µm)")
                     .logarithmic(true),
             );
+            self.scallop_rect = Some(r.rect);
             ui.add(
                 egui::Slider::new(&mut s.tol_mm, TOLERANCE_RANGE_MM.0..=TOLERANCE_RANGE_MM.1)
                     .text("tolerance E (mm)")
@@ -373,6 +377,7 @@ impl Panel for FilletPanel {
             "h_mm": s.scallop_um * 1e-3,
             "tol_mm": s.tol_mm,
             "error": self.refused,
+            "ui": super::fiveaxis_panel::rects_json(&self.scallop_rect.map(|r| ("scallop_slider", r)).into_iter().collect::<Vec<_>>()),
         });
         let Some(job) = &self.job else {
             v["computing"] = false.into();

@@ -379,6 +379,11 @@ impl NurbsPanel {
                         Some(n) => return (true, format!("computing… design path ({n} periods of the crease)")),
                         None => "design path",
                     }
+                } else if let jobs @ [_, ..] = &self.work.jobs_running()[..] {
+                    // The programs are written in the background, side by side.
+                    let list: Vec<String> =
+                        jobs.iter().map(|(k, t)| format!("{} ({t:.1} s)", w.program.dialect.kind_label(*k))).collect();
+                    return (true, format!("computing in the background… {}", list.join(", ")));
                 } else if !self.work.row_fresh(0, w) {
                     "G01 program"
                 } else if !self.work.row_fresh(1, w) {
@@ -867,6 +872,9 @@ impl Panel for NurbsPanel {
         match self.wanted(cx) {
             Ok(w) => {
                 self.waiting = None;
+                if let DesignInput::Crease(job, _) = &w.design {
+                    self.work.note_scene(job, cx.scene);
+                }
                 self.work.want(&w);
                 let t0 = web_time::Instant::now();
                 // Steps until ~1/3 of a 60 Hz frame is used; one program per step at most.
@@ -883,6 +891,10 @@ impl Panel for NurbsPanel {
                 match self.work.pending(&w) {
                     Pending::Nothing => {}
                     Pending::Waiting(d) => ui.ctx().request_repaint_after(d),
+                    // Programs written in the background: look again now and then.
+                    Pending::Working if self.work.waiting_on_jobs() => {
+                        ui.ctx().request_repaint_after(crate::app::jobs::POLL);
+                    }
                     Pending::Working => ui.ctx().request_repaint(),
                 }
                 self.wanted = Some(w);

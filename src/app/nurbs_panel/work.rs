@@ -5,21 +5,28 @@
 //! change of the update order reruns only the real-time step, a tolerance change the
 //! programs and what follows, and a new scene everything. Results stay on screen (marked
 //! stale) until their replacement is ready. No egui here: the steps are plain core calls.
+//!
+//! The three programs are background jobs (`app::jobs`, kind `jobs::program_row`), started
+//! together and polled each frame: natively on threads, in the browser in Web Workers. Only
+//! the crease periods and the real-time periods run here, a few thousand per frame.
 
 use std::rc::Rc;
 
 use glam::DVec3;
 use web_time::{Duration, Instant};
 
+use crate::app::jobs::{Job, Poll};
 use crate::crease::{CreaseCurve, CreaseJob};
 use crate::gcode::{
     CompareOptions, CompareRow, Comparison, DesignBuilder, DesignError, Deviation, DeviationOptions, Dialect,
-    ParsedProgram, ProgramError, ProgramKind, ProgramOptions, ProgrammedPoint, compare_row, deviation,
-    parse_program_in,
+    ParsedProgram, ProgramKind, ProgramOptions, ProgrammedPoint, compare_row, deviation, parse_program_in,
 };
 use crate::geom::Curve3;
+pub use crate::jobs::program_row::describe_program_error;
+use crate::jobs::program_row::{DesignSpec, ProgramRow, Request};
 use crate::numerics::measure::{ArcLengthTable, Translated};
-use crate::nurbs_path::{FeedStats, FitError, Parabola, RealtimeRun, RealtimeStepper, Update};
+use crate::nurbs_path::{FeedStats, Parabola, RealtimeRun, RealtimeStepper, Update};
+use crate::scene::Scene;
 
 /// Periods of the crease or of a real-time run per step: a few ms natively, ~10 ms in a
 /// browser, so a 10⁵-period path (a slow feed) is spread over frames.
@@ -233,6 +240,11 @@ pub struct Work {
     design_task: Option<(DesignInput, DesignBuilder)>,
     /// The real-time runs under way.
     realtime_task: Option<RealtimeTask>,
+    /// The programs being written in the background, one per kind, with the key they are for.
+    row_jobs: [Option<(RowKey, Job<ProgramRow>)>; 3],
+    /// The scene's JSON text for a crease job, when it gives that job back exactly (what a
+    /// worker is sent to rebuild the design); `None` inside: compute on this thread.
+    scene_text: Option<(Box<CreaseJob>, Option<String>)>,
 }
 
 /// The real-time runs of one G06.2 curve under way.
@@ -362,6 +374,45 @@ impl Work {
         }
     }
 
+    /// Notes the scene the crease job comes from (its JSON goes to the program jobs). Checked
+    /// once per job: the text must give the same job back, or the programs are written here.
+    pub fn note_scene(&mut self, job: &CreaseJob, scene: &Scene) {
+        if self.scene_text.as_ref().is_some_and(|(j, _)| **j == *job) {
+            return;
+        }
+        let text = scene.to_json();
+        let same = Scene::from_json(&text).ok().and_then(|s| CreaseJob::from_scene(&s).ok()).is_some_and(|j| j == *job);
+        self.scene_text = Some((Box::new(job.clone()), same.then_some(text)));
+    }
+
+    /// What a program job is sent to rebuild the design, if it can be.
+    fn design_spec(&self, input: &DesignInput) -> Option<DesignSpec> {
+        match input {
+            DesignInput::Parabola => Some(DesignSpec::Parabola),
+            DesignInput::Crease(job, _) => match &self.scene_text {
+                Some((j, Some(text))) if **j == **job => Some(DesignSpec::Scene(text.clone())),
+                _ => None,
+            },
+        }
+    }
+
+    /// Whether programs are being written in the background (the panel only needs to look
+    /// again now and then).
+    #[must_use]
+    pub fn waiting_on_jobs(&self) -> bool {
+        self.row_jobs.iter().any(|j| j.as_ref().is_some_and(|(_, job)| job.in_background()))
+    }
+
+    /// The programs being written in the background: kind, seconds so far.
+    #[must_use]
+    pub fn jobs_running(&self) -> Vec<(ProgramKind, f64)> {
+        ProgramKind::ALL
+            .into_iter()
+            .zip(&self.row_jobs)
+            .filter_map(|(k, j)| j.as_ref().map(|(_, job)| (k, job.elapsed().as_secs_f64())))
+            .collect()
+    }
+
     /// Runs the next due step for `w`, if the quiet time is over. Returns whether a step ran.
     pub fn step(&mut self, w: &Wanted) -> bool {
         if self.pending(w) != Pending::Working {
@@ -382,18 +433,42 @@ impl Work {
             return false;
         };
         let opts = Self::compare_options(&design.title, &w.program, &w.realtime);
+        let spec = self.design_spec(&w.design);
+        let mut rows_due = false;
         for (i, kind) in ProgramKind::ALL.into_iter().enumerate() {
-            if !self.row_fresh(i, w) {
-                let key = self.row_key(w);
-                let value = compare_row(kind, &design.curve, w.program.tol_mm, &opts)
-                    .map_err(|e| describe_program_error(&e, kind));
-                if kind == ProgramKind::Nurbs && value.is_err() {
-                    // Nothing to run: drop the last curve's run rather than show it as current.
-                    self.realtime.clear();
-                }
-                self.rows[i].set(key, value);
-                return true;
+            if self.row_fresh(i, w) {
+                continue;
             }
+            rows_due = true;
+            let key = self.row_key(w);
+            let value = if let Some(spec) = &spec {
+                // In the background: start the job for these inputs (replacing, and so
+                // cancelling, one for older inputs), then see whether it is done.
+                if self.row_jobs[i].as_ref().is_none_or(|(k, _)| *k != key) {
+                    let request =
+                        Request { design: spec.clone(), kind, tol_mm: w.program.tol_mm, options: opts.clone() };
+                    self.row_jobs[i] = Some((key.clone(), Job::start(request)));
+                }
+                match self.row_jobs[i].as_mut().map(|(_, job)| job.poll()) {
+                    Some(Poll::Done(value)) => {
+                        self.row_jobs[i] = None;
+                        value
+                    }
+                    _ => continue,
+                }
+            } else {
+                compare_row(kind, &design.curve, w.program.tol_mm, &opts).map_err(|e| describe_program_error(&e, kind))
+            };
+            if kind == ProgramKind::Nurbs && value.is_err() {
+                // Nothing to run: drop the last curve's run rather than show it as current.
+                self.realtime.clear();
+            }
+            self.rows[i].set(key, value);
+            return true;
+        }
+        if rows_due {
+            // Waiting for the background: nothing ran here.
+            return false;
         }
         if !self.realtime_done(w) {
             let key = self.realtime_key(w);
@@ -542,32 +617,4 @@ fn make_parabola() -> Result<Design, String> {
 
 fn crease_failed(e: &DesignError) -> String {
     format!("The scene's crease gives no design path: {e}. Change the scene, or use the parabola profile.")
-}
-
-/// A program error in the app's terms (the core's messages name the command line's flags).
-#[must_use]
-pub fn describe_program_error(e: &ProgramError, kind: ProgramKind) -> String {
-    let um = |mm: f64| format!("{} µm", crate::report::fmt_fixed(mm * 1000.0, 3));
-    match e {
-        ProgramError::BelowResolution { tol_mm, resolution_mm } => format!(
-            "The tolerance {} is below twice the resolution {}: rounding alone moves points by up to {}. \
-             Raise the tolerance to at least {} or pick a finer resolution.",
-            um(*tol_mm),
-            um(*resolution_mm),
-            um(resolution_mm * 3f64.sqrt() / 2.0),
-            um(2.0 * resolution_mm)
-        ),
-        ProgramError::NotMet { achieved_mm, tol_mm, .. } => format!(
-            "The {} program deviates {} after rounding, more than the tolerance {}. Raise the tolerance or pick a finer resolution.",
-            kind.label(),
-            um(*achieved_mm),
-            um(*tol_mm)
-        ),
-        ProgramError::Fit(FitError::NotConverged { tol_mm, achieved_mm, control_points }) => format!(
-            "The G06.2 fit could not get within {} (best {} with {control_points} control points). Raise the tolerance.",
-            um(*tol_mm),
-            um(*achieved_mm)
-        ),
-        other => format!("{}: {other}", kind.label()),
-    }
 }

@@ -1,0 +1,387 @@
+//! The app's one scheme for work longer than a frame: a [`Job`] takes a request of a
+//! [`JobKind`] (`crate::jobs`), runs it away from the UI thread, and is polled once per frame
+//! for its progress and, at the end, its output. Dropping a job cancels it.
+//!
+//! - Natively the job runs on its own `std::thread`; cancelling sets a flag the job may look
+//!   at (an abandoned job's thread finishes and its output is dropped).
+//! - In the browser it runs in a Web Worker ([`WORKER_SCRIPT`], the `interpolab-worker` wasm
+//!   module: the core without egui or wgpu, built by Trunk beside the app). The request and
+//!   the output cross as text (`JobKind::encode_*`, numbers by their bits, so the output is
+//!   the one computed). One worker per job; cancelling terminates it. If the worker cannot
+//!   run (no script, an error inside it, an output that does not decode), the job is run on
+//!   the page instead, as the app did before: slower to the eye, same result.
+//!
+//! The work that stays on the UI thread (the crease periods, the 5-axis plan, the fillet
+//! paths, the simulation moves) is already cut into slices of a few ms under a per-frame
+//! time budget; what a single call could not cut (writing a G-code program: 0.1–6 s) is a
+//! job.
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use web_time::{Duration, Instant};
+
+use crate::jobs::JobKind;
+
+/// Jobs finished off the UI thread / on it (the app's status element shows both).
+static FINISHED: [AtomicUsize; 2] = [AtomicUsize::new(0), AtomicUsize::new(0)];
+
+/// Jobs finished so far: `(in the background, on the UI thread)`.
+#[must_use]
+pub fn finished_counts() -> (usize, usize) {
+    (FINISHED[0].load(Ordering::Relaxed), FINISHED[1].load(Ordering::Relaxed))
+}
+
+/// The worker's loader script, next to `index.html` (Trunk's `data-loader-shim`).
+pub const WORKER_SCRIPT: &str = "./interpolab-worker_loader.js";
+
+/// How often a panel waiting for a job looks again when nothing else repaints.
+pub const POLL: Duration = Duration::from_millis(50);
+
+/// What a poll found.
+#[derive(Debug)]
+pub enum Poll<T> {
+    /// Still running; the fraction done if the job reports one.
+    Running(Option<f64>),
+    /// Finished with this output (given once).
+    Done(T),
+}
+
+/// A job under way.
+pub struct Job<K: JobKind> {
+    started: Instant,
+    progress: Option<f64>,
+    inner: imp::Inner<K>,
+}
+
+impl<K: JobKind> std::fmt::Debug for Job<K> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Job").field("kind", &K::NAME).field("progress", &self.progress).finish_non_exhaustive()
+    }
+}
+
+impl<K: JobKind> Job<K> {
+    /// Starts a job.
+    #[must_use]
+    pub fn start(request: K::Request) -> Self {
+        Self { started: Instant::now(), progress: None, inner: imp::Inner::start(request) }
+    }
+
+    /// Takes what arrived since the last poll. After [`Poll::Done`] the job is spent: poll
+    /// it no more.
+    pub fn poll(&mut self) -> Poll<K::Output> {
+        match self.inner.poll(&mut self.progress) {
+            Some(out) => {
+                let i = usize::from(!self.inner.in_background_done());
+                FINISHED[i].fetch_add(1, Ordering::Relaxed);
+                Poll::Done(out)
+            }
+            None => Poll::Running(self.progress),
+        }
+    }
+
+    /// Time since the start.
+    #[must_use]
+    pub fn elapsed(&self) -> Duration {
+        self.started.elapsed()
+    }
+
+    /// Whether it runs off the UI thread (false: in the browser without a worker, where the
+    /// job runs on the page when polled).
+    #[must_use]
+    pub fn in_background(&self) -> bool {
+        self.inner.in_background()
+    }
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+mod imp {
+    use std::sync::Arc;
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::mpsc;
+
+    use crate::jobs::{JobKind, Progress};
+
+    enum Msg<T> {
+        Progress(f64),
+        Done(T),
+    }
+
+    struct Reporter<T> {
+        tx: mpsc::Sender<Msg<T>>,
+        cancel: Arc<AtomicBool>,
+    }
+
+    impl<T> Progress for Reporter<T> {
+        fn progress(&mut self, fraction: f64) {
+            let _ = self.tx.send(Msg::Progress(fraction));
+        }
+        fn cancelled(&self) -> bool {
+            self.cancel.load(Ordering::Relaxed)
+        }
+    }
+
+    pub struct Inner<K: JobKind> {
+        rx: mpsc::Receiver<Msg<K::Output>>,
+        cancel: Arc<AtomicBool>,
+        /// The thread could not be started: run on the first poll.
+        here: Option<K::Request>,
+        ran_here: bool,
+    }
+
+    impl<K: JobKind> Inner<K> {
+        pub fn start(request: K::Request) -> Self {
+            let (tx, rx) = mpsc::channel();
+            let cancel = Arc::new(AtomicBool::new(false));
+            let mut reporter = Reporter { tx: tx.clone(), cancel: cancel.clone() };
+            let slot = Arc::new(std::sync::Mutex::new(Some(request)));
+            let slot2 = slot.clone();
+            let spawned = std::thread::Builder::new().name(format!("job {}", K::NAME)).spawn(move || {
+                let Some(request) = slot2.lock().ok().and_then(|mut r| r.take()) else { return };
+                let out = K::run(&request, &mut reporter);
+                let _ = tx.send(Msg::Done(out));
+            });
+            // No thread (a platform without them): the request is still in its slot.
+            let here = if spawned.is_err() { slot.lock().ok().and_then(|mut r| r.take()) } else { None };
+            Self { rx, cancel, here, ran_here: false }
+        }
+
+        pub fn poll(&mut self, progress: &mut Option<f64>) -> Option<K::Output> {
+            if let Some(request) = self.here.take() {
+                self.ran_here = true;
+                return Some(K::run(&request, &mut crate::jobs::NoProgress));
+            }
+            while let Ok(m) = self.rx.try_recv() {
+                match m {
+                    Msg::Progress(f) => *progress = Some(f),
+                    Msg::Done(out) => return Some(out),
+                }
+            }
+            None
+        }
+
+        pub fn in_background(&self) -> bool {
+            self.here.is_none() && !self.ran_here
+        }
+
+        pub fn in_background_done(&self) -> bool {
+            !self.ran_here
+        }
+    }
+
+    impl<K: JobKind> Drop for Inner<K> {
+        fn drop(&mut self) {
+            self.cancel.store(true, Ordering::Relaxed);
+        }
+    }
+}
+
+#[cfg(target_arch = "wasm32")]
+mod imp {
+    use std::cell::RefCell;
+    use std::collections::VecDeque;
+    use std::rc::Rc;
+
+    use eframe::wasm_bindgen::JsCast;
+    use eframe::wasm_bindgen::prelude::{Closure, JsValue};
+
+    use super::WORKER_SCRIPT;
+    use crate::jobs::{JobKind, NoProgress};
+
+    type Inbox = Rc<RefCell<VecDeque<String>>>;
+
+    struct Running {
+        worker: web_sys::Worker,
+        inbox: Inbox,
+        sent: bool,
+        _on_message: Closure<dyn FnMut(web_sys::MessageEvent)>,
+        _on_error: Closure<dyn FnMut(web_sys::Event)>,
+    }
+
+    pub struct Inner<K: JobKind> {
+        /// The encoded request (kept to run it on the page if the worker fails).
+        request: String,
+        running: Option<Running>,
+        ran_here: bool,
+        _kind: std::marker::PhantomData<K>,
+    }
+
+    impl Running {
+        /// Ends the worker. Its handlers are unset first: an event already queued for them
+        /// must not reach a closure that is about to be dropped.
+        fn stop(self) {
+            self.worker.set_onmessage(None);
+            self.worker.set_onerror(None);
+            self.worker.terminate();
+        }
+    }
+
+    fn spawn() -> Result<Running, JsValue> {
+        let worker = web_sys::Worker::new(WORKER_SCRIPT)?;
+        let inbox: Inbox = Rc::default();
+        let inbox2 = inbox.clone();
+        let on_message = Closure::<dyn FnMut(web_sys::MessageEvent)>::new(move |e: web_sys::MessageEvent| {
+            inbox2.borrow_mut().push_back(e.data().as_string().unwrap_or_default());
+        });
+        let inbox3 = inbox.clone();
+        let on_error = Closure::<dyn FnMut(web_sys::Event)>::new(move |e: web_sys::Event| {
+            let what = e
+                .dyn_ref::<web_sys::ErrorEvent>()
+                .map_or_else(|| "the worker could not start".to_owned(), web_sys::ErrorEvent::message);
+            inbox3.borrow_mut().push_back(format!("failed\n{what}"));
+        });
+        worker.set_onmessage(Some(on_message.as_ref().unchecked_ref()));
+        worker.set_onerror(Some(on_error.as_ref().unchecked_ref()));
+        Ok(Running { worker, inbox, sent: false, _on_message: on_message, _on_error: on_error })
+    }
+
+    impl<K: JobKind> Inner<K> {
+        pub fn start(request: K::Request) -> Self {
+            let running = match spawn() {
+                Ok(r) => Some(r),
+                Err(e) => {
+                    log::warn!("no Web Worker ({e:?}): {} runs on the page", K::NAME);
+                    None
+                }
+            };
+            Self { request: K::encode_request(&request), running, ran_here: false, _kind: std::marker::PhantomData }
+        }
+
+        /// Runs the job on the page (the worker failed or is missing).
+        fn here(&mut self, why: &str) -> Option<K::Output> {
+            if let Some(r) = self.running.take() {
+                r.stop();
+                log::warn!("{} runs on the page: {why}", K::NAME);
+            }
+            self.ran_here = true;
+            match K::decode_request(&self.request) {
+                Ok(req) => Some(K::run(&req, &mut NoProgress)),
+                Err(e) => {
+                    log::error!("{}: {e}", K::NAME);
+                    None
+                }
+            }
+        }
+
+        pub fn poll(&mut self, progress: &mut Option<f64>) -> Option<K::Output> {
+            let Some(r) = self.running.as_mut() else {
+                return self.here("no worker");
+            };
+            loop {
+                let msg = r.inbox.borrow_mut().pop_front()?;
+                let (tag, body) = msg.split_once('\n').unwrap_or((msg.as_str(), ""));
+                match tag {
+                    "ready" if !r.sent => {
+                        r.sent = true;
+                        let text = format!("{}\n{}", K::NAME, self.request);
+                        if let Err(e) = r.worker.post_message(&JsValue::from_str(&text)) {
+                            return self.here(&format!("{e:?}"));
+                        }
+                    }
+                    "progress" => *progress = body.parse().ok(),
+                    "ok" => {
+                        return match K::decode_output(body) {
+                            Ok(out) => {
+                                if let Some(r) = self.running.take() {
+                                    r.stop();
+                                }
+                                Some(out)
+                            }
+                            Err(e) => self.here(&e),
+                        };
+                    }
+                    _ => return self.here(body),
+                }
+            }
+        }
+
+        pub fn in_background(&self) -> bool {
+            self.running.is_some()
+        }
+
+        pub fn in_background_done(&self) -> bool {
+            !self.ran_here
+        }
+    }
+
+    impl<K: JobKind> Drop for Inner<K> {
+        fn drop(&mut self) {
+            if let Some(r) = self.running.take() {
+                r.stop();
+            }
+        }
+    }
+}
+
+#[cfg(all(test, not(target_arch = "wasm32")))]
+mod tests {
+    use super::*;
+    use crate::jobs::Progress;
+
+    /// Counts to n, reporting progress; stops early when cancelled.
+    struct Count;
+    impl JobKind for Count {
+        const NAME: &'static str = "count";
+        type Request = (u64, std::sync::Arc<std::sync::atomic::AtomicU64>);
+        type Output = u64;
+        fn run(r: &Self::Request, p: &mut dyn Progress) -> u64 {
+            let mut i = 0;
+            while i < r.0 && !p.cancelled() {
+                i += 1;
+                r.1.store(i, std::sync::atomic::Ordering::Relaxed);
+                if i % 1000 == 0 {
+                    p.progress(i as f64 / r.0 as f64);
+                    std::thread::sleep(Duration::from_micros(50));
+                }
+            }
+            i
+        }
+        fn encode_request(r: &Self::Request) -> String {
+            r.0.to_string()
+        }
+        fn decode_request(_: &str) -> Result<Self::Request, String> {
+            Err("not used".into())
+        }
+        fn encode_output(o: &u64) -> String {
+            o.to_string()
+        }
+        fn decode_output(t: &str) -> Result<u64, String> {
+            t.parse().map_err(|_| "not a count".into())
+        }
+    }
+
+    fn wait<K: JobKind>(job: &mut Job<K>) -> (K::Output, bool) {
+        let mut saw_progress = false;
+        for _ in 0..20_000 {
+            match job.poll() {
+                Poll::Done(out) => return (out, saw_progress),
+                Poll::Running(p) => saw_progress |= p.is_some_and(|f| f > 0.0 && f <= 1.0),
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        panic!("the job did not finish");
+    }
+
+    #[test]
+    fn a_job_runs_off_the_thread_reports_progress_and_gives_its_output_once() {
+        let seen = std::sync::Arc::new(std::sync::atomic::AtomicU64::new(0));
+        let mut job = Job::<Count>::start((20_000, seen));
+        assert!(job.in_background());
+        let (out, progressed) = wait(&mut job);
+        assert_eq!(out, 20_000);
+        assert!(progressed, "progress was reported");
+    }
+
+    #[test]
+    fn dropping_a_job_cancels_it() {
+        let seen = std::sync::Arc::new(std::sync::atomic::AtomicU64::new(0));
+        let job = Job::<Count>::start((u64::MAX, seen.clone()));
+        while seen.load(std::sync::atomic::Ordering::Relaxed) < 2000 {
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        drop(job);
+        std::thread::sleep(Duration::from_millis(50));
+        let a = seen.load(std::sync::atomic::Ordering::Relaxed);
+        std::thread::sleep(Duration::from_millis(50));
+        assert_eq!(seen.load(std::sync::atomic::Ordering::Relaxed), a, "the job stopped counting");
+    }
+}
