@@ -377,7 +377,7 @@ impl Panel for FilletPanel {
             "h_mm": s.scallop_um * 1e-3,
             "tol_mm": s.tol_mm,
             "error": self.refused,
-            "ui": super::fiveaxis_panel::rects_json(&self.scallop_rect.map(|r| ("scallop_slider", r)).into_iter().collect::<Vec<_>>()),
+            "ui": super::widgets::rects_json(&self.scallop_rect.map(|r| ("scallop_slider", r)).into_iter().collect::<Vec<_>>()),
         });
         let Some(job) = &self.job else {
             v["computing"] = false.into();

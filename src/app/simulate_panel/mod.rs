@@ -492,7 +492,7 @@ impl Panel for SimulatePanel {
         let t = self.view.camera.target;
         let camera = [t.x, t.y, t.z];
         serde_json::json!({
-            "ui": super::fiveaxis_panel::rects_json(&self.rects),
+            "ui": super::widgets::rects_json(&self.rects),
             "computing": job.computing(),
             "stage": job.stage_name(),
             "source": s.source.key(),
