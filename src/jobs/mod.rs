@@ -13,8 +13,6 @@
 //! Kinds: [`program_row::ProgramRow`] (one program of the NURBS & G-code comparison).
 
 pub mod program_row;
-#[cfg(all(target_arch = "wasm32", feature = "worker"))]
-pub mod worker;
 
 use glam::DVec3;
 use serde_json::Value;
