@@ -302,7 +302,7 @@ impl Panel for FiveAxisPanel {
         self.sync_defaults(cx.scene);
         self.inputs_ui(ui, cx.scene);
         let r = ui
-            .add_enabled(self.source == Source::Scene, egui::Button::new("▶ Simulate this program"))
+            .add_enabled(self.source == Source::Scene, egui::Button::new("Simulate this program →"))
             .on_hover_text("Machine the scene's tool steps (its machine and tool-axis rule, 0.01 mm) in the Cutting simulation tab")
             .on_disabled_hover_text("The Cutting simulation runs the scene's steps: choose the scene's crease as the path");
         self.rects.push(("fa_simulate", r.rect));

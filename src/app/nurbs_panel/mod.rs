@@ -586,7 +586,7 @@ impl NurbsPanel {
             }
         };
         let r = ui
-            .add_enabled(text.is_some(), egui::Button::new("▶ Simulate this program"))
+            .add_enabled(text.is_some(), egui::Button::new("Simulate this program →"))
             .on_hover_text("Machine the program shown below in the Cutting simulation tab")
             .on_disabled_hover_text("No program yet");
         self.rects.push(("nurbs_simulate", r.rect));
