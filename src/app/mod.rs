@@ -466,6 +466,11 @@ fn panels() -> Vec<Box<dyn Panel>> {
     ]
 }
 
+/// The side panel's widest size (points). Without a cap an egui side panel lays its
+/// contents out in the whole window's width, so the tabs' wrapped rows of controls never
+/// wrap and the panel grows over the view; capped, they wrap. The user can drag it narrower.
+const SIDE_PANEL_MAX_WIDTH: f32 = 420.0;
+
 impl eframe::App for InterpolabApp {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         let ctx = ui.ctx().clone();
@@ -535,14 +540,19 @@ impl eframe::App for InterpolabApp {
         let mut incoming: Vec<Incoming> = other_files.drain(..).filter(|f| Some(f.kind) == kind).collect();
         let mut messages = Vec::new();
         let mut handoff = None;
-        egui::Panel::left("controls").resizable(true).default_size(320.0).min_size(240.0).show(ui, |ui| {
-            egui::ScrollArea::vertical().show(ui, |ui| {
-                let (panel, mut cx) = self.context(Vec::new());
-                panel.controls(ui, &mut cx);
-                messages.append(&mut cx.messages);
-                handoff = handoff.take().or(cx.handoff);
+        egui::Panel::left("controls")
+            .resizable(true)
+            .default_size(320.0)
+            .min_size(240.0)
+            .max_size(SIDE_PANEL_MAX_WIDTH)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| {
+                    let (panel, mut cx) = self.context(Vec::new());
+                    panel.controls(ui, &mut cx);
+                    messages.append(&mut cx.messages);
+                    handoff = handoff.take().or(cx.handoff);
+                });
             });
-        });
         let asked = std::mem::take(&mut self.editor.asked);
         self.act_on(asked, &ctx);
 
