@@ -17,8 +17,9 @@
 use glam::DVec3;
 
 use super::dialect::Dialect;
+use super::kind::ProgramKind;
 use super::path::{PathBlock, Toolpath};
-use super::write::{Program, ProgramError, ProgramKind, ProgramOptions, write_program};
+use super::write::{Program, ProgramError, ProgramOptions, write_program};
 use crate::geom::Curve3;
 use crate::numerics::format::fmt_fixed;
 use crate::nurbs_path::realtime::{FeedStats, RealtimeOptions, Update, interpolate_realtime};

@@ -18,7 +18,7 @@ use std::str::FromStr;
 
 use thiserror::Error;
 
-use super::write::ProgramKind;
+use super::kind::ProgramKind;
 use crate::geom::NurbsCurve;
 
 /// A controller's G-code dialect.

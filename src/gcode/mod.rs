@@ -14,7 +14,8 @@
 //! - *deviation*: the two-sided distance between a program's cutting moves and the design
 //!   path ([`replay::deviation`]).
 //!
-//! Modules: [`path`] the geometry of moves; [`arcs`] tolerance-driven arc fitting;
+//! Modules: [`path`] the geometry of moves; [`kind`] the three program kinds; [`dialect`] the
+//! controllers' words; [`arcs`] tolerance-driven arc fitting;
 //! [`mod@write`] the three program writers with the rounding check; [`parse`] the reader;
 //! [`replay`] deviation and summary; [`mod@compare`] the comparison table; [`design`] the design
 //! path of a scene. All are pure functions of (curve, tolerance, options), for the command
@@ -24,6 +25,7 @@ pub mod arcs;
 pub mod compare;
 pub mod design;
 pub mod dialect;
+pub mod kind;
 pub mod parse;
 pub mod path;
 pub mod replay;
@@ -35,7 +37,8 @@ pub use compare::{
 };
 pub use design::{DesignBuilder, DesignError, crease_design};
 pub use dialect::{Dialect, UnknownDialect};
+pub use kind::ProgramKind;
 pub use parse::{ParseError, ParsedProgram, Unsupported, parse_program, parse_program_in};
 pub use path::{ArcMove, LineMove, Motion, PathBlock, Plane, Segment, Toolpath};
 pub use replay::{Deviation, DeviationOptions, ProgramSummary, ReplayError, deviation, summarize};
-pub use write::{Program, ProgramError, ProgramKind, ProgramOptions, ProgrammedPoint, write_program};
+pub use write::{Program, ProgramError, ProgramOptions, ProgrammedPoint, write_program};

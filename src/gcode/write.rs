@@ -25,6 +25,7 @@ use thiserror::Error;
 
 use super::arcs::{ArcFitError, ArcFitOptions, Piece, fit_arcs};
 use super::dialect::Dialect;
+use super::kind::ProgramKind;
 use super::parse::{ParseError, ParsedProgram, parse_program_in};
 use super::path::{Plane, Segment};
 use super::replay::{Deviation, DeviationOptions, ReplayError, deviation};
@@ -34,42 +35,6 @@ use crate::numerics::format::fmt_fixed;
 use crate::numerics::measure::Translated;
 use crate::nurbs_path::{ApproxOptions, FitError, approximate_curve};
 use crate::tolerance;
-
-/// The three program kinds of seed 004's comparison.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum ProgramKind {
-    /// G01 straight lines (equal-error chords).
-    Lines,
-    /// G02/G03 arcs and G01 lines.
-    Arcs,
-    /// G06.2 NURBS.
-    Nurbs,
-}
-
-impl ProgramKind {
-    /// All three, in the comparison's order.
-    pub const ALL: [Self; 3] = [Self::Lines, Self::Arcs, Self::Nurbs];
-
-    /// Command-line name: `g01`, `arcs`, `nurbs`.
-    #[must_use]
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Self::Lines => "g01",
-            Self::Arcs => "arcs",
-            Self::Nurbs => "nurbs",
-        }
-    }
-
-    /// Table label: `G01`, `G02/G03`, `G06.2`.
-    #[must_use]
-    pub fn label(self) -> &'static str {
-        match self {
-            Self::Lines => "G01",
-            Self::Arcs => "G02/G03",
-            Self::Nurbs => "G06.2",
-        }
-    }
-}
 
 /// Which point of the tool the program carries.
 #[derive(Clone, Copy, Debug, PartialEq)]
