@@ -17,6 +17,9 @@ say() { printf '\n\033[1m== %s (%ss)\033[0m\n' "$*" "$(( $(date +%s) - start ))"
 say "format"
 cargo fmt --all --check
 
+say "module graph: no cycle between modules, nor between the files of a directory"
+python3 scripts/modgraph.py --files > /dev/null
+
 say "lints: native, with the app"
 cargo clippy --lib --bins --locked -- -D warnings
 # Tests and benches may unwrap and compare floats exactly: a failure there is the point.
