@@ -20,6 +20,10 @@ cargo fmt --all --check
 say "module graph: no cycle between modules, nor between the files of a directory"
 python3 scripts/modgraph.py --files > /dev/null
 
+say "API docs: every intra-doc link resolves (core, then with the app)"
+RUSTDOCFLAGS="-D warnings" cargo doc --no-default-features --lib --no-deps --locked
+RUSTDOCFLAGS="-D warnings" cargo doc --lib --no-deps --locked
+
 say "lints: native, with the app"
 cargo clippy --lib --bins --locked -- -D warnings
 # Tests and benches may unwrap and compare floats exactly: a failure there is the point.

@@ -3,7 +3,7 @@
 //! the renderer.
 //!
 //! Data flow, slider to frame: a control edits the *draft* scene → the draft is validated
-//! (core) → if valid it becomes the scene and the [`compute::Computation`] restarts → each
+//! (core) → if valid it becomes the scene and the `compute::Computation` restarts → each
 //! frame the computation advances within a time budget → views read its periods (rows,
 //! measured errors, estimates, exact crease points) → the 3D view uploads what changed to the
 //! GPU and the plots draw.

@@ -17,7 +17,7 @@ pub fn fmt_num(x: f64) -> String {
 /// round-trip digits come from the `zmij` crate (Schubfach), laid out exactly as Rust's
 /// `{}` (for 1e-5 ≤ |x| < 1e16) or `{:e}` (otherwise) would print them.
 /// When x lies exactly halfway between two shortest candidates, Rust prints the upper one
-/// and zmij the even one; [`is_exact_tie`] finds that case and takes the upper one too.
+/// and zmij the even one; `is_exact_tie` finds that case and takes the upper one too.
 pub fn push_num(out: &mut String, x: f64) {
     if !x.is_finite() {
         return;

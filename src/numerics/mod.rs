@@ -6,7 +6,7 @@
 //! Also part of the floor, kept at their old paths: [`crate::tolerance`] (every named small
 //! number) and [`crate::limits`] (caps on input sizes and loops), and [`crate::linalg`].
 //!
-//! - [`format`]: number text (shortest round-trip decimals, fixed decimals);
+//! - [`mod@format`]: number text (shortest round-trip decimals, fixed decimals);
 //! - [`measure`]: distances to segments and curves (foot points), arc-length tables;
 //! - [`knots`]: span breaks (distinct knots) of a clamped knot vector;
 //! - [`maximise`]: the largest value of a 1-D function on an interval;

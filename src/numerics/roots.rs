@@ -2,7 +2,7 @@
 //! whose segment error δ(s) equals the tolerance E.
 //!
 //! This is seed 002's procedure (Ji, Zhou, An & Zhang 2010, §3), written once for every
-//! error function of the crate — the chord deviation of a curve ([`super::chord_deviation`])
+//! error function of the crate — the chord deviation of a curve ([`crate::chords::chord_deviation`])
 //! and the five-axis total error δ = δt + δn (`crate::fiveaxis`):
 //!
 //! 1. **Bracket** (§3.1): `u_low = s_a`; trial `u_high = u_low + Δs`; while δ(u_high) < E,

@@ -12,8 +12,8 @@
 //! Modules: [`fit`] interpolation through points (parametrisations, end tangents, knot
 //! averaging, banded solve); [`approx`] approximation to a tolerance (least squares with knot
 //! refinement); [`realtime`] per-period parameter updates and their feed fluctuation and
-//! chord error; [`measure`] foot points, arc length, maxima; [`profile`] the parabola-like
-//! comparison profile.
+//! chord error; [`measure`] (from the numerics floor) foot points, arc length,
+//! maxima; the parabola-like comparison profile is [`crate::geom::Parabola`].
 //!
 //! Everything here is a pure function of (curve, tolerance, options), fast enough to rerun
 //! while a tolerance slider moves (a few ms for a few-hundred-mm path).

@@ -4,7 +4,7 @@
 //! # Layout
 //!
 //! Most rays of a machined block hold one interval (the material below the cut surface),
-//! so each ray stores one interval inline ([`Ray`]: two f64 and a tag, 24 bytes). Only a
+//! so each ray stores one interval inline (`Ray`: two f64 and a tag, 24 bytes). Only a
 //! ray split into several intervals (an undercut, a side cut of a tilted tool) moves its
 //! list into a spill slot (`Vec<Interval>`) of the stock; when it shrinks back to one
 //! interval or none the slot is freed for reuse. A 1024 × 1024 block of single-interval

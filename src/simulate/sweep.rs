@@ -17,7 +17,7 @@
 //! Each body is convex, so a ray crosses it in one interval, found in closed form (sphere,
 //! cylinder: a quadratic) or, for the fillet's corner, by minimising the convex distance
 //! along the ray to the centre disk and bisecting for its two roots to
-//! [`ROOT_TOL_MM`](super::ROOT_TOL_MM).
+//! [`super::ROOT_TOL_MM`].
 
 use glam::DVec3;
 
