@@ -12,9 +12,9 @@
 //!   the page instead, as the app did before: slower to the eye, same result.
 //!
 //! The work that stays on the UI thread (the crease periods, the 5-axis plan, the fillet
-//! paths, the simulation moves) is already cut into slices of a few ms under a per-frame
-//! time budget; what a single call could not cut (writing a G-code program: 0.1–6 s) is a
-//! job.
+//! paths, the simulation moves) is already cut into slices of a few ms under the one
+//! per-frame time budget ([`super::budget::FRAME_BUDGET`]); what a single call could not cut
+//! (writing a G-code program: 0.1–6 s) is a job.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 

@@ -8,6 +8,7 @@
 //! measured errors, estimates, exact crease points) → the 3D view uploads what changed to the
 //! GPU and the plots draw.
 
+pub mod budget;
 mod chords_panel;
 mod compute;
 mod crease_panel;
@@ -41,11 +42,6 @@ use scene_controls::{Asked, SceneEditor, preset_of, preset_title};
 
 /// Storage key of the last scene (browser local storage / native app data).
 const STORAGE_SCENE: &str = "interpolab.scene";
-/// Wall time per frame given to the computation while a path is being computed: half the
-/// last frame's duration, within these bounds (a slow renderer gets more compute per frame
-/// instead of stretching the computation over many slow frames).
-const COMPUTE_BUDGET_MIN: Duration = Duration::from_millis(12);
-const COMPUTE_BUDGET_MAX: Duration = Duration::from_millis(60);
 
 /// Severity of a message in the banner.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -509,8 +505,7 @@ impl eframe::App for InterpolabApp {
         self.platform.ui(&ctx);
 
         if self.compute.running() {
-            let last_frame = Duration::from_secs_f32(ctx.input(|i| i.unstable_dt).clamp(0.0, 1.0));
-            self.compute.advance((last_frame / 2).clamp(COMPUTE_BUDGET_MIN, COMPUTE_BUDGET_MAX));
+            self.compute.advance(budget::FRAME_BUDGET);
             ctx.request_repaint();
         }
         let n_periods = self.compute.periods.len();

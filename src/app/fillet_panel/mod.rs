@@ -12,8 +12,8 @@ pub mod work;
 
 use eframe::egui;
 use egui_plot::{Corner, Legend, Line, Plot, PlotPoints};
-use web_time::Duration;
 
+use super::budget::FRAME_BUDGET;
 use super::panel::{Panel, PanelContext};
 use crate::fillet::{CcNode, effective_curvature};
 use crate::scene::finish::FINISH_PRESETS;
@@ -21,9 +21,6 @@ use view::FilletView;
 pub use work::{CORNER_RANGE_MM, RADIUS_RANGE_MM, SCALLOP_RANGE_UM, TOLERANCE_RANGE_MM};
 use work::{Job, Settings, StrategyChoice};
 
-/// Core work per frame (one path is the smallest step; a step of a large surface may
-/// overshoot by one path).
-const BUDGET: Duration = Duration::from_millis(25);
 /// Points of a section curve in the inset.
 const SECTION_POINTS: usize = 121;
 
@@ -339,7 +336,8 @@ impl Panel for FilletPanel {
     fn ui(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
         self.sync();
         if let Some(j) = &mut self.job {
-            j.advance(BUDGET);
+            // One path is the smallest step: a large surface may overshoot by one path.
+            j.advance(FRAME_BUDGET);
             if j.computing_paths() || j.computing_table() {
                 ui.ctx().request_repaint();
             }

@@ -21,6 +21,7 @@ use std::rc::Rc;
 use eframe::egui;
 use web_time::Duration;
 
+use super::budget::FRAME_BUDGET;
 use super::panel::{CreaseProblem, Handoff, Panel, PanelContext, SIMULATION_TITLE, SceneCrease};
 use super::ranges;
 use super::widgets::{rects_json, tolerance_option};
@@ -30,11 +31,6 @@ use crate::fiveaxis::{Machine, MachineKind, ToolAxisRule};
 use crate::scene::{MachineSpec, Scene, ToolAxisSpec, build_machine, build_tool_axis};
 use view::{Display, FiveAxisView};
 use work::{Design, Plan, Source};
-
-/// Wall time per frame given to the five-axis computation: half the last frame's duration
-/// within these bounds (on a slow renderer more work per frame instead of many slow frames).
-const BUDGET_MIN: Duration = Duration::from_millis(10);
-const BUDGET_MAX: Duration = Duration::from_millis(60);
 
 /// How the tool axis is chosen (the editable form of [`ToolAxisRule`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -316,8 +312,7 @@ impl Panel for FiveAxisPanel {
     fn ui(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
         self.sync_defaults(cx.scene);
         self.surface_names = [cx.scene.surfaces[0].type_name(), cx.scene.surfaces[1].type_name()];
-        let last_frame = Duration::from_secs_f32(ui.ctx().input(|i| i.unstable_dt).clamp(0.0, 1.0));
-        if self.update(cx, (last_frame / 2).clamp(BUDGET_MIN, BUDGET_MAX)) {
+        if self.update(cx, FRAME_BUDGET) {
             ui.ctx().request_repaint();
         }
         if self.source == Source::Scene && self.waiting.is_some() {

@@ -419,14 +419,14 @@ impl Panel for NurbsPanel {
                 }
                 self.work.want(&w);
                 let t0 = web_time::Instant::now();
-                // Steps until ~1/3 of a 60 Hz frame is used; one program per step at most.
+                // Steps until the frame budget is used; one program per step at most.
                 loop {
                     let t = web_time::Instant::now();
                     if !self.work.step(&w) {
                         break;
                     }
                     self.slowest_step_ms = self.slowest_step_ms.max(t.elapsed().as_secs_f64() * 1000.0);
-                    if t0.elapsed() > web_time::Duration::from_millis(6) {
+                    if t0.elapsed() > crate::app::budget::FRAME_BUDGET {
                         break;
                     }
                 }

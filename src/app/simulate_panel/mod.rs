@@ -13,16 +13,12 @@ mod view;
 pub mod work;
 
 use eframe::egui;
-use web_time::Duration;
 
+use super::budget::FRAME_BUDGET;
 use super::panel::{Panel, PanelContext, SIMULATION_TITLE};
 use view::SimView;
 pub use work::PITCH_RANGE_MM;
 use work::{AUTO_GRID_SIDE, CutterChoice, DesignChoice, Inputs, Job, MAX_APP_RAYS, SourceKind};
-
-/// Simulation work per frame (the core's moves are bounded, so a frame overshoots by at
-/// most one move or one grid row).
-const BUDGET: Duration = Duration::from_millis(25);
 
 /// The user's choices.
 #[derive(Clone, Debug, PartialEq)]
@@ -462,7 +458,8 @@ impl Panel for SimulatePanel {
             job.set_target(self.target);
             if job.computing() {
                 let loaded = self.own_program.as_ref().or(cx.program.as_ref());
-                job.advance(BUDGET, cx.scene, loaded);
+                // The core's moves are bounded: a frame overshoots by at most one move or one grid row.
+                job.advance(FRAME_BUDGET, cx.scene, loaded);
                 ui.ctx().request_repaint();
             }
         }
