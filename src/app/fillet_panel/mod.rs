@@ -124,14 +124,17 @@ impl FilletPanel {
             if preset != s.preset {
                 *s = Settings::of_preset(preset);
             }
-            ui.separator();
+        });
+        // In the side panel: a slider a line (egui's wrapped rows do not wrap a slider).
+        ui.horizontal_wrapped(|ui| {
             ui.label("Orientation:");
             egui::ComboBox::from_id_salt("fillet_strategy").selected_text(s.strategy.label()).show_ui(ui, |ui| {
                 for c in StrategyChoice::ALL {
                     ui.selectable_value(&mut s.strategy, c, c.label());
                 }
             });
-            ui.separator();
+        });
+        ui.vertical(|ui| {
             ui.add(
                 egui::Slider::new(&mut s.radius_mm, RADIUS_RANGE_MM.0..=RADIUS_RANGE_MM.1)
                     .text("R (mm)")
@@ -141,8 +144,6 @@ impl FilletPanel {
             let r_max = s.radius_mm.min(CORNER_RANGE_MM.1);
             ui.add(egui::Slider::new(&mut s.corner_mm, CORNER_RANGE_MM.0..=r_max).text("r (mm)"))
                 .on_hover_text("Corner radius: r = R is a ball, r = 0 a flat end mill");
-        });
-        ui.horizontal_wrapped(|ui| {
             let r = ui.add(
                 egui::Slider::new(&mut s.scallop_um, SCALLOP_RANGE_UM.0..=SCALLOP_RANGE_UM.1)
                     .text("scallop h (µm)")

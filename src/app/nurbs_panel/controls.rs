@@ -26,7 +26,10 @@ impl NurbsPanel {
                 "Seed 004's parabola-like profile: y = x²/40 for x from −60 to 60 mm, z = 0 (1500 mm/min, 4 ms)",
             );
             self.rects.push(("source_parabola", r.rect));
-            ui.separator();
+        });
+        // In the side panel: a slider or a combo box a line (egui's wrapped rows do not wrap
+        // a slider), the choices between them in rows.
+        ui.scope(|ui| {
             ui.spacing_mut().slider_width = 140.0;
             let r = ui
                 .add(
@@ -73,7 +76,8 @@ impl NurbsPanel {
                 .selectable_value(&mut s.point, Point::Tip, "ball tip")
                 .on_hover_text(format!("Ball centre − R·z, R = {} mm (the scene's tool)", cx.scene.tool.radius));
             self.rects.push(("point_tip", r.rect));
-            ui.separator();
+        });
+        ui.horizontal(|ui| {
             let default_feed = if s.source == Source::Parabola { 1500.0 } else { cx.scene.motion.feed };
             let mut feed = s.feed_mm_per_min.unwrap_or(default_feed);
             ui.spacing_mut().slider_width = 140.0;
