@@ -13,11 +13,13 @@ use std::time::{Duration, Instant};
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use glam::DVec3;
-use interpolab::fiveaxis::{Joints, Machine};
 use interpolab::geom::Cutter;
-use interpolab::simulate::{DexelStock, MoveKind, Program, SimMove, Simulation};
+use interpolab::simulate::{DexelStock, Program, Simulation};
+use sim_programs::{SIDE_MM, five_axis, raster_points, three_axis, tilt_rad};
 
-const SIDE_MM: f64 = 51.2;
+/// The programs, shared with `tests/bench_simulate.rs` (which runs them natively and in wasm).
+#[path = "../tests/common/sim_programs.rs"]
+mod sim_programs;
 const PITCH_MM: f64 = 0.1;
 const BALL_MM: f64 = 3.0;
 
@@ -33,64 +35,6 @@ fn ball() -> Cutter {
         Ok(c) => c,
         Err(e) => panic!("cutter: {e}"),
     }
-}
-
-/// Tip points of a zigzag raster at z = 17: rows 1 mm apart, 0.5 mm moves.
-fn raster_points(n_moves: usize) -> Vec<DVec3> {
-    let mut pts = vec![DVec3::new(0.0, 0.0, 17.0)];
-    let mut row = 0;
-    while pts.len() <= n_moves {
-        let y = row as f64 % SIDE_MM;
-        for k in 1..=100 {
-            let x = if row % 2 == 0 { 0.5 * k as f64 } else { SIDE_MM - 0.5 * k as f64 };
-            pts.push(DVec3::new(x.clamp(0.0, SIDE_MM), y, 17.0));
-        }
-        row += 1;
-        pts.push(DVec3::new(pts[pts.len() - 1].x, (row as f64) % SIDE_MM, 17.0));
-    }
-    pts.truncate(n_moves + 1);
-    pts
-}
-
-fn three_axis(n: usize) -> Program {
-    let moves = raster_points(n)
-        .windows(2)
-        .map(|w| SimMove { kind: MoveKind::Line { from: w[0], to: w[1] }, line: 0, rapid: false })
-        .collect();
-    Program { moves, chord_error_mm: 0.0 }
-}
-
-fn machine() -> Machine {
-    Machine { limits_rad: [None, None], ..Machine::default() }
-}
-
-/// A tilt of A for move k: ±15° over 40 moves.
-fn tilt_rad(k: usize) -> f64 {
-    15f64.to_radians() * (std::f64::consts::TAU * k as f64 / 40.0).sin()
-}
-
-/// Unit tool axis of move k: tilted by [`tilt_rad`] about X.
-fn axis(k: usize) -> DVec3 {
-    let (sn, cs) = tilt_rad(k).sin_cos();
-    DVec3::new(0.0, -sn, cs)
-}
-
-fn five_axis(n: usize) -> Program {
-    let m = machine();
-    // The raster's tips with the axis swinging about X, through the machine's inverse
-    // kinematics (nearest branch to the previous block).
-    let mut joints: Vec<Joints> = Vec::with_capacity(n + 1);
-    for (k, p) in raster_points(n).iter().enumerate() {
-        match m.joints_from_pose(*p, axis(k), joints.last()) {
-            Ok(j) => joints.push(j),
-            Err(e) => panic!("inverse kinematics at block {k}: {e}"),
-        }
-    }
-    let moves = joints
-        .windows(2)
-        .map(|w| SimMove { kind: MoveKind::Joints { machine: m, from: w[0], to: w[1] }, line: 0, rapid: false })
-        .collect();
-    Program { moves, chord_error_mm: 0.0 }
 }
 
 fn simulate(program: &Program) -> Simulation {

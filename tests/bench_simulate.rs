@@ -12,11 +12,14 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-use glam::DVec3;
-use interpolab::fiveaxis::{Joints, Machine};
 use interpolab::geom::Cutter;
-use interpolab::simulate::{DexelStock, MoveKind, Program, SimMove, Simulation};
+use interpolab::simulate::{DexelStock, Simulation};
+use sim_programs::{SIDE_MM, five_axis, three_axis};
 use web_time_shim::Instant;
+
+/// The programs of `benches/simulate.rs`, from the one shared source.
+#[path = "common/sim_programs.rs"]
+mod sim_programs;
 
 /// `std::time::Instant` natively; `performance.now()` under Node (the shared clock of the
 /// benchmarks that run both ways).
@@ -28,50 +31,6 @@ fn print(line: &str) {
     wasm_bindgen_test::console_log!("{line}");
     #[cfg(not(target_arch = "wasm32"))]
     println!("{line}");
-}
-
-const SIDE_MM: f64 = 51.2;
-
-/// The zigzag raster of `benches/simulate.rs`: tips at z = 17, rows 1 mm apart, 0.5 mm moves.
-fn raster_points(n_moves: usize) -> Vec<DVec3> {
-    let mut pts = vec![DVec3::new(0.0, 0.0, 17.0)];
-    let mut row = 0;
-    while pts.len() <= n_moves {
-        let y = f64::from(row) % SIDE_MM;
-        for k in 1..=100 {
-            let x = if row % 2 == 0 { 0.5 * f64::from(k) } else { SIDE_MM - 0.5 * f64::from(k) };
-            pts.push(DVec3::new(x.clamp(0.0, SIDE_MM), y, 17.0));
-        }
-        row += 1;
-        pts.push(DVec3::new(pts[pts.len() - 1].x, f64::from(row) % SIDE_MM, 17.0));
-    }
-    pts.truncate(n_moves + 1);
-    pts
-}
-
-fn three_axis(n: usize) -> Program {
-    let moves = raster_points(n)
-        .windows(2)
-        .map(|w| SimMove { kind: MoveKind::Line { from: w[0], to: w[1] }, line: 0, rapid: false })
-        .collect();
-    Program { moves, chord_error_mm: 0.0 }
-}
-
-/// The raster's tips with the axis swinging ±15° about X over 40 moves, joints by the table
-/// A/C machine's inverse kinematics.
-fn five_axis(n: usize) -> Program {
-    let m = Machine { limits_rad: [None, None], ..Machine::default() };
-    let mut joints: Vec<Joints> = Vec::with_capacity(n + 1);
-    for (k, p) in raster_points(n).iter().enumerate() {
-        let tilt = 15f64.to_radians() * (std::f64::consts::TAU * k as f64 / 40.0).sin();
-        let axis = DVec3::new(0.0, -tilt.sin(), tilt.cos());
-        joints.push(m.joints_from_pose(*p, axis, joints.last()).expect("inverse kinematics"));
-    }
-    let moves = joints
-        .windows(2)
-        .map(|w| SimMove { kind: MoveKind::Joints { machine: m, from: w[0], to: w[1] }, line: 0, rapid: false })
-        .collect();
-    Program { moves, chord_error_mm: 0.0 }
 }
 
 #[test]
