@@ -209,11 +209,12 @@ impl Ord for Cell {
 fn bottom_clash(surface: &Surface, body: &CutterBody, k2: f64, tol_mm: f64) -> Option<Clash> {
     let dom = surface.domain();
     let make = |centre: DVec2, half: DVec2, depth: u32| {
-        let d = surface.derivatives_at(centre);
-        let (g, grad) = body.signed_distance(d.point);
-        let slope = DVec2::new(grad.dot(d.du).abs() * half.x, grad.dot(d.dv).abs() * half.y);
+        // Only r, r_u and r_v enter the bound.
+        let (point, du, dv) = surface.tangents_at(centre);
+        let (g, grad) = body.signed_distance(point);
+        let slope = DVec2::new(grad.dot(du).abs() * half.x, grad.dot(dv).abs() * half.y);
         let bound = g - slope.x - slope.y - 0.5 * k2 * half.length_squared();
-        (Cell { centre, half, depth, g, slope, bound }, d.point)
+        (Cell { centre, half, depth, g, slope, bound }, point)
     };
     let n = FIRST_CELLS;
     let half = DVec2::new(0.5 * dom.u.width() / n as f64, 0.5 * dom.v.width() / n as f64);
