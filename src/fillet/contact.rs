@@ -245,8 +245,8 @@ pub fn gouge_margin(cutter: &Cutter, frame: &ContactFrame, pose: &Pose) -> f64 {
     cutter_form(cutter, pose).minus(&frame.surface_form).min_eigen()
 }
 
-/// Most safeguarded Newton steps of [`projected_height`] (each at least halves the bracket
-/// when Newton's step leaves it, so 64 reach the bits of f64; it ends in 4–8 on the examples).
+/// Most safeguarded Newton steps of [`projected_height`] (a step that would leave the
+/// bracket halves it instead, so 64 reach the bits of f64).
 const SLOPE_ITERATIONS: usize = 64;
 /// The bracket of slopes s of [`projected_height`] (|s| ≤ 4: the section's tangent up to
 /// 76° from the tangent plane).

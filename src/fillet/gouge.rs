@@ -113,7 +113,8 @@ const FIRST_CELLS: usize = 4;
 /// Most cells [`bottom_clash`] evaluates; beyond it the cell with the lowest bound is
 /// reported as a clash (a refusal errs on the safe side).
 const MAX_CELLS: usize = 40_000;
-/// Deepest subdivision of a first-grid cell: halvings of one side, 16 of each.
+/// Deepest subdivision of a first-grid cell: halvings of one side or the other (32, as many
+/// as 16 levels of quarters).
 const MAX_DEPTH: u32 = 32;
 
 /// The cutter's convex solid near the part: the corner ball (radius r) swept over the solid
