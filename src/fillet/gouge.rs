@@ -75,7 +75,16 @@ pub struct PartSamples {
     /// torus have constant or trigonometric second derivatives whose largest values lie on
     /// the grid's rows; for a NURBS the allowance covers the variation between grid points.
     pub second_bound: f64,
+    /// The grid's side n (`points` holds n × n, row i at `i·n`).
+    side: usize,
+    /// Blocks of up to [`BLOCK`] × [`BLOCK`] grid points: first row, first column, and a
+    /// sphere (centre, radius mm) holding all their points, so the global check can pass a
+    /// whole block over at once.
+    blocks: Vec<(usize, usize, DVec3, f64)>,
 }
+
+/// Grid points per side of a block of [`PartSamples`].
+const BLOCK: usize = 8;
 
 /// Factor on the grid's largest second derivative for [`PartSamples::second_bound`].
 pub const SECOND_DERIVATIVE_ALLOWANCE: f64 = 1.25;
@@ -104,7 +113,18 @@ impl PartSamples {
                 }
             }
         }
-        Self { points, k_concave_max: kmax, second_bound: SECOND_DERIVATIVE_ALLOWANCE * second }
+        let mut blocks = Vec::new();
+        for i0 in (0..n).step_by(BLOCK) {
+            for j0 in (0..n).step_by(BLOCK) {
+                let block =
+                    || (i0..(i0 + BLOCK).min(n)).flat_map(move |i| (j0..(j0 + BLOCK).min(n)).map(move |j| i * n + j));
+                let count = block().count() as f64;
+                let centre = block().map(|k| points[k]).sum::<DVec3>() / count;
+                let radius = block().map(|k| (points[k] - centre).length()).fold(0.0, f64::max);
+                blocks.push((i0, j0, centre, radius));
+            }
+        }
+        Self { points, k_concave_max: kmax, second_bound: SECOND_DERIVATIVE_ALLOWANCE * second, side: n, blocks }
     }
 }
 
@@ -290,14 +310,19 @@ pub fn check(
     {
         note(c);
     }
-    // Global: the part's points against the solid of revolution.
-    for &p in &part.points {
+    // Global: the part's points against the solid of revolution. A block whose sphere
+    // (centre c, radius ρb) lies wholly at or below the corner's height, wholly above the
+    // holder, or wholly at least the tool's widest radius from the axis holds no colliding
+    // point (z and the distance to the axis are 1-Lipschitz in space) and is passed over.
+    let widest = cutter.radius_mm.max(cutter.shank_radius_mm).max(cutter.holder_radius_mm);
+    let length = cutter.gauge_length_mm + cutter.holder_length_mm;
+    let mut test = |p: DVec3| {
         let w = p - tip;
         let z = w.dot(axis);
         if z <= cutter.corner_radius_mm {
-            continue;
+            return;
         }
-        let Some(rad) = cutter.radius_at_height_mm(z) else { continue };
+        let Some(rad) = cutter.radius_at_height_mm(z) else { return };
         let rho = (w - z * axis).length();
         if rho < rad - tol_mm {
             let part = if z <= cutter.flute_length_mm {
@@ -308,6 +333,26 @@ pub fn check(
                 ClashPart::Holder
             };
             note(Clash { part, depth_mm: rad - rho, at: p });
+        }
+    };
+    let n = part.side;
+    if n * n == part.points.len() {
+        for &(i0, j0, c, rb) in &part.blocks {
+            let w = c - tip;
+            let z = w.dot(axis);
+            let rho = (w - z * axis).length();
+            if z + rb <= cutter.corner_radius_mm || z - rb > length || rho - rb >= widest - tol_mm {
+                continue;
+            }
+            for i in i0..(i0 + BLOCK).min(n) {
+                for &p in &part.points[i * n + j0..i * n + (j0 + BLOCK).min(n)] {
+                    test(p);
+                }
+            }
+        }
+    } else {
+        for &p in &part.points {
+            test(p);
         }
     }
     worst
