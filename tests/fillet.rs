@@ -498,3 +498,51 @@ fn the_mould_leaves_h_by_brute_force() {
     assert!(n >= 6, "{id}: only {n} sections measured");
     assert!(lo >= 0.95 * h && hi <= 1.05 * h, "{id}: scallop {lo}..{hi} outside h ± 5 %");
 }
+
+/// The global check passes blocks of the part grid over by a bounding sphere: it must report
+/// exactly the deepest collision a point-by-point loop over the same samples finds. On a
+/// plane (no bottom check: the part is not concave) the flank, shank and holder meet the
+/// part once the axis leans far enough.
+#[test]
+fn the_global_check_finds_what_every_sample_finds() {
+    let plane = Plane::new(DVec3::ZERO, DVec3::Z, DVec3::X, [-60.0, 60.0], [-40.0, 40.0]);
+    let surface = Surface::Plane(plane);
+    let part = PartSamples::new(&surface, 48);
+    let cutter = Cutter::fillet(5.0, 1.0).unwrap();
+    let tol = 0.0005;
+    let (mut hits, mut clear) = (0, 0);
+    for (iu, iv) in [(0.5, 0.5), (0.1, 0.2), (0.9, 0.7), (0.3, 0.95)] {
+        let dom = surface.domain();
+        let uv = DVec2::new(dom.u.min + iu * dom.u.width(), dom.v.min + iv * dom.v.width());
+        let frame = ContactFrame::new(&surface, uv, DVec3::X).unwrap();
+        for incl_deg in [3.0, 20.0, 45.0, 60.0, 75.0, 85.0] {
+            for psi_deg in [0.0, 45.0, 90.0, 180.0, 250.0] {
+                let pose = Pose { inclination_rad: f64::to_radians(incl_deg), azimuth_rad: f64::to_radians(psi_deg) };
+                let (tip, axis) = place(&cutter, &frame, &pose);
+                let mut want: Option<(f64, DVec3)> = None;
+                for &p in &part.points {
+                    let w = p - tip;
+                    let z = w.dot(axis);
+                    if z <= cutter.corner_radius_mm {
+                        continue;
+                    }
+                    let Some(rad) = cutter.radius_at_height_mm(z) else { continue };
+                    let rho = (w - z * axis).length();
+                    if rho < rad - tol && want.is_none_or(|(d, _)| rad - rho > d) {
+                        want = Some((rad - rho, p));
+                    }
+                }
+                let got = gouge::check(&cutter, &surface, &part, &frame, &pose, tol);
+                match (got, want) {
+                    (None, None) => clear += 1,
+                    (Some(c), Some((d, p))) => {
+                        assert!(c.depth_mm == d && c.at == p, "α {incl_deg}° ψ {psi_deg}°: {c:?} against {d} at {p}");
+                        hits += 1;
+                    }
+                    _ => panic!("α {incl_deg}° ψ {psi_deg}° at {uv}: {got:?} against {want:?}"),
+                }
+            }
+        }
+    }
+    assert!(hits >= 10 && clear >= 10, "{hits} collisions, {clear} clear: the poses test too little");
+}

@@ -245,16 +245,25 @@ pub fn gouge_margin(cutter: &Cutter, frame: &ContactFrame, pose: &Pose) -> f64 {
     cutter_form(cutter, pose).minus(&frame.surface_form).min_eigen()
 }
 
-/// Golden-section iterations of [`projected_height`]: the bracket [−4, 4] of slopes shrinks
-/// by 0.618 each, to 1e-12 after 60.
-const SLOPE_ITERATIONS: usize = 60;
+/// Most safeguarded Newton steps of [`projected_height`] (a step that would leave the
+/// bracket halves it instead, so 64 reach the bits of f64).
+const SLOPE_ITERATIONS: usize = 64;
+/// The bracket of slopes s of [`projected_height`] (|s| ≤ 4: the section's tangent up to
+/// 76° from the tangent plane).
+const SLOPE_BRACKET: f64 = 4.0;
 
 /// Height (mm, along n) above the tangent plane at q of the lower boundary of the cutter
 /// solid projected along the feed f onto the cross plane, at the cross offset y (mm): the
 /// section of the cutter swept along a straight line. Exact for the solid
 /// `disc(R0) ⊕ ball(r)` by the support function: the lower boundary is
-/// `z(y) = max_s [s·y − h(s·c − n)]` with `h(U) = U·C0 + R0·|U − (U·a)a| + r·|U|`, C0 the
-/// corner circle's centre relative to q (concave in s; golden section).
+/// `z(y) = max_s [s·y − h(s)]` with `h(s) = H(s·c − n)`, `H(U) = U·C0 + R0·|U − (U·a)a| + r·|U|`,
+/// C0 the corner circle's centre relative to q. h is convex (a support function along a
+/// line), so the maximiser solves `h'(s) = y`, h' increasing: safeguarded Newton on
+/// s ∈ [−4, 4] (an end of the bracket when h' − y keeps its sign there), with
+///
+/// `h'(s) = C0·c + R0·q'/(2√q) + r·s/√(s²+1)`, `q(s) = s² + 1 − (s·a_c − a_n)²`,
+/// `h''(s) = R0·(q''/2 − (q'/(2√q))²)/√q + r/(s²+1)^{3/2}`, `q' = 2s − 2(s·a_c − a_n)·a_c`,
+/// `q'' = 2 − 2a_c²`.
 #[must_use]
 pub fn projected_height(cutter: &Cutter, frame: &ContactFrame, tip: DVec3, axis: DVec3, y: f64) -> f64 {
     let r = cutter.corner_radius_mm;
@@ -262,34 +271,55 @@ pub fn projected_height(cutter: &Cutter, frame: &ContactFrame, tip: DVec3, axis:
     let c0 = tip + r * axis - frame.point;
     let (c0c, c0n) = (c0.dot(frame.cross), c0.dot(frame.normal));
     let (ac, an) = (axis.dot(frame.cross), axis.dot(frame.normal));
-    let g = |s: f64| {
+    // G(s) = s·y − h(s) (to be maximised), G' = y − h', G'' = −h''.
+    let value = |s: f64| {
         // U = s·c − n; |U − (U·a)a|² = |U|² − (U·a)².
         let ua = s * ac - an;
         let uu = s * s + 1.0;
-        let h = s * c0c - c0n + r0 * (uu - ua * ua).max(0.0).sqrt() + r * uu.sqrt();
-        s * y - h
+        s * y - (s * c0c - c0n + r0 * (uu - ua * ua).max(0.0).sqrt() + r * uu.sqrt())
     };
-    let (mut lo, mut hi) = (-4.0f64, 4.0f64);
-    let phi = 0.5 * (5f64.sqrt() - 1.0);
-    let mut x1 = hi - phi * (hi - lo);
-    let mut x2 = lo + phi * (hi - lo);
-    let (mut g1, mut g2) = (g(x1), g(x2));
+    let slope = |s: f64| {
+        let ua = s * ac - an;
+        let uu = s * s + 1.0;
+        let q = (uu - ua * ua).max(0.0);
+        let dq = 2.0 * s - 2.0 * ua * ac;
+        let (mut d1, mut d2) = (c0c + r * s / uu.sqrt(), r / (uu * uu.sqrt()));
+        if q > 0.0 {
+            let sq = q.sqrt();
+            let f1 = 0.5 * dq / sq;
+            d1 += r0 * f1;
+            d2 += r0 * ((1.0 - ac * ac) - f1 * f1) / sq;
+        } else if r0 > 0.0 {
+            // U along the axis: h has a kink here; bisection takes over.
+            d2 = f64::INFINITY;
+        }
+        (y - d1, d2)
+    };
+    let (mut lo, mut hi) = (-SLOPE_BRACKET, SLOPE_BRACKET);
+    if slope(lo).0 <= 0.0 {
+        return value(lo);
+    }
+    if slope(hi).0 >= 0.0 {
+        return value(hi);
+    }
+    let mut s = 0.0f64;
     for _ in 0..SLOPE_ITERATIONS {
-        if g1 < g2 {
-            lo = x1;
-            x1 = x2;
-            g1 = g2;
-            x2 = lo + phi * (hi - lo);
-            g2 = g(x2);
+        let (g1, h2) = slope(s);
+        if g1 > 0.0 {
+            lo = s;
         } else {
-            hi = x2;
-            x2 = x1;
-            g2 = g1;
-            x1 = hi - phi * (hi - lo);
-            g1 = g(x1);
+            hi = s;
+        }
+        // Newton on G' = 0: s + G'/h'' (h'' > 0); bisection when it leaves the bracket.
+        let newton = s + g1 / h2;
+        let next = if newton > lo && newton < hi && h2.is_finite() { newton } else { 0.5 * (lo + hi) };
+        let done = (next - s).abs() <= f64::EPSILON * (1.0 + s.abs()) || hi - lo <= f64::EPSILON * (1.0 + s.abs());
+        s = next;
+        if done {
+            break;
         }
     }
-    g1.max(g2)
+    value(s)
 }
 
 /// Height (mm, along n) of the surface's section by the cross plane (through q, ⊥ f) at the
@@ -297,10 +327,14 @@ pub fn projected_height(cutter: &Cutter, frame: &ContactFrame, tip: DVec3, axis:
 /// or does not converge in 12 steps.
 #[must_use]
 pub fn section_height(surface: &Surface, frame: &ContactFrame, y: f64) -> Option<f64> {
+    let geo = LocalGeometry::try_new(surface.derivatives_at(frame.uv))?;
+    section_height_from(surface, frame, geo.tangent_coords(frame.cross), y)
+}
+
+/// [`section_height`] with the parameter direction of c at q (`cross_uv`, per mm) given.
+fn section_height_from(surface: &Surface, frame: &ContactFrame, cross_uv: DVec2, y: f64) -> Option<f64> {
     let domain = surface.domain();
-    let d0 = surface.derivatives_at(frame.uv);
-    let geo = LocalGeometry::try_new(d0)?;
-    let mut uv = frame.uv + geo.tangent_coords(frame.cross) * y;
+    let mut uv = frame.uv + cross_uv * y;
     for _ in 0..12 {
         if !domain.contains(uv) {
             return None;
@@ -323,6 +357,50 @@ pub fn section_height(surface: &Surface, frame: &ContactFrame, y: f64) -> Option
     None
 }
 
+/// Most steps of [`increasing_root`].
+const ROOT_ITERATIONS: usize = 100;
+
+/// A bracket `(lo, hi)` narrower than `tol` around a sign change of `f` on [lo, hi]
+/// (`f(lo) < 0 ≤ f(hi)` given as `f_lo`, `f_hi`; f continuous): the Illinois variant of
+/// regula falsi, which keeps the bracket of bisection (every step lands inside it) and
+/// converges superlinearly where f is smooth; a step that would land within tol/4 of an
+/// end is moved to tol/4 from it, so the bracket closes from both sides. At most 100 steps.
+fn increasing_root(
+    mut f: impl FnMut(f64) -> f64,
+    (mut lo, mut hi): (f64, f64),
+    (mut f_lo, mut f_hi): (f64, f64),
+    tol: f64,
+) -> (f64, f64) {
+    // Which end was kept in the last step (−1 lo, +1 hi, 0 none): kept twice, its value is
+    // halved (Illinois).
+    let mut kept = 0i8;
+    for _ in 0..ROOT_ITERATIONS {
+        if hi - lo < tol {
+            break;
+        }
+        let secant = if f_hi > f_lo { lo - f_lo * (hi - lo) / (f_hi - f_lo) } else { 0.5 * (lo + hi) };
+        let guard = 0.25 * tol;
+        let x = if secant.is_finite() { secant.clamp(lo + guard, hi - guard) } else { 0.5 * (lo + hi) };
+        let fx = f(x);
+        if fx < 0.0 {
+            lo = x;
+            f_lo = fx;
+            if kept == 1 {
+                f_hi *= 0.5;
+            }
+            kept = 1;
+        } else {
+            hi = x;
+            f_hi = fx;
+            if kept == -1 {
+                f_lo *= 0.5;
+            }
+            kept = -1;
+        }
+    }
+    (lo, hi)
+}
+
 /// The swept cutter's height above the design surface at the cross offset y (mm): the
 /// exact straight-line projection of the cutter ([`projected_height`]) with its
 /// second-order term replaced by the moving cutter's (`½·Δκ·y²`, module docs), minus the
@@ -339,6 +417,8 @@ pub struct CrossProfile<'a> {
     k_proj: f64,
     /// Δκ of the moving cutter (1/mm).
     k_move: f64,
+    /// The parameter direction of c at q (per mm): the start of the surface section.
+    cross_uv: Option<DVec2>,
 }
 
 impl<'a> CrossProfile<'a> {
@@ -355,6 +435,7 @@ impl<'a> CrossProfile<'a> {
             axis,
             k_proj: qc.silhouette(),
             k_move: qc.minus(&frame.surface_form).silhouette(),
+            cross_uv: LocalGeometry::try_new(surface.derivatives_at(frame.uv)).map(|g| g.tangent_coords(frame.cross)),
         }
     }
 
@@ -363,32 +444,30 @@ impl<'a> CrossProfile<'a> {
     pub fn height(&self, y: f64) -> f64 {
         let z = projected_height(self.cutter, &self.frame, self.tip, self.axis, y);
         let ks = self.frame.surface_form.cc;
-        let zs = section_height(self.surface, &self.frame, y).unwrap_or(0.5 * ks * y * y);
+        let zs = self
+            .cross_uv
+            .and_then(|c| section_height_from(self.surface, &self.frame, c, y))
+            .unwrap_or(0.5 * ks * y * y);
         let y2 = 0.5 * y * y;
         (z - self.k_proj * y2) + self.k_move * y2 - (zs - ks * y2)
     }
 
     /// Offset y > 0 (sign +1) or y < 0 (sign −1) where the height reaches `h_mm`, by
-    /// bisection; capped at the cutter radius R.
+    /// bracketed regula falsi (`increasing_root`) to [`tolerance::FILLET_HEIGHT_MM`];
+    /// capped at the cutter radius R.
     #[must_use]
     pub fn reach(&self, h_mm: f64, sign: f64) -> f64 {
         let big_r = self.cutter.radius_mm;
-        let mut lo = 0.0;
-        let mut hi = big_r;
-        if self.height(sign * hi) < h_mm {
-            return hi;
+        let f_hi = self.height(sign * big_r) - h_mm;
+        if f_hi < 0.0 {
+            return big_r;
         }
-        for _ in 0..60 {
-            let mid = 0.5 * (lo + hi);
-            if self.height(sign * mid) < h_mm {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-            if hi - lo < tolerance::FILLET_HEIGHT_MM {
-                break;
-            }
+        let f_lo = self.height(0.0) - h_mm;
+        if f_lo >= 0.0 {
+            return 0.0;
         }
+        let (lo, hi) =
+            increasing_root(|y| self.height(sign * y) - h_mm, (0.0, big_r), (f_lo, f_hi), tolerance::FILLET_HEIGHT_MM);
         0.5 * (lo + hi)
     }
 
@@ -407,23 +486,93 @@ impl<'a> CrossProfile<'a> {
 
 /// Scallop (mm) left between the cutter of profile `a` and the cutter of profile `b` whose
 /// CC point lies `w_mm` across a (toward a's c when positive, the other way when negative):
-/// the height where the two profiles cross, `a.height(y) = b.height(y − w)`, found by
-/// bisection on y between 0 and w.
+/// the height where the two profiles cross, `a.height(y) = b.height(y − w)`, found on y
+/// between 0 and w (bracketed regula falsi, `increasing_root`, to
+/// [`tolerance::FILLET_HEIGHT_MM`]).
 #[must_use]
 pub fn scallop_between(a: &CrossProfile<'_>, b: &CrossProfile<'_>, w_mm: f64) -> f64 {
     let sign = if w_mm < 0.0 { -1.0 } else { 1.0 };
-    let (mut lo, mut hi) = (0.0, w_mm.abs());
-    for _ in 0..60 {
-        let mid = 0.5 * (lo + hi);
-        if a.height(sign * mid) < b.height(sign * mid - w_mm) {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-        if hi - lo < tolerance::FILLET_HEIGHT_MM {
-            break;
-        }
-    }
+    let diff = |t: f64| a.height(sign * t) - b.height(sign * t - w_mm);
+    let (f_lo, f_hi) = (diff(0.0), diff(w_mm.abs()));
+    let (lo, hi) = if f_lo >= 0.0 {
+        (0.0, 0.0)
+    } else if f_hi < 0.0 {
+        (w_mm.abs(), w_mm.abs())
+    } else {
+        increasing_root(diff, (0.0, w_mm.abs()), (f_lo, f_hi), tolerance::FILLET_HEIGHT_MM)
+    };
     let y = sign * 0.5 * (lo + hi);
     a.height(y).min(b.height(y - w_mm))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The lowest point, at cross offset y, of the cutter solid `disc(R0) ⊕ ball(r)`
+    /// projected along f, by brute force: the rim circle of the corner centres sampled in
+    /// 20 000 steps (the lowest point of the projected disc at any cross offset lies on its
+    /// rim's projection), each carrying the corner ball's lowest point above y.
+    fn brute_height(cutter: &Cutter, frame: &ContactFrame, tip: DVec3, axis: DVec3, y: f64) -> f64 {
+        let r = cutter.corner_radius_mm;
+        let r0 = cutter.torus_radius_mm();
+        let centre = tip + r * axis;
+        let e1 = axis.any_orthonormal_vector();
+        let e2 = axis.cross(e1);
+        let mut best = f64::INFINITY;
+        for k in 0..20_000 {
+            let phi = std::f64::consts::TAU * f64::from(k) / 20_000.0;
+            for frac in [0.0, 1.0] {
+                let p = centre + frac * r0 * (phi.cos() * e1 + phi.sin() * e2) - frame.point;
+                let dy = y - p.dot(frame.cross);
+                if dy.abs() <= r {
+                    best = best.min(p.dot(frame.normal) - (r * r - dy * dy).sqrt());
+                }
+            }
+        }
+        best
+    }
+
+    #[test]
+    fn the_projected_height_is_the_lowest_point_of_the_projected_solid() {
+        let frame = ContactFrame {
+            uv: DVec2::ZERO,
+            point: DVec3::ZERO,
+            normal: DVec3::Z,
+            feed: DVec3::X,
+            cross: DVec3::Y,
+            surface_form: Form2 { ff: 0.0, fc: 0.0, cc: 0.0 },
+        };
+        let (mut worst, mut compared) = (0.0f64, 0usize);
+        for (big_r, r) in [(5.0, 1.0), (4.0, 2.5), (5.0, 5.0), (6.0, 0.5)] {
+            let Ok(cutter) = Cutter::fillet(big_r, r) else { panic!("cutter {big_r} {r}") };
+            for (lead_deg, tilt_deg) in [(3.0, 0.0), (12.0, 0.0), (30.0, 5.0), (8.0, -15.0), (45.0, 20.0)] {
+                let pose = Pose::from_lead_tilt(f64::to_radians(lead_deg), f64::to_radians(tilt_deg));
+                let (tip, axis) = place(&cutter, &frame, &pose);
+                // Inside the projected solid, where the section's slope (by a difference
+                // of the brute force) stays within the bracket of the search (|s| ≤ 4).
+                for k in -12..=12 {
+                    let y = 0.08 * big_r * f64::from(k);
+                    let want = brute_height(&cutter, &frame, tip, axis, y);
+                    let (up, down) = (
+                        brute_height(&cutter, &frame, tip, axis, y + 0.01),
+                        brute_height(&cutter, &frame, tip, axis, y - 0.01),
+                    );
+                    if !(want.is_finite() && up.is_finite() && down.is_finite() && (up - down).abs() < 2.0 * 0.01 * 3.5)
+                    {
+                        continue;
+                    }
+                    let got = projected_height(&cutter, &frame, tip, axis, y);
+                    compared += 1;
+                    worst = worst.max((got - want).abs());
+                    assert!(
+                        (got - want).abs() < 1e-6,
+                        "R {big_r} r {r} lead {lead_deg} tilt {tilt_deg} y {y}: {got} against {want}"
+                    );
+                }
+            }
+        }
+        assert!(compared >= 200, "only {compared} offsets compared");
+        assert!(worst > 0.0, "the comparison compared nothing");
+    }
 }

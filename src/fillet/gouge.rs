@@ -75,7 +75,16 @@ pub struct PartSamples {
     /// torus have constant or trigonometric second derivatives whose largest values lie on
     /// the grid's rows; for a NURBS the allowance covers the variation between grid points.
     pub second_bound: f64,
+    /// The grid's side n (`points` holds n × n, row i at `i·n`).
+    side: usize,
+    /// Blocks of up to [`BLOCK`] × [`BLOCK`] grid points: first row, first column, and a
+    /// sphere (centre, radius mm) holding all their points, so the global check can pass a
+    /// whole block over at once.
+    blocks: Vec<(usize, usize, DVec3, f64)>,
 }
+
+/// Grid points per side of a block of [`PartSamples`].
+const BLOCK: usize = 8;
 
 /// Factor on the grid's largest second derivative for [`PartSamples::second_bound`].
 pub const SECOND_DERIVATIVE_ALLOWANCE: f64 = 1.25;
@@ -104,7 +113,18 @@ impl PartSamples {
                 }
             }
         }
-        Self { points, k_concave_max: kmax, second_bound: SECOND_DERIVATIVE_ALLOWANCE * second }
+        let mut blocks = Vec::new();
+        for i0 in (0..n).step_by(BLOCK) {
+            for j0 in (0..n).step_by(BLOCK) {
+                let block =
+                    || (i0..(i0 + BLOCK).min(n)).flat_map(move |i| (j0..(j0 + BLOCK).min(n)).map(move |j| i * n + j));
+                let count = block().count() as f64;
+                let centre = block().map(|k| points[k]).sum::<DVec3>() / count;
+                let radius = block().map(|k| (points[k] - centre).length()).fold(0.0, f64::max);
+                blocks.push((i0, j0, centre, radius));
+            }
+        }
+        Self { points, k_concave_max: kmax, second_bound: SECOND_DERIVATIVE_ALLOWANCE * second, side: n, blocks }
     }
 }
 
@@ -113,8 +133,9 @@ const FIRST_CELLS: usize = 4;
 /// Most cells [`bottom_clash`] evaluates; beyond it the cell with the lowest bound is
 /// reported as a clash (a refusal errs on the safe side).
 const MAX_CELLS: usize = 40_000;
-/// Deepest subdivision of a first-grid cell.
-const MAX_DEPTH: u32 = 16;
+/// Deepest subdivision of a first-grid cell: halvings of one side or the other (32, as many
+/// as 16 levels of quarters).
+const MAX_DEPTH: u32 = 32;
 
 /// The cutter's convex solid near the part: the corner ball (radius r) swept over the solid
 /// cylinder ("core") of radius R0 between the corner centres' height r and the flute length
@@ -136,8 +157,10 @@ impl CutterBody {
         Self { tip, axis, r, r0: (cutter.radius_mm - r).max(0.0), top: cutter.flute_length_mm.max(r) }
     }
 
-    /// Signed distance (mm, negative inside) of `p` and its gradient: the distance to the
-    /// core − r.
+    /// Signed distance (mm, negative inside) of `p` and a unit subgradient of the distance
+    /// to the core there (zero inside the core): the distance to the core − r. The core is
+    /// the product of a disc (radius R0, ⊥ a) and an interval of a, so its nearest point
+    /// clamps the axial and the radial coordinate separately.
     fn signed_distance(&self, p: DVec3) -> (f64, DVec3) {
         let w = p - self.tip;
         let z = w.dot(self.axis);
@@ -149,24 +172,6 @@ impl CutterBody {
         let grad = if d > 0.0 { (p - near) / d } else { DVec3::ZERO };
         (d - self.r, grad)
     }
-
-    /// A bound of the largest eigenvalue of the distance's Hessian (1/mm) over the points
-    /// within `reach` (mm) of `p`, where the distance is at least `d_min` (mm). Below the
-    /// core's bottom face and inside its radius the nearest point lies on that face and the
-    /// distance is linear (Hessian 0); beside the side face it is `1/ρ ≤ 1/R0`; elsewhere
-    /// (about the rim) `1/d ≤ 1/d_min`.
-    fn hessian_bound(&self, p: DVec3, reach: f64, d_min: f64) -> f64 {
-        let w = p - self.tip;
-        let z = w.dot(self.axis);
-        let rho = (w - z * self.axis).length();
-        if rho + reach <= self.r0 && z + reach <= self.r {
-            0.0
-        } else if self.r0 > 0.0 && rho - reach >= self.r0 && z - reach >= self.r && z + reach <= self.top {
-            1.0 / self.r0
-        } else {
-            1.0 / d_min
-        }
-    }
 }
 
 /// One cell of the parameter plane: centre, half sizes, the gouge function's lower bound.
@@ -177,6 +182,8 @@ struct Cell {
     depth: u32,
     /// The gouge function at the centre (mm).
     g: f64,
+    /// |∂g/∂u|·hu and |∂g/∂v|·hv at the centre (mm): what each side costs the bound.
+    slope: DVec2,
     /// Lower bound of the gouge function over the cell (mm).
     bound: f64,
 }
@@ -203,36 +210,32 @@ impl Ord for Cell {
 /// ([`CutterBody`]) by more than `tol_mm`, found by branch and bound over the parameter
 /// plane, or `None` when there is none.
 ///
-/// The gouge function is `g(u, v) = d(r(u, v)) − r`, d the distance to the core (a convex
-/// set). Along a parameter line of unit direction e, `g'' = r_eᵀ·∇²d·r_e + ∇d·r_ee`; the
-/// Hessian of the distance to a convex set has eigenvalues in [0, 1/d] and |∇d| ≤ 1, so
-/// wherever g ≥ −tol (d ≥ r − tol): `g'' ≤ M = |r_e|²/(r − tol) + K` (tighter where the
-/// whole cell faces the core's flat bottom or its side, `CutterBody::hessian_bound`), K the bound of
-/// |r_ee| ([`PartSamples::second_bound`]) and `|r_e| ≤ σ(c) + K·ρ` on a cell of centre c and
-/// half-diagonal ρ (σ the largest singular value of (r_u, r_v) at c). On the cell of half
-/// sizes (hu, hv) g is therefore at least
-/// `g(c) − |g_u|·hu − |g_v|·hv − ½·M·(hu² + hv²)` up to the first point where it reaches
-/// −tol, so a cell whose bound is above −tol has no point below −tol. A centre below −tol
-/// is a gouge; the other cells are split in four, the lowest bound first. Far from the
-/// cutter the Lipschitz bound `g(c) − σ·ρ − ½·K·ρ²` (g is 1-Lipschitz in space) is the
-/// better one and is used where it is. A pocket between samples cannot be missed.
+/// The gouge function is `g(u, v) = d(r(u, v)) − r`, d the distance to the core, a convex
+/// set. d is a convex function of space, 1-Lipschitz, with the unit vector from the nearest
+/// core point as its (sub)gradient ∇d(p); so for every point x of the part
+/// `d(x) ≥ d(p) + ∇d(p)·(x − p)` (the supporting plane), inside the core too. On a cell of
+/// centre c and half sizes (hu, hv), `r(c + δ) − r(c) = r_u δu + r_v δv + R` with
+/// `|R| ≤ ½·K·|δ|²`, K the bound of |r_ee| along unit directions e of the parameter plane
+/// ([`PartSamples::second_bound`]). Hence on the whole cell
+///
+/// `g ≥ g(c) − |g_u|·hu − |g_v|·hv − ½·K·(hu² + hv²)`,   `g_u = ∇d·r_u`, `g_v = ∇d·r_v`,
+///
+/// with no curvature of the cutter in it (the convexity of d carries it). A cell whose
+/// bound is above −tol has no point below −tol and is dropped; a centre below −tol is a
+/// gouge; the rest are halved across the side that costs the bound more (|g_u|·hu + ½·K·hu²
+/// against the same in v), the lowest bound first. Halving one side at a time lets the
+/// cells follow the contact's basin, narrow along the feed (where the corner's 1/r curves
+/// g) and long across it (where g is as flat as the strip is wide). A pocket between
+/// samples cannot be missed.
 fn bottom_clash(surface: &Surface, body: &CutterBody, k2: f64, tol_mm: f64) -> Option<Clash> {
     let dom = surface.domain();
-    let d_min = (body.r - tol_mm).max(0.5 * body.r);
     let make = |centre: DVec2, half: DVec2, depth: u32| {
-        let d = surface.derivatives_at(centre);
-        let (g, grad) = body.signed_distance(d.point);
-        let (e, f, gg) = (d.du.length_squared(), d.du.dot(d.dv), d.dv.length_squared());
-        let sigma = (0.5 * (e + gg) + (0.5 * (e - gg)).hypot(f)).sqrt();
-        let rho = half.length();
-        // Every point of the cell lies within `reach` of the centre's point.
-        let reach = sigma * rho + 0.5 * k2 * rho * rho;
-        let m = (sigma + k2 * rho).powi(2) * body.hessian_bound(d.point, reach, d_min) + k2;
-        let taylor = g - grad.dot(d.du).abs() * half.x - grad.dot(d.dv).abs() * half.y - 0.5 * m * rho * rho;
-        // g is 1-Lipschitz in space: the better bound far away.
-        let lipschitz = g - reach;
-        let bound = taylor.max(lipschitz);
-        (Cell { centre, half, depth, g, bound }, d.point)
+        // Only r, r_u and r_v enter the bound.
+        let (point, du, dv) = surface.tangents_at(centre);
+        let (g, grad) = body.signed_distance(point);
+        let slope = DVec2::new(grad.dot(du).abs() * half.x, grad.dot(dv).abs() * half.y);
+        let bound = g - slope.x - slope.y - 0.5 * k2 * half.length_squared();
+        (Cell { centre, half, depth, g, slope, bound }, point)
     };
     let n = FIRST_CELLS;
     let half = DVec2::new(0.5 * dom.u.width() / n as f64, 0.5 * dom.v.width() / n as f64);
@@ -256,9 +259,15 @@ fn bottom_clash(surface: &Surface, body: &CutterBody, k2: f64, tol_mm: f64) -> O
             // Out of budget: err on the safe side.
             return Some(Clash { part: ClashPart::Bottom, depth_mm: -cell.bound, at: surface.point_at(cell.centre) });
         }
-        let h = 0.5 * cell.half;
-        for (su, sv) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
-            let (child, at) = make(cell.centre + DVec2::new(su * h.x, sv * h.y), h, cell.depth + 1);
+        let cost_u = cell.slope.x + 0.5 * k2 * cell.half.x * cell.half.x;
+        let cost_v = cell.slope.y + 0.5 * k2 * cell.half.y * cell.half.y;
+        let (half, step) = if cost_u >= cost_v {
+            (DVec2::new(0.5 * cell.half.x, cell.half.y), DVec2::new(0.5 * cell.half.x, 0.0))
+        } else {
+            (DVec2::new(cell.half.x, 0.5 * cell.half.y), DVec2::new(0.0, 0.5 * cell.half.y))
+        };
+        for sign in [-1.0, 1.0] {
+            let (child, at) = make(cell.centre + sign * step, half, cell.depth + 1);
             evaluated += 1;
             if child.g < -tol_mm {
                 return Some(Clash { part: ClashPart::Bottom, depth_mm: -child.g, at });
@@ -301,14 +310,19 @@ pub fn check(
     {
         note(c);
     }
-    // Global: the part's points against the solid of revolution.
-    for &p in &part.points {
+    // Global: the part's points against the solid of revolution. A block whose sphere
+    // (centre c, radius ρb) lies wholly at or below the corner's height, wholly above the
+    // holder, or wholly at least the tool's widest radius from the axis holds no colliding
+    // point (z and the distance to the axis are 1-Lipschitz in space) and is passed over.
+    let widest = cutter.radius_mm.max(cutter.shank_radius_mm).max(cutter.holder_radius_mm);
+    let length = cutter.gauge_length_mm + cutter.holder_length_mm;
+    let mut test = |p: DVec3| {
         let w = p - tip;
         let z = w.dot(axis);
         if z <= cutter.corner_radius_mm {
-            continue;
+            return;
         }
-        let Some(rad) = cutter.radius_at_height_mm(z) else { continue };
+        let Some(rad) = cutter.radius_at_height_mm(z) else { return };
         let rho = (w - z * axis).length();
         if rho < rad - tol_mm {
             let part = if z <= cutter.flute_length_mm {
@@ -319,6 +333,26 @@ pub fn check(
                 ClashPart::Holder
             };
             note(Clash { part, depth_mm: rad - rho, at: p });
+        }
+    };
+    let n = part.side;
+    if n * n == part.points.len() {
+        for &(i0, j0, c, rb) in &part.blocks {
+            let w = c - tip;
+            let z = w.dot(axis);
+            let rho = (w - z * axis).length();
+            if z + rb <= cutter.corner_radius_mm || z - rb > length || rho - rb >= widest - tol_mm {
+                continue;
+            }
+            for i in i0..(i0 + BLOCK).min(n) {
+                for &p in &part.points[i * n + j0..i * n + (j0 + BLOCK).min(n)] {
+                    test(p);
+                }
+            }
+        }
+    } else {
+        for &p in &part.points {
+            test(p);
         }
     }
     worst

@@ -237,9 +237,22 @@ fn basis_functions_of(knots: &[f64], span: usize, p: usize, u: f64) -> [f64; MAX
 
 #[inline(always)]
 fn basis_derivatives_of(knots: &[f64], span: usize, p: usize, u: f64) -> [[f64; MAX_ORDER]; 3] {
-    let mut ndu = [[0.0; MAX_ORDER]; MAX_ORDER];
-    let mut left = [0.0; MAX_ORDER];
-    let mut right = [0.0; MAX_ORDER];
+    basis_derivatives_sized::<MAX_ORDER, 2>(knots, span, p, u)
+}
+
+/// [`basis_derivatives_of`] in tables of order `O` (> p; the exact p + 1 for the common
+/// degrees, so no unused table is cleared) up to the derivative order `D` (≤ 2; the rows
+/// above it stay zero), by the same arithmetic: the values it computes have the same bits.
+#[inline(always)]
+fn basis_derivatives_sized<const O: usize, const D: usize>(
+    knots: &[f64],
+    span: usize,
+    p: usize,
+    u: f64,
+) -> [[f64; O]; 3] {
+    let mut ndu = [[0.0; O]; O];
+    let mut left = [0.0; O];
+    let mut right = [0.0; O];
     ndu[0][0] = 1.0;
     for j in 1..=p {
         left[j] = u - knots[span + 1 - j];
@@ -254,11 +267,11 @@ fn basis_derivatives_of(knots: &[f64], span: usize, p: usize, u: f64) -> [[f64; 
         }
         ndu[j][j] = saved;
     }
-    let mut ders = [[0.0; MAX_ORDER]; 3];
+    let mut ders = [[0.0; O]; 3];
     for j in 0..=p {
         ders[0][j] = ndu[j][p];
     }
-    let nd = p.min(2);
+    let nd = p.min(D);
     let mut a = [[0.0; 3]; 2];
     for r in 0..=p {
         let (mut s1, mut s2) = (0usize, 1usize);
@@ -510,11 +523,21 @@ impl ParametricSurface for NurbsSurface {
     fn derivatives_at(&self, uv: DVec2) -> SurfaceDerivs {
         // The common degrees with constants, so the sums unroll (the same arithmetic).
         match self.degree {
-            [3, 3] => self.derivatives_of(uv, 3, 3),
-            [2, 2] => self.derivatives_of(uv, 2, 2),
-            [2, 1] => self.derivatives_of(uv, 2, 1),
-            [1, 2] => self.derivatives_of(uv, 1, 2),
-            [p, q] => self.derivatives_of(uv, p, q),
+            [3, 3] => self.derivatives_of::<4, 4>(uv, 3, 3),
+            [2, 2] => self.derivatives_of::<3, 3>(uv, 2, 2),
+            [2, 1] => self.derivatives_of::<3, 2>(uv, 2, 1),
+            [1, 2] => self.derivatives_of::<2, 3>(uv, 1, 2),
+            [p, q] => self.derivatives_of::<MAX_ORDER, MAX_ORDER>(uv, p, q),
+        }
+    }
+
+    fn tangents_at(&self, uv: DVec2) -> (DVec3, DVec3, DVec3) {
+        match self.degree {
+            [3, 3] => self.tangents_of::<4, 4>(uv, 3, 3),
+            [2, 2] => self.tangents_of::<3, 3>(uv, 2, 2),
+            [2, 1] => self.tangents_of::<3, 2>(uv, 2, 1),
+            [1, 2] => self.tangents_of::<2, 3>(uv, 1, 2),
+            [p, q] => self.tangents_of::<MAX_ORDER, MAX_ORDER>(uv, p, q),
         }
     }
 
@@ -548,12 +571,38 @@ impl NurbsSurface {
         a00.truncate() / a00.w
     }
 
+    /// r, r_u and r_v of degrees (p, q): those of [`Self::derivatives_of`], by the same
+    /// arithmetic (the same bits), without the second derivatives.
     #[inline(always)]
-    fn derivatives_of(&self, uv: DVec2, p: usize, q: usize) -> SurfaceDerivs {
+    fn tangents_of<const OU: usize, const OV: usize>(&self, uv: DVec2, p: usize, q: usize) -> (DVec3, DVec3, DVec3) {
         let su = find_span(&self.knots_u, self.n_u, p, uv.x);
         let sv = find_span(&self.knots_v, self.n_v, q, uv.y);
-        let nu = basis_derivatives_of(&self.knots_u, su, p, uv.x);
-        let nv = basis_derivatives_of(&self.knots_v, sv, q, uv.y);
+        let nu = basis_derivatives_sized::<OU, 1>(&self.knots_u, su, p, uv.x);
+        let nv = basis_derivatives_sized::<OV, 1>(&self.knots_v, sv, q, uv.y);
+        let (mut a00, mut a10, mut a01) = (DVec4::ZERO, DVec4::ZERO, DVec4::ZERO);
+        for i in 0..=p {
+            let row = (su - p + i) * self.n_v + (sv - q);
+            let (mut t0, mut t1) = (DVec4::ZERO, DVec4::ZERO);
+            for j in 0..=q {
+                let cp = self.control[row + j];
+                t0 += nv[0][j] * cp;
+                t1 += nv[1][j] * cp;
+            }
+            a00 += nu[0][i] * t0;
+            a10 += nu[1][i] * t0;
+            a01 += nu[0][i] * t1;
+        }
+        let w = a00.w;
+        let s = a00.truncate() / w;
+        (s, (a10.truncate() - a10.w * s) / w, (a01.truncate() - a01.w * s) / w)
+    }
+
+    #[inline(always)]
+    fn derivatives_of<const OU: usize, const OV: usize>(&self, uv: DVec2, p: usize, q: usize) -> SurfaceDerivs {
+        let su = find_span(&self.knots_u, self.n_u, p, uv.x);
+        let sv = find_span(&self.knots_v, self.n_v, q, uv.y);
+        let nu = basis_derivatives_sized::<OU, 2>(&self.knots_u, su, p, uv.x);
+        let nv = basis_derivatives_sized::<OV, 2>(&self.knots_v, sv, q, uv.y);
         // Homogeneous sums A^(k,l) = Σ_i Σ_j N_i^(k) N_j^(l) Pw_ij.
         let (mut a00, mut a10, mut a01) = (DVec4::ZERO, DVec4::ZERO, DVec4::ZERO);
         let (mut a20, mut a11, mut a02) = (DVec4::ZERO, DVec4::ZERO, DVec4::ZERO);
@@ -584,5 +633,65 @@ impl NurbsSurface {
         let len = cross.length();
         let normal = if len > tolerance::MIN_AREA_ELEMENT { self.sign * cross / len } else { DVec3::ZERO };
         SurfaceDerivs { point: s, du: su_, dv: sv_, duu: suu, duv: suv, dvv: svv, normal }
+    }
+}
+
+#[cfg(test)]
+mod tangents_tests {
+    use super::*;
+
+    /// `tangents_at` gives exactly (every bit) the point and first derivatives of
+    /// `derivatives_at`, for rational surfaces of the specialised and the general degrees.
+    #[test]
+    fn tangents_are_the_first_derivatives_bit_for_bit() {
+        for degree in [[3, 3], [2, 2], [2, 1], [1, 2], [3, 2], [4, 1]] {
+            let (n_u, n_v) = (degree[0] + 3, degree[1] + 2);
+            let clamped = |p: usize, n: usize| {
+                let mut k = vec![0.0; p + 1];
+                for i in 1..n - p {
+                    k.push(i as f64 / (n - p) as f64 + 0.01 * (i * i) as f64);
+                }
+                let last = k.last().copied().unwrap_or(0.0) + 0.5;
+                k.extend(std::iter::repeat_n(last, p + 1));
+                k
+            };
+            let points: Vec<Vec<DVec3>> = (0..n_u)
+                .map(|i| {
+                    (0..n_v)
+                        .map(|j| {
+                            let (x, y) = (i as f64, j as f64);
+                            DVec3::new(10.0 * x, 7.0 * y + x, (0.7 * x + 1.3 * y).sin() * 3.0)
+                        })
+                        .collect()
+                })
+                .collect();
+            let weights: Vec<Vec<f64>> =
+                (0..n_u).map(|i| (0..n_v).map(|j| 1.0 + 0.3 * ((i * 3 + j) % 4) as f64).collect()).collect();
+            let s = NurbsSurface::try_new(
+                degree,
+                clamped(degree[0], n_u),
+                clamped(degree[1], n_v),
+                &points,
+                Some(&weights),
+                false,
+            )
+            .unwrap_or_else(|e| panic!("{degree:?}: {e}"));
+            let dom = s.domain();
+            let mut compared = 0;
+            for i in 0..=20 {
+                for j in 0..=20 {
+                    let uv = DVec2::new(
+                        dom.u.min + dom.u.width() * f64::from(i) / 20.0,
+                        dom.v.min + dom.v.width() * f64::from(j) / 20.0,
+                    );
+                    let d = s.derivatives_at(uv);
+                    let (p, du, dv) = s.tangents_at(uv);
+                    assert!(p == d.point && du == d.du && dv == d.dv, "{degree:?} at {uv}");
+                    assert!(d.du.length() > 0.0 && d.dv.length() > 0.0, "{degree:?} at {uv}: degenerate");
+                    compared += 1;
+                }
+            }
+            assert_eq!(compared, 441);
+        }
     }
 }

@@ -37,6 +37,13 @@ pub trait ParametricSurface {
     fn point_at(&self, uv: DVec2) -> DVec3;
     /// Point, derivatives to second order and oriented normal at `uv`.
     fn derivatives_at(&self, uv: DVec2) -> SurfaceDerivs;
+    /// Point and first derivatives `(r, r_u, r_v)` at `uv` (mm, mm per internal unit), the
+    /// same values as [`Self::derivatives_at`]'s; surfaces where the second derivatives cost
+    /// extra work (NURBS) skip it.
+    fn tangents_at(&self, uv: DVec2) -> (DVec3, DVec3, DVec3) {
+        let d = self.derivatives_at(uv);
+        (d.point, d.du, d.dv)
+    }
     /// The parameter domain (internal units).
     fn domain(&self) -> Domain;
 }

@@ -249,6 +249,16 @@ impl ParametricSurface for Surface {
         }
     }
     #[inline]
+    fn tangents_at(&self, uv: DVec2) -> (DVec3, DVec3, DVec3) {
+        match self {
+            Self::Plane(s) => s.tangents_at(uv),
+            Self::Cylinder(s) => s.tangents_at(uv),
+            Self::Sphere(s) => s.tangents_at(uv),
+            Self::Torus(s) => s.tangents_at(uv),
+            Self::Nurbs(s) => s.tangents_at(uv),
+        }
+    }
+    #[inline]
     fn domain(&self) -> Domain {
         match self {
             Self::Plane(s) => s.domain(),
