@@ -227,18 +227,26 @@ fn brute_scallop(job: &FinishJob, set: &PathSet, i: usize, j: usize) -> Option<(
     let c = n.cross(f);
     let reach = cutter.radius_mm + 1.0;
     let next = &set.paths[i + 1].nodes;
-    // Where the next CC polyline crosses the plane.
-    let mut y_next = None;
+    // Where the next CC polyline crosses the plane: the crossing nearest to this node (the
+    // first one along the next path can lie across a kink of it, far from this one, when the
+    // next path runs back and forth through the plane).
+    let mut crossings = Vec::new();
     for w in next.windows(2) {
         let (da, db) = ((w[0].frame.point - o).dot(f), (w[1].frame.point - o).dot(f));
         if da * db <= 0.0 && da != db {
             let t = da / (da - db);
             let p = w[0].frame.point.lerp(w[1].frame.point, t);
-            y_next = Some((p - o).dot(c));
-            break;
+            let turn = (w[1].frame.point - w[0].frame.point).normalize().dot(f).clamp(-1.0, 1.0).acos();
+            crossings.push(((p - o).dot(c), turn));
         }
     }
-    let y_next = y_next?;
+    let (y_next, turn) = crossings.iter().copied().min_by(|a, b| a.0.abs().total_cmp(&b.0.abs()))?;
+    eprintln!(
+        "  path {i} node {j}: {} crossings of the next path, the nearest {:.3} mm across, turned {:.1}° from the feed",
+        crossings.len(),
+        y_next.abs(),
+        turn.to_degrees()
+    );
     let mut poses = poses_near(&set.paths[i].nodes, o, f, reach);
     poses.extend(poses_near(next, o, f, reach));
     let steps = 160;
@@ -284,7 +292,7 @@ fn check_scallops(id: &str, strategy: Strategy) -> (f64, f64, usize) {
 fn iso_scallop_paths_leave_h_by_brute_force() {
     // Matched fillet-end mill and a ball of the same R, on the gently curved patch and on
     // the blade: within ±5 % of h at every measured section (measured: matched
-    // 0.985 h .. 1.048 h on the patch, 0.966 h .. 1.015 h on the blade).
+    // 0.985 h .. 1.048 h on the patch, 0.956 h .. 1.005 h on the blade).
     for id in ["finish-bicubic-patch", "finish-naca-blade"] {
         let h = job(id).options.scallop_mm;
         for strategy in [Strategy::Matched, Strategy::Ball] {
@@ -485,9 +493,10 @@ fn the_bottom_check_finds_every_pocket_the_brute_force_finds() {
 
 /// The concave mould, matched: the scallop measured by brute force between neighbouring
 /// interior paths, from their CL data alone, should be h within ±5 %. **Known to fail**
-/// (docs/fillet.md, "Scallop by brute force"): measured 0.17·h–1.18·h and one 0.40 mm
-/// section 16.5 mm wide; the gouge checks
-/// adjust most of the mould's nodes after the side step has assumed their poses. Run it with
+/// (docs/fillet.md, "The mould's scallop: what happens"): the sections measure
+/// 0.005·h–1.18·h, mostly overlaps where the offset paths crowd together (path 15, node 251:
+/// paths 16 and 17 pass 0.39 and 0.11 mm from the node), and the height map finds an uncovered
+/// spot of 3.7·h where the offsets form swallowtails. Run it with
 /// `cargo test --release --no-default-features --test fillet -- --ignored the_mould --nocapture`.
 #[test]
 #[ignore = "known defect: the mould's scallop is not h ± 5 % (docs/fillet.md)"]
@@ -545,4 +554,96 @@ fn the_global_check_finds_what_every_sample_finds() {
         }
     }
     assert!(hits >= 10 && clear >= 10, "{hits} collisions, {clear} clear: the poses test too little");
+}
+
+/// The judge's height map: the material left at every point of a uv grid over the interior
+/// (the surface point's distance to the nearest cutter of any path — the corner ball swept
+/// over the core from the tip to the flute length, every pose whose CC point lies within two
+/// bins of R + 1 mm — the cutters interpolated
+/// every 0.2 mm between CL nodes; near a cusp the cutters' surfaces are within a fraction of a
+/// degree of the design surface, so this distance is the height along the normal to better than
+/// 0.1 %). Returns the largest, the share of grid points above 1.05·h, and where the largest is
+/// (uv and the nearest path).
+fn material_left_by_height_map(job: &FinishJob, set: &PathSet, cells: usize) -> (f64, f64, DVec2, usize) {
+    use std::collections::HashMap;
+    let cutter = set.strategy.cutter_for(&job.cutter);
+    let bin = cutter.radius_mm + 1.0;
+    let key = |p: DVec3| ((p.x / bin).floor() as i64, (p.y / bin).floor() as i64, (p.z / bin).floor() as i64);
+    // Poses (tip, axis, path) by the bin of their CC point.
+    type Poses = Vec<(DVec3, DVec3, usize)>;
+    let mut bins: HashMap<(i64, i64, i64), Poses> = HashMap::new();
+    for (k, path) in set.paths.iter().enumerate() {
+        for w in path.nodes.windows(2) {
+            let (a, b) = (&w[0], &w[1]);
+            let n = (((b.tip - a.tip).length() / 0.2).ceil() as usize).max(1);
+            for s in 0..=n {
+                let t = s as f64 / n as f64;
+                let cc = a.frame.point.lerp(b.frame.point, t);
+                bins.entry(key(cc)).or_default().push((a.tip.lerp(b.tip, t), a.axis.lerp(b.axis, t).normalize(), k));
+            }
+        }
+    }
+    let h = job.options.scallop_mm;
+    let (mut worst, mut at, mut path_at, mut above, mut count) = (0.0f64, DVec2::ZERO, 0, 0usize, 0usize);
+    let d = job.surface.domain();
+    let lo = 0.02;
+    let mut map = [[0usize; 10]; 10];
+    for i in 0..=cells {
+        for j in 0..=cells {
+            let fu = lo + (1.0 - 2.0 * lo) * i as f64 / cells as f64;
+            let fv = lo + (1.0 - 2.0 * lo) * j as f64 / cells as f64;
+            let uv = DVec2::new(d.u.min + fu * d.u.width(), d.v.min + fv * d.v.width());
+            let p = job.surface.point_at(uv);
+            let (kx, ky, kz) = key(p);
+            let mut best = (f64::INFINITY, 0);
+            for dx in -2..=2 {
+                for dy in -2..=2 {
+                    for dz in -2..=2 {
+                        let Some(list) = bins.get(&(kx + dx, ky + dy, kz + dz)) else { continue };
+                        for &(tip, axis, k) in list {
+                            let dist = -depth_inside(&cutter, tip, axis, p);
+                            if dist < best.0 {
+                                best = (dist, k);
+                            }
+                        }
+                    }
+                }
+            }
+            if !best.0.is_finite() {
+                continue;
+            }
+            count += 1;
+            if best.0 > 1.05 * h {
+                above += 1;
+                map[(fu * 9.999) as usize][(fv * 9.999) as usize] += 1;
+            }
+            if best.0 > worst {
+                (worst, at, path_at) = (best.0, uv, best.1);
+            }
+        }
+    }
+    for (i, row) in map.iter().enumerate() {
+        eprintln!("  u {:.1}: grid points above 1.05·h by v tenths {row:?}", i as f64 / 10.0);
+    }
+    (worst, above as f64 / count.max(1) as f64, at, path_at)
+}
+
+/// The height map over every example (diagnostic: prints the largest material left; run with
+/// `cargo test --release --no-default-features --test fillet -- --ignored height_map --nocapture`).
+#[test]
+#[ignore = "diagnostic: slow (the mould's paths), prints the measured numbers"]
+fn height_map_of_the_material_left() {
+    for id in ["finish-bicubic-patch", "finish-naca-blade", "finish-concave-mould"] {
+        let jb = job(id);
+        let set = paths(&jb, Strategy::Matched);
+        let h = jb.options.scallop_mm;
+        let (worst, share, at, k) = material_left_by_height_map(&jb, &set, 240);
+        eprintln!(
+            "{id}: {} paths, largest material left {:.5} mm = {:.3}·h at uv {at} (nearest path {k}), {:.2} % of the grid above 1.05·h",
+            set.paths.len(),
+            worst,
+            worst / h,
+            100.0 * share
+        );
+    }
 }
