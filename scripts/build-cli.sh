@@ -8,7 +8,7 @@
 # - not position-independent (`-C relocation-model=static`): a static-pie binary applies
 #   its ~4 000 relative relocations at every start, writing (and so copying) the pages of
 #   its vtables and constant tables; at a fixed address there are none (`--version`: 94 → 79
-#   page faults, 0.43 M → 0.33 M instructions with the plain `run` reader).
+#   page faults, 0.43 M → 0.37 M instructions).
 # Fat LTO was tried and is not used: 2 % fewer instructions on the analytic scenes, 4–8 %
 # more on the NURBS ones (the NURBS evaluation is generated differently).
 # Both flags reach only the final binary (`cargo rustc`), so the library and every
