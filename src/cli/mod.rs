@@ -12,8 +12,10 @@ mod crease;
 mod finish;
 mod fiveaxis;
 mod gcode;
+mod plain_run;
 mod simulate;
 
+use std::ffi::OsString;
 use std::io::{self, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -32,13 +34,13 @@ struct Cli {
     command: Option<Command>,
 }
 
-#[derive(Clone, Copy, ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub(crate) enum OutFormat {
     Csv,
     Json,
 }
 
-#[derive(Clone, Copy, ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub(crate) enum MethodArg {
     /// Seed 000's track–correct–re-solve step (no iteration).
     Seed000,
@@ -107,8 +109,16 @@ pub(crate) struct Fatal(pub(crate) String);
 
 /// Parses the arguments and runs the subcommand.
 pub fn main() -> ExitCode {
-    let cli = Cli::parse();
-    let result = match cli.command {
+    let args: Vec<OsString> = std::env::args_os().collect();
+    // A plain `run` skips building clap's command tree (`plain_run`); the values are the ones
+    // clap would give, and anything else is clap's to parse, with its messages.
+    let command = match plain_run::parse(&args) {
+        Some(plain_run::RunArgs { scene, format, out, errors, method, turns }) => {
+            Some(Command::Run { scene, format, out, errors, method, turns })
+        }
+        None => Cli::parse_from(args).command,
+    };
+    let result = match command {
         None => open_app(),
         Some(Command::Run { scene, format, out, errors, method, turns }) => {
             crease::run(&scene, format, out.as_deref(), errors, method, turns)
