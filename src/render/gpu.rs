@@ -112,7 +112,6 @@ impl GpuArray {
         if hash.is_some() && hash == self.hash && count == self.count {
             return false;
         }
-        self.hash = hash;
         if bytes.len() as u64 > self.capacity_bytes {
             *self = Self::with_capacity(device, self.label, self.usage, bytes.len() * 3 / 2);
             queue.write_buffer(&self.buffer, 0, bytes);
@@ -125,6 +124,8 @@ impl GpuArray {
             }
         }
         self.count = count;
+        // After a regrown buffer too (`with_capacity` starts without a hash).
+        self.hash = hash;
         true
     }
 }
