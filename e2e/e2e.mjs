@@ -10,6 +10,7 @@
 import { chromium } from "playwright-core";
 import { PNG } from "pngjs";
 import fs from "node:fs";
+import os from "node:os";
 import path from "node:path";
 import { fileURLToPath } from "node:url";
 
@@ -19,6 +20,9 @@ const artifacts = path.join(here, "artifacts");
 fs.mkdirSync(artifacts, { recursive: true });
 const examples = path.join(here, "..", "examples");
 
+// The machine's load when the run starts and ends (frame times on a shared CPU depend on it).
+const loadAverage = () => os.loadavg().map((x) => Math.round(x * 100) / 100);
+const loadAtStart = loadAverage();
 const results = [];
 function check(name, ok, detail = "") {
   results.push({ name, ok });
@@ -482,7 +486,9 @@ if (frameReport.length > 0) {
   for (const [t, v] of Object.entries(tabs)) {
     console.log(`      tab ${t}: ${v.frames} frames, median ≤ ${v.median_ms.toFixed(1)} ms, p99 ≤ ${v.p99_ms.toFixed(1)} ms, longest ${v.longest_ms.toFixed(1)} ms`);
   }
-  fs.writeFileSync(path.join(artifacts, "frames.json"), JSON.stringify({ recordings: frameReport, tabs }, null, 2));
+  const load = { start: loadAtStart, end: loadAverage() };
+  fs.writeFileSync(path.join(artifacts, "frames.json"), JSON.stringify({ load_average: load, recordings: frameReport, tabs }, null, 2));
+  console.log(`      load average (1, 5, 15 min) at the start ${load.start.join(", ")}, at the end ${load.end.join(", ")}`);
   const longest = frameReport.reduce((a, b) => (b.longest_ms > a.longest_ms ? b : a));
   console.log(`\nlongest frame: ${longest.longest_ms.toFixed(1)} ms (${longest.label}); all in e2e/artifacts/frames.json`);
 }

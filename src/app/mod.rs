@@ -120,8 +120,7 @@ impl InterpolabApp {
     #[must_use]
     pub fn new(cc: &eframe::CreationContext<'_>) -> Self {
         let ctx = &cc.egui_ctx;
-        ctx.set_theme(egui::Theme::Dark);
-        fonts::install(ctx);
+        style(ctx);
         let platform = Platform::new(ctx);
         let render_state = cc.wgpu_render_state.clone();
         if let Some(rs) = &render_state {
@@ -450,6 +449,16 @@ impl InterpolabApp {
     }
 }
 
+/// The app's look: the dark theme, its fonts, and panels without a background of their own —
+/// the frame is cleared to their colour instead ([`PANEL_FILL`], `clear_color`), which looks
+/// the same. On a CPU rasteriser (SwiftShader) every pixel egui's shader fills costs time, and
+/// the panels' fills covered the whole window once more per frame.
+fn style(ctx: &egui::Context) {
+    ctx.set_theme(egui::Theme::Dark);
+    ctx.style_mut_of(egui::Theme::Dark, |s| s.visuals.panel_fill = egui::Color32::TRANSPARENT);
+    fonts::install(ctx);
+}
+
 /// The tabs, in order.
 fn panels() -> Vec<Box<dyn Panel>> {
     vec![
@@ -461,6 +470,10 @@ fn panels() -> Vec<Box<dyn Panel>> {
         Box::new(fillet_panel::FilletPanel::default()),
     ]
 }
+
+/// The colour behind every panel: egui's dark panel fill, drawn as the frame's clear colour
+/// (the panels themselves are transparent, see [`style`]).
+const PANEL_FILL: egui::Color32 = egui::Color32::from_gray(27);
 
 /// The side panel's widest size (points). Without a cap an egui side panel lays its
 /// contents out in the whole window's width, so the tabs' wrapped rows of controls never
@@ -592,6 +605,10 @@ impl eframe::App for InterpolabApp {
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
         storage.set_string(STORAGE_SCENE, self.scene.to_json_compact());
+    }
+
+    fn clear_color(&self, _visuals: &egui::Visuals) -> [f32; 4] {
+        PANEL_FILL.to_normalized_gamma_f32()
     }
 
     fn auto_save_interval(&self) -> std::time::Duration {

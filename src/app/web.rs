@@ -29,7 +29,10 @@ fn show_failure(message: &str) {
 /// Starts the app (called from `main` on wasm32).
 pub fn start() {
     eframe::WebLogger::init(log::LevelFilter::Info).ok();
-    let web_options = eframe::WebOptions::default();
+    // No dithering: egui's UI is flat colours, where it changes nothing visible, and on a CPU
+    // rasteriser (SwiftShader) it is a sizeable part of every pixel's shading.
+    let web_options = eframe::WebOptions { dithering: false, ..eframe::WebOptions::default() };
+    let query = web_sys::window().and_then(|w| w.location().search().ok()).unwrap_or_default();
     wasm_bindgen_futures::spawn_local(async move {
         let Some(doc) = web_sys::window().and_then(|w| w.document()) else {
             return;
@@ -41,7 +44,11 @@ pub fn start() {
             return;
         };
         let runner = eframe::WebRunner::new();
-        let started = runner.start(canvas, web_options, Box::new(|cc| Ok(Box::new(InterpolabApp::new(cc))))).await;
+        let started = if query.contains(FLOOR_QUERY) {
+            runner.start(canvas, web_options, Box::new(|cc| Ok(Box::new(FloorProbe::new(&cc.egui_ctx))))).await
+        } else {
+            runner.start(canvas, web_options, Box::new(|cc| Ok(Box::new(InterpolabApp::new(cc))))).await
+        };
         match started {
             Ok(()) => {
                 if let Some(el) = doc.get_element_by_id(LOADING_ID) {
@@ -54,6 +61,41 @@ pub fn start() {
             Err(e) => show_failure(&format!("It could not start: {e:?}. A browser with WebGPU or WebGL2 is needed.")),
         }
     });
+}
+
+/// The query that starts [`FloorProbe`] instead of the app (`e2e/frame-profile.mjs`).
+const FLOOR_QUERY: &str = "probe=floor";
+
+/// The frame-time floor of this browser: an egui frame at the page's size with one line of
+/// text and nothing to compute, redrawn continuously. `e2e/frame-profile.mjs` compares every
+/// tab's frames with it. It publishes `{"probe":"floor","frames":n}` in the status element.
+struct FloorProbe {
+    frames: u64,
+}
+
+impl FloorProbe {
+    /// With the app's fonts and look (transparent panels over the cleared frame).
+    fn new(ctx: &eframe::egui::Context) -> Self {
+        super::style(ctx);
+        Self { frames: 0 }
+    }
+}
+
+impl eframe::App for FloorProbe {
+    fn clear_color(&self, _visuals: &eframe::egui::Visuals) -> [f32; 4] {
+        super::PANEL_FILL.to_normalized_gamma_f32()
+    }
+
+    fn ui(&mut self, ui: &mut eframe::egui::Ui, _frame: &mut eframe::Frame) {
+        self.frames += 1;
+        eframe::egui::CentralPanel::default().show(ui, |ui| {
+            ui.label(format!("interpolab frame-time floor: an empty frame, drawn {} times", self.frames));
+        });
+        if let Some(el) = web_sys::window().and_then(|w| w.document()).and_then(|d| d.get_element_by_id("app-status")) {
+            el.set_text_content(Some(&format!("{{\"probe\":\"floor\",\"frames\":{}}}", self.frames)));
+        }
+        ui.ctx().request_repaint();
+    }
 }
 
 fn watch_for_panic(runner: eframe::WebRunner) {

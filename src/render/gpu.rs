@@ -46,7 +46,7 @@ const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth24Plus;
 
 /// Uniforms of one view (matches `Frame` in scene.wgsl).
 #[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 struct FrameUniforms {
     clip_from_local: [[f32; 4]; 4],
     eye: [f32; 4],
@@ -60,6 +60,23 @@ struct GpuArray {
     count: u32,
     label: &'static str,
     usage: wgpu::BufferUsages,
+    /// A hash of the contents when they were small enough to hash (see [`content_hash`]):
+    /// the same small data written again (the per-frame layers) is not sent again.
+    hash: Option<u64>,
+}
+
+/// Largest array (bytes) whose contents are hashed to skip rewriting the same data; larger
+/// ones are written only when their owner's data changed anyway.
+const HASHED_BYTES_MAX: usize = 64 * 1024;
+
+/// A hash of `bytes` if they are at most [`HASHED_BYTES_MAX`] long.
+fn content_hash(bytes: &[u8]) -> Option<u64> {
+    use std::hash::{Hash, Hasher};
+    (bytes.len() <= HASHED_BYTES_MAX).then(|| {
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        bytes.hash(&mut h);
+        h.finish()
+    })
 }
 
 impl GpuArray {
@@ -77,11 +94,12 @@ impl GpuArray {
             usage: usage | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        Self { buffer, capacity_bytes: size, count: 0, label, usage }
+        Self { buffer, capacity_bytes: size, count: 0, label, usage, hash: None }
     }
 
     /// Writes `bytes` (all `count` elements); only bytes from `unchanged_prefix_bytes` on are
-    /// sent when the buffer is large enough (the path grows by appending).
+    /// sent when the buffer is large enough (the path grows by appending). Returns whether
+    /// the contents changed (false: the same small data again, nothing sent).
     fn write(
         &mut self,
         device: &wgpu::Device,
@@ -89,7 +107,11 @@ impl GpuArray {
         bytes: &[u8],
         count: u32,
         unchanged_prefix_bytes: u64,
-    ) {
+    ) -> bool {
+        let hash = content_hash(bytes);
+        if hash.is_some() && hash == self.hash && count == self.count {
+            return false;
+        }
         if bytes.len() as u64 > self.capacity_bytes {
             *self = Self::with_capacity(device, self.label, self.usage, bytes.len() * 3 / 2);
             queue.write_buffer(&self.buffer, 0, bytes);
@@ -102,6 +124,9 @@ impl GpuArray {
             }
         }
         self.count = count;
+        // After a regrown buffer too (`with_capacity` starts without a hash).
+        self.hash = hash;
+        true
     }
 }
 
@@ -126,6 +151,13 @@ struct ViewGpu {
     spheres: BTreeMap<Layer, GpuArray>,
     uniforms: Option<(wgpu::Buffer, wgpu::BindGroup)>,
     targets: Option<Targets>,
+    /// Counts the changes of the view's layers.
+    version: u64,
+    /// What the image in `targets` shows: the layers' version and the frame's uniforms and
+    /// background. The same again (a frame where only the UI around the view changed) reuses
+    /// the image instead of drawing the scene again — on a CPU rasteriser the view's pass is
+    /// most of a frame.
+    drawn: Option<(u64, FrameUniforms, [f32; 4])>,
 }
 
 /// Device-level resources of all 3D views.
@@ -430,8 +462,11 @@ impl Renderer3d {
             vertices: GpuArray::with_capacity(device, "interpolab mesh vertices", wgpu::BufferUsages::VERTEX, vb.len()),
             indices: GpuArray::with_capacity(device, "interpolab mesh indices", wgpu::BufferUsages::INDEX, ib.len()),
         });
-        m.vertices.write(device, queue, vb, mesh.vertices.len() as u32, 0);
-        m.indices.write(device, queue, ib, mesh.indices.len() as u32, 0);
+        let changed = m.vertices.write(device, queue, vb, mesh.vertices.len() as u32, 0)
+            | m.indices.write(device, queue, ib, mesh.indices.len() as u32, 0);
+        if changed {
+            v.version += 1;
+        }
     }
 
     /// Replaces a line layer; the first `unchanged` segments are known to be on the GPU
@@ -439,27 +474,19 @@ impl Renderer3d {
     pub fn set_lines(&mut self, view: ViewId, layer: Layer, lines: &[LineSegment], unchanged: usize) {
         let bytes = bytemuck::cast_slice::<LineSegment, u8>(lines);
         let prefix = (unchanged.min(lines.len()) * std::mem::size_of::<LineSegment>()) as u64;
-        Self::write_instances(
-            &self.device,
-            &self.queue,
-            self.views.entry(view).or_default().lines.entry(layer),
-            bytes,
-            lines.len() as u32,
-            prefix,
-        );
+        let v = self.views.entry(view).or_default();
+        if Self::write_instances(&self.device, &self.queue, v.lines.entry(layer), bytes, lines.len() as u32, prefix) {
+            v.version += 1;
+        }
     }
 
     /// Replaces a sphere layer.
     pub fn set_spheres(&mut self, view: ViewId, layer: Layer, spheres: &[SphereInstance]) {
         let bytes = bytemuck::cast_slice::<SphereInstance, u8>(spheres);
-        Self::write_instances(
-            &self.device,
-            &self.queue,
-            self.views.entry(view).or_default().spheres.entry(layer),
-            bytes,
-            spheres.len() as u32,
-            0,
-        );
+        let v = self.views.entry(view).or_default();
+        if Self::write_instances(&self.device, &self.queue, v.spheres.entry(layer), bytes, spheres.len() as u32, 0) {
+            v.version += 1;
+        }
     }
 
     fn write_instances(
@@ -469,14 +496,14 @@ impl Renderer3d {
         bytes: &[u8],
         count: u32,
         prefix: u64,
-    ) {
+    ) -> bool {
         // A new buffer holds nothing yet, so all of it is written.
         let prefix = if matches!(entry, std::collections::btree_map::Entry::Vacant(_)) { 0 } else { prefix };
         entry
             .or_insert_with(|| {
                 GpuArray::with_capacity(device, "interpolab instances", wgpu::BufferUsages::VERTEX, bytes.len())
             })
-            .write(device, queue, bytes, count, prefix);
+            .write(device, queue, bytes, count, prefix)
     }
 
     /// Drops everything of a view.
@@ -530,6 +557,7 @@ impl Renderer3d {
             ],
         });
         v.targets = Some(Targets { size, msaa, depth, resolved, composite });
+        v.drawn = None;
     }
 
     fn draw_view(&mut self, cb: &ViewCallback, encoder: &mut wgpu::CommandEncoder) {
@@ -543,6 +571,11 @@ impl Renderer3d {
         let Some(v) = self.views.get_mut(&cb.view) else {
             return;
         };
+        let drawn = Some((v.version, uniforms, cb.background));
+        if v.drawn == drawn {
+            return;
+        }
+        v.drawn = drawn;
         let (ubuf, ubind) = v.uniforms.get_or_insert_with(|| {
             let buffer = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("interpolab frame uniforms"),
