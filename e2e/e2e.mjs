@@ -402,6 +402,55 @@ try {
     await pageS.close();
   }
 
+  // 10b. The cutting simulation as a background job: the program is made, machined and
+  // measured in a Web Worker (the core's second wasm module), the page only draws what
+  // comes back; the view is orbited while it computes (frames recorded), and the move
+  // slider shows a keyframe at once, then the exact stock from a run to that move.
+  {
+    const TAB = "Cutting simulation";
+    const pageJ = await context.newPage();
+    await pageJ.goto(url);
+    let sj = await waitFor(pageJ, "the app for the simulation job", settled);
+    const jobs0 = sj.jobs;
+    const tabJ = sj.ui[TAB];
+    currentTab = "simulation";
+    await pageJ.mouse.click(tabJ[0] + tabJ[2] / 2, tabJ[1] + tabJ[3] / 2);
+    await resetFrames(pageJ);
+    // Orbit the view (drag across it) while the worker machines.
+    const t0 = Date.now();
+    for (let i = 0; i < 6; i++) {
+      await pageJ.mouse.move(700, 400);
+      await pageJ.mouse.down();
+      await pageJ.mouse.move(760 + 10 * i, 430, { steps: 8 });
+      await pageJ.mouse.up();
+      const now = await status(pageJ);
+      if (now.panel && now.panel.status && now.panel.status.stage === "done") break;
+    }
+    sj = await waitFor(pageJ, "the simulation job", (s) => s.panel && s.panel.title === TAB && s.panel.status
+      && s.panel.status.stage === "done" && s.panel.status.computing === false, 120000);
+    await recordFrames(pageJ, "orbiting the view while the simulation job machines");
+    const jt = sj.panel.status;
+    check("simulation job: machined and measured in a Web Worker, not on the page",
+      jt.in_background === true && sj.jobs.background > jobs0.background && sj.jobs.on_page === jobs0.on_page
+        && jt.moves_simulated === jt.moves_total && jt.scallop_um !== null,
+      `${jt.moves_total} moves, ${jt.removed_volume_mm3} mm³ in ${Math.round(jt.sim_ms)} ms wall (${Date.now() - t0} ms to done), longest frame on it ${jt.slowest_frame_ms.toFixed(1)} ms, jobs ${JSON.stringify(sj.jobs)}`);
+    const msj = jt.ui && jt.ui.sim_move_slider;
+    if (msj) {
+      await resetFrames(pageJ);
+      const ts = Date.now();
+      await dragSlider(pageJ, msj, 90, 30, 12);
+      const back = await waitFor(pageJ, "the exact stock at the scrubbed move", (s) => s.panel.status.computing === false
+        && s.panel.status.stage === "done" && s.panel.status.moves_simulated < jt.moves_total, 120000);
+      await recordFrames(pageJ, "scrubbing the simulation's move slider (keyframes, then a run to the move)");
+      await pageJ.screenshot({ path: path.join(artifacts, "11b-simulation-scrubbed.png") });
+      const bt = back.panel.status;
+      check("simulation job: the move slider gives the stock at that move",
+        bt.removed_volume_mm3 < jt.removed_volume_mm3 && bt.in_background === true && back.jobs.on_page === jobs0.on_page,
+        `move ${bt.moves_simulated} of ${bt.moves_total}: ${bt.removed_volume_mm3} mm³ after ${Date.now() - ts} ms`);
+    }
+    await pageJ.close();
+  }
+
   // 11. Fillet end mill (seed 001): the default finishing part's iso-scallop paths, built
   // path by path over frames, drawn with the cutter at a contact point.
   {
@@ -434,6 +483,46 @@ try {
       await recordFrames(pageF, "dragging the fillet scallop slider");
     }
     await pageF.close();
+  }
+
+  // 11b. The fillet comparison table as background jobs: ten whole core runs, two at a time
+  // in Web Workers, rows filled in as they finish while the view is orbited.
+  {
+    const TAB = "Fillet end mill (seed 001)";
+    const pageT = await context.newPage();
+    await pageT.goto(url);
+    let st = await waitFor(pageT, "the app for the fillet table", settled);
+    const jobs0 = st.jobs;
+    const tabT = st.ui[TAB];
+    currentTab = "fillet";
+    await pageT.mouse.click(tabT[0] + tabT[2] / 2, tabT[1] + tabT[3] / 2);
+    st = await waitFor(pageT, "the fillet paths before the table", (s) => s.panel && s.panel.title === TAB && s.panel.status
+      && s.panel.status.computing === false && s.panel.status.passes > 0, 180000);
+    const tb = st.panel.status.ui.table_button;
+    await resetFrames(pageT);
+    const t0 = Date.now();
+    await pageT.mouse.click(tb[0] + tb[2] / 2, tb[1] + tb[3] / 2);
+    const seen = new Set();
+    for (let i = 0; i < 400; i++) {
+      await pageT.mouse.move(600, 400);
+      await pageT.mouse.down();
+      await pageT.mouse.move(640 + (i % 5) * 10, 420, { steps: 6 });
+      await pageT.mouse.up();
+      const now = await status(pageT);
+      const p = now.panel.status;
+      if (p.table_requested) seen.add(p.table_rows_done);
+      if (p.table_requested && p.computing === false) break;
+    }
+    st = await waitFor(pageT, "the fillet comparison table", (s) => s.panel.status.table_requested
+      && s.panel.status.computing === false, 300000);
+    await recordFrames(pageT, "orbiting the view while the fillet table's rows compute");
+    await pageT.screenshot({ path: path.join(artifacts, "12b-fillet-table.png") });
+    const ft = st.panel.status;
+    check("fillet table: its ten rows computed in Web Workers, arriving while the page drew",
+      ft.table.length === 10 && ft.table.every((r) => r.passes > 0) && ft.table_in_background === true
+        && st.jobs.background >= jobs0.background + 9 && st.jobs.on_page === jobs0.on_page && seen.size >= 3,
+      `${ft.table.length} rows in ${Date.now() - t0} ms, row counts seen ${[...seen].join(",")}, jobs ${JSON.stringify(st.jobs)}`);
+    await pageT.close();
   }
 } catch (e) {
   failed = true;

@@ -12,7 +12,7 @@ fn main() {
 /// The Web Worker's side: installs a message handler on the worker's global scope, then says
 /// `ready`. Each message is a string `kind '\n' request`; the answer is `ok '\n' output` or
 /// `err '\n' message` (a request the worker cannot decode). Progress is posted as
-/// `progress '\n' fraction`. The page starts one worker per job and terminates it to cancel,
+/// `progress '\n' fraction`, a partial output as `partial '\n' text`. The page starts one worker per job and terminates it to cancel,
 /// so a job here never needs to look at `Progress::cancelled`. (Browser glue lives in this
 /// binary, not in the core: `tests/core_boundary.rs`.)
 #[cfg(all(target_arch = "wasm32", feature = "worker"))]
@@ -30,6 +30,9 @@ mod worker {
         }
         fn cancelled(&self) -> bool {
             false
+        }
+        fn partial(&mut self, encoded: String) {
+            let _ = self.0.post_message(&JsValue::from_str(&format!("partial\n{encoded}")));
         }
     }
 

@@ -230,6 +230,8 @@ fn settle_panel(h: &mut Harness, what: &str) -> serde_json::Value {
             assert!(!text.contains("NaN") && !text.contains("inf"), "{what}: {text}");
             return p.clone();
         }
+        // A background job needs time, not frames.
+        std::thread::sleep(std::time::Duration::from_millis(1));
     }
     panic!("{what}: the view did not finish");
 }
@@ -935,6 +937,65 @@ fn the_fillet_view_builds_the_cores_iso_scallop_paths_over_frames_and_restarts_o
     // The inset's numbers at the selected CC point: the matched cutter clears the surface.
     let sel = &s["selected"];
     assert!(sel["k_cutter_per_mm"].as_f64().expect("κ") >= sel["k_surface_per_mm"].as_f64().expect("k") - 1e-9, "{s}");
+}
+
+/// The comparison table's rows are background jobs: they arrive while the view keeps
+/// drawing, each is the core's own run on the same inputs, and none ran on the UI thread.
+#[test]
+fn the_fillet_table_rows_are_background_jobs_giving_the_cores_numbers() {
+    use interpolab::fillet::{Layout, PartSamples, iso_parametric, iso_scallop};
+    use interpolab::scene::finish::{FINISH_PRESETS, FinishScene};
+    let mut h = Harness::new();
+    h.settle();
+    set(&mut h, FILLET, "preset", "finish-bicubic-patch");
+    set(&mut h, FILLET, "h", "0.05");
+    set(&mut h, FILLET, "R", "6");
+    set(&mut h, FILLET, "r", "1.5");
+    set(&mut h, FILLET, "table", "true");
+    let before = interpolab::app::jobs::finished_counts();
+    let mut partial_tables = std::collections::BTreeSet::new();
+    let s = loop {
+        h.frame();
+        let all: serde_json::Value = serde_json::from_str(&h.app.status()).expect("status is JSON");
+        let p = all["panel"]["status"].clone();
+        if p["computing_table"] == true {
+            partial_tables.insert(p["table_rows_done"].as_u64().expect("rows done"));
+        }
+        if p["computing"] == false {
+            break p;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    };
+    let rows = s["table"].as_array().expect("rows");
+    assert_eq!(rows.len(), 10, "{s}");
+    assert!(partial_tables.len() >= 3, "rows arrived one by one while frames were drawn: {partial_tables:?}");
+    assert_eq!(s["table_in_background"], true, "{s}");
+    let after = interpolab::app::jobs::finished_counts();
+    assert!(after.0 >= before.0 + 9 && after.1 == before.1, "{before:?} → {after:?}");
+    // Two rows against the core's own runs.
+    for (strategy, lead, layout, k) in
+        [("ball", None, Layout::IsoParametric, 9), ("fixed-lead", Some(10.0), Layout::IsoScallop, 4)]
+    {
+        let mut scene = FinishScene::from_json(FINISH_PRESETS[0].json).expect("preset");
+        scene.finish.scallop = 0.05;
+        scene.finish.cutter.radius = 6.0;
+        scene.finish.cutter.corner_radius = 1.5;
+        strategy.clone_into(&mut scene.finish.strategy);
+        scene.finish.lead = lead;
+        let job = scene.job().expect("job");
+        let part = PartSamples::new(&job.surface, job.options.part_grid);
+        let core = match layout {
+            Layout::IsoScallop => iso_scallop(&job.surface, &job.cutter, job.strategy, &job.options, &part),
+            Layout::IsoParametric => iso_parametric(&job.surface, &job.cutter, job.strategy, &job.options, &part),
+        }
+        .expect("core")
+        .stats(job.options.feed_mm_per_min);
+        let row = &rows[k];
+        assert_eq!(row["layout"], layout.name(), "{row}");
+        assert_eq!(row["passes"], core.passes, "{row}");
+        assert_eq!(row["length_mm"].as_f64(), Some(core.length_mm), "{row}");
+        assert_eq!(row["strip_mm"][0].as_f64(), Some(core.strip_mm[0]), "{row}");
+    }
 }
 
 #[test]

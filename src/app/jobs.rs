@@ -50,6 +50,8 @@ pub enum Poll<T> {
 pub struct Job<K: JobKind> {
     started: Instant,
     progress: Option<f64>,
+    /// Partial outputs arrived and not yet taken.
+    partials: Vec<K::Partial>,
     inner: imp::Inner<K>,
 }
 
@@ -63,13 +65,14 @@ impl<K: JobKind> Job<K> {
     /// Starts a job.
     #[must_use]
     pub fn start(request: K::Request) -> Self {
-        Self { started: Instant::now(), progress: None, inner: imp::Inner::start(request) }
+        Self { started: Instant::now(), progress: None, partials: Vec::new(), inner: imp::Inner::start(request) }
     }
 
     /// Takes what arrived since the last poll. After [`Poll::Done`] the job is spent: poll
-    /// it no more.
+    /// it no more. Partial outputs that arrived are kept for [`Job::take_partials`] (all of
+    /// them before the output).
     pub fn poll(&mut self) -> Poll<K::Output> {
-        match self.inner.poll(&mut self.progress) {
+        match self.inner.poll(&mut self.progress, &mut self.partials) {
             Some(out) => {
                 let i = usize::from(!self.inner.in_background_done());
                 FINISHED[i].fetch_add(1, Ordering::Relaxed);
@@ -79,10 +82,22 @@ impl<K: JobKind> Job<K> {
         }
     }
 
+    /// The partial outputs that arrived by the last poll, in order.
+    pub fn take_partials(&mut self) -> Vec<K::Partial> {
+        std::mem::take(&mut self.partials)
+    }
+
     /// Time since the start.
     #[must_use]
     pub fn elapsed(&self) -> Duration {
         self.started.elapsed()
+    }
+
+    /// Whether it ran (or runs) off the UI thread so far: false once it had to run on the
+    /// page. Unlike [`Job::in_background`], still true after a background job's output came.
+    #[must_use]
+    pub fn ran_in_background(&self) -> bool {
+        self.inner.in_background_done()
     }
 
     /// Whether it runs off the UI thread (false: in the browser without a worker, where the
@@ -91,6 +106,36 @@ impl<K: JobKind> Job<K> {
     pub fn in_background(&self) -> bool {
         self.inner.in_background()
     }
+}
+
+/// Decodes a partial output into `partials` (one that does not decode is logged and left out:
+/// a view may lack a keyframe, the output still comes).
+fn push_partial<K: JobKind>(text: &str, partials: &mut Vec<K::Partial>) {
+    match K::decode_partial(text) {
+        Ok(p) => partials.push(p),
+        Err(e) => log::warn!("{}: a partial output does not decode: {e}", K::NAME),
+    }
+}
+
+/// Runs a job on the UI thread (no thread or worker could take it), keeping its partial
+/// outputs.
+fn run_here<K: JobKind>(request: &K::Request, partials: &mut Vec<K::Partial>) -> K::Output {
+    struct Keep(Vec<String>);
+    impl crate::jobs::Progress for Keep {
+        fn progress(&mut self, _fraction: f64) {}
+        fn cancelled(&self) -> bool {
+            false
+        }
+        fn partial(&mut self, encoded: String) {
+            self.0.push(encoded);
+        }
+    }
+    let mut keep = Keep(Vec::new());
+    let out = K::run(request, &mut keep);
+    for t in &keep.0 {
+        push_partial::<K>(t, partials);
+    }
+    out
 }
 
 #[cfg(not(target_arch = "wasm32"))]
@@ -103,6 +148,7 @@ mod imp {
 
     enum Msg<T> {
         Progress(f64),
+        Partial(String),
         Done(T),
     }
 
@@ -117,6 +163,9 @@ mod imp {
         }
         fn cancelled(&self) -> bool {
             self.cancel.load(Ordering::Relaxed)
+        }
+        fn partial(&mut self, encoded: String) {
+            let _ = self.tx.send(Msg::Partial(encoded));
         }
     }
 
@@ -145,14 +194,15 @@ mod imp {
             Self { rx, cancel, here, ran_here: false }
         }
 
-        pub fn poll(&mut self, progress: &mut Option<f64>) -> Option<K::Output> {
+        pub fn poll(&mut self, progress: &mut Option<f64>, partials: &mut Vec<K::Partial>) -> Option<K::Output> {
             if let Some(request) = self.here.take() {
                 self.ran_here = true;
-                return Some(K::run(&request, &mut crate::jobs::NoProgress));
+                return Some(super::run_here::<K>(&request, partials));
             }
             while let Ok(m) = self.rx.try_recv() {
                 match m {
                     Msg::Progress(f) => *progress = Some(f),
+                    Msg::Partial(text) => super::push_partial::<K>(&text, partials),
                     Msg::Done(out) => return Some(out),
                 }
             }
@@ -185,7 +235,7 @@ mod imp {
     use eframe::wasm_bindgen::prelude::{Closure, JsValue};
 
     use super::WORKER_SCRIPT;
-    use crate::jobs::{JobKind, NoProgress};
+    use crate::jobs::JobKind;
 
     type Inbox = Rc<RefCell<VecDeque<String>>>;
 
@@ -247,14 +297,14 @@ mod imp {
         }
 
         /// Runs the job on the page (the worker failed or is missing).
-        fn here(&mut self, why: &str) -> Option<K::Output> {
+        fn here(&mut self, why: &str, partials: &mut Vec<K::Partial>) -> Option<K::Output> {
             if let Some(r) = self.running.take() {
                 r.stop();
                 log::warn!("{} runs on the page: {why}", K::NAME);
             }
             self.ran_here = true;
             match K::decode_request(&self.request) {
-                Ok(req) => Some(K::run(&req, &mut NoProgress)),
+                Ok(req) => Some(super::run_here::<K>(&req, partials)),
                 Err(e) => {
                     log::error!("{}: {e}", K::NAME);
                     None
@@ -262,9 +312,9 @@ mod imp {
             }
         }
 
-        pub fn poll(&mut self, progress: &mut Option<f64>) -> Option<K::Output> {
+        pub fn poll(&mut self, progress: &mut Option<f64>, partials: &mut Vec<K::Partial>) -> Option<K::Output> {
             let Some(r) = self.running.as_mut() else {
-                return self.here("no worker");
+                return self.here("no worker", partials);
             };
             loop {
                 let msg = r.inbox.borrow_mut().pop_front()?;
@@ -274,10 +324,11 @@ mod imp {
                         r.sent = true;
                         let text = format!("{}\n{}", K::NAME, self.request);
                         if let Err(e) = r.worker.post_message(&JsValue::from_str(&text)) {
-                            return self.here(&format!("{e:?}"));
+                            return self.here(&format!("{e:?}"), partials);
                         }
                     }
                     "progress" => *progress = body.parse().ok(),
+                    "partial" => super::push_partial::<K>(body, partials),
                     "ok" => {
                         return match K::decode_output(body) {
                             Ok(out) => {
@@ -286,10 +337,10 @@ mod imp {
                                 }
                                 Some(out)
                             }
-                            Err(e) => self.here(&e),
+                            Err(e) => self.here(&e, partials),
                         };
                     }
-                    _ => return self.here(body),
+                    _ => return self.here(body, partials),
                 }
             }
         }
@@ -323,6 +374,7 @@ mod tests {
         const NAME: &'static str = "count";
         type Request = (u64, std::sync::Arc<std::sync::atomic::AtomicU64>);
         type Output = u64;
+        type Partial = u64;
         fn run(r: &Self::Request, p: &mut dyn Progress) -> u64 {
             let mut i = 0;
             while i < r.0 && !p.cancelled() {
@@ -330,6 +382,9 @@ mod tests {
                 r.1.store(i, std::sync::atomic::Ordering::Relaxed);
                 if i % 1000 == 0 {
                     p.progress(i as f64 / r.0 as f64);
+                    if i % 5000 == 0 {
+                        p.partial(i.to_string());
+                    }
                     std::thread::sleep(Duration::from_micros(50));
                 }
             }
@@ -345,6 +400,9 @@ mod tests {
             o.to_string()
         }
         fn decode_output(t: &str) -> Result<u64, String> {
+            t.parse().map_err(|_| "not a count".into())
+        }
+        fn decode_partial(t: &str) -> Result<u64, String> {
             t.parse().map_err(|_| "not a count".into())
         }
     }
@@ -369,6 +427,12 @@ mod tests {
         let (out, progressed) = wait(&mut job);
         assert_eq!(out, 20_000);
         assert!(progressed, "progress was reported");
+        assert_eq!(
+            job.take_partials(),
+            [5000, 10_000, 15_000, 20_000],
+            "partial outputs, in order, all before the output"
+        );
+        assert!(job.take_partials().is_empty());
     }
 
     #[test]

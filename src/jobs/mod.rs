@@ -10,9 +10,17 @@
 //! (`app::jobs`) starts, polls and cancels jobs; this module only defines them and, for the
 //! worker, answers a request by its kind's name ([`run_encoded`]).
 //!
-//! Kinds: [`program_row::ProgramRow`] (one program of the NURBS & G-code comparison).
+//! A job may also hand back *partial* outputs while it runs ([`Progress::partial`], e.g. the
+//! stock's heights every so many moves of a cutting simulation), in the same text encoding.
+//!
+//! Kinds: [`program_row::ProgramRow`] (one program of the NURBS & G-code comparison),
+//! [`fillet_row::FilletRow`] (one row of the fillet tab's comparison table),
+//! [`simulate_run::SimulateRun`] (a cutting simulation: the program written, machined and
+//! measured, with keyframes of the stock on the way).
 
+pub mod fillet_row;
 pub mod program_row;
+pub mod simulate_run;
 
 use glam::DVec3;
 use serde_json::Value;
@@ -23,6 +31,8 @@ pub trait Progress {
     fn progress(&mut self, fraction: f64);
     /// Whether the job was cancelled (a job may stop early and return anything).
     fn cancelled(&self) -> bool;
+    /// A partial output, encoded by its kind's [`JobKind::encode_partial`] (default: dropped).
+    fn partial(&mut self, _encoded: String) {}
 }
 
 /// A kind of background job.
@@ -33,6 +43,8 @@ pub trait JobKind: 'static {
     type Request: Send + 'static;
     /// What it gives back.
     type Output: Send + 'static;
+    /// What it may hand back while it runs (`()` for kinds that hand back nothing early).
+    type Partial: Send + 'static;
     /// Does the work.
     fn run(request: &Self::Request, progress: &mut dyn Progress) -> Self::Output;
     /// The request as text.
@@ -49,6 +61,11 @@ pub trait JobKind: 'static {
     /// # Errors
     /// A message naming what is malformed.
     fn decode_output(text: &str) -> Result<Self::Output, String>;
+    /// A partial output from its text ([`Progress::partial`]).
+    ///
+    /// # Errors
+    /// A message naming what is malformed.
+    fn decode_partial(text: &str) -> Result<Self::Partial, String>;
 }
 
 /// Runs an encoded request of the kind named `name` and returns its encoded output: what a
@@ -63,6 +80,8 @@ pub fn run_encoded(name: &str, request: &str, progress: &mut dyn Progress) -> Re
     }
     match name {
         program_row::ProgramRow::NAME => go::<program_row::ProgramRow>(request, progress),
+        fillet_row::FilletRow::NAME => go::<fillet_row::FilletRow>(request, progress),
+        simulate_run::SimulateRun::NAME => go::<simulate_run::SimulateRun>(request, progress),
         _ => Err(format!("the worker knows no job \"{name}\"")),
     }
 }
@@ -140,6 +159,61 @@ impl<'a> Reader<'a> {
 
 fn as_f64(v: &Value) -> Option<f64> {
     v.as_u64().map(f64::from_bits)
+}
+
+/// Floats as the base64url text of their little-endian bytes: a large array crosses as a
+/// compact string, each value bit for bit.
+pub(crate) fn f64s_packed(xs: &[f64]) -> Value {
+    let bytes: Vec<u8> = xs.iter().flat_map(|x| x.to_le_bytes()).collect();
+    Value::from(crate::scene::link::base64url_encode(&bytes))
+}
+
+/// Single-precision floats packed as [`f64s_packed`] does.
+pub(crate) fn f32s_packed(xs: &[f32]) -> Value {
+    let bytes: Vec<u8> = xs.iter().flat_map(|x| x.to_le_bytes()).collect();
+    Value::from(crate::scene::link::base64url_encode(&bytes))
+}
+
+/// Flags packed eight to a byte (bit i of byte i / 8 is flag i), as base64url text.
+pub(crate) fn bits_packed(flags: &[bool]) -> Value {
+    let mut bytes = vec![0u8; flags.len().div_ceil(8)];
+    for (i, _) in flags.iter().enumerate().filter(|(_, f)| **f) {
+        bytes[i / 8] |= 1 << (i % 8);
+    }
+    Value::from(crate::scene::link::base64url_encode(&bytes))
+}
+
+impl Reader<'_> {
+    fn packed(&self, key: &str) -> Result<Vec<u8>, String> {
+        self.str(key)
+            .ok()
+            .and_then(crate::scene::link::base64url_decode)
+            .ok_or_else(|| format!("{}.{key}: not packed data", self.what))
+    }
+    /// `n` floats packed by [`f64s_packed`].
+    pub(crate) fn f64s_packed(&self, key: &str, n: usize) -> Result<Vec<f64>, String> {
+        let b = self.packed(key)?;
+        if b.len() != 8 * n {
+            return Err(format!("{}.{key}: {} bytes for {n} numbers", self.what, b.len()));
+        }
+        Ok(b.chunks_exact(8).map(|c| f64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]])).collect())
+    }
+    /// `n` floats packed by [`f32s_packed`].
+    pub(crate) fn f32s_packed(&self, key: &str, n: usize) -> Result<Vec<f32>, String> {
+        let b = self.packed(key)?;
+        if b.len() != 4 * n {
+            return Err(format!("{}.{key}: {} bytes for {n} numbers", self.what, b.len()));
+        }
+        Ok(b.chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect())
+    }
+    /// `n` flags packed by [`bits_packed`].
+    pub(crate) fn bits_packed(&self, key: &str, n: usize) -> Result<Vec<bool>, String> {
+        let b = self.packed(key)?;
+        if b.len() != n.div_ceil(8) {
+            return Err(format!("{}.{key}: {} bytes for {n} flags", self.what, b.len()));
+        }
+        Ok((0..n).map(|i| b[i / 8] & (1 << (i % 8)) != 0).collect())
+    }
 }
 
 pub(crate) fn parse(text: &str, what: &'static str) -> Result<Value, String> {

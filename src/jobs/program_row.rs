@@ -79,6 +79,7 @@ impl JobKind for ProgramRow {
     const NAME: &'static str = "program-row";
     type Request = Request;
     type Output = Result<CompareRow, String>;
+    type Partial = ();
 
     fn run(request: &Request, progress: &mut dyn Progress) -> Self::Output {
         let design = build_design(&request.design)?;
@@ -270,6 +271,10 @@ impl JobKind for ProgramRow {
             },
             program,
         }))
+    }
+
+    fn decode_partial(_text: &str) -> Result<(), String> {
+        Ok(())
     }
 }
 

@@ -46,6 +46,14 @@ impl FinishScene {
         Ok(scene)
     }
 
+    /// The scene as `interpolab-scene/1` text: [`FinishScene::from_json`] of it gives this
+    /// scene back exactly, every number bit for bit (how a finishing job crosses into a
+    /// background worker, `jobs::fillet_row`).
+    #[must_use]
+    pub fn to_json(&self) -> String {
+        super::write::finish_to_json(self)
+    }
+
     /// Converts to core units, checking every value's range.
     ///
     /// # Errors

@@ -127,6 +127,56 @@ fn tool_axis_value(t: &ToolAxisSpec) -> Value {
     }
 }
 
+/// A finishing scene (seed 001) as the format writes it: optional keys only when set, so
+/// parsing the output gives back the same scene, every number bit for bit (serde_json writes
+/// the shortest text that reads back to the same `f64`, and reads with `float_roundtrip`).
+pub(super) fn finish_to_json(s: &super::finish_spec::FinishScene) -> String {
+    let f = &s.finish;
+    let c = &f.cutter;
+    let mut cutter = Map::new();
+    cutter.insert("radius".into(), json!(c.radius));
+    cutter.insert("corner_radius".into(), json!(c.corner_radius));
+    for (k, v) in [
+        ("flute_length", c.flute_length),
+        ("shank_radius", c.shank_radius),
+        ("gauge_length", c.gauge_length),
+        ("holder_radius", c.holder_radius),
+        ("holder_length", c.holder_length),
+    ] {
+        if let Some(v) = v {
+            cutter.insert(k.into(), json!(v));
+        }
+    }
+    let mut finish = Map::new();
+    finish.insert("cutter".into(), Value::Object(cutter));
+    finish.insert("strategy".into(), f.strategy.clone().into());
+    let opt = |m: &mut Map<String, Value>, k: &str, v: Option<f64>| {
+        if let Some(v) = v {
+            m.insert(k.into(), json!(v));
+        }
+    };
+    opt(&mut finish, "lead", f.lead);
+    finish.insert("scallop".into(), json!(f.scallop));
+    finish.insert("tolerance".into(), json!(f.tolerance));
+    opt(&mut finish, "max_step", f.max_step);
+    finish.insert("direction".into(), f.direction.clone().into());
+    opt(&mut finish, "margin", f.margin);
+    opt(&mut finish, "max_inclination", f.max_inclination);
+    opt(&mut finish, "feed", f.feed);
+    let mut m = Map::new();
+    m.insert("format".into(), FORMAT.into());
+    m.insert("name".into(), s.name.clone().into());
+    m.insert("surfaces".into(), Value::Array(vec![surface(&s.surface)]));
+    m.insert("finish".into(), Value::Object(finish));
+    if let Some(machine) = &s.machine {
+        m.insert("machine".into(), machine_value(machine));
+    }
+    let mut out = String::new();
+    pretty(&Value::Object(m), 0, &mut out);
+    out.push('\n');
+    out
+}
+
 pub(super) fn to_json(s: &Scene) -> String {
     let mut out = String::new();
     pretty(&to_value(s), 0, &mut out);

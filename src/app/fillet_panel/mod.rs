@@ -5,7 +5,9 @@
 //! `fillet::iso_scallop`), drawn over the surface coloured by strip width; the cutter at a
 //! selected CC point; an inset of the normal section in a direction θ there (the surface's
 //! osculating circle against the cutter's effective cutting curvature — the picture of
-//! curvature matching); the comparison table on request. Core and formulas: docs/fillet.md.
+//! curvature matching); the comparison table on request, its rows background jobs
+//! (`work::Job::advance`: threads natively, Web Workers in the browser) filled in as they
+//! finish. Core and formulas: docs/fillet.md.
 
 mod view;
 pub mod work;
@@ -19,7 +21,7 @@ use crate::fillet::{CcNode, effective_curvature};
 use crate::scene::finish::FINISH_PRESETS;
 use view::FilletView;
 pub use work::{CORNER_RANGE_MM, RADIUS_RANGE_MM, SCALLOP_RANGE_UM, TOLERANCE_RANGE_MM};
-use work::{Job, Settings, StrategyChoice};
+use work::{Job, Settings, StrategyChoice, TABLE_ROWS, table_row};
 
 /// Points of a section curve in the inset.
 const SECTION_POINTS: usize = 121;
@@ -43,6 +45,8 @@ pub struct FilletPanel {
     want_table: bool,
     /// The scallop slider's rectangle (status `ui.scallop_slider`, for end-to-end tests).
     scallop_rect: Option<egui::Rect>,
+    /// The table button's rectangle (status `ui.table_button`).
+    table_rect: Option<egui::Rect>,
 }
 
 impl Default for FilletPanel {
@@ -50,6 +54,7 @@ impl Default for FilletPanel {
         Self {
             settings: Settings::of_preset(0),
             scallop_rect: None,
+            table_rect: None,
             job: None,
             refused: None,
             last_refused: None,
@@ -264,24 +269,32 @@ impl FilletPanel {
         ui.horizontal_wrapped(|ui| {
             let computing = self.job.as_ref().is_some_and(Job::computing_table);
             let has = self.job.as_ref().is_some_and(|j| j.table_requested);
-            if ui
+            let r = ui
                 .add_enabled(!has, egui::Button::new("Compute the comparison table"))
-                .on_hover_text("Ten whole core runs (5 strategies × iso-scallop / iso-parametric), one per frame")
-                .clicked()
-            {
+                .on_hover_text("Ten whole core runs (5 strategies × iso-scallop / iso-parametric), in the background");
+            self.table_rect = Some(r.rect);
+            if r.clicked() {
                 self.want_table = true;
                 if let Some(j) = &mut self.job {
                     j.table_requested = true;
                 }
             }
+            if computing {
+                let done = self.job.as_ref().map_or(0, Job::rows_done);
+                ui.add(
+                    egui::ProgressBar::new(done as f32 / TABLE_ROWS as f32)
+                        .desired_width(160.0)
+                        .text(format!("{done} of {TABLE_ROWS} rows")),
+                );
+            }
             ui.label(if computing {
-                "computing one row per frame; each row is a whole core run, the view may pause briefly"
+                "each row is a whole core run in the background; the view stays live and rows appear as they finish"
             } else {
                 "each row is a whole core run (about as long as the paths above), so the table is computed on request"
             });
         });
         let Some(job) = &self.job else { return };
-        if job.table.is_empty() {
+        if !job.table_requested {
             return;
         }
         egui::Grid::new("fillet_table").striped(true).num_columns(9).show(ui, |ui| {
@@ -294,12 +307,20 @@ impl FilletPanel {
                 "mean",
                 "max (mm)",
                 "time (min)",
-                "core (ms)",
+                "wall (ms)",
             ] {
                 ui.strong(h);
             }
             ui.end_row();
-            for row in &job.table {
+            for (k, row) in job.table.iter().enumerate() {
+                let Some(row) = row else {
+                    let (strategy, layout) = table_row(k);
+                    ui.label(strategy.label());
+                    ui.label(layout.name());
+                    ui.weak("computing…");
+                    ui.end_row();
+                    continue;
+                };
                 ui.label(row.strategy.label());
                 ui.label(row.layout.name());
                 match &row.stats {
@@ -339,8 +360,11 @@ impl Panel for FilletPanel {
         if let Some(j) = &mut self.job {
             // One path is the smallest step: a large surface may overshoot by one path.
             j.advance(FRAME_BUDGET);
-            if j.computing_paths() || j.computing_table() {
+            if j.computing_paths() {
                 ui.ctx().request_repaint();
+            } else if j.computing_table() {
+                // The rows run elsewhere: look again soon, without drawing flat out.
+                ui.ctx().request_repaint_after(super::jobs::POLL);
             }
         }
         self.sync();
@@ -376,7 +400,12 @@ impl Panel for FilletPanel {
             "h_mm": s.scallop_um * 1e-3,
             "tol_mm": s.tol_mm,
             "error": self.refused,
-            "ui": super::widgets::rects_json(&self.scallop_rect.map(|r| ("scallop_slider", r)).into_iter().collect::<Vec<_>>()),
+            "ui": super::widgets::rects_json(
+                &[self.scallop_rect.map(|r| ("scallop_slider", r)), self.table_rect.map(|r| ("table_button", r))]
+                    .into_iter()
+                    .flatten()
+                    .collect::<Vec<_>>()
+            ),
         });
         let Some(job) = &self.job else {
             v["computing"] = false.into();
@@ -412,9 +441,13 @@ impl Panel for FilletPanel {
             });
         }
         v["table_requested"] = job.table_requested.into();
+        v["computing_table"] = job.computing_table().into();
+        v["table_rows_done"] = job.rows_done().into();
+        v["table_in_background"] = job.rows_in_background().into();
         v["table"] = job
             .table
             .iter()
+            .flatten()
             .map(|r| match &r.stats {
                 Ok(s) => serde_json::json!({
                     "strategy": r.strategy.key(), "layout": r.layout.name(), "passes": s.passes,

@@ -1,14 +1,17 @@
 //! The fillet tab's work: a finishing preset with the user's cutter, scallop height,
 //! tolerance and strategy, its iso-scallop paths built one path per step by
-//! `fillet::IsoScallopSteps` within a time budget per frame, and the comparison table built
-//! one row per frame on request.
+//! `fillet::IsoScallopSteps` within a time budget per frame, and the comparison table on
+//! request: each row (a whole core run, 1–1.5 s natively) a background job
+//! (`jobs::fillet_row`, run by `app::jobs`: a thread natively, a Web Worker in the browser),
+//! [`TABLE_JOBS_AT_ONCE`] at a time, rows filled in as they finish. Dropping the work
+//! (the settings changed) drops its jobs, which cancels them.
 
 use web_time::{Duration, Instant};
 
-use crate::fillet::{
-    FinishOptions, IsoScallopSteps, Layout, PartSamples, PathSet, Stats, Strategy, iso_parametric, iso_scallop,
-};
+use crate::app::jobs::{Job as BackgroundJob, Poll};
+use crate::fillet::{FinishOptions, IsoScallopSteps, Layout, PartSamples, PathSet, Stats, Strategy};
 use crate::geom::{Cutter, Surface};
+use crate::jobs::fillet_row::{FilletRow, Request as RowRequest};
 use crate::scene::finish::{FINISH_PRESETS, FinishScene};
 
 /// Range of the cutter radius R slider (mm).
@@ -19,6 +22,11 @@ pub const CORNER_RANGE_MM: (f64, f64) = (0.0, 25.0);
 pub const SCALLOP_RANGE_UM: (f64, f64) = (1.0, 200.0);
 /// Range of the chord tolerance E slider (mm).
 pub const TOLERANCE_RANGE_MM: (f64, f64) = (0.001, 0.1);
+/// Rows of the comparison table computed at once (each in its own thread or Web Worker):
+/// two keep both cores of a small machine busy while the page draws.
+pub const TABLE_JOBS_AT_ONCE: usize = 2;
+/// Rows of the comparison table: every strategy with iso-scallop and iso-parametric paths.
+pub const TABLE_ROWS: usize = 2 * StrategyChoice::ALL.len();
 
 /// The orientation strategies offered.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -38,18 +46,6 @@ pub enum StrategyChoice {
 impl StrategyChoice {
     /// All, in the order of the comparison table.
     pub const ALL: [Self; 5] = [Self::Matched, Self::Lead5, Self::Lead10, Self::Principal, Self::Ball];
-
-    /// The core's strategy.
-    #[must_use]
-    pub fn strategy(self) -> Strategy {
-        match self {
-            Self::Matched => Strategy::Matched,
-            Self::Lead5 => Strategy::FixedLead { lead_rad: 5f64.to_radians() },
-            Self::Lead10 => Strategy::FixedLead { lead_rad: 10f64.to_radians() },
-            Self::Principal => Strategy::PrincipalAxis,
-            Self::Ball => Strategy::Ball,
-        }
-    }
 
     /// The option value (`set_option("strategy", …)`).
     #[must_use]
@@ -171,8 +167,17 @@ pub struct Row {
     pub layout: Layout,
     /// Numbers or the core's message.
     pub stats: Result<Stats, String>,
-    /// Wall time of the core for this row (ms).
+    /// Wall time of this row (ms): from its job's start to its output (in a browser the
+    /// worker's start included), or the main paths' core time for the row they are.
     pub ms: f64,
+}
+
+/// The strategy and layout of table row `k` (strategies in [`StrategyChoice::ALL`] order,
+/// iso-scallop before iso-parametric).
+#[must_use]
+pub fn table_row(k: usize) -> (StrategyChoice, Layout) {
+    let strategy = StrategyChoice::ALL[(k / 2).min(StrategyChoice::ALL.len() - 1)];
+    (strategy, if k.is_multiple_of(2) { Layout::IsoScallop } else { Layout::IsoParametric })
 }
 
 /// A job for one set of settings.
@@ -197,10 +202,16 @@ pub struct Job {
     pub core_ms: f64,
     /// Longest single step (ms).
     pub longest_step_ms: f64,
-    /// The comparison rows computed so far (when requested).
-    pub table: Vec<Row>,
+    /// The comparison rows by index ([`table_row`]), each once it has arrived.
+    pub table: Vec<Option<Row>>,
     /// Whether the table was requested.
     pub table_requested: bool,
+    /// The rows' jobs under way (row index, job).
+    table_jobs: Vec<(usize, BackgroundJob<FilletRow>)>,
+    /// Next row to start.
+    next_row: usize,
+    /// Whether every row's job so far ran off the UI thread.
+    rows_background: bool,
 }
 
 impl Job {
@@ -224,8 +235,11 @@ impl Job {
             error: None,
             core_ms: 0.0,
             longest_step_ms: 0.0,
-            table: Vec::new(),
+            table: vec![None; TABLE_ROWS],
             table_requested: false,
+            table_jobs: Vec::new(),
+            next_row: 0,
+            rows_background: true,
         })
     }
 
@@ -238,7 +252,19 @@ impl Job {
     /// Whether the table is being built.
     #[must_use]
     pub fn computing_table(&self) -> bool {
-        self.table_requested && self.error.is_none() && self.table.len() < 2 * StrategyChoice::ALL.len()
+        self.table_requested && self.error.is_none() && self.rows_done() < TABLE_ROWS
+    }
+
+    /// Rows of the table arrived so far.
+    #[must_use]
+    pub fn rows_done(&self) -> usize {
+        self.table.iter().filter(|r| r.is_some()).count()
+    }
+
+    /// Rows whose job runs off the UI thread (false: in a browser without a worker).
+    #[must_use]
+    pub fn rows_in_background(&self) -> bool {
+        self.rows_background && self.table_jobs.iter().all(|(_, j)| j.ran_in_background())
     }
 
     /// Progress of the main paths, 0 … 1.
@@ -261,8 +287,8 @@ impl Job {
         }
     }
 
-    /// Builds paths (one per step) until the budget is spent; then, if requested, one
-    /// comparison row (a whole core run, which may take longer than the budget).
+    /// Builds paths (one per step) until the budget is spent, then looks after the table's
+    /// jobs (starts rows, takes the finished ones).
     pub fn advance(&mut self, budget: Duration) {
         let start = Instant::now();
         while self.computing_paths() && start.elapsed() < budget {
@@ -284,28 +310,51 @@ impl Job {
                 Ok(false) => {}
             }
         }
-        if self.computing_paths() || !self.computing_table() || start.elapsed() >= budget {
-            return;
+        if self.computing_table() {
+            self.advance_table();
         }
-        let k = self.table.len();
-        let strategy = StrategyChoice::ALL[k / 2];
-        let layout = if k.is_multiple_of(2) { Layout::IsoScallop } else { Layout::IsoParametric };
+    }
+
+    /// Takes the rows that finished and starts the next ones, [`TABLE_JOBS_AT_ONCE`] at a
+    /// time. The main paths' own row (iso-scallop with the chosen strategy) is their result,
+    /// taken when they are done.
+    fn advance_table(&mut self) {
         let feed = self.options.feed_mm_per_min;
-        // The main result is the iso-scallop row of its own strategy.
-        if layout == Layout::IsoScallop
-            && strategy.strategy() == self.strategy
-            && let Some(r) = &self.result
-        {
-            self.table.push(Row { strategy, layout, stats: Ok(r.stats(feed)), ms: self.core_ms });
-            return;
+        let mut k = 0;
+        while k < self.table_jobs.len() {
+            let (row, job) = &mut self.table_jobs[k];
+            if let Poll::Done(stats) = job.poll() {
+                self.rows_background &= job.ran_in_background();
+                let (strategy, layout) = table_row(*row);
+                let ms = job.elapsed().as_secs_f64() * 1e3;
+                self.table[*row] = Some(Row { strategy, layout, stats, ms });
+                self.table_jobs.swap_remove(k);
+            } else {
+                k += 1;
+            }
         }
-        let t = Instant::now();
-        let (s, c, o, p) = (&self.surface, &self.cutter, &self.options, &self.part);
-        let res = match layout {
-            Layout::IsoScallop => iso_scallop(s, c, strategy.strategy(), o, p),
-            Layout::IsoParametric => iso_parametric(s, c, strategy.strategy(), o, p),
-        };
-        let ms = t.elapsed().as_secs_f64() * 1e3;
-        self.table.push(Row { strategy, layout, stats: res.map(|r| r.stats(feed)).map_err(|e| e.to_string()), ms });
+        let own = (0..TABLE_ROWS).find(|&k| {
+            let (s, l) = table_row(k);
+            l == Layout::IsoScallop && s == self.settings.strategy
+        });
+        if let (Some(k), Some(r)) = (own, &self.result)
+            && self.table[k].is_none()
+        {
+            let (strategy, layout) = table_row(k);
+            self.table[k] = Some(Row { strategy, layout, stats: Ok(r.stats(feed)), ms: self.core_ms });
+        }
+        while self.table_jobs.len() < TABLE_JOBS_AT_ONCE && self.next_row < TABLE_ROWS {
+            let k = self.next_row;
+            self.next_row += 1;
+            if Some(k) == own || self.table[k].is_some() {
+                continue;
+            }
+            let (strategy, layout) = table_row(k);
+            let settings = Settings { strategy, ..self.settings };
+            match settings.scene() {
+                Ok(scene) => self.table_jobs.push((k, BackgroundJob::start(RowRequest { scene, layout }))),
+                Err(e) => self.table[k] = Some(Row { strategy, layout, stats: Err(e), ms: 0.0 }),
+            }
+        }
     }
 }

@@ -1,7 +1,8 @@
 //! The "Cutting simulation" view: a program of the product (the scene's crease as G01,
 //! G02/G03 or G06.2, the seed-002 five-axis steps of the scene, or the last G-code file
-//! opened in the app) machined into a dexel stock by `simulate::Simulation`, move by move
-//! within a time budget per frame; the machined stock drawn as a height field coloured by
+//! opened in the app) machined into a dexel stock by `simulate::Simulation` in a background
+//! job (`work.rs`: a thread natively, a Web Worker in the browser; keyframes of the stock
+//! while it runs and for the move slider); the machined stock drawn as a height field coloured by
 //! its deviation from the design, with the scallop and gouge statistics and the removed
 //! volume. Format and error bounds of the core: docs/simulation.md.
 //!
@@ -14,7 +15,6 @@ pub mod work;
 
 use eframe::egui;
 
-use super::budget::FRAME_BUDGET;
 use super::panel::{Panel, PanelContext, SIMULATION_TITLE};
 use view::SimView;
 pub use work::PITCH_RANGE_MM;
@@ -274,8 +274,8 @@ impl SimulatePanel {
     fn current_numbers(&self) -> Option<Numbers> {
         let job = self.job.as_ref()?;
         let p = job.prepared.as_ref()?;
-        let sim = job.sim.as_ref()?;
-        let r = job.results.as_ref().filter(|r| r.moves == job.applied() && !job.computing())?;
+        let counters = job.counters()?;
+        let r = job.measured()?;
         let has_design = p.design_name != "none";
         let sc = &r.stats.scallop;
         let program = match (&self.own_program, self.settings.source) {
@@ -285,7 +285,7 @@ impl SimulatePanel {
         Some(Numbers {
             program,
             moves: job.applied(),
-            removed_mm3: sim.counters().removed_mm3,
+            removed_mm3: counters.removed_mm3,
             design: p.design_name,
             scallop_um: has_design.then(|| ([um(sc.max_mm), um(sc.mean_mm), um(sc.p95_mm)], sc.count)),
             gouge_um: r.stats.worst_gouge.filter(|_| has_design).map(|(d, _)| (um(d), r.stats.gouge_rays)),
@@ -359,22 +359,22 @@ impl SimulatePanel {
         let Some(p) = &job.prepared else { return };
         let mut go = None;
         ui.horizontal_wrapped(|ui| {
-            if let Some(sim) = &job.sim {
-                let g = sim.stock().grid();
+            if let (Some(g), Some(c)) = (job.grid(), job.counters()) {
                 ui.label(format!(
-                    "grid {} × {} at {} mm · moves {} / {} · removed {:.3} mm³ · simulation {:.0} ms (all steps {:.0} ms, longest frame {:.1} ms)",
+                    "grid {} × {} at {} mm · moves {} / {} · removed {:.3} mm³ · last run {:.0} ms in the {} (all runs {:.0} ms; longest frame on it {:.1} ms)",
                     g.nx,
                     g.ny,
                     g.pitch_mm,
                     job.applied(),
                     job.total_moves(),
-                    sim.counters().removed_mm3,
+                    c.removed_mm3,
                     job.sim_ms,
+                    if job.in_background { "background" } else { "page" },
                     job.total_ms,
                     job.slowest_call_ms
                 ));
             }
-            if let Some(r) = job.results.as_ref().filter(|r| r.moves == job.applied()) {
+            if let Some(r) = job.measured() {
                 if p.design_name != "none" {
                     let s = &r.stats.scallop;
                     ui.label(format!(
@@ -442,8 +442,7 @@ impl Panel for SimulatePanel {
 
     fn ui(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
         let inputs = self.inputs(cx);
-        let waiting = inputs.source != SourceKind::Loaded && cx.compute.running();
-        if !waiting && (self.restart || self.job.as_ref().is_none_or(|j| j.inputs != inputs)) {
+        if self.restart || self.job.as_ref().is_none_or(|j| j.inputs != inputs) {
             if self
                 .job
                 .as_ref()
@@ -451,24 +450,17 @@ impl Panel for SimulatePanel {
             {
                 self.view.refit = true;
             }
-            self.job = Some(Job::new(inputs, cx.compute.job.as_ref()));
+            let loaded = self.own_program.as_ref().or(cx.program.as_ref());
+            self.job = Some(Job::new(inputs, cx.scene, loaded, self.target));
             self.restart = false;
         }
         if let Some(job) = &mut self.job {
             job.set_target(self.target);
             if job.computing() {
-                let loaded = self.own_program.as_ref().or(cx.program.as_ref());
-                // The core's moves are bounded: a frame overshoots by at most one move or one grid row.
-                job.advance(FRAME_BUDGET, cx.scene, loaded);
-                ui.ctx().request_repaint();
+                // The run is elsewhere: take what arrived, and look again soon.
+                job.advance();
+                ui.ctx().request_repaint_after(super::jobs::POLL);
             }
-        }
-        if waiting {
-            ui.label(format!(
-                "Waiting for the scene's crease: {} periods computed…",
-                cx.compute.periods.len().saturating_sub(1)
-            ));
-            ui.ctx().request_repaint();
         }
         self.playback(ui);
         self.numbers(ui);
@@ -484,7 +476,7 @@ impl Panel for SimulatePanel {
             return serde_json::json!({ "computing": false, "source": s.source.key(), "stage": "waiting" });
         };
         let prepared = job.prepared.as_ref();
-        let results = job.results.as_ref().filter(|r| r.moves == job.applied());
+        let results = job.measured();
         let has_design = prepared.is_some_and(|p| p.design_name != "none");
         let t = self.view.camera.target;
         let camera = [t.x, t.y, t.z];
@@ -495,16 +487,15 @@ impl Panel for SimulatePanel {
             "source": s.source.key(),
             "error": job.error,
             "cutter": prepared.map(|p| p.cutter.describe()),
-            "grid": job.sim.as_ref().map(|sim| {
-                let g = sim.stock().grid();
-                serde_json::json!({ "nx": g.nx, "ny": g.ny, "pitch_mm": g.pitch_mm })
-            }),
+            "grid": job.grid().map(|g| serde_json::json!({ "nx": g.nx, "ny": g.ny, "pitch_mm": g.pitch_mm })),
             "stock_mm": prepared.map(|p| p.stock_mm),
             "moves_total": job.total_moves(),
             "moves_simulated": job.applied(),
             "target_move": job.target_moves(),
-            "removed_volume_mm3": job.sim.as_ref().map(|sim| (sim.counters().removed_mm3 * 1e6).round() / 1e6),
-            "ray_updates": job.sim.as_ref().map(|sim| sim.counters().ray_updates),
+            "removed_volume_mm3": job.counters().map(|c| (c.removed_mm3 * 1e6).round() / 1e6),
+            "ray_updates": job.counters().map(|c| c.ray_updates),
+            "in_background": job.in_background,
+            "progress": job.progress().0,
             "chord_error_mm": prepared.map(|p| p.program.chord_error_mm),
             "design": prepared.map(|p| p.design_name),
             "measured": results.is_some(),

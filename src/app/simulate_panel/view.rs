@@ -67,7 +67,7 @@ impl SimView {
     }
 
     fn upload(&mut self, rs: &RenderState, job: &Job, band_um: f64) {
-        let (Some(p), Some(sim)) = (&job.prepared, &job.sim) else {
+        let (Some(p), Some((map, dev))) = (&job.prepared, job.current_map()) else {
             Renderer3d::with(rs, |r| r.clear_view(VIEW_ID));
             self.built = None;
             return;
@@ -88,16 +88,7 @@ impl SimView {
             self.refit = false;
         }
         let o = self.origin;
-        // The measured map when it is current, else the stock's heights as they are now.
-        let current = job.results.as_ref().filter(|r| r.moves == job.applied());
-        let fresh;
-        let (map, dev) = match current {
-            Some(r) => (&r.map, Some(&r.stats.deviation_mm)),
-            None => {
-                fresh = crate::simulate::HeightMap::of(sim.stock());
-                (&fresh, None)
-            }
-        };
+        // The measured map when it is current, else the latest keyframe's heights.
         let g = map.grid;
         let (z0, z1) = (s[2], s[5]);
         let band = band_um * 1e-3;

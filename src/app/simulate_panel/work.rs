@@ -1,39 +1,38 @@
-//! The simulation tab's work, split into steps the panel runs within a time budget per
-//! frame: the scene's crease (for the programs written from it), the seed-002 step plan,
-//! the program's moves, the stock, the moves applied one by one up to the slider's move,
-//! and the deviation scan row by row. Every number comes from the core
-//! (`gcode::write_program`, `fiveaxis::StepPlanner`, `simulate::Simulation`,
-//! `simulate::DeviationScan`).
+//! The simulation tab's work: a background job (`jobs::simulate_run`, run by `app::jobs`: a
+//! thread natively, a Web Worker in the browser) writes the program, machines it and
+//! measures it, handing back the program, keyframes of the stock on the way and the exact
+//! stock and measures at the end. The UI thread only takes what arrived and draws it.
+//!
+//! Playback: the first run of a program keeps its keyframes (the stock's top heights as
+//! `f32` every N moves, at most [`KEYFRAMES`] of them). Moving the slider to move k shows
+//! the keyframe at or before k at once, and starts a run of the same moves (sent with the
+//! request: no crease, plan or program made again) to k, whose exact stock and measures
+//! replace the keyframe when they arrive. Going back to the whole program shows the first
+//! run's result again without a run. Why this and not the alternatives: keyframes alone
+//! are approximate (the stock between two is unknown, and a keyframe has no deviation) and
+//! a worker that keeps its stock between requests would need a second, long-lived kind of
+//! worker; a replay costs only the machining to k (tens of ms natively for the examples) and
+//! gives the exact state the old slices gave.
 
 use glam::DVec3;
 use web_time::{Duration, Instant};
 
-use crate::chords::RootMethod;
-use crate::crease::{CreaseCurve, CreaseJob};
-use crate::fiveaxis::{CreasePath, Machine, StepOptions, StepPlanner, ToolAxisRule};
-use crate::gcode::{
-    DesignBuilder, ProgramKind, ProgramOptions, ProgrammedPoint, Toolpath, parse_program_in, write_program,
-};
+use crate::app::jobs::{Job as BackgroundJob, Poll};
+use crate::gcode::ProgramKind;
 use crate::geom::Cutter;
-use crate::scene::{Scene, build_machine, build_tool_axis};
-use crate::simulate::{Design, DeviationScan, DexelStock, HeightMap, MoveKind, Program, SimStats, Simulation};
+use crate::jobs::simulate_run::{self, DesignSpec, Keyframe, Partial, ProgramSource, Request, SimulateRun};
+pub use crate::jobs::simulate_run::{AUTO_GRID_SIDE, PITCH_RANGE_MM};
+use crate::scene::Scene;
+use crate::simulate::{Counters, Grid, HeightMap, Program, SimStats};
 
-/// Periods of the crease run per call while building the design curve.
-const PERIODS_PER_CALL: usize = 200;
 /// How often the view's mesh follows the stock while moves are being cut.
 const MAP_REFRESH: Duration = Duration::from_millis(200);
-/// Grid rows of the deviation scan per call.
-const ROWS_PER_CALL: usize = 4;
 /// Most rays the tab simulates (a 1024 × 1024 grid, 24 MiB); above it the run is refused.
-pub const MAX_APP_RAYS: usize = 1024 * 1024;
-/// Longest side (rays) of the grid an automatic pitch aims at, so the view stays responsive
-/// in a software rasteriser.
-pub const AUTO_GRID_SIDE: f64 = 256.0;
-/// Pitch range offered (mm).
-pub const PITCH_RANGE_MM: (f64, f64) = (0.02, 0.5);
-/// Tolerance (mm) of the crease programs and the step plan written for the simulation (the
-/// NURBS tab's and the `steps` command's default).
-pub const PROGRAM_TOL_MM: f64 = 0.01;
+pub const MAX_APP_RAYS: usize = simulate_run::MAX_RAYS;
+/// Keyframes asked of a program's first run (the slider's instant positions).
+pub const KEYFRAMES: usize = 40;
+/// Keyframes asked of a replay to one move (the view follows the stock while it runs).
+const REPLAY_KEYFRAMES: usize = 8;
 
 /// Which program is simulated.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -85,10 +84,6 @@ impl SourceKind {
             Self::CreaseNurbs => Some(ProgramKind::Nurbs),
             _ => None,
         }
-    }
-
-    fn needs_crease(self) -> bool {
-        self != Self::Loaded
     }
 }
 
@@ -164,30 +159,14 @@ pub struct Prepared {
     pub cutter: Cutter,
     /// Tool tip at the end of each move (mm), and at the start of the first.
     pub tips: Vec<DVec3>,
-    /// Design.
-    pub design: Design,
     /// Whether the design is a plane or surfaces.
     pub design_name: &'static str,
     /// Stock block used (mm).
     pub stock_mm: [f64; 6],
     /// Pitch used (mm).
     pub pitch_mm: f64,
-}
-
-/// Where the run is.
-enum Stage {
-    /// Running the scene's crease for the design curve.
-    Crease(Box<DesignBuilder>),
-    /// Planning the seed-002 steps node by node.
-    Plan(Box<(StepPlanner, CreasePath, Machine)>),
-    /// Writing the program and building the stock (one call).
-    Program(Option<Box<CreaseCurve>>),
-    /// Applying moves up to the target.
-    Run,
-    /// Scanning the deviation.
-    Measure(Box<(HeightMap, DeviationScan)>),
-    /// Finished (up to the target move).
-    Done,
+    /// The stock's grid.
+    pub grid: Grid,
 }
 
 /// The results of a finished (or partial) run.
@@ -199,47 +178,73 @@ pub struct Results {
     pub stats: SimStats,
     /// Moves applied when measured.
     pub moves: usize,
+    /// The run's counts.
+    pub counters: Counters,
 }
 
-/// A run.
+/// The stock shown while a run goes on: a keyframe (its heights, no deviation).
+#[derive(Debug)]
+struct Shown {
+    moves: usize,
+    counters: Counters,
+    map: HeightMap,
+}
+
+/// A program's simulation: its runs, what arrived from them, and the move shown.
 pub struct Job {
     /// Its inputs.
     pub inputs: Inputs,
-    stage: Stage,
-    /// The program, once written.
+    /// The first run's request (the replays change its source, target and keyframes).
+    request: Option<Request>,
+    run: Option<BackgroundJob<SimulateRun>>,
+    /// Target move of the run under way (`None`: all).
+    run_target: Option<usize>,
+    /// The program, once made.
     pub prepared: Option<Prepared>,
-    /// The simulation.
-    pub sim: Option<Simulation>,
+    /// Keyframes of the first whole run, in move order.
+    keyframes: Vec<Keyframe>,
+    /// The whole program's results (kept for going back to the end).
+    full: Option<std::rc::Rc<Results>>,
+    shown: Option<Shown>,
     /// Move to simulate up to (`None`: all).
     pub target: Option<usize>,
     /// Results of the last measure.
-    pub results: Option<Results>,
+    pub results: Option<std::rc::Rc<Results>>,
     /// Why the run stopped, if it failed.
     pub error: Option<String>,
-    /// Compute time spent in the simulation proper (moves applied, ms).
+    /// Wall time of the last run (ms), from its start to its output.
     pub sim_ms: f64,
-    /// Compute time of the whole run, program and measure included (ms).
+    /// Wall time of all runs of this program (ms).
     pub total_ms: f64,
-    /// Longest single call of [`Job::advance`] (ms): what one frame cost at most.
+    /// Longest time one frame spent on the job (ms): taking and decoding what arrived.
     pub slowest_call_ms: f64,
-    /// Bumped when the height map changes (the view re-uploads).
+    /// Bumped when the height map shown changes (the view re-uploads).
     pub map_generation: u64,
     /// Whether the user cancelled.
     pub cancelled: bool,
-    /// When the height map was last handed to the view while cutting.
+    /// Fraction done of the run under way.
+    fraction: f64,
+    /// When the shown map last changed while cutting.
     shown_at: Option<Instant>,
+    /// Whether every run finished off the UI thread.
+    pub in_background: bool,
 }
 
 impl Job {
-    /// A run of `inputs`, waiting for its first step.
+    /// A run of `inputs` on `scene` (`loaded`: the loaded program's name and text), started
+    /// at once.
     #[must_use]
-    pub fn new(inputs: Inputs, crease: Option<&CreaseJob>) -> Self {
+    pub fn new(inputs: Inputs, scene: &Scene, loaded: Option<&(String, String)>, target: Option<usize>) -> Self {
         let mut job = Self {
             inputs,
-            stage: Stage::Done,
+            request: None,
+            run: None,
+            run_target: None,
             prepared: None,
-            sim: None,
-            target: None,
+            keyframes: Vec::new(),
+            full: None,
+            shown: None,
+            target,
             results: None,
             error: None,
             sim_ms: 0.0,
@@ -247,55 +252,122 @@ impl Job {
             slowest_call_ms: 0.0,
             map_generation: 0,
             cancelled: false,
+            fraction: 0.0,
             shown_at: None,
+            in_background: true,
         };
-        if job.inputs.source.needs_crease() {
-            match crease.map(DesignBuilder::new) {
-                Some(Ok(b)) => job.stage = Stage::Crease(Box::new(b)),
-                Some(Err(e)) => job.error = Some(format!("the scene's crease cannot be run — {e}")),
-                None => job.error = Some("the scene has no crease (it failed to build); fix the scene".to_owned()),
+        match job.request_of(scene, loaded) {
+            Ok(r) => {
+                job.run = Some(BackgroundJob::start(Request { target, ..r.clone() }));
+                job.run_target = target;
+                job.request = Some(r);
             }
-        } else {
-            job.stage = Stage::Program(None);
+            Err(e) => job.error = Some(e),
         }
         job
+    }
+
+    /// The first run's request: the source, cutter and design resolved against the scene.
+    fn request_of(&self, scene: &Scene, loaded: Option<&(String, String)>) -> Result<Request, String> {
+        let i = &self.inputs;
+        let cutter = i.cutter.cutter(scene)?;
+        let source = match i.source.program_kind() {
+            Some(kind) => ProgramSource::Crease { scene: scene.to_json(), kind },
+            None if i.source == SourceKind::Steps => ProgramSource::Steps { scene: scene.to_json() },
+            None => {
+                let (name, text) = loaded.ok_or(
+                    "no G-code file loaded: open one in the \"NURBS & G-code\" tab (Open program… or drop a file), then come back",
+                )?;
+                ProgramSource::Text { name: name.clone(), text: text.clone() }
+            }
+        };
+        let design = match (i.design, i.source) {
+            (DesignChoice::None, _) | (DesignChoice::Auto, SourceKind::Loaded) => DesignSpec::None,
+            (DesignChoice::PlaneZ(z), _) => DesignSpec::PlaneZ(z),
+            (DesignChoice::Scene | DesignChoice::Auto, _) => DesignSpec::Scene(scene.to_json()),
+        };
+        Ok(Request {
+            source,
+            cutter,
+            pitch_mm: i.pitch_mm,
+            stock_mm: i.stock_mm,
+            margin_mm: i.margin_mm,
+            design,
+            target: None,
+            keyframes: KEYFRAMES,
+        })
     }
 
     /// Whether work remains.
     #[must_use]
     pub fn computing(&self) -> bool {
-        self.error.is_none() && !self.cancelled && !matches!(self.stage, Stage::Done)
+        self.error.is_none() && !self.cancelled && self.run.is_some()
     }
 
     /// A short name of the stage, for the status and the progress text.
     #[must_use]
     pub fn stage_name(&self) -> &'static str {
         if self.error.is_some() {
-            return "error";
-        }
-        if self.cancelled {
-            return "cancelled";
-        }
-        match self.stage {
-            Stage::Crease(_) => "crease",
-            Stage::Plan(_) => "plan",
-            Stage::Program(_) => "program",
-            Stage::Run => "simulate",
-            Stage::Measure(_) => "measure",
-            Stage::Done => "done",
+            "error"
+        } else if self.cancelled {
+            "cancelled"
+        } else if self.run.is_none() {
+            "done"
+        } else if self.prepared.is_none() {
+            "program"
+        } else if self.fraction < 0.9 {
+            "simulate"
+        } else {
+            "measure"
         }
     }
 
-    /// Moves in the program (0 before it is written).
+    /// Moves in the program (0 before it is made).
     #[must_use]
     pub fn total_moves(&self) -> usize {
         self.prepared.as_ref().map_or(0, |p| p.program.moves.len())
     }
 
-    /// Moves applied so far.
+    /// Moves applied in the stock shown.
     #[must_use]
     pub fn applied(&self) -> usize {
-        self.sim.as_ref().map_or(0, |s| s.counters().moves)
+        match (&self.shown, &self.results) {
+            (Some(s), _) => s.moves,
+            (None, Some(r)) => r.moves,
+            (None, None) => 0,
+        }
+    }
+
+    /// The run's counts for the stock shown.
+    #[must_use]
+    pub fn counters(&self) -> Option<Counters> {
+        match (&self.shown, &self.results) {
+            (Some(s), _) => Some(s.counters),
+            (None, Some(r)) => Some(r.counters),
+            (None, None) => None,
+        }
+    }
+
+    /// The stock's grid, once the program is made.
+    #[must_use]
+    pub fn grid(&self) -> Option<Grid> {
+        self.prepared.as_ref().map(|p| p.grid)
+    }
+
+    /// The height map shown and, when it is a measured one, the deviation of each ray.
+    #[must_use]
+    pub fn current_map(&self) -> Option<(&HeightMap, Option<&[Option<f64>]>)> {
+        match (&self.shown, &self.results) {
+            (Some(s), _) => Some((&s.map, None)),
+            (None, Some(r)) => Some((&r.map, Some(r.stats.deviation_mm.as_slice()))),
+            (None, None) => None,
+        }
+    }
+
+    /// The measured results of the stock shown (none while a run goes on).
+    #[must_use]
+    pub fn measured(&self) -> Option<&Results> {
+        self.results.as_deref().filter(|_| self.run.is_none() && self.shown.is_none())
     }
 
     /// The move the run goes to.
@@ -304,307 +376,164 @@ impl Job {
         self.target.unwrap_or(usize::MAX).min(self.total_moves())
     }
 
-    /// Progress of the current stage in [0, 1] and a text for it.
+    /// Progress of the run in [0, 1] and a text for it.
     #[must_use]
     pub fn progress(&self) -> (f32, String) {
-        match &self.stage {
-            Stage::Crease(b) => (0.0, format!("Running the scene's crease: {} periods…", b.periods())),
-            Stage::Plan(p) => (0.0, format!("Planning the 5-axis tool steps: {} blocks…", p.0.nodes().len())),
-            Stage::Program(_) => (0.0, "Writing the program…".to_owned()),
-            Stage::Run => {
-                let (a, t) = (self.applied(), self.target_moves().max(1));
-                (a as f32 / t as f32, format!("Simulating move {a} of {t}…"))
+        let f = self.fraction as f32;
+        match self.stage_name() {
+            "program" => (f, "Writing the program…".to_owned()),
+            "simulate" => {
+                let t = self.target_moves();
+                let k = ((self.fraction - 0.1) / 0.8 * t as f64).clamp(0.0, t as f64) as usize;
+                (f, format!("Simulating move {k} of {t} (in the background)…"))
             }
-            Stage::Measure(m) => {
-                let ny = m.0.grid.ny.max(1);
-                (
-                    m.1.rows_done() as f32 / ny as f32,
-                    format!("Measuring the deviation: row {} of {ny}…", m.1.rows_done()),
-                )
-            }
-            Stage::Done => (1.0, String::new()),
+            "measure" => (f, "Measuring the deviation…".to_owned()),
+            _ => (1.0, String::new()),
         }
     }
 
-    /// Sets the move to simulate up to (`None`: all): continues from here when it lies
-    /// ahead, restarts the stock from the block when it lies behind.
+    /// Sets the move to simulate up to (`None`: all): shows the keyframe at or before it at
+    /// once and starts a run to it (the whole program's result is kept and shown again
+    /// without one).
     pub fn set_target(&mut self, target: Option<usize>) {
         if self.target == target {
             return;
         }
         self.target = target;
-        if self.prepared.is_none() || self.error.is_some() {
+        self.cancelled = false;
+        let Some(req) = &self.request else { return };
+        if self.error.is_some() {
             return;
         }
-        let want = self.target_moves();
-        if want < self.applied()
-            && let (Some(p), Some(sim)) = (&self.prepared, &self.sim)
+        let Some(p) = &self.prepared else {
+            // Still making the program: start again with the new target.
+            self.run = Some(BackgroundJob::start(Request { target, ..req.clone() }));
+            self.run_target = target;
+            return;
+        };
+        let k = self.target_moves();
+        if k >= p.program.moves.len()
+            && let Some(full) = &self.full
         {
-            // Back in the program: start again from the block.
-            if let Ok(stock) = DexelStock::block(
-                [p.stock_mm[0], p.stock_mm[1], p.stock_mm[2]],
-                [p.stock_mm[3], p.stock_mm[4], p.stock_mm[5]],
-                sim.stock().grid().pitch_mm,
-            ) {
-                self.sim = Some(Simulation::new(stock, &p.cutter));
-                self.sim_ms = 0.0;
-            }
+            self.run = None;
+            self.shown = None;
+            self.results = Some(full.clone());
+            self.map_generation += 1;
+            return;
         }
-        self.cancelled = false;
-        self.stage = Stage::Run;
+        if let Some(key) = self.keyframes.iter().rev().find(|f| f.moves <= k) {
+            self.shown = Some(Shown { moves: key.moves, counters: key.counters, map: key.map(p.grid) });
+        } else {
+            self.shown = Some(Shown { moves: 0, counters: Counters::default(), map: block_map(p) });
+        }
+        self.map_generation += 1;
+        let replay = Request {
+            source: ProgramSource::Moves(p.program.clone()),
+            pitch_mm: Some(p.pitch_mm),
+            stock_mm: Some(p.stock_mm),
+            target: Some(k),
+            keyframes: REPLAY_KEYFRAMES,
+            ..req.clone()
+        };
+        self.fraction = 0.0;
+        self.run = Some(BackgroundJob::start(replay));
+        self.run_target = Some(k);
     }
 
-    /// Stops the run where it is (the map shows what was simulated).
+    /// Stops the run where it is (the view keeps the stock shown).
     pub fn cancel(&mut self) {
         if self.computing() {
+            self.run = None;
             self.cancelled = true;
         }
     }
 
-    /// Works for about `budget`; `scene` is the current scene and `loaded` the loaded
-    /// program's (name, text).
-    pub fn advance(&mut self, budget: Duration, scene: &Scene, loaded: Option<&(String, String)>) {
+    /// Takes what the run handed back since the last frame.
+    pub fn advance(&mut self) {
         let t0 = Instant::now();
-        while self.computing() && t0.elapsed() < budget {
-            if let Err(e) = self.step(scene, loaded, t0, budget) {
-                self.error = Some(e);
-            }
-        }
-        let ms = t0.elapsed().as_secs_f64() * 1e3;
-        self.total_ms += ms;
-        self.slowest_call_ms = self.slowest_call_ms.max(ms);
-    }
-
-    fn step(
-        &mut self,
-        scene: &Scene,
-        loaded: Option<&(String, String)>,
-        t0: Instant,
-        budget: Duration,
-    ) -> Result<(), String> {
-        match &mut self.stage {
-            Stage::Crease(b) => {
-                if let Some(done) = b.advance(PERIODS_PER_CALL) {
-                    let curve = done.map_err(|e| format!("the scene's crease gives no design curve — {e}"))?;
-                    if self.inputs.source == SourceKind::Steps {
-                        let machine = scene.machine.as_ref().map(build_machine).unwrap_or_default();
-                        let rule = match &scene.tool_axis {
-                            Some(t) => build_tool_axis(t).map_err(|e| e.to_string())?,
-                            None => ToolAxisRule::Bisector,
-                        };
-                        let path = CreasePath::new(curve, rule);
-                        let opts = StepOptions::new(PROGRAM_TOL_MM).with_method(RootMethod::Bisection);
-                        let planner = StepPlanner::new(&machine, &path, &opts)
-                            .map_err(|e| format!("the 5-axis steps cannot be planned — {e}"))?;
-                        self.stage = Stage::Plan(Box::new((planner, path, machine)));
-                    } else {
-                        self.stage = Stage::Program(Some(Box::new(curve)));
+        let Some(run) = &mut self.run else { return };
+        let polled = run.poll();
+        self.in_background &= run.ran_in_background();
+        let elapsed_ms = run.elapsed().as_secs_f64() * 1e3;
+        let whole = self.run_target.is_none_or(|k| self.prepared.as_ref().is_some_and(|p| k >= p.program.moves.len()));
+        let mut newest = None;
+        for part in run.take_partials() {
+            match part {
+                Partial::Prepared(p) => {
+                    if self.prepared.is_none()
+                        && let Some(req) = &self.request
+                    {
+                        let tips = tips_of(&p.program);
+                        self.prepared = Some(Prepared {
+                            tips,
+                            program: p.program,
+                            cutter: req.cutter,
+                            design_name: p.design_name,
+                            stock_mm: p.stock_mm,
+                            pitch_mm: p.pitch_mm,
+                            grid: p.grid,
+                        });
                     }
                 }
-            }
-            Stage::Plan(p) => {
-                let (planner, path, machine) = &mut **p;
-                while !planner.is_done() && t0.elapsed() < budget {
-                    planner
-                        .next_node(machine, path)
-                        .map_err(|e| format!("the 5-axis steps cannot be planned — {e}"))?;
-                }
-                if planner.is_done() {
-                    let blocks: Vec<_> = planner.nodes().iter().map(|n| n.block).collect();
-                    let program = Program::from_blocks(machine, &blocks).map_err(|e| e.to_string())?;
-                    self.prepare(scene, program)?;
+                Partial::Keyframe(k) => {
+                    if self.run_target.is_none() && self.keyframes.last().is_none_or(|l| l.moves < k.moves) {
+                        self.keyframes.push(k.clone());
+                    }
+                    newest = Some(k);
                 }
             }
-            Stage::Program(curve) => {
-                let curve = curve.take();
-                let program = self.write(scene, curve.as_deref(), loaded)?;
-                self.prepare(scene, program)?;
-            }
-            Stage::Run => {
-                let target = self.target_moves();
-                let (Some(p), Some(sim)) = (&self.prepared, &mut self.sim) else {
-                    return Err("internal: no program to simulate".to_owned());
-                };
-                let t = Instant::now();
-                while sim.counters().moves < target && t0.elapsed() < budget {
-                    sim.apply(&p.program.moves[sim.counters().moves]);
-                }
-                self.sim_ms += t.elapsed().as_secs_f64() * 1e3;
-                // The view rebuilds its mesh (one vertex per ray) when this changes: a few
-                // times a second while cutting, not every frame.
-                if self.shown_at.is_none_or(|at| at.elapsed() >= MAP_REFRESH) || sim.counters().moves >= target {
-                    self.map_generation += 1;
-                    self.shown_at = Some(Instant::now());
-                }
-                if sim.counters().moves >= target {
-                    let map = HeightMap::of(sim.stock());
-                    let scan = DeviationScan::new(&map, &p.design);
-                    self.stage = Stage::Measure(Box::new((map, scan)));
-                }
-            }
-            Stage::Measure(m) => {
-                let (Some(p), Some(sim)) = (&self.prepared, &self.sim) else {
-                    return Err("internal: no program to measure".to_owned());
-                };
-                let (map, scan) = &mut **m;
-                scan.rows(map, &p.design, ROWS_PER_CALL);
-                if scan.rows_done() >= map.grid.ny {
-                    let Stage::Measure(m) = std::mem::replace(&mut self.stage, Stage::Done) else {
-                        return Ok(());
-                    };
-                    let (map, scan) = *m;
-                    let stats = scan.finish(&map, sim.stock());
-                    self.results = Some(Results { map, stats, moves: sim.counters().moves });
-                    self.map_generation += 1;
-                }
-            }
-            Stage::Done => {}
         }
-        Ok(())
+        if let (Some(k), Some(p)) = (newest, &self.prepared)
+            && self.shown_at.is_none_or(|at| at.elapsed() >= MAP_REFRESH)
+        {
+            self.shown = Some(Shown { moves: k.moves, counters: k.counters, map: k.map(p.grid) });
+            self.shown_at = Some(Instant::now());
+            self.map_generation += 1;
+        }
+        match polled {
+            Poll::Running(f) => self.fraction = f.unwrap_or(self.fraction),
+            Poll::Done(Err(e)) => {
+                self.error = Some(e);
+                self.run = None;
+            }
+            Poll::Done(Ok(f)) => {
+                let r = std::rc::Rc::new(Results {
+                    moves: f.counters.moves,
+                    counters: f.counters,
+                    map: f.map,
+                    stats: f.stats,
+                });
+                if whole {
+                    self.full = Some(r.clone());
+                }
+                self.results = Some(r);
+                self.shown = None;
+                self.run = None;
+                self.fraction = 1.0;
+                self.sim_ms = elapsed_ms;
+                self.total_ms += elapsed_ms;
+                self.map_generation += 1;
+            }
+        }
+        self.slowest_call_ms = self.slowest_call_ms.max(t0.elapsed().as_secs_f64() * 1e3);
     }
+}
 
-    /// The program text's moves: a crease program written by the core, or the loaded file.
-    /// A program of ball centres (ours, or a file whose header says so) is moved down by
-    /// the cutter radius to tool tips, as `interpolab simulate --point auto` does.
-    fn write(
-        &self,
-        scene: &Scene,
-        curve: Option<&CreaseCurve>,
-        loaded: Option<&(String, String)>,
-    ) -> Result<Program, String> {
-        let cutter = self.inputs.cutter.cutter(scene)?;
-        let chord = |pitch: f64| pitch / 10.0;
-        let (toolpath, centre): (Toolpath, bool) = if let Some(kind) = self.inputs.source.program_kind() {
-            let curve = curve.ok_or("internal: no crease curve")?;
-            let title = if scene.name.is_empty() { "scene".to_owned() } else { scene.name.clone() };
-            let opts = ProgramOptions::default().with_title(&title).with_point(ProgrammedPoint::BallCentre);
-            let p = write_program(kind, curve, PROGRAM_TOL_MM, &opts)
-                .map_err(|e| format!("the {} program cannot be written — {e}", kind.label()))?;
-            (p.parsed.toolpath, true)
-        } else {
-            let (name, text) = loaded.ok_or(
-                "no G-code file loaded: open one in the \"NURBS & G-code\" tab (Open program… or drop a file), then come back",
-            )?;
-            let parsed = parse_program_in(text, crate::gcode::Dialect::guess(text))
-                .map_err(|e| format!("{name} is not a program this reader can follow — {e}"))?;
-            let centre = matches!(ProgrammedPoint::from_comments(&parsed.comments), Some(ProgrammedPoint::BallCentre));
-            (parsed.toolpath, centre)
-        };
-        let offset = if centre { DVec3::new(0.0, 0.0, -cutter.radius_mm) } else { DVec3::ZERO };
-        // The chord tolerance follows the pitch, which may follow the program's box: chord
-        // at the smallest pitch offered first when automatic, then again at the one chosen.
-        let pitch0 = self.inputs.pitch_mm.unwrap_or(PITCH_RANGE_MM.0);
-        let program = Program::from_toolpath(&toolpath, offset, chord(pitch0)).map_err(|e| e.to_string())?;
-        if self.inputs.pitch_mm.is_none() {
-            let (_, pitch) = self.stock_and_pitch(&program, &cutter)?;
-            if (pitch - pitch0).abs() > 0.0 {
-                let program = Program::from_toolpath(&toolpath, offset, chord(pitch)).map_err(|e| e.to_string())?;
-                return Ok(program);
-            }
-        }
-        Ok(program)
-    }
-
-    /// The stock block and pitch for `program`: the user's, else automatic.
-    fn stock_and_pitch(&self, program: &Program, cutter: &Cutter) -> Result<([f64; 6], f64), String> {
-        let stock = match self.inputs.stock_mm {
-            Some(s) => s,
-            None => auto_stock(program, cutter, self.inputs.margin_mm)
-                .ok_or("the program has no cutting move to size the stock from; give the stock block")?,
-        };
-        let pitch = match self.inputs.pitch_mm {
-            Some(p) => p,
-            None => {
-                let side = (stock[3] - stock[0]).max(stock[4] - stock[1]);
-                let p = side / AUTO_GRID_SIDE;
-                // Round up to 2 significant digits, within the range offered.
-                let scale = 10f64.powf(p.log10().floor() - 1.0);
-                ((p / scale).ceil() * scale).clamp(PITCH_RANGE_MM.0, PITCH_RANGE_MM.1)
-            }
-        };
-        Ok((stock, pitch))
-    }
-
-    /// Builds the stock and the simulation for `program`.
-    fn prepare(&mut self, scene: &Scene, program: Program) -> Result<(), String> {
-        let cutter = self.inputs.cutter.cutter(scene)?;
-        let (stock_mm, pitch) = self.stock_and_pitch(&program, &cutter)?;
-        let nx = ((stock_mm[3] - stock_mm[0]) / pitch).ceil();
-        let ny = ((stock_mm[4] - stock_mm[1]) / pitch).ceil();
-        if nx * ny > MAX_APP_RAYS as f64 {
-            return Err(format!(
-                "a pitch of {pitch} mm on this stock gives {nx:.0} × {ny:.0} rays, more than the {MAX_APP_RAYS} this view simulates; raise the pitch or shrink the stock"
-            ));
-        }
-        let stock =
-            DexelStock::block([stock_mm[0], stock_mm[1], stock_mm[2]], [stock_mm[3], stock_mm[4], stock_mm[5]], pitch)
-                .map_err(|e| e.to_string())?;
-        let sim = Simulation::new(stock, &cutter);
-        let visits = sim.estimate_visits(&program);
-        if !(visits <= crate::simulate::MAX_RAY_VISITS) {
-            return Err(
-                crate::simulate::SimError::TooMuchWork { visits, max: crate::simulate::MAX_RAY_VISITS }.to_string()
-            );
-        }
-        let with_scene = || {
-            CreaseJob::from_scene(scene)
-                .map(|j| Design::Surfaces(j.surfaces.to_vec()))
-                .map_err(|e| format!("the scene's surfaces: {e}"))
-        };
-        let (design, design_name) = match (self.inputs.design, self.inputs.source) {
-            (DesignChoice::None, _) | (DesignChoice::Auto, SourceKind::Loaded) => (Design::None, "none"),
-            (DesignChoice::PlaneZ(z), _) => (Design::PlaneZ(z), "plane"),
-            (DesignChoice::Scene | DesignChoice::Auto, _) => (with_scene()?, "scene surfaces"),
-        };
-        let tips = tips_of(&program);
-        self.prepared = Some(Prepared { program, cutter, tips, design, design_name, stock_mm, pitch_mm: pitch });
-        self.sim = Some(sim);
-        self.stage = Stage::Run;
-        Ok(())
-    }
+/// The untouched block as a height map (before the first keyframe).
+fn block_map(p: &Prepared) -> HeightMap {
+    let n = p.grid.len();
+    HeightMap { grid: p.grid, top_mm: vec![p.stock_mm[5]; n], machined: vec![false; n], through: 0 }
 }
 
 /// The tool tip at the start of the first move and the end of every move (mm).
 fn tips_of(program: &Program) -> Vec<DVec3> {
     let mut out = Vec::with_capacity(program.moves.len() + 1);
     for (k, m) in program.moves.iter().enumerate() {
-        let (a, b) = match m.kind {
-            MoveKind::Line { from, to } => (from, to),
-            MoveKind::Joints { machine, from, to } => {
-                (machine.pose_from_joints(&from).tip_in_workpiece, machine.pose_from_joints(&to).tip_in_workpiece)
-            }
-        };
+        let [a, b] = simulate_run::ends(m);
         if k == 0 {
             out.push(a);
         }
         out.push(b);
     }
     out
-}
-
-/// The box of the program's cutting moves (rapids left out) widened by the cutter radius
-/// and `margin_mm` in x and y; z from `margin_mm` below the lowest tip to one radius above
-/// the highest cutting tip. `None` without a cutting move.
-#[must_use]
-pub fn auto_stock(program: &Program, cutter: &Cutter, margin_mm: f64) -> Option<[f64; 6]> {
-    let mut lo = DVec3::splat(f64::INFINITY);
-    let mut hi = DVec3::splat(f64::NEG_INFINITY);
-    for m in program.moves.iter().filter(|m| !m.rapid) {
-        let pts = match m.kind {
-            MoveKind::Line { from, to } => [from, to],
-            MoveKind::Joints { machine, from, to } => {
-                [machine.pose_from_joints(&from).tip_in_workpiece, machine.pose_from_joints(&to).tip_in_workpiece]
-            }
-        };
-        for p in pts {
-            lo = lo.min(p);
-            hi = hi.max(p);
-        }
-    }
-    if !(lo.is_finite() && hi.is_finite()) {
-        return None;
-    }
-    let r = cutter.radius_mm;
-    let m = margin_mm.max(0.0);
-    Some([lo.x - r - m, lo.y - r - m, lo.z - m, hi.x + r + m, hi.y + r + m, hi.z + r])
 }

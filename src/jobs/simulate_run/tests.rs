@@ -1,0 +1,198 @@
+use super::*;
+use crate::jobs::NoProgress;
+
+/// Collects what a job hands back, and cancels after a number of cancel checks when asked.
+#[derive(Default)]
+struct Collect {
+    partials: Vec<String>,
+    fractions: Vec<f64>,
+    checks: std::cell::Cell<usize>,
+    cancel_after: Option<usize>,
+}
+
+impl Progress for Collect {
+    fn progress(&mut self, fraction: f64) {
+        self.fractions.push(fraction);
+    }
+    fn cancelled(&self) -> bool {
+        self.checks.set(self.checks.get() + 1);
+        self.cancel_after.is_some_and(|n| self.checks.get() > n)
+    }
+    fn partial(&mut self, encoded: String) {
+        self.partials.push(encoded);
+    }
+}
+
+/// Three parallel ball passes and a plunge through a block (a program of tool tips).
+const GROOVES: &str = "%\nG21 G90\nG00 X-2 Y0 Z5\nG01 Z-1 F500\nG01 X12\nG00 Z5\nG00 X-2 Y1.5\nG01 Z-1\nG01 X12\nG00 Z5\nG00 X-2 Y3\nG01 Z-1\nG01 X12\nG00 Z5\nG00 X5 Y6\nG01 Z-2\nG00 Z5\nM30\n%\n";
+
+fn grooves(target: Option<usize>, keyframes: usize) -> Request {
+    Request {
+        source: ProgramSource::Text { name: "grooves.nc".into(), text: GROOVES.into() },
+        cutter: Cutter::ball(1.0).unwrap(),
+        pitch_mm: Some(0.1),
+        stock_mm: Some([-1.0, -2.0, -4.0, 11.0, 8.0, 0.0]),
+        margin_mm: 2.0,
+        design: DesignSpec::PlaneZ(-1.0),
+        target,
+        keyframes,
+    }
+}
+
+fn decode_all(c: &Collect) -> (Prepared, Vec<Keyframe>) {
+    let mut prepared = None;
+    let mut keys = Vec::new();
+    for t in &c.partials {
+        match SimulateRun::decode_partial(t).unwrap() {
+            Partial::Prepared(p) => {
+                assert!(prepared.is_none(), "one Prepared per run");
+                assert!(keys.is_empty(), "the program comes before its keyframes");
+                prepared = Some(*p);
+            }
+            Partial::Keyframe(k) => keys.push(k),
+        }
+    }
+    (prepared.unwrap(), keys)
+}
+
+/// The stock machined directly by the core to move `k`.
+fn direct(p: &Prepared, cutter: &Cutter, k: usize) -> Simulation {
+    let s = p.stock_mm;
+    let stock = DexelStock::block([s[0], s[1], s[2]], [s[3], s[4], s[5]], p.pitch_mm).unwrap();
+    let mut sim = Simulation::new(stock, cutter);
+    for m in &p.program.moves[..k] {
+        sim.apply(m);
+    }
+    sim
+}
+
+/// The job gives what the core computes directly: the map and measures at the target, the
+/// program it cut, and keyframes equal to the stock at their moves (heights rounded to f32),
+/// as often as asked and never more.
+#[test]
+fn the_run_is_the_core_simulation_with_keyframes_of_the_stock() {
+    let req = grooves(None, 4);
+    let mut c = Collect::default();
+    let out = SimulateRun::run(&req, &mut c).unwrap();
+    let (p, keys) = decode_all(&c);
+    let moves = p.program.moves.len();
+    // Fourteen moves: the first rapid, from an unknown position, is only where the tool starts.
+    assert_eq!(moves, 14, "{:?}", p.program.moves);
+    assert_eq!(p.target, moves);
+    assert_eq!(p.keyframe_every, moves.div_ceil(4));
+    assert_eq!(keys.len(), (moves - 1) / p.keyframe_every);
+    let sim = direct(&p, &req.cutter, moves);
+    assert_eq!(out.counters, *sim.counters());
+    assert_eq!(out.map, HeightMap::of(sim.stock()));
+    assert_eq!(out.stats, SimStats::of(&out.map, sim.stock(), &Design::PlaneZ(-1.0)));
+    assert!(out.counters.removed_mm3 > 1.0);
+    // Passes 1.5 mm apart at the plane leave the textbook scallop h = R − √(R² − w²/4)
+    // midway, on the rays at y = 0.75 and 2.25 mm (row j has y = −2 + (j + ½)·0.1).
+    let h = 1.0 - (1.0f64 - 0.75 * 0.75).sqrt();
+    let g = out.map.grid;
+    for j in [27, 42] {
+        for i in [30, 59, 90] {
+            let d = out.stats.deviation_mm[j * g.nx + i].unwrap();
+            assert!((d - h).abs() < 1e-9, "ray ({i}, {j}): {d} vs {h}");
+        }
+    }
+    for k in &keys {
+        assert_eq!(k.moves % p.keyframe_every, 0);
+        let at = direct(&p, &req.cutter, k.moves);
+        let map = HeightMap::of(at.stock());
+        assert_eq!(k.counters, *at.counters());
+        assert_eq!(k.machined, map.machined);
+        assert!(k.top_mm.iter().zip(&map.top_mm).all(|(a, b)| *a == *b as f32));
+        assert_eq!(k.map(p.grid).machined, map.machined);
+    }
+    // Progress rises to 1 and never falls.
+    assert!(c.fractions.windows(2).all(|w| w[1] >= w[0]) && c.fractions.last() == Some(&1.0));
+    // The output crosses unchanged, bit for bit.
+    let text = SimulateRun::encode_output(&Ok(out.clone()));
+    let back = SimulateRun::decode_output(&text).unwrap().unwrap();
+    assert_eq!(back, out);
+    assert!(back.map.top_mm.iter().zip(&out.map.top_mm).all(|(a, b)| a.to_bits() == b.to_bits()));
+}
+
+/// A replay of the first run's moves to move k (no program written again) gives the stock
+/// a run of the text to move k gives, which is the core's stock after k moves.
+#[test]
+fn a_replay_of_the_moves_to_move_k_is_the_stock_at_k() {
+    let mut c = Collect::default();
+    SimulateRun::run(&grooves(None, 0), &mut c).unwrap();
+    let (p, keys) = decode_all(&c);
+    assert!(keys.is_empty(), "no keyframes asked for");
+    for k in [0, 1, 5, 9, 14] {
+        let from_text = SimulateRun::run(&grooves(Some(k), 0), &mut NoProgress).unwrap();
+        let mut replay = grooves(Some(k), 0);
+        replay.source = ProgramSource::Moves(p.program.clone());
+        let replay = SimulateRun::decode_request(&SimulateRun::encode_request(&replay)).unwrap();
+        let again = SimulateRun::run(&replay, &mut NoProgress).unwrap();
+        assert_eq!(again, from_text, "move {k}");
+        assert_eq!(again.counters.moves, k);
+        assert_eq!(again.map, HeightMap::of(direct(&p, &replay.cutter, k).stock()));
+    }
+}
+
+/// Every source crosses into the worker unchanged: a scene's crease program and steps, a
+/// text, and moves with 5-axis joints (the scene's steps, made by the job itself).
+#[test]
+fn requests_cross_unchanged() {
+    let scene = crate::scene::PRESETS[0].json.to_owned();
+    let mut reqs = vec![
+        grooves(Some(3), 8),
+        Request {
+            source: ProgramSource::Crease { scene: scene.clone(), kind: ProgramKind::Nurbs },
+            cutter: Cutter::fillet(3.0, 0.5).unwrap(),
+            pitch_mm: None,
+            stock_mm: None,
+            margin_mm: 1.5,
+            design: DesignSpec::Scene(scene.clone()),
+            target: None,
+            keyframes: 40,
+        },
+        Request { source: ProgramSource::Steps { scene: scene.clone() }, ..grooves(None, 1) },
+    ];
+    // The steps program has joints moves: made by the job, then sent back as moves.
+    let mut c = Collect::default();
+    let steps = Request { target: Some(0), ..reqs[2].clone() };
+    let ran = SimulateRun::run(&Request { stock_mm: None, pitch_mm: None, ..steps }, &mut c);
+    assert!(ran.is_ok(), "{ran:?}");
+    let (p, _) = decode_all(&c);
+    assert!(p.program.moves.iter().all(|m| matches!(m.kind, MoveKind::Joints { .. })) && p.program.moves.len() > 2);
+    reqs.push(Request { source: ProgramSource::Moves(p.program), ..grooves(Some(2), 0) });
+    for r in reqs {
+        assert_eq!(SimulateRun::decode_request(&SimulateRun::encode_request(&r)).unwrap(), r);
+    }
+}
+
+/// A cancelled run stops; bad input gets a message, not a panic.
+#[test]
+fn cancelled_and_bad_runs_say_so() {
+    let mut c = Collect { cancel_after: Some(5), ..Collect::default() };
+    assert_eq!(SimulateRun::run(&grooves(None, 0), &mut c).unwrap_err(), "cancelled");
+    assert!(c.checks.get() == 6, "stopped at the first look after the flag: {}", c.checks.get());
+    let bad =
+        Request { source: ProgramSource::Text { name: "bad.nc".into(), text: "G01 X#1\n".into() }, ..grooves(None, 0) };
+    let e = SimulateRun::run(&bad, &mut NoProgress).unwrap_err();
+    assert!(e.starts_with("bad.nc is not a program"), "{e}");
+    let fine = Request { pitch_mm: Some(0.001), ..grooves(None, 0) };
+    let e = SimulateRun::run(&fine, &mut NoProgress).unwrap_err();
+    assert!(e.contains("raise the pitch"), "{e}");
+    let e = SimulateRun::decode_request("{\"source\": {}}").unwrap_err();
+    assert!(e.contains("simulate-run request"), "{e}");
+    let e = SimulateRun::decode_partial("{\"keyframe\": {\"moves\": 1}}").unwrap_err();
+    assert!(e.contains("keyframe"), "{e}");
+}
+
+/// Keyframes: as many as asked when small, fewer when their bytes would pass the cap.
+#[test]
+fn keyframes_are_bounded_by_count_and_bytes() {
+    assert_eq!(keyframe_every(100, 256 * 256, 10), 10);
+    assert_eq!(keyframe_every(100, 256 * 256, 0), 0);
+    assert_eq!(keyframe_every(0, 256 * 256, 10), 0);
+    assert_eq!(keyframe_every(7, 100, 40), 1);
+    let every = keyframe_every(10_000, 1024 * 1024, 200);
+    let count = 10_000 / every;
+    assert!(count * 5 * 1024 * 1024 <= KEYFRAME_BYTES && count >= 7, "{every} → {count}");
+}
