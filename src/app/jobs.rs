@@ -34,6 +34,30 @@ pub fn finished_counts() -> (usize, usize) {
 /// The worker's loader script, next to `index.html` (Trunk's `data-loader-shim`).
 pub const WORKER_SCRIPT: &str = "./interpolab-worker_loader.js";
 
+/// Most cores a machine is taken to have (a bound on what the browser reports).
+const MAX_CORES: usize = 64;
+
+/// Background jobs worth running at once: the machine's cores less one, at least one. The
+/// page keeps a core for itself — in a browser drawing on a CPU rasteriser (SwiftShader) the
+/// GPU process needs it too: two workers on a 2-core machine starved the page (a 3.15 s frame
+/// while the fillet table computed, docs/background-jobs.md).
+#[must_use]
+pub fn spare_cores() -> usize {
+    cores().clamp(1, MAX_CORES).saturating_sub(1).max(1)
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+fn cores() -> usize {
+    std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
+}
+
+#[cfg(target_arch = "wasm32")]
+fn cores() -> usize {
+    let reported = web_sys::window().map_or(1.0, |w| w.navigator().hardware_concurrency());
+    // Whole cores in [1, MAX_CORES]; NaN or a missing value counts as one.
+    (1..=MAX_CORES).take_while(|&n| n as f64 <= reported).last().unwrap_or(1)
+}
+
 /// How often a panel waiting for a job looks again when nothing else repaints.
 pub const POLL: Duration = Duration::from_millis(50);
 

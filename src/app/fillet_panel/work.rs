@@ -3,7 +3,8 @@
 //! `fillet::IsoScallopSteps` within a time budget per frame, and the comparison table on
 //! request: each row (a whole core run, 1–1.5 s natively) a background job
 //! (`jobs::fillet_row`, run by `app::jobs`: a thread natively, a Web Worker in the browser),
-//! [`TABLE_JOBS_AT_ONCE`] at a time, rows filled in as they finish. Dropping the work
+//! [`TABLE_JOBS_AT_ONCE`] at a time at most (one on a 2-core machine: the page keeps a core),
+//! rows filled in as they finish. Dropping the work
 //! (the settings changed) drops its jobs, which cancels them.
 
 use web_time::{Duration, Instant};
@@ -22,8 +23,8 @@ pub const CORNER_RANGE_MM: (f64, f64) = (0.0, 25.0);
 pub const SCALLOP_RANGE_UM: (f64, f64) = (1.0, 200.0);
 /// Range of the chord tolerance E slider (mm).
 pub const TOLERANCE_RANGE_MM: (f64, f64) = (0.001, 0.1);
-/// Rows of the comparison table computed at once (each in its own thread or Web Worker):
-/// two keep both cores of a small machine busy while the page draws.
+/// Most rows of the comparison table computed at once (each in its own thread or Web
+/// Worker); fewer on a machine with fewer spare cores (`app::jobs::spare_cores`).
 pub const TABLE_JOBS_AT_ONCE: usize = 2;
 /// Rows of the comparison table: every strategy with iso-scallop and iso-parametric paths.
 pub const TABLE_ROWS: usize = 2 * StrategyChoice::ALL.len();
@@ -343,7 +344,8 @@ impl Job {
             let (strategy, layout) = table_row(k);
             self.table[k] = Some(Row { strategy, layout, stats: Ok(r.stats(feed)), ms: self.core_ms });
         }
-        while self.table_jobs.len() < TABLE_JOBS_AT_ONCE && self.next_row < TABLE_ROWS {
+        let at_once = TABLE_JOBS_AT_ONCE.min(crate::app::jobs::spare_cores());
+        while self.table_jobs.len() < at_once && self.next_row < TABLE_ROWS {
             let k = self.next_row;
             self.next_row += 1;
             if Some(k) == own || self.table[k].is_some() {
