@@ -14,7 +14,7 @@ use eframe::egui;
 use egui_plot::{Corner, Legend, Line, Plot, PlotPoints};
 
 use super::budget::FRAME_BUDGET;
-use super::panel::{Panel, PanelContext};
+use super::panel::{Handoff, Panel, PanelContext, Payload, SIMULATION_TITLE};
 use crate::fillet::{CcNode, effective_curvature};
 use crate::scene::finish::FINISH_PRESETS;
 use view::FilletView;
@@ -43,6 +43,10 @@ pub struct FilletPanel {
     want_table: bool,
     /// The scallop slider's rectangle (status `ui.scallop_slider`, for end-to-end tests).
     scallop_rect: Option<egui::Rect>,
+    /// The "Simulate this program" button's rectangle (status `ui.fillet_simulate`).
+    simulate_rect: Option<egui::Rect>,
+    /// `set_option("simulate", "")`: hand the program over at the next frame, as the button.
+    simulate_requested: bool,
 }
 
 impl Default for FilletPanel {
@@ -50,6 +54,8 @@ impl Default for FilletPanel {
         Self {
             settings: Settings::of_preset(0),
             scallop_rect: None,
+            simulate_rect: None,
+            simulate_requested: false,
             job: None,
             refused: None,
             last_refused: None,
@@ -194,6 +200,47 @@ impl FilletPanel {
                 ));
             }
         });
+    }
+
+    /// "Simulate this program": hands the finished paths (strategy, iso-scallop layout) to
+    /// the cutting simulation as the five-axis program `interpolab finish --gcode` writes,
+    /// steps within the tab's tolerance E, with the finish surface as the design.
+    fn simulate_button(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
+        let ready = self.job.as_ref().is_some_and(|j| j.result.is_some());
+        let r = ui
+            .add_enabled(ready, egui::Button::new("▶ Simulate this program"))
+            .on_hover_text(
+                "Machine these paths in the cutting simulation: the 5-axis program through the machine (steps within E), \
+                 the fillet cutter, the finish surface as the design",
+            )
+            .on_disabled_hover_text("Wait for the paths to finish");
+        self.simulate_rect = Some(r.rect);
+        if !(r.clicked() || std::mem::take(&mut self.simulate_requested)) {
+            return;
+        }
+        let Some(job) = &self.job else { return };
+        let Some(set) = &job.result else {
+            cx.error("The paths are still being built; simulate them once they are done.");
+            return;
+        };
+        match crate::simulate::FinishProgram::of_paths(
+            &job.surface,
+            &job.cutter,
+            &job.machine,
+            set,
+            job.options.chord_tol_mm,
+        ) {
+            Ok(mut fp) => {
+                let preset = FINISH_PRESETS.get(job.settings.preset).map_or("finish", |p| p.id);
+                fp.label = format!("{preset}: {}", fp.label);
+                cx.handoff = Some(Handoff {
+                    to: SIMULATION_TITLE,
+                    options: vec![("source", "finish".to_owned())],
+                    payload: Some(Payload::Finish(std::rc::Rc::new(fp))),
+                });
+            }
+            Err(e) => cx.error(format!("The program cannot be simulated: {e}")),
+        }
     }
 
     fn selection(&mut self, ui: &mut egui::Ui) {
@@ -345,6 +392,7 @@ impl Panel for FilletPanel {
         }
         self.sync();
         self.summary(ui);
+        self.simulate_button(ui, cx);
         self.selection(ui);
         let avail = ui.available_size();
         let side = (avail.x * 0.36).clamp(260.0, 520.0);
@@ -376,7 +424,12 @@ impl Panel for FilletPanel {
             "h_mm": s.scallop_um * 1e-3,
             "tol_mm": s.tol_mm,
             "error": self.refused,
-            "ui": super::widgets::rects_json(&self.scallop_rect.map(|r| ("scallop_slider", r)).into_iter().collect::<Vec<_>>()),
+            "ui": super::widgets::rects_json(
+                &[self.scallop_rect.map(|r| ("scallop_slider", r)), self.simulate_rect.map(|r| ("fillet_simulate", r))]
+                    .into_iter()
+                    .flatten()
+                    .collect::<Vec<_>>()
+            ),
         });
         let Some(job) = &self.job else {
             v["computing"] = false.into();
@@ -464,6 +517,7 @@ impl Panel for FilletPanel {
                     value.trim().parse().map_err(|_| format!("path must be a pass index, got \"{value}\""))?;
             }
             "along" => self.sel_along = parse_in("along", value, (0.0, 1.0), "(fraction)")?,
+            "simulate" => self.simulate_requested = true,
             "table" => {
                 self.want_table = value == "true";
                 if let Some(j) = &mut self.job {
@@ -472,7 +526,7 @@ impl Panel for FilletPanel {
             }
             _ => {
                 return Err(format!(
-                    "this view has no option \"{key}\"; use preset, strategy, R, r, h, E (mm), theta (degrees), path, along, table"
+                    "this view has no option \"{key}\"; use preset, strategy, R, r, h, E (mm), theta (degrees), path, along, table, simulate"
                 ));
             }
         }

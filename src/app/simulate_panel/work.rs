@@ -5,6 +5,8 @@
 //! (`gcode::write_program`, `fiveaxis::StepPlanner`, `simulate::Simulation`,
 //! `simulate::DeviationScan`).
 
+use std::rc::Rc;
+
 use glam::DVec3;
 use web_time::{Duration, Instant};
 
@@ -16,7 +18,9 @@ use crate::gcode::{
 };
 use crate::geom::Cutter;
 use crate::scene::{Scene, build_machine, build_tool_axis};
-use crate::simulate::{Design, DeviationScan, DexelStock, HeightMap, MoveKind, Program, SimStats, Simulation};
+use crate::simulate::{
+    Design, DeviationScan, DexelStock, FinishProgram, HeightMap, MoveKind, Program, SimStats, Simulation,
+};
 
 /// Periods of the crease run per call while building the design curve.
 const PERIODS_PER_CALL: usize = 200;
@@ -48,11 +52,15 @@ pub enum SourceKind {
     Steps,
     /// The last G-code file opened in the app (NURBS & G-code tab) or given as text.
     Loaded,
+    /// The finishing program handed over by the fillet tab (seed 001): its five-axis
+    /// program through the machine, the fillet cutter, the finish surface as the design.
+    Finish,
 }
 
 impl SourceKind {
     /// All, in menu order.
-    pub const ALL: [Self; 5] = [Self::CreaseG01, Self::CreaseArcs, Self::CreaseNurbs, Self::Steps, Self::Loaded];
+    pub const ALL: [Self; 6] =
+        [Self::CreaseG01, Self::CreaseArcs, Self::CreaseNurbs, Self::Steps, Self::Loaded, Self::Finish];
 
     /// Key for `set_option` and the status.
     #[must_use]
@@ -63,6 +71,7 @@ impl SourceKind {
             Self::CreaseNurbs => "crease-nurbs",
             Self::Steps => "steps",
             Self::Loaded => "loaded",
+            Self::Finish => "finish",
         }
     }
 
@@ -75,6 +84,7 @@ impl SourceKind {
             Self::CreaseNurbs => "Scene crease, G06.2 program",
             Self::Steps => "Scene 5-axis tool steps (seed 002)",
             Self::Loaded => "Loaded G-code file",
+            Self::Finish => "Fillet tab's finishing program (seed 001)",
         }
     }
 
@@ -87,8 +97,10 @@ impl SourceKind {
         }
     }
 
-    fn needs_crease(self) -> bool {
-        self != Self::Loaded
+    /// Whether the program is made from the scene's crease.
+    #[must_use]
+    pub fn needs_crease(self) -> bool {
+        !matches!(self, Self::Loaded | Self::Finish)
     }
 }
 
@@ -153,6 +165,8 @@ pub struct Inputs {
     pub scene_generation: u64,
     /// Generation of the loaded program.
     pub loaded_generation: u64,
+    /// Generation of the finishing program handed over (bumped on every hand-over).
+    pub finish_generation: u64,
 }
 
 /// The program a run machines, with what to draw of it.
@@ -180,6 +194,8 @@ enum Stage {
     Crease(Box<DesignBuilder>),
     /// Planning the seed-002 steps node by node.
     Plan(Box<(StepPlanner, CreasePath, Machine)>),
+    /// Planning a finishing program's steps pass by pass: the next pass, the moves so far.
+    FinishPlan(usize, Box<Program>),
     /// Writing the program and building the stock (one call).
     Program(Option<Box<CreaseCurve>>),
     /// Applying moves up to the target.
@@ -228,12 +244,14 @@ pub struct Job {
     pub cancelled: bool,
     /// When the height map was last handed to the view while cutting.
     shown_at: Option<Instant>,
+    /// The finishing program (source `finish`).
+    finish: Option<Rc<FinishProgram>>,
 }
 
 impl Job {
     /// A run of `inputs`, waiting for its first step.
     #[must_use]
-    pub fn new(inputs: Inputs, crease: Option<&CreaseJob>) -> Self {
+    pub fn new(inputs: Inputs, crease: Option<&CreaseJob>, finish: Option<Rc<FinishProgram>>) -> Self {
         let mut job = Self {
             inputs,
             stage: Stage::Done,
@@ -248,8 +266,18 @@ impl Job {
             map_generation: 0,
             cancelled: false,
             shown_at: None,
+            finish,
         };
-        if job.inputs.source.needs_crease() {
+        if job.inputs.source == SourceKind::Finish {
+            if job.finish.is_some() {
+                job.stage = Stage::FinishPlan(0, Box::default());
+            } else {
+                job.error = Some(
+                    "no finishing program yet: build paths in the \"Fillet end mill (seed 001)\" tab and press ▶ Simulate this program there"
+                        .to_owned(),
+                );
+            }
+        } else if job.inputs.source.needs_crease() {
             match crease.map(DesignBuilder::new) {
                 Some(Ok(b)) => job.stage = Stage::Crease(Box::new(b)),
                 Some(Err(e)) => job.error = Some(format!("the scene's crease cannot be run — {e}")),
@@ -278,7 +306,7 @@ impl Job {
         }
         match self.stage {
             Stage::Crease(_) => "crease",
-            Stage::Plan(_) => "plan",
+            Stage::Plan(_) | Stage::FinishPlan(..) => "plan",
             Stage::Program(_) => "program",
             Stage::Run => "simulate",
             Stage::Measure(_) => "measure",
@@ -310,6 +338,10 @@ impl Job {
         match &self.stage {
             Stage::Crease(b) => (0.0, format!("Running the scene's crease: {} periods…", b.periods())),
             Stage::Plan(p) => (0.0, format!("Planning the 5-axis tool steps: {} blocks…", p.0.nodes().len())),
+            Stage::FinishPlan(k, _) => {
+                let n = self.finish.as_ref().map_or(0, |f| f.passes.len()).max(1);
+                (*k as f32 / n as f32, format!("Planning the 5-axis steps of pass {k} of {n}…"))
+            }
             Stage::Program(_) => (0.0, "Writing the program…".to_owned()),
             Stage::Run => {
                 let (a, t) = (self.applied(), self.target_moves().max(1));
@@ -415,6 +447,21 @@ impl Job {
                     self.prepare(scene, program)?;
                 }
             }
+            Stage::FinishPlan(k, program) => {
+                let fp = self.finish.clone().ok_or("internal: no finishing program")?;
+                // One pass per call at least: a pass is the smallest step of the planner.
+                while *k < fp.passes.len() {
+                    fp.plan_pass(*k, program).map_err(|e| e.to_string())?;
+                    *k += 1;
+                    if t0.elapsed() >= budget {
+                        break;
+                    }
+                }
+                if *k >= fp.passes.len() {
+                    let program = std::mem::take(&mut **program);
+                    self.prepare(scene, program)?;
+                }
+            }
             Stage::Program(curve) => {
                 let curve = curve.take();
                 let program = self.write(scene, curve.as_deref(), loaded)?;
@@ -505,11 +552,25 @@ impl Job {
         Ok(program)
     }
 
-    /// The stock block and pitch for `program`: the user's, else automatic.
+    /// The cutter: the finishing program's own for `finish` when the choice is the
+    /// program's (`CutterChoice::SceneBall`), else the choice.
+    fn cutter(&self, scene: &Scene) -> Result<Cutter, String> {
+        match (&self.finish, self.inputs.source, self.inputs.cutter) {
+            (Some(fp), SourceKind::Finish, CutterChoice::SceneBall) => Ok(fp.cutter),
+            (_, _, c) => c.cutter(scene),
+        }
+    }
+
+    /// The stock block and pitch for `program`: the user's, else automatic (a finishing
+    /// program's: the part's box, [`FinishProgram::stock_mm`]).
     fn stock_and_pitch(&self, program: &Program, cutter: &Cutter) -> Result<([f64; 6], f64), String> {
-        let stock = match self.inputs.stock_mm {
-            Some(s) => s,
-            None => auto_stock(program, cutter, self.inputs.margin_mm)
+        let part = match (&self.finish, self.inputs.source) {
+            (Some(fp), SourceKind::Finish) => fp.stock_mm(self.inputs.margin_mm),
+            _ => None,
+        };
+        let stock = match (self.inputs.stock_mm, part) {
+            (Some(s), _) | (None, Some(s)) => s,
+            (None, None) => auto_stock(program, cutter, self.inputs.margin_mm)
                 .ok_or("the program has no cutting move to size the stock from; give the stock block")?,
         };
         let pitch = match self.inputs.pitch_mm {
@@ -527,7 +588,7 @@ impl Job {
 
     /// Builds the stock and the simulation for `program`.
     fn prepare(&mut self, scene: &Scene, program: Program) -> Result<(), String> {
-        let cutter = self.inputs.cutter.cutter(scene)?;
+        let cutter = self.cutter(scene)?;
         let (stock_mm, pitch) = self.stock_and_pitch(&program, &cutter)?;
         let nx = ((stock_mm[3] - stock_mm[0]) / pitch).ceil();
         let ny = ((stock_mm[4] - stock_mm[1]) / pitch).ceil();
@@ -554,6 +615,10 @@ impl Job {
         let (design, design_name) = match (self.inputs.design, self.inputs.source) {
             (DesignChoice::None, _) | (DesignChoice::Auto, SourceKind::Loaded) => (Design::None, "none"),
             (DesignChoice::PlaneZ(z), _) => (Design::PlaneZ(z), "plane"),
+            (DesignChoice::Scene | DesignChoice::Auto, SourceKind::Finish) => {
+                let fp = self.finish.as_ref().ok_or("internal: no finishing program")?;
+                (fp.design(), "finish surface")
+            }
             (DesignChoice::Scene | DesignChoice::Auto, _) => (with_scene()?, "scene surfaces"),
         };
         let tips = tips_of(&program);
