@@ -439,7 +439,8 @@ try {
     await pageF.mouse.click(fb[0] + fb[2] / 2, fb[1] + fb[3] / 2);
     currentTab = "simulation";
     const sh = await waitFor(pageF, "the simulation of the fillet program", (s) => s.panel && s.panel.title === "Cutting simulation"
-      && s.panel.status && s.panel.status.source === "finish" && s.panel.status.computing === false, 300000);
+      && s.panel.status && s.panel.status.source === "finish" && s.panel.status.computing === false
+      && (s.panel.status.stage === "done" || s.panel.status.stage === "error"), 300000);
     await recordFrames(pageF, "the simulation machines the fillet tab's program");
     await pageF.waitForTimeout(500);
     const shotH = await pageF.screenshot({ path: path.join(artifacts, "13-fillet-program-simulated.png") });
