@@ -482,6 +482,29 @@ try {
         && s.panel.status.passes > 0 && s.panel.status.h_mm !== fs1.h_mm, 180000);
       await recordFrames(pageF, "dragging the fillet scallop slider");
     }
+    // 12. From the fillet tab to the cutting simulation: "Simulate this program" hands its
+    // paths over as the five-axis program through the machine, machined with the fillet
+    // cutter and measured against the finish surface on a stock sized to the part.
+    const sf2 = await waitFor(pageF, "the fillet paths before simulating", (s) => s.panel.status.computing === false
+      && s.panel.status.passes > 0 && s.panel.status.ui && s.panel.status.ui.fillet_simulate, 180000);
+    const fb = sf2.panel.status.ui.fillet_simulate;
+    await resetFrames(pageF);
+    await pageF.mouse.click(fb[0] + fb[2] / 2, fb[1] + fb[3] / 2);
+    currentTab = "simulation";
+    const sh = await waitFor(pageF, "the simulation of the fillet program", (s) => s.panel && s.panel.title === "Cutting simulation"
+      && s.panel.status && s.panel.status.source === "finish" && s.panel.status.computing === false
+      && (s.panel.status.stage === "done" || s.panel.status.stage === "error"), 300000);
+    await recordFrames(pageF, "the simulation machines the fillet tab's program");
+    await pageF.waitForTimeout(500);
+    const shotH = await pageF.screenshot({ path: path.join(artifacts, "13-fillet-program-simulated.png") });
+    const sth = sh.panel.status;
+    check("fillet tab → simulation: its program is machined with its cutter against the finish surface",
+      sth.error === null && sth.stage === "done" && sth.design === "finish surface" && sth.finish
+        && sth.finish.passes === sf2.panel.status.passes && sth.moves_total > 0 && sth.scallop_um && sth.scallop_um.rays > 0,
+      JSON.stringify({ finish: sth.finish, cutter: sth.cutter, grid: sth.grid, moves: sth.moves_total, scallop_um: sth.scallop_um,
+        gouge: sth.gouge, sim_ms: Math.round(sth.sim_ms), slowest_frame_ms: sth.slowest_frame_ms }));
+    const vH = colourVariety(shotH, [420, 60, 900, 520]);
+    check("fillet program simulated: the machined part is drawn (not blank)", vH > 40, `${vH} distinct colours in the view`);
     await pageF.close();
   }
 

@@ -1101,3 +1101,108 @@ fn simulate_this_program_hands_the_five_axis_and_nurbs_programs_over_and_compare
         assert!(w > -50.0, "{side}: {cmp}");
     }
 }
+
+/// Runs frames until the fillet tab's paths are done; returns its status.
+fn settle_fillet(h: &mut Harness) -> serde_json::Value {
+    for _ in 0..20_000 {
+        h.frame();
+        let s: serde_json::Value = serde_json::from_str(&h.app.status()).expect("status is JSON");
+        let p = &s["panel"]["status"];
+        if p["computing"] == false && p["passes"].is_u64() {
+            return p.clone();
+        }
+    }
+    panic!("the fillet tab did not finish its paths");
+}
+
+#[test]
+fn the_fillet_tab_hands_its_program_to_the_simulation_and_two_maps_are_compared() {
+    use interpolab::fillet::{PartSamples, iso_scallop};
+    use interpolab::scene::finish::{FINISH_PRESETS, FinishScene};
+    use interpolab::simulate::FinishProgram;
+    let mut h = Harness::new();
+    h.settle();
+    set(&mut h, FILLET, "preset", "finish-bicubic-patch");
+    set(&mut h, FILLET, "strategy", "matched");
+    set(&mut h, FILLET, "h", "0.04");
+    set(&mut h, FILLET, "R", "6");
+    set(&mut h, FILLET, "r", "1.5");
+    // E within the tab's slider range (the preset's 0.0005 mm is below it).
+    set(&mut h, FILLET, "E", "0.002");
+    let f = settle_fillet(&mut h);
+    assert_eq!(f["error"], serde_json::Value::Null, "{f}");
+    // The button, clicked: the simulation tab shows the fillet tab's program.
+    click_panel_widget(&mut h, "fillet_simulate");
+    let s: serde_json::Value = serde_json::from_str(&h.app.status()).expect("status is JSON");
+    assert_eq!(s["panel"]["title"], SIMULATION, "the button shows the simulation tab: {}", s["panel"]);
+    let p = &s["panel"]["status"];
+    assert_eq!(p["source"], "finish", "{p}");
+    assert_eq!(p["finish"]["passes"], f["passes"], "every pass handed over: {p}");
+    assert!(p["finish"]["label"].as_str().expect("label").contains("matched, iso-scallop"), "{p}");
+    assert_eq!(p["finish"]["cutter"], "fillet R 6 mm, r 1.5 mm", "{p}");
+    assert_eq!(p["finish"]["step_tol_mm"], 0.002, "the tab's E: {p}");
+    set(&mut h, SIMULATION, "pitch", "0.5");
+    let a = settle_panel(&mut h, "simulation of the fillet tab's program");
+    assert_eq!(a["stage"], "done", "{a}");
+    assert_eq!(a["design"], "finish surface", "{a}");
+    assert_eq!(a["cutter"], "fillet R 6 mm, r 1.5 mm", "{a}");
+    // The core's own program on the same inputs: the same moves, on a stock sized to the part.
+    let mut scene = FinishScene::from_json(FINISH_PRESETS[0].json).expect("preset");
+    scene.finish.scallop = 0.04;
+    scene.finish.cutter.radius = 6.0;
+    scene.finish.cutter.corner_radius = 1.5;
+    scene.finish.tolerance = 0.002;
+    "matched".clone_into(&mut scene.finish.strategy);
+    scene.finish.lead = None;
+    let job = scene.job().expect("job");
+    let part = PartSamples::new(&job.surface, job.options.part_grid);
+    let set_core = iso_scallop(&job.surface, &job.cutter, job.strategy, &job.options, &part).expect("core");
+    let fp = FinishProgram::new(&job, &set_core, job.options.chord_tol_mm).expect("program");
+    let program = fp.program().expect("planned");
+    assert_eq!(a["moves_total"].as_u64(), Some(program.moves.len() as u64), "{a}");
+    let stock = fp.stock_mm(2.0).expect("stock");
+    let got: Vec<f64> = a["stock_mm"].as_array().expect("stock").iter().map(|v| v.as_f64().expect("mm")).collect();
+    assert_eq!(got, stock.to_vec(), "the automatic stock is the part's box: {a}");
+    // Scallops were measured over the patch; the matched paths leave about h between them.
+    let sc = &a["scallop_um"];
+    assert!(sc["rays"].as_u64().expect("rays") > 1000, "{a}");
+    assert!(sc["p95"].as_f64().expect("p95") < 3.0 * 40.0, "{a}");
+    // Pin A: its numbers and its map stay.
+    click_panel_widget(&mut h, "sim_pin_a");
+    let s: serde_json::Value = serde_json::from_str(&h.app.status()).expect("status is JSON");
+    let cmp = s["panel"]["status"]["comparison"].clone();
+    assert!(cmp["a"]["map"]["measured_rays"].as_u64().expect("A's map") > 1000, "{cmp}");
+    assert_eq!(cmp["a"]["removed_volume_mm3"], a["removed_volume_mm3"], "{cmp}");
+    assert!(s["panel"]["status"]["ui"]["sim_map_a"].is_array(), "A's map drawn: {}", s["panel"]["status"]["ui"]);
+
+    // Program B: the same part with a ball end mill of the same R, from the same button.
+    set(&mut h, FILLET, "strategy", "ball");
+    let fb = settle_fillet(&mut h);
+    assert!(fb["passes"].as_u64() > f["passes"].as_u64(), "the ball needs more passes: {fb}");
+    set(&mut h, FILLET, "simulate", "");
+    h.frame();
+    h.frame();
+    let s: serde_json::Value = serde_json::from_str(&h.app.status()).expect("status is JSON");
+    assert_eq!(s["panel"]["title"], SIMULATION);
+    assert_eq!(s["panel"]["status"]["finish"]["cutter"], "ball R 6 mm", "{}", s["panel"]["status"]);
+    let b = settle_panel(&mut h, "simulation of the ball program");
+    assert_eq!(b["stage"], "done", "{b}");
+    let cmp = &b["comparison"];
+    assert_eq!(cmp["a"], s["panel"]["status"]["comparison"]["a"], "A stays pinned, map included");
+    assert!(cmp["a"]["program"].as_str().expect("A").contains("matched"), "{cmp}");
+    assert!(cmp["b"]["program"].as_str().expect("B").contains("ball"), "{cmp}");
+    assert_eq!(cmp["b"]["removed_volume_mm3"], b["removed_volume_mm3"], "{cmp}");
+    assert_eq!(cmp["b"]["map"]["nx"], b["grid"]["nx"], "{cmp}");
+    assert!(cmp["b"]["moves"].as_u64() > cmp["a"]["moves"].as_u64(), "{cmp}");
+    // Both maps drawn side by side, with one legend.
+    h.frame();
+    let s: serde_json::Value = serde_json::from_str(&h.app.status()).expect("status is JSON");
+    let ui = &s["panel"]["status"]["ui"];
+    for k in ["sim_map_a", "sim_map_b", "sim_maps_legend"] {
+        assert!(ui[k].is_array(), "{k} not drawn: {ui}");
+    }
+    let (ra, rb) = (&ui["sim_map_a"], &ui["sim_map_b"]);
+    assert!(rb[0].as_f64() > ra[0].as_f64(), "B beside A: {ui}");
+    // The same part at the same scale: the same size on screen.
+    assert_eq!(ra[2], rb[2], "{ui}");
+}

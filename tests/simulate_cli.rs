@@ -212,3 +212,95 @@ fn the_crease_programs_of_a_scene_gouge_no_deeper_than_their_tolerance() {
         assert!(s["machined_rays"].as_u64().unwrap() > 10_000, "{kind}");
     }
 }
+
+/// A small finishing scene (seed 001): a convex cylinder patch of radius 40 mm, about 7 × 6 mm,
+/// a fillet-end mill R 3, r 1 mm, scallop h = 10 µm, chord tolerance E = 0.5 µm, paths along u.
+const SMALL_FINISH: &str = r#"{"format":"interpolab-scene/1","name":"small convex cylinder","surfaces":[{"type":"cylinder","origin":[0,0,-40],"axis":[0,1,0],"radius":40,"domain":{"u":[265,275],"v":[0,6]},"normal":"outward"}],
+"finish":{"cutter":{"radius":3,"corner_radius":1},"scallop":0.01,"tolerance":0.0005,"direction":"u"}}"#;
+
+#[test]
+fn a_finishing_program_leaves_its_scallop_and_no_gouge_beyond_its_tolerances() {
+    // The five-axis program `finish --gcode` writes for the scene (steps within 1 µm, joints
+    // linear on the default table A/C), machined with the fillet cutter and measured against
+    // the cylinder itself: the scallop between passes is the finish's h, and nothing is cut
+    // below the surface by more than the tolerances.
+    let scene = temp("small-finish.json", SMALL_FINISH);
+    let csv = scene.with_extension("csv");
+    let (h_mm, chord_mm, step_mm, pitch_mm, sample_mm, corner_mm) = (0.01, 0.0005, 0.001, 0.1, 0.05, 1.0);
+    let (code, out, err) = run(&[
+        "simulate",
+        scene.to_str().unwrap(),
+        "--finish",
+        &step_mm.to_string(),
+        "--pitch",
+        &pitch_mm.to_string(),
+        "--sample-step",
+        &sample_mm.to_string(),
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let s: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(s["design"], "finish surface", "{s}");
+    assert_eq!(s["cutter"], "fillet R 3 mm, r 1 mm", "{s}");
+    assert!(s["finish"]["passes"].as_u64().unwrap() >= 3, "{s}");
+    assert_eq!(s["finish"]["label"], "matched, iso-scallop", "{s}");
+    assert!(s["removed_volume_mm3"].as_f64().unwrap() > 10.0, "{s}");
+    // The default stock: the part's box widened by R + 2 mm in x and y. The patch spans
+    // x = ±40·sin 5°, y = 0 … 6.
+    let x0 = -40.0 * 5f64.to_radians().sin() - 3.0 - 2.0;
+    assert!((s["grid"]["x0_mm"].as_f64().unwrap() - x0).abs() < 1e-3, "{s}");
+    assert!((s["grid"]["y0_mm"].as_f64().unwrap() + 5.0).abs() < 1e-9, "{s}");
+    // Every ray with a deviation lies over the patch (none beside it).
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut dev = Vec::new();
+    for line in text.lines().skip(1) {
+        let f: Vec<&str> = line.split(',').collect();
+        if f[6].is_empty() {
+            continue;
+        }
+        let (x, y, d): (f64, f64, f64) = (f[2].parse().unwrap(), f[3].parse().unwrap(), f[6].parse().unwrap());
+        assert!(x.abs() <= 40.0 * 5f64.to_radians().sin() + 1e-6 && (-1e-6..=6.0 + 1e-6).contains(&y), "({x}, {y})");
+        // The deviation is the distance from the cylinder, recomputed in closed form.
+        let top: f64 = f[4].parse().unwrap();
+        let closed = (x * x + (top + 40.0).powi(2)).sqrt() - 40.0;
+        assert!((d - closed).abs() < 1e-6, "({x}, {y}): {d} against the closed form {closed}");
+        dev.push((x, y, d));
+    }
+    assert!(dev.len() > 3000, "{} rays over the part", dev.len());
+    // Interior: 1 mm from the ends of the passes, half a millimetre from the first and last.
+    let half = 40.0 * 5f64.to_radians().sin();
+    let inner: Vec<f64> =
+        dev.iter().filter(|(x, y, _)| x.abs() < half - 1.0 && *y > 0.5 && *y < 5.5).map(|(_, _, d)| *d).collect();
+    let max = inner.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let min = inner.iter().copied().fold(f64::INFINITY, f64::min);
+    // Upper bound: the paths' own scallop (within 5 % of h by brute force, docs/fillet.md),
+    // the steps' tolerance (the tip between blocks), the chord tolerance of the CC nodes, and
+    // the cusp between two sampled poses along the feed, s²/(8r) (the corner's curvature).
+    let upper = 1.05 * h_mm + step_mm + chord_mm + sample_mm * sample_mm / (8.0 * corner_mm);
+    // Lower bound: a crest read at a ray up to half a pitch from it (the profile falls by
+    // about Δκ·(w/2)·(p/2) there, 1.2 µm here) — 0.85 h.
+    assert!(max <= upper && max >= 0.85 * h_mm, "interior scallop max {max} mm, h {h_mm} mm, bound {upper} mm");
+    // No gouge beyond the tolerances the program was written to (steps and chords).
+    assert!(min >= -(step_mm + chord_mm), "interior deviation min {min} mm");
+    let worst = s["gouge"]["worst_um"].as_f64().unwrap_or(0.0);
+    assert!(worst >= -(step_mm + chord_mm) * 1e3, "worst gouge {worst} µm: {s}");
+}
+
+#[test]
+fn finish_refusals_are_one_line_messages() {
+    let scene = temp("small-finish-refusals.json", SMALL_FINISH);
+    let p = scene.to_str().unwrap();
+    for (args, want) in [
+        (vec!["simulate", p, "--finish", "0"], "step tolerance must be a positive length"),
+        (vec!["simulate", p, "--finish", "0.01", "--sample-step=-1"], "--sample-step -1"),
+        (vec!["simulate", p, "--finish", "0.01", "--margin=-3"], "--margin -3"),
+        (vec!["simulate", p], "--cutter is required"),
+        (vec!["simulate", p, "--cutter", "ball:3"], "--stock is required"),
+    ] {
+        let (code, _, err) = run(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains(want), "{args:?}: {err}");
+    }
+}

@@ -271,6 +271,12 @@ impl InterpolabApp {
             return;
         };
         self.tab = i;
+        if let Some(p) = &h.payload
+            && let Err(e) = self.panels[i].receive(p)
+        {
+            self.error(format!("{}: {e}", h.to));
+            return;
+        }
         for (key, value) in &h.options {
             if let Err(e) = self.panels[i].set_option(key, value) {
                 self.error(format!("{}: {e}", h.to));

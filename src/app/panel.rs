@@ -53,12 +53,31 @@ pub const SIMULATION_TITLE: &str = "Cutting simulation";
 /// titled `to` and set its options in order, as [`Panel::set_option`] would — e.g. the 5-axis
 /// tab's "Simulate this program" is `("Cutting simulation", [("source", "steps")])`. A view
 /// hands over what it shows without knowing the other view's type.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Handoff {
     /// Title of the receiving view.
     pub to: &'static str,
     /// Options to set on it, in order (key, value).
     pub options: Vec<(&'static str, String)>,
+    /// Data too large for an option, given to [`Panel::receive`] before the options.
+    pub payload: Option<Payload>,
+}
+
+/// Data one view hands another (plain data, shared, never edited by the receiver).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Payload {
+    /// A seed-001 finishing program (the fillet tab's paths, cutter, machine and surface).
+    Finish(Rc<FinishHandoff>),
+}
+
+/// A seed-001 finishing program handed to the simulation, with the finishing scene it was
+/// made from as text (what a background job rebuilds the design surface from).
+#[derive(Clone, Debug, PartialEq)]
+pub struct FinishHandoff {
+    /// The passes, cutter, machine and surface.
+    pub program: crate::simulate::FinishProgram,
+    /// The finishing scene (`FinishScene::to_json`).
+    pub scene_json: String,
 }
 
 impl PanelContext<'_> {
@@ -120,6 +139,14 @@ pub trait Panel {
     /// saying what the view accepts.
     fn set_option(&mut self, key: &str, value: &str) -> Result<(), String> {
         Err(format!("this view has no option \"{key}\" (value \"{value}\")"))
+    }
+    /// Takes data another view handed over ([`Handoff::payload`]); an error when the view
+    /// takes none of that kind.
+    fn receive(&mut self, payload: &Payload) -> Result<(), String> {
+        let kind = match payload {
+            Payload::Finish(_) => "a finishing program",
+        };
+        Err(format!("this view cannot take {kind}"))
     }
 }
 

@@ -77,7 +77,7 @@ pub(crate) struct FinishArgs {
     gcode_tolerance: f64,
 }
 
-fn load(path: &Path) -> Result<FinishJob, Fatal> {
+pub(super) fn load(path: &Path) -> Result<FinishJob, Fatal> {
     let text = super::read_capped(path, interpolab::limits::MAX_SCENE_BYTES, "scene")
         .map_err(|e| Fatal(format!("cannot read scene file {}: {e}", path.display())))?;
     let scene = FinishScene::from_json(&text).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
@@ -168,19 +168,23 @@ fn csv_cell(v: &Value) -> String {
 }
 
 fn strategy_of(a: &FinishArgs, job: &FinishJob) -> Result<Strategy, Fatal> {
-    Ok(match a.strategy {
+    strategy_arg(a.strategy, a.lead, job)
+}
+
+/// The strategy of `--strategy` (with `--lead` in degrees for fixed-lead), else the scene's.
+pub(super) fn strategy_arg(strategy: Option<StrategyArg>, lead_deg: f64, job: &FinishJob) -> Result<Strategy, Fatal> {
+    Ok(match strategy {
         None => job.strategy,
         Some(StrategyArg::Matched) => Strategy::Matched,
         Some(StrategyArg::Principal) => Strategy::PrincipalAxis,
         Some(StrategyArg::Ball) => Strategy::Ball,
         Some(StrategyArg::FixedLead) => {
-            if !(a.lead.abs() < 80.0) {
+            if !(lead_deg.abs() < 80.0) {
                 return Err(Fatal(format!(
-                    "--lead {} is not a usable lead angle; give one between -80 and 80 degrees",
-                    a.lead
+                    "--lead {lead_deg} is not a usable lead angle; give one between -80 and 80 degrees"
                 )));
             }
-            Strategy::FixedLead { lead_rad: a.lead.to_radians() }
+            Strategy::FixedLead { lead_rad: lead_deg.to_radians() }
         }
     })
 }

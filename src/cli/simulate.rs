@@ -9,13 +9,17 @@ use std::time::Instant;
 use clap::Args;
 use glam::DVec3;
 use interpolab::crease::CreaseJob;
+use interpolab::fillet::{PartSamples, iso_parametric, iso_scallop};
 use interpolab::gcode::{ProgrammedPoint, parse_program};
 use interpolab::geom::Cutter;
 use interpolab::scene::Scene;
-use interpolab::simulate::{Design, DexelStock, HeightMap, Program, SimStats, Simulation, heights_csv, png_rgb};
+use interpolab::simulate::{
+    Design, DexelStock, FinishProgram, HeightMap, Program, SimStats, Simulation, heights_csv, png_rgb,
+};
 use serde_json::json;
 
 use super::Fatal;
+use super::finish::LayoutArg;
 
 /// Largest program file read (bytes).
 const MAX_PROGRAM_BYTES: u64 = 64 << 20;
@@ -35,12 +39,14 @@ pub(crate) enum PointArg {
 pub(crate) struct SimulateArgs {
     /// G-code program (G00/G01/G02/G03 in G17/G18/G19, helical, G06.2 NURBS).
     program: PathBuf,
-    /// Cutter: `ball:R`, `flat:R` or `fillet:R,r` (mm), e.g. `ball:5`.
+    /// Cutter: `ball:R`, `flat:R` or `fillet:R,r` (mm), e.g. `ball:5` (with --finish: default
+    /// the scene's cutter as its strategy machines).
     #[arg(long)]
-    cutter: String,
-    /// Stock block `x0,y0,z0,x1,y1,z1` (mm).
+    cutter: Option<String>,
+    /// Stock block `x0,y0,z0,x1,y1,z1` (mm) (with --finish: default the part's box widened
+    /// by R + --margin in x and y, --margin below and above it).
     #[arg(long, allow_hyphen_values = true)]
-    stock: String,
+    stock: Option<String>,
     /// Ray spacing in x and y (mm).
     #[arg(long, default_value_t = 0.1)]
     pitch: f64,
@@ -66,6 +72,28 @@ pub(crate) struct SimulateArgs {
     /// joints interpolated linearly on the scene's machine; the design is its two surfaces.
     #[arg(long, conflicts_with_all = ["design_z", "scene"])]
     steps: Option<f64>,
+    /// PROGRAM is a finishing scene (seed 001, a `finish` key): simulate the five-axis
+    /// program `interpolab finish --gcode` writes for it, steps within this tolerance (mm),
+    /// joints interpolated linearly on the scene's machine; the design is the finish surface.
+    #[arg(long, conflicts_with_all = ["design_z", "scene", "steps"])]
+    finish: Option<f64>,
+    /// With --finish: the orientation strategy (default: the scene's `finish.strategy`).
+    #[arg(long, value_enum, requires = "finish")]
+    strategy: Option<super::finish::StrategyArg>,
+    /// With --finish and --strategy fixed-lead: the lead angle (degrees).
+    #[arg(long, default_value_t = 5.0, requires = "finish")]
+    lead: f64,
+    /// With --finish: the path layout.
+    #[arg(long, value_enum, default_value = "iso-scallop", requires = "finish")]
+    layout: super::finish::LayoutArg,
+    /// With --finish and no --stock: margin (mm) of the automatic stock around the part.
+    #[arg(long, default_value_t = 2.0, requires = "finish")]
+    margin: f64,
+    /// Sample 5-axis moves pose by pose (every cutter, the ball included) so no point of the
+    /// cutter moves more than this (mm) between two poses; default one pitch for flat and
+    /// fillet end mills, closed-form swept segments for the ball.
+    #[arg(long)]
+    sample_step: Option<f64>,
     /// Deviation shown at full colour in the PNG (µm).
     #[arg(long, default_value_t = 50.0)]
     band_um: f64,
@@ -136,18 +164,45 @@ fn write(path: &Path, bytes: &[u8]) -> Result<(), Fatal> {
     fs::write(path, bytes).map_err(|e| Fatal(format!("cannot write {}: {e}", path.display())))
 }
 
+fn stock_block(text: &str, pitch: f64) -> Result<DexelStock, Fatal> {
+    let s = numbers(text, "stock", 6)?;
+    DexelStock::block([s[0], s[1], s[2]], [s[3], s[4], s[5]], pitch).map_err(|e| Fatal(e.to_string()))
+}
+
 pub(super) fn simulate(a: &SimulateArgs) -> Result<ExitCode, Fatal> {
-    let cutter = parse_cutter(&a.cutter)?;
-    let s = numbers(&a.stock, "stock", 6)?;
-    let stock = DexelStock::block([s[0], s[1], s[2]], [s[3], s[4], s[5]], a.pitch).map_err(|e| Fatal(e.to_string()))?;
     if !(a.band_um > 0.0 && a.band_um.is_finite()) {
         return Err(Fatal(format!("--band-um {}: give a positive deviation in µm", a.band_um)));
     }
+    if let Some(step) = a.sample_step
+        && !(step > 0.0 && step.is_finite())
+    {
+        return Err(Fatal(format!("--sample-step {step}: give a positive length in mm, e.g. 0.025")));
+    }
+    if let Some(tol) = a.finish {
+        if !(a.margin >= 0.0 && a.margin.is_finite()) {
+            return Err(Fatal(format!("--margin {}: give a margin of 0 mm or more", a.margin)));
+        }
+        if !(tol > 0.0 && tol.is_finite()) {
+            return Err(Fatal(format!(
+                "--finish {tol}: the step tolerance must be a positive length in mm; give e.g. 0.01"
+            )));
+        }
+        return simulate_finish(a, tol);
+    }
+    let cutter = parse_cutter(a.cutter.as_deref().ok_or_else(|| {
+        Fatal("--cutter is required: give ball:R, flat:R or fillet:R,r in mm (e.g. ball:5)".to_owned())
+    })?)?;
+    let stock = stock_block(
+        a.stock.as_deref().ok_or_else(|| {
+            Fatal("--stock is required: give the block as x0,y0,z0,x1,y1,z1 in mm (e.g. -10,-10,-5,10,10,0)".to_owned())
+        })?,
+        a.pitch,
+    )?;
     if let Some(tol) = a.steps {
         let (machine, blocks, _) = super::fiveaxis::scene_blocks(&a.program, tol)?;
         let program = Program::from_blocks(&machine, &blocks).map_err(|e| Fatal(e.to_string()))?;
         let design = load_design(&SimulateDesign { design_z: None, scene: Some(&a.program) })?;
-        return finish(a, &cutter, stock, &program, &design, false);
+        return finish(a, &cutter, stock, &program, &design, false, None);
     }
     let design = load_design(&SimulateDesign { design_z: a.design_z, scene: a.scene.as_deref() })?;
     let text = read_program(&a.program)?;
@@ -166,7 +221,53 @@ pub(super) fn simulate(a: &SimulateArgs) -> Result<ExitCode, Fatal> {
     let chord_tol = a.chord_tol.unwrap_or(a.pitch / 10.0);
     let program = Program::from_toolpath(&parsed.toolpath, offset, chord_tol)
         .map_err(|e| Fatal(format!("{}: {e}", a.program.display())))?;
-    finish(a, &cutter, stock, &program, &design, centre)
+    finish(a, &cutter, stock, &program, &design, centre, None)
+}
+
+/// `--finish TOL`: PROGRAM is a finishing scene; its paths (the strategy and layout asked
+/// for) become the five-axis program `interpolab finish --gcode` writes, simulated against
+/// the finish surface.
+fn simulate_finish(a: &SimulateArgs, tol: f64) -> Result<ExitCode, Fatal> {
+    let name = a.program.display().to_string();
+    let job = super::finish::load(&a.program)?;
+    let strategy = super::finish::strategy_arg(a.strategy, a.lead, &job)?;
+    let part = PartSamples::new(&job.surface, job.options.part_grid);
+    let set = match a.layout {
+        LayoutArg::IsoScallop => iso_scallop(&job.surface, &job.cutter, strategy, &job.options, &part),
+        LayoutArg::IsoParametric => iso_parametric(&job.surface, &job.cutter, strategy, &job.options, &part),
+    }
+    .map_err(|e| Fatal(format!("{name}: {e}")))?;
+    for r in &set.refused {
+        eprintln!(
+            "interpolab: {name}: the CC point ({:.3}, {:.3}, {:.3}) mm was refused ({}); the simulated program leaves it out",
+            r.point.x, r.point.y, r.point.z, r.reason
+        );
+    }
+    let fp = FinishProgram::new(&job, &set, tol).map_err(|e| Fatal(format!("--finish {tol}: {e}")))?;
+    let program = fp.program().map_err(|e| Fatal(format!("{name}: {e}")))?;
+    let cutter = match &a.cutter {
+        Some(c) => parse_cutter(c)?,
+        None => fp.cutter,
+    };
+    let stock = match &a.stock {
+        Some(s) => stock_block(s, a.pitch)?,
+        None => {
+            let s = fp.stock_mm(a.margin).ok_or_else(|| {
+                Fatal(format!("{name}: the surface has no finite points to size the stock from; give --stock"))
+            })?;
+            DexelStock::block([s[0], s[1], s[2]], [s[3], s[4], s[5]], a.pitch).map_err(|e| Fatal(e.to_string()))?
+        }
+    };
+    let extra = json!({
+        "label": fp.label,
+        "passes": fp.passes.len(),
+        "cc_points": fp.passes.iter().map(Vec::len).sum::<usize>(),
+        "scallop_mm": job.options.scallop_mm,
+        "chord_tol_mm": job.options.chord_tol_mm,
+        "step_tol_mm": tol,
+        "refused": set.refused.len(),
+    });
+    finish(a, &cutter, stock, &program, &fp.design(), false, Some(extra))
 }
 
 /// Runs the program and writes the outputs.
@@ -177,9 +278,13 @@ fn finish(
     program: &Program,
     design: &Design,
     centre: bool,
+    finish_info: Option<serde_json::Value>,
 ) -> Result<ExitCode, Fatal> {
     let chord_tol = a.chord_tol.unwrap_or(a.pitch / 10.0);
     let mut sim = Simulation::new(stock, cutter);
+    if let Some(step) = a.sample_step {
+        sim = sim.with_sample_step(step);
+    }
     let t0 = Instant::now();
     sim.run(program).map_err(|e| Fatal(format!("{}: {e}", a.program.display())))?;
     let run_ms = t0.elapsed().as_secs_f64() * 1e3;
@@ -223,7 +328,7 @@ fn finish(
         "split_rays": stats.split_rays,
         "rapid_cuts": c.rapid_cuts,
         "memory_bytes": sim.stock().memory_bytes(),
-        "design": match design { Design::None => "none", Design::PlaneZ(_) => "plane", Design::Surfaces(_) => "scene surfaces" },
+        "design": design.name(),
         "scallop_um": has_design.then(|| json!({
             "rays": stats.scallop.count,
             "max": um(stats.scallop.max_mm),
@@ -232,6 +337,10 @@ fn finish(
         })),
         "gouge": stats.worst_gouge.map(|(d, p)| json!({ "worst_um": um(d), "x_mm": nm(p.x), "y_mm": nm(p.y), "rays": stats.gouge_rays })),
     });
+    let mut summary = summary;
+    if let (Some(info), Some(map)) = (finish_info, summary.as_object_mut()) {
+        map.insert("finish".to_owned(), info);
+    }
     let mut text = String::new();
     pretty_json(&summary, 0, &mut text);
     println!("{text}");

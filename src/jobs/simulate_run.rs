@@ -29,6 +29,7 @@ use crate::gcode::{
     DesignBuilder, Dialect, ProgramKind, ProgramOptions, ProgrammedPoint, parse_program_in, write_program,
 };
 use crate::geom::Cutter;
+use crate::scene::finish::FinishScene;
 use crate::scene::{Scene, build_machine, build_tool_axis};
 use crate::simulate::measure::Summary;
 use crate::simulate::stock::Grid;
@@ -102,6 +103,9 @@ pub enum DesignSpec {
     PlaneZ(f64),
     /// The surfaces of the scene in this JSON text.
     Scene(String),
+    /// The machined surface of the seed-001 finishing scene in this JSON text
+    /// (`FinishScene::to_json`), material on the side away from the cutter.
+    Finish(String),
 }
 
 /// A run.
@@ -136,7 +140,7 @@ pub struct Prepared {
     pub pitch_mm: f64,
     /// The stock's grid.
     pub grid: Grid,
-    /// The design: `"none"`, `"plane"` or `"scene surfaces"`.
+    /// The design: `"none"`, `"plane"`, `"scene surfaces"` or `"finish surface"`.
     pub design_name: &'static str,
     /// Moves the run goes to.
     pub target: usize,
@@ -391,6 +395,12 @@ impl JobKind for SimulateRun {
             DesignSpec::None => (Design::None, "none"),
             DesignSpec::PlaneZ(z) => (Design::PlaneZ(*z), "plane"),
             DesignSpec::Scene(text) => (Design::Surfaces(scene_of(text)?.1.surfaces.to_vec()), "scene surfaces"),
+            DesignSpec::Finish(text) => {
+                let job = FinishScene::from_json(text)
+                    .and_then(|f| f.job())
+                    .map_err(|e| format!("the finishing scene: {e}"))?;
+                (Design::Surface(job.surface), "finish surface")
+            }
         };
         let grid = *sim.stock().grid();
         let target = req.target.unwrap_or(usize::MAX).min(program.moves.len());
@@ -442,6 +452,7 @@ impl JobKind for SimulateRun {
                 DesignSpec::None => Value::Null,
                 DesignSpec::PlaneZ(z) => json!({ "plane_z_mm": super::num(*z) }),
                 DesignSpec::Scene(s) => json!({ "scene": s }),
+                DesignSpec::Finish(s) => json!({ "finish": s }),
             },
             "target": r.target,
             "keyframes": r.keyframes,
@@ -479,9 +490,12 @@ impl JobKind for SimulateRun {
             Value::Null => DesignSpec::None,
             d => {
                 let d = Reader::new(d, "simulate-run request.design")?;
-                match d.str("scene") {
-                    Ok(s) => DesignSpec::Scene(s.to_owned()),
-                    Err(_) => DesignSpec::PlaneZ(d.f64("plane_z_mm")?),
+                if let Ok(s) = d.str("scene") {
+                    DesignSpec::Scene(s.to_owned())
+                } else if let Ok(s) = d.str("finish") {
+                    DesignSpec::Finish(s.to_owned())
+                } else {
+                    DesignSpec::PlaneZ(d.f64("plane_z_mm")?)
                 }
             }
         };
@@ -590,6 +604,7 @@ impl JobKind for SimulateRun {
                 "none" => "none",
                 "plane" => "plane",
                 "scene surfaces" => "scene surfaces",
+                "finish surface" => "finish surface",
                 other => return Err(format!("{W}.prepared.design: \"{other}\" is not a design")),
             };
             return Ok(Partial::Prepared(Box::new(Prepared {

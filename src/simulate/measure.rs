@@ -24,6 +24,25 @@ pub enum Design {
     /// deviation of a point is its signed distance from the part, the union of the
     /// surfaces' material sides ([`part_signed_distance`]).
     Surfaces(Vec<Surface>),
+    /// One machined surface with its material side (normal toward the cutter): a seed-001
+    /// finishing part. The deviation of a ray is its signed distance from the surface where
+    /// its nearest point lies inside the patch; a ray beside the patch (its nearest point on
+    /// the patch's edge, off the normal) has none — it is not over the design, so it counts
+    /// in neither the scallops nor the gouges ([`over_surface_signed_distance`]).
+    Surface(Surface),
+}
+
+impl Design {
+    /// A short name for reports: `none`, `plane`, `scene surfaces` or `finish surface`.
+    #[must_use]
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::None => "none",
+            Self::PlaneZ(_) => "plane",
+            Self::Surfaces(_) => "scene surfaces",
+            Self::Surface(_) => "finish surface",
+        }
+    }
 }
 
 /// The top of each ray and whether it was machined.
@@ -141,6 +160,7 @@ impl DeviationScan {
     pub fn new(map: &HeightMap, design: &Design) -> Self {
         let guesses = match design {
             Design::Surfaces(s) => vec![None; s.len()],
+            Design::Surface(_) => vec![None],
             _ => Vec::new(),
         };
         Self { dev: vec![None; map.grid.len()], guesses, next_row: 0 }
@@ -167,6 +187,9 @@ impl DeviationScan {
                     Design::None => None,
                     Design::PlaneZ(z) => Some(p.z - z),
                     Design::Surfaces(surfaces) => part_signed_distance(surfaces, p, &mut self.guesses),
+                    Design::Surface(s) => {
+                        self.guesses.first_mut().and_then(|seed| over_surface_signed_distance(s, p, seed))
+                    }
                 };
             }
         }
@@ -240,38 +263,52 @@ pub struct FootSeed {
 /// ([`FOOT_ALONG_NORMAL_COS`]) counts as outside that material, at its distance. `None` when
 /// no surface gives a finite distance.
 pub fn part_signed_distance(surfaces: &[Surface], p: DVec3, seeds: &mut [Option<FootSeed>]) -> Option<f64> {
-    const GLOBAL_SAMPLES: usize = 16;
     let mut best: Option<f64> = None;
     for (s, seed) in surfaces.iter().zip(seeds.iter_mut()) {
-        let mut foot = match seed {
-            Some(f) => project_point(s, p, f.uv, ProjectOptions::default()),
-            None => project_point_global(s, p, GLOBAL_SAMPLES),
-        };
-        // The distance to a surface is 1-Lipschitz: farther than the seed's distance plus
-        // the step means Newton settled on a foot that is not the nearest.
-        let suspect = seed.is_some_and(|f| {
-            foot.signed_distance < 0.0 || foot.distance > f.distance_mm + (p - f.point).length() + FOOT_SLACK_MM
-        });
-        if suspect {
-            let global = project_point_global(s, p, GLOBAL_SAMPLES);
-            if global.distance < foot.distance {
-                foot = global;
-            }
-        }
-        *seed = Some(FootSeed { uv: foot.uv, point: p, distance_mm: foot.distance });
-        if !foot.signed_distance.is_finite() {
-            continue;
-        }
-        let sd = if foot.signed_distance.abs() >= FOOT_ALONG_NORMAL_COS * foot.distance {
-            foot.signed_distance
-        } else {
-            foot.distance
-        };
+        let Some((sd, _)) = checked_foot(s, p, seed) else { continue };
         if best.is_none_or(|b: f64| sd < b) {
             best = Some(sd);
         }
     }
     best
+}
+
+/// Signed distance (mm) of `p` from one machined surface (normal toward the cutter,
+/// material on the other side) where `p` lies over or under the patch: its nearest point is
+/// inside the patch, or on its edge with `p` along the normal there
+/// ([`FOOT_ALONG_NORMAL_COS`]). `None` beside the patch (the nearest point on the edge, `p`
+/// off its normal) or without a finite distance. The foot is found and checked as in
+/// [`part_signed_distance`] (Newton from `seed`, a global search when it is suspect).
+pub fn over_surface_signed_distance(surface: &Surface, p: DVec3, seed: &mut Option<FootSeed>) -> Option<f64> {
+    checked_foot(surface, p, seed).and_then(|(sd, along_normal)| along_normal.then_some(sd))
+}
+
+/// The signed distance of `p` from one surface's material side and whether `p` lies along
+/// the normal of its foot (else the foot is on the patch's edge with `p` beside it and the
+/// distance counts as outside); see [`part_signed_distance`].
+fn checked_foot(s: &Surface, p: DVec3, seed: &mut Option<FootSeed>) -> Option<(f64, bool)> {
+    const GLOBAL_SAMPLES: usize = 16;
+    let mut foot = match seed {
+        Some(f) => project_point(s, p, f.uv, ProjectOptions::default()),
+        None => project_point_global(s, p, GLOBAL_SAMPLES),
+    };
+    // The distance to a surface is 1-Lipschitz: farther than the seed's distance plus the
+    // step means Newton settled on a foot that is not the nearest.
+    let suspect = seed.is_some_and(|f| {
+        foot.signed_distance < 0.0 || foot.distance > f.distance_mm + (p - f.point).length() + FOOT_SLACK_MM
+    });
+    if suspect {
+        let global = project_point_global(s, p, GLOBAL_SAMPLES);
+        if global.distance < foot.distance {
+            foot = global;
+        }
+    }
+    *seed = Some(FootSeed { uv: foot.uv, point: p, distance_mm: foot.distance });
+    if !foot.signed_distance.is_finite() {
+        return None;
+    }
+    let along = foot.signed_distance.abs() >= FOOT_ALONG_NORMAL_COS * foot.distance;
+    Some((if along { foot.signed_distance } else { foot.distance }, along))
 }
 
 /// The height map as CSV: a header line `i,j,x_mm,y_mm,top_mm,machined,deviation_mm`, then

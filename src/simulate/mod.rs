@@ -23,6 +23,7 @@
 //! a ray), [`program`] (moves from G-code and 5-axis plans), [`measure`] (maps and
 //! statistics, CSV and PNG output). Layout and error bounds: `docs/simulation.md`.
 
+pub mod finish;
 pub mod measure;
 pub mod program;
 pub mod stock;
@@ -31,7 +32,11 @@ pub mod sweep;
 use glam::DVec3;
 use thiserror::Error;
 
-pub use measure::{Design, DeviationScan, FootSeed, HeightMap, SimStats, heights_csv, part_signed_distance, png_rgb};
+pub use finish::FinishProgram;
+pub use measure::{
+    Design, DeviationScan, FootSeed, HeightMap, SimStats, heights_csv, over_surface_signed_distance,
+    part_signed_distance, png_rgb,
+};
 pub use program::{MoveKind, Program, SimMove};
 pub use stock::{DexelStock, Grid, Interval};
 pub use sweep::{BallSegment, LineSweep, ToolShape, line_span, tilted_span};

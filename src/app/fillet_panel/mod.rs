@@ -16,7 +16,7 @@ use eframe::egui;
 use egui_plot::{Corner, Legend, Line, Plot, PlotPoints};
 
 use super::budget::FRAME_BUDGET;
-use super::panel::{Panel, PanelContext};
+use super::panel::{FinishHandoff, Handoff, Panel, PanelContext, Payload, SIMULATION_TITLE};
 use crate::fillet::{CcNode, effective_curvature};
 use crate::scene::finish::FINISH_PRESETS;
 use view::FilletView;
@@ -47,6 +47,10 @@ pub struct FilletPanel {
     scallop_rect: Option<egui::Rect>,
     /// The table button's rectangle (status `ui.table_button`).
     table_rect: Option<egui::Rect>,
+    /// The "Simulate this program" button's rectangle (status `ui.fillet_simulate`).
+    simulate_rect: Option<egui::Rect>,
+    /// `set_option("simulate", "")`: hand the program over at the next frame, as the button.
+    simulate_requested: bool,
 }
 
 impl Default for FilletPanel {
@@ -55,6 +59,8 @@ impl Default for FilletPanel {
             settings: Settings::of_preset(0),
             scallop_rect: None,
             table_rect: None,
+            simulate_rect: None,
+            simulate_requested: false,
             job: None,
             refused: None,
             last_refused: None,
@@ -199,6 +205,49 @@ impl FilletPanel {
                 ));
             }
         });
+    }
+
+    /// "Simulate this program": hands the finished paths (strategy, iso-scallop layout) to
+    /// the cutting simulation as the five-axis program `interpolab finish --gcode` writes,
+    /// steps within the tab's tolerance E, with the finish surface as the design.
+    fn simulate_button(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
+        let ready = self.job.as_ref().is_some_and(|j| j.result.is_some());
+        let r = ui
+            .add_enabled(ready, egui::Button::new("▶ Simulate this program"))
+            .on_hover_text(
+                "Machine these paths in the cutting simulation: the 5-axis program through the machine (steps within E), \
+                 the fillet cutter, the finish surface as the design",
+            )
+            .on_disabled_hover_text("Wait for the paths to finish");
+        self.simulate_rect = Some(r.rect);
+        if !(r.clicked() || std::mem::take(&mut self.simulate_requested)) {
+            return;
+        }
+        let Some(job) = &self.job else { return };
+        let Some(set) = &job.result else {
+            cx.error("The paths are still being built; simulate them once they are done.");
+            return;
+        };
+        let program = crate::simulate::FinishProgram::of_paths(
+            &job.surface,
+            &job.cutter,
+            &job.machine,
+            set,
+            job.options.chord_tol_mm,
+        )
+        .map_err(|e| e.to_string());
+        match program.and_then(|p| Ok((p, job.settings.scene()?.to_json()))) {
+            Ok((mut program, scene_json)) => {
+                let preset = FINISH_PRESETS.get(job.settings.preset).map_or("finish", |p| p.id);
+                program.label = format!("{preset}: {}", program.label);
+                cx.handoff = Some(Handoff {
+                    to: SIMULATION_TITLE,
+                    options: vec![("source", "finish".to_owned())],
+                    payload: Some(Payload::Finish(std::rc::Rc::new(FinishHandoff { program, scene_json }))),
+                });
+            }
+            Err(e) => cx.error(format!("The program cannot be simulated: {e}")),
+        }
     }
 
     fn selection(&mut self, ui: &mut egui::Ui) {
@@ -369,6 +418,7 @@ impl Panel for FilletPanel {
         }
         self.sync();
         self.summary(ui);
+        self.simulate_button(ui, cx);
         self.selection(ui);
         let avail = ui.available_size();
         let side = (avail.x * 0.36).clamp(260.0, 520.0);
@@ -401,7 +451,11 @@ impl Panel for FilletPanel {
             "tol_mm": s.tol_mm,
             "error": self.refused,
             "ui": super::widgets::rects_json(
-                &[self.scallop_rect.map(|r| ("scallop_slider", r)), self.table_rect.map(|r| ("table_button", r))]
+                &[
+                    self.scallop_rect.map(|r| ("scallop_slider", r)),
+                    self.table_rect.map(|r| ("table_button", r)),
+                    self.simulate_rect.map(|r| ("fillet_simulate", r)),
+                ]
                     .into_iter()
                     .flatten()
                     .collect::<Vec<_>>()
@@ -497,6 +551,7 @@ impl Panel for FilletPanel {
                     value.trim().parse().map_err(|_| format!("path must be a pass index, got \"{value}\""))?;
             }
             "along" => self.sel_along = parse_in("along", value, (0.0, 1.0), "(fraction)")?,
+            "simulate" => self.simulate_requested = true,
             "table" => {
                 self.want_table = value == "true";
                 if let Some(j) = &mut self.job {
@@ -505,7 +560,7 @@ impl Panel for FilletPanel {
             }
             _ => {
                 return Err(format!(
-                    "this view has no option \"{key}\"; use preset, strategy, R, r, h, E (mm), theta (degrees), path, along, table"
+                    "this view has no option \"{key}\"; use preset, strategy, R, r, h, E (mm), theta (degrees), path, along, table, simulate"
                 ));
             }
         }

@@ -193,6 +193,9 @@ pub struct Job {
     pub strategy: Strategy,
     /// The core's options.
     pub options: FinishOptions,
+    /// The scene's machine (the default table A/C when the preset has none): what the
+    /// simulation's five-axis program runs on.
+    pub machine: crate::fiveaxis::Machine,
     part: PartSamples,
     steps: Option<IsoScallopSteps>,
     /// The finished paths.
@@ -230,6 +233,7 @@ impl Job {
             cutter: job.cutter,
             strategy: job.strategy,
             options: job.options,
+            machine: job.machine,
             part,
             steps: None,
             result: None,

@@ -326,7 +326,8 @@ impl Panel for FiveAxisPanel {
             },
         );
         if simulate {
-            cx.handoff = Some(Handoff { to: SIMULATION_TITLE, options: vec![("source", "steps".to_owned())] });
+            cx.handoff =
+                Some(Handoff { to: SIMULATION_TITLE, options: vec![("source", "steps".to_owned())], payload: None });
         }
         egui::Panel::bottom("fa_plots").resizable(true).default_size(240.0).min_size(140.0).show(ui, |ui| {
             let Some(plan) = self.shown() else {

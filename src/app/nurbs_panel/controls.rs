@@ -175,7 +175,7 @@ impl NurbsPanel {
             } else {
                 options.push(("design", "auto".to_owned()));
             }
-            cx.handoff = Some(Handoff { to: SIMULATION_TITLE, options });
+            cx.handoff = Some(Handoff { to: SIMULATION_TITLE, options, payload: None });
         }
     }
 }

@@ -10,12 +10,16 @@
 //! messages by line); the app keeps the last one opened and hands it to this view as the
 //! source "Loaded G-code file", so a file is opened once and seen in both tabs.
 
+mod compare;
 mod view;
 pub mod work;
 
+use std::rc::Rc;
+
 use eframe::egui;
 
-use super::panel::{Panel, PanelContext, SIMULATION_TITLE};
+use super::panel::{FinishHandoff, Panel, PanelContext, Payload, SIMULATION_TITLE};
+use compare::{MapImage, MapTextures, draw_maps};
 use view::SimView;
 pub use work::PITCH_RANGE_MM;
 use work::{AUTO_GRID_SIDE, CutterChoice, DesignChoice, Inputs, Job, MAX_APP_RAYS, SourceKind};
@@ -63,9 +67,20 @@ pub struct SimulatePanel {
     /// The inputs refused by the stock or grid checks, with the message (not retried until
     /// they change).
     rects: Vec<(&'static str, egui::Rect)>,
-    /// Program A of the side-by-side comparison: the numbers of a run pinned by the user,
-    /// shown next to the current run's (B).
+    /// Program A of the side-by-side comparison: the numbers and map of a run pinned by
+    /// the user, shown next to the current run's (B).
     pinned: Option<Numbers>,
+    /// Bumped on every pin (the key of A's map texture).
+    pin_serial: u64,
+    /// The finishing program handed over by the fillet tab (source `finish`).
+    finish: Option<Rc<FinishHandoff>>,
+    finish_generation: u64,
+    /// Bumped for every new job (with its map generation, the key of B's map).
+    job_serial: u64,
+    /// The current run's map for the comparison, with the key (job, map generation) it was
+    /// built for.
+    current_map: Option<((u64, u64), Rc<MapImage>)>,
+    map_textures: MapTextures,
 }
 
 /// The numbers of a finished run, for the A/B comparison of two programs of the same part.
@@ -79,6 +94,14 @@ struct Numbers {
     scallop_um: Option<([f64; 3], usize)>,
     /// Worst gouge (µm) and gouge rays.
     gouge_um: Option<(f64, usize)>,
+    /// Where the worst gouge is: (x, y) (mm).
+    gouge_at_mm: Option<[f64; 2]>,
+    /// Simulation time (ms) of the moves.
+    sim_ms: f64,
+    /// Total run time (ms): program, simulation and measure.
+    total_ms: f64,
+    /// The deviation map (kept when pinned).
+    map: Option<Rc<MapImage>>,
 }
 
 impl Numbers {
@@ -89,7 +112,13 @@ impl Numbers {
             "removed_volume_mm3": (self.removed_mm3 * 1e6).round() / 1e6,
             "design": self.design,
             "scallop_um": self.scallop_um.map(|(v, n)| serde_json::json!({"max": v[0], "mean": v[1], "p95": v[2], "rays": n})),
-            "gouge": self.gouge_um.map(|(w, n)| serde_json::json!({"worst_um": w, "rays": n})),
+            "gouge": self.gouge_um.map(|(w, n)| serde_json::json!({
+                "worst_um": w, "rays": n,
+                "x_mm": self.gouge_at_mm.map(|p| nm(p[0])), "y_mm": self.gouge_at_mm.map(|p| nm(p[1])),
+            })),
+            "sim_ms": self.sim_ms,
+            "total_ms": self.total_ms,
+            "map": self.map.as_ref().map(|m| serde_json::json!({"nx": m.nx, "ny": m.ny, "measured_rays": m.measured_rays()})),
         })
     }
 }
@@ -116,6 +145,7 @@ impl SimulatePanel {
             design: s.design,
             scene_generation: cx.compute.generation,
             loaded_generation,
+            finish_generation: self.finish_generation,
         }
     }
 
@@ -129,6 +159,15 @@ impl SimulatePanel {
                 }
             });
             self.rects.push(("sim_source", r.response.rect));
+            if s.source == SourceKind::Finish {
+                ui.label(
+                    self.finish
+                        .as_ref()
+                        .map_or("(none: press ▶ Simulate this program in the Fillet end mill tab)".to_owned(), |f| {
+                            format!("{} ({} passes)", f.program.label, f.program.passes.len())
+                        }),
+                );
+            }
             if s.source == SourceKind::Loaded {
                 let name = self.own_program.as_ref().or(cx.program.as_ref()).map(|(n, _)| n.as_str());
                 ui.label(name.map_or("(none: open one in the NURBS & G-code tab)".to_owned(), |n| n.to_owned()));
@@ -141,15 +180,20 @@ impl SimulatePanel {
                 CutterChoice::Flat(_) => 2,
                 CutterChoice::Fillet(..) => 3,
             };
-            let names = ["scene's ball", "ball", "flat", "fillet"];
+            let own = if s.source == SourceKind::Finish { "program's cutter" } else { "scene's ball" };
+            let names = [own, "ball", "flat", "fillet"];
             let mut chosen = kind;
             egui::ComboBox::from_id_salt("sim_cutter").selected_text(names[kind]).show_ui(ui, |ui| {
                 for (i, n) in names.iter().enumerate() {
                     ui.selectable_value(&mut chosen, i, *n);
                 }
             });
+            let own_r = match (&self.finish, s.source) {
+                (Some(fp), SourceKind::Finish) => fp.program.cutter.radius_mm,
+                _ => cx.scene.tool.radius,
+            };
             let r0 = match s.cutter {
-                CutterChoice::SceneBall => cx.scene.tool.radius,
+                CutterChoice::SceneBall => own_r,
                 CutterChoice::Ball(r) | CutterChoice::Flat(r) | CutterChoice::Fillet(r, _) => r,
             };
             if chosen != kind {
@@ -161,9 +205,14 @@ impl SimulatePanel {
                 };
             }
             match &mut s.cutter {
-                CutterChoice::SceneBall => {
-                    ui.label(format!("R = {} mm", cx.scene.tool.radius));
-                }
+                CutterChoice::SceneBall => match (&self.finish, s.source) {
+                    (Some(fp), SourceKind::Finish) => {
+                        ui.label(fp.program.cutter.describe());
+                    }
+                    _ => {
+                        ui.label(format!("R = {} mm", cx.scene.tool.radius));
+                    }
+                },
                 CutterChoice::Ball(r) | CutterChoice::Flat(r) => {
                     ui.add(egui::DragValue::new(r).range(0.05..=50.0).speed(0.05).prefix("R ").suffix(" mm"));
                 }
@@ -278,10 +327,16 @@ impl SimulatePanel {
         let r = job.measured()?;
         let has_design = p.design_name != "none";
         let sc = &r.stats.scallop;
-        let program = match (&self.own_program, self.settings.source) {
-            (Some((name, _)), SourceKind::Loaded) => format!("{} ({name})", SourceKind::Loaded.label()),
-            (_, k) => k.label().to_owned(),
+        let program = match (&self.own_program, &self.finish, self.settings.source) {
+            (Some((name, _)), _, SourceKind::Loaded) => format!("{} ({name})", SourceKind::Loaded.label()),
+            (_, Some(fp), SourceKind::Finish) => format!("finishing program: {}", fp.program.label),
+            (_, _, k) => k.label().to_owned(),
         };
+        let map = self
+            .current_map
+            .as_ref()
+            .filter(|(k, _)| *k == (self.job_serial, job.map_generation))
+            .map(|(_, m)| Rc::clone(m));
         Some(Numbers {
             program,
             moves: job.applied(),
@@ -289,6 +344,10 @@ impl SimulatePanel {
             design: p.design_name,
             scallop_um: has_design.then(|| ([um(sc.max_mm), um(sc.mean_mm), um(sc.p95_mm)], sc.count)),
             gouge_um: r.stats.worst_gouge.filter(|_| has_design).map(|(d, _)| (um(d), r.stats.gouge_rays)),
+            gouge_at_mm: r.stats.worst_gouge.filter(|_| has_design).map(|(_, p)| [p.x, p.y]),
+            sim_ms: job.sim_ms,
+            total_ms: job.total_ms,
+            map,
         })
     }
 
@@ -302,6 +361,7 @@ impl SimulatePanel {
             self.rects.push(("sim_pin_a", r.rect));
             if r.clicked() {
                 self.pinned.clone_from(&current);
+                self.pin_serial += 1;
             }
             if self.pinned.is_some() && ui.button("Clear A").clicked() {
                 self.pinned = None;
@@ -347,7 +407,50 @@ impl SimulatePanel {
             ui.label(fmt_g(Some(a)));
             ui.label(fmt_g(b));
             ui.end_row();
+            let at = |n: Option<&Numbers>| {
+                n.and_then(|n| n.gouge_at_mm).map_or("—".to_owned(), |p| format!("({:.3}, {:.3})", p[0], p[1]))
+            };
+            ui.label("worst gouge at x, y (mm)");
+            ui.label(at(Some(a)));
+            ui.label(at(b));
+            ui.end_row();
+            let time = |n: Option<&Numbers>| {
+                n.map_or("—".to_owned(), |n| format!("{:.0} (all steps {:.0})", n.sim_ms, n.total_ms))
+            };
+            ui.label("simulation time (ms)");
+            ui.label(time(Some(a)));
+            ui.label(time(b));
+            ui.end_row();
         });
+        // The two maps side by side, same colour scale and legend.
+        if let Some(map_a) = a.map.clone() {
+            let b_map = b.and_then(|n| n.map.clone());
+            let key_b =
+                self.job_serial.wrapping_mul(1 << 32).wrapping_add(self.job.as_ref().map_or(0, |j| j.map_generation));
+            let drawn = draw_maps(
+                ui,
+                &mut self.map_textures,
+                (&map_a, self.pin_serial),
+                b_map.as_deref().map(|m| (m, key_b)),
+                self.settings.band_um,
+            );
+            self.rects.extend(drawn);
+        }
+    }
+
+    /// Builds the current run's map for the comparison once it is measured (kept until the
+    /// run's map changes).
+    fn refresh_map(&mut self) {
+        let Some(job) = &self.job else { return };
+        let key = (self.job_serial, job.map_generation);
+        if self.current_map.as_ref().is_some_and(|(k, _)| *k == key) {
+            return;
+        }
+        let (Some(r), Some(p)) = (job.measured(), &job.prepared) else {
+            return;
+        };
+        // The stock block's bottom and top (mm), as the stock itself gives them.
+        self.current_map = Some((key, Rc::new(MapImage::of(r, (p.stock_mm[2], p.stock_mm[5])))));
     }
 
     fn numbers(&mut self, ui: &mut egui::Ui) {
@@ -434,7 +537,9 @@ impl Panel for SimulatePanel {
         self.controls(ui, cx);
         let s = &self.settings;
         // The scene's controls where the scene is used: its programs, its ball, its surfaces.
-        if s.source != SourceKind::Loaded || s.cutter == CutterChoice::SceneBall || s.design == DesignChoice::Scene {
+        let own_cutter = s.source == SourceKind::Finish && s.cutter == CutterChoice::SceneBall;
+        let scene_design = s.design == DesignChoice::Scene && s.source != SourceKind::Finish;
+        if s.source.needs_crease() || (s.cutter == CutterChoice::SceneBall && !own_cutter) || scene_design {
             ui.separator();
             cx.scene_controls(ui);
         }
@@ -451,19 +556,21 @@ impl Panel for SimulatePanel {
                 self.view.refit = true;
             }
             let loaded = self.own_program.as_ref().or(cx.program.as_ref());
-            self.job = Some(Job::new(inputs, cx.scene, loaded, self.target));
+            self.job = Some(Job::new(inputs, cx.scene, loaded, self.target, self.finish.clone()));
+            self.job_serial += 1;
             self.restart = false;
         }
         if let Some(job) = &mut self.job {
             job.set_target(self.target);
             if job.computing() {
                 // The run is elsewhere: take what arrived, and look again soon.
-                job.advance();
+                job.advance(cx.scene);
                 ui.ctx().request_repaint_after(super::jobs::POLL);
             }
         }
         self.playback(ui);
         self.numbers(ui);
+        self.refresh_map();
         self.comparison(ui);
         let rect = ui.available_rect_before_wrap();
         let legend = self.job.as_ref().and_then(|j| j.prepared.as_ref()).is_some_and(|p| p.design_name != "none");
@@ -512,7 +619,9 @@ impl Panel for SimulatePanel {
             "total_ms": job.total_ms,
             "slowest_frame_ms": job.slowest_call_ms,
             "camera_target_local_mm": camera,
-            "ui": self.rects.iter().map(|(k, r)| ((*k).to_owned(), serde_json::json!([r.min.x, r.min.y, r.width(), r.height()]))).collect::<serde_json::Map<_, _>>(),
+            "finish": self.finish.as_ref().map(|f| serde_json::json!({
+                "label": f.program.label, "passes": f.program.passes.len(), "cutter": f.program.cutter.describe(), "step_tol_mm": f.program.step_tol_mm,
+            })),
             "comparison": self.pinned.as_ref().map(|a| serde_json::json!({
                 "a": a.json(),
                 "b": self.current_numbers().map(|b| b.json()),
@@ -520,12 +629,31 @@ impl Panel for SimulatePanel {
         })
     }
 
+    fn receive(&mut self, payload: &Payload) -> Result<(), String> {
+        match payload {
+            Payload::Finish(fp) => {
+                self.finish = Some(Rc::clone(fp));
+                self.finish_generation += 1;
+                // The program's own cutter, a stock sized to its part, its surface as the design.
+                let s = &mut self.settings;
+                s.source = SourceKind::Finish;
+                s.cutter = CutterChoice::SceneBall;
+                s.stock_mm = None;
+                s.design = DesignChoice::Auto;
+                self.target = None;
+                Ok(())
+            }
+        }
+    }
+
     fn set_option(&mut self, key: &str, value: &str) -> Result<(), String> {
         let s = &mut self.settings;
         match key {
             "source" => {
                 s.source = SourceKind::ALL.into_iter().find(|k| k.key() == value).ok_or_else(|| {
-                    format!("source: \"{value}\" is not one of crease-g01, crease-arcs, crease-nurbs, steps, loaded")
+                    format!(
+                        "source: \"{value}\" is not one of crease-g01, crease-arcs, crease-nurbs, steps, loaded, finish"
+                    )
                 })?;
             }
             "program_text" => {
@@ -616,6 +744,7 @@ impl Panel for SimulatePanel {
             "restart" => self.restart = true,
             "pin_a" => {
                 self.pinned = Some(self.current_numbers().ok_or("pin_a: the run is not finished and measured yet")?);
+                self.pin_serial += 1;
             }
             "clear_a" => self.pinned = None,
             "go_to_gouge" => {

@@ -17,7 +17,9 @@
 use glam::DVec3;
 use web_time::{Duration, Instant};
 
+use crate::app::budget::FRAME_BUDGET;
 use crate::app::jobs::{Job as BackgroundJob, Poll};
+use crate::app::panel::FinishHandoff;
 use crate::gcode::ProgramKind;
 use crate::geom::Cutter;
 use crate::jobs::simulate_run::{self, DesignSpec, Keyframe, Partial, ProgramSource, Request, SimulateRun};
@@ -33,6 +35,10 @@ pub const MAX_APP_RAYS: usize = simulate_run::MAX_RAYS;
 pub const KEYFRAMES: usize = 40;
 /// Keyframes asked of a replay to one move (the view follows the stock while it runs).
 const REPLAY_KEYFRAMES: usize = 8;
+/// How long the move slider must rest before a replay to its move starts: dragging it shows
+/// keyframes at once and starts one run where the user stops, not one per position passed
+/// (each replay in a browser is a new Web Worker).
+const REPLAY_SETTLE: Duration = Duration::from_millis(250);
 
 /// Which program is simulated.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -47,11 +53,15 @@ pub enum SourceKind {
     Steps,
     /// The last G-code file opened in the app (NURBS & G-code tab) or given as text.
     Loaded,
+    /// The finishing program handed over by the fillet tab (seed 001): its five-axis
+    /// program through the machine, the fillet cutter, the finish surface as the design.
+    Finish,
 }
 
 impl SourceKind {
     /// All, in menu order.
-    pub const ALL: [Self; 5] = [Self::CreaseG01, Self::CreaseArcs, Self::CreaseNurbs, Self::Steps, Self::Loaded];
+    pub const ALL: [Self; 6] =
+        [Self::CreaseG01, Self::CreaseArcs, Self::CreaseNurbs, Self::Steps, Self::Loaded, Self::Finish];
 
     /// Key for `set_option` and the status.
     #[must_use]
@@ -62,6 +72,7 @@ impl SourceKind {
             Self::CreaseNurbs => "crease-nurbs",
             Self::Steps => "steps",
             Self::Loaded => "loaded",
+            Self::Finish => "finish",
         }
     }
 
@@ -74,7 +85,14 @@ impl SourceKind {
             Self::CreaseNurbs => "Scene crease, G06.2 program",
             Self::Steps => "Scene 5-axis tool steps (seed 002)",
             Self::Loaded => "Loaded G-code file",
+            Self::Finish => "Fillet tab's finishing program (seed 001)",
         }
+    }
+
+    /// Whether the program is made from the scene's crease.
+    #[must_use]
+    pub fn needs_crease(self) -> bool {
+        !matches!(self, Self::Loaded | Self::Finish)
     }
 
     fn program_kind(self) -> Option<ProgramKind> {
@@ -148,6 +166,8 @@ pub struct Inputs {
     pub scene_generation: u64,
     /// Generation of the loaded program.
     pub loaded_generation: u64,
+    /// Generation of the finishing program handed over (bumped on every hand-over).
+    pub finish_generation: u64,
 }
 
 /// The program a run machines, with what to draw of it.
@@ -228,13 +248,27 @@ pub struct Job {
     shown_at: Option<Instant>,
     /// Whether every run finished off the UI thread.
     pub in_background: bool,
+    /// The finishing program (source `finish`).
+    finish: Option<std::rc::Rc<FinishHandoff>>,
+    /// Planning a finishing program's steps pass by pass on the UI thread (a pass is the
+    /// planner's smallest step): the next pass and the moves so far.
+    planning: Option<(usize, Box<Program>)>,
+    /// A replay to start once the move slider has rested ([`REPLAY_SETTLE`]).
+    pending_replay: Option<(Request, Instant)>,
 }
 
 impl Job {
-    /// A run of `inputs` on `scene` (`loaded`: the loaded program's name and text), started
-    /// at once.
+    /// A run of `inputs` on `scene` (`loaded`: the loaded program's name and text; `finish`:
+    /// the finishing program handed over), started at once — a finishing program's steps are
+    /// planned first, a few passes a frame.
     #[must_use]
-    pub fn new(inputs: Inputs, scene: &Scene, loaded: Option<&(String, String)>, target: Option<usize>) -> Self {
+    pub fn new(
+        inputs: Inputs,
+        scene: &Scene,
+        loaded: Option<&(String, String)>,
+        target: Option<usize>,
+        finish: Option<std::rc::Rc<FinishHandoff>>,
+    ) -> Self {
         let mut job = Self {
             inputs,
             request: None,
@@ -255,7 +289,21 @@ impl Job {
             fraction: 0.0,
             shown_at: None,
             in_background: true,
+            finish,
+            planning: None,
+            pending_replay: None,
         };
+        if job.inputs.source == SourceKind::Finish {
+            if job.finish.is_some() {
+                job.planning = Some((0, Box::default()));
+            } else {
+                job.error = Some(
+                    "no finishing program yet: build paths in the \"Fillet end mill (seed 001)\" tab and press ▶ Simulate this program there"
+                        .to_owned(),
+                );
+            }
+            return job;
+        }
         match job.request_of(scene, loaded) {
             Ok(r) => {
                 job.run = Some(BackgroundJob::start(Request { target, ..r.clone() }));
@@ -298,10 +346,68 @@ impl Job {
         })
     }
 
+    /// The request of a finishing program whose steps are planned: its moves, the program's
+    /// own cutter (unless another is chosen), the part's box as the stock (unless one is
+    /// given) and the finish surface as the design.
+    fn finish_request(&self, program: Program, scene: &Scene) -> Result<Request, String> {
+        let i = &self.inputs;
+        let f = self.finish.as_ref().ok_or("internal: no finishing program")?;
+        let cutter = match i.cutter {
+            CutterChoice::SceneBall => f.program.cutter,
+            c => c.cutter(scene)?,
+        };
+        let design = match i.design {
+            DesignChoice::None => DesignSpec::None,
+            DesignChoice::PlaneZ(z) => DesignSpec::PlaneZ(z),
+            DesignChoice::Scene | DesignChoice::Auto => DesignSpec::Finish(f.scene_json.clone()),
+        };
+        Ok(Request {
+            source: ProgramSource::Moves(program),
+            cutter,
+            pitch_mm: i.pitch_mm,
+            stock_mm: i.stock_mm.or_else(|| f.program.stock_mm(i.margin_mm)),
+            margin_mm: i.margin_mm,
+            design,
+            target: None,
+            keyframes: KEYFRAMES,
+        })
+    }
+
+    /// Plans the finishing program's next passes within the frame budget; when all are
+    /// planned, starts the run.
+    fn plan(&mut self, scene: &Scene) {
+        let Some(f) = self.finish.clone() else { return };
+        let Some((k, program)) = &mut self.planning else { return };
+        let t0 = Instant::now();
+        while *k < f.program.passes.len() {
+            if let Err(e) = f.program.plan_pass(*k, program) {
+                self.error = Some(e.to_string());
+                self.planning = None;
+                return;
+            }
+            *k += 1;
+            if t0.elapsed() >= FRAME_BUDGET {
+                return;
+            }
+        }
+        let program = std::mem::take(&mut **program);
+        self.planning = None;
+        match self.finish_request(program, scene) {
+            Ok(r) => {
+                self.run = Some(BackgroundJob::start(Request { target: self.target, ..r.clone() }));
+                self.run_target = self.target;
+                self.request = Some(r);
+            }
+            Err(e) => self.error = Some(e),
+        }
+    }
+
     /// Whether work remains.
     #[must_use]
     pub fn computing(&self) -> bool {
-        self.error.is_none() && !self.cancelled && self.run.is_some()
+        self.error.is_none()
+            && !self.cancelled
+            && (self.run.is_some() || self.planning.is_some() || self.pending_replay.is_some())
     }
 
     /// A short name of the stage, for the status and the progress text.
@@ -311,7 +417,9 @@ impl Job {
             "error"
         } else if self.cancelled {
             "cancelled"
-        } else if self.run.is_none() {
+        } else if self.planning.is_some() {
+            "plan"
+        } else if self.run.is_none() && self.pending_replay.is_none() {
             "done"
         } else if self.prepared.is_none() {
             "program"
@@ -382,6 +490,13 @@ impl Job {
         let f = self.fraction as f32;
         match self.stage_name() {
             "program" => (f, "Writing the program…".to_owned()),
+            "plan" => {
+                let (k, n) = match (&self.planning, &self.finish) {
+                    (Some((k, _)), Some(h)) => (*k, h.program.passes.len().max(1)),
+                    _ => (0, 1),
+                };
+                (k as f32 / n as f32, format!("Planning the 5-axis steps of pass {k} of {n}…"))
+            }
             "simulate" => {
                 let t = self.target_moves();
                 let k = ((self.fraction - 0.1) / 0.8 * t as f64).clamp(0.0, t as f64) as usize;
@@ -401,6 +516,7 @@ impl Job {
         }
         self.target = target;
         self.cancelled = false;
+        self.pending_replay = None;
         let Some(req) = &self.request else { return };
         if self.error.is_some() {
             return;
@@ -436,7 +552,9 @@ impl Job {
             ..req.clone()
         };
         self.fraction = 0.0;
-        self.run = Some(BackgroundJob::start(replay));
+        // The run under way is of no use now; the replay starts when the slider rests.
+        self.run = None;
+        self.pending_replay = Some((replay, Instant::now()));
         self.run_target = Some(k);
     }
 
@@ -444,12 +562,23 @@ impl Job {
     pub fn cancel(&mut self) {
         if self.computing() {
             self.run = None;
+            self.planning = None;
+            self.pending_replay = None;
             self.cancelled = true;
         }
     }
 
-    /// Takes what the run handed back since the last frame.
-    pub fn advance(&mut self) {
+    /// Plans a finishing program a few passes further, starts a replay whose slider rested,
+    /// and takes what the run handed back since the last frame.
+    pub fn advance(&mut self, scene: &Scene) {
+        if self.planning.is_some() {
+            self.plan(scene);
+        }
+        if self.pending_replay.as_ref().is_some_and(|(_, at)| at.elapsed() >= REPLAY_SETTLE)
+            && let Some((replay, _)) = self.pending_replay.take()
+        {
+            self.run = Some(BackgroundJob::start(replay));
+        }
         let t0 = Instant::now();
         let Some(run) = &mut self.run else { return };
         let polled = run.poll();

@@ -152,6 +152,10 @@ fn requests_cross_unchanged() {
             keyframes: 40,
         },
         Request { source: ProgramSource::Steps { scene: scene.clone() }, ..grooves(None, 1) },
+        Request {
+            design: DesignSpec::Finish(crate::scene::finish::FINISH_PRESETS[0].json.to_owned()),
+            ..grooves(None, 2)
+        },
     ];
     // The steps program has joints moves: made by the job, then sent back as moves.
     let mut c = Collect::default();
@@ -195,4 +199,41 @@ fn keyframes_are_bounded_by_count_and_bytes() {
     let every = keyframe_every(10_000, 1024 * 1024, 200);
     let count = 10_000 / every;
     assert!(count * 5 * 1024 * 1024 <= KEYFRAME_BYTES && count >= 7, "{every} → {count}");
+}
+
+/// A finishing scene's design reaches the worker as its text and is measured as the core
+/// measures its machined surface: the same deviation on every ray as `Design::Surface` of
+/// the scene's own job, rays off the patch without one.
+#[test]
+fn a_finishing_scene_is_measured_against_its_machined_surface() {
+    let text = crate::scene::finish::FINISH_PRESETS[0].json;
+    let job = crate::scene::finish::FinishScene::from_json(text).unwrap().job().unwrap();
+    let design = Design::Surface(job.surface.clone());
+    // Two ball passes across the patch's middle, 0.2 mm into it, on a small block around them.
+    let dom = crate::geom::ParametricSurface::domain(&job.surface);
+    let mid = crate::geom::ParametricSurface::point_at(&job.surface, DVec2::new(dom.u.mid(), dom.v.mid()));
+    let tip = |dx: f64, dy: f64| mid + DVec3::new(dx, dy, -0.2);
+    let moves = vec![
+        SimMove { kind: MoveKind::Line { from: tip(-6.0, 0.0), to: tip(6.0, 0.0) }, line: 1, rapid: false },
+        SimMove { kind: MoveKind::Line { from: tip(6.0, 1.5), to: tip(-6.0, 1.5) }, line: 2, rapid: false },
+    ];
+    let req = Request {
+        source: ProgramSource::Moves(Program { moves, chord_error_mm: 0.0 }),
+        cutter: Cutter::ball(2.0).unwrap(),
+        pitch_mm: Some(0.25),
+        stock_mm: Some([mid.x - 10.0, mid.y - 8.0, mid.z - 6.0, mid.x + 10.0, mid.y + 8.0, mid.z + 4.0]),
+        margin_mm: 0.0,
+        design: DesignSpec::Finish(text.to_owned()),
+        target: None,
+        keyframes: 0,
+    };
+    let req = SimulateRun::decode_request(&SimulateRun::encode_request(&req)).unwrap();
+    let mut c = Collect::default();
+    let out = SimulateRun::run(&req, &mut c).unwrap();
+    let (p, _) = decode_all(&c);
+    assert_eq!(p.design_name, "finish surface");
+    let sim = direct(&p, &req.cutter, p.program.moves.len());
+    assert_eq!(out.stats, SimStats::of(&out.map, sim.stock(), &design));
+    let measured = out.stats.deviation_mm.iter().filter(|d| d.is_some()).count();
+    assert!(measured > 100, "{measured} rays measured");
 }

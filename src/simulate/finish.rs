@@ -1,0 +1,162 @@
+//! Seed 001's finishing programs as the simulation runs them: the CL paths of
+//! [`crate::fillet`] (a fillet-end mill, or a ball, on one machined surface) turned into the
+//! five-axis program `interpolab finish --gcode` writes — per pass, the seed-002 step
+//! selection on the scene's machine ([`crate::fillet::program::plan_path`]), and between
+//! its blocks the joints interpolated linearly ([`MoveKind::Joints`]), so the simulated cut
+//! is what the machine sweeps, nonlinear error included.
+//!
+//! Why joint moves and not the tool tip and axis of each CL node: a tip-and-axis move would
+//! simulate the design (the CL data), not the program a machine runs; between two blocks the
+//! machine's linear joint motion leaves that design by up to the step tolerance, and that
+//! is part of what a simulation should show. The joint moves need no new move kind.
+//!
+//! Only the passes are simulated: the written program starts each pass with a G00 from the
+//! end of the last, straight through the part (its header says to check the clearance), so
+//! those linking moves are left out here.
+//!
+//! The design the result is measured against is the finish surface itself
+//! ([`Design::Surface`]); the default stock is the part's box ([`FinishProgram::stock_mm`]).
+
+use glam::{DVec2, DVec3};
+
+use super::{Design, MoveKind, Program, SimError, SimMove};
+use crate::fillet::program::plan_path;
+use crate::fillet::{CcNode, PathSet};
+use crate::fiveaxis::Machine;
+use crate::geom::{Cutter, ParametricSurface, Surface};
+use crate::scene::finish::FinishJob;
+
+/// Samples per parameter direction of the part's box ([`FinishProgram::part_box`]).
+pub const PART_BOX_SAMPLES: usize = 33;
+
+/// A finishing program of seed 001, ready to plan and simulate (plain data: the surface,
+/// the cutter that machines, the machine and the CC nodes of every pass).
+#[derive(Clone, Debug, PartialEq)]
+pub struct FinishProgram {
+    /// The machined surface, normal toward the cutter (the design).
+    pub surface: Surface,
+    /// The cutter that machines (the strategy's: a ball of the same R for `ball`).
+    pub cutter: Cutter,
+    /// The machine whose joints are interpolated.
+    pub machine: Machine,
+    /// The passes' CC nodes, first to last (passes of fewer than two nodes are skipped).
+    pub passes: Vec<Vec<CcNode>>,
+    /// Tolerance E (mm) of the seed-002 steps between blocks.
+    pub step_tol_mm: f64,
+    /// A short description (strategy, layout), for reports and the A/B comparison.
+    pub label: String,
+}
+
+impl FinishProgram {
+    /// The program of a finishing job's paths `set`, with steps within `step_tol_mm`.
+    ///
+    /// # Errors
+    /// [`SimError::Program`] for a step tolerance that is not a positive length.
+    pub fn new(job: &FinishJob, set: &PathSet, step_tol_mm: f64) -> Result<Self, SimError> {
+        Self::of_paths(&job.surface, &job.cutter, &job.machine, set, step_tol_mm)
+    }
+
+    /// As [`FinishProgram::new`] from the job's parts (`cutter` as the scene gives it; the
+    /// set's strategy decides the cutter that machines).
+    ///
+    /// # Errors
+    /// [`SimError::Program`] for a step tolerance that is not a positive length.
+    pub fn of_paths(
+        surface: &Surface,
+        cutter: &Cutter,
+        machine: &Machine,
+        set: &PathSet,
+        step_tol_mm: f64,
+    ) -> Result<Self, SimError> {
+        if !(step_tol_mm > 0.0 && step_tol_mm.is_finite()) {
+            return Err(SimError::Program(format!(
+                "the step tolerance must be a positive length in mm, got {step_tol_mm}; give e.g. 0.01"
+            )));
+        }
+        Ok(Self {
+            surface: surface.clone(),
+            cutter: set.strategy.cutter_for(cutter),
+            machine: *machine,
+            passes: set.paths.iter().filter(|p| p.nodes.len() >= 2).map(|p| p.nodes.clone()).collect(),
+            step_tol_mm,
+            label: format!("{}, {}", set.strategy.name(), set.layout.name()),
+        })
+    }
+
+    /// Appends the moves of pass `k` (its seed-002 steps, joints interpolated linearly) to
+    /// `program`; nothing for a pass that does not exist.
+    ///
+    /// # Errors
+    /// [`SimError::Program`] when the steps cannot be planned (the planner's message) or
+    /// the program grows beyond [`super::program::MAX_MOVES`].
+    pub fn plan_pass(&self, k: usize, program: &mut Program) -> Result<(), SimError> {
+        let Some(nodes) = self.passes.get(k) else { return Ok(()) };
+        let plan = plan_path(&self.machine, &self.surface, &self.cutter, nodes, self.step_tol_mm)
+            .map_err(|e| SimError::Program(format!("pass {k}: the 5-axis steps cannot be planned — {e}")))?;
+        for w in plan.nodes.windows(2) {
+            program.push(SimMove {
+                kind: MoveKind::Joints { machine: self.machine, from: w[0].block.joints, to: w[1].block.joints },
+                line: 0,
+                rapid: false,
+            })?;
+        }
+        Ok(())
+    }
+
+    /// The whole program (every pass planned; see [`FinishProgram::plan_pass`]).
+    ///
+    /// # Errors
+    /// As [`FinishProgram::plan_pass`].
+    pub fn program(&self) -> Result<Program, SimError> {
+        let mut out = Program::default();
+        for k in 0..self.passes.len() {
+            self.plan_pass(k, &mut out)?;
+        }
+        Ok(out)
+    }
+
+    /// The design: the finish surface ([`Design::Surface`]).
+    #[must_use]
+    pub fn design(&self) -> Design {
+        Design::Surface(self.surface.clone())
+    }
+
+    /// The box (mm) of the surface's points on a [`PART_BOX_SAMPLES`]² grid of its domain;
+    /// `None` when no point is finite.
+    #[must_use]
+    pub fn part_box(&self) -> Option<(DVec3, DVec3)> {
+        part_box(&self.surface)
+    }
+
+    /// The default stock `x0, y0, z0, x1, y1, z1` (mm): the part's box widened by the
+    /// cutter radius and `margin_mm` in x and y (the cutter overhangs the edge paths), from
+    /// `margin_mm` below its lowest point to `margin_mm` above its highest (the finishing
+    /// allowance). `None` when the box is not finite.
+    #[must_use]
+    pub fn stock_mm(&self, margin_mm: f64) -> Option<[f64; 6]> {
+        let (lo, hi) = self.part_box()?;
+        let m = margin_mm.max(0.0);
+        let w = self.cutter.radius_mm + m;
+        Some([lo.x - w, lo.y - w, lo.z - m, hi.x + w, hi.y + w, hi.z + m])
+    }
+}
+
+/// The box (mm) of a surface's points on a [`PART_BOX_SAMPLES`]² grid of its domain.
+#[must_use]
+pub fn part_box(surface: &Surface) -> Option<(DVec3, DVec3)> {
+    let d = surface.domain();
+    let n = PART_BOX_SAMPLES;
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    for i in 0..n {
+        for j in 0..n {
+            let s = DVec2::new(i as f64, j as f64) / (n - 1) as f64;
+            let p = surface.point_at(DVec2::new(d.u.min + s.x * d.u.width(), d.v.min + s.y * d.v.width()));
+            if p.is_finite() {
+                lo = lo.min(p);
+                hi = hi.max(p);
+            }
+        }
+    }
+    (lo.is_finite() && hi.is_finite()).then_some((lo, hi))
+}
