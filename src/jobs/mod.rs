@@ -31,7 +31,7 @@ pub trait Progress {
     fn progress(&mut self, fraction: f64);
     /// Whether the job was cancelled (a job may stop early and return anything).
     fn cancelled(&self) -> bool;
-    /// A partial output, encoded by its kind's [`JobKind::encode_partial`] (default: dropped).
+    /// A partial output as text, to be read by its kind's [`JobKind::decode_partial`] (default: dropped).
     fn partial(&mut self, _encoded: String) {}
 }
 
