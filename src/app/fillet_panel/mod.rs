@@ -213,7 +213,7 @@ impl FilletPanel {
     fn simulate_button(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
         let ready = self.job.as_ref().is_some_and(|j| j.result.is_some());
         let r = ui
-            .add_enabled(ready, egui::Button::new("▶ Simulate this program"))
+            .add_enabled(ready, egui::Button::new("Simulate this program →"))
             .on_hover_text(
                 "Machine these paths in the cutting simulation: the 5-axis program through the machine (steps within E), \
                  the fillet cutter, the finish surface as the design",

@@ -22,7 +22,7 @@ pub const CORNER_RANGE_MM: (f64, f64) = (0.0, 25.0);
 /// Range of the scallop height h slider (µm).
 pub const SCALLOP_RANGE_UM: (f64, f64) = (1.0, 200.0);
 /// Range of the chord tolerance E slider (mm).
-pub const TOLERANCE_RANGE_MM: (f64, f64) = (0.001, 0.1);
+pub const TOLERANCE_RANGE_MM: (f64, f64) = (0.0001, 0.1);
 /// Most rows of the comparison table computed at once (each in its own thread or Web
 /// Worker); fewer on a machine with fewer spare cores (`app::jobs::spare_cores`).
 pub const TABLE_JOBS_AT_ONCE: usize = 2;
@@ -361,6 +361,27 @@ impl Job {
                 Ok(scene) => self.table_jobs.push((k, BackgroundJob::start(RowRequest { scene, layout }))),
                 Err(e) => self.table[k] = Some(Row { strategy, layout, stats: Err(e), ms: 0.0 }),
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A slider clamps what it shows: a preset value outside its range would be changed
+    /// silently the first time the slider is drawn (the presets' E = 0.0005 mm became 0.001
+    /// mm with a range starting at 0.001), and the tab would no longer compute the preset.
+    #[test]
+    fn every_presets_values_lie_in_their_sliders_ranges() {
+        let inside = |v: f64, (lo, hi): (f64, f64)| lo <= v && v <= hi;
+        for k in 0..FINISH_PRESETS.len() {
+            let s = Settings::of_preset(k);
+            let id = FINISH_PRESETS[k].id;
+            assert!(inside(s.radius_mm, RADIUS_RANGE_MM), "{id}: R {} outside {RADIUS_RANGE_MM:?}", s.radius_mm);
+            assert!(inside(s.corner_mm, CORNER_RANGE_MM), "{id}: r {} outside {CORNER_RANGE_MM:?}", s.corner_mm);
+            assert!(inside(s.scallop_um, SCALLOP_RANGE_UM), "{id}: h {} µm outside {SCALLOP_RANGE_UM:?}", s.scallop_um);
+            assert!(inside(s.tol_mm, TOLERANCE_RANGE_MM), "{id}: E {} outside {TOLERANCE_RANGE_MM:?}", s.tol_mm);
         }
     }
 }

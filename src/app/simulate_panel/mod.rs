@@ -163,7 +163,7 @@ impl SimulatePanel {
                 ui.label(
                     self.finish
                         .as_ref()
-                        .map_or("(none: press ▶ Simulate this program in the Fillet end mill tab)".to_owned(), |f| {
+                        .map_or("(none: press Simulate this program → in the Fillet end mill tab)".to_owned(), |f| {
                             format!("{} ({} passes)", f.program.label, f.program.passes.len())
                         }),
                 );

@@ -298,7 +298,7 @@ impl Job {
                 job.planning = Some((0, Box::default()));
             } else {
                 job.error = Some(
-                    "no finishing program yet: build paths in the \"Fillet end mill (seed 001)\" tab and press ▶ Simulate this program there"
+                    "no finishing program yet: build paths in the \"Fillet end mill (seed 001)\" tab and press Simulate this program → there"
                         .to_owned(),
                 );
             }
