@@ -140,7 +140,10 @@ impl SimView {
                 (true, true) => [0.9, 0.5, 0.9, 0.8],
                 (false, _) => [0.55, 0.6, 0.7, 0.45],
             };
-            lines.push(LineSegment::new(o.local(p.tips[k]), o.local(p.tips[next]), 1.5, color).with_depth_bias(0.002));
+            // From where move k starts: a program whose passes are not linked (a finishing
+            // program leaves out the rapids between them) draws no line across the gap.
+            let from = p.program.moves.get(k).map_or(p.tips[k], |m| crate::jobs::simulate_run::ends(m)[0]);
+            lines.push(LineSegment::new(o.local(from), o.local(p.tips[next]), 1.5, color).with_depth_bias(0.002));
             k = next;
         }
         // The cutter at the current move's end (its centre for a ball: tip + R along the
