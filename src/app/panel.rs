@@ -78,6 +78,9 @@ pub struct FinishHandoff {
     pub program: crate::simulate::FinishProgram,
     /// The finishing scene (`FinishScene::to_json`).
     pub scene_json: String,
+    /// The scallop height h (mm) the paths were built for (the simulation samples finely
+    /// enough to measure it).
+    pub scallop_mm: f64,
 }
 
 impl PanelContext<'_> {

@@ -121,6 +121,11 @@ pub struct Request {
     pub stock_mm: Option<[f64; 6]>,
     /// Margin (mm) around the program's box of an automatic stock.
     pub margin_mm: f64,
+    /// Largest step (mm) between the sampled poses of a flat or fillet cutter's 5-axis move;
+    /// `None`: one pitch. Between two poses the cutter leaves a cusp of about s²/(8r), so a
+    /// program judged on a scallop h needs s well under √(8·r·h) (a ball's moves are swept
+    /// in closed form and ignore it).
+    pub max_sample_step_mm: Option<f64>,
     /// The design.
     pub design: DesignSpec,
     /// Move to machine up to (`None`: all).
@@ -387,6 +392,12 @@ impl JobKind for SimulateRun {
             DexelStock::block([stock_mm[0], stock_mm[1], stock_mm[2]], [stock_mm[3], stock_mm[4], stock_mm[5]], pitch)
                 .map_err(|e| e.to_string())?;
         let mut sim = Simulation::new(stock, &req.cutter);
+        if let Some(step) = req.max_sample_step_mm
+            && step < pitch
+            && req.cutter.kind() != crate::geom::CutterKind::Ball
+        {
+            sim = sim.with_sample_step(step);
+        }
         let visits = sim.estimate_visits(&program);
         if !(visits <= MAX_RAY_VISITS) {
             return Err(SimError::TooMuchWork { visits, max: MAX_RAY_VISITS }.to_string());
@@ -448,6 +459,7 @@ impl JobKind for SimulateRun {
             "pitch_mm": r.pitch_mm.map_or(Value::Null, super::num),
             "stock_mm": r.stock_mm.map_or(Value::Null, super::nums),
             "margin_mm": super::num(r.margin_mm),
+            "max_sample_step_mm": r.max_sample_step_mm.map_or(Value::Null, super::num),
             "design": match &r.design {
                 DesignSpec::None => Value::Null,
                 DesignSpec::PlaneZ(z) => json!({ "plane_z_mm": super::num(*z) }),
@@ -509,6 +521,10 @@ impl JobKind for SimulateRun {
             pitch_mm: r.opt_f64("pitch_mm")?,
             stock_mm,
             margin_mm: r.f64("margin_mm")?,
+            max_sample_step_mm: match r.value("max_sample_step_mm")? {
+                Value::Null => None,
+                _ => Some(r.f64("max_sample_step_mm")?),
+            },
             design,
             target,
             keyframes: r.usize("keyframes")?,

@@ -243,7 +243,11 @@ impl FilletPanel {
                 cx.handoff = Some(Handoff {
                     to: SIMULATION_TITLE,
                     options: vec![("source", "finish".to_owned())],
-                    payload: Some(Payload::Finish(std::rc::Rc::new(FinishHandoff { program, scene_json }))),
+                    payload: Some(Payload::Finish(std::rc::Rc::new(FinishHandoff {
+                        program,
+                        scene_json,
+                        scallop_mm: job.options.scallop_mm,
+                    }))),
                 });
             }
             Err(e) => cx.error(format!("The program cannot be simulated: {e}")),

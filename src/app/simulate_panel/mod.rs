@@ -476,6 +476,10 @@ impl SimulatePanel {
                     job.total_ms,
                     job.slowest_call_ms
                 ));
+                if let Some(step) = job.pose_step_mm().filter(|s| *s < g.pitch_mm) {
+                    ui.label(format!("· 5-axis poses every {step:.3} mm (cusps between them ≤ h/4)"))
+                        .on_hover_text("A flat or fillet cutter's 5-axis moves are sampled pose by pose; between two poses its corner leaves a cusp of about s²/(8r)");
+                }
             }
             if let Some(r) = job.measured() {
                 if p.design_name != "none" {
@@ -618,6 +622,7 @@ impl Panel for SimulatePanel {
             "sim_ms": job.sim_ms,
             "total_ms": job.total_ms,
             "slowest_frame_ms": job.slowest_call_ms,
+            "pose_step_mm": job.pose_step_mm(),
             "camera_target_local_mm": camera,
             "finish": self.finish.as_ref().map(|f| serde_json::json!({
                 "label": f.program.label, "passes": f.program.passes.len(), "cutter": f.program.cutter.describe(), "step_tol_mm": f.program.step_tol_mm,

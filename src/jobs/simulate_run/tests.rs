@@ -33,6 +33,7 @@ fn grooves(target: Option<usize>, keyframes: usize) -> Request {
         pitch_mm: Some(0.1),
         stock_mm: Some([-1.0, -2.0, -4.0, 11.0, 8.0, 0.0]),
         margin_mm: 2.0,
+        max_sample_step_mm: None,
         design: DesignSpec::PlaneZ(-1.0),
         target,
         keyframes,
@@ -147,6 +148,7 @@ fn requests_cross_unchanged() {
             pitch_mm: None,
             stock_mm: None,
             margin_mm: 1.5,
+            max_sample_step_mm: Some(0.03125),
             design: DesignSpec::Scene(scene.clone()),
             target: None,
             keyframes: 40,
@@ -223,6 +225,7 @@ fn a_finishing_scene_is_measured_against_its_machined_surface() {
         pitch_mm: Some(0.25),
         stock_mm: Some([mid.x - 10.0, mid.y - 8.0, mid.z - 6.0, mid.x + 10.0, mid.y + 8.0, mid.z + 4.0]),
         margin_mm: 0.0,
+        max_sample_step_mm: None,
         design: DesignSpec::Finish(text.to_owned()),
         target: None,
         keyframes: 0,
@@ -236,4 +239,30 @@ fn a_finishing_scene_is_measured_against_its_machined_surface() {
     assert_eq!(out.stats, SimStats::of(&out.map, sim.stock(), &design));
     let measured = out.stats.deviation_mm.iter().filter(|d| d.is_some()).count();
     assert!(measured > 100, "{measured} rays measured");
+}
+
+/// The largest pose step reaches the simulation: a fillet cutter's 5-axis moves are sampled
+/// finer when asked (more samples, and the cusps between poses, ≈ s²/(8r), shallower), a
+/// step above the pitch changes nothing, and a ball's moves keep their closed-form sweeps.
+#[test]
+fn the_largest_pose_step_reaches_the_simulation() {
+    let scene = crate::scene::PRESETS[0].json.to_owned();
+    let steps = |cutter: Cutter, step: Option<f64>| Request {
+        source: ProgramSource::Steps { scene: scene.clone() },
+        cutter,
+        pitch_mm: Some(0.5),
+        stock_mm: None,
+        margin_mm: 2.0,
+        max_sample_step_mm: step,
+        design: DesignSpec::None,
+        target: None,
+        keyframes: 0,
+    };
+    let fillet = Cutter::fillet(3.0, 0.5).unwrap();
+    let samples = |r: &Request| SimulateRun::run(r, &mut NoProgress).unwrap().counters.samples;
+    let (coarse, fine) = (samples(&steps(fillet, None)), samples(&steps(fillet, Some(0.125))));
+    assert!(coarse > 10 && fine >= 3 * coarse, "pitch 0.5: {coarse} samples; step 0.125: {fine}");
+    assert_eq!(samples(&steps(fillet, Some(2.0))), coarse, "a step above the pitch keeps the pitch");
+    let ball = Cutter::ball(3.0).unwrap();
+    assert_eq!(samples(&steps(ball, Some(0.125))), samples(&steps(ball, None)), "a ball keeps its swept segments");
 }
