@@ -245,6 +245,7 @@ fn a_finishing_program_leaves_its_scallop_and_no_gouge_beyond_its_tolerances() {
     assert_eq!(s["cutter"], "fillet R 3 mm, r 1 mm", "{s}");
     assert!(s["finish"]["passes"].as_u64().unwrap() >= 3, "{s}");
     assert_eq!(s["finish"]["label"], "matched, iso-scallop", "{s}");
+    assert_eq!(s["finish"]["pose_step_mm"].as_f64(), Some(sample_mm), "--sample-step is the step used: {s}");
     assert!(s["removed_volume_mm3"].as_f64().unwrap() > 10.0, "{s}");
     // The default stock: the part's box widened by R + 2 mm in x and y. The patch spans
     // x = ±40·sin 5°, y = 0 … 6.
@@ -285,6 +286,24 @@ fn a_finishing_program_leaves_its_scallop_and_no_gouge_beyond_its_tolerances() {
     assert!(min >= -(step_mm + chord_mm), "interior deviation min {min} mm");
     let worst = s["gouge"]["worst_um"].as_f64().unwrap_or(0.0);
     assert!(worst >= -(step_mm + chord_mm) * 1e3, "worst gouge {worst} µm: {s}");
+}
+
+/// Without `--sample-step` a finishing program's fillet poses are at most √(2·r·h) apart
+/// (cusps s²/(8r) ≤ h/4) when that is finer than the pitch, and one pitch apart otherwise.
+#[test]
+fn a_finishing_program_samples_its_poses_from_its_scallop_height() {
+    let scene = temp("small-finish-step.json", SMALL_FINISH);
+    let (h_mm, corner_mm) = (0.01_f64, 1.0_f64);
+    let step = |pitch: &str| {
+        let (code, out, err) = run(&["simulate", scene.to_str().unwrap(), "--finish", "0.001", "--pitch", pitch]);
+        assert_eq!(code, 0, "{err}");
+        let s: serde_json::Value = serde_json::from_str(&out).unwrap();
+        s["finish"]["pose_step_mm"].as_f64()
+    };
+    let want = (2.0 * corner_mm * h_mm).sqrt();
+    let got = step("0.5").expect("a pose step below the pitch");
+    assert!((got - want).abs() < 1e-12, "pose step {got} mm, want √(2·r·h) = {want} mm");
+    assert_eq!(step("0.125"), None, "a pitch finer than √(2·r·h) is the step itself");
 }
 
 #[test]

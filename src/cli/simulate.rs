@@ -202,7 +202,8 @@ pub(super) fn simulate(a: &SimulateArgs) -> Result<ExitCode, Fatal> {
         let (machine, blocks, _) = super::fiveaxis::scene_blocks(&a.program, tol)?;
         let program = Program::from_blocks(&machine, &blocks).map_err(|e| Fatal(e.to_string()))?;
         let design = load_design(&SimulateDesign { design_z: None, scene: Some(&a.program) })?;
-        return finish(a, &cutter, stock, &program, &design, false, None);
+        let how = RunHow { sample_step: a.sample_step, centre: false, finish_info: None };
+        return finish(a, &cutter, stock, &program, &design, how);
     }
     let design = load_design(&SimulateDesign { design_z: a.design_z, scene: a.scene.as_deref() })?;
     let text = read_program(&a.program)?;
@@ -221,7 +222,7 @@ pub(super) fn simulate(a: &SimulateArgs) -> Result<ExitCode, Fatal> {
     let chord_tol = a.chord_tol.unwrap_or(a.pitch / 10.0);
     let program = Program::from_toolpath(&parsed.toolpath, offset, chord_tol)
         .map_err(|e| Fatal(format!("{}: {e}", a.program.display())))?;
-    finish(a, &cutter, stock, &program, &design, centre, None)
+    finish(a, &cutter, stock, &program, &design, RunHow { sample_step: a.sample_step, centre, finish_info: None })
 }
 
 /// `--finish TOL`: PROGRAM is a finishing scene; its paths (the strategy and layout asked
@@ -258,8 +259,13 @@ fn simulate_finish(a: &SimulateArgs, tol: f64) -> Result<ExitCode, Fatal> {
             DexelStock::block([s[0], s[1], s[2]], [s[3], s[4], s[5]], a.pitch).map_err(|e| Fatal(e.to_string()))?
         }
     };
+    // Poses close enough that the sampling's cusps stay under a quarter of h (the app's
+    // hand-over does the same), unless --sample-step says otherwise.
+    let pose_step =
+        a.sample_step.or_else(|| FinishProgram::pose_step_mm(&cutter, job.options.scallop_mm).filter(|s| *s < a.pitch));
     let extra = json!({
         "label": fp.label,
+        "pose_step_mm": pose_step,
         "passes": fp.passes.len(),
         "cc_points": fp.passes.iter().map(Vec::len).sum::<usize>(),
         "scallop_mm": job.options.scallop_mm,
@@ -267,22 +273,33 @@ fn simulate_finish(a: &SimulateArgs, tol: f64) -> Result<ExitCode, Fatal> {
         "step_tol_mm": tol,
         "refused": set.refused.len(),
     });
-    finish(a, &cutter, stock, &program, &fp.design(), false, Some(extra))
+    let how = RunHow { sample_step: pose_step, centre: false, finish_info: Some(extra) };
+    finish(a, &cutter, stock, &program, &fp.design(), how)
 }
 
 /// Runs the program and writes the outputs.
+/// How a program is run and reported besides its arguments.
+struct RunHow {
+    /// Largest step (mm) between sampled poses of 5-axis moves (`None`: one pitch).
+    sample_step: Option<f64>,
+    /// Whether the program's points are ball centres (else tool tips).
+    centre: bool,
+    /// The finishing program's facts for the JSON output.
+    finish_info: Option<serde_json::Value>,
+}
+
 fn finish(
     a: &SimulateArgs,
     cutter: &Cutter,
     stock: DexelStock,
     program: &Program,
     design: &Design,
-    centre: bool,
-    finish_info: Option<serde_json::Value>,
+    how: RunHow,
 ) -> Result<ExitCode, Fatal> {
+    let RunHow { sample_step, centre, finish_info } = how;
     let chord_tol = a.chord_tol.unwrap_or(a.pitch / 10.0);
     let mut sim = Simulation::new(stock, cutter);
-    if let Some(step) = a.sample_step {
+    if let Some(step) = sample_step {
         sim = sim.with_sample_step(step);
     }
     let t0 = Instant::now();

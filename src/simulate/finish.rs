@@ -26,6 +26,13 @@ use crate::fiveaxis::Machine;
 use crate::geom::{Cutter, ParametricSurface, Surface};
 use crate::scene::finish::FinishJob;
 
+/// Share of the scallop height h the cusps between sampled poses may take
+/// ([`FinishProgram::pose_step_mm`]).
+pub const POSE_CUSP_SHARE: f64 = 0.25;
+/// Smallest pose step (mm) [`FinishProgram::pose_step_mm`] gives (bounds the work for small
+/// corners and flat end mills).
+pub const MIN_POSE_STEP_MM: f64 = 0.02;
+
 /// Samples per parameter direction of the part's box ([`FinishProgram::part_box`]).
 pub const PART_BOX_SAMPLES: usize = 33;
 
@@ -126,6 +133,17 @@ impl FinishProgram {
     #[must_use]
     pub fn part_box(&self) -> Option<(DVec3, DVec3)> {
         part_box(&self.surface)
+    }
+
+    /// The largest step (mm) between the sampled poses of a flat or fillet `cutter` for a
+    /// program judged on scallop `scallop_mm`: between two poses the corner (radius r) leaves
+    /// a cusp of about s²/(8r), kept to [`POSE_CUSP_SHARE`] of h, so the simulated scallop
+    /// measures the paths, not the sampling; at least [`MIN_POSE_STEP_MM`]. `None` for a ball
+    /// (its moves are swept in closed form).
+    #[must_use]
+    pub fn pose_step_mm(cutter: &Cutter, scallop_mm: f64) -> Option<f64> {
+        (cutter.kind() != crate::geom::CutterKind::Ball && scallop_mm > 0.0 && scallop_mm.is_finite())
+            .then(|| (8.0 * cutter.corner_radius_mm * POSE_CUSP_SHARE * scallop_mm).sqrt().max(MIN_POSE_STEP_MM))
     }
 
     /// The default stock `x0, y0, z0, x1, y1, z1` (mm): the part's box widened by the

@@ -35,20 +35,6 @@ pub const MAX_APP_RAYS: usize = simulate_run::MAX_RAYS;
 pub const KEYFRAMES: usize = 40;
 /// Keyframes asked of a replay to one move (the view follows the stock while it runs).
 const REPLAY_KEYFRAMES: usize = 8;
-/// Share of a finishing program's scallop height h the cusps between sampled poses may take.
-const FINISH_SAMPLE_CUSP_SHARE: f64 = 0.25;
-/// Smallest pose step (mm) asked for a finishing program (bounds the work for small corners).
-const FINISH_MIN_SAMPLE_STEP_MM: f64 = 0.02;
-
-/// The largest pose step (mm) for a finishing program cut by a cutter of corner radius
-/// `corner_mm` and judged on scallop `scallop_mm`: between two poses the corner leaves a cusp
-/// of about s²/(8r), kept to [`FINISH_SAMPLE_CUSP_SHARE`] of h, so the simulated scallop
-/// measures the paths and not the sampling (one pitch, 0.45 mm on the patch, left 25 µm
-/// cusps against h = 10 µm).
-fn finish_sample_step_mm(corner_mm: f64, scallop_mm: f64) -> f64 {
-    (8.0 * corner_mm * FINISH_SAMPLE_CUSP_SHARE * scallop_mm).sqrt().max(FINISH_MIN_SAMPLE_STEP_MM)
-}
-
 /// How long the move slider must rest before a replay to its move starts: dragging it shows
 /// keyframes at once and starts one run where the user stops, not one per position passed
 /// (each replay in a browser is a new Web Worker).
@@ -382,7 +368,7 @@ impl Job {
             pitch_mm: i.pitch_mm,
             stock_mm: i.stock_mm.or_else(|| f.program.stock_mm(i.margin_mm)),
             margin_mm: i.margin_mm,
-            max_sample_step_mm: Some(finish_sample_step_mm(cutter.corner_radius_mm, f.scallop_mm)),
+            max_sample_step_mm: crate::simulate::FinishProgram::pose_step_mm(&cutter, f.scallop_mm),
             design,
             target: None,
             keyframes: KEYFRAMES,
