@@ -13,18 +13,11 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use interpolab::fillet::{PartSamples, Strategy, iso_scallop};
 use interpolab::scene::finish::{FINISH_PRESETS, FinishScene};
-use web_time_shim::Instant;
+use web_time_shim::{Instant, print};
 
 /// `std::time::Instant` natively; `performance.now()` under Node (no std clock on wasm32).
 #[path = "common/web_time.rs"]
 mod web_time_shim;
-
-fn print(line: &str) {
-    #[cfg(target_arch = "wasm32")]
-    wasm_bindgen_test::console_log!("{line}");
-    #[cfg(not(target_arch = "wasm32"))]
-    println!("{line}");
-}
 
 #[test]
 #[ignore = "benchmark: run with --ignored --nocapture (scripts/bench-wasm.sh)"]

@@ -12,18 +12,11 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use interpolab::crease::{CreaseJob, InterpOptions, Interpolator, Step, diagnose};
 use interpolab::scene::Scene;
-use web_time_shim::Instant;
+use web_time_shim::{Instant, print};
 
 /// `std::time::Instant` natively; `performance.now()` under Node (no std clock on wasm32).
 #[path = "common/web_time.rs"]
 mod web_time_shim;
-
-fn print(line: &str) {
-    #[cfg(target_arch = "wasm32")]
-    wasm_bindgen_test::console_log!("{line}");
-    #[cfg(not(target_arch = "wasm32"))]
-    println!("{line}");
-}
 
 const PERIODS: u64 = 10_000;
 

@@ -15,7 +15,7 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 use interpolab::geom::Cutter;
 use interpolab::simulate::{DexelStock, Simulation};
 use sim_programs::{SIDE_MM, five_axis, three_axis};
-use web_time_shim::Instant;
+use web_time_shim::{Instant, print};
 
 /// The programs of `benches/simulate.rs`, from the one shared source.
 #[path = "common/sim_programs.rs"]
@@ -25,13 +25,6 @@ mod sim_programs;
 /// benchmarks that run both ways).
 #[path = "common/web_time.rs"]
 mod web_time_shim;
-
-fn print(line: &str) {
-    #[cfg(target_arch = "wasm32")]
-    wasm_bindgen_test::console_log!("{line}");
-    #[cfg(not(target_arch = "wasm32"))]
-    println!("{line}");
-}
 
 #[test]
 #[ignore = "benchmark; run with --ignored --nocapture"]

@@ -1,5 +1,14 @@
-//! `std::time::Instant` natively; `performance.now()` under Node (no std clock on wasm32):
-//! the benchmarks that run both natively and as wasm32 include this file.
+//! `std::time::Instant` natively; `performance.now()` under Node (no std clock on wasm32),
+//! and a line printed to standard output natively or to Node's console: the benchmarks that
+//! run both natively and as wasm32 include this file.
+
+/// Prints one line of a benchmark's report (wasm32 under Node: the console).
+pub fn print(line: &str) {
+    #[cfg(target_arch = "wasm32")]
+    wasm_bindgen_test::console_log!("{line}");
+    #[cfg(not(target_arch = "wasm32"))]
+    println!("{line}");
+}
 
 #[cfg(not(target_arch = "wasm32"))]
 pub use std::time::Instant;
