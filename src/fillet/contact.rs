@@ -339,17 +339,18 @@ fn section_height_from(surface: &Surface, frame: &ContactFrame, cross_uv: DVec2,
         if !domain.contains(uv) {
             return None;
         }
-        let d = surface.derivatives_at(uv);
-        let w = d.point - frame.point;
+        // Only r, r_u and r_v enter (the same bits as `derivatives_at`'s).
+        let (point, du, dv) = surface.tangents_at(uv);
+        let w = point - frame.point;
         let (r1, r2) = (w.dot(frame.feed), w.dot(frame.cross) - y);
         if r1.abs().max(r2.abs()) < tolerance::FILLET_HEIGHT_MM {
             return Some(w.dot(frame.normal));
         }
         let step = crate::linalg::solve2(
-            d.du.dot(frame.feed),
-            d.dv.dot(frame.feed),
-            d.du.dot(frame.cross),
-            d.dv.dot(frame.cross),
+            du.dot(frame.feed),
+            dv.dot(frame.feed),
+            du.dot(frame.cross),
+            dv.dot(frame.cross),
             DVec2::new(-r1, -r2),
         )?;
         uv += step;

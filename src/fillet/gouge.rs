@@ -227,8 +227,25 @@ impl Ord for Cell {
 /// cells follow the contact's basin, narrow along the feed (where the corner's 1/r curves
 /// g) and long across it (where g is as flat as the strip is wide). A pocket between
 /// samples cannot be missed.
-fn bottom_clash(surface: &Surface, body: &CutterBody, k2: f64, tol_mm: f64) -> Option<Clash> {
+///
+/// `hint`: a parameter pair to try first (where an earlier pose clashed). A gouge found
+/// there is a gouge; without one the search runs as without the hint, so whether a clash is
+/// reported never depends on it (only which one). Returns the clash with its parameters.
+fn bottom_clash(
+    surface: &Surface,
+    body: &CutterBody,
+    k2: f64,
+    tol_mm: f64,
+    hint: Option<DVec2>,
+) -> Option<(Clash, DVec2)> {
     let dom = surface.domain();
+    if let Some(uv) = hint.filter(|&uv| dom.contains(uv)) {
+        let at = surface.point_at(uv);
+        let (g, _) = body.signed_distance(at);
+        if g < -tol_mm {
+            return Some((Clash { part: ClashPart::Bottom, depth_mm: -g, at }, uv));
+        }
+    }
     let make = |centre: DVec2, half: DVec2, depth: u32| {
         // Only r, r_u and r_v enter the bound.
         let (point, du, dv) = surface.tangents_at(centre);
@@ -246,7 +263,7 @@ fn bottom_clash(surface: &Surface, body: &CutterBody, k2: f64, tol_mm: f64) -> O
             let centre = origin + DVec2::new((2 * i + 1) as f64 * half.x, (2 * j + 1) as f64 * half.y);
             let (cell, at) = make(centre, half, 0);
             if cell.g < -tol_mm {
-                return Some(Clash { part: ClashPart::Bottom, depth_mm: -cell.g, at });
+                return Some((Clash { part: ClashPart::Bottom, depth_mm: -cell.g, at }, centre));
             }
             if cell.bound < -tol_mm {
                 heap.push(cell);
@@ -257,7 +274,8 @@ fn bottom_clash(surface: &Surface, body: &CutterBody, k2: f64, tol_mm: f64) -> O
     while let Some(cell) = heap.pop() {
         if evaluated > MAX_CELLS || cell.depth >= MAX_DEPTH {
             // Out of budget: err on the safe side.
-            return Some(Clash { part: ClashPart::Bottom, depth_mm: -cell.bound, at: surface.point_at(cell.centre) });
+            let at = surface.point_at(cell.centre);
+            return Some((Clash { part: ClashPart::Bottom, depth_mm: -cell.bound, at }, cell.centre));
         }
         let cost_u = cell.slope.x + 0.5 * k2 * cell.half.x * cell.half.x;
         let cost_v = cell.slope.y + 0.5 * k2 * cell.half.y * cell.half.y;
@@ -270,7 +288,7 @@ fn bottom_clash(surface: &Surface, body: &CutterBody, k2: f64, tol_mm: f64) -> O
             let (child, at) = make(cell.centre + sign * step, half, cell.depth + 1);
             evaluated += 1;
             if child.g < -tol_mm {
-                return Some(Clash { part: ClashPart::Bottom, depth_mm: -child.g, at });
+                return Some((Clash { part: ClashPart::Bottom, depth_mm: -child.g, at }, child.centre));
             }
             if child.bound < -tol_mm {
                 heap.push(child);
@@ -297,6 +315,21 @@ pub fn check(
     pose: &Pose,
     tol_mm: f64,
 ) -> Option<Clash> {
+    check_hinted(cutter, surface, part, frame, pose, tol_mm, &mut None)
+}
+
+/// [`check`] trying the parameters in `hint` first ([`bottom_clash`]), and leaving there
+/// those of a bottom clash found: whether a clash is reported is the same as without the
+/// hint, only which one may differ.
+fn check_hinted(
+    cutter: &Cutter,
+    surface: &Surface,
+    part: &PartSamples,
+    frame: &ContactFrame,
+    pose: &Pose,
+    tol_mm: f64,
+    hint: &mut Option<DVec2>,
+) -> Option<Clash> {
     let (tip, axis) = place(cutter, frame, pose);
     let mut worst: Option<Clash> = None;
     let mut note = |c: Clash| {
@@ -306,8 +339,10 @@ pub fn check(
     };
     // Local and rear: the part against the cutter's convex solid, certified.
     if part.k_concave_max > 0.0
-        && let Some(c) = bottom_clash(surface, &CutterBody::new(cutter, tip, axis, tol_mm), part.second_bound, tol_mm)
+        && let Some((c, uv)) =
+            bottom_clash(surface, &CutterBody::new(cutter, tip, axis, tol_mm), part.second_bound, tol_mm, *hint)
     {
+        *hint = Some(uv);
         note(c);
     }
     // Global: the part's points against the solid of revolution. A block whose sphere
@@ -384,18 +419,24 @@ pub fn adjust(
     tol_mm: f64,
 ) -> Result<(Pose, Option<Adjustment>), Clash> {
     let tol = CHECK_SHARE * tol_mm;
-    let Some(first) = check(cutter, surface, part, frame, &pose, tol) else {
+    // Where the last pose tried clashed at the bottom: the next one is tried there first
+    // (a raise of 0.25° rarely clears the deepest point), which answers a failing trial with
+    // one evaluation; a passing one is certified in full as before.
+    let mut hint = None;
+    let Some(first) = check_hinted(cutter, surface, part, frame, &pose, tol, &mut hint) else {
         return Ok((pose, None));
     };
-    let ok = |p: &Pose| {
-        gouge_margin(cutter, frame, p) >= opts.margin_per_mm && check(cutter, surface, part, frame, p, tol).is_none()
+    let mut ok = |p: &Pose| {
+        gouge_margin(cutter, frame, p) >= opts.margin_per_mm
+            && check_hinted(cutter, surface, part, frame, p, tol, &mut hint).is_none()
     };
     let deg = 0.25f64.to_radians();
     let top = opts.max_inclination_rad.max(pose.inclination_rad);
     for turn in [0.0, 10.0, -10.0, 20.0, -20.0, 30.0, -30.0] {
         let mut p = Pose { azimuth_rad: pose.azimuth_rad + f64::to_radians(turn), ..pose };
         for _ in 0..=360 {
-            if ok(&p) {
+            // The pose as given failed the check above (the same computation again).
+            if p != pose && ok(&p) {
                 return Ok((
                     p,
                     Some(Adjustment {
