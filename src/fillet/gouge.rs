@@ -247,8 +247,8 @@ fn bottom_clash(
         }
     }
     let make = |centre: DVec2, half: DVec2, depth: u32| {
-        // Only r, r_u and r_v enter the bound.
-        let (point, du, dv) = surface.tangents_at(centre);
+        // Only r, r_u and r_v enter the bound; to rounding is enough (a NURBS's power form).
+        let (point, du, dv) = surface.tangents_fast_at(centre);
         let (g, grad) = body.signed_distance(point);
         let slope = DVec2::new(grad.dot(du).abs() * half.x, grad.dot(dv).abs() * half.y);
         let bound = g - slope.x - slope.y - 0.5 * k2 * half.length_squared();

@@ -44,6 +44,12 @@ pub trait ParametricSurface {
         let d = self.derivatives_at(uv);
         (d.point, d.du, d.dv)
     }
+    /// [`Self::tangents_at`] to rounding, not necessarily to the last bit: a NURBS evaluates
+    /// its power form ([`super::nurbs`]), several times faster. For callers whose answer
+    /// does not hang on the last bits (the certified gouge check's bounds).
+    fn tangents_fast_at(&self, uv: DVec2) -> (DVec3, DVec3, DVec3) {
+        self.tangents_at(uv)
+    }
     /// The parameter domain (internal units).
     fn domain(&self) -> Domain;
 }

@@ -259,6 +259,13 @@ impl ParametricSurface for Surface {
         }
     }
     #[inline]
+    fn tangents_fast_at(&self, uv: DVec2) -> (DVec3, DVec3, DVec3) {
+        match self {
+            Self::Nurbs(s) => s.tangents_fast_at(uv),
+            _ => self.tangents_at(uv),
+        }
+    }
+    #[inline]
     fn domain(&self) -> Domain {
         match self {
             Self::Plane(s) => s.domain(),
