@@ -340,7 +340,7 @@ fn section_height_from(surface: &Surface, frame: &ContactFrame, cross_uv: DVec2,
             return None;
         }
         // Only r, r_u and r_v enter (the same bits as `derivatives_at`'s).
-        let (point, du, dv) = surface.tangents_at(uv);
+        let (point, du, dv) = surface.tangents_fast_at(uv);
         let w = point - frame.point;
         let (r1, r2) = (w.dot(frame.feed), w.dot(frame.cross) - y);
         if r1.abs().max(r2.abs()) < tolerance::FILLET_HEIGHT_MM {
