@@ -18,7 +18,7 @@
 //! (`α_j ≥ α_{j+1} − rate·ds`). Both passes only *raise* α at fixed ψ, which keeps every
 //! node gouge-free.
 
-use super::contact::{ContactFrame, Pose, cross_curvature, cutter_principal, gouge_margin, inclination_for};
+use super::contact::{ContactFrame, Pose, cutter_form, cutter_principal, gouge_margin, inclination_for};
 use crate::geom::{Cutter, CutterKind};
 use crate::tolerance;
 
@@ -124,8 +124,10 @@ pub fn matched_pose(
     let psi_ref = 0.5 * (psi_range.0 + psi_range.1);
     let eval = |alpha: f64, psi: f64| -> Option<f64> {
         let p = Pose { inclination_rad: alpha, azimuth_rad: psi };
-        (gouge_margin(cutter, frame, &p) >= m)
-            .then(|| cross_curvature(cutter, frame, &p) * (1.0 + AZIMUTH_PREFERENCE * (psi - psi_ref).abs()))
+        // D = Q_c − Q_s once for both: the margin (`gouge_margin`) is its smallest
+        // eigenvalue, Δκ (`cross_curvature`) its silhouette.
+        let d = cutter_form(cutter, &p).minus(&frame.surface_form);
+        (d.min_eigen() >= m).then(|| d.silhouette() * (1.0 + AZIMUTH_PREFERENCE * (psi - psi_ref).abs()))
     };
     if cutter.kind() == CutterKind::Ball {
         let p = Pose { inclination_rad: 0.0, azimuth_rad: 0.0 };

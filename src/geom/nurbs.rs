@@ -453,6 +453,32 @@ struct PowerPatches {
     /// `(p + 1)(q + 1)` coefficients per span pair, pair `(iu, iv)` at
     /// `(iu·spans_v.len() + iv)·(p + 1)(q + 1)`, coefficient `a_mn` at `m·(q + 1) + n`.
     coeffs: Vec<DVec4>,
+    /// The same without the weight when every weight is 1 (a polynomial surface: w ≡ 1, so
+    /// the point and its derivatives are the sums themselves, no quotient rule).
+    plain: Option<Vec<DVec3>>,
+}
+
+/// Horner's rule on one patch of [`PowerPatches`] (orders `ou` × `ov`): the sum and its
+/// derivatives in x and y, `(A, ∂A/∂x, ∂A/∂y)`.
+#[inline(always)]
+fn horner_tangents<T>(patch: &[T], ou: usize, ov: usize, x: f64, y: f64) -> (T, T, T)
+where
+    T: Copy + Default + std::ops::Add<Output = T> + std::ops::Mul<f64, Output = T>,
+{
+    // Along each row m in y (value and derivative), then in x.
+    let (mut a00, mut a10, mut a01) = (T::default(), T::default(), T::default());
+    for m in (0..ou).rev() {
+        let row = &patch[m * ov..][..ov];
+        let (mut b, mut db) = (row[ov - 1], T::default());
+        for &c in row[..ov - 1].iter().rev() {
+            db = db * y + b;
+            b = b * y + c;
+        }
+        a10 = a10 * x + a00;
+        a00 = a00 * x + b;
+        a01 = a01 * x + db;
+    }
+    (a00, a10, a01)
 }
 
 /// Power-form coefficients of the p + 1 basis functions that are non-zero on knot span s
@@ -535,7 +561,11 @@ impl PowerPatches {
                 }
             }
         }
-        Some(Self { spans_u, spans_v, coeffs })
+        // Exactly 1, not nearly: only then is w ≡ 1 and the quotient rule the identity.
+        #[expect(clippy::float_cmp, reason = "a weight of exactly 1 is what makes the surface polynomial")]
+        let unit = control.iter().all(|c| c.w == 1.0);
+        let plain = unit.then(|| coeffs.iter().map(|c| c.truncate()).collect());
+        Some(Self { spans_u, spans_v, coeffs, plain })
     }
 }
 
@@ -731,20 +761,12 @@ impl NurbsSurface {
         let sv = find_span(&self.knots_v, self.n_v, q, uv.y) - q;
         let ((u0, du), (v0, dv)) = (power.spans_u[su], power.spans_v[sv]);
         let (x, y) = ((uv.x - u0) / du, (uv.y - v0) / dv);
-        let patch = &power.coeffs[(su * power.spans_v.len() + sv) * ou * ov..][..ou * ov];
-        // Horner in y along each row m (value and derivative), then in x.
-        let (mut a00, mut a10, mut a01) = (DVec4::ZERO, DVec4::ZERO, DVec4::ZERO);
-        for m in (0..ou).rev() {
-            let row = &patch[m * ov..][..ov];
-            let (mut b, mut db) = (row[ov - 1], DVec4::ZERO);
-            for &c in row[..ov - 1].iter().rev() {
-                db = db * y + b;
-                b = b * y + c;
-            }
-            a10 = a10 * x + a00;
-            a00 = a00 * x + b;
-            a01 = a01 * x + db;
+        let at = (su * power.spans_v.len() + sv) * ou * ov;
+        if let Some(plain) = &power.plain {
+            let (a00, a10, a01) = horner_tangents(&plain[at..][..ou * ov], ou, ov, x, y);
+            return (a00, a10 / du, a01 / dv);
         }
+        let (a00, a10, a01) = horner_tangents(&power.coeffs[at..][..ou * ov], ou, ov, x, y);
         let (a10, a01) = (a10 / du, a01 / dv);
         let w = a00.w;
         let s = a00.truncate() / w;
@@ -873,9 +895,8 @@ mod tangents_tests {
     /// for rational nets of the specialised and general degrees.
     #[test]
     fn power_form_tangents_agree_with_the_standard_algorithm() {
-        for (degree, doubled) in
-            [([3, 3], true), ([2, 2], false), ([2, 1], true), ([1, 2], false), ([3, 2], true), ([5, 4], true)]
-        {
+        let cases = [([3, 3], true), ([2, 2], false), ([2, 1], true), ([1, 2], false), ([3, 2], true), ([5, 4], true)];
+        for ((degree, doubled), rational) in cases.into_iter().flat_map(|c| [(c, true), (c, false)]) {
             let (n_u, n_v) = (degree[0] + 5, degree[1] + 4);
             let points: Vec<Vec<DVec3>> = (0..n_u)
                 .map(|i| {
@@ -894,11 +915,13 @@ mod tangents_tests {
                 uneven_knots(degree[0], n_u, doubled),
                 uneven_knots(degree[1], n_v, doubled),
                 &points,
-                Some(&weights),
+                rational.then_some(weights.as_slice()),
                 false,
             )
             .unwrap_or_else(|e| panic!("{degree:?}: {e}"));
-            assert!(s.power.is_some(), "{degree:?}: no power form");
+            let power = s.power.as_ref().unwrap_or_else(|| panic!("{degree:?}: no power form"));
+            // Unit weights take the polynomial path.
+            assert_eq!(power.plain.is_some(), !rational, "{degree:?}");
             let dom = s.domain();
             let mut worst = 0.0f64;
             for i in -2..=62 {
@@ -914,7 +937,7 @@ mod tangents_tests {
                     worst = worst.max(err);
                 }
             }
-            assert!(worst < 1e-12, "{degree:?}: relative difference {worst:e}");
+            assert!(worst < 1e-12, "{degree:?} (rational {rational}): relative difference {worst:e}");
         }
     }
 
