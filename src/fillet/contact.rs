@@ -206,8 +206,14 @@ pub fn inclination_for(cutter: &Cutter, kappa: f64) -> Option<f64> {
 /// The cutter's second fundamental form Q_c in (f, c) for this pose (1/mm).
 #[must_use]
 pub fn cutter_form(cutter: &Cutter, pose: &Pose) -> Form2 {
-    let (k_mer, k_par) = cutter_principal(cutter, pose.inclination_rad);
-    let (s, c) = pose.azimuth_rad.sin_cos();
+    cutter_form_of(cutter_principal(cutter, pose.inclination_rad), pose.azimuth_rad.sin_cos())
+}
+
+/// [`cutter_form`] from the principal curvatures `(k_mer, k_par)` ([`cutter_principal`],
+/// 1/mm) and `(sin ψ, cos ψ)`, for searches that reuse them across a grid (the same
+/// arithmetic, so the same bits).
+#[must_use]
+pub fn cutter_form_of((k_mer, k_par): (f64, f64), (s, c): (f64, f64)) -> Form2 {
     Form2 { ff: k_mer * c * c + k_par * s * s, fc: (k_mer - k_par) * s * c, cc: k_mer * s * s + k_par * c * c }
 }
 

@@ -18,7 +18,7 @@
 //! (`α_j ≥ α_{j+1} − rate·ds`). Both passes only *raise* α at fixed ψ, which keeps every
 //! node gouge-free.
 
-use super::contact::{ContactFrame, Pose, cutter_form, cutter_principal, gouge_margin, inclination_for};
+use super::contact::{ContactFrame, Pose, cutter_form_of, cutter_principal, gouge_margin, inclination_for};
 use crate::geom::{Cutter, CutterKind};
 use crate::tolerance;
 
@@ -102,6 +102,8 @@ pub fn min_inclination(cutter: &Cutter) -> f64 {
 const GRID_ALPHA: usize = 40;
 const GRID_PSI: usize = 24;
 const REFINE: usize = 8;
+// The matched search's column table holds GRID_PSI + 1 azimuths, enough for the refinement's.
+const _: () = assert!(REFINE <= GRID_PSI);
 /// Relative weight per radian of the azimuth's distance from the window's centre in the
 /// matched objective: a pose 10° further off must be 1.7 % narrower-scalloped to be chosen.
 const AZIMUTH_PREFERENCE: f64 = 0.1;
@@ -122,24 +124,31 @@ pub fn matched_pose(
     // preference for the window's centre (the previous node's ψ) keeps the choice from
     // jumping between them.
     let psi_ref = 0.5 * (psi_range.0 + psi_range.1);
-    let eval = |alpha: f64, psi: f64| -> Option<f64> {
-        let p = Pose { inclination_rad: alpha, azimuth_rad: psi };
+    // The cutter's principal curvatures at α and (sin ψ, cos ψ), each computed once per grid
+    // row or column (`cutter_form_of`: the same bits as `cutter_form`).
+    let eval = |k: (f64, f64), psi: f64, psi_sc: (f64, f64)| -> Option<f64> {
         // D = Q_c − Q_s once for both: the margin (`gouge_margin`) is its smallest
         // eigenvalue, Δκ (`cross_curvature`) its silhouette.
-        let d = cutter_form(cutter, &p).minus(&frame.surface_form);
+        let d = cutter_form_of(k, psi_sc).minus(&frame.surface_form);
         (d.min_eigen() >= m).then(|| d.silhouette() * (1.0 + AZIMUTH_PREFERENCE * (psi - psi_ref).abs()))
     };
     if cutter.kind() == CutterKind::Ball {
         let p = Pose { inclination_rad: 0.0, azimuth_rad: 0.0 };
-        return eval(0.0, 0.0).map(|_| p);
+        return eval(cutter_principal(cutter, 0.0), 0.0, 0.0f64.sin_cos()).map(|_| p);
     }
     let mut best: Option<(f64, f64, f64)> = None;
     let search = |a0: f64, a1: f64, p0: f64, p1: f64, na: usize, np: usize, best: &mut Option<(f64, f64, f64)>| {
+        // The columns' ψ with their sines and cosines (np ≤ GRID_PSI).
+        let mut cols = [(0.0, (0.0, 0.0)); GRID_PSI + 1];
+        for (j, col) in cols.iter_mut().enumerate().take(np + 1) {
+            let psi = if np == 0 { 0.5 * (p0 + p1) } else { p0 + (p1 - p0) * j as f64 / np as f64 };
+            *col = (psi, psi.sin_cos());
+        }
         for i in 0..=na {
             let alpha = a0 + (a1 - a0) * i as f64 / na as f64;
-            for j in 0..=np {
-                let psi = if np == 0 { 0.5 * (p0 + p1) } else { p0 + (p1 - p0) * j as f64 / np as f64 };
-                if let Some(v) = eval(alpha, psi)
+            let k = cutter_principal(cutter, alpha);
+            for &(psi, psi_sc) in &cols[..=np] {
+                if let Some(v) = eval(k, psi, psi_sc)
                     && best.is_none_or(|b| v < b.0)
                 {
                     *best = Some((v, alpha, psi));
