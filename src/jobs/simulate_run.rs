@@ -31,6 +31,7 @@ use crate::gcode::{
 use crate::geom::Cutter;
 use crate::scene::finish::FinishScene;
 use crate::scene::{Scene, build_machine, build_tool_axis};
+use crate::simulate::bench::BenchKind;
 use crate::simulate::measure::Summary;
 use crate::simulate::stock::Grid;
 use crate::simulate::{
@@ -92,6 +93,15 @@ pub enum ProgramSource {
     },
     /// Moves already made (an earlier run's [`Prepared::program`]).
     Moves(Program),
+    /// A benchmark program built in the job from its kind and move count
+    /// ([`crate::simulate::bench`]): the browser's measurement of the native benchmark,
+    /// without the program's text handed to the worker.
+    Benchmark {
+        /// Which program.
+        kind: BenchKind,
+        /// Its moves (at most [`crate::simulate::bench::MAX_BENCH_MOVES`]).
+        moves: usize,
+    },
 }
 
 /// What the machined stock is compared with.
@@ -243,6 +253,7 @@ fn make_program(req: &Request, rep: &Reporter<'_>) -> Result<Program, String> {
     let chord = |pitch: f64| pitch / 10.0;
     let (toolpath, centre) = match &req.source {
         ProgramSource::Moves(p) => return Ok(p.clone()),
+        ProgramSource::Benchmark { kind, moves } => return kind.program(*moves).map_err(|e| e.to_string()),
         ProgramSource::Steps { scene } => {
             let (scene, job) = scene_of(scene)?;
             let curve = crease_curve(&job, rep)?;
@@ -448,6 +459,7 @@ impl JobKind for SimulateRun {
             ProgramSource::Steps { scene } => json!({ "steps": scene }),
             ProgramSource::Text { name, text } => json!({ "name": name, "text": text }),
             ProgramSource::Moves(p) => json!({ "moves": program_value(p) }),
+            ProgramSource::Benchmark { kind, moves } => json!({ "benchmark": kind.key(), "count": moves }),
         };
         let c = &r.cutter;
         json!({
@@ -485,6 +497,10 @@ impl JobKind for SimulateRun {
             ProgramSource::Steps { scene: scene.to_owned() }
         } else if let Ok(text) = s.str("text") {
             ProgramSource::Text { name: s.str("name")?.to_owned(), text: text.to_owned() }
+        } else if let Ok(kind) = s.str("benchmark") {
+            let (kind, moves) = BenchKind::parse(&format!("{kind}:{}", s.usize("count")?))
+                .map_err(|e| format!("simulate-run request.source: {e}"))?;
+            ProgramSource::Benchmark { kind, moves }
         } else {
             ProgramSource::Moves(program_of(s.value("moves")?)?)
         };

@@ -25,7 +25,8 @@ use crate::geom::Cutter;
 use crate::jobs::simulate_run::{self, DesignSpec, Keyframe, Partial, ProgramSource, Request, SimulateRun};
 pub use crate::jobs::simulate_run::{AUTO_GRID_SIDE, PITCH_RANGE_MM};
 use crate::scene::Scene;
-use crate::simulate::{Counters, Grid, HeightMap, Program, SimStats};
+use crate::simulate::bench::BenchKind;
+use crate::simulate::{Counters, Grid, HeightMap, InteriorStats, Program, SimStats, interior_stats};
 
 /// How often the view's mesh follows the stock while moves are being cut.
 const MAP_REFRESH: Duration = Duration::from_millis(200);
@@ -56,12 +57,22 @@ pub enum SourceKind {
     /// The finishing program handed over by the fillet tab (seed 001): its five-axis
     /// program through the machine, the fillet cutter, the finish surface as the design.
     Finish,
+    /// A benchmark program built in the job from its kind and move count
+    /// (`simulate::bench`: the native benchmarks' programs), on their 51.2 mm block.
+    Benchmark,
 }
 
 impl SourceKind {
     /// All, in menu order.
-    pub const ALL: [Self; 6] =
-        [Self::CreaseG01, Self::CreaseArcs, Self::CreaseNurbs, Self::Steps, Self::Loaded, Self::Finish];
+    pub const ALL: [Self; 7] = [
+        Self::CreaseG01,
+        Self::CreaseArcs,
+        Self::CreaseNurbs,
+        Self::Steps,
+        Self::Loaded,
+        Self::Finish,
+        Self::Benchmark,
+    ];
 
     /// Key for `set_option` and the status.
     #[must_use]
@@ -73,6 +84,7 @@ impl SourceKind {
             Self::Steps => "steps",
             Self::Loaded => "loaded",
             Self::Finish => "finish",
+            Self::Benchmark => "benchmark",
         }
     }
 
@@ -86,13 +98,14 @@ impl SourceKind {
             Self::Steps => "Scene 5-axis tool steps (seed 002)",
             Self::Loaded => "Loaded G-code file",
             Self::Finish => "Fillet tab's finishing program (seed 001)",
+            Self::Benchmark => "Benchmark raster (ball R 3 on a 51.2 mm block)",
         }
     }
 
     /// Whether the program is made from the scene's crease.
     #[must_use]
     pub fn needs_crease(self) -> bool {
-        !matches!(self, Self::Loaded | Self::Finish)
+        !matches!(self, Self::Loaded | Self::Finish | Self::Benchmark)
     }
 
     fn program_kind(self) -> Option<ProgramKind> {
@@ -168,6 +181,8 @@ pub struct Inputs {
     pub loaded_generation: u64,
     /// Generation of the finishing program handed over (bumped on every hand-over).
     pub finish_generation: u64,
+    /// The benchmark program (source `benchmark`): its kind and moves.
+    pub bench: (BenchKind, usize),
 }
 
 /// The program a run machines, with what to draw of it.
@@ -200,6 +215,9 @@ pub struct Results {
     pub moves: usize,
     /// The run's counts.
     pub counters: Counters,
+    /// A finishing program's scallops over its interior band (`simulate::interior`), when
+    /// measured against its finish surface.
+    pub interior: Option<InteriorStats>,
 }
 
 /// The stock shown while a run goes on: a keyframe (its heights, no deviation).
@@ -318,10 +336,16 @@ impl Job {
     /// The first run's request: the source, cutter and design resolved against the scene.
     fn request_of(&self, scene: &Scene, loaded: Option<&(String, String)>) -> Result<Request, String> {
         let i = &self.inputs;
-        let cutter = i.cutter.cutter(scene)?;
+        let cutter = match (i.source, i.cutter) {
+            (SourceKind::Benchmark, CutterChoice::SceneBall) => {
+                Cutter::ball(crate::simulate::bench::BALL_MM).map_err(|e| format!("cutter: {e}"))?
+            }
+            (_, c) => c.cutter(scene)?,
+        };
         let source = match i.source.program_kind() {
             Some(kind) => ProgramSource::Crease { scene: scene.to_json(), kind },
             None if i.source == SourceKind::Steps => ProgramSource::Steps { scene: scene.to_json() },
+            None if i.source == SourceKind::Benchmark => ProgramSource::Benchmark { kind: i.bench.0, moves: i.bench.1 },
             None => {
                 let (name, text) = loaded.ok_or(
                     "no G-code file loaded: open one in the \"NURBS & G-code\" tab (Open program… or drop a file), then come back",
@@ -330,7 +354,9 @@ impl Job {
             }
         };
         let design = match (i.design, i.source) {
-            (DesignChoice::None, _) | (DesignChoice::Auto, SourceKind::Loaded) => DesignSpec::None,
+            (DesignChoice::None, _) | (DesignChoice::Auto, SourceKind::Loaded | SourceKind::Benchmark) => {
+                DesignSpec::None
+            }
             (DesignChoice::PlaneZ(z), _) => DesignSpec::PlaneZ(z),
             (DesignChoice::Scene | DesignChoice::Auto, _) => DesignSpec::Scene(scene.to_json()),
         };
@@ -338,7 +364,7 @@ impl Job {
             source,
             cutter,
             pitch_mm: i.pitch_mm,
-            stock_mm: i.stock_mm,
+            stock_mm: i.stock_mm.or((i.source == SourceKind::Benchmark).then(BenchKind::stock_mm)),
             margin_mm: i.margin_mm,
             max_sample_step_mm: None,
             design,
@@ -634,7 +660,14 @@ impl Job {
                 self.run = None;
             }
             Poll::Done(Ok(f)) => {
+                let interior = match (&self.finish, self.request.as_ref().map(|r| &r.design)) {
+                    (Some(h), Some(DesignSpec::Finish(_))) => {
+                        Some(interior_stats(&f.stats, &h.program.interior_mask(&f.map.grid)))
+                    }
+                    _ => None,
+                };
                 let r = std::rc::Rc::new(Results {
+                    interior,
                     moves: f.counters.moves,
                     counters: f.counters,
                     map: f.map,

@@ -167,9 +167,43 @@ fn requests_cross_unchanged() {
     let (p, _) = decode_all(&c);
     assert!(p.program.moves.iter().all(|m| matches!(m.kind, MoveKind::Joints { .. })) && p.program.moves.len() > 2);
     reqs.push(Request { source: ProgramSource::Moves(p.program), ..grooves(Some(2), 0) });
+    reqs.push(Request {
+        source: ProgramSource::Benchmark { kind: crate::simulate::bench::BenchKind::FiveAxis, moves: 10_000 },
+        ..grooves(None, 0)
+    });
     for r in reqs {
         assert_eq!(SimulateRun::decode_request(&SimulateRun::encode_request(&r)).unwrap(), r);
     }
+    let e = SimulateRun::decode_request(r#"{"source": {"benchmark": "five-axis", "count": 0}}"#).unwrap_err();
+    assert!(e.contains("five-axis:N"), "{e}");
+}
+
+/// A benchmark source runs the core's benchmark program: the same moves, the same stock.
+#[test]
+fn a_benchmark_run_machines_the_core_benchmark_program() {
+    use crate::simulate::bench::{self, BenchKind};
+    let req = Request {
+        source: ProgramSource::Benchmark { kind: BenchKind::FiveAxis, moves: 120 },
+        cutter: Cutter::ball(bench::BALL_MM).unwrap(),
+        pitch_mm: Some(0.8),
+        stock_mm: Some(BenchKind::stock_mm()),
+        margin_mm: 0.0,
+        max_sample_step_mm: None,
+        design: DesignSpec::None,
+        target: None,
+        keyframes: 0,
+    };
+    let mut c = Collect::default();
+    let out = SimulateRun::run(&req, &mut c).unwrap();
+    let (p, _) = decode_all(&c);
+    let program = bench::five_axis(120).unwrap();
+    assert_eq!(p.program, program);
+    let s = BenchKind::stock_mm();
+    let stock = DexelStock::block([s[0], s[1], s[2]], [s[3], s[4], s[5]], 0.8).unwrap();
+    let mut sim = Simulation::new(stock, &Cutter::ball(bench::BALL_MM).unwrap());
+    sim.run(&program).unwrap();
+    assert_eq!(out.counters, *sim.counters());
+    assert_eq!(out.map, HeightMap::of(sim.stock()));
 }
 
 /// A cancelled run stops; bad input gets a message, not a panic.
