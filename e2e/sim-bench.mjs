@@ -139,6 +139,8 @@ if (slider) {
         target = s.target_move;
         if (s.stage === "done" && !s.computing && s.measured && s.moves_simulated === s.target_move
           && s.target_move !== before.target_move) { st = s; break; }
+        // The drag landed on the move already shown: nothing to wait for.
+        if (Date.now() - t0 > 3000 && s.target_move === before.target_move) break;
       }
       await page.waitForTimeout(20);
     }
@@ -146,7 +148,6 @@ if (slider) {
     const row = {
       target_move: target, release_to_exact_ms: st ? Date.now() - t0 : null, sim_ms: st && st.sim_ms,
       removed_volume_mm3: st && st.removed_volume_mm3, frame_longest_ms: gaps.length ? Math.max(...gaps) : null,
-      replay_worker: st && st.replay_worker,
     };
     report.replays.push(row);
     console.log(`replay: ${JSON.stringify(row)}`);

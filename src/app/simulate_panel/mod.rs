@@ -591,7 +591,7 @@ impl Panel for SimulatePanel {
             job.set_target(self.target);
             if job.computing() {
                 // The run is elsewhere: take what arrived, and look again soon.
-                job.advance(cx.scene);
+                job.advance();
                 ui.ctx().request_repaint_after(super::jobs::POLL);
             }
         }
