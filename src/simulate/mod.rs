@@ -22,7 +22,7 @@
 //! Modules: [`stock`] (rays, interval subtraction), [`sweep`] (cutter and envelope against
 //! a ray), [`program`] (moves from G-code and 5-axis plans), [`measure`] (maps and
 //! statistics, CSV and PNG output), [`interior`] (a finishing program's interior band and
-//! its scallop statistics), [`finish`] (seed 001's finishing programs), [`bench`] (the
+//! its scallop statistics), [`finish`] (seed 001's finishing programs), [`bench`](mod@bench) (the
 //! benchmark programs). Layout and error bounds: `docs/simulation.md`.
 
 pub mod bench;
