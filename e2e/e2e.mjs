@@ -451,6 +451,55 @@ try {
     await pageJ.close();
   }
 
+  // 10c. The native benchmark's 5-axis program, given to the tab through the page address
+  // (`?view=…&set=benchmark:five-axis:N`: built in the worker from those numbers), on a
+  // coarser grid than the benchmark's so the check is short: the run finishes in the
+  // worker, its progress rises, and its numbers are the command line's for the same
+  // program, cutter, block and pitch. (e2e/sim-bench.mjs measures the full 10 000 moves on
+  // 512 × 512 rays.)
+  {
+    const TAB = "Cutting simulation";
+    const pageB = await context.newPage();
+    currentTab = "simulation";
+    const q = `?view=${encodeURIComponent(TAB)}&set=${encodeURIComponent("benchmark:five-axis:1000")}&set=${encodeURIComponent("pitch:0.4")}`;
+    await pageB.goto(url + q);
+    const seen = [];
+    const t0 = Date.now();
+    let sb = null;
+    while (Date.now() - t0 < 120000) {
+      const s = await status(pageB).catch(() => null);
+      const st = s && s.panel && s.panel.title === TAB ? s.panel.status : null;
+      if (st && st.computing && (seen.length === 0 || seen[seen.length - 1] !== st.progress)) seen.push(st.progress);
+      if (st && (st.stage === "done" || st.stage === "error")) { sb = st; break; }
+      await pageB.waitForTimeout(20);
+    }
+    const rising = seen.every((v, i) => i === 0 || v >= seen[i - 1]);
+    check("benchmark program from the address: machined in the worker, progress rising",
+      sb !== null && sb.error === null && sb.benchmark === "five-axis:1000" && sb.moves_simulated === 1000
+        && sb.grid.nx === 128 && sb.in_background === true && rising && seen.length >= 2,
+      sb ? `${sb.moves_simulated} moves on ${sb.grid.nx}×${sb.grid.ny} rays, ${sb.ray_updates} ray updates in ${Math.round(sb.sim_ms)} ms, progress seen ${seen.map((v) => v.toFixed(2)).join(" ")}` : "no result");
+    // The command line's numbers, if its binary is built (cargo builds it for the tests).
+    // The newest of the debug and release binaries (a stale one may lack --benchmark).
+    const bins = ["release", "debug"].map((d) => path.join(here, "..", "target", d, "interpolab")).filter((b) => fs.existsSync(b))
+      .sort((a, b) => fs.statSync(b).mtimeMs - fs.statSync(a).mtimeMs);
+    if (sb && bins.length > 0) {
+      const { execFileSync } = await import("node:child_process");
+      const out = JSON.parse(execFileSync(bins[0], ["simulate", "--benchmark", "five-axis:1000", "--cutter", "ball:3",
+        "--stock", "0,0,0,51.2,51.2,20", "--pitch", "0.4"], { encoding: "utf8" }));
+      // The removed volume (to 1e-6 mm³) and the moves are the same; the ray updates may
+      // differ by a few in 10⁵: the joints come from trigonometry (inverse and forward
+      // kinematics), whose last bits differ between the native libm and wasm's, and a ray
+      // grazed at 1e-15 mm counts as an update on one side only.
+      check("benchmark program: the browser's numbers are the command line's",
+        Math.abs(out.ray_updates - sb.ray_updates) <= 1e-4 * out.ray_updates && out.removed_volume_mm3 === sb.removed_volume_mm3
+          && out.moves === sb.moves_simulated && out.grid.nx === sb.grid.nx,
+        `browser ${sb.ray_updates} updates, ${sb.removed_volume_mm3} mm³; command line ${out.ray_updates}, ${out.removed_volume_mm3} mm³`);
+    } else {
+      console.log("      (no target/*/interpolab binary: the comparison with the command line is skipped)");
+    }
+    await pageB.close();
+  }
+
   // 11. Fillet end mill (seed 001): the default finishing part's iso-scallop paths, built
   // path by path over frames, drawn with the cutter at a contact point.
   {

@@ -12,8 +12,9 @@ fn main() {
 /// The Web Worker's side: installs a message handler on the worker's global scope, then says
 /// `ready`. Each message is a string `kind '\n' request`; the answer is `ok '\n' output` or
 /// `err '\n' message` (a request the worker cannot decode). Progress is posted as
-/// `progress '\n' fraction`, a partial output as `partial '\n' text`. The page starts one worker per job and terminates it to cancel,
-/// so a job here never needs to look at `Progress::cancelled`. (Browser glue lives in this
+/// `progress '\n' fraction`, a partial output as `partial '\n' text`. The page runs one job at a time on a worker, terminates it to
+/// cancel (so a job here never needs to look at `Progress::cancelled`) and may send a worker
+/// that answered its next job. (Browser glue lives in this
 /// binary, not in the core: `tests/core_boundary.rs`.)
 #[cfg(all(target_arch = "wasm32", feature = "worker"))]
 mod worker {

@@ -1163,6 +1163,32 @@ fn the_fillet_tab_hands_its_program_to_the_simulation_and_two_maps_are_compared(
     let stock = fp.stock_mm(2.0).expect("stock");
     let got: Vec<f64> = a["stock_mm"].as_array().expect("stock").iter().map(|v| v.as_f64().expect("mm")).collect();
     assert_eq!(got, stock.to_vec(), "the automatic stock is the part's box: {a}");
+    // The command line on the same finishing scene gives the same numbers, the interior
+    // band's scallops included (the tab shows both: interior and whole patch).
+    let dir = std::env::temp_dir().join(format!("interpolab-interior-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let scene_path = dir.join("finish.json");
+    std::fs::write(&scene_path, scene.to_json()).expect("scene written");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_interpolab"))
+        .args(["simulate", scene_path.to_str().expect("path"), "--finish", "0.002", "--pitch", "0.5"])
+        .output()
+        .expect("runs");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let cli: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    assert_eq!(cli["moves"], a["moves_total"], "{cli}");
+    assert_eq!(cli["scallop_um"], a["scallop_um"], "whole patch: {cli}");
+    let (ci, ai) = (&cli["interior"]["scallop_um"], &a["scallop_interior_um"]);
+    for k in ["rays", "max", "mean", "p95"] {
+        assert_eq!(ci[k], ai[k], "interior {k}: command line {ci}, app {ai}");
+    }
+    assert_eq!(cli["interior"]["rays"], ai["band_rays"], "{cli}");
+    assert!(ai["rays"].as_u64().expect("rays") > 100, "the band holds scallops: {ai}");
+    assert!(
+        ai["max"].as_f64().expect("max") < a["scallop_um"]["max"].as_f64().expect("max"),
+        "the edges' scallops are left out of the interior: {ai} vs {}",
+        a["scallop_um"]
+    );
+    let _ = std::fs::remove_dir_all(&dir);
     // Scallops were measured over the patch; the matched paths leave about h between them.
     let sc = &a["scallop_um"];
     assert!(sc["rays"].as_u64().expect("rays") > 1000, "{a}");

@@ -286,6 +286,21 @@ fn a_finishing_program_leaves_its_scallop_and_no_gouge_beyond_its_tolerances() {
     assert!(min >= -(step_mm + chord_mm), "interior deviation min {min} mm");
     let worst = s["gouge"]["worst_um"].as_f64().unwrap_or(0.0);
     assert!(worst >= -(step_mm + chord_mm) * 1e3, "worst gouge {worst} µm: {s}");
+    // The JSON's interior band (the core's, from the passes' contact points) is this
+    // test's band here (the passes run along x over the whole patch, the first at y = 0,
+    // the last at y = 6): the same rays, the same largest scallop (µm to 1e-3).
+    let band = &s["interior"];
+    assert_eq!((band["end_mm"].as_f64(), band["side_mm"].as_f64()), (Some(1.0), Some(0.5)), "{band}");
+    let inner_pos = inner.iter().filter(|d| **d >= 0.0).count();
+    let rays = band["scallop_um"]["rays"].as_u64().unwrap() as f64;
+    assert!((rays - inner_pos as f64).abs() <= 0.05 * inner_pos as f64, "{band}: {inner_pos} rays here");
+    let band_max = band["scallop_um"]["max"].as_f64().unwrap() * 1e-3;
+    assert!(band_max <= upper && band_max >= 0.85 * h_mm, "interior band max {band_max} mm: {band}");
+    assert!(
+        band_max < s["scallop_um"]["max"].as_f64().unwrap() * 1e-3
+            || s["scallop_um"]["max"] == band["scallop_um"]["max"],
+        "{s}"
+    );
 }
 
 /// Without `--sample-step` a finishing program's fillet poses are at most √(2·r·h) apart

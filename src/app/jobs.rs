@@ -7,7 +7,9 @@
 //! - In the browser it runs in a Web Worker ([`WORKER_SCRIPT`], the `interpolab-worker` wasm
 //!   module: the core without egui or wgpu, built by Trunk beside the app). The request and
 //!   the output cross as text (`JobKind::encode_*`, numbers by their bits, so the output is
-//!   the one computed). One worker per job; cancelling terminates it. If the worker cannot
+//!   the one computed). One worker per job at a time; cancelling terminates it; a worker
+//!   that answered is kept for the next job (at most one kept), so a replay does not start
+//!   a worker again. If the worker cannot
 //!   run (no script, an error inside it, an output that does not decode), the job is run on
 //!   the page instead, as the app did before: slower to the eye, same result.
 //!
@@ -279,6 +281,17 @@ mod imp {
         _kind: std::marker::PhantomData<K>,
     }
 
+    /// Workers kept after answering a job, at most [`MAX_IDLE`]: the next job (a replay of
+    /// the move slider, the next table row) starts on one at once instead of fetching and
+    /// compiling the worker's wasm again. Only a worker that has answered is kept (its last
+    /// message was its output, so nothing of the old job is queued); a cancelled job's
+    /// worker is terminated, as before.
+    const MAX_IDLE: usize = 1;
+
+    thread_local! {
+        static IDLE: RefCell<Vec<web_sys::Worker>> = const { RefCell::new(Vec::new()) };
+    }
+
     impl Running {
         /// Ends the worker. Its handlers are unset first: an event already queued for them
         /// must not reach a closure that is about to be dropped.
@@ -287,11 +300,39 @@ mod imp {
             self.worker.set_onerror(None);
             self.worker.terminate();
         }
+
+        /// Keeps the worker (it answered and waits for a message) for the next job, or ends
+        /// it when enough are kept.
+        fn park(self) {
+            self.worker.set_onmessage(None);
+            self.worker.set_onerror(None);
+            let kept = IDLE.with(|idle| {
+                let mut idle = idle.borrow_mut();
+                if idle.len() < MAX_IDLE {
+                    idle.push(self.worker.clone());
+                    true
+                } else {
+                    false
+                }
+            });
+            if !kept {
+                self.worker.terminate();
+            }
+        }
     }
 
     fn spawn() -> Result<Running, JsValue> {
-        let worker = web_sys::Worker::new(WORKER_SCRIPT)?;
+        let reused = IDLE.with(|idle| idle.borrow_mut().pop());
+        let ready = reused.is_some();
+        let worker = match reused {
+            Some(w) => w,
+            None => web_sys::Worker::new(WORKER_SCRIPT)?,
+        };
         let inbox: Inbox = Rc::default();
+        if ready {
+            // A kept worker said "ready" long ago: the request goes at the first poll.
+            inbox.borrow_mut().push_back("ready\n".to_owned());
+        }
         let inbox2 = inbox.clone();
         let on_message = Closure::<dyn FnMut(web_sys::MessageEvent)>::new(move |e: web_sys::MessageEvent| {
             inbox2.borrow_mut().push_back(e.data().as_string().unwrap_or_default());
@@ -357,7 +398,7 @@ mod imp {
                         return match K::decode_output(body) {
                             Ok(out) => {
                                 if let Some(r) = self.running.take() {
-                                    r.stop();
+                                    r.park();
                                 }
                                 Some(out)
                             }

@@ -164,7 +164,26 @@ impl InterpolabApp {
             app.info("Opened the scene from the link.");
         }
         app.restart();
+        let query = app.platform.query();
+        app.apply_query(&query);
         app
+    }
+
+    /// Applies the automation options of a page address's query (`?view=TITLE&set=KEY:VALUE…`,
+    /// see [`query_options`]): shows the view and sets its options in order; a refused one
+    /// is shown in the banner and the rest are skipped.
+    pub fn apply_query(&mut self, query: &str) {
+        let Some((title, options)) = query_options(query) else { return };
+        if let Err(e) = self.set_panel_option(&title, "", "") {
+            self.error(format!("The address's view was not shown — {e}"));
+            return;
+        }
+        for (key, value) in options {
+            if let Err(e) = self.set_panel_option(&title, &key, &value) {
+                self.error(format!("The address's option {key} was not set — {e}"));
+                return;
+            }
+        }
     }
 
     fn info(&mut self, text: impl Into<String>) {
@@ -681,4 +700,74 @@ pub(crate) fn describe_outcome(c: &Computation) -> (bool, String) {
 /// Whether the method in use is the seed-000 stepper.
 pub(crate) fn is_seed000(o: &InterpOptions) -> bool {
     o.method == Method::Seed000
+}
+
+/// The automation options of a page address's query: `view=TITLE` names the view to show,
+/// each `set=KEY:VALUE` one of its options (`Panel::set_option`), in order; values are
+/// percent-encoded (`+` is a space). E.g. `?view=Cutting+simulation&set=benchmark:five-axis:10000`
+/// makes the simulation tab build and run the native benchmark's 5-axis program in its
+/// worker (e2e/sim-bench.mjs). `None` without a `view`.
+#[must_use]
+pub fn query_options(query: &str) -> Option<(String, Vec<(String, String)>)> {
+    let q = query.strip_prefix('?').unwrap_or(query);
+    let mut view = None;
+    let mut options = Vec::new();
+    for part in q.split('&') {
+        let (k, v) = part.split_once('=').unwrap_or((part, ""));
+        let v = percent_decode(v);
+        match k {
+            "view" => view = Some(v),
+            "set" => {
+                let (key, value) = v.split_once(':').unwrap_or((v.as_str(), ""));
+                options.push((key.to_owned(), value.to_owned()));
+            }
+            _ => {}
+        }
+    }
+    view.map(|v| (v, options))
+}
+
+/// `%XX` escapes and `+` (space) of a query value; a malformed escape is kept as written.
+fn percent_decode(text: &str) -> String {
+    let b = text.as_bytes();
+    let mut out = Vec::with_capacity(b.len());
+    let mut i = 0;
+    while i < b.len() {
+        let hex = |c: u8| char::from(c).to_digit(16);
+        match b[i] {
+            b'+' => out.push(b' '),
+            b'%' if i + 2 < b.len() => match (hex(b[i + 1]), hex(b[i + 2])) {
+                (Some(h), Some(l)) => {
+                    out.push(u8::try_from(h * 16 + l).unwrap_or(b'?'));
+                    i += 3;
+                    continue;
+                }
+                _ => out.push(b'%'),
+            },
+            c => out.push(c),
+        }
+        i += 1;
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}
+
+#[cfg(test)]
+mod query_tests {
+    use super::query_options;
+
+    #[test]
+    fn a_query_names_a_view_and_its_options_in_order() {
+        let (view, opts) = query_options("?view=Cutting+simulation&set=benchmark:five-axis:10000&set=pitch%3A0.4&x=1")
+            .expect("a view");
+        assert_eq!(view, "Cutting simulation");
+        assert_eq!(
+            opts,
+            [("benchmark".to_owned(), "five-axis:10000".to_owned()), ("pitch".to_owned(), "0.4".to_owned())]
+        );
+        assert_eq!(query_options("?set=pitch:0.4"), None, "no view, nothing to do");
+        assert_eq!(query_options(""), None);
+        let (_, opts) = query_options("view=A&set=k:100%&set=k:%zz%4").expect("a view");
+        assert_eq!(opts[0].1, "100%", "a malformed escape is kept");
+        assert_eq!(opts[1].1, "%zz%4");
+    }
 }

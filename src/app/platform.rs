@@ -168,6 +168,11 @@ mod imp {
             web_sys::window().and_then(|w| w.location().hash().ok()).unwrap_or_default()
         }
 
+        /// The page address's query (`?…`), for automation options (`app::query_options`).
+        pub fn query(&self) -> String {
+            web_sys::window().and_then(|w| w.location().search().ok()).unwrap_or_default()
+        }
+
         pub fn set_fragment(&mut self, fragment: &str) {
             if let Some(h) = web_sys::window().and_then(|w| w.history().ok()) {
                 let _ = h.replace_state_with_url(&JsValue::NULL, "", Some(&format!("#{fragment}")));
@@ -248,6 +253,10 @@ mod imp {
         }
 
         pub fn fragment(&self) -> String {
+            String::new()
+        }
+
+        pub fn query(&self) -> String {
             String::new()
         }
 

@@ -13,9 +13,11 @@ use interpolab::fillet::{PartSamples, iso_parametric, iso_scallop};
 use interpolab::gcode::{ProgrammedPoint, parse_program};
 use interpolab::geom::Cutter;
 use interpolab::scene::Scene;
+use interpolab::simulate::bench::BenchKind;
 use interpolab::simulate::{
     Design, DexelStock, FinishProgram, HeightMap, Program, SimStats, Simulation, heights_csv, png_rgb,
 };
+use interpolab::simulate::{INTERIOR_END_MM, INTERIOR_SIDE_MM, InteriorStats, interior_mask, interior_stats};
 use serde_json::json;
 
 use super::Fatal;
@@ -38,7 +40,13 @@ pub(crate) enum PointArg {
 #[derive(Args)]
 pub(crate) struct SimulateArgs {
     /// G-code program (G00/G01/G02/G03 in G17/G18/G19, helical, G06.2 NURBS).
-    program: PathBuf,
+    #[arg(required_unless_present = "benchmark")]
+    program: Option<PathBuf>,
+    /// Instead of PROGRAM: the benchmark program `five-axis:N` or `three-axis:N` (N moves of
+    /// the ball raster on the 51.2 mm block, docs/simulation.md), built in memory; give
+    /// --cutter and --stock as for a program (the benchmarks: ball:3, 0,0,0,51.2,51.2,20).
+    #[arg(long, conflicts_with_all = ["program", "steps", "finish", "scene"])]
+    benchmark: Option<String>,
     /// Cutter: `ball:R`, `flat:R` or `fillet:R,r` (mm), e.g. `ball:5` (with --finish: default
     /// the scene's cutter as its strategy machines).
     #[arg(long)]
@@ -198,16 +206,24 @@ pub(super) fn simulate(a: &SimulateArgs) -> Result<ExitCode, Fatal> {
         })?,
         a.pitch,
     )?;
+    if let Some(b) = &a.benchmark {
+        let (kind, n) = BenchKind::parse(b).map_err(|e| Fatal(format!("--{e}")))?;
+        let program = kind.program(n).map_err(|e| Fatal(format!("--benchmark {b}: {e}")))?;
+        let design = load_design(&SimulateDesign { design_z: a.design_z, scene: None })?;
+        let how = RunHow { sample_step: a.sample_step, centre: false, finish_info: None, interior_passes: None };
+        return finish(a, &cutter, stock, &program, &design, how);
+    }
+    let path = program_path(a)?;
     if let Some(tol) = a.steps {
-        let (machine, blocks, _) = super::fiveaxis::scene_blocks(&a.program, tol)?;
+        let (machine, blocks, _) = super::fiveaxis::scene_blocks(path, tol)?;
         let program = Program::from_blocks(&machine, &blocks).map_err(|e| Fatal(e.to_string()))?;
-        let design = load_design(&SimulateDesign { design_z: None, scene: Some(&a.program) })?;
-        let how = RunHow { sample_step: a.sample_step, centre: false, finish_info: None };
+        let design = load_design(&SimulateDesign { design_z: None, scene: Some(path) })?;
+        let how = RunHow { sample_step: a.sample_step, centre: false, finish_info: None, interior_passes: None };
         return finish(a, &cutter, stock, &program, &design, how);
     }
     let design = load_design(&SimulateDesign { design_z: a.design_z, scene: a.scene.as_deref() })?;
-    let text = read_program(&a.program)?;
-    let parsed = parse_program(&text).map_err(|e| Fatal(format!("{}: {e}", a.program.display())))?;
+    let text = read_program(path)?;
+    let parsed = parse_program(&text).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
     for u in &parsed.unsupported {
         eprintln!("interpolab: UNSUPPORTED line {}: {} ({}); its effect is left out", u.line, u.word, u.reason);
     }
@@ -221,16 +237,24 @@ pub(super) fn simulate(a: &SimulateArgs) -> Result<ExitCode, Fatal> {
     let offset = if centre { DVec3::new(0.0, 0.0, -cutter.radius_mm) } else { DVec3::ZERO };
     let chord_tol = a.chord_tol.unwrap_or(a.pitch / 10.0);
     let program = Program::from_toolpath(&parsed.toolpath, offset, chord_tol)
-        .map_err(|e| Fatal(format!("{}: {e}", a.program.display())))?;
-    finish(a, &cutter, stock, &program, &design, RunHow { sample_step: a.sample_step, centre, finish_info: None })
+        .map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
+    finish(
+        a,
+        &cutter,
+        stock,
+        &program,
+        &design,
+        RunHow { sample_step: a.sample_step, centre, finish_info: None, interior_passes: None },
+    )
 }
 
 /// `--finish TOL`: PROGRAM is a finishing scene; its paths (the strategy and layout asked
 /// for) become the five-axis program `interpolab finish --gcode` writes, simulated against
 /// the finish surface.
 fn simulate_finish(a: &SimulateArgs, tol: f64) -> Result<ExitCode, Fatal> {
-    let name = a.program.display().to_string();
-    let job = super::finish::load(&a.program)?;
+    let path = program_path(a)?;
+    let name = path.display().to_string();
+    let job = super::finish::load(path)?;
     let strategy = super::finish::strategy_arg(a.strategy, a.lead, &job)?;
     let part = PartSamples::new(&job.surface, job.options.part_grid);
     let set = match a.layout {
@@ -273,11 +297,41 @@ fn simulate_finish(a: &SimulateArgs, tol: f64) -> Result<ExitCode, Fatal> {
         "step_tol_mm": tol,
         "refused": set.refused.len(),
     });
-    let how = RunHow { sample_step: pose_step, centre: false, finish_info: Some(extra) };
+    let how = RunHow {
+        sample_step: pose_step,
+        centre: false,
+        finish_info: Some(extra),
+        interior_passes: Some(fp.cc_points()),
+    };
     finish(a, &cutter, stock, &program, &fp.design(), how)
 }
 
-/// Runs the program and writes the outputs.
+/// The interior band's statistics as the JSON's `interior` (µm to 1e-3).
+fn interior_json(s: &InteriorStats) -> serde_json::Value {
+    let um = |mm: f64| (mm * 1e6).round() / 1e3;
+    json!({
+        "end_mm": INTERIOR_END_MM,
+        "side_mm": INTERIOR_SIDE_MM,
+        "rays": s.rays,
+        "scallop_um": { "rays": s.scallop.count, "max": um(s.scallop.max_mm), "mean": um(s.scallop.mean_mm), "p95": um(s.scallop.p95_mm) },
+        "worst_gouge_um": s.worst_gouge_mm.map(um),
+    })
+}
+
+/// PROGRAM (clap requires it unless `--benchmark` is given).
+fn program_path(a: &SimulateArgs) -> Result<&Path, Fatal> {
+    a.program.as_deref().ok_or_else(|| Fatal("give a PROGRAM file (or --benchmark five-axis:N)".to_owned()))
+}
+
+/// The program's name in messages and the JSON: its path, or `benchmark five-axis:N`.
+fn program_name(a: &SimulateArgs) -> String {
+    match (&a.program, &a.benchmark) {
+        (Some(p), _) => p.display().to_string(),
+        (None, Some(b)) => format!("benchmark {b}"),
+        (None, None) => String::new(),
+    }
+}
+
 /// How a program is run and reported besides its arguments.
 struct RunHow {
     /// Largest step (mm) between sampled poses of 5-axis moves (`None`: one pitch).
@@ -286,6 +340,9 @@ struct RunHow {
     centre: bool,
     /// The finishing program's facts for the JSON output.
     finish_info: Option<serde_json::Value>,
+    /// The finishing program's contact points per pass: its interior band's statistics
+    /// are added to the JSON (`interior`).
+    interior_passes: Option<Vec<Vec<DVec3>>>,
 }
 
 fn finish(
@@ -296,14 +353,14 @@ fn finish(
     design: &Design,
     how: RunHow,
 ) -> Result<ExitCode, Fatal> {
-    let RunHow { sample_step, centre, finish_info } = how;
+    let RunHow { sample_step, centre, finish_info, interior_passes } = how;
     let chord_tol = a.chord_tol.unwrap_or(a.pitch / 10.0);
     let mut sim = Simulation::new(stock, cutter);
     if let Some(step) = sample_step {
         sim = sim.with_sample_step(step);
     }
     let t0 = Instant::now();
-    sim.run(program).map_err(|e| Fatal(format!("{}: {e}", a.program.display())))?;
+    sim.run(program).map_err(|e| Fatal(format!("{}: {e}", program_name(a))))?;
     let run_ms = t0.elapsed().as_secs_f64() * 1e3;
     let map = HeightMap::of(sim.stock());
     let stats = SimStats::of(&map, sim.stock(), design);
@@ -328,7 +385,7 @@ fn finish(
     let nm = |mm: f64| (mm * 1e6).round() / 1e6;
     let summary = json!({
         "format": "interpolab-simulate/1",
-        "program": a.program.display().to_string(),
+        "program": program_name(a),
         "cutter": cutter.describe(),
         "programmed_point": if centre { "ball centre" } else { "tool tip" },
         "grid": { "nx": g.nx, "ny": g.ny, "pitch_mm": nm(g.pitch_mm), "x0_mm": nm(g.x0_mm), "y0_mm": nm(g.y0_mm) },
@@ -355,8 +412,12 @@ fn finish(
         "gouge": stats.worst_gouge.map(|(d, p)| json!({ "worst_um": um(d), "x_mm": nm(p.x), "y_mm": nm(p.y), "rays": stats.gouge_rays })),
     });
     let mut summary = summary;
-    if let (Some(info), Some(map)) = (finish_info, summary.as_object_mut()) {
-        map.insert("finish".to_owned(), info);
+    if let (Some(info), Some(obj)) = (finish_info, summary.as_object_mut()) {
+        obj.insert("finish".to_owned(), info);
+    }
+    if let (Some(passes), Some(obj)) = (interior_passes, summary.as_object_mut()) {
+        let mask = interior_mask(&map.grid, &passes, INTERIOR_END_MM, INTERIOR_SIDE_MM);
+        obj.insert("interior".to_owned(), interior_json(&interior_stats(&stats, &mask)));
     }
     let mut text = String::new();
     pretty_json(&summary, 0, &mut text);

@@ -24,6 +24,8 @@ use serde_json::{Value, json};
 use super::{JobKind, Progress, Reader, bits_packed, f32s_packed, f64s_packed, parse};
 use crate::chords::RootMethod;
 use crate::crease::CreaseJob;
+use crate::fillet::CcNode;
+use crate::fillet::contact::{ContactFrame, Form2, Pose};
 use crate::fiveaxis::{CreasePath, Joints, Machine, MachineKind, StepOptions, StepPlanner, ToolAxisRule};
 use crate::gcode::{
     DesignBuilder, Dialect, ProgramKind, ProgramOptions, ProgrammedPoint, parse_program_in, write_program,
@@ -31,6 +33,8 @@ use crate::gcode::{
 use crate::geom::Cutter;
 use crate::scene::finish::FinishScene;
 use crate::scene::{Scene, build_machine, build_tool_axis};
+use crate::simulate::FinishProgram;
+use crate::simulate::bench::BenchKind;
 use crate::simulate::measure::Summary;
 use crate::simulate::stock::Grid;
 use crate::simulate::{
@@ -53,8 +57,10 @@ pub const PITCH_RANGE_MM: (f64, f64) = (0.02, 0.5);
 /// NURBS tab's and the `steps` command's default).
 pub const PROGRAM_TOL_MM: f64 = 0.01;
 /// Most bytes of keyframes (5 bytes a ray: an `f32` height and a machined flag) one run
-/// hands back: 32 keyframes of a 512 × 512 grid, or 128 of the automatic 256 × 256.
-pub const KEYFRAME_BYTES: usize = 40 << 20;
+/// hands back: 12 keyframes of a 512 × 512 grid, or 48 of the automatic 256 × 256. (At
+/// 40 MiB a 512 × 512 run sent 32 keyframes, 56 MB of text, on a loaded 2-core machine the
+/// browser's run took 6.5–8.7 s against 2.0 s natively.)
+pub const KEYFRAME_BYTES: usize = 16 << 20;
 /// Most keyframes a request may ask for.
 pub const MAX_KEYFRAMES: usize = 256;
 /// Smallest change of the fraction done worth a progress report.
@@ -92,6 +98,28 @@ pub enum ProgramSource {
     },
     /// Moves already made (an earlier run's [`Prepared::program`]).
     Moves(Program),
+    /// A seed-001 finishing program: its passes' CC nodes, planned in the job pass by pass
+    /// into seed-002 steps ([`FinishProgram::plan_pass`]) on the machine and surface of the
+    /// finishing scene, joints interpolated linearly — off the page's thread.
+    Finish {
+        /// The finishing scene (`FinishScene::to_json`): its surface and machine.
+        scene: String,
+        /// The cutter that machines the passes (the strategy's).
+        cutter: Cutter,
+        /// The CC nodes of every pass, in travel order.
+        passes: Vec<Vec<CcNode>>,
+        /// Tolerance E (mm) of the steps.
+        step_tol_mm: f64,
+    },
+    /// A benchmark program built in the job from its kind and move count
+    /// ([`crate::simulate::bench`]): the browser's measurement of the native benchmark,
+    /// without the program's text handed to the worker.
+    Benchmark {
+        /// Which program.
+        kind: BenchKind,
+        /// Its moves (at most [`crate::simulate::bench::MAX_BENCH_MOVES`]).
+        moves: usize,
+    },
 }
 
 /// What the machined stock is compared with.
@@ -239,10 +267,21 @@ fn crease_curve(job: &CreaseJob, rep: &Reporter<'_>) -> Result<crate::crease::Cr
 }
 
 /// The program of a request's source, in tool-tip moves.
-fn make_program(req: &Request, rep: &Reporter<'_>) -> Result<Program, String> {
+fn make_program(req: &Request, rep: &mut Reporter<'_>) -> Result<Program, String> {
     let chord = |pitch: f64| pitch / 10.0;
     let (toolpath, centre) = match &req.source {
         ProgramSource::Moves(p) => return Ok(p.clone()),
+        ProgramSource::Finish { scene, cutter, passes, step_tol_mm } => {
+            let fp = finish_program(scene, *cutter, passes, *step_tol_mm)?;
+            let mut program = Program::default();
+            for k in 0..fp.passes.len() {
+                rep.cancelled()?;
+                fp.plan_pass(k, &mut program).map_err(|e| e.to_string())?;
+                rep.at(PROGRAM_SHARE * (k + 1) as f64 / fp.passes.len() as f64);
+            }
+            return Ok(program);
+        }
+        ProgramSource::Benchmark { kind, moves } => return kind.program(*moves).map_err(|e| e.to_string()),
         ProgramSource::Steps { scene } => {
             let (scene, job) = scene_of(scene)?;
             let curve = crease_curve(&job, rep)?;
@@ -378,7 +417,7 @@ impl JobKind for SimulateRun {
     fn run(req: &Request, progress: &mut dyn Progress) -> Self::Output {
         let mut rep = Reporter { progress, last: -1.0 };
         rep.at(0.0);
-        let program = make_program(req, &rep)?;
+        let program = make_program(req, &mut rep)?;
         rep.cancelled()?;
         let (stock_mm, pitch) = stock_and_pitch(req, &program)?;
         let nx = ((stock_mm[3] - stock_mm[0]) / pitch).ceil();
@@ -448,14 +487,17 @@ impl JobKind for SimulateRun {
             ProgramSource::Steps { scene } => json!({ "steps": scene }),
             ProgramSource::Text { name, text } => json!({ "name": name, "text": text }),
             ProgramSource::Moves(p) => json!({ "moves": program_value(p) }),
+            ProgramSource::Benchmark { kind, moves } => json!({ "benchmark": kind.key(), "count": moves }),
+            ProgramSource::Finish { scene, cutter, passes, step_tol_mm } => json!({
+                "finish": scene,
+                "cutter": cutter_value(cutter),
+                "passes": passes.iter().map(|p| nodes_value(p)).collect::<Vec<_>>(),
+                "step_tol_mm": super::num(*step_tol_mm),
+            }),
         };
-        let c = &r.cutter;
         json!({
             "source": source,
-            "cutter": super::nums([
-                c.radius_mm, c.corner_radius_mm, c.flute_length_mm, c.shank_radius_mm,
-                c.gauge_length_mm, c.holder_radius_mm, c.holder_length_mm,
-            ]),
+            "cutter": cutter_value(&r.cutter),
             "pitch_mm": r.pitch_mm.map_or(Value::Null, super::num),
             "stock_mm": r.stock_mm.map_or(Value::Null, super::nums),
             "margin_mm": super::num(r.margin_mm),
@@ -485,15 +527,28 @@ impl JobKind for SimulateRun {
             ProgramSource::Steps { scene: scene.to_owned() }
         } else if let Ok(text) = s.str("text") {
             ProgramSource::Text { name: s.str("name")?.to_owned(), text: text.to_owned() }
+        } else if let Ok(scene) = s.str("finish") {
+            let passes = s
+                .value("passes")?
+                .as_array()
+                .ok_or("simulate-run request.source.passes: not a list")?
+                .iter()
+                .map(nodes_of)
+                .collect::<Result<Vec<_>, _>>()?;
+            ProgramSource::Finish {
+                scene: scene.to_owned(),
+                cutter: cutter_of(&s.f64s("cutter")?).map_err(|e| format!("{W}.source.cutter: {e}"))?,
+                passes,
+                step_tol_mm: s.f64("step_tol_mm")?,
+            }
+        } else if let Ok(kind) = s.str("benchmark") {
+            let (kind, moves) = BenchKind::parse(&format!("{kind}:{}", s.usize("count")?))
+                .map_err(|e| format!("simulate-run request.source: {e}"))?;
+            ProgramSource::Benchmark { kind, moves }
         } else {
             ProgramSource::Moves(program_of(s.value("moves")?)?)
         };
-        let c = r.f64s("cutter")?;
-        let [radius, corner, flute, shank, gauge, holder_r, holder_l] = c[..] else {
-            return Err(format!("{W}.cutter: not seven numbers"));
-        };
-        let cutter = Cutter::try_new(radius, corner, flute, shank, gauge, holder_r, holder_l)
-            .map_err(|e| format!("{W}.cutter: {e}"))?;
+        let cutter = cutter_of(&r.f64s("cutter")?).map_err(|e| format!("{W}.cutter: {e}"))?;
         let stock_mm = match r.value("stock_mm")? {
             Value::Null => None,
             _ => Some(r.f64s("stock_mm")?.try_into().map_err(|_| format!("{W}.stock_mm: not six numbers"))?),
@@ -672,6 +727,99 @@ pub fn encode_partial(p: &Partial) -> String {
         }}),
     }
     .to_string()
+}
+
+fn cutter_value(c: &Cutter) -> Value {
+    super::nums([
+        c.radius_mm,
+        c.corner_radius_mm,
+        c.flute_length_mm,
+        c.shank_radius_mm,
+        c.gauge_length_mm,
+        c.holder_radius_mm,
+        c.holder_length_mm,
+    ])
+}
+
+fn cutter_of(c: &[f64]) -> Result<Cutter, String> {
+    let [radius, corner, flute, shank, gauge, holder_r, holder_l] = c[..] else {
+        return Err("not seven numbers".to_owned());
+    };
+    Cutter::try_new(radius, corner, flute, shank, gauge, holder_r, holder_l).map_err(|e| e.to_string())
+}
+
+/// The finishing program of a [`ProgramSource::Finish`]: the scene's surface and machine,
+/// the passes and cutter given.
+///
+/// # Errors
+/// The scene's message, or the step tolerance's.
+pub fn finish_program(
+    scene: &str,
+    cutter: Cutter,
+    passes: &[Vec<CcNode>],
+    step_tol_mm: f64,
+) -> Result<FinishProgram, String> {
+    let job = FinishScene::from_json(scene).and_then(|f| f.job()).map_err(|e| format!("the finishing scene: {e}"))?;
+    if !(step_tol_mm > 0.0 && step_tol_mm.is_finite()) {
+        return Err(format!("the step tolerance must be a positive length in mm, got {step_tol_mm}; give e.g. 0.01"));
+    }
+    Ok(FinishProgram {
+        surface: job.surface,
+        cutter,
+        machine: job.machine,
+        passes: passes.iter().filter(|p| p.len() >= 2).cloned().collect(),
+        step_tol_mm,
+        label: String::new(),
+    })
+}
+
+/// Numbers of a CC node: uv, point, normal, feed, cross, the surface's form (3), pose (2),
+/// tip, axis, strip, side step and scallop (NaN: none).
+const NODE_NUMBERS: usize = 2 + 3 * 4 + 3 + 2 + 3 + 3 + 3;
+
+/// A pass's CC nodes, packed (what planning needs of them; the gouge checks' record of an
+/// adjustment stays on the page).
+fn nodes_value(nodes: &[CcNode]) -> Value {
+    let mut d = Vec::with_capacity(nodes.len() * NODE_NUMBERS);
+    for n in nodes {
+        let f = &n.frame;
+        d.extend([f.uv.x, f.uv.y]);
+        for v in [f.point, f.normal, f.feed, f.cross] {
+            d.extend([v.x, v.y, v.z]);
+        }
+        d.extend([f.surface_form.ff, f.surface_form.fc, f.surface_form.cc]);
+        d.extend([n.pose.inclination_rad, n.pose.azimuth_rad]);
+        d.extend([n.tip.x, n.tip.y, n.tip.z, n.axis.x, n.axis.y, n.axis.z]);
+        d.extend([n.strip_mm, n.side_step_mm.unwrap_or(f64::NAN), n.scallop_mm.unwrap_or(f64::NAN)]);
+    }
+    json!({ "count": nodes.len(), "data": f64s_packed(&d) })
+}
+
+fn nodes_of(v: &Value) -> Result<Vec<CcNode>, String> {
+    let r = Reader::new(v, "simulate-run request.source.passes[]")?;
+    let n = r.usize("count")?;
+    let d = r.f64s_packed("data", n.checked_mul(NODE_NUMBERS).ok_or("simulate-run request: too many CC nodes")?)?;
+    let v3 = |s: &[f64]| DVec3::new(s[0], s[1], s[2]);
+    let opt = |x: f64| (!x.is_nan()).then_some(x);
+    Ok(d.chunks_exact(NODE_NUMBERS)
+        .map(|c| CcNode {
+            frame: ContactFrame {
+                uv: DVec2::new(c[0], c[1]),
+                point: v3(&c[2..5]),
+                normal: v3(&c[5..8]),
+                feed: v3(&c[8..11]),
+                cross: v3(&c[11..14]),
+                surface_form: Form2 { ff: c[14], fc: c[15], cc: c[16] },
+            },
+            pose: Pose { inclination_rad: c[17], azimuth_rad: c[18] },
+            tip: v3(&c[19..22]),
+            axis: v3(&c[22..25]),
+            strip_mm: c[25],
+            side_step_mm: opt(c[26]),
+            scallop_mm: opt(c[27]),
+            adjusted: None,
+        })
+        .collect())
 }
 
 fn grid_value(g: &Grid) -> Value {

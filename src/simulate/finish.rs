@@ -19,6 +19,8 @@
 
 use glam::{DVec2, DVec3};
 
+use super::interior::{INTERIOR_END_MM, INTERIOR_SIDE_MM, interior_mask};
+use super::stock::Grid;
 use super::{Design, MoveKind, Program, SimError, SimMove};
 use crate::fillet::program::plan_path;
 use crate::fillet::{CcNode, PathSet};
@@ -120,6 +122,20 @@ impl FinishProgram {
             self.plan_pass(k, &mut out)?;
         }
         Ok(out)
+    }
+
+    /// The contact points of every pass (mm), in travel order.
+    #[must_use]
+    pub fn cc_points(&self) -> Vec<Vec<DVec3>> {
+        self.passes.iter().map(|p| p.iter().map(|n| n.frame.point).collect()).collect()
+    }
+
+    /// The rays of `grid` in the program's interior band ([`super::interior`]: between the
+    /// first and last pass, [`INTERIOR_SIDE_MM`] from them and [`INTERIOR_END_MM`] from the
+    /// passes' ends).
+    #[must_use]
+    pub fn interior_mask(&self, grid: &Grid) -> Vec<bool> {
+        interior_mask(grid, &self.cc_points(), INTERIOR_END_MM, INTERIOR_SIDE_MM)
     }
 
     /// The design: the finish surface ([`Design::Surface`]).

@@ -21,9 +21,13 @@
 //!
 //! Modules: [`stock`] (rays, interval subtraction), [`sweep`] (cutter and envelope against
 //! a ray), [`program`] (moves from G-code and 5-axis plans), [`measure`] (maps and
-//! statistics, CSV and PNG output). Layout and error bounds: `docs/simulation.md`.
+//! statistics, CSV and PNG output), [`interior`] (a finishing program's interior band and
+//! its scallop statistics), [`finish`] (seed 001's finishing programs), [`bench`](mod@bench) (the
+//! benchmark programs). Layout and error bounds: `docs/simulation.md`.
 
+pub mod bench;
 pub mod finish;
+pub mod interior;
 pub mod measure;
 pub mod program;
 pub mod stock;
@@ -33,6 +37,7 @@ use glam::DVec3;
 use thiserror::Error;
 
 pub use finish::FinishProgram;
+pub use interior::{INTERIOR_END_MM, INTERIOR_SIDE_MM, InteriorStats, interior_mask, interior_stats};
 pub use measure::{
     Design, DeviationScan, FootSeed, HeightMap, SimStats, heights_csv, over_surface_signed_distance,
     part_signed_distance, png_rgb,

@@ -19,10 +19,14 @@ use std::rc::Rc;
 use eframe::egui;
 
 use super::panel::{FinishHandoff, Panel, PanelContext, Payload, SIMULATION_TITLE};
+use crate::simulate::bench::{self, BenchKind};
 use compare::{MapImage, MapTextures, draw_maps};
 use view::SimView;
 pub use work::PITCH_RANGE_MM;
 use work::{AUTO_GRID_SIDE, CutterChoice, DesignChoice, Inputs, Job, MAX_APP_RAYS, SourceKind};
+
+/// Moves of the benchmark program chosen from the menu (the 10 000-move program).
+const BENCH_DEFAULT_MOVES: usize = 10_000;
 
 /// The user's choices.
 #[derive(Clone, Debug, PartialEq)]
@@ -34,6 +38,8 @@ struct Settings {
     margin_mm: f64,
     design: DesignChoice,
     band_um: f64,
+    /// The benchmark program (source `benchmark`).
+    bench: (BenchKind, usize),
 }
 
 impl Default for Settings {
@@ -46,6 +52,7 @@ impl Default for Settings {
             margin_mm: 2.0,
             design: DesignChoice::Auto,
             band_um: 50.0,
+            bench: (BenchKind::FiveAxis, BENCH_DEFAULT_MOVES),
         }
     }
 }
@@ -146,6 +153,7 @@ impl SimulatePanel {
             scene_generation: cx.compute.generation,
             loaded_generation,
             finish_generation: self.finish_generation,
+            bench: s.bench,
         }
     }
 
@@ -484,8 +492,23 @@ impl SimulatePanel {
             if let Some(r) = job.measured() {
                 if p.design_name != "none" {
                     let s = &r.stats.scallop;
+                    if let Some(b) = &r.interior {
+                        let r = ui.label(format!(
+                            "· scallop, interior: max {} / mean {} / p95 {} µm ({} rays)",
+                            um(b.scallop.max_mm),
+                            um(b.scallop.mean_mm),
+                            um(b.scallop.p95_mm),
+                            b.scallop.count
+                        )).on_hover_text(format!(
+                            "Between the first and last pass, {} mm from them, and {} mm from the passes' ends: the scallop the paths leave between neighbouring passes",
+                            crate::simulate::INTERIOR_SIDE_MM,
+                            crate::simulate::INTERIOR_END_MM
+                        ));
+                        self.rects.push(("sim_interior", r.rect));
+                    }
+                    let whole = if r.interior.is_some() { "· whole patch, edges included (where the cutter leaves the part):" } else { "· scallop" };
                     ui.label(format!(
-                        "· scallop max {} / mean {} / p95 {} µm ({} rays)",
+                        "{whole} max {} / mean {} / p95 {} µm ({} rays)",
                         um(s.max_mm),
                         um(s.mean_mm),
                         um(s.p95_mm),
@@ -568,7 +591,7 @@ impl Panel for SimulatePanel {
             job.set_target(self.target);
             if job.computing() {
                 // The run is elsewhere: take what arrived, and look again soon.
-                job.advance(cx.scene);
+                job.advance();
                 ui.ctx().request_repaint_after(super::jobs::POLL);
             }
         }
@@ -596,6 +619,7 @@ impl Panel for SimulatePanel {
             "computing": job.computing(),
             "stage": job.stage_name(),
             "source": s.source.key(),
+            "benchmark": (s.source == SourceKind::Benchmark).then(|| format!("{}:{}", s.bench.0.key(), s.bench.1)),
             "error": job.error,
             "cutter": prepared.map(|p| p.cutter.describe()),
             "grid": job.grid().map(|g| serde_json::json!({ "nx": g.nx, "ny": g.ny, "pitch_mm": g.pitch_mm })),
@@ -615,6 +639,14 @@ impl Panel for SimulatePanel {
                 "max": um(r.stats.scallop.max_mm),
                 "mean": um(r.stats.scallop.mean_mm),
                 "p95": um(r.stats.scallop.p95_mm),
+            })),
+            "scallop_interior_um": results.and_then(|r| r.interior.as_ref()).map(|b| serde_json::json!({
+                "rays": b.scallop.count,
+                "max": um(b.scallop.max_mm),
+                "mean": um(b.scallop.mean_mm),
+                "p95": um(b.scallop.p95_mm),
+                "band_rays": b.rays,
+                "worst_gouge_um": b.worst_gouge_mm.map(um),
             })),
             "gouge": results.and_then(|r| r.stats.worst_gouge.map(|(d, p)| serde_json::json!({
                 "worst_um": um(d), "x_mm": nm(p.x), "y_mm": nm(p.y), "rays": r.stats.gouge_rays
@@ -657,9 +689,21 @@ impl Panel for SimulatePanel {
             "source" => {
                 s.source = SourceKind::ALL.into_iter().find(|k| k.key() == value).ok_or_else(|| {
                     format!(
-                        "source: \"{value}\" is not one of crease-g01, crease-arcs, crease-nurbs, steps, loaded, finish"
+                        "source: \"{value}\" is not one of crease-g01, crease-arcs, crease-nurbs, steps, loaded, finish, benchmark"
                     )
                 })?;
+            }
+            // The native benchmark's program, built in the worker from its kind and moves, on
+            // its block, grid (pitch 0.1 mm: 512 × 512 rays) and ball; `pitch` and `stock`
+            // set after it change those.
+            "benchmark" => {
+                s.bench = BenchKind::parse(value)?;
+                s.source = SourceKind::Benchmark;
+                s.cutter = CutterChoice::Ball(bench::BALL_MM);
+                s.stock_mm = Some(BenchKind::stock_mm());
+                s.pitch_mm = Some(bench::PITCH_MM);
+                s.design = DesignChoice::None;
+                self.target = None;
             }
             "program_text" => {
                 self.own_generation += 1;
@@ -765,7 +809,7 @@ impl Panel for SimulatePanel {
             }
             _ => {
                 return Err(format!(
-                    "this view has no option \"{key}\"; it has source, program_text, cutter, pitch, stock, margin, design, band_um, move, cancel, restart, go_to_gouge, pin_a, clear_a, program_name (max {MAX_APP_RAYS} rays)"
+                    "this view has no option \"{key}\"; it has source, benchmark, program_text, cutter, pitch, stock, margin, design, band_um, move, cancel, restart, go_to_gouge, pin_a, clear_a, program_name (max {MAX_APP_RAYS} rays)"
                 ));
             }
         }

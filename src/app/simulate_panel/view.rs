@@ -22,6 +22,10 @@ const MAX_PATH_SEGMENTS: usize = 20_000;
 /// Colour of unmachined rays.
 const UNCUT: [f32; 4] = [0.62, 0.62, 0.6, 1.0];
 
+/// Most vertices a side of the drawn stock (a 512 × 512 grid is drawn every second ray:
+/// a software rasteriser draws a quarter of the triangles; the screen shows no more).
+pub const MAX_DRAWN_SIDE: usize = 256;
+
 /// Colour of a deviation `d_mm` for a band of `band_mm`: blue (≤ −band) → green (0) → red
 /// (≥ +band).
 #[must_use]
@@ -92,20 +96,45 @@ impl SimView {
         let g = map.grid;
         let (z0, z1) = (s[2], s[5]);
         let band = band_um * 1e-3;
+        // At most MAX_DRAWN_SIDE vertices a side: every `step`-th ray (and the last), each
+        // coloured by the largest deviation (in size) of the rays it stands for, so a gouge
+        // or crest narrower than the step still shows. The numbers are every ray's.
+        let step = g.nx.max(g.ny).div_ceil(MAX_DRAWN_SIDE).max(1);
+        let picks = |n: usize| -> Vec<usize> {
+            let mut v: Vec<usize> = (0..n).step_by(step).collect();
+            if v.last().is_some_and(|&l| l + 1 < n) {
+                v.push(n - 1);
+            }
+            v
+        };
+        let (cols, rows) = (picks(g.nx), picks(g.ny));
         let mut mesh = Mesh::default();
-        mesh.vertices.reserve(g.len());
+        mesh.vertices.reserve(cols.len() * rows.len());
         let h = |i: usize, j: usize| map.top_mm[j * g.nx + i];
-        for j in 0..g.ny {
-            for i in 0..g.nx {
+        for &j in &rows {
+            for &i in &cols {
                 let k = j * g.nx + i;
-                let (il, ir) = (i.saturating_sub(1), (i + 1).min(g.nx - 1));
-                let (jl, jr) = (j.saturating_sub(1), (j + 1).min(g.ny - 1));
+                let (il, ir) = (i.saturating_sub(step), (i + step).min(g.nx - 1));
+                let (jl, jr) = (j.saturating_sub(step), (j + step).min(g.ny - 1));
                 let dx = (h(ir, j) - h(il, j)) / (((ir - il).max(1)) as f64 * g.pitch_mm);
                 let dy = (h(i, jr) - h(i, jl)) / (((jr - jl).max(1)) as f64 * g.pitch_mm);
                 let n = DVec3::new(-dx, -dy, 1.0).normalize_or(DVec3::Z);
-                let color = if !map.machined[k] {
+                let block_dev = dev.and_then(|d| {
+                    let mut worst: Option<f64> = None;
+                    for jj in j..(j + step).min(g.ny) {
+                        for ii in i..(i + step).min(g.nx) {
+                            if let Some(x) = d[jj * g.nx + ii]
+                                && worst.is_none_or(|w| x.abs() > w.abs())
+                            {
+                                worst = Some(x);
+                            }
+                        }
+                    }
+                    worst
+                });
+                let color = if !map.machined[k] && block_dev.is_none() {
                     UNCUT
-                } else if let Some(d) = dev.and_then(|d| d[k]) {
+                } else if let Some(d) = block_dev {
                     deviation_color(d, band)
                 } else {
                     let t = ((map.top_mm[k] - z0) / (z1 - z0).max(f64::MIN_POSITIVE)).clamp(0.0, 1.0) as f32;
@@ -118,11 +147,12 @@ impl SimView {
                 });
             }
         }
-        for j in 0..g.ny.saturating_sub(1) {
-            for i in 0..g.nx.saturating_sub(1) {
-                let a = (j * g.nx + i) as u32;
+        let nc = cols.len() as u32;
+        for j in 0..rows.len().saturating_sub(1) as u32 {
+            for i in 0..nc.saturating_sub(1) {
+                let a = j * nc + i;
                 let b = a + 1;
-                let c = a + g.nx as u32;
+                let c = a + nc;
                 let d = c + 1;
                 mesh.indices.extend_from_slice(&[a, b, d, a, d, c]);
             }

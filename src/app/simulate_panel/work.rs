@@ -17,7 +17,6 @@
 use glam::DVec3;
 use web_time::{Duration, Instant};
 
-use crate::app::budget::FRAME_BUDGET;
 use crate::app::jobs::{Job as BackgroundJob, Poll};
 use crate::app::panel::FinishHandoff;
 use crate::gcode::ProgramKind;
@@ -25,7 +24,8 @@ use crate::geom::Cutter;
 use crate::jobs::simulate_run::{self, DesignSpec, Keyframe, Partial, ProgramSource, Request, SimulateRun};
 pub use crate::jobs::simulate_run::{AUTO_GRID_SIDE, PITCH_RANGE_MM};
 use crate::scene::Scene;
-use crate::simulate::{Counters, Grid, HeightMap, Program, SimStats};
+use crate::simulate::bench::BenchKind;
+use crate::simulate::{Counters, Grid, HeightMap, InteriorStats, Program, SimStats, interior_stats};
 
 /// How often the view's mesh follows the stock while moves are being cut.
 const MAP_REFRESH: Duration = Duration::from_millis(200);
@@ -56,12 +56,22 @@ pub enum SourceKind {
     /// The finishing program handed over by the fillet tab (seed 001): its five-axis
     /// program through the machine, the fillet cutter, the finish surface as the design.
     Finish,
+    /// A benchmark program built in the job from its kind and move count
+    /// (`simulate::bench`: the native benchmarks' programs), on their 51.2 mm block.
+    Benchmark,
 }
 
 impl SourceKind {
     /// All, in menu order.
-    pub const ALL: [Self; 6] =
-        [Self::CreaseG01, Self::CreaseArcs, Self::CreaseNurbs, Self::Steps, Self::Loaded, Self::Finish];
+    pub const ALL: [Self; 7] = [
+        Self::CreaseG01,
+        Self::CreaseArcs,
+        Self::CreaseNurbs,
+        Self::Steps,
+        Self::Loaded,
+        Self::Finish,
+        Self::Benchmark,
+    ];
 
     /// Key for `set_option` and the status.
     #[must_use]
@@ -73,6 +83,7 @@ impl SourceKind {
             Self::Steps => "steps",
             Self::Loaded => "loaded",
             Self::Finish => "finish",
+            Self::Benchmark => "benchmark",
         }
     }
 
@@ -86,13 +97,14 @@ impl SourceKind {
             Self::Steps => "Scene 5-axis tool steps (seed 002)",
             Self::Loaded => "Loaded G-code file",
             Self::Finish => "Fillet tab's finishing program (seed 001)",
+            Self::Benchmark => "Benchmark raster (ball R 3 on a 51.2 mm block)",
         }
     }
 
     /// Whether the program is made from the scene's crease.
     #[must_use]
     pub fn needs_crease(self) -> bool {
-        !matches!(self, Self::Loaded | Self::Finish)
+        !matches!(self, Self::Loaded | Self::Finish | Self::Benchmark)
     }
 
     fn program_kind(self) -> Option<ProgramKind> {
@@ -168,6 +180,8 @@ pub struct Inputs {
     pub loaded_generation: u64,
     /// Generation of the finishing program handed over (bumped on every hand-over).
     pub finish_generation: u64,
+    /// The benchmark program (source `benchmark`): its kind and moves.
+    pub bench: (BenchKind, usize),
 }
 
 /// The program a run machines, with what to draw of it.
@@ -200,6 +214,9 @@ pub struct Results {
     pub moves: usize,
     /// The run's counts.
     pub counters: Counters,
+    /// A finishing program's scallops over its interior band (`simulate::interior`), when
+    /// measured against its finish surface.
+    pub interior: Option<InteriorStats>,
 }
 
 /// The stock shown while a run goes on: a keyframe (its heights, no deviation).
@@ -248,11 +265,8 @@ pub struct Job {
     shown_at: Option<Instant>,
     /// Whether every run finished off the UI thread.
     pub in_background: bool,
-    /// The finishing program (source `finish`).
+    /// The finishing program (source `finish`), planned in the run.
     finish: Option<std::rc::Rc<FinishHandoff>>,
-    /// Planning a finishing program's steps pass by pass on the UI thread (a pass is the
-    /// planner's smallest step): the next pass and the moves so far.
-    planning: Option<(usize, Box<Program>)>,
     /// A replay to start once the move slider has rested ([`REPLAY_SETTLE`]).
     pending_replay: Option<(Request, Instant)>,
 }
@@ -260,7 +274,7 @@ pub struct Job {
 impl Job {
     /// A run of `inputs` on `scene` (`loaded`: the loaded program's name and text; `finish`:
     /// the finishing program handed over), started at once — a finishing program's steps are
-    /// planned first, a few passes a frame.
+    /// planned in the run, off the page.
     #[must_use]
     pub fn new(
         inputs: Inputs,
@@ -290,21 +304,14 @@ impl Job {
             shown_at: None,
             in_background: true,
             finish,
-            planning: None,
             pending_replay: None,
         };
-        if job.inputs.source == SourceKind::Finish {
-            if job.finish.is_some() {
-                job.planning = Some((0, Box::default()));
-            } else {
-                job.error = Some(
-                    "no finishing program yet: build paths in the \"Fillet end mill (seed 001)\" tab and press Simulate this program → there"
-                        .to_owned(),
-                );
-            }
-            return job;
-        }
-        match job.request_of(scene, loaded) {
+        let request = if job.inputs.source == SourceKind::Finish {
+            job.finish_request(scene)
+        } else {
+            job.request_of(scene, loaded)
+        };
+        match request {
             Ok(r) => {
                 job.run = Some(BackgroundJob::start(Request { target, ..r.clone() }));
                 job.run_target = target;
@@ -318,10 +325,16 @@ impl Job {
     /// The first run's request: the source, cutter and design resolved against the scene.
     fn request_of(&self, scene: &Scene, loaded: Option<&(String, String)>) -> Result<Request, String> {
         let i = &self.inputs;
-        let cutter = i.cutter.cutter(scene)?;
+        let cutter = match (i.source, i.cutter) {
+            (SourceKind::Benchmark, CutterChoice::SceneBall) => {
+                Cutter::ball(crate::simulate::bench::BALL_MM).map_err(|e| format!("cutter: {e}"))?
+            }
+            (_, c) => c.cutter(scene)?,
+        };
         let source = match i.source.program_kind() {
             Some(kind) => ProgramSource::Crease { scene: scene.to_json(), kind },
             None if i.source == SourceKind::Steps => ProgramSource::Steps { scene: scene.to_json() },
+            None if i.source == SourceKind::Benchmark => ProgramSource::Benchmark { kind: i.bench.0, moves: i.bench.1 },
             None => {
                 let (name, text) = loaded.ok_or(
                     "no G-code file loaded: open one in the \"NURBS & G-code\" tab (Open program… or drop a file), then come back",
@@ -330,7 +343,9 @@ impl Job {
             }
         };
         let design = match (i.design, i.source) {
-            (DesignChoice::None, _) | (DesignChoice::Auto, SourceKind::Loaded) => DesignSpec::None,
+            (DesignChoice::None, _) | (DesignChoice::Auto, SourceKind::Loaded | SourceKind::Benchmark) => {
+                DesignSpec::None
+            }
             (DesignChoice::PlaneZ(z), _) => DesignSpec::PlaneZ(z),
             (DesignChoice::Scene | DesignChoice::Auto, _) => DesignSpec::Scene(scene.to_json()),
         };
@@ -338,7 +353,7 @@ impl Job {
             source,
             cutter,
             pitch_mm: i.pitch_mm,
-            stock_mm: i.stock_mm,
+            stock_mm: i.stock_mm.or((i.source == SourceKind::Benchmark).then(BenchKind::stock_mm)),
             margin_mm: i.margin_mm,
             max_sample_step_mm: None,
             design,
@@ -347,12 +362,14 @@ impl Job {
         })
     }
 
-    /// The request of a finishing program whose steps are planned: its moves, the program's
-    /// own cutter (unless another is chosen), the part's box as the stock (unless one is
-    /// given) and the finish surface as the design.
-    fn finish_request(&self, program: Program, scene: &Scene) -> Result<Request, String> {
+    /// The request of a finishing program: its passes, planned into seed-002 steps in the
+    /// run (off the page), the program's own cutter (unless another is chosen), the part's
+    /// box as the stock (unless one is given) and the finish surface as the design.
+    fn finish_request(&self, scene: &Scene) -> Result<Request, String> {
         let i = &self.inputs;
-        let f = self.finish.as_ref().ok_or("internal: no finishing program")?;
+        let f = self.finish.as_ref().ok_or(
+            "no finishing program yet: build paths in the \"Fillet end mill (seed 001)\" tab and press Simulate this program → there",
+        )?;
         let cutter = match i.cutter {
             CutterChoice::SceneBall => f.program.cutter,
             c => c.cutter(scene)?,
@@ -362,8 +379,14 @@ impl Job {
             DesignChoice::PlaneZ(z) => DesignSpec::PlaneZ(z),
             DesignChoice::Scene | DesignChoice::Auto => DesignSpec::Finish(f.scene_json.clone()),
         };
+        let p = &f.program;
         Ok(Request {
-            source: ProgramSource::Moves(program),
+            source: ProgramSource::Finish {
+                scene: f.scene_json.clone(),
+                cutter: p.cutter,
+                passes: p.passes.clone(),
+                step_tol_mm: p.step_tol_mm,
+            },
             cutter,
             pitch_mm: i.pitch_mm,
             stock_mm: i.stock_mm.or_else(|| f.program.stock_mm(i.margin_mm)),
@@ -375,35 +398,6 @@ impl Job {
         })
     }
 
-    /// Plans the finishing program's next passes within the frame budget; when all are
-    /// planned, starts the run.
-    fn plan(&mut self, scene: &Scene) {
-        let Some(f) = self.finish.clone() else { return };
-        let Some((k, program)) = &mut self.planning else { return };
-        let t0 = Instant::now();
-        while *k < f.program.passes.len() {
-            if let Err(e) = f.program.plan_pass(*k, program) {
-                self.error = Some(e.to_string());
-                self.planning = None;
-                return;
-            }
-            *k += 1;
-            if t0.elapsed() >= FRAME_BUDGET {
-                return;
-            }
-        }
-        let program = std::mem::take(&mut **program);
-        self.planning = None;
-        match self.finish_request(program, scene) {
-            Ok(r) => {
-                self.run = Some(BackgroundJob::start(Request { target: self.target, ..r.clone() }));
-                self.run_target = self.target;
-                self.request = Some(r);
-            }
-            Err(e) => self.error = Some(e),
-        }
-    }
-
     /// The largest step between sampled poses asked of the run (mm), if one was.
     #[must_use]
     pub fn pose_step_mm(&self) -> Option<f64> {
@@ -413,9 +407,7 @@ impl Job {
     /// Whether work remains.
     #[must_use]
     pub fn computing(&self) -> bool {
-        self.error.is_none()
-            && !self.cancelled
-            && (self.run.is_some() || self.planning.is_some() || self.pending_replay.is_some())
+        self.error.is_none() && !self.cancelled && (self.run.is_some() || self.pending_replay.is_some())
     }
 
     /// A short name of the stage, for the status and the progress text.
@@ -425,8 +417,6 @@ impl Job {
             "error"
         } else if self.cancelled {
             "cancelled"
-        } else if self.planning.is_some() {
-            "plan"
         } else if self.run.is_none() && self.pending_replay.is_none() {
             "done"
         } else if self.prepared.is_none() {
@@ -497,14 +487,10 @@ impl Job {
     pub fn progress(&self) -> (f32, String) {
         let f = self.fraction as f32;
         match self.stage_name() {
-            "program" => (f, "Writing the program…".to_owned()),
-            "plan" => {
-                let (k, n) = match (&self.planning, &self.finish) {
-                    (Some((k, _)), Some(h)) => (*k, h.program.passes.len().max(1)),
-                    _ => (0, 1),
-                };
-                (k as f32 / n as f32, format!("Planning the 5-axis steps of pass {k} of {n}…"))
+            "program" if self.inputs.source == SourceKind::Finish => {
+                (f, "Planning the passes' 5-axis steps (in the background)…".to_owned())
             }
+            "program" => (f, "Writing the program…".to_owned()),
             "simulate" => {
                 let t = self.target_moves();
                 let k = ((self.fraction - 0.1) / 0.8 * t as f64).clamp(0.0, t as f64) as usize;
@@ -570,18 +556,14 @@ impl Job {
     pub fn cancel(&mut self) {
         if self.computing() {
             self.run = None;
-            self.planning = None;
             self.pending_replay = None;
             self.cancelled = true;
         }
     }
 
-    /// Plans a finishing program a few passes further, starts a replay whose slider rested,
-    /// and takes what the run handed back since the last frame.
-    pub fn advance(&mut self, scene: &Scene) {
-        if self.planning.is_some() {
-            self.plan(scene);
-        }
+    /// Starts a replay whose slider rested and takes what the run handed back since the
+    /// last frame.
+    pub fn advance(&mut self) {
         if self.pending_replay.as_ref().is_some_and(|(_, at)| at.elapsed() >= REPLAY_SETTLE)
             && let Some((replay, _)) = self.pending_replay.take()
         {
@@ -634,7 +616,14 @@ impl Job {
                 self.run = None;
             }
             Poll::Done(Ok(f)) => {
+                let interior = match (&self.finish, self.request.as_ref().map(|r| &r.design)) {
+                    (Some(h), Some(DesignSpec::Finish(_))) => {
+                        Some(interior_stats(&f.stats, &h.program.interior_mask(&f.map.grid)))
+                    }
+                    _ => None,
+                };
                 let r = std::rc::Rc::new(Results {
+                    interior,
                     moves: f.counters.moves,
                     counters: f.counters,
                     map: f.map,

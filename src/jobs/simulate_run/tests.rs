@@ -167,9 +167,43 @@ fn requests_cross_unchanged() {
     let (p, _) = decode_all(&c);
     assert!(p.program.moves.iter().all(|m| matches!(m.kind, MoveKind::Joints { .. })) && p.program.moves.len() > 2);
     reqs.push(Request { source: ProgramSource::Moves(p.program), ..grooves(Some(2), 0) });
+    reqs.push(Request {
+        source: ProgramSource::Benchmark { kind: crate::simulate::bench::BenchKind::FiveAxis, moves: 10_000 },
+        ..grooves(None, 0)
+    });
     for r in reqs {
         assert_eq!(SimulateRun::decode_request(&SimulateRun::encode_request(&r)).unwrap(), r);
     }
+    let e = SimulateRun::decode_request(r#"{"source": {"benchmark": "five-axis", "count": 0}}"#).unwrap_err();
+    assert!(e.contains("five-axis:N"), "{e}");
+}
+
+/// A benchmark source runs the core's benchmark program: the same moves, the same stock.
+#[test]
+fn a_benchmark_run_machines_the_core_benchmark_program() {
+    use crate::simulate::bench::{self, BenchKind};
+    let req = Request {
+        source: ProgramSource::Benchmark { kind: BenchKind::FiveAxis, moves: 120 },
+        cutter: Cutter::ball(bench::BALL_MM).unwrap(),
+        pitch_mm: Some(0.8),
+        stock_mm: Some(BenchKind::stock_mm()),
+        margin_mm: 0.0,
+        max_sample_step_mm: None,
+        design: DesignSpec::None,
+        target: None,
+        keyframes: 0,
+    };
+    let mut c = Collect::default();
+    let out = SimulateRun::run(&req, &mut c).unwrap();
+    let (p, _) = decode_all(&c);
+    let program = bench::five_axis(120).unwrap();
+    assert_eq!(p.program, program);
+    let s = BenchKind::stock_mm();
+    let stock = DexelStock::block([s[0], s[1], s[2]], [s[3], s[4], s[5]], 0.8).unwrap();
+    let mut sim = Simulation::new(stock, &Cutter::ball(bench::BALL_MM).unwrap());
+    sim.run(&program).unwrap();
+    assert_eq!(out.counters, *sim.counters());
+    assert_eq!(out.map, HeightMap::of(sim.stock()));
 }
 
 /// A cancelled run stops; bad input gets a message, not a panic.
@@ -200,7 +234,8 @@ fn keyframes_are_bounded_by_count_and_bytes() {
     assert_eq!(keyframe_every(7, 100, 40), 1);
     let every = keyframe_every(10_000, 1024 * 1024, 200);
     let count = 10_000 / every;
-    assert!(count * 5 * 1024 * 1024 <= KEYFRAME_BYTES && count >= 7, "{every} → {count}");
+    let most = KEYFRAME_BYTES / (5 * 1024 * 1024);
+    assert!(count <= most && count + 1 >= most, "{every} → {count} keyframes of at most {most}");
 }
 
 /// A finishing scene's design reaches the worker as its text and is measured as the core
@@ -265,4 +300,71 @@ fn the_largest_pose_step_reaches_the_simulation() {
     assert_eq!(samples(&steps(fillet, Some(2.0))), coarse, "a step above the pitch keeps the pitch");
     let ball = Cutter::ball(3.0).unwrap();
     assert_eq!(samples(&steps(ball, Some(0.125))), samples(&steps(ball, None)), "a ball keeps its swept segments");
+}
+
+/// A finishing program's steps are planned in the job (off the page): the request carries
+/// the finishing scene, the cutter and the CC nodes; the moves the job plans are those of
+/// `FinishProgram::plan_pass` run here, pass by pass, bit for bit, and a run of them
+/// measures against the finish surface.
+#[test]
+fn a_finishing_program_is_planned_in_the_job_as_on_the_page() {
+    use crate::fillet::{PartSamples, iso_scallop};
+    use crate::scene::finish::{FINISH_PRESETS, FinishScene};
+    use crate::simulate::FinishProgram;
+    let mut scene = FinishScene::from_json(FINISH_PRESETS[0].json).unwrap();
+    // A coarse scallop and tolerance: few passes and steps, a short test.
+    scene.finish.scallop = 0.1;
+    scene.finish.tolerance = 0.005;
+    let job = scene.job().unwrap();
+    let part = PartSamples::new(&job.surface, job.options.part_grid);
+    let set = iso_scallop(&job.surface, &job.cutter, job.strategy, &job.options, &part).unwrap();
+    let fp = FinishProgram::new(&job, &set, 0.005).unwrap();
+    assert!(fp.passes.len() >= 3, "{} passes", fp.passes.len());
+    let mut here = Program::default();
+    for k in 0..fp.passes.len() {
+        fp.plan_pass(k, &mut here).unwrap();
+    }
+    let text = scene.to_json();
+    let req = Request {
+        source: ProgramSource::Finish {
+            scene: text.clone(),
+            cutter: fp.cutter,
+            passes: fp.passes.clone(),
+            step_tol_mm: fp.step_tol_mm,
+        },
+        cutter: fp.cutter,
+        pitch_mm: Some(0.5),
+        stock_mm: fp.stock_mm(2.0),
+        margin_mm: 2.0,
+        max_sample_step_mm: None,
+        design: DesignSpec::Finish(text),
+        target: Some(3),
+        keyframes: 0,
+    };
+    let crossed = SimulateRun::decode_request(&SimulateRun::encode_request(&req)).unwrap();
+    // The nodes cross without the gouge checks' record (planning does not read it).
+    let ProgramSource::Finish { passes, .. } = &crossed.source else { panic!("not a finishing source") };
+    for (a, b) in passes.iter().flatten().zip(fp.passes.iter().flatten()) {
+        assert_eq!(CcNode { adjusted: b.adjusted, ..*a }, *b);
+    }
+    let mut c = Collect::default();
+    let out = SimulateRun::run(&crossed, &mut c).unwrap();
+    let (p, _) = decode_all(&c);
+    assert_eq!(p.program, here, "the job's plan is the page's");
+    assert_eq!(p.design_name, "finish surface");
+    assert_eq!(out.counters.moves, 3);
+    assert!(c.fractions.windows(2).all(|w| w[0] <= w[1]), "progress rises: {:?}", c.fractions);
+    assert!(c.fractions.iter().any(|f| *f > 0.0 && *f <= 0.1), "planning reports progress: {:?}", c.fractions);
+    // A bad step tolerance is a message.
+    let bad = Request {
+        source: ProgramSource::Finish {
+            scene: FINISH_PRESETS[0].json.to_owned(),
+            cutter: fp.cutter,
+            passes: Vec::new(),
+            step_tol_mm: 0.0,
+        },
+        ..req
+    };
+    let e = SimulateRun::run(&bad, &mut NoProgress).unwrap_err();
+    assert!(e.contains("step tolerance"), "{e}");
 }

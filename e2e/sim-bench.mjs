@@ -1,0 +1,161 @@
+// Measures the cutting simulation's benchmark in the release web app in headless Chromium
+// (SwiftShader, 1400×900): the native benchmark's 10 000-move 5-axis program
+// (`interpolab::simulate::bench`, the same moves as benches/simulate.rs) on its 512 × 512
+// grid, built and machined in the simulation tab's Web Worker. Not a test: it measures and
+// reports, and asserts nothing.
+//
+//   node e2e/sim-bench.mjs http://127.0.0.1:PORT/ [--moves 10000] [--pitch 0.1] [--runs 2] [--replays 4]
+//
+// The program reaches the tab through the page address (`?view=Cutting+simulation&set=
+// benchmark:five-axis:N`, `app::query_options`): the worker builds it from those few
+// numbers, so no 10 000-line G-code text crosses to the page. Per run: the wall time from
+// the run's start to done (the app's `sim_ms`: the job's start, the worker's start, the
+// program built, machined, measured, the output decoded), the machining phase as the page
+// sees it (progress 0.1 → 0.9, polled every 25 ms), ray updates per second over each, the
+// longest frame meanwhile (animation-frame gaps) and the longest time a frame spent on the
+// job (`slowest_frame_ms`), and the progress values the page showed. Then (--replays) the
+// move slider: `set_option("move", k)` through the address is not available after the
+// start, so replays are timed by dragging the published slider rectangle, from release to
+// the exact stock at the move (stage done, `moves_simulated` the slider's move).
+// Writes e2e/artifacts/sim-bench.json and a screenshot e2e/artifacts/sim-bench.png.
+import { chromium } from "playwright-core";
+import fs from "node:fs";
+import os from "node:os";
+import path from "node:path";
+import { fileURLToPath } from "node:url";
+
+const here = path.dirname(fileURLToPath(import.meta.url));
+const args = process.argv.slice(2);
+const url = args.find((a) => a.startsWith("http")) ?? "http://127.0.0.1:8765/";
+const arg = (name, dflt) => (args.includes(name) ? args[args.indexOf(name) + 1] : dflt);
+const moves = Number(arg("--moves", "10000"));
+const pitch = arg("--pitch", "0.1");
+const runs = Number(arg("--runs", "2"));
+const replays = Number(arg("--replays", "4"));
+const artifacts = path.join(here, "artifacts");
+fs.mkdirSync(artifacts, { recursive: true });
+
+const browser = await chromium.launch({
+  executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium",
+  headless: true,
+  args: [
+    "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader", "--disable-quic", "--no-first-run",
+    "--disable-background-networking", "--disable-component-update", "--disable-sync",
+  ],
+});
+const context = await browser.newContext({ viewport: { width: 1400, height: 900 }, deviceScaleFactor: 1 });
+await context.addInitScript(() => {
+  window.__frameGaps = [];
+  let last = null;
+  const tick = (t) => {
+    if (last !== null) window.__frameGaps.push(t - last);
+    last = t;
+    requestAnimationFrame(tick);
+  };
+  requestAnimationFrame(tick);
+});
+const errors = [];
+context.on("console", (m) => { if (m.type() === "error" || m.type() === "warning") errors.push(m.text()); });
+
+async function status(page) {
+  const text = await page.locator("#app-status").textContent().catch(() => null);
+  try { return text ? JSON.parse(text) : null; } catch { return null; }
+}
+
+const sim = (s) => s && s.panel && s.panel.title === "Cutting simulation" ? s.panel.status : null;
+const load = () => os.loadavg().map((x) => Math.round(x * 100) / 100);
+const report = { moves, pitch_mm: Number(pitch), load_at_start: load(), runs: [], replays: [] };
+
+const query = `?view=${encodeURIComponent("Cutting simulation")}&set=${encodeURIComponent(`benchmark:five-axis:${moves}`)}`
+  + (pitch === "0.1" ? "" : `&set=${encodeURIComponent(`pitch:${pitch}`)}`);
+let page = null;
+for (let r = 0; r < runs; r++) {
+  page = await context.newPage();
+  const t0 = Date.now();
+  await page.goto(url + query);
+  const progress = [];
+  let seenRun = null;
+  let machStart = null;
+  let machEnd = null;
+  let st = null;
+  while (Date.now() - t0 < 600000) {
+    const s = sim(await status(page));
+    const now = Date.now();
+    if (s) {
+      if (s.computing && seenRun === null) {
+        seenRun = now;
+        await page.evaluate(() => { window.__frameGaps.length = 0; });
+      }
+      if (s.computing && (progress.length === 0 || progress[progress.length - 1][1] !== s.progress)) {
+        progress.push([now - (seenRun ?? now), s.progress]);
+      }
+      if (machStart === null && s.progress >= 0.1 && s.computing) machStart = now;
+      if (machEnd === null && (s.progress >= 0.9 || s.stage === "done")) machEnd = now;
+      if (s.stage === "done" || s.stage === "error") { st = s; break; }
+    }
+    await page.waitForTimeout(25);
+  }
+  const gaps = await page.evaluate(() => window.__frameGaps.splice(0));
+  const sorted = [...gaps].sort((a, b) => a - b);
+  const q = (f) => sorted.length ? sorted[Math.min(sorted.length - 1, Math.floor(f * sorted.length))] : null;
+  const row = {
+    stage: st && st.stage, error: st && st.error, grid: st && st.grid, moves: st && st.moves_simulated,
+    ray_updates: st && st.ray_updates, removed_volume_mm3: st && st.removed_volume_mm3,
+    in_background: st && st.in_background,
+    sim_ms: st && st.sim_ms,
+    seen_ms: seenRun === null ? null : Date.now() - seenRun,
+    machining_seen_ms: machStart !== null && machEnd !== null ? machEnd - machStart : null,
+    frames: gaps.length, frame_median_ms: q(0.5), frame_p99_ms: q(0.99), frame_longest_ms: q(1),
+    slowest_frame_ms: st && st.slowest_frame_ms,
+    progress_values: progress.length, progress_first: progress.slice(0, 3), progress_last: progress.slice(-3),
+  };
+  if (row.ray_updates && row.sim_ms) row.m_updates_per_s_whole = Math.round(row.ray_updates / row.sim_ms / 1e3 * 10) / 10;
+  if (row.ray_updates && row.machining_seen_ms) row.m_updates_per_s_machining = Math.round(row.ray_updates / row.machining_seen_ms / 1e3 * 10) / 10;
+  report.runs.push(row);
+  console.log(`run ${r + 1}: ${JSON.stringify(row)}`);
+  if (r + 1 < runs) await page.close();
+}
+
+// Replays: drag the move slider to a new move and time release → exact stock at the move.
+const s0 = sim(await status(page));
+const slider = s0 && s0.ui && s0.ui.sim_move_slider;
+if (slider) {
+  const positions = [30, 70, 20, 90, 50, 10].slice(0, replays);
+  for (const frac of positions) {
+    const x = slider[0] + slider[2] * frac / 100;
+    const y = slider[1] + slider[3] / 2;
+    const before = sim(await status(page));
+    await page.mouse.move(x - 5, y);
+    await page.mouse.down();
+    await page.mouse.move(x, y, { steps: 3 });
+    await page.evaluate(() => { window.__frameGaps.length = 0; });
+    await page.mouse.up();
+    const t0 = Date.now();
+    let st = null;
+    let target = null;
+    while (Date.now() - t0 < 300000) {
+      const s = sim(await status(page));
+      if (s) {
+        target = s.target_move;
+        if (s.stage === "done" && !s.computing && s.measured && s.moves_simulated === s.target_move
+          && s.target_move !== before.target_move) { st = s; break; }
+        // The drag landed on the move already shown: nothing to wait for.
+        if (Date.now() - t0 > 3000 && s.target_move === before.target_move) break;
+      }
+      await page.waitForTimeout(20);
+    }
+    const gaps = await page.evaluate(() => window.__frameGaps.splice(0));
+    const row = {
+      target_move: target, release_to_exact_ms: st ? Date.now() - t0 : null, sim_ms: st && st.sim_ms,
+      removed_volume_mm3: st && st.removed_volume_mm3, frame_longest_ms: gaps.length ? Math.max(...gaps) : null,
+    };
+    report.replays.push(row);
+    console.log(`replay: ${JSON.stringify(row)}`);
+  }
+}
+await page.screenshot({ path: path.join(artifacts, "sim-bench.png") });
+report.load_at_end = load();
+report.console = errors.slice(0, 20);
+fs.writeFileSync(path.join(artifacts, "sim-bench.json"), JSON.stringify(report, null, 2));
+console.log(`load ${report.load_at_start} → ${report.load_at_end}; written e2e/artifacts/sim-bench.json`);
+await browser.close();
