@@ -75,6 +75,9 @@ pub struct FilletPanel {
     click_mode: ClickMode,
     /// The 3D view's rectangle (status `ui.fillet_view`).
     view_rect: Option<egui::Rect>,
+    /// The click-mode radio buttons' rectangles (status `ui.fillet_select_mode`,
+    /// `ui.fillet_pick_mode`).
+    mode_rects: [Option<egui::Rect>; 2],
     /// What the last click did (status `last_click`).
     last_click: Option<String>,
 }
@@ -89,6 +92,7 @@ impl Default for FilletPanel {
             simulate_requested: false,
             click_mode: ClickMode::Select,
             view_rect: None,
+            mode_rects: [None; 2],
             last_click: None,
             job: None,
             refused: None,
@@ -179,8 +183,11 @@ impl FilletPanel {
         });
         ui.horizontal_wrapped(|ui| {
             ui.label("Click in the view:");
-            ui.radio_value(&mut self.click_mode, ClickMode::Select, "selects a CC point");
-            ui.radio_value(&mut self.click_mode, ClickMode::Pick, "adds a start-curve point");
+            let a = ui.radio_value(&mut self.click_mode, ClickMode::Select, "selects a CC point");
+            let b = ui
+                .radio_value(&mut self.click_mode, ClickMode::Pick, "adds a start-curve point")
+                .on_hover_text("Each click on the surface adds a point; the paths start from the curve through them");
+            self.mode_rects = [Some(a.rect), Some(b.rect)];
         });
         ui.horizontal_wrapped(|ui| {
             ui.label(format!("{} of {MAX_PICKS} points picked", s.n_picks));
@@ -327,6 +334,8 @@ impl FilletPanel {
                     use crate::geom::ParametricSurface;
                     let f = job.surface.domain().to_file(uv);
                     if self.settings.pick([f.x, f.y]) {
+                        // Picking a start curve means starting from it.
+                        self.settings.start = StartChoice::Picked;
                         self.last_click = Some(format!("picked ({}, {})", f.x, f.y));
                         self.sync();
                     } else {
@@ -554,6 +563,8 @@ impl Panel for FilletPanel {
                     self.table_rect.map(|r| ("table_button", r)),
                     self.simulate_rect.map(|r| ("fillet_simulate", r)),
                     self.view_rect.map(|r| ("fillet_view", r)),
+                    self.mode_rects[0].map(|r| ("fillet_select_mode", r)),
+                    self.mode_rects[1].map(|r| ("fillet_pick_mode", r)),
                 ]
                     .into_iter()
                     .flatten()

@@ -238,7 +238,7 @@ impl FilletView {
         for &uv in &pts {
             markers.push(SphereInstance {
                 center: o.local(job.surface.point_at(uv)),
-                radius: mark * 1.4,
+                radius: mark * 2.5,
                 color: PICK_COLOR,
             });
         }
