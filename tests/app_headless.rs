@@ -1319,10 +1319,10 @@ fn a_curve_picked_in_the_fillet_view_is_the_cores_start_and_a_click_selects_a_cc
     let mut best = (f32::INFINITY, 0, 0);
     for (p, path) in core.paths.iter().enumerate() {
         for (k, n) in path.nodes.iter().enumerate() {
-            if let Some(q) = screen(n.frame.point) {
-                if q.distance(at) < best.0 {
-                    best = (q.distance(at), p, k);
-                }
+            if let Some(q) = screen(n.frame.point)
+                && q.distance(at) < best.0
+            {
+                best = (q.distance(at), p, k);
             }
         }
     }
