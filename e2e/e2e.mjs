@@ -596,6 +596,61 @@ try {
       `${ft.table.length} rows in ${Date.now() - t0} ms, row counts seen ${[...seen].join(",")}, jobs ${JSON.stringify(st.jobs)}`);
     await pageT.close();
   }
+
+  // 11c. The fillet tab's picking: in "adds a start-curve point" mode three clicks on the
+  // surface pick the start curve (the paths then start from it and go to both sides); in
+  // "selects a CC point" mode a click on the paths moves the cutter to the nearest CC point.
+  {
+    const TAB = "Fillet end mill (seed 001)";
+    const pageP = await context.newPage();
+    await pageP.goto(url);
+    let sp = await waitFor(pageP, "the app for the fillet picking", settled);
+    const tabP = sp.ui[TAB];
+    currentTab = "fillet";
+    await pageP.mouse.click(tabP[0] + tabP[2] / 2, tabP[1] + tabP[3] / 2);
+    sp = await waitFor(pageP, "the fillet paths before picking", (s) => s.panel && s.panel.title === TAB && s.panel.status
+      && s.panel.status.computing === false && s.panel.status.passes > 0 && s.panel.status.ui
+      && s.panel.status.ui.fillet_pick_mode && s.panel.status.ui.fillet_view, 180000);
+    const firstPasses = sp.panel.status.passes;
+    const pm = sp.panel.status.ui.fillet_pick_mode;
+    await pageP.mouse.click(pm[0] + 8, pm[1] + pm[3] / 2);
+    await waitFor(pageP, "the pick mode", (s) => s.panel.status.click_mode === "pick");
+    const v = sp.panel.status.ui.fillet_view;
+    const [cx, cy] = [v[0] + v[2] / 2, v[1] + v[3] / 2];
+    const clicks = [[cx - 0.25 * v[2], cy + 0.05 * v[3]], [cx, cy - 0.03 * v[3]], [cx + 0.25 * v[2], cy + 0.02 * v[3]]];
+    await resetFrames(pageP);
+    for (const [i, [x, y]] of clicks.entries()) {
+      await pageP.mouse.click(x, y);
+      await waitFor(pageP, `picked point ${i + 1}`, (s) => s.panel.status.picked && s.panel.status.picked.length === i + 1, 20000);
+      await pageP.waitForTimeout(700); // apart in time, so two clicks are not a double click
+    }
+    sp = await waitFor(pageP, "the paths from the picked curve", (s) => s.panel.status.computing === false
+      && s.panel.status.start === "picked" && s.panel.status.passes > 0, 180000);
+    await recordFrames(pageP, "picking the start curve and building its paths");
+    await pageP.waitForTimeout(500);
+    const shotP = await pageP.screenshot({ path: path.join(artifacts, "12c-fillet-picked-start.png") });
+    const ps = sp.panel.status;
+    check("fillet picking: three clicks on the surface start the paths from that curve, to both sides",
+      ps.error === null && ps.picked.length === 3 && ps.second_side !== null && ps.second_side > 1 && ps.passes > 2,
+      `picked ${JSON.stringify(ps.picked)}, ${ps.passes} passes (from the first edge: ${firstPasses}), second side from path ${ps.second_side}`);
+    const sm = ps.ui.fillet_select_mode;
+    await pageP.mouse.click(sm[0] + 8, sm[1] + sm[3] / 2);
+    await waitFor(pageP, "the select mode", (s) => s.panel.status.click_mode === "select");
+    const before = ps.selected;
+    await pageP.mouse.click(cx + 0.1 * v[2], cy + 0.15 * v[3]);
+    const ss = await waitFor(pageP, "a CC point selected by a click", (s) => typeof s.panel.status.last_click === "string"
+      && s.panel.status.last_click.startsWith("selected"), 20000);
+    await pageP.waitForTimeout(500);
+    const shotS = await pageP.screenshot({ path: path.join(artifacts, "12d-fillet-clicked-cc-point.png") });
+    const sel = ss.panel.status.selected;
+    check("fillet picking: a click on the paths selects the CC point the cutter is drawn at",
+      sel && (sel.path !== before.path || sel.node !== before.node),
+      `${ss.panel.status.last_click} (before: path ${before.path}, node ${before.node})`);
+    const vP = colourVariety(shotP, [420, 60, 900, 520]);
+    const vS = colourVariety(shotS, [420, 60, 900, 520]);
+    check("fillet picking: the view is drawn (not blank)", vP > 40 && vS > 40, `${vP}, ${vS} distinct colours`);
+    await pageP.close();
+  }
 } catch (e) {
   failed = true;
   console.log(`FAIL  ${e.message}`);

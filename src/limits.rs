@@ -91,6 +91,10 @@ pub fn check_size(len: usize, cap: u64, what: &'static str) -> Result<(), TextEr
     if len as u64 > cap { Err(TextError::TooLarge { cap_mib: cap >> 20, what }) } else { Ok(()) }
 }
 
+/// Most points of a finishing scene's start curve (`finish.start.curve`): a curve a user
+/// picks or sketches has tens of points; each is one vertex of the first path.
+pub const MAX_START_CURVE_POINTS: usize = 1000;
+
 #[cfg(test)]
 mod tests {
     use super::*;

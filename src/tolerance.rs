@@ -283,3 +283,7 @@ pub const DESCENT_SLACK_MM2: f64 = 1e-30;
 
 /// A corner radius within this fraction of the cutter radius makes a ball end mill.
 pub const CORNER_IS_RADIUS_REL: f64 = 1e-12;
+
+/// Slack of the barycentric tests of a ray against a surface's triangles (`geom::ray_hit`),
+/// so a ray through the shared edge of two triangles is not missed by both.
+pub const RAY_TRIANGLE_SLACK: f64 = 1e-9;

@@ -1232,3 +1232,130 @@ fn the_fillet_tab_hands_its_program_to_the_simulation_and_two_maps_are_compared(
     // The same part at the same scale: the same size on screen.
     assert_eq!(ra[2], rb[2], "{ui}");
 }
+
+/// The fillet tab's panel status after one frame.
+fn fillet_status(h: &mut Harness) -> serde_json::Value {
+    h.frame();
+    let s: serde_json::Value = serde_json::from_str(&h.app.status()).expect("status is JSON");
+    s["panel"]["status"].clone()
+}
+
+/// A primary click (press, release) at `at` (points).
+fn click_at(h: &mut Harness, at: egui::Pos2) {
+    let press = |pressed| egui::Event::PointerButton {
+        pos: at,
+        button: egui::PointerButton::Primary,
+        pressed,
+        modifiers: egui::Modifiers::NONE,
+    };
+    h.frame_events(vec![egui::Event::PointerMoved(at), press(true)]);
+    h.frame_events(vec![press(false)]);
+    h.frame_events(vec![egui::Event::PointerGone]);
+}
+
+/// Clicks on the surface in the fillet view pick the start curve: each picked point is the
+/// surface point the camera shows under the click (re-projected within half a point), the
+/// tab's paths are the core's from the scene the command line would read with that curve as
+/// `finish.start`, and a click in "select" mode selects the CC node nearest on screen.
+#[test]
+fn a_curve_picked_in_the_fillet_view_is_the_cores_start_and_a_click_selects_a_cc_point() {
+    use interpolab::fillet::{PartSamples, PathStart, iso_scallop_from};
+    use interpolab::geom::ParametricSurface;
+    use interpolab::render::OrbitCamera;
+    use interpolab::scene::finish::{FINISH_PRESETS, FinishScene, StartSpec};
+    let mut h = Harness::new();
+    h.settle();
+    set(&mut h, FILLET, "preset", "finish-bicubic-patch");
+    set(&mut h, FILLET, "h", "0.04");
+    set(&mut h, FILLET, "start", "picked");
+    let s = fillet_status(&mut h);
+    assert_eq!(s["click_mode"], "pick", "{s}");
+    assert!(s["error"].as_str().is_some_and(|e| e.contains("click 2 or more points")), "{s}");
+    let r: Vec<f32> =
+        s["ui"]["fillet_view"].as_array().expect("view rect").iter().map(|x| x.as_f64().unwrap() as f32).collect();
+    let rect = egui::Rect::from_min_size(egui::pos2(r[0], r[1]), egui::vec2(r[2], r[3]));
+    let clicks = [
+        rect.center() + egui::vec2(-110.0, 15.0),
+        rect.center() + egui::vec2(0.0, -10.0),
+        rect.center() + egui::vec2(120.0, 5.0),
+    ];
+    for at in clicks {
+        click_at(&mut h, at);
+        let s = fillet_status(&mut h);
+        assert!(s["last_click"].as_str().is_some_and(|c| c.starts_with("picked")), "{s}");
+    }
+    let s = fillet_status(&mut h);
+    let picked: Vec<[f64; 2]> = s["picked"]
+        .as_array()
+        .expect("picked")
+        .iter()
+        .map(|p| [p[0].as_f64().expect("u"), p[1].as_f64().expect("v")])
+        .collect();
+    assert_eq!(picked.len(), 3, "{s}");
+    // Each picked point, seen through the tab's camera, lies under its click.
+    let cam = &s["camera"];
+    let f = |v: &serde_json::Value| v.as_f64().expect("number") as f32;
+    let camera = OrbitCamera {
+        target: glam::Vec3::new(f(&cam["target"][0]), f(&cam["target"][1]), f(&cam["target"][2])),
+        yaw: f(&cam["yaw"]),
+        pitch: f(&cam["pitch"]),
+        distance: f(&cam["distance"]),
+        fov_y: f(&cam["fov_y"]),
+    };
+    let origin = glam::DVec3::new(
+        cam["origin_mm"][0].as_f64().unwrap(),
+        cam["origin_mm"][1].as_f64().unwrap(),
+        cam["origin_mm"][2].as_f64().unwrap(),
+    );
+    let mut scene = FinishScene::from_json(FINISH_PRESETS[0].json).expect("preset");
+    scene.finish.scallop = 0.04;
+    scene.finish.start = Some(StartSpec::Curve(picked.clone()));
+    let job = scene.job().expect("the picked curve is a valid start");
+    assert!(matches!(job.start, PathStart::Curve(_)));
+    let screen = |p: glam::DVec3| {
+        let ndc = camera.project(rect.width() / rect.height(), (p - origin).as_vec3())?;
+        Some(egui::pos2(
+            rect.left() + (ndc.x + 1.0) * 0.5 * rect.width(),
+            rect.top() + (1.0 - ndc.y) * 0.5 * rect.height(),
+        ))
+    };
+    for (uv, at) in picked.iter().zip(clicks) {
+        let p = job.surface.point_at(interpolab::scene::params_from_file(&job.surface, glam::DVec2::from(*uv)));
+        let seen = screen(p).expect("in front of the camera");
+        assert!(seen.distance(at) < 0.5, "picked {uv:?} appears at {seen:?}, clicked at {at:?}");
+    }
+    // The paths: the core's from the same scene.
+    let s = settle_panel(&mut h, "fillet paths from a picked curve");
+    assert_eq!(s["error"], serde_json::Value::Null, "{s}");
+    let part = PartSamples::new(&job.surface, job.options.part_grid);
+    let core =
+        iso_scallop_from(&job.surface, &job.cutter, job.strategy, &job.options, &part, &job.start).expect("core");
+    let st = core.stats(job.options.feed_mm_per_min);
+    assert!(core.second_side.is_some(), "an interior curve: paths on both sides");
+    assert_eq!(s["passes"], st.passes, "{s}");
+    assert_eq!(s["nodes"], st.nodes, "{s}");
+    assert_eq!(s["second_side"], core.second_side.expect("second side"), "{s}");
+    let got = s["length_mm"].as_f64().expect("length");
+    assert!((got - st.length_mm).abs() <= 1e-14 * st.length_mm, "{got} against {}", st.length_mm);
+    // A click in "select" mode selects the CC node nearest to it on screen.
+    set(&mut h, FILLET, "click_mode", "select");
+    let at = rect.center() + egui::vec2(40.0, 60.0);
+    click_at(&mut h, at);
+    let s = fillet_status(&mut h);
+    let mut best = (f32::INFINITY, 0, 0);
+    for (p, path) in core.paths.iter().enumerate() {
+        for (k, n) in path.nodes.iter().enumerate() {
+            if let Some(q) = screen(n.frame.point)
+                && q.distance(at) < best.0
+            {
+                best = (q.distance(at), p, k);
+            }
+        }
+    }
+    assert!(best.0 < 14.0, "a CC node near the click: {best:?}");
+    assert_eq!(
+        (s["selected"]["path"].as_u64(), s["selected"]["node"].as_u64()),
+        (Some(best.1 as u64), Some(best.2 as u64)),
+        "{s}"
+    );
+}

@@ -7,10 +7,10 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 use glam::{DVec2, DVec3};
 use interpolab::fillet::contact::{ContactFrame, CrossProfile, Pose, effective_curvature, gouge_margin, place};
 use interpolab::fillet::orient::{OrientOptions, Strategy, pose_at};
-use interpolab::fillet::paths::{FinishOptions, PathSet, iso_scallop};
-use interpolab::fillet::{PartSamples, gouge};
+use interpolab::fillet::paths::{FinishOptions, PathSet, PathStart, iso_scallop, iso_scallop_from};
+use interpolab::fillet::{FinishError, PartSamples, gouge};
 use interpolab::geom::{Cutter, LocalGeometry, ParametricSurface, Plane, ProjectOptions, Surface, project_point};
-use interpolab::scene::finish::{FINISH_PRESETS, FinishJob, FinishScene};
+use interpolab::scene::finish::{FINISH_PRESETS, FinishJob, FinishScene, StartSpec};
 
 fn plane() -> Surface {
     Surface::Plane(Plane::new(DVec3::ZERO, DVec3::Z, DVec3::X, [-50.0, 50.0], [-50.0, 50.0]))
@@ -182,13 +182,19 @@ fn lowest_in_plane(cutter: &Cutter, tip: DVec3, axis: DVec3, o: DVec3, c: DVec3,
     Some(0.5 * (a + b))
 }
 
-/// Poses (tip, axis) interpolated linearly between CL nodes every ≤ 0.1 mm, those within
-/// `reach` of the plane through `o` normal to `f`.
-fn poses_near(nodes: &[interpolab::fillet::CcNode], o: DVec3, f: DVec3, reach: f64) -> Vec<(DVec3, DVec3)> {
+/// Poses (tip, axis) interpolated linearly between CL nodes every ≤ `every_mm` (0.1 mm in
+/// [`brute_scallop`]), those within `reach` of the plane through `o` normal to `f`.
+fn poses_near_every(
+    nodes: &[interpolab::fillet::CcNode],
+    o: DVec3,
+    f: DVec3,
+    reach: f64,
+    every_mm: f64,
+) -> Vec<(DVec3, DVec3)> {
     let mut out = Vec::new();
     for w in nodes.windows(2) {
         let (a, b) = (&w[0], &w[1]);
-        let n = (((b.tip - a.tip).length() / 0.1).ceil() as usize).max(1);
+        let n = (((b.tip - a.tip).length() / every_mm).ceil() as usize).max(1);
         for k in 0..=n {
             let t = k as f64 / n as f64;
             let tip = a.tip.lerp(b.tip, t);
@@ -221,6 +227,11 @@ fn surface_in_plane(s: &Surface, guess: DVec2, o: DVec3, f: DVec3, c: DVec3, n: 
 /// both paths (from their CL data only) in the plane normal to the feed, against the
 /// surface's section, between the two CC curves. Returns (scallop, side step).
 fn brute_scallop(job: &FinishJob, set: &PathSet, i: usize, j: usize) -> Option<(f64, f64)> {
+    brute_scallop_every(job, set, i, j, 0.1)
+}
+
+/// [`brute_scallop`] with the swept cutters' poses every ≤ `every_mm`.
+fn brute_scallop_every(job: &FinishJob, set: &PathSet, i: usize, j: usize, every_mm: f64) -> Option<(f64, f64)> {
     let cutter = set.strategy.cutter_for(&job.cutter);
     let node = &set.paths[i].nodes[j];
     let (o, f, n) = (node.frame.point, node.frame.feed, node.frame.normal);
@@ -247,8 +258,8 @@ fn brute_scallop(job: &FinishJob, set: &PathSet, i: usize, j: usize) -> Option<(
         y_next.abs(),
         turn.to_degrees()
     );
-    let mut poses = poses_near(&set.paths[i].nodes, o, f, reach);
-    poses.extend(poses_near(next, o, f, reach));
+    let mut poses = poses_near_every(&set.paths[i].nodes, o, f, reach, every_mm);
+    poses.extend(poses_near_every(next, o, f, reach, every_mm));
     let steps = 160;
     let mut worst = f64::NEG_INFINITY;
     for k in 0..=steps {
@@ -645,5 +656,188 @@ fn height_map_of_the_material_left() {
             worst / h,
             100.0 * share
         );
+    }
+}
+
+// ---- `finish.start`: the first path a user picks (issue 9, item 4) ----
+
+/// A finishing scene on `surface` (JSON) with `extra` keys appended to `finish`.
+fn start_scene(surface: &str, cutter: &str, strategy: &str, extra: &str) -> String {
+    format!(
+        r#"{{"format": "interpolab-scene/1", "name": "start test", "surfaces": [{surface}],
+            "finish": {{"cutter": {cutter}, "strategy": "{strategy}", "scallop": 0.01, "tolerance": 0.0005,
+                        "max_step": 1.0{extra}}}}}"#
+    )
+}
+
+const START_PLANE: &str = r#"{"type": "plane", "origin": [0, 0, 0], "normal": [0, 0, 1], "u_axis": [1, 0, 0],
+    "domain": {"u": [0, 24], "v": [0, 9]}}"#;
+const START_CYLINDER: &str = r#"{"type": "cylinder", "origin": [0, 0, 0], "axis": [0, 0, 1], "radius": 30.0,
+    "domain": {"u": [0, 24], "v": [0, 20]}, "normal": "outward"}"#;
+const BALL_5: &str = r#"{"radius": 5.0, "corner_radius": 5.0}"#;
+const FILLET_5_1: &str = r#"{"radius": 5.0, "corner_radius": 1.0}"#;
+
+fn start_job(scene: &str) -> FinishJob {
+    FinishScene::from_json(scene).unwrap().job().unwrap()
+}
+
+fn paths_from(job: &FinishJob) -> PathSet {
+    let part = PartSamples::new(&job.surface, job.options.part_grid);
+    iso_scallop_from(&job.surface, &job.cutter, job.strategy, &job.options, &part, &job.start).unwrap()
+}
+
+/// The across parameter b of a path's nodes, min and max (internal units).
+fn b_range(set: &PathSet, i: usize) -> (f64, f64) {
+    let b = |n: &interpolab::fillet::CcNode| if set.along == 0 { n.frame.uv.y } else { n.frame.uv.x };
+    set.paths[i].nodes.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), n| (lo.min(b(n)), hi.max(b(n))))
+}
+
+/// The brute-force scallop between the start curve (path 0) and path `k`, at the curve's
+/// middle node (the pair made a path set of their own for `brute_scallop`), the swept
+/// cutters' poses every 0.01 mm (at most 0.1 % of h left between them). At 0.1 mm a leaned
+/// fillet cutter's lowest point at the cross offset y, which lies ~y²/(2·R0) behind the
+/// section, can fall 0.05 mm from the nearest pose, and the corner's 1/r along the feed then
+/// adds up to ½·0.05²/r mm (1.25 µm at r = 1 mm, an eighth of h): measured 1.108·h on the
+/// cylinder below at 0.1 mm, 0.9996·h at 0.005 mm.
+fn brute_scallop_to(job: &FinishJob, set: &PathSet, k: usize) -> (f64, f64) {
+    let pair = PathSet { paths: vec![set.paths[0].clone(), set.paths[k].clone()], ..set.clone() };
+    let j = pair.paths[0].nodes.len() / 2;
+    brute_scallop_every(job, &pair, 0, j, 0.01).unwrap()
+}
+
+/// From an interior iso-line the paths go to both sides at the spacing `w` (internal units of
+/// b, `to_b` converting mm across), the side toward increasing b first; each side ends on
+/// its edge, so the union covers the domain with no gap wider than `w`; the brute-force
+/// scallop between the curve and its neighbour on each side is h ± 5 %.
+fn check_two_sided(job: &FinishJob, set: &PathSet, b_start: f64, w_mm: f64, to_b: f64) {
+    let h = job.options.scallop_mm;
+    let d = job.surface.domain();
+    let (b0, b1) = if set.along == 0 { (d.v.min, d.v.max) } else { (d.u.min, d.u.max) };
+    let second = set.second_side.expect("the paths go to both sides");
+    let count = set.paths.len();
+    assert!(second >= 3 && count - second >= 3, "{second} of {count}");
+    // Every path is an iso-line b = const here (the surface is the same along a).
+    let bs: Vec<f64> = (0..count)
+        .map(|i| {
+            let (lo, hi) = b_range(set, i);
+            assert!(hi - lo < 1e-9 * (b1 - b0), "path {i} is not an iso-line: b {lo}..{hi}");
+            lo
+        })
+        .collect();
+    assert!((bs[0] - b_start).abs() < 1e-12, "the first path is the start curve");
+    let w_b = w_mm * to_b;
+    // Side toward increasing b: 1 .. second-1; toward decreasing: second .. count-1.
+    let sides = [(0, (1..second).collect::<Vec<_>>(), b1), (0, (second..count).collect::<Vec<_>>(), b0)];
+    for (from, side, edge) in sides {
+        let mut prev = from;
+        for (k, &i) in side.iter().enumerate() {
+            let step = (bs[i] - bs[prev]).abs();
+            if k + 1 < side.len() {
+                assert!((step - w_b).abs() < 0.005 * w_b, "path {prev} → {i}: step {step} against {w_b}");
+            } else {
+                assert!(step <= w_b * 1.005, "the last path {i} of the side: step {step} wider than {w_b}");
+                assert!((bs[i] - edge).abs() < 1e-9 * (b1 - b0), "the last path {i} is not on its edge {edge}");
+            }
+            prev = i;
+        }
+    }
+    for k in [1, second] {
+        let (s, y) = brute_scallop_to(job, set, k);
+        eprintln!("start curve to path {k}: {y:.4} mm across, scallop {s:.6} mm (h {h})");
+        assert!((s - h).abs() <= 0.05 * h, "path {k}: brute-force scallop {s} mm against h {h}");
+        assert!((y - w_mm).abs() < 0.01 * w_mm, "path {k}: {y} mm across against {w_mm}");
+    }
+}
+
+#[test]
+fn an_interior_iso_line_on_a_plane_gives_the_textbook_spacing_both_ways() {
+    // Ball R 5 on a plane, h 0.01: the exact spacing w = 2·√(h·(2R − h)) (≈ 2·√(2Rh)).
+    let scene = start_scene(START_PLANE, BALL_5, "ball", r#", "start": {"curve": [[24, 3.7], [0, 3.7]]}"#);
+    let job = start_job(&scene);
+    let set = paths_from(&job);
+    assert_eq!(set.along, 0, "a curve along u gives paths along u");
+    let (big_r, h) = (5.0, job.options.scallop_mm);
+    let w = 2.0 * (h * (2.0 * big_r - h)).sqrt();
+    check_two_sided(&job, &set, 3.7, w, 1.0);
+}
+
+#[test]
+fn an_interior_iso_line_on_a_cylinder_gives_twice_the_reach_both_ways() {
+    // A fillet-end mill, curvature matched, on a convex cylinder (ρ 30 mm), the start curve a
+    // generator at 11.3°: by the symmetry of the cylinder every path is a generator, and the
+    // spacing is the node's strip 2·reach(h) on both sides.
+    let scene = start_scene(START_CYLINDER, FILLET_5_1, "matched", r#", "start": {"curve": [[11.3, 0], [11.3, 20]]}"#);
+    let job = start_job(&scene);
+    let set = paths_from(&job);
+    assert_eq!(set.along, 1, "a generator gives paths along v");
+    let node = &set.paths[0].nodes[set.paths[0].nodes.len() / 2];
+    let tool = set.strategy.cutter_for(&job.cutter);
+    let prof = CrossProfile::new(&tool, &job.surface, node.frame, &node.pose);
+    let (h, rho) = (job.options.scallop_mm, 30.0);
+    let w = prof.reach(h, 1.0) + prof.reach(h, -1.0);
+    assert!((w - node.strip_mm).abs() < 1e-9 && w > 1.0, "strip {w} mm");
+    check_two_sided(&job, &set, 11.3f64.to_radians(), w, 1.0 / rho);
+}
+
+#[test]
+fn a_boundary_start_gives_todays_paths_and_the_upper_edge_runs_back() {
+    let mut scene = FinishScene::from_json(FINISH_PRESETS[0].json).unwrap();
+    scene.finish.scallop = 0.04;
+    let base = scene.job().unwrap();
+    let today = paths(&base, Strategy::Matched);
+    let (lower, upper) = if today.along == 0 { ("v0", "v1") } else { ("u0", "u1") };
+    let mut with = scene.clone();
+    with.finish.start = Some(StartSpec::Boundary(lower.to_owned()));
+    let back = FinishScene::from_json(&with.to_json()).unwrap();
+    assert_eq!(back, with, "the start survives the scene's text");
+    let set = paths_from(&back.job().unwrap());
+    assert_eq!(set, today, "{lower} is the default start");
+    // From the upper edge the paths advance toward decreasing b and end on the lower edge.
+    with.finish.start = Some(StartSpec::Boundary(upper.to_owned()));
+    let set = paths_from(&with.job().unwrap());
+    let count = set.paths.len();
+    assert!(count >= 4 && set.second_side.is_none());
+    assert_eq!(b_range(&set, 0), (1.0, 1.0), "the first path lies on {upper}");
+    assert_eq!(b_range(&set, count - 1), (0.0, 0.0), "the last path lies on the lower edge");
+    for i in 1..count {
+        assert!(b_range(&set, i).1 < b_range(&set, i - 1).1, "path {i} does not move toward the lower edge");
+    }
+    // The scallop to the next path, as solved, is h at every node but the last path's.
+    for p in &set.paths[..count - 1] {
+        for n in &p.nodes {
+            let s = n.scallop_mm.unwrap();
+            assert!(s <= 0.04 * 1.006, "solved scallop {s}");
+        }
+    }
+}
+
+#[test]
+fn a_bad_start_is_refused_with_the_key_and_the_fix() {
+    let cases = [
+        (r#", "start": {"curve": [[3, 4]]}"#, "finish.start.curve: the start curve needs at least 2 points, got 1"),
+        (
+            r#", "start": {"curve": [[3, 4], [30, 4]]}"#,
+            "finish.start.curve[1]: (30, 4) is outside the surface's domain",
+        ),
+        (r#", "start": {"curve": [[3, 4], [3, 8]], "direction": "u"}"#, "finish.start.direction: unknown key"),
+        (r#", "start": {"curve": [[3, 4], [3, 8]]}, "direction": "u""#, "all have the same u"),
+        (r#", "start": "w0""#, "finish.start: \"w0\" is not an edge"),
+        (r#", "start": "u1", "direction": "u""#, "start on the edge v0 or v1"),
+        (r#", "start": 3"#, "finish.start: expected an edge's name or a curve"),
+        (r#", "start": {"curve": [[3, "x"], [5, 4]]}"#, "finish.start.curve[0]"),
+    ];
+    for (extra, want) in cases {
+        let err = FinishScene::from_json(&start_scene(START_PLANE, BALL_5, "ball", extra)).unwrap_err().to_string();
+        assert!(err.contains(want), "{extra}: {err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+    }
+    // The core refuses the same without the scene.
+    let job = start_job(&start_scene(START_PLANE, BALL_5, "ball", ""));
+    let part = PartSamples::new(&job.surface, job.options.part_grid);
+    for pts in [vec![DVec2::new(3.0, 4.0)], vec![DVec2::new(3.0, 4.0), DVec2::new(3.0, 40.0)]] {
+        let err =
+            iso_scallop_from(&job.surface, &job.cutter, job.strategy, &job.options, &part, &PathStart::Curve(pts))
+                .unwrap_err();
+        assert!(matches!(err, FinishError::BadStart { .. }), "{err}");
     }
 }

@@ -210,3 +210,47 @@ fn no_point_of_the_cutter_is_below_the_design_surface_by_more_than_e() {
         assert!(worst.0 <= tol, "{name}: row {} is {} mm below the surface, E = {tol} mm", worst.1, worst.0);
     }
 }
+
+/// `finish.start` through the command line: a curve inside the patch gives paths on both
+/// sides and says so in the JSON (`start.second_side_first_path`); the first path runs
+/// through the curve's points; a bad start is one line on stderr, exit status 2.
+#[test]
+fn a_start_curve_in_the_scene_starts_the_paths_and_a_bad_one_is_refused() {
+    let text = std::fs::read_to_string(example("bicubic-patch")).expect("example");
+    let mut scene: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+    scene["finish"]["scallop"] = serde_json::json!(0.04);
+    scene["finish"]["start"] = serde_json::json!({ "curve": [[0.2, 0.5], [0.8, 0.5]] });
+    let file = temp("start-curve.json", &scene.to_string());
+    let o = run(&["finish", &file, "--format", "json"]);
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    let out: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON out");
+    assert_eq!(out["start"]["curve"], serde_json::json!([[0.2, 0.5], [0.8, 0.5]]));
+    let second = out["start"]["second_side_first_path"].as_u64().expect("a second side") as usize;
+    let cols: Vec<&str> = out["columns"].as_array().unwrap().iter().map(|c| c.as_str().unwrap()).collect();
+    let col = |name: &str| cols.iter().position(|c| *c == name).unwrap();
+    let rows = out["rows"].as_array().unwrap();
+    let at = |r: &serde_json::Value, name: &str| r[col(name)].as_f64().unwrap();
+    // Path 0 is the iso-line v = 0.5 (the curve, continued to the edges u = 0 and 1).
+    let first: Vec<&serde_json::Value> = rows.iter().filter(|r| r[col("path")] == 0).collect();
+    assert!(first.iter().all(|r| (at(r, "v") - 0.5).abs() < 1e-12), "path 0 off the curve");
+    assert_eq!((at(first[0], "u"), at(first[first.len() - 1], "u")), (0.0, 1.0));
+    // The paths before the second side lie above v = 0.5, from it on below.
+    let passes = out["stats"]["passes"].as_u64().unwrap() as usize;
+    assert!(second > 2 && second + 2 < passes, "{second} of {passes}");
+    for r in rows {
+        let p = r[col("path")].as_u64().unwrap() as usize;
+        let v = at(r, "v");
+        assert!(p == 0 || (p < second) == (v > 0.5), "path {p} at v {v}");
+    }
+    // Without the key the output has no "start" (unchanged for every scene written before).
+    let o = run(&["finish", &example("bicubic-patch"), "--format", "json"]);
+    let out: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON out");
+    assert!(out.get("start").is_none());
+    scene["finish"]["start"] = serde_json::json!({ "curve": [[0.2, 1.5], [0.8, 0.5]] });
+    let file = temp("start-outside.json", &scene.to_string());
+    let o = run(&["finish", &file]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8(o.stderr).unwrap();
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("finish.start.curve[0]: (0.2, 1.5) is outside the surface's domain"), "{err}");
+}

@@ -17,7 +17,9 @@ use serde_json::{Value, json};
 use super::{Fatal, OutFormat};
 
 use interpolab::fillet::program::plan_path;
-use interpolab::fillet::{PartSamples, PathSet, Strategy, compare, iso_parametric, iso_scallop};
+use interpolab::fillet::{
+    PartSamples, PathSet, PathStart, Strategy, compare_from, iso_parametric_from, iso_scallop_from,
+};
 use interpolab::report::fmt_num;
 use interpolab::scene::finish::{FinishJob, FinishScene};
 
@@ -189,13 +191,28 @@ pub(super) fn strategy_arg(strategy: Option<StrategyArg>, lead_deg: f64, job: &F
     })
 }
 
+/// The JSON's `start`: the edge's name, or the curve (file units) with the index of the first
+/// path of its second side (`null` when that side has no paths); `None` for the default start.
+fn start_json(job: &FinishJob, set: &PathSet) -> Option<Value> {
+    use interpolab::geom::ParametricSurface;
+    match &job.start {
+        PathStart::FirstBoundary => None,
+        PathStart::Boundary(e) => Some(json!(e.name())),
+        PathStart::Curve(pts) => {
+            let dom = job.surface.domain();
+            let file: Vec<[f64; 2]> = pts.iter().map(|&p| dom.to_file(p).to_array()).collect();
+            Some(json!({ "curve": file, "second_side_first_path": set.second_side }))
+        }
+    }
+}
+
 pub(super) fn finish(a: &FinishArgs) -> Result<ExitCode, Fatal> {
     let job = load(&a.scene)?;
     let name = a.scene.display().to_string();
     let part = PartSamples::new(&job.surface, job.options.part_grid);
     if a.table {
-        let rows =
-            compare(&job.surface, &job.cutter, &job.options, &part).map_err(|e| Fatal(format!("{name}: {e}")))?;
+        let rows = compare_from(&job.surface, &job.cutter, &job.options, &part, &job.start)
+            .map_err(|e| Fatal(format!("{name}: {e}")))?;
         let mut w = sink(a.out.as_deref())?;
         let h = job.options.scallop_mm;
         let mut text = format!(
@@ -228,8 +245,10 @@ pub(super) fn finish(a: &FinishArgs) -> Result<ExitCode, Fatal> {
     }
     let strategy = strategy_of(a, &job)?;
     let set = match a.layout {
-        LayoutArg::IsoScallop => iso_scallop(&job.surface, &job.cutter, strategy, &job.options, &part),
-        LayoutArg::IsoParametric => iso_parametric(&job.surface, &job.cutter, strategy, &job.options, &part),
+        LayoutArg::IsoScallop => iso_scallop_from(&job.surface, &job.cutter, strategy, &job.options, &part, &job.start),
+        LayoutArg::IsoParametric => {
+            iso_parametric_from(&job.surface, &job.cutter, strategy, &job.options, &part, &job.start)
+        }
     }
     .map_err(|e| Fatal(format!("{name}: {e}")))?;
     let data = rows(&job, &set);
@@ -247,7 +266,7 @@ pub(super) fn finish(a: &FinishArgs) -> Result<ExitCode, Fatal> {
         OutFormat::Json => {
             let s = set.stats(job.options.feed_mm_per_min);
             let c = &job.cutter;
-            let doc = json!({
+            let mut doc = json!({
                 "format": "interpolab-finish/1",
                 "scene": job.name,
                 "cutter": {
@@ -274,6 +293,10 @@ pub(super) fn finish(a: &FinishArgs) -> Result<ExitCode, Fatal> {
                     "reason": r.reason, "depth_mm": r.depth_mm,
                 })).collect::<Vec<_>>(),
             });
+            // Only when the scene has `finish.start`, so the output of other scenes is as before.
+            if let Some(start) = start_json(&job, &set) {
+                doc["start"] = start;
+            }
             let text = serde_json::to_string_pretty(&doc).map_err(|e| Fatal(format!("cannot write JSON: {e}")))?;
             w.write_all(text.as_bytes()).map_err(|e| fatal_io(&e))?;
             w.write_all(b"\n").map_err(|e| fatal_io(&e))?;

@@ -9,7 +9,7 @@ use std::time::Instant;
 use clap::Args;
 use glam::DVec3;
 use interpolab::crease::CreaseJob;
-use interpolab::fillet::{PartSamples, iso_parametric, iso_scallop};
+use interpolab::fillet::{PartSamples, iso_parametric_from, iso_scallop_from};
 use interpolab::gcode::{ProgrammedPoint, parse_program};
 use interpolab::geom::Cutter;
 use interpolab::scene::Scene;
@@ -258,8 +258,10 @@ fn simulate_finish(a: &SimulateArgs, tol: f64) -> Result<ExitCode, Fatal> {
     let strategy = super::finish::strategy_arg(a.strategy, a.lead, &job)?;
     let part = PartSamples::new(&job.surface, job.options.part_grid);
     let set = match a.layout {
-        LayoutArg::IsoScallop => iso_scallop(&job.surface, &job.cutter, strategy, &job.options, &part),
-        LayoutArg::IsoParametric => iso_parametric(&job.surface, &job.cutter, strategy, &job.options, &part),
+        LayoutArg::IsoScallop => iso_scallop_from(&job.surface, &job.cutter, strategy, &job.options, &part, &job.start),
+        LayoutArg::IsoParametric => {
+            iso_parametric_from(&job.surface, &job.cutter, strategy, &job.options, &part, &job.start)
+        }
     }
     .map_err(|e| Fatal(format!("{name}: {e}")))?;
     for r in &set.refused {

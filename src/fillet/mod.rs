@@ -39,8 +39,8 @@ pub use contact::{ContactFrame, CrossProfile, Form2, Pose, effective_curvature, 
 pub use gouge::{Adjustment, Clash, ClashPart, PartSamples};
 pub use orient::{OrientOptions, Strategy};
 pub use paths::{
-    CcNode, FeedDirection, FinishOptions, IsoScallopSteps, Layout, PathSet, Refusal, Stats, ToolPath, iso_parametric,
-    iso_scallop,
+    CcNode, Edge, FeedDirection, FinishOptions, IsoScallopSteps, Layout, PathSet, PathStart, Refusal, Stats, ToolPath,
+    iso_parametric, iso_parametric_from, iso_scallop, iso_scallop_from,
 };
 
 /// Why a finishing job failed. Each message says what to change.
@@ -56,11 +56,17 @@ pub enum FinishError {
     },
     /// Not even the first path could be built.
     #[error(
-        "no path could be started on the first boundary: {reason}; use a smaller cutter or a larger max_inclination"
+        "no path could be started on the first boundary or curve: {reason}; use a smaller cutter or a larger max_inclination"
     )]
     NoPath {
         /// Why.
         reason: &'static str,
+    },
+    /// The start curve cannot be used.
+    #[error("{reason}; give the start curve as 2 or more [u, v] points inside the surface's domain")]
+    BadStart {
+        /// What is wrong with it.
+        reason: String,
     },
     /// The paths would exceed their cap.
     #[error(
@@ -102,6 +108,21 @@ pub fn compare(
     opts: &FinishOptions,
     part: &PartSamples,
 ) -> Result<Vec<Comparison>, FinishError> {
+    compare_from(surface, cutter, opts, part, &PathStart::FirstBoundary)
+}
+
+/// [`compare`] with the iso-scallop paths from `start` (the iso-parametric ones along the
+/// same parameter).
+///
+/// # Errors
+/// The first job that fails.
+pub fn compare_from(
+    surface: &crate::geom::Surface,
+    cutter: &crate::geom::Cutter,
+    opts: &FinishOptions,
+    part: &PartSamples,
+    start: &PathStart,
+) -> Result<Vec<Comparison>, FinishError> {
     let strategies = [
         Strategy::Matched,
         Strategy::FixedLead { lead_rad: 5f64.to_radians() },
@@ -111,9 +132,9 @@ pub fn compare(
     ];
     let mut rows = Vec::new();
     for s in strategies {
-        let iso = iso_scallop(surface, cutter, s, opts, part)?;
+        let iso = iso_scallop_from(surface, cutter, s, opts, part, start)?;
         rows.push(Comparison { strategy: s, layout: Layout::IsoScallop, stats: iso.stats(opts.feed_mm_per_min) });
-        let par = iso_parametric(surface, cutter, s, opts, part)?;
+        let par = iso_parametric_from(surface, cutter, s, opts, part, start)?;
         rows.push(Comparison { strategy: s, layout: Layout::IsoParametric, stats: par.stats(opts.feed_mm_per_min) });
     }
     Ok(rows)

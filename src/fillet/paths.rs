@@ -7,15 +7,18 @@
 //! [`FinishOptions::max_step_mm`]. The nodes of a path are oriented by the strategy and
 //! smoothed ([`super::orient`]), checked for gouges ([`super::gouge`]), and then:
 //!
-//! - **iso-scallop**: the first path is the boundary b = b_min. From every node of a path the
+//! - **iso-scallop**: the first path is where [`PathStart`] says: by default the boundary
+//!   b = b_min, or another edge of the domain, or a curve through given parameters (extended
+//!   to the a-boundaries). From every node of a path the
 //!   **side step** w to the next path is solved so the scallop between the two cutters is h:
 //!   the second-order guess `w = 2·√(2h/Δκ)` is corrected with the exact cross profiles of
 //!   both cutters ([`super::contact::CrossProfile`], [`super::contact::scallop_between`]),
 //!   `w ← w·√(h/scallop)`, until within 0.5 % of h (at most 6 rounds). The next path goes
 //!   through the points w away across the surface (a walk along c in 4 sub-steps), is
 //!   trimmed to the domain (points beyond b_max are put on it; its ends are extended to the
-//!   a-boundaries) and resampled by the forward step. Paths follow until one lies on
-//!   b = b_max entirely.
+//!   a-boundaries) and resampled by the forward step. Paths follow until one lies on the far
+//!   edge entirely. From a curve inside the domain they go to both sides: first toward
+//!   increasing b until b_max, then again from the curve toward decreasing b until b_min.
 //! - **iso-parametric**: paths b = const, equally spaced, as many as needed so that at every
 //!   node the scallop to the next path is at most h.
 //!
@@ -28,6 +31,8 @@ use super::contact::{ContactFrame, CrossProfile, Pose, place, scallop_between};
 use super::gouge::{Adjustment, PartSamples, adjust};
 use super::orient::{OrientOptions, Strategy, pose_at, smooth_inclinations};
 use crate::geom::{Cutter, LocalGeometry, ParametricSurface, Surface};
+use crate::limits::MAX_START_CURVE_POINTS;
+use crate::tolerance::DOMAIN_SLACK;
 
 /// Which parameter the paths run along.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -59,6 +64,172 @@ impl Layout {
         }
     }
 }
+
+/// One edge of the parameter domain.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Edge {
+    /// u = u_min (paths along v).
+    U0,
+    /// u = u_max (paths along v).
+    U1,
+    /// v = v_min (paths along u).
+    V0,
+    /// v = v_max (paths along u).
+    V1,
+}
+
+impl Edge {
+    /// Every edge, in the order of their names.
+    pub const ALL: [Self; 4] = [Self::U0, Self::U1, Self::V0, Self::V1];
+
+    /// The scene's name: `u0`, `u1`, `v0`, `v1`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::U0 => "u0",
+            Self::U1 => "u1",
+            Self::V0 => "v0",
+            Self::V1 => "v1",
+        }
+    }
+
+    /// The edge of a scene name.
+    #[must_use]
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|e| e.name() == name)
+    }
+
+    /// The parameter the paths run along when they start on this edge (0 = u, 1 = v): an
+    /// edge u = const is an iso-curve along v.
+    #[must_use]
+    pub fn along(self) -> usize {
+        match self {
+            Self::U0 | Self::U1 => 1,
+            Self::V0 | Self::V1 => 0,
+        }
+    }
+
+    /// Whether the edge is at the upper end of its parameter (the paths then advance toward
+    /// decreasing b).
+    #[must_use]
+    pub fn at_max(self) -> bool {
+        matches!(self, Self::U1 | Self::V1)
+    }
+}
+
+/// Where the iso-scallop paths start (`finish.start` in a scene).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum PathStart {
+    /// The boundary b = b_min of the parameter [`FinishOptions::direction`] chooses (the
+    /// behaviour before `finish.start` existed).
+    #[default]
+    FirstBoundary,
+    /// This edge; the paths run along it and advance toward the opposite edge.
+    Boundary(Edge),
+    /// A curve through these surface parameters (internal units: radians for angles), at
+    /// least 2, inside the domain. The paths run along the parameter in which the curve
+    /// spans more of the domain (or the one [`FinishOptions::direction`] names); the points
+    /// are joined in the order of that parameter and the curve is extended at constant b to
+    /// the a-boundaries. The paths then go to both sides (module docs).
+    Curve(Vec<DVec2>),
+}
+
+impl PathStart {
+    /// The parameter the paths run along (0 = u, 1 = v): the edge's, the curve's
+    /// ([`curve_along`]), or for the first boundary [`choose_along`].
+    #[must_use]
+    pub fn along(&self, surface: &Surface, cutter: &Cutter, strategy: &Strategy, opts: &FinishOptions) -> usize {
+        match self {
+            Self::FirstBoundary => choose_along(surface, cutter, strategy, opts),
+            Self::Boundary(e) => e.along(),
+            Self::Curve(pts) => curve_along(surface, pts, opts.direction),
+        }
+    }
+}
+
+/// The parameter a start curve's paths run along: the one `direction` names, or for
+/// [`FeedDirection::Auto`] the one in which the points span the larger share of the domain
+/// (u on a tie).
+#[must_use]
+pub fn curve_along(surface: &Surface, pts: &[DVec2], direction: FeedDirection) -> usize {
+    match direction {
+        FeedDirection::U => 0,
+        FeedDirection::V => 1,
+        FeedDirection::Auto => {
+            let d = surface.domain();
+            let share = |get: fn(DVec2) -> f64, width: f64| {
+                let (lo, hi) = pts
+                    .iter()
+                    .map(|&p| get(p))
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| (l.min(x), h.max(x)));
+                if hi > lo && width > 0.0 { (hi - lo) / width } else { 0.0 }
+            };
+            usize::from(share(|p| p.y, d.v.width()) > share(|p| p.x, d.u.width()))
+        }
+    }
+}
+
+/// The start curve as the first path's uv polyline for paths along `along`: checked (at
+/// least 2 points, finite, inside the domain, at most [`MAX_START_CURVE_POINTS`]), sorted
+/// by the along parameter a (points no further along than the previous one dropped),
+/// each segment divided into pieces of at most 1/64 of the a-range, and extended at
+/// constant b to both a-boundaries.
+///
+/// # Errors
+/// [`FinishError::BadStart`] naming the problem.
+pub fn start_polyline(surface: &Surface, pts: &[DVec2], along: usize) -> Result<Vec<DVec2>, FinishError> {
+    let bad = |reason: String| Err(FinishError::BadStart { reason });
+    if pts.len() < 2 {
+        return bad(format!("the start curve needs at least 2 points, got {}", pts.len()));
+    }
+    if pts.len() > MAX_START_CURVE_POINTS {
+        return bad(format!("the start curve has {} points, more than {MAX_START_CURVE_POINTS}", pts.len()));
+    }
+    let dom = surface.domain();
+    for (i, p) in pts.iter().enumerate() {
+        if !(p.is_finite() && dom.contains(*p)) {
+            let f = dom.to_file(*p);
+            return bad(format!("point {i} of the start curve, ({}, {}), is outside the surface's domain", f.x, f.y));
+        }
+    }
+    let ra = if along == 0 { dom.u } else { dom.v };
+    let (a0, a1) = (ra.min, ra.max);
+    let mut sorted: Vec<DVec2> = pts.iter().map(|&p| dom.clamp(p)).collect();
+    sorted.sort_by(|p, q| a_of(*p, along).total_cmp(&a_of(*q, along)));
+    let slack = DOMAIN_SLACK * (a1 - a0).max(1.0);
+    let mut kept: Vec<DVec2> = Vec::with_capacity(sorted.len());
+    for p in sorted {
+        if kept.last().is_none_or(|q| a_of(p, along) > a_of(*q, along) + slack) {
+            kept.push(p);
+        }
+    }
+    let name = if along == 0 { 'u' } else { 'v' };
+    let (Some(&first), Some(&last)) = (kept.first(), kept.last()) else {
+        return bad("the start curve has no points".to_owned());
+    };
+    if kept.len() < 2 {
+        return bad(format!("the start curve's points all have the same {name}; the paths run along {name}"));
+    }
+    let mut poly = Vec::with_capacity(kept.len() * 4 + 2);
+    if a_of(first, along) > a0 + slack {
+        poly.push(make_uv(a0, b_of(first, along), along));
+    }
+    poly.push(first);
+    for w in kept.windows(2) {
+        let share = (a_of(w[1], along) - a_of(w[0], along)) / (a1 - a0);
+        let pieces = (share * START_CURVE_PIECES).ceil().clamp(1.0, START_CURVE_PIECES) as usize;
+        for k in 1..=pieces {
+            poly.push(w[0].lerp(w[1], k as f64 / pieces as f64));
+        }
+    }
+    if a_of(last, along) < a1 - slack {
+        poly.push(make_uv(a1, b_of(last, along), along));
+    }
+    Ok(poly)
+}
+
+/// Pieces of a start curve's segment spanning the whole a-range (as [`iso_curve`]'s 64).
+const START_CURVE_PIECES: f64 = 64.0;
 
 /// Settings of a finishing job (mm, rad, mm/min).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -167,6 +338,10 @@ pub struct PathSet {
     pub along: usize,
     /// Points refused (left out of their path).
     pub refused: Vec<Refusal>,
+    /// From a start curve: the index of the first path of its second side (toward
+    /// decreasing b; the paths before it are the curve and its first side), if that side
+    /// has paths. The path before it is not its neighbour: a linking move comes between.
+    pub second_side: Option<usize>,
 }
 
 /// Numbers comparing path sets.
@@ -229,8 +404,11 @@ struct Ctx<'a> {
     opts: &'a FinishOptions,
     part: &'a PartSamples,
     along: usize,
-    /// +1 when c points toward increasing b, else −1 (decided on the first path).
+    /// The sign that turns c toward the far edge: +1 when c points toward increasing b and
+    /// the paths advance that way, else −1 (decided on the first path).
     side: f64,
+    /// +1 while the paths advance toward increasing b, −1 toward decreasing b.
+    toward: f64,
 }
 
 fn a_of(uv: DVec2, along: usize) -> f64 {
@@ -244,18 +422,20 @@ fn make_uv(a: f64, b: f64, along: usize) -> DVec2 {
 }
 
 impl<'a> Ctx<'a> {
-    /// A job's context after checking its options: the along parameter chosen
-    /// ([`choose_along`]), c taken toward increasing b until the first path says otherwise.
+    /// A job's context after checking its options: the along parameter chosen by the start
+    /// ([`PathStart::along`]), c taken toward increasing b until the first path says
+    /// otherwise.
     fn start(
         surface: &'a Surface,
         cutter: &Cutter,
         strategy: Strategy,
         opts: &'a FinishOptions,
         part: &'a PartSamples,
+        start: &PathStart,
     ) -> Result<Self, FinishError> {
         check_options(opts)?;
-        let along = choose_along(surface, cutter, &strategy, opts);
-        Ok(Self { surface, cutter: *cutter, strategy, opts, part, along, side: 1.0 })
+        let along = start.along(surface, cutter, &strategy, opts);
+        Ok(Self { surface, cutter: *cutter, strategy, opts, part, along, side: 1.0, toward: 1.0 })
     }
 
     fn ranges(&self) -> ((f64, f64), (f64, f64)) {
@@ -416,8 +596,9 @@ impl<'a> Ctx<'a> {
             t = (t - t.dot(d.normal) * d.normal).normalize_or_zero();
             uv += g.tangent_coords(t) * (w_mm / sub as f64);
         }
-        let ((_, _), (_, b1)) = self.ranges();
-        let beyond = b_of(uv, self.along) >= b1;
+        let ((_, _), (b0, b1)) = self.ranges();
+        let b = b_of(uv, self.along);
+        let beyond = if self.toward > 0.0 { b >= b1 } else { b <= b0 };
         (dom.clamp(uv), beyond)
     }
 
@@ -619,7 +800,23 @@ pub fn iso_scallop(
     opts: &FinishOptions,
     part: &PartSamples,
 ) -> Result<PathSet, FinishError> {
-    let mut steps = IsoScallopSteps::start(surface, cutter, strategy, opts, part)?;
+    iso_scallop_from(surface, cutter, strategy, opts, part, &PathStart::FirstBoundary)
+}
+
+/// Iso-scallop paths from the first path `start` says (module docs). The same as running
+/// [`IsoScallopSteps::start_from`] to its end.
+///
+/// # Errors
+/// A bad option or start curve, no path at the start, or too many paths or nodes.
+pub fn iso_scallop_from(
+    surface: &Surface,
+    cutter: &Cutter,
+    strategy: Strategy,
+    opts: &FinishOptions,
+    part: &PartSamples,
+    start: &PathStart,
+) -> Result<PathSet, FinishError> {
+    let mut steps = IsoScallopSteps::start_from(surface, cutter, strategy, opts, part, start)?;
     while !steps.step(surface, cutter, opts, part)? {}
     Ok(steps.finish())
 }
@@ -629,11 +826,30 @@ pub fn iso_scallop(
 /// [`IsoScallopSteps::step`] builds the next one from the side steps of the last; the
 /// result is exactly [`iso_scallop`]'s. Every call must get the same surface, cutter,
 /// options and part samples as `start`.
+///
+/// From a start curve the paths go to both sides, in this order (the order of machining):
+/// the curve, the paths toward increasing b outward to b_max, then — after a linking move —
+/// the paths toward decreasing b outward from the curve to b_min. Each path's side steps
+/// and scallops are to the next path of its own side (the curve's: to the first path toward
+/// increasing b); the last path of each side has none.
 #[derive(Clone, Debug)]
 pub struct IsoScallopSteps {
     strategy: Strategy,
     along: usize,
-    side: f64,
+    /// +1 when c points toward increasing b (at the first path's first node).
+    c_sign: f64,
+    /// +1 while the paths advance toward increasing b, −1 toward decreasing b.
+    toward: f64,
+    /// The path the next step offsets from.
+    frontier: usize,
+    /// Whether the side toward decreasing b is still to be done from the start curve.
+    second_side: bool,
+    /// Whether that side is being done.
+    in_second_side: bool,
+    /// Where the covered band began (b, internal units): the edge or the curve's lowest b.
+    start_b: f64,
+    /// The index of the second side's first path, once built.
+    second_side_at: Option<usize>,
     refused: Vec<Refusal>,
     budget: usize,
     paths: Vec<ToolPath>,
@@ -652,20 +868,76 @@ impl IsoScallopSteps {
         opts: &FinishOptions,
         part: &PartSamples,
     ) -> Result<Self, FinishError> {
-        let ctx = Ctx::start(surface, cutter, strategy, opts, part)?;
+        Self::start_from(surface, cutter, strategy, opts, part, &PathStart::FirstBoundary)
+    }
+
+    /// Checks the options and the start, and builds the first path where `start` says.
+    ///
+    /// # Errors
+    /// A bad option or start curve, or no path at the start.
+    pub fn start_from(
+        surface: &Surface,
+        cutter: &Cutter,
+        strategy: Strategy,
+        opts: &FinishOptions,
+        part: &PartSamples,
+        start: &PathStart,
+    ) -> Result<Self, FinishError> {
+        let ctx = Ctx::start(surface, cutter, strategy, opts, part, start)?;
         let along = ctx.along;
-        let ((a0, a1), (b0, _)) = ctx.ranges();
+        let ((a0, a1), (b0, b1)) = ctx.ranges();
+        let (poly, toward, second_side) = match start {
+            PathStart::FirstBoundary => (iso_curve((a0, a1), b0, along), 1.0, false),
+            PathStart::Boundary(e) => {
+                let b = if e.at_max() { b1 } else { b0 };
+                (iso_curve((a0, a1), b, along), if e.at_max() { -1.0 } else { 1.0 }, false)
+            }
+            PathStart::Curve(pts) => (start_polyline(surface, pts, along)?, 1.0, true),
+        };
+        let start_b = match start {
+            PathStart::Curve(_) => poly.iter().map(|&p| b_of(p, along)).fold(b1, f64::min),
+            _ => b0,
+        };
         let mut refused = Vec::new();
         let mut budget = opts.max_nodes;
-        let first = ctx.build_path(&iso_curve((a0, a1), b0, along), None, &mut refused, &mut budget)?;
+        let first = ctx.build_path(&poly, None, &mut refused, &mut budget)?;
         let Some(n0) = first.nodes.first() else {
             return Err(FinishError::NoPath { reason: refused.first().map_or("no CC point", |r| r.reason) });
         };
         // c toward increasing b?
         let g = LocalGeometry::try_new(surface.derivatives_at(n0.frame.uv));
         let tc = g.map_or(DVec2::ZERO, |g| g.tangent_coords(n0.frame.cross));
-        let side = if b_of(tc, along) >= 0.0 { 1.0 } else { -1.0 };
-        Ok(Self { strategy, along, side, refused, budget, paths: vec![first], done: false })
+        let c_sign = if b_of(tc, along) >= 0.0 { 1.0 } else { -1.0 };
+        Ok(Self {
+            strategy,
+            along,
+            c_sign,
+            toward,
+            frontier: 0,
+            second_side,
+            in_second_side: false,
+            start_b,
+            second_side_at: None,
+            refused,
+            budget,
+            paths: vec![first],
+            done: false,
+        })
+    }
+
+    /// The current side is covered: on to the other side of the start curve, or done.
+    /// Returns whether all is done.
+    fn end_side(&mut self) -> bool {
+        if self.second_side {
+            self.second_side = false;
+            self.in_second_side = true;
+            self.toward = -1.0;
+            self.frontier = 0;
+            false
+        } else {
+            self.done = true;
+            true
+        }
     }
 
     /// Builds the next path; `Ok(true)` when the surface is covered (then further calls do
@@ -684,26 +956,36 @@ impl IsoScallopSteps {
             return Ok(true);
         }
         let along = self.along;
-        let ctx = Ctx { surface, cutter: *cutter, strategy: self.strategy, opts, part, along, side: self.side };
+        let (side, toward) = (self.c_sign * self.toward, self.toward);
+        let ctx = Ctx { surface, cutter: *cutter, strategy: self.strategy, opts, part, along, side, toward };
         let ((a0, a1), (b0, b1)) = ctx.ranges();
         if self.paths.len() >= opts.max_paths {
             return Err(FinishError::TooManyPaths { max_paths: opts.max_paths });
         }
-        let Some(last) = self.paths.last_mut() else {
+        // The side steps from the start curve toward decreasing b are not stored on it: it
+        // keeps those to the next path in the order of machining.
+        let keep = !(self.in_second_side && self.frontier == 0);
+        let Some(last) = self.paths.get_mut(self.frontier) else {
             self.done = true;
             return Ok(true);
         };
-        if last.nodes.iter().all(|n| b_of(n.frame.uv, along) >= b1 - 1e-12 * (b1 - b0)) {
-            self.done = true;
-            return Ok(true);
+        let slack = 1e-12 * (b1 - b0);
+        let on_far_edge = |uv: DVec2| {
+            let b = b_of(uv, along);
+            if toward > 0.0 { b >= b1 - slack } else { b <= b0 + slack }
+        };
+        if last.nodes.iter().all(|n| on_far_edge(n.frame.uv)) {
+            return Ok(self.end_side());
         }
         let mut poly: Vec<DVec2> = Vec::with_capacity(last.nodes.len() + 2);
         let mut refs: Vec<(f64, f64)> = Vec::with_capacity(last.nodes.len() + 2);
         let rate = opts.orient.max_turn_rad_per_mm;
         for node in &mut last.nodes {
             let (uv, _beyond, w, s) = ctx.side_step(node);
-            node.side_step_mm = Some(w);
-            node.scallop_mm = Some(s);
+            if keep {
+                node.side_step_mm = Some(w);
+                node.scallop_mm = Some(s);
+            }
             // Keep the along parameter increasing (drop loops of the offset curve).
             if poly.last().is_none_or(|p| a_of(uv, along) > a_of(*p, along)) {
                 poly.push(uv);
@@ -711,8 +993,7 @@ impl IsoScallopSteps {
             }
         }
         let (Some(&f), Some(&l)) = (poly.first(), poly.last()) else {
-            self.done = true;
-            return Ok(true);
+            return Ok(self.end_side());
         };
         if a_of(f, along) > a0 {
             poly.insert(0, make_uv(a0, b_of(f, along), along));
@@ -723,15 +1004,17 @@ impl IsoScallopSteps {
             refs.push(refs[refs.len() - 1]);
         }
         if poly.len() < 2 {
-            self.done = true;
-            return Ok(true);
+            return Ok(self.end_side());
         }
         let next = ctx.build_path(&poly, Some(&refs), &mut self.refused, &mut self.budget)?;
         if next.nodes.is_empty() {
-            self.done = true;
-            return Ok(true);
+            return Ok(self.end_side());
         }
         self.paths.push(next);
+        self.frontier = self.paths.len() - 1;
+        if self.in_second_side && self.second_side_at.is_none() {
+            self.second_side_at = Some(self.frontier);
+        }
         Ok(false)
     }
 
@@ -742,8 +1025,10 @@ impl IsoScallopSteps {
         &self.paths
     }
 
-    /// How far the paths have come across the surface, 0 … 1: the smallest across
-    /// parameter b of the last path's nodes over the surface's b range (1 when done).
+    /// How far the paths have come across the surface, 0 … 1: the share of the surface's b
+    /// range between where the paths began and the nearest node of the last path (1 when
+    /// done). Advancing toward decreasing b (from the upper edge, or the start curve's
+    /// second side), the share between the last path's farthest-back node and b_max.
     #[must_use]
     pub fn progress(&self, surface: &Surface) -> f64 {
         if self.done {
@@ -752,10 +1037,16 @@ impl IsoScallopSteps {
         let d = surface.domain();
         let rb = if self.along == 0 { d.v } else { d.u };
         let span = rb.max - rb.min;
-        let b =
-            self.paths.last().and_then(|p| p.nodes.iter().map(|n| b_of(n.frame.uv, self.along)).min_by(f64::total_cmp));
-        match b {
-            Some(b) if span > 0.0 => ((b - rb.min) / span).clamp(0.0, 1.0),
+        let bs = || {
+            self.paths.get(self.frontier).into_iter().flat_map(|p| p.nodes.iter()).map(|n| b_of(n.frame.uv, self.along))
+        };
+        let covered = if self.toward > 0.0 {
+            bs().min_by(f64::total_cmp).map(|b| b - self.start_b)
+        } else {
+            bs().max_by(f64::total_cmp).map(|b| rb.max - b)
+        };
+        match covered {
+            Some(c) if span > 0.0 => (c / span).clamp(0.0, 1.0),
             _ => 0.0,
         }
     }
@@ -781,6 +1072,7 @@ impl IsoScallopSteps {
             strategy: self.strategy,
             along: self.along,
             refused: self.refused,
+            second_side: self.second_side_at,
         }
     }
 }
@@ -798,7 +1090,24 @@ pub fn iso_parametric(
     opts: &FinishOptions,
     part: &PartSamples,
 ) -> Result<PathSet, FinishError> {
-    let ctx = Ctx::start(surface, cutter, strategy, opts, part)?;
+    iso_parametric_from(surface, cutter, strategy, opts, part, &PathStart::FirstBoundary)
+}
+
+/// Iso-parametric paths along the parameter the iso-scallop paths from `start` run along
+/// ([`PathStart::along`]), so the two layouts compare on the same feed direction; they are
+/// the same b = const family for every start.
+///
+/// # Errors
+/// As [`iso_scallop`].
+pub fn iso_parametric_from(
+    surface: &Surface,
+    cutter: &Cutter,
+    strategy: Strategy,
+    opts: &FinishOptions,
+    part: &PartSamples,
+    start: &PathStart,
+) -> Result<PathSet, FinishError> {
+    let ctx = Ctx::start(surface, cutter, strategy, opts, part, start)?;
     let along = ctx.along;
     let ((a0, a1), (b0, b1)) = ctx.ranges();
     let tool = strategy.cutter_for(cutter);
@@ -863,7 +1172,7 @@ pub fn iso_parametric(
             }
         }
         if worst <= h * 1.0001 {
-            return Ok(PathSet { paths, layout: Layout::IsoParametric, strategy, along, refused });
+            return Ok(PathSet { paths, layout: Layout::IsoParametric, strategy, along, refused, second_side: None });
         }
         db = spacing * (h / worst).sqrt() * 0.999;
     }

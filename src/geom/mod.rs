@@ -22,6 +22,7 @@ pub mod nurbs;
 mod parabola;
 mod parametric;
 mod project;
+mod ray;
 mod surface;
 
 pub use curve::{Curve3, HermitePath};
@@ -34,4 +35,5 @@ pub use nurbs::{NurbsCurve, NurbsError, NurbsSurface};
 pub use parabola::Parabola;
 pub use parametric::{ParametricSurface, SurfaceDerivs};
 pub use project::{Foot, ProjectOptions, project_point, project_point_from, project_point_global};
+pub use ray::{RAY_GRID_MAX, RAY_NEWTON_STEPS, RayHit, ray_hit};
 pub use surface::{Cylinder, Plane, Sphere, Surface, Torus};

@@ -1,7 +1,8 @@
 //! One row of the fillet tab's comparison table as a background job: a finishing scene (its
 //! strategy written into it) machined with iso-scallop or iso-parametric paths by
-//! [`iso_scallop`] / [`iso_parametric`], and the numbers of the paths ([`Stats`]). A row is
-//! one whole core run, 1–1.5 s natively and more in a browser: far more than a frame.
+//! [`iso_scallop_from`] / [`iso_parametric_from`] (from the scene's `finish.start`), and the
+//! numbers of the paths ([`Stats`]). A row is one whole core run, 1–1.5 s natively and more
+//! in a browser: far more than a frame.
 //!
 //! The request carries the scene as its `interpolab-scene/1` text ([`FinishScene::to_json`],
 //! exact: every number reads back bit for bit), the output the row's numbers by their bits.
@@ -9,7 +10,7 @@
 use serde_json::json;
 
 use super::{JobKind, Progress, Reader, nums, parse};
-use crate::fillet::{Layout, PartSamples, Stats, iso_parametric, iso_scallop};
+use crate::fillet::{Layout, PartSamples, Stats, iso_parametric_from, iso_scallop_from};
 use crate::scene::finish::FinishScene;
 
 /// One row: the scene (strategy included) and the layout of its paths.
@@ -51,8 +52,8 @@ impl JobKind for FilletRow {
         progress.progress(0.1);
         let (s, c, st, o) = (&job.surface, &job.cutter, job.strategy, &job.options);
         let paths = match request.layout {
-            Layout::IsoScallop => iso_scallop(s, c, st, o, &part),
-            Layout::IsoParametric => iso_parametric(s, c, st, o, &part),
+            Layout::IsoScallop => iso_scallop_from(s, c, st, o, &part, &job.start),
+            Layout::IsoParametric => iso_parametric_from(s, c, st, o, &part, &job.start),
         };
         paths.map(|p| p.stats(o.feed_mm_per_min)).map_err(|e| e.to_string())
     }
@@ -115,9 +116,10 @@ impl JobKind for FilletRow {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fillet::Strategy;
+    use crate::fillet::{PathStart, Strategy};
     use crate::jobs::NoProgress;
     use crate::scene::finish::FINISH_PRESETS;
+    use crate::scene::finish::StartSpec;
 
     /// A deterministic stream of awkward doubles: random bit patterns of finite numbers in
     /// a given range, so their shortest decimal texts have 15–17 digits (where a parser
@@ -175,8 +177,9 @@ mod tests {
     fn the_row_crosses_unchanged_and_is_the_core_run() {
         let mut scene = FinishScene::from_json(FINISH_PRESETS[0].json).unwrap();
         "ball".clone_into(&mut scene.finish.strategy);
-        // A coarse scallop keeps the test quick.
+        // A coarse scallop keeps the test quick; the start curve must cross to the worker.
         scene.finish.scallop = 0.05;
+        scene.finish.start = Some(StartSpec::Curve(vec![[0.2, 0.4], [0.8, 0.6]]));
         for layout in [Layout::IsoScallop, Layout::IsoParametric] {
             let req = Request { scene: scene.clone(), layout };
             let back = FilletRow::decode_request(&FilletRow::encode_request(&req)).unwrap();
@@ -188,10 +191,15 @@ mod tests {
             assert_eq!(got.time_min.to_bits(), stats.time_min.to_bits());
             let job = scene.job().unwrap();
             assert_eq!(job.strategy, Strategy::Ball);
+            assert!(matches!(job.start, PathStart::Curve(_)));
             let part = PartSamples::new(&job.surface, job.options.part_grid);
             let direct = match layout {
-                Layout::IsoScallop => iso_scallop(&job.surface, &job.cutter, job.strategy, &job.options, &part),
-                Layout::IsoParametric => iso_parametric(&job.surface, &job.cutter, job.strategy, &job.options, &part),
+                Layout::IsoScallop => {
+                    iso_scallop_from(&job.surface, &job.cutter, job.strategy, &job.options, &part, &job.start)
+                }
+                Layout::IsoParametric => {
+                    iso_parametric_from(&job.surface, &job.cutter, job.strategy, &job.options, &part, &job.start)
+                }
             }
             .unwrap()
             .stats(job.options.feed_mm_per_min);

@@ -5,8 +5,9 @@
 
 use super::SceneError;
 use super::build::{build_machine, build_surface, validate_machine};
-pub use super::finish_spec::{CutterSpec, FinishScene, FinishSpec};
-use crate::fillet::{FeedDirection, FinishOptions, Strategy};
+pub use super::finish_spec::{CutterSpec, FinishScene, FinishSpec, StartSpec};
+use crate::fillet::paths::{curve_along, start_polyline};
+use crate::fillet::{Edge, FeedDirection, FinishOptions, PathStart, Strategy};
 use crate::fiveaxis::Machine;
 use crate::geom::{Cutter, Surface};
 
@@ -25,6 +26,8 @@ pub struct FinishJob {
     pub options: FinishOptions,
     /// The machine (the default table A/C when the scene has none).
     pub machine: Machine,
+    /// Where the iso-scallop paths start (`finish.start`; parameters in internal units).
+    pub start: PathStart,
 }
 
 fn positive(path: &str, x: f64, what: &str) -> Result<(), SceneError> {
@@ -149,6 +152,7 @@ impl FinishScene {
             positive("finish.feed", v, "the feed in mm/min")?;
             options.feed_mm_per_min = v;
         }
+        let start = start_of(f.start.as_ref(), &surface, options.direction)?;
         let machine = match &self.machine {
             Some(m) => {
                 validate_machine(m)?;
@@ -156,7 +160,81 @@ impl FinishScene {
             }
             None => Machine::default(),
         };
-        Ok(FinishJob { name: self.name.clone(), surface, cutter, strategy, options, machine })
+        Ok(FinishJob { name: self.name.clone(), surface, cutter, strategy, options, machine, start })
+    }
+}
+
+/// `finish.start` checked and in core units: an edge that agrees with `finish.direction`, or
+/// a curve of at least 2 points inside the domain that differ in the parameter the paths run
+/// along.
+fn start_of(spec: Option<&StartSpec>, surface: &Surface, direction: FeedDirection) -> Result<PathStart, SceneError> {
+    use crate::geom::ParametricSurface;
+    match spec {
+        None => Ok(PathStart::FirstBoundary),
+        Some(StartSpec::Boundary(name)) => {
+            let Some(edge) = Edge::from_name(name) else {
+                return Err(SceneError::new(
+                    "finish.start",
+                    format!("\"{name}\" is not an edge"),
+                    "use \"u0\", \"u1\", \"v0\" or \"v1\" (the edge u = u_min, u_max, v = v_min, v_max), or { \"curve\": [[u, v], …] }",
+                ));
+            };
+            let along = edge.along();
+            let clash = match direction {
+                FeedDirection::U => along != 0,
+                FeedDirection::V => along != 1,
+                FeedDirection::Auto => false,
+            };
+            if clash {
+                // The edges whose paths run along the asked direction are those of the other
+                // parameter.
+                let (runs, other) = if along == 0 { ('u', 'v') } else { ('v', 'u') };
+                return Err(SceneError::new(
+                    "finish.start",
+                    format!(
+                        "the edge {name} is a path along {runs}, but finish.direction asks for paths along {other}"
+                    ),
+                    format!("start on the edge {runs}0 or {runs}1, or set finish.direction to \"{runs}\" or \"auto\""),
+                ));
+            }
+            Ok(PathStart::Boundary(edge))
+        }
+        Some(StartSpec::Curve(file_pts)) => {
+            let dom = surface.domain();
+            let pts: Vec<glam::DVec2> =
+                file_pts.iter().map(|p| super::build::params_from_file(surface, glam::DVec2::from(*p))).collect();
+            for (i, p) in pts.iter().enumerate() {
+                if !dom.contains(*p) {
+                    let f = |r: crate::geom::ParamRange| {
+                        format!("[{}, {}]{}", r.unit.to_file(r.min), r.unit.to_file(r.max), r.unit.suffix())
+                    };
+                    return Err(SceneError::new(
+                        format!("finish.start.curve[{i}]"),
+                        format!(
+                            "({}, {}) is outside the surface's domain u ∈ {}, v ∈ {}",
+                            file_pts[i][0],
+                            file_pts[i][1],
+                            f(dom.u),
+                            f(dom.v)
+                        ),
+                        "give the point's parameters inside the domain (degrees for angles)",
+                    ));
+                }
+            }
+            let along = curve_along(surface, &pts, direction);
+            start_polyline(surface, &pts, along).map_err(|e| {
+                let reason = match &e {
+                    crate::fillet::FinishError::BadStart { reason } => reason.clone(),
+                    other => other.to_string(),
+                };
+                SceneError::new(
+                    "finish.start.curve",
+                    reason,
+                    "give 2 or more [u, v] points inside the surface's domain",
+                )
+            })?;
+            Ok(PathStart::Curve(pts))
+        }
     }
 }
 

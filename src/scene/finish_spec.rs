@@ -23,6 +23,16 @@ pub struct CutterSpec {
     pub holder_length: Option<f64>,
 }
 
+/// `finish.start`: where the iso-scallop paths start (file units).
+#[derive(Clone, Debug, PartialEq)]
+pub enum StartSpec {
+    /// An edge of the domain by name: `u0`, `u1`, `v0` or `v1` (checked by the job).
+    Boundary(String),
+    /// `{"curve": [[u, v], …]}`: points in the surface's parameters, file units (degrees for
+    /// angles, mm for lengths).
+    Curve(Vec<[f64; 2]>),
+}
+
 /// `finish`: the cutter and the path parameters.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FinishSpec {
@@ -46,6 +56,8 @@ pub struct FinishSpec {
     pub max_inclination: Option<f64>,
     /// Feed for the machining time and the G-code (mm/min; default 1000).
     pub feed: Option<f64>,
+    /// Where the iso-scallop paths start (`None`: the first boundary of the direction).
+    pub start: Option<StartSpec>,
 }
 
 /// A whole finishing scene in file units.

@@ -575,9 +575,45 @@ const FINISH_KEYS: &[&str] = &[
     "margin",
     "max_inclination",
     "feed",
+    "start",
 ];
 const CUTTER_KEYS: &[&str] =
     &["radius", "corner_radius", "flute_length", "shank_radius", "gauge_length", "holder_radius", "holder_length"];
+
+const START_HINT: &str = "\"u0\", \"u1\", \"v0\", \"v1\" or { \"curve\": [[u, v], …] }";
+
+/// `finish.start`: an edge's name or `{ "curve": [[u, v], …] }` (at most
+/// [`crate::limits::MAX_START_CURVE_POINTS`] points, read before they are counted further).
+fn parse_start(at: &At<'_>) -> Result<super::finish_spec::StartSpec, SceneError> {
+    use super::finish_spec::StartSpec;
+    if let Value::String(name) = at.v {
+        return Ok(StartSpec::Boundary(name.clone()));
+    }
+    if !at.v.is_object() {
+        return Err(SceneError::new(
+            display_path(&at.path),
+            format!("expected an edge's name or a curve, got {}", kind(at.v)),
+            format!("write {START_HINT}"),
+        ));
+    }
+    let o = Obj::new(at, &["curve"])?;
+    let curve = o.req("curve", "[[u, v], [u, v], …]")?;
+    let items = curve.array("the start curve's points [u, v] in the surface's parameters")?;
+    let max = crate::limits::MAX_START_CURVE_POINTS;
+    if items.len() > max {
+        return Err(SceneError::new(
+            display_path(&curve.path),
+            format!("{} points, more than {max}", items.len()),
+            format!("give at most {max} points"),
+        ));
+    }
+    let pts = items
+        .iter()
+        .enumerate()
+        .map(|(i, p)| curve.idx(i, p).fixed::<2>("[u, v] in the surface's parameters (degrees for angles)"))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(StartSpec::Curve(pts))
+}
 
 /// Parses a finishing scene's structure and types (`docs/scene-format.md`, finishing jobs).
 pub(super) fn parse_finish(text: &str) -> Result<super::finish_spec::FinishScene, SceneError> {
@@ -634,6 +670,7 @@ pub(super) fn parse_finish(text: &str) -> Result<super::finish_spec::FinishScene
         margin: opt_num(&f, "margin", "the curvature margin in 1/mm")?,
         max_inclination: opt_num(&f, "max_inclination", "the largest inclination in degrees")?,
         feed: opt_num(&f, "feed", "the feed in mm/min")?,
+        start: f.opt_non_null("start").map(|s| parse_start(&s)).transpose()?,
     };
     let machine = o.opt_non_null("machine").map(|m| parse_machine(&m)).transpose()?;
     Ok(FinishScene { name, surface, finish, machine })

@@ -163,6 +163,15 @@ pub(super) fn finish_to_json(s: &super::finish_spec::FinishScene) -> String {
     opt(&mut finish, "margin", f.margin);
     opt(&mut finish, "max_inclination", f.max_inclination);
     opt(&mut finish, "feed", f.feed);
+    match &f.start {
+        None => {}
+        Some(super::finish_spec::StartSpec::Boundary(name)) => {
+            finish.insert("start".into(), name.clone().into());
+        }
+        Some(super::finish_spec::StartSpec::Curve(pts)) => {
+            finish.insert("start".into(), json!({ "curve": pts }));
+        }
+    }
     let mut m = Map::new();
     m.insert("format".into(), FORMAT.into());
     m.insert("name".into(), s.name.clone().into());

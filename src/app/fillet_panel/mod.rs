@@ -7,7 +7,9 @@
 //! osculating circle against the cutter's effective cutting curvature — the picture of
 //! curvature matching); the comparison table on request, its rows background jobs
 //! (`work::Job::advance`: threads natively, Web Workers in the browser) filled in as they
-//! finish. Core and formulas: docs/fillet.md.
+//! finish. The paths start where "Start from" says: an edge, or a curve picked by clicking
+//! on the surface in the view; a click can instead select the CC point the cutter is drawn
+//! at. Core and formulas: docs/fillet.md.
 
 mod view;
 pub mod work;
@@ -19,9 +21,27 @@ use super::budget::FRAME_BUDGET;
 use super::panel::{FinishHandoff, Handoff, Panel, PanelContext, Payload, SIMULATION_TITLE};
 use crate::fillet::{CcNode, effective_curvature};
 use crate::scene::finish::FINISH_PRESETS;
-use view::FilletView;
+use view::{Click, FilletView};
 pub use work::{CORNER_RANGE_MM, RADIUS_RANGE_MM, SCALLOP_RANGE_UM, TOLERANCE_RANGE_MM};
-use work::{Job, Settings, StrategyChoice, TABLE_ROWS, table_row};
+use work::{Job, MAX_PICKS, Settings, StartChoice, StrategyChoice, TABLE_ROWS, table_row};
+
+/// What a click in the 3D view does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ClickMode {
+    /// Selects the CC point nearest on screen (the cutter and the inset follow).
+    Select,
+    /// Adds the surface point under the pointer to the start curve.
+    Pick,
+}
+
+impl ClickMode {
+    fn key(self) -> &'static str {
+        match self {
+            Self::Select => "select",
+            Self::Pick => "pick",
+        }
+    }
+}
 
 /// Points of a section curve in the inset.
 const SECTION_POINTS: usize = 121;
@@ -51,6 +71,15 @@ pub struct FilletPanel {
     simulate_rect: Option<egui::Rect>,
     /// `set_option("simulate", "")`: hand the program over at the next frame, as the button.
     simulate_requested: bool,
+    /// What a click in the view does.
+    click_mode: ClickMode,
+    /// The 3D view's rectangle (status `ui.fillet_view`).
+    view_rect: Option<egui::Rect>,
+    /// The click-mode radio buttons' rectangles (status `ui.fillet_select_mode`,
+    /// `ui.fillet_pick_mode`).
+    mode_rects: [Option<egui::Rect>; 2],
+    /// What the last click did (status `last_click`).
+    last_click: Option<String>,
 }
 
 impl Default for FilletPanel {
@@ -61,6 +90,10 @@ impl Default for FilletPanel {
             table_rect: None,
             simulate_rect: None,
             simulate_requested: false,
+            click_mode: ClickMode::Select,
+            view_rect: None,
+            mode_rects: [None; 2],
+            last_click: None,
             job: None,
             refused: None,
             last_refused: None,
@@ -134,6 +167,32 @@ impl FilletPanel {
             });
             if preset != s.preset {
                 *s = Settings::of_preset(preset);
+            }
+        });
+        ui.horizontal_wrapped(|ui| {
+            ui.label("Start from:");
+            let before = s.start;
+            egui::ComboBox::from_id_salt("fillet_start").selected_text(s.start.label()).show_ui(ui, |ui| {
+                for c in StartChoice::ALL {
+                    ui.selectable_value(&mut s.start, c, c.label());
+                }
+            });
+            if s.start != before && s.start == StartChoice::Picked {
+                self.click_mode = ClickMode::Pick;
+            }
+        });
+        ui.horizontal_wrapped(|ui| {
+            ui.label("Click in the view:");
+            let a = ui.radio_value(&mut self.click_mode, ClickMode::Select, "selects a CC point");
+            let b = ui
+                .radio_value(&mut self.click_mode, ClickMode::Pick, "adds a start-curve point")
+                .on_hover_text("Each click on the surface adds a point; the paths start from the curve through them");
+            self.mode_rects = [Some(a.rect), Some(b.rect)];
+        });
+        ui.horizontal_wrapped(|ui| {
+            ui.label(format!("{} of {MAX_PICKS} points picked", s.n_picks));
+            if ui.add_enabled(s.n_picks > 0, egui::Button::new("Clear")).clicked() {
+                s.clear_picks();
             }
         });
         // In the side panel: a slider a line (egui's wrapped rows do not wrap a slider).
@@ -264,6 +323,37 @@ impl FilletPanel {
             ui.add(egui::Slider::new(&mut self.sel_along, 0.0..=1.0).text("along").fixed_decimals(2));
             ui.add(egui::Slider::new(&mut self.theta_deg, 0.0..=180.0).text("θ (°) from the feed").fixed_decimals(0));
         });
+    }
+
+    /// A click in the view: a start-curve point or the selected CC point, as the mode says.
+    fn click(&mut self, c: &Click) {
+        let Some(job) = &self.job else { return };
+        match self.click_mode {
+            ClickMode::Pick => match self.view.pick_surface(job, c) {
+                Some(uv) => {
+                    use crate::geom::ParametricSurface;
+                    let f = job.surface.domain().to_file(uv);
+                    if self.settings.pick([f.x, f.y]) {
+                        // Picking a start curve means starting from it.
+                        self.settings.start = StartChoice::Picked;
+                        self.last_click = Some(format!("picked ({}, {})", f.x, f.y));
+                        self.sync();
+                    } else {
+                        self.last_click = Some(format!("{MAX_PICKS} points are picked already; clear them first"));
+                    }
+                }
+                None => self.last_click = Some("the click is not on the surface".to_owned()),
+            },
+            ClickMode::Select => match self.view.pick_node(job, c) {
+                Some((p, k)) => {
+                    let n = job.paths_so_far().get(p).map_or(1, |path| path.nodes.len());
+                    self.sel_path = p;
+                    self.sel_along = if n > 1 { k as f64 / (n - 1) as f64 } else { 0.0 };
+                    self.last_click = Some(format!("selected path {p}, node {k}"));
+                }
+                None => self.last_click = Some("no CC point near the click".to_owned()),
+            },
+        }
     }
 
     fn inset(&self, ui: &mut egui::Ui, height: f32) {
@@ -431,8 +521,12 @@ impl Panel for FilletPanel {
             let rect = egui::Rect::from_min_size(ui.cursor().min, egui::vec2((avail.x - side - 12.0).max(200.0), h));
             let mut view = std::mem::take(&mut self.view);
             let job = self.job.as_ref().map(|j| (j, self.job_id));
-            view.ui(ui, rect, cx.render_state, job, self.selected());
+            let click = view.ui(ui, rect, cx.render_state, job, self.selected());
             self.view = view;
+            self.view_rect = Some(rect);
+            if let Some(c) = click {
+                self.click(&c);
+            }
             ui.vertical(|ui| {
                 ui.set_width(side);
                 egui::ScrollArea::vertical().id_salt("fillet_side").show(ui, |ui| {
@@ -454,11 +548,23 @@ impl Panel for FilletPanel {
             "h_mm": s.scallop_um * 1e-3,
             "tol_mm": s.tol_mm,
             "error": self.refused,
+            "start": s.start.key(),
+            "picked": s.picked(),
+            "click_mode": self.click_mode.key(),
+            "last_click": self.last_click,
+            "camera": {
+                "target": self.view.camera.target.to_array(), "yaw": self.view.camera.yaw,
+                "pitch": self.view.camera.pitch, "distance": self.view.camera.distance,
+                "fov_y": self.view.camera.fov_y, "origin_mm": self.view.origin.0.to_array(),
+            },
             "ui": super::widgets::rects_json(
                 &[
                     self.scallop_rect.map(|r| ("scallop_slider", r)),
                     self.table_rect.map(|r| ("table_button", r)),
                     self.simulate_rect.map(|r| ("fillet_simulate", r)),
+                    self.view_rect.map(|r| ("fillet_view", r)),
+                    self.mode_rects[0].map(|r| ("fillet_select_mode", r)),
+                    self.mode_rects[1].map(|r| ("fillet_pick_mode", r)),
                 ]
                     .into_iter()
                     .flatten()
@@ -488,6 +594,7 @@ impl Panel for FilletPanel {
             v["time_min"] = st.time_min.into();
             v["adjusted"] = st.adjusted.into();
             v["refused"] = r.refused.len().into();
+            v["second_side"] = r.second_side.into();
         }
         if let Some((p, k, n)) = self.selected() {
             v["selected"] = serde_json::json!({
@@ -556,6 +663,32 @@ impl Panel for FilletPanel {
             }
             "along" => self.sel_along = parse_in("along", value, (0.0, 1.0), "(fraction)")?,
             "simulate" => self.simulate_requested = true,
+            "start" => {
+                s.start = StartChoice::from_key(value)
+                    .ok_or_else(|| format!("start \"{value}\" is not one of first, u0, u1, v0, v1, picked"))?;
+                if s.start == StartChoice::Picked {
+                    self.click_mode = ClickMode::Pick;
+                }
+            }
+            "pick" => {
+                let nums: Vec<f64> = value.split(',').filter_map(|x| x.trim().parse().ok()).collect();
+                let [u, v] = nums[..] else {
+                    return Err(format!(
+                        "pick must be \"u, v\" in the surface's parameters (file units), got \"{value}\""
+                    ));
+                };
+                if !s.pick([u, v]) {
+                    return Err(format!("{MAX_PICKS} points are picked already; clear them first (picks = clear)"));
+                }
+            }
+            "picks" if value == "clear" => s.clear_picks(),
+            "click_mode" => {
+                self.click_mode = match value {
+                    "select" => ClickMode::Select,
+                    "pick" => ClickMode::Pick,
+                    _ => return Err(format!("click_mode \"{value}\" is neither select nor pick")),
+                };
+            }
             "table" => {
                 self.want_table = value == "true";
                 if let Some(j) = &mut self.job {
@@ -564,7 +697,7 @@ impl Panel for FilletPanel {
             }
             _ => {
                 return Err(format!(
-                    "this view has no option \"{key}\"; use preset, strategy, R, r, h, E (mm), theta (degrees), path, along, table, simulate"
+                    "this view has no option \"{key}\"; use preset, strategy, R, r, h, E (mm), theta (degrees), path, along, table, simulate, start, pick, picks, click_mode"
                 ));
             }
         }

@@ -1,16 +1,20 @@
 //! The fillet tab's 3D view: the surface shaded, the iso-scallop paths as lines coloured by
 //! strip width (blue narrow → red wide, legend in mm), CC points whose orientation the gouge
 //! checks adjusted as orange markers, and the cutter at the selected CC point as a line
-//! drawing of its fillet-end edge (rings and generators) with its axis.
+//! drawing of its fillet-end edge (rings and generators) with its axis; the picked start
+//! curve's points (magenta) and the curve the paths start from. A click (no drag) in the view
+//! is handed back to the panel: [`FilletView::pick_surface`] turns it into a ray from the
+//! camera ([`OrbitCamera::ray`]) and the surface point it meets (`geom::ray_hit`),
+//! [`FilletView::pick_node`] into the CC node nearest on screen.
 
 use eframe::egui;
 use eframe::egui_wgpu::RenderState;
-use glam::{DVec3, Vec3};
+use glam::{DVec2, DVec3, Vec2, Vec3};
 
 use super::work::Job;
 use crate::app::overlay::{camera_controls, colour_bar, no_gpu, paint_view, view_frame};
 use crate::fillet::CcNode;
-use crate::geom::{Cutter, ParametricSurface, any_perpendicular};
+use crate::geom::{Cutter, ParametricSurface, any_perpendicular, ray_hit};
 use crate::render::geometry::{Origin, bounds, tessellate};
 use crate::render::{Layer, LineSegment, OrbitCamera, Renderer3d, SphereInstance, ViewId};
 
@@ -21,6 +25,27 @@ const BACKGROUND: [f32; 4] = [0.07, 0.08, 0.1, 1.0];
 const MESH_SIDE: usize = 64;
 /// Segments of a ring of the cutter drawing.
 const RING_SEGMENTS: usize = 48;
+/// Cells a side of the grid a click's ray is tested against (then refined by Newton).
+const PICK_GRID: usize = 96;
+/// Farthest a CC node may appear from a click to be selected by it (points).
+pub const PICK_RADIUS_POINTS: f32 = 14.0;
+/// Colour of the picked points and the start curve.
+const PICK_COLOR: [f32; 4] = [1.0, 0.3, 0.9, 1.0];
+
+/// A click (press and release without a drag) in the view.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Click {
+    /// Where, in normalised device coordinates ([`OrbitCamera::ndc_of`]).
+    pub ndc: Vec2,
+    /// The view's size (points).
+    pub size: egui::Vec2,
+}
+
+impl Click {
+    fn aspect(&self) -> f32 {
+        self.size.x / self.size.y.max(1.0)
+    }
+}
 
 /// Colour of a strip width `w` between `lo` and `hi` (mm): blue → green → red.
 #[must_use]
@@ -99,7 +124,8 @@ struct Built {
 pub struct FilletView {
     /// Camera.
     pub camera: OrbitCamera,
-    origin: Origin,
+    /// The world point at the view's local origin (mm).
+    pub origin: Origin,
     radius: f32,
     built: Option<Built>,
     refit: bool,
@@ -115,6 +141,33 @@ impl FilletView {
     /// Frames the next job's surface.
     pub fn refit(&mut self) {
         self.refit = true;
+    }
+
+    /// The surface point (parameters, internal units) a click's ray meets first, if any.
+    #[must_use]
+    pub fn pick_surface(&self, job: &Job, click: &Click) -> Option<DVec2> {
+        let (o, d) = self.camera.ray(click.aspect(), click.ndc);
+        ray_hit(&job.surface, self.origin.0 + o.as_dvec3(), d.as_dvec3(), PICK_GRID).map(|h| h.uv)
+    }
+
+    /// The CC node (path, node) that appears nearest to a click, within
+    /// [`PICK_RADIUS_POINTS`].
+    #[must_use]
+    pub fn pick_node(&self, job: &Job, click: &Click) -> Option<(usize, usize)> {
+        let half = Vec2::new(click.size.x, click.size.y) * 0.5;
+        let mut best: Option<(f32, usize, usize)> = None;
+        for (p, path) in job.paths_so_far().iter().enumerate() {
+            for (k, n) in path.nodes.iter().enumerate() {
+                let Some(ndc) = self.camera.project(click.aspect(), self.origin.local_vec(n.frame.point)) else {
+                    continue;
+                };
+                let dist = ((ndc - click.ndc) * half).length();
+                if dist <= PICK_RADIUS_POINTS && best.is_none_or(|b| dist < b.0) {
+                    best = Some((dist, p, k));
+                }
+            }
+        }
+        best.map(|(_, p, k)| (p, k))
     }
 
     fn upload(&mut self, rs: &RenderState, job: &Job, job_id: u64, selected: Option<(usize, usize, &CcNode)>) {
@@ -133,10 +186,6 @@ impl FilletView {
         if new_job {
             let mesh = tessellate(&job.surface, o, MESH_SIDE, 0.0, [0.62, 0.64, 0.68, 1.0]);
             Renderer3d::with(rs, |r| r.set_mesh(VIEW_ID, Layer::Surfaces, &mesh));
-        }
-        if self.refit {
-            self.camera.fit(Vec3::ZERO, self.radius);
-            self.refit = false;
         }
         let (lo, hi) = strip_range(job).unwrap_or((0.0, 1.0));
         let mut lines = Vec::new();
@@ -161,6 +210,7 @@ impl FilletView {
         for r in job.result.as_ref().map_or(&[][..], |r| &r.refused[..]) {
             markers.push(SphereInstance { center: o.local(r.point), radius: mark, color: [0.9, 0.1, 0.1, 1.0] });
         }
+        self.start_curve(job, &mut lines, &mut markers, mark);
         let mut tool = Vec::new();
         if let Some((_, _, n)) = selected {
             tool = cutter_lines(o, &job.strategy.cutter_for(&job.cutter), n.tip, n.axis);
@@ -178,7 +228,41 @@ impl FilletView {
         self.built = Some(key);
     }
 
-    /// Draws the view into `rect`.
+    /// The picked points as markers and, once there are 2, the curve the first path follows
+    /// (the core's own polyline: sorted, continued to the edges).
+    fn start_curve(&self, job: &Job, lines: &mut Vec<LineSegment>, markers: &mut Vec<SphereInstance>, mark: f32) {
+        let o = self.origin;
+        let picked = job.settings.picked();
+        let pts: Vec<DVec2> =
+            picked.iter().map(|p| crate::scene::params_from_file(&job.surface, DVec2::from(*p))).collect();
+        for &uv in &pts {
+            markers.push(SphereInstance {
+                center: o.local(job.surface.point_at(uv)),
+                radius: mark * 2.5,
+                color: PICK_COLOR,
+            });
+        }
+        if pts.len() < 2 {
+            return;
+        }
+        let along = crate::fillet::paths::curve_along(&job.surface, &pts, job.options.direction);
+        if let Ok(poly) = crate::fillet::paths::start_polyline(&job.surface, &pts, along) {
+            for w in poly.windows(2) {
+                lines.push(
+                    LineSegment::new(
+                        o.local(job.surface.point_at(w[0])),
+                        o.local(job.surface.point_at(w[1])),
+                        2.4,
+                        PICK_COLOR,
+                    )
+                    .with_depth_bias(0.004),
+                );
+            }
+        }
+    }
+
+    /// Draws the view into `rect`; returns a click in it (press and release without a
+    /// drag), for the panel to pick with.
     pub fn ui(
         &mut self,
         ui: &mut egui::Ui,
@@ -186,8 +270,12 @@ impl FilletView {
         rs: Option<&RenderState>,
         job: Option<(&Job, u64)>,
         selected: Option<(usize, usize, &CcNode)>,
-    ) {
+    ) -> Option<Click> {
         let response = ui.allocate_rect(rect, egui::Sense::click_and_drag());
+        let click = response.clicked().then(|| response.interact_pointer_pos()).flatten().map(|p| Click {
+            ndc: OrbitCamera::ndc_of(p.x - rect.left(), p.y - rect.top(), rect.width(), rect.height()),
+            size: rect.size(),
+        });
         if let Some((job, _)) = job {
             let d = job.surface.domain();
             let pts = (0..=8).flat_map(|i| {
@@ -202,10 +290,15 @@ impl FilletView {
                 self.origin = Origin(c);
                 self.radius = r.max(1.0) as f32;
             }
+            // Here, not at the upload: picking needs the fitted camera without a GPU too.
+            if self.refit {
+                self.camera.fit(Vec3::ZERO, self.radius);
+                self.refit = false;
+            }
         }
         let Some(rs) = rs else {
             no_gpu(ui.painter(), rect);
-            return;
+            return click;
         };
         camera_controls(&mut self.camera, ui, &response, rect, self.radius);
         match job {
@@ -228,5 +321,6 @@ impl FilletView {
             );
         }
         view_frame(ui, rect, &mut self.camera, self.radius, "Frame the surface");
+        click
     }
 }

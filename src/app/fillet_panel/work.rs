@@ -10,10 +10,10 @@
 use web_time::{Duration, Instant};
 
 use crate::app::jobs::{Job as BackgroundJob, Poll};
-use crate::fillet::{FinishOptions, IsoScallopSteps, Layout, PartSamples, PathSet, Stats, Strategy};
+use crate::fillet::{Edge, FinishOptions, IsoScallopSteps, Layout, PartSamples, PathSet, PathStart, Stats, Strategy};
 use crate::geom::{Cutter, Surface};
 use crate::jobs::fillet_row::{FilletRow, Request as RowRequest};
-use crate::scene::finish::{FINISH_PRESETS, FinishScene};
+use crate::scene::finish::{FINISH_PRESETS, FinishScene, StartSpec};
 
 /// Range of the cutter radius R slider (mm).
 pub const RADIUS_RANGE_MM: (f64, f64) = (0.5, 25.0);
@@ -28,6 +28,61 @@ pub const TOLERANCE_RANGE_MM: (f64, f64) = (0.0001, 0.1);
 pub const TABLE_JOBS_AT_ONCE: usize = 2;
 /// Rows of the comparison table: every strategy with iso-scallop and iso-parametric paths.
 pub const TABLE_ROWS: usize = 2 * StrategyChoice::ALL.len();
+
+/// Most points of a start curve picked in the view (a click each).
+pub const MAX_PICKS: usize = 16;
+
+/// Where the paths start (the scene's `finish.start`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StartChoice {
+    /// The scene's default: the edge b = b_min of the chosen direction.
+    First,
+    /// An edge.
+    Edge(Edge),
+    /// The curve through the points picked in the view.
+    Picked,
+}
+
+impl StartChoice {
+    /// All, in the order of the menu.
+    pub const ALL: [Self; 6] = [
+        Self::First,
+        Self::Edge(Edge::U0),
+        Self::Edge(Edge::U1),
+        Self::Edge(Edge::V0),
+        Self::Edge(Edge::V1),
+        Self::Picked,
+    ];
+
+    /// The option value (`set_option("start", …)`).
+    #[must_use]
+    pub fn key(self) -> &'static str {
+        match self {
+            Self::First => "first",
+            Self::Edge(e) => e.name(),
+            Self::Picked => "picked",
+        }
+    }
+
+    /// Shown in the UI.
+    #[must_use]
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::First => "first edge of the feed direction",
+            Self::Edge(Edge::U0) => "edge u = u min (u0)",
+            Self::Edge(Edge::U1) => "edge u = u max (u1)",
+            Self::Edge(Edge::V0) => "edge v = v min (v0)",
+            Self::Edge(Edge::V1) => "edge v = v max (v1)",
+            Self::Picked => "picked curve",
+        }
+    }
+
+    /// From an option value.
+    #[must_use]
+    pub fn from_key(key: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|s| s.key() == key)
+    }
+}
 
 /// The orientation strategies offered.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -105,6 +160,13 @@ pub struct Settings {
     pub tol_mm: f64,
     /// Orientation.
     pub strategy: StrategyChoice,
+    /// Where the paths start.
+    pub start: StartChoice,
+    /// The picked start curve's points, surface parameters in file units (degrees for
+    /// angles); the first `n_picks` are used.
+    pub picks: [[f64; 2]; MAX_PICKS],
+    /// How many points are picked.
+    pub n_picks: usize,
 }
 
 impl Settings {
@@ -121,6 +183,14 @@ impl Settings {
                 scallop_um: s.finish.scallop * 1e3,
                 tol_mm: s.finish.tolerance,
                 strategy: StrategyChoice::of_scene(&s.finish.strategy, s.finish.lead),
+                start: match &s.finish.start {
+                    Some(StartSpec::Boundary(name)) => {
+                        Edge::from_name(name).map_or(StartChoice::First, StartChoice::Edge)
+                    }
+                    _ => StartChoice::First,
+                },
+                picks: [[0.0; 2]; MAX_PICKS],
+                n_picks: 0,
             },
             None => Self {
                 preset,
@@ -129,6 +199,9 @@ impl Settings {
                 scallop_um: 10.0,
                 tol_mm: 0.01,
                 strategy: StrategyChoice::Matched,
+                start: StartChoice::First,
+                picks: [[0.0; 2]; MAX_PICKS],
+                n_picks: 0,
             },
         }
     }
@@ -155,7 +228,41 @@ impl Settings {
         };
         name.clone_into(&mut s.finish.strategy);
         s.finish.lead = lead;
+        s.finish.start = match self.start {
+            StartChoice::First => None,
+            StartChoice::Edge(e) => Some(StartSpec::Boundary(e.name().to_owned())),
+            StartChoice::Picked => Some(StartSpec::Curve(self.picked().to_vec())),
+        };
         Ok(s)
+    }
+
+    /// The picked points (file units).
+    #[must_use]
+    pub fn picked(&self) -> &[[f64; 2]] {
+        &self.picks[..self.n_picks.min(MAX_PICKS)]
+    }
+
+    /// Adds a picked point (file units); false when [`MAX_PICKS`] are picked already.
+    pub fn pick(&mut self, uv_file: [f64; 2]) -> bool {
+        if self.n_picks >= MAX_PICKS {
+            return false;
+        }
+        self.picks[self.n_picks] = uv_file;
+        self.n_picks += 1;
+        true
+    }
+
+    /// Forgets the picked points.
+    pub fn clear_picks(&mut self) {
+        self.picks = [[0.0; 2]; MAX_PICKS];
+        self.n_picks = 0;
+    }
+
+    /// Whether the paths wait for more picked points (start from a picked curve with fewer
+    /// than 2).
+    #[must_use]
+    pub fn waiting_for_picks(&self) -> bool {
+        self.start == StartChoice::Picked && self.n_picks < 2
     }
 }
 
@@ -193,6 +300,8 @@ pub struct Job {
     pub strategy: Strategy,
     /// The core's options.
     pub options: FinishOptions,
+    /// Where the paths start (the scene's `finish.start`, core units).
+    pub start: PathStart,
     /// The scene's machine (the default table A/C when the preset has none): what the
     /// simulation's five-axis program runs on.
     pub machine: crate::fiveaxis::Machine,
@@ -224,20 +333,30 @@ impl Job {
     /// # Errors
     /// The scene's message for a refused value.
     pub fn new(settings: Settings) -> Result<Self, String> {
-        let scene = settings.scene()?;
+        // Waiting for picks, the surface is shown (to pick on) and no paths are built.
+        let waiting = settings.waiting_for_picks();
+        let scene =
+            if waiting { Settings { start: StartChoice::First, ..settings }.scene()? } else { settings.scene()? };
         let job = scene.job().map_err(|e| e.to_string())?;
         let part = PartSamples::new(&job.surface, job.options.part_grid);
+        let error = waiting.then(|| {
+            format!(
+                "Start from a picked curve: click 2 or more points on the surface (click mode \"add a start-curve point\"); {} so far",
+                settings.n_picks
+            )
+        });
         Ok(Self {
             settings,
             surface: job.surface,
             cutter: job.cutter,
             strategy: job.strategy,
             options: job.options,
+            start: job.start,
             machine: job.machine,
             part,
             steps: None,
             result: None,
-            error: None,
+            error,
             core_ms: 0.0,
             longest_step_ms: 0.0,
             table: vec![None; TABLE_ROWS],
@@ -299,11 +418,18 @@ impl Job {
         while self.computing_paths() && start.elapsed() < budget {
             let t = Instant::now();
             let r = match self.steps.as_mut() {
-                None => IsoScallopSteps::start(&self.surface, &self.cutter, self.strategy, &self.options, &self.part)
-                    .map(|s| {
-                        self.steps = Some(s);
-                        false
-                    }),
+                None => IsoScallopSteps::start_from(
+                    &self.surface,
+                    &self.cutter,
+                    self.strategy,
+                    &self.options,
+                    &self.part,
+                    &self.start,
+                )
+                .map(|s| {
+                    self.steps = Some(s);
+                    false
+                }),
                 Some(s) => s.step(&self.surface, &self.cutter, &self.options, &self.part),
             };
             let ms = t.elapsed().as_secs_f64() * 1e3;
