@@ -14,8 +14,9 @@
 //!   both cutters ([`super::contact::CrossProfile`], [`super::contact::scallop_between`]),
 //!   `w ← w·√(h/scallop)`, until within 0.5 % of h (at most 6 rounds). The next path goes
 //!   through the points w away across the surface (a walk along c in 4 sub-steps), is
-//!   trimmed to the domain (points beyond b_max are put on it; its ends are extended to the
-//!   a-boundaries) and resampled by the forward step. Paths follow until one lies on
+//!   trimmed to the domain (points beyond b_max are put on it, points the walk carried past
+//!   an end of the along range dropped; its ends are extended to the a-boundaries along its
+//!   end segments) and resampled by the forward step. Paths follow until one lies on
 //!   b = b_max entirely.
 //! - **iso-parametric**: paths b = const, equally spaced, as many as needed so that at every
 //!   node the scallop to the next path is at most h.
