@@ -39,7 +39,7 @@ fn cl_data_puts_every_cc_point_on_the_cutter_and_the_program_has_blocks() {
     let mut lines = text.lines();
     assert_eq!(
         lines.next().unwrap(),
-        "path,node,x,y,z,i,j,k,cc_x,cc_y,cc_z,u,v,lead_deg,tilt_deg,strip_mm,side_step_mm,scallop_mm,adjusted"
+        "path,node,x,y,z,i,j,k,cc_x,cc_y,cc_z,u,v,lead_deg,tilt_deg,strip_mm,side_step_mm,scallop_mm,adjusted,lead_out"
     );
     let cutter = Cutter::fillet(4.0, 1.0).unwrap();
     let mut rows = 0;
@@ -148,8 +148,8 @@ fn cutter_points(cutter: &Cutter, tip: DVec3, axis: DVec3, meridians: u32, deg: 
     pts
 }
 
-/// The CL rows of `finish FILE` (CSV): tool tip, axis, (u, v).
-fn cl_rows(file: &str) -> Vec<(DVec3, DVec3, glam::DVec2)> {
+/// The CL rows of `finish FILE` (CSV): tool tip, axis, (u, v), whether a lead-out.
+fn cl_rows(file: &str) -> Vec<(DVec3, DVec3, glam::DVec2, bool)> {
     let o = run(&["finish", file]);
     assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
     let text = String::from_utf8(o.stdout).unwrap();
@@ -158,7 +158,7 @@ fn cl_rows(file: &str) -> Vec<(DVec3, DVec3, glam::DVec2)> {
         .map(|line| {
             let v: Vec<f64> =
                 line.split(',').map(|c| if c.is_empty() { f64::NAN } else { c.parse().unwrap() }).collect();
-            (DVec3::new(v[2], v[3], v[4]), DVec3::new(v[5], v[6], v[7]), glam::DVec2::new(v[11], v[12]))
+            (DVec3::new(v[2], v[3], v[4]), DVec3::new(v[5], v[6], v[7]), glam::DVec2::new(v[11], v[12]), v[19] == 1.0)
         })
         .collect()
 }
@@ -167,7 +167,8 @@ fn cl_rows(file: &str) -> Vec<(DVec3, DVec3, glam::DVec2)> {
 /// corner, flank; sampled densely from R, r and the flute length) lies below the design
 /// surface by more than the tolerance E, on all three examples. The mould is the exact bowl
 /// z = (x² + y²)/60 over |x|, |y| ≤ 30 (depth along the normal to first order); the patch
-/// and the blade by closest-point projection, feet inside the domain.
+/// and the blade by closest-point projection, feet inside the domain (every 7th row and
+/// every lead-out).
 #[test]
 fn no_point_of_the_cutter_is_below_the_design_surface_by_more_than_e() {
     use interpolab::geom::{ParametricSurface, ProjectOptions, project_point};
@@ -179,7 +180,7 @@ fn no_point_of_the_cutter_is_below_the_design_surface_by_more_than_e() {
         let rows = cl_rows(&file);
         let mut worst = (0.0f64, 0usize);
         if name == "concave-mould" {
-            for (i, &(tip, axis, _)) in rows.iter().enumerate() {
+            for (i, &(tip, axis, _, _)) in rows.iter().enumerate() {
                 for p in cutter_points(&job.cutter, tip, axis, 120, 1.0, 0.1) {
                     if p.x.abs() > 30.0 || p.y.abs() > 30.0 {
                         continue;
@@ -193,7 +194,8 @@ fn no_point_of_the_cutter_is_below_the_design_surface_by_more_than_e() {
             }
         } else {
             let dom = job.surface.domain();
-            for (i, &(tip, axis, uv)) in rows.iter().enumerate().step_by(7) {
+            // Every 7th row and every lead-out (the cutter moved on past the far end).
+            for (i, &(tip, axis, uv, _)) in rows.iter().enumerate().filter(|(i, r)| i % 7 == 0 || r.3) {
                 for p in cutter_points(&job.cutter, tip, axis, 36, 3.0, 0.5) {
                     let foot = project_point(&job.surface, p, uv, ProjectOptions::default());
                     let inside = foot.uv.x > dom.u.min

@@ -103,7 +103,7 @@ fn fatal_io(e: &io::Error) -> Fatal {
 }
 
 /// Columns of the CL data (units in `docs/fillet.md`).
-const COLUMNS: [&str; 19] = [
+const COLUMNS: [&str; 20] = [
     "path",
     "node",
     "x",
@@ -123,6 +123,7 @@ const COLUMNS: [&str; 19] = [
     "side_step_mm",
     "scallop_mm",
     "adjusted",
+    "lead_out",
 ];
 
 fn rows(job: &FinishJob, set: &PathSet) -> Vec<Vec<Value>> {
@@ -152,6 +153,7 @@ fn rows(job: &FinishJob, set: &PathSet) -> Vec<Vec<Value>> {
                 n.side_step_mm.map_or(Value::Null, num),
                 n.scallop_mm.map_or(Value::Null, num),
                 json!(n.adjusted.is_some()),
+                json!(n.lead_out),
             ]);
         }
     }

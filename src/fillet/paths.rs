@@ -3,7 +3,8 @@
 //!
 //! Paths run along one parameter (the *along* parameter a, u or v) and follow each other
 //! across the other (b). Along a path the CC points are spaced by the **forward step** from
-//! the chord error E and the normal curvature k_f of the path: `ℓ = √(8E/|k_f|)`, at most
+//! the chord error E and the normal curvature k_f of the path: `ℓ = √(8E'/|k_f|)` with
+//! E' = min(E, h/40) (the chord's sag moves the cusp, see [`SAG_SHARE_OF_H`]), at most
 //! [`FinishOptions::max_step_mm`]. The nodes of a path are oriented by the strategy and
 //! smoothed ([`super::orient`]), checked for gouges ([`super::gouge`]), and then:
 //!
@@ -15,12 +16,16 @@
 //!   both cutters ([`super::contact::CrossProfile`], [`super::contact::scallop_between`]),
 //!   `w ← w·√(h/scallop)`, until within 0.5 % of h (at most 6 rounds). The next path goes
 //!   through the points w away across the surface (a walk along c in 4 sub-steps), is
-//!   trimmed to the domain (points beyond b_max are put on it; its ends are extended to the
-//!   a-boundaries) and resampled by the forward step. Paths follow until one lies on the far
+//!   trimmed to the domain (points beyond b_max are put on it, points the walk carried past
+//!   an end of the along range dropped; its ends are extended to the a-boundaries along its
+//!   end segments) and resampled by the forward step. Paths follow until one lies on the far
 //!   edge entirely. From a curve inside the domain they go to both sides: first toward
 //!   increasing b until b_max, then again from the curve toward decreasing b until b_min.
 //! - **iso-parametric**: paths b = const, equally spaced, as many as needed so that at every
 //!   node the scallop to the next path is at most h.
+//!
+//! Every path that ends on the along parameter's far end gets a **lead-out**: one more CL
+//! node, the last cutter moved [`lead_out_mm`] on along its feed ([`CcNode::lead_out`]).
 //!
 //! All loops are capped ([`FinishOptions::max_paths`], [`FinishOptions::max_nodes`]).
 
@@ -28,7 +33,7 @@ use glam::{DVec2, DVec3};
 
 use super::FinishError;
 use super::contact::{ContactFrame, CrossProfile, Pose, place, scallop_between};
-use super::gouge::{Adjustment, PartSamples, adjust};
+use super::gouge::{Adjustment, PartSamples, adjust, check};
 use super::orient::{OrientOptions, Strategy, pose_at, smooth_inclinations};
 use crate::geom::{Cutter, LocalGeometry, ParametricSurface, Surface};
 use crate::limits::MAX_START_CURVE_POINTS;
@@ -295,6 +300,10 @@ pub struct CcNode {
     pub scallop_mm: Option<f64>,
     /// What the gouge checks changed, if anything.
     pub adjusted: Option<Adjustment>,
+    /// A lead-out past the path's end, not a CC point: the last node's cutter moved along
+    /// its feed (same axis; `frame.point` moved with it, off the surface, `frame.uv` the
+    /// edge's). See [`lead_out_mm`].
+    pub lead_out: bool,
 }
 
 /// One path: its nodes in the order of travel.
@@ -349,9 +358,9 @@ pub struct PathSet {
 pub struct Stats {
     /// Passes.
     pub passes: usize,
-    /// CC points.
+    /// CC points (lead-outs not counted).
     pub nodes: usize,
-    /// Total path length (mm).
+    /// Total path length (mm), lead-outs included (the cutter travels them).
     pub length_mm: f64,
     /// Strip width min, mean, max (mm).
     pub strip_mm: [f64; 3],
@@ -367,7 +376,7 @@ impl PathSet {
     /// The statistics at feed `feed_mm_per_min`.
     #[must_use]
     pub fn stats(&self, feed_mm_per_min: f64) -> Stats {
-        let nodes: Vec<&CcNode> = self.paths.iter().flat_map(|p| p.nodes.iter()).collect();
+        let nodes: Vec<&CcNode> = self.paths.iter().flat_map(|p| p.nodes.iter()).filter(|n| !n.lead_out).collect();
         let length_mm: f64 = self.paths.iter().map(ToolPath::length_mm).sum();
         let (mut lo, mut hi, mut sum) = (f64::INFINITY, 0.0f64, 0.0);
         for n in &nodes {
@@ -486,7 +495,8 @@ impl<'a> Ctx<'a> {
                 break;
             }
             let k = ContactFrame::new(self.surface, uv, dir).map_or(0.0, |f| f.surface_form.ff.abs());
-            let step = if k > 0.0 { (8.0 * self.opts.chord_tol_mm / k).sqrt() } else { f64::INFINITY };
+            let sag = self.opts.chord_tol_mm.min(SAG_SHARE_OF_H * self.opts.scallop_mm);
+            let step = if k > 0.0 { (8.0 * sag / k).sqrt() } else { f64::INFINITY };
             let step = step.min(self.opts.max_step_mm).max(1e-3 * self.opts.max_step_mm);
             s = if s + step >= total - 1e-9 * total.max(1.0) { total } else { s + step };
         }
@@ -576,11 +586,59 @@ impl<'a> Ctx<'a> {
                         side_step_mm: None,
                         scallop_mm: None,
                         adjusted,
+                        lead_out: false,
                     });
                 }
             }
         }
+        if let Some(lead) = nodes.last().and_then(|last| self.lead_out(&tool, last)) {
+            nodes.push(lead);
+        }
         Ok(ToolPath { nodes })
+    }
+
+    /// The lead-out after `last` when it lies on the along parameter's far end: its cutter
+    /// moved [`lead_out_mm`] along the feed, for the strip's reach at h on either side.
+    fn lead_out(&self, tool: &Cutter, last: &CcNode) -> Option<CcNode> {
+        let ((a0, a1), _) = self.ranges();
+        if a_of(last.frame.uv, self.along) < a1 - LEAD_OUT_EDGE_REL * (a1 - a0) {
+            return None;
+        }
+        let h = self.opts.scallop_mm;
+        let prof = CrossProfile::new(tool, self.surface, last.frame, &last.pose);
+        let reach = prof.reach(h, 1.0).max(prof.reach(h, -1.0));
+        // The far edge's slant against the cross direction: tan of its angle from c.
+        let der = self.surface.derivatives_at(last.frame.uv);
+        let edge = if self.along == 0 { der.dv } else { der.du };
+        let (along_f, along_c) = (edge.dot(last.frame.feed).abs(), edge.dot(last.frame.cross).abs());
+        let slant = if along_c > 0.0 { along_f / along_c } else { f64::INFINITY };
+        // Moved straight along the feed the cutter leaves a surface that is concave along it
+        // (the surface rises ahead by ½·k·d²); where the far edge is slanted part of it is
+        // still over the surface there: the lead-out is checked like every pose and halved
+        // until it clears (none after LEAD_OUT_HALVINGS).
+        let mut d = lead_out_mm(tool, &last.pose, reach, slant);
+        let f = last.frame.feed;
+        let tol = LEAD_OUT_CHECK_SHARE * self.opts.gouge_tol_mm;
+        for _ in 0..=LEAD_OUT_HALVINGS {
+            if d <= 0.0 {
+                return None;
+            }
+            let frame = ContactFrame { point: last.frame.point + d * f, ..last.frame };
+            if check(tool, self.surface, self.part, &frame, &last.pose, tol).is_none() {
+                let tip = last.tip + d * f;
+                return Some(CcNode {
+                    frame,
+                    tip,
+                    side_step_mm: None,
+                    scallop_mm: None,
+                    adjusted: None,
+                    lead_out: true,
+                    ..*last
+                });
+            }
+            d *= 0.5;
+        }
+        None
     }
 
     /// Walks `w_mm` across the surface from `frame` along ±c; returns the uv (clamped to the
@@ -694,6 +752,57 @@ impl<'a> Ctx<'a> {
     }
 }
 
+/// How far (mm) a path's last cutter must travel on past the far end along its feed so that
+/// every point of the far edge within `reach_mm` of the CC curve across is cut as low as the
+/// moving cutter cuts elsewhere; `slant` is the tangent of the edge's angle from the cross
+/// direction c (0 when the edge runs square to the feed). At most the cutter's diameter 2·R.
+///
+/// Two parts. (1) The cutter's lowest point at cross offset y trails the contact: with the
+/// meridian along the feed (azimuth 0, the contact at the front of the corner torus) it lies
+/// on the corner ball whose centre sits on the centre circle (radius R0 = R − r, in the
+/// plane ⟂ a) at a lateral offset y_c between 0 and y, and that centre trails the contact's
+/// centre by R0·(1 − cos φ)·cos α ≤ R0 − √(R0² − y²) along the feed (sin φ = y_c/R0). A
+/// moving cutter cuts the point (x, y) when it stands that far ahead of x; stopped at the
+/// end it leaves the static cutter's section there (measured: up to 2.4·h on the blade).
+/// With a tilt (azimuth ≠ 0) the centre circle's diameter 2·R0 bounds this lag; a ball
+/// (R0 = 0) has its lowest point beside the contact: 0. (2) A slanted edge's points at cross
+/// offset y lie up to y·slant further ahead (on the blade's far edge the end nodes of
+/// neighbouring paths are 0.32 mm apart along the feed for a 2.15 mm side step).
+#[must_use]
+pub fn lead_out_mm(cutter: &Cutter, pose: &Pose, reach_mm: f64, slant: f64) -> f64 {
+    let r0 = cutter.torus_radius_mm();
+    let y = reach_mm.max(0.0);
+    let lag = if r0 <= 0.0 {
+        0.0
+    } else if pose.azimuth_rad != 0.0 {
+        2.0 * r0
+    } else {
+        let yc = y.min(r0);
+        r0 - (r0 * r0 - yc * yc).sqrt()
+    };
+    let ahead = if slant.is_finite() { y * slant.abs() } else { f64::INFINITY };
+    (lag + ahead).min(2.0 * cutter.radius_mm)
+}
+
+/// The forward step keeps the chord's sag within this share of h as well as within E: the
+/// cutter between two CL rows moves on the chord, raised (concave along the feed) or lowered
+/// (convex) by up to the sag, and the cusp with it. Measured from the CL data with E = h/20
+/// (the examples): cusps of 0.947·h between the rows on the convex blade; with h/40 the band
+/// keeps ±5 % with room for the side step's own ±0.5 % and the model's error.
+const SAG_SHARE_OF_H: f64 = 1.0 / 40.0;
+
+/// Halvings of a lead-out that the gouge checks find too long before it is left out.
+const LEAD_OUT_HALVINGS: usize = 6;
+
+/// Share of the gouge tolerance a lead-out's check allows (as `gouge::adjust` does: the
+/// check measures the part's depth inside the cutter, a re-computation the cutter's below
+/// the part; the two agree to first order).
+const LEAD_OUT_CHECK_SHARE: f64 = 0.9;
+
+/// A path's last node counts as on the along parameter's far end within this fraction of
+/// the along range.
+const LEAD_OUT_EDGE_REL: f64 = 1e-9;
+
 /// Most rounds of the side-step correction, and its acceptance (relative to h).
 const SIDE_STEP_ROUNDS: usize = 12;
 const SIDE_STEP_REL: f64 = 0.005;
@@ -710,6 +819,17 @@ fn check_options(opts: &FinishOptions) -> Result<(), FinishError> {
         }
     }
     Ok(())
+}
+
+/// The b at which the line from `other` through the end point `end` (uv) reaches the along
+/// parameter `a`; `end`'s b when there is no other point or the line runs along b.
+fn extend_b(other: Option<DVec2>, end: DVec2, a: f64, along: usize) -> f64 {
+    let Some(o) = other else { return b_of(end, along) };
+    let da = a_of(end, along) - a_of(o, along);
+    if da == 0.0 {
+        return b_of(end, along);
+    }
+    b_of(end, along) + (a - a_of(end, along)) / da * (b_of(end, along) - b_of(o, along))
 }
 
 /// A dense polyline of the iso-curve b = const (64 segments).
@@ -980,14 +1100,19 @@ impl IsoScallopSteps {
         let mut poly: Vec<DVec2> = Vec::with_capacity(last.nodes.len() + 2);
         let mut refs: Vec<(f64, f64)> = Vec::with_capacity(last.nodes.len() + 2);
         let rate = opts.orient.max_turn_rad_per_mm;
-        for node in &mut last.nodes {
+        for node in last.nodes.iter_mut().filter(|n| !n.lead_out) {
             let (uv, _beyond, w, s) = ctx.side_step(node);
             if keep {
                 node.side_step_mm = Some(w);
                 node.scallop_mm = Some(s);
             }
-            // Keep the along parameter increasing (drop loops of the offset curve).
-            if poly.last().is_none_or(|p| a_of(uv, along) > a_of(*p, along)) {
+            // Keep the along parameter increasing (drop loops of the offset curve), and drop
+            // the points the walk left the along range with (clamped onto an a-edge, they
+            // would put a sideways hook at the path's end that grows path by path through
+            // the end nodes' cross directions; the ends are extended below instead).
+            let a = a_of(uv, along);
+            let off_end = a <= a0 || a >= a1;
+            if !off_end && poly.last().is_none_or(|p| a > a_of(*p, along)) {
                 poly.push(uv);
                 refs.push((node.pose.azimuth_rad, rate * w));
             }
@@ -995,12 +1120,17 @@ impl IsoScallopSteps {
         let (Some(&f), Some(&l)) = (poly.first(), poly.last()) else {
             return Ok(self.end_side());
         };
+        // The ends extended to the a-boundaries along the offset curve's end segments (a
+        // step along b = const would kink the path there, and the kink would grow path by
+        // path through the end nodes' cross directions), b kept inside its range.
         if a_of(f, along) > a0 {
-            poly.insert(0, make_uv(a0, b_of(f, along), along));
+            let b = extend_b(poly.get(1).copied(), f, a0, along).clamp(b0, b1);
+            poly.insert(0, make_uv(a0, b, along));
             refs.insert(0, refs[0]);
         }
         if a_of(l, along) < a1 {
-            poly.push(make_uv(a1, b_of(l, along), along));
+            let b = extend_b(poly.len().checked_sub(2).and_then(|i| poly.get(i)).copied(), l, a1, along).clamp(b0, b1);
+            poly.push(make_uv(a1, b, along));
             refs.push(refs[refs.len() - 1]);
         }
         if poly.len() < 2 {
@@ -1149,7 +1279,7 @@ pub fn iso_parametric_from(
         let mut worst = 0.0f64;
         for k in 0..count - 1 {
             let b_next = b0 + (b1 - b0) * (k + 1) as f64 / (count - 1) as f64;
-            for node in &mut paths[k].nodes {
+            for node in paths[k].nodes.iter_mut().filter(|n| !n.lead_out) {
                 let uv_b = make_uv(a_of(node.frame.uv, along), b_next, along);
                 let Some(fb) = ContactFrame::new(surface, uv_b, node.frame.feed) else { continue };
                 let oo = &opts.orient;

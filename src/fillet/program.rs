@@ -6,6 +6,9 @@
 //! what the orientation would be if computed there. The path parameter s is the cumulative
 //! CC chord length (mm).
 //!
+//! A lead-out node ([`CcNode::lead_out`]) is reached by the last cutter moved straight
+//! along its feed with its axis held.
+//!
 //! The step selection measures a ball at the point `tip + R·axis` with R =
 //! [`DesignPath::ball_radius_mm`]; a fillet-end mill is no ball, so this path reports a ball
 //! radius 0 (the measured point *is* the tool tip) and as the error of a swept tip p the
@@ -59,6 +62,10 @@ impl<'a> FilletDesignPath<'a> {
         }
         if t >= 1.0 {
             return Some((b.frame, b.tip, b.axis));
+        }
+        if b.lead_out {
+            // The lead-out: the last cutter moved straight along its feed, same axis.
+            return Some((a.frame, a.tip.lerp(b.tip, t), a.axis));
         }
         let uv: DVec2 = a.frame.uv.lerp(b.frame.uv, t);
         let feed = a.frame.feed.lerp(b.frame.feed, t);
