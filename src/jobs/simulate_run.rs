@@ -774,8 +774,8 @@ pub fn finish_program(
 }
 
 /// Numbers of a CC node: uv, point, normal, feed, cross, the surface's form (3), pose (2),
-/// tip, axis, strip, side step and scallop (NaN: none).
-const NODE_NUMBERS: usize = 2 + 3 * 4 + 3 + 2 + 3 + 3 + 3;
+/// tip, axis, strip, side step and scallop (NaN: none), lead-out (1) or CC point (0).
+const NODE_NUMBERS: usize = 2 + 3 * 4 + 3 + 2 + 3 + 3 + 3 + 1;
 
 /// A pass's CC nodes, packed (what planning needs of them; the gouge checks' record of an
 /// adjustment stays on the page).
@@ -791,6 +791,7 @@ fn nodes_value(nodes: &[CcNode]) -> Value {
         d.extend([n.pose.inclination_rad, n.pose.azimuth_rad]);
         d.extend([n.tip.x, n.tip.y, n.tip.z, n.axis.x, n.axis.y, n.axis.z]);
         d.extend([n.strip_mm, n.side_step_mm.unwrap_or(f64::NAN), n.scallop_mm.unwrap_or(f64::NAN)]);
+        d.push(if n.lead_out { 1.0 } else { 0.0 });
     }
     json!({ "count": nodes.len(), "data": f64s_packed(&d) })
 }
@@ -818,6 +819,7 @@ fn nodes_of(v: &Value) -> Result<Vec<CcNode>, String> {
             side_step_mm: opt(c[26]),
             scallop_mm: opt(c[27]),
             adjusted: None,
+            lead_out: c[28] != 0.0,
         })
         .collect())
 }
