@@ -282,15 +282,28 @@ impl<'a> Ctx<'a> {
             cum.push(l);
         }
         let total = cum.last().copied().unwrap_or(0.0);
-        let at = |s: f64| -> (DVec2, DVec3, Option<(f64, f64)>) {
+        let segment = |s: f64| -> (usize, f64) {
             let k = cum.partition_point(|&c| c <= s).clamp(1, cum.len().max(2) - 1);
             let (c0, c1) = (cum[k - 1], cum[k]);
-            let t = if c1 > c0 { ((s - c0) / (c1 - c0)).clamp(0.0, 1.0) } else { 0.0 };
+            (k, if c1 > c0 { ((s - c0) / (c1 - c0)).clamp(0.0, 1.0) } else { 0.0 })
+        };
+        let point = |s: f64| -> DVec3 {
+            let (k, t) = segment(s);
+            pts[k - 1].lerp(pts[k], t)
+        };
+        // The feed of an offset path: the chord over ±half the longest step (FEED_CHORD), so
+        // that a short jog of the offset curve (a trimmed swallowtail's corner, a cusp's
+        // remnant) does not turn a node's feed, and with it the next side step, sideways.
+        let half = if psi_ref.is_some() { FEED_CHORD * self.opts.max_step_mm } else { 0.0 };
+        let at = |s: f64| -> (DVec2, DVec3, Option<(f64, f64)>) {
+            let (k, t) = segment(s);
             let psi = psi_ref.and_then(|r| {
                 let (a, b) = (r.get(k - 1)?, r.get(k)?);
                 Some((a.0 + t * (b.0 - a.0), a.1.max(b.1)))
             });
-            (poly[k - 1].lerp(poly[k], t), pts[k] - pts[k - 1], psi)
+            let chord = point((s + half).min(total)) - point((s - half).max(0.0));
+            let dir = if half > 0.0 && chord.length_squared() > 0.0 { chord } else { pts[k] - pts[k - 1] };
+            (poly[k - 1].lerp(poly[k], t), dir, psi)
         };
         // Forward steps.
         let mut samples: Vec<Sample> = Vec::new();
@@ -406,7 +419,21 @@ impl<'a> Ctx<'a> {
     /// Walks `w_mm` across the surface from `frame` along ±c; returns the uv (clamped to the
     /// domain) and whether it reached or passed b's far end.
     fn walk(&self, frame: &ContactFrame, w_mm: f64) -> (DVec2, bool) {
-        let dom = self.surface.domain();
+        let (uv, beyond) = self.walk_unclamped(frame, w_mm);
+        (self.surface.domain().clamp(uv), beyond)
+    }
+
+    /// The next path's vertex from `node` at side step `w_mm`: b clamped to the domain (a
+    /// point beyond the far edge is put on it), a as walked — possibly outside the a-range,
+    /// where [`clip_along`] cuts the offset curve at the edge instead of running it along.
+    fn offset_vertex(&self, frame: &ContactFrame, w_mm: f64) -> DVec2 {
+        let (raw, _) = self.walk_unclamped(frame, w_mm);
+        let ((_, _), (b0, b1)) = self.ranges();
+        make_uv(a_of(raw, self.along), b_of(raw, self.along).clamp(b0, b1), self.along)
+    }
+
+    /// [`Ctx::walk`] without the clamp.
+    fn walk_unclamped(&self, frame: &ContactFrame, w_mm: f64) -> (DVec2, bool) {
         let mut uv = frame.uv;
         let mut t = self.side * frame.cross;
         let sub = 4;
@@ -418,7 +445,7 @@ impl<'a> Ctx<'a> {
         }
         let ((_, _), (_, b1)) = self.ranges();
         let beyond = b_of(uv, self.along) >= b1;
-        (dom.clamp(uv), beyond)
+        (uv, beyond)
     }
 
     /// The pose the next path's node at `frame_b`, `w_mm` across from `node`, will get: the
@@ -512,6 +539,94 @@ impl<'a> Ctx<'a> {
         result
     }
 }
+
+/// A vertex of an offset curve: uv and the azimuth window (centre, half width; rad) the
+/// side step assumed there.
+type Vertex = (DVec2, (f64, f64));
+
+/// Most segments after a segment of an offset curve that [`trim_swallowtails`] tests it
+/// against: bounds its work by this × the vertices (a swallowtail spans a few nodes).
+const SWALLOWTAIL_SEGMENTS: usize = 256;
+
+/// Where segments p0p1 and q0q1 cross: the parameters (t, s) ∈ [0, 1)² along each, `None`
+/// when they do not cross or are parallel.
+fn crossing(p0: DVec2, p1: DVec2, q0: DVec2, q1: DVec2) -> Option<(f64, f64)> {
+    let (r, d, w) = (p1 - p0, q1 - q0, q0 - p0);
+    let den = r.perp_dot(d);
+    if den == 0.0 || !den.is_finite() {
+        return None;
+    }
+    let t = w.perp_dot(d) / den;
+    let s = w.perp_dot(r) / den;
+    ((0.0..1.0).contains(&t) && (0.0..1.0).contains(&s)).then_some((t, s))
+}
+
+/// A vertex between `a` and `b` at `t`: uv and azimuth interpolated, the wider window.
+fn vertex_between(a: &Vertex, b: &Vertex, t: f64) -> Vertex {
+    (a.0.lerp(b.0, t), (a.1.0 + t * (b.1.0 - a.1.0), a.1.1.max(b.1.1)))
+}
+
+/// The offset curve with its swallowtails cut out: where segment i crosses a later segment
+/// j (the farthest such j within [`SWALLOWTAIL_SEGMENTS`]), the loop between them is
+/// replaced by the crossing point. Where the curve offsets a concave stretch of the last
+/// path by more than its radius, it runs back over itself; the part of the loop beyond the
+/// crossing lies inside the strip already cut. (Keeping only the vertices whose a increases,
+/// as before, joined the loop's far branch to the near one across the crossing and left a
+/// gap: the mould's 3.7·h, docs/fillet.md.)
+fn trim_swallowtails(pts: &[Vertex]) -> Vec<Vertex> {
+    let n = pts.len();
+    let Some(first) = pts.first() else { return Vec::new() };
+    let mut work = pts.to_vec();
+    let mut out = vec![*first];
+    let mut i = 0;
+    while i + 1 < n {
+        let last = (i + SWALLOWTAIL_SEGMENTS).min(n - 2);
+        let cut = (i + 2..=last)
+            .rev()
+            .find_map(|j| crossing(work[i].0, work[i + 1].0, work[j].0, work[j + 1].0).map(|(t, s)| (j, t, s)));
+        if let Some((j, t, s)) = cut {
+            let x = vertex_between(&work[i], &work[i + 1], t);
+            let x = (x.0, vertex_between(&work[j], &work[j + 1], s).1);
+            out.push(x);
+            work[j] = x;
+            i = j;
+        } else {
+            out.push(work[i + 1]);
+            i += 1;
+        }
+    }
+    out
+}
+
+/// The polyline cut to the along range [a0, a1]: vertices outside are left out, and where a
+/// segment crosses an edge the crossing is put in (so a stretch that leaves and re-enters
+/// becomes a straight piece between the two crossings).
+fn clip_along(pts: &[Vertex], (a0, a1): (f64, f64), along: usize) -> Vec<Vertex> {
+    let inside = |v: &Vertex| (a0..=a1).contains(&a_of(v.0, along));
+    let mut out = Vec::with_capacity(pts.len());
+    for (k, v) in pts.iter().enumerate() {
+        if k > 0 {
+            let p = &pts[k - 1];
+            let (ap, av) = (a_of(p.0, along), a_of(v.0, along));
+            let mut cuts: Vec<f64> =
+                [a0, a1].iter().filter(|&&e| (ap - e) * (av - e) < 0.0).map(|&e| (e - ap) / (av - ap)).collect();
+            cuts.sort_by(f64::total_cmp);
+            for t in cuts {
+                let mut x = vertex_between(p, v, t);
+                x.0 = make_uv((a_of(x.0, along)).clamp(a0, a1), b_of(x.0, along), along);
+                out.push(x);
+            }
+        }
+        if inside(v) {
+            out.push(*v);
+        }
+    }
+    out
+}
+
+/// Half the chord that gives an offset path's feed at a node, relative to the longest
+/// forward step.
+const FEED_CHORD: f64 = 0.5;
 
 /// Most rounds of the side-step correction, and its acceptance (relative to h).
 const SIDE_STEP_ROUNDS: usize = 12;
@@ -697,19 +812,32 @@ impl IsoScallopSteps {
             self.done = true;
             return Ok(true);
         }
-        let mut poly: Vec<DVec2> = Vec::with_capacity(last.nodes.len() + 2);
-        let mut refs: Vec<(f64, f64)> = Vec::with_capacity(last.nodes.len() + 2);
+        let mut offset: Vec<Vertex> = Vec::with_capacity(last.nodes.len());
         let rate = opts.orient.max_turn_rad_per_mm;
         for node in &mut last.nodes {
             let (uv, _beyond, w, s) = ctx.side_step(node);
             node.side_step_mm = Some(w);
             node.scallop_mm = Some(s);
-            // Keep the along parameter increasing (drop loops of the offset curve).
-            if poly.last().is_none_or(|p| a_of(uv, along) > a_of(*p, along)) {
-                poly.push(uv);
-                refs.push((node.pose.azimuth_rad, rate * w));
-            }
+            // The vertex with a as walked (the side step's own uv is clamped to the domain).
+            let vertex =
+                if a_of(uv, along) > a0 && a_of(uv, along) < a1 { uv } else { ctx.offset_vertex(&node.frame, w) };
+            offset.push((vertex, (node.pose.azimuth_rad, rate * w)));
         }
+        // The offset curve cut at its self-intersections (swallowtails) and at the a-edges;
+        // then what is left of a cusp (a vertex or two back along a without a crossing:
+        // where the offset's radius is just that of the stretch it offsets) is dropped, so
+        // that no node's feed, and with it the next side step's direction, turns back.
+        let mut offset = clip_along(&trim_swallowtails(&offset), (a0, a1), along);
+        let mut a_last = f64::NEG_INFINITY;
+        offset.retain(|v| {
+            let keep = a_of(v.0, along) > a_last;
+            if keep {
+                a_last = a_of(v.0, along);
+            }
+            keep
+        });
+        let mut poly: Vec<DVec2> = offset.iter().map(|v| v.0).collect();
+        let mut refs: Vec<(f64, f64)> = offset.iter().map(|v| v.1).collect();
         let (Some(&f), Some(&l)) = (poly.first(), poly.last()) else {
             self.done = true;
             return Ok(true);
