@@ -505,6 +505,38 @@ fn the_mould_leaves_h_by_brute_force() {
     assert!(lo >= 0.95 * h && hi <= 1.05 * h, "{id}: scallop {lo}..{hi} outside h ± 5 %");
 }
 
+/// The cross-curvature floor: every node of the mould's matched paths leaves Δκ at least
+/// the floor (the smoothing and the gouge adjustment only raise α, which adds curvature across
+/// the feed), the floor is what decides there (without it the same frames get a Δκ below it),
+/// and the scene key sets it (0 turns it off) and survives a round trip through the JSON.
+#[test]
+fn the_matched_cutter_keeps_the_cross_curvature_floor() {
+    use interpolab::fillet::contact::cross_curvature;
+    let jb = job("finish-concave-mould");
+    let floor = jb.options.orient.min_cross_curvature_per_mm;
+    assert_eq!(floor, interpolab::tolerance::FILLET_MIN_CROSS_CURVATURE_PER_MM);
+    let set = paths(&jb, Strategy::Matched);
+    let off = OrientOptions { min_cross_curvature_per_mm: 0.0, ..jb.options.orient };
+    let (mut lowest, mut below_without) = (f64::INFINITY, 0usize);
+    let mut count = 0usize;
+    for node in set.paths.iter().flat_map(|p| p.nodes.iter()) {
+        lowest = lowest.min(cross_curvature(&jb.cutter, &node.frame, &node.pose));
+        if count % 10 == 0 {
+            let (p, _) = pose_at(&Strategy::Matched, &jb.cutter, &node.frame, &off, (0.0, 0.0)).unwrap();
+            below_without += usize::from(cross_curvature(&jb.cutter, &node.frame, &p) < floor);
+        }
+        count += 1;
+    }
+    assert!(lowest >= floor * (1.0 - 1e-9), "Δκ {lowest} /mm below the floor {floor} /mm");
+    assert!(below_without * 2 > count / 10, "the floor decided at only {below_without} of {} frames", count / 10);
+    let p = FINISH_PRESETS.iter().find(|p| p.id == "finish-concave-mould").unwrap();
+    let json = p.json.replace("\"margin\"", "\"min_cross_curvature\": 0, \"margin\"");
+    let scene = FinishScene::from_json(&json).unwrap();
+    assert_eq!(scene.job().unwrap().options.orient.min_cross_curvature_per_mm, 0.0);
+    let again = FinishScene::from_json(&scene.to_json()).unwrap();
+    assert_eq!(again.finish.min_cross_curvature, Some(0.0));
+}
+
 /// The global check passes blocks of the part grid over by a bounding sphere: it must report
 /// exactly the deepest collision a point-by-point loop over the same samples finds. On a
 /// plane (no bottom check: the part is not concave) the flank, shank and holder meet the

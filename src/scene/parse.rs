@@ -573,6 +573,7 @@ const FINISH_KEYS: &[&str] = &[
     "max_step",
     "direction",
     "margin",
+    "min_cross_curvature",
     "max_inclination",
     "feed",
 ];
@@ -632,6 +633,7 @@ pub(super) fn parse_finish(text: &str) -> Result<super::finish_spec::FinishScene
         max_step: opt_num(&f, "max_step", "the longest forward step in mm")?,
         direction,
         margin: opt_num(&f, "margin", "the curvature margin in 1/mm")?,
+        min_cross_curvature: opt_num(&f, "min_cross_curvature", "the smallest cross curvature in 1/mm")?,
         max_inclination: opt_num(&f, "max_inclination", "the largest inclination in degrees")?,
         feed: opt_num(&f, "feed", "the feed in mm/min")?,
     };
