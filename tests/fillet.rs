@@ -521,7 +521,7 @@ fn the_matched_cutter_keeps_the_cross_curvature_floor() {
     let mut count = 0usize;
     for node in set.paths.iter().flat_map(|p| p.nodes.iter()) {
         lowest = lowest.min(cross_curvature(&jb.cutter, &node.frame, &node.pose));
-        if count % 10 == 0 {
+        if count.is_multiple_of(10) {
             let (p, _) = pose_at(&Strategy::Matched, &jb.cutter, &node.frame, &off, (0.0, 0.0)).unwrap();
             below_without += usize::from(cross_curvature(&jb.cutter, &node.frame, &p) < floor);
         }

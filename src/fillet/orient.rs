@@ -79,7 +79,7 @@ pub struct OrientOptions {
     /// Largest change of α and ψ per mm of path (rad/mm; default 3°/mm).
     pub max_turn_rad_per_mm: f64,
     /// Smallest cross curvature Δκ (1/mm) `matched` leaves across the feed (default
-    /// [`tolerance::FILLET_MIN_CROSS_CURVATURE_PER_MM`], 0.01 /mm): where the cutter could
+    /// [`tolerance::FILLET_MIN_CROSS_CURVATURE_PER_MM`], 0.0125 /mm): where the cutter could
     /// match a concave surface closer, α is raised until Δκ reaches it, so that small errors
     /// of the next path's pose or direction cost only a few per cent of the scallop
     /// (docs/fillet.md, "The mould's scallop"). 0 turns it off.

@@ -11,11 +11,13 @@
 //!   **side step** w to the next path is solved so the scallop between the two cutters is h:
 //!   the second-order guess `w = 2·√(2h/Δκ)` is corrected with the exact cross profiles of
 //!   both cutters ([`super::contact::CrossProfile`], [`super::contact::scallop_between`]),
-//!   `w ← w·√(h/scallop)`, until within 0.5 % of h (at most 6 rounds). The next path goes
-//!   through the points w away across the surface (a walk along c in 4 sub-steps), is
-//!   trimmed to the domain (points beyond b_max are put on it; its ends are extended to the
-//!   a-boundaries) and resampled by the forward step. Paths follow until one lies on
-//!   b = b_max entirely.
+//!   `w ← w·√(h/scallop)`, until within 0.5 % of h (at most 12 rounds). The next path goes
+//!   through the points w away across the surface (a walk along c in 4 sub-steps), cut at
+//!   its self-intersections (swallowtails, [`trim_swallowtails`]) and at the a-boundaries
+//!   ([`clip_along`]), with what is left of cusps dropped (a increasing); points beyond b_max
+//!   are put on it, its ends are extended to the a-boundaries, and it is resampled by the
+//!   forward step, each node's feed the chord over ±½ max step. Paths follow until one lies
+//!   on b = b_max entirely.
 //! - **iso-parametric**: paths b = const, equally spaced, as many as needed so that at every
 //!   node the scallop to the next path is at most h.
 //!
