@@ -13,8 +13,8 @@
 //!   both cutters ([`super::contact::CrossProfile`], [`super::contact::scallop_between`]),
 //!   `w ← w·√(h/scallop)`, until within 0.5 % of h (at most 12 rounds). The next path goes
 //!   through the points w away across the surface (a walk along c in 4 sub-steps), cut at
-//!   its self-intersections (swallowtails, [`trim_swallowtails`]) and at the a-boundaries
-//!   ([`clip_along`]), with what is left of cusps dropped (a increasing); points beyond b_max
+//!   its self-intersections (swallowtails, `trim_swallowtails`) and at the a-boundaries
+//!   (`clip_along`), with what is left of cusps dropped (a increasing); points beyond b_max
 //!   are put on it, its ends are extended to the a-boundaries, and it is resampled by the
 //!   forward step, each node's feed the chord over ±½ max step. Paths follow until one lies
 //!   on b = b_max entirely.
