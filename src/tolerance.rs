@@ -171,6 +171,20 @@ macro_rules! assert_near {
 /// brute force measured 1.6·h at 0.5° on the blade, 0.93·h–0.94·h at 3°).
 pub const FILLET_MIN_INCLINATION_RAD: f64 = 3.0 * std::f64::consts::PI / 180.0;
 
+/// Smallest cross curvature Δκ (1/mm) the `matched` orientation leaves between the swept
+/// cutter and the surface across the feed (the cutter's effective curvature across the feed
+/// at least the surface's plus this). The scallop at a given side step is ∝ Δκ, so an error
+/// δ of the curvature across the feed costs δ/Δκ of the scallop: the gouge adjustment's 0.25°
+/// raise adds ≈ 0.001 /mm at α ≈ 6° (R 5, r 1), a 1°–2° turn of the next path on the mould's
+/// walls 0.0002–0.0004 /mm. At the mould's unfloored Δκ ≈ 0.0036–0.0045 /mm that was 10–29 %;
+/// at 0.01 /mm the brute force still measured 0.942·h (turns of 1°–1.5°), at 0.0125 /mm
+/// 0.983·h–1.041·h (both with the sections' poses every 0.1 mm; 0.978·h–1.008·h at 0.025 mm,
+/// 0.959·h–1.021·h over 117 dense sections). The floor also keeps the cutter clear enough of the bowl that the gouge
+/// checks adjust no node there. It leaves the blade untouched (Δκ ≥ 0.017 /mm) and only the
+/// widest strips of the patch (2.53 → 2.46 mm; same passes). docs/fillet.md, "The mould's
+/// scallop".
+pub const FILLET_MIN_CROSS_CURVATURE_PER_MM: f64 = 0.0125;
+
 /// Corner radius (mm) used for the meridian curvature 1/r of a flat end mill (r = 0): its rim
 /// is a sharp edge, whose curvature is taken as 1/(this) instead of infinite.
 pub const FILLET_SHARP_EDGE_MM: f64 = 1e-6;

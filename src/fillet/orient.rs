@@ -78,6 +78,12 @@ pub struct OrientOptions {
     pub max_azimuth_rad: f64,
     /// Largest change of α and ψ per mm of path (rad/mm; default 3°/mm).
     pub max_turn_rad_per_mm: f64,
+    /// Smallest cross curvature Δκ (1/mm) `matched` leaves across the feed (default
+    /// [`tolerance::FILLET_MIN_CROSS_CURVATURE_PER_MM`], 0.0125 /mm): where the cutter could
+    /// match a concave surface closer, α is raised until Δκ reaches it, so that small errors
+    /// of the next path's pose or direction cost only a few per cent of the scallop
+    /// (docs/fillet.md, "The mould's scallop"). 0 turns it off.
+    pub min_cross_curvature_per_mm: f64,
 }
 
 impl Default for OrientOptions {
@@ -87,6 +93,7 @@ impl Default for OrientOptions {
             max_inclination_rad: 45f64.to_radians(),
             max_azimuth_rad: 0.0,
             max_turn_rad_per_mm: 3f64.to_radians(),
+            min_cross_curvature_per_mm: tolerance::FILLET_MIN_CROSS_CURVATURE_PER_MM,
         }
     }
 }
@@ -109,13 +116,32 @@ const _: () = assert!(REFINE <= GRID_PSI);
 const AZIMUTH_PREFERENCE: f64 = 0.1;
 
 /// The matched pose at `frame` with ψ within `[psi_lo, psi_hi]` (rad): grid search and two
-/// local refinements of Δκ over the feasible set. `None` when no pose is gouge-free.
+/// local refinements of Δκ over the feasible set — gouge-free with the margin and Δκ at least
+/// [`OrientOptions::min_cross_curvature_per_mm`]; where no pose reaches that floor, the
+/// widest strip without it. `None` when no pose is gouge-free.
 #[must_use]
 pub fn matched_pose(
     cutter: &Cutter,
     frame: &ContactFrame,
     opts: &OrientOptions,
     psi_range: (f64, f64),
+) -> Option<Pose> {
+    let floor = opts.min_cross_curvature_per_mm;
+    if floor > 0.0
+        && let Some(p) = matched_pose_above(cutter, frame, opts, psi_range, floor)
+    {
+        return Some(p);
+    }
+    matched_pose_above(cutter, frame, opts, psi_range, f64::NEG_INFINITY)
+}
+
+/// [`matched_pose`] with the cross curvature held at or above `floor` (1/mm).
+fn matched_pose_above(
+    cutter: &Cutter,
+    frame: &ContactFrame,
+    opts: &OrientOptions,
+    psi_range: (f64, f64),
+    floor: f64,
 ) -> Option<Pose> {
     let a_lo = min_inclination(cutter);
     let a_hi = opts.max_inclination_rad.max(a_lo);
@@ -128,9 +154,13 @@ pub fn matched_pose(
     // row or column (`cutter_form_of`: the same bits as `cutter_form`).
     let eval = |k: (f64, f64), psi: f64, psi_sc: (f64, f64)| -> Option<f64> {
         // D = Q_c − Q_s once for both: the margin (`gouge_margin`) is its smallest
-        // eigenvalue, Δκ (`cross_curvature`) its silhouette.
+        // eigenvalue, Δκ (`cross_curvature`) its silhouette, held at or above the floor.
         let d = cutter_form_of(k, psi_sc).minus(&frame.surface_form);
-        (d.min_eigen() >= m).then(|| d.silhouette() * (1.0 + AZIMUTH_PREFERENCE * (psi - psi_ref).abs()))
+        if d.min_eigen() < m {
+            return None;
+        }
+        let dk = d.silhouette();
+        (dk >= floor).then(|| dk * (1.0 + AZIMUTH_PREFERENCE * (psi - psi_ref).abs()))
     };
     if cutter.kind() == CutterKind::Ball {
         let p = Pose { inclination_rad: 0.0, azimuth_rad: 0.0 };

@@ -14,13 +14,15 @@
 //!   **side step** w to the next path is solved so the scallop between the two cutters is h:
 //!   the second-order guess `w = 2·√(2h/Δκ)` is corrected with the exact cross profiles of
 //!   both cutters ([`super::contact::CrossProfile`], [`super::contact::scallop_between`]),
-//!   `w ← w·√(h/scallop)`, until within 0.5 % of h (at most 6 rounds). The next path goes
-//!   through the points w away across the surface (a walk along c in 4 sub-steps), is
-//!   trimmed to the domain (points beyond b_max are put on it, points the walk carried past
-//!   an end of the along range dropped; its ends are extended to the a-boundaries along its
-//!   end segments) and resampled by the forward step. Paths follow until one lies on the far
-//!   edge entirely. From a curve inside the domain they go to both sides: first toward
-//!   increasing b until b_max, then again from the curve toward decreasing b until b_min.
+//!   `w ← w·√(h/scallop)`, until within 0.5 % of h (at most 12 rounds). The next path goes
+//!   through the points w away across the surface (a walk along c in 4 sub-steps), cut at
+//!   its self-intersections (swallowtails, `trim_swallowtails`) and at the a-boundaries
+//!   (`clip_along`), with what is left of cusps dropped (a increasing); points beyond the far
+//!   edge are put on it, its ends are extended to the a-boundaries along its end segments,
+//!   and it is resampled by the forward step, each node's feed the chord over ±½ max step.
+//!   Paths follow until one lies on the far edge entirely. From a curve inside the domain
+//!   they go to both sides: first toward increasing b until b_max, then again from the curve
+//!   toward decreasing b until b_min.
 //! - **iso-parametric**: paths b = const, equally spaced, as many as needed so that at every
 //!   node the scallop to the next path is at most h.
 //!
@@ -471,15 +473,28 @@ impl<'a> Ctx<'a> {
             cum.push(l);
         }
         let total = cum.last().copied().unwrap_or(0.0);
-        let at = |s: f64| -> (DVec2, DVec3, Option<(f64, f64)>) {
+        let segment = |s: f64| -> (usize, f64) {
             let k = cum.partition_point(|&c| c <= s).clamp(1, cum.len().max(2) - 1);
             let (c0, c1) = (cum[k - 1], cum[k]);
-            let t = if c1 > c0 { ((s - c0) / (c1 - c0)).clamp(0.0, 1.0) } else { 0.0 };
+            (k, if c1 > c0 { ((s - c0) / (c1 - c0)).clamp(0.0, 1.0) } else { 0.0 })
+        };
+        let point = |s: f64| -> DVec3 {
+            let (k, t) = segment(s);
+            pts[k - 1].lerp(pts[k], t)
+        };
+        // The feed of an offset path: the chord over ±half the longest step (FEED_CHORD), so
+        // that a short jog of the offset curve (a trimmed swallowtail's corner, a cusp's
+        // remnant) does not turn a node's feed, and with it the next side step, sideways.
+        let half = if psi_ref.is_some() { FEED_CHORD * self.opts.max_step_mm } else { 0.0 };
+        let at = |s: f64| -> (DVec2, DVec3, Option<(f64, f64)>) {
+            let (k, t) = segment(s);
             let psi = psi_ref.and_then(|r| {
                 let (a, b) = (r.get(k - 1)?, r.get(k)?);
                 Some((a.0 + t * (b.0 - a.0), a.1.max(b.1)))
             });
-            (poly[k - 1].lerp(poly[k], t), pts[k] - pts[k - 1], psi)
+            let chord = point((s + half).min(total)) - point((s - half).max(0.0));
+            let dir = if half > 0.0 && chord.length_squared() > 0.0 { chord } else { pts[k] - pts[k - 1] };
+            (poly[k - 1].lerp(poly[k], t), dir, psi)
         };
         // Forward steps.
         let mut samples: Vec<Sample> = Vec::new();
@@ -494,8 +509,15 @@ impl<'a> Ctx<'a> {
             if s >= total {
                 break;
             }
-            let k = ContactFrame::new(self.surface, uv, dir).map_or(0.0, |f| f.surface_form.ff.abs());
-            let sag = self.opts.chord_tol_mm.min(SAG_SHARE_OF_H * self.opts.scallop_mm);
+            // Normal curvature along the feed, positive where the surface bends toward the
+            // cutter (concave): there the chord sag only raises the cutter, E alone bounds it.
+            let ff = ContactFrame::new(self.surface, uv, dir).map_or(0.0, |f| f.surface_form.ff);
+            let k = ff.abs();
+            let sag = if ff < 0.0 {
+                self.opts.chord_tol_mm.min(SAG_SHARE_OF_H * self.opts.scallop_mm)
+            } else {
+                self.opts.chord_tol_mm
+            };
             let step = if k > 0.0 { (8.0 * sag / k).sqrt() } else { f64::INFINITY };
             let step = step.min(self.opts.max_step_mm).max(1e-3 * self.opts.max_step_mm);
             s = if s + step >= total - 1e-9 * total.max(1.0) { total } else { s + step };
@@ -644,7 +666,21 @@ impl<'a> Ctx<'a> {
     /// Walks `w_mm` across the surface from `frame` along ±c; returns the uv (clamped to the
     /// domain) and whether it reached or passed b's far end.
     fn walk(&self, frame: &ContactFrame, w_mm: f64) -> (DVec2, bool) {
-        let dom = self.surface.domain();
+        let (uv, beyond) = self.walk_unclamped(frame, w_mm);
+        (self.surface.domain().clamp(uv), beyond)
+    }
+
+    /// The next path's vertex from `node` at side step `w_mm`: b clamped to the domain (a
+    /// point beyond the far edge is put on it), a as walked — possibly outside the a-range,
+    /// where [`clip_along`] cuts the offset curve at the edge instead of running it along.
+    fn offset_vertex(&self, frame: &ContactFrame, w_mm: f64) -> DVec2 {
+        let (raw, _) = self.walk_unclamped(frame, w_mm);
+        let ((_, _), (b0, b1)) = self.ranges();
+        make_uv(a_of(raw, self.along), b_of(raw, self.along).clamp(b0, b1), self.along)
+    }
+
+    /// [`Ctx::walk`] without the clamp.
+    fn walk_unclamped(&self, frame: &ContactFrame, w_mm: f64) -> (DVec2, bool) {
         let mut uv = frame.uv;
         let mut t = self.side * frame.cross;
         let sub = 4;
@@ -657,7 +693,7 @@ impl<'a> Ctx<'a> {
         let ((_, _), (b0, b1)) = self.ranges();
         let b = b_of(uv, self.along);
         let beyond = if self.toward > 0.0 { b >= b1 } else { b <= b0 };
-        (dom.clamp(uv), beyond)
+        (uv, beyond)
     }
 
     /// The pose the next path's node at `frame_b`, `w_mm` across from `node`, will get: the
@@ -788,7 +824,10 @@ pub fn lead_out_mm(cutter: &Cutter, pose: &Pose, reach_mm: f64, slant: f64) -> f
 /// cutter between two CL rows moves on the chord, raised (concave along the feed) or lowered
 /// (convex) by up to the sag, and the cusp with it. Measured from the CL data with E = h/20
 /// (the examples): cusps of 0.947·h between the rows on the convex blade; with h/40 the band
-/// keeps ±5 % with room for the side step's own ±0.5 % and the model's error.
+/// keeps ±5 % with room for the side step's own ±0.5 % and the model's error. Applied only
+/// where the surface is convex along the feed (the chord below it, the cusp lowered): on the
+/// concave mould h/40 everywhere took the brute-force sections to 0.941–0.983·h (E alone:
+/// 0.978–1.008·h), measured after merging the lead-outs with the mould's floor and trims.
 const SAG_SHARE_OF_H: f64 = 1.0 / 40.0;
 
 /// Halvings of a lead-out that the gouge checks find too long before it is left out.
@@ -802,6 +841,94 @@ const LEAD_OUT_CHECK_SHARE: f64 = 0.9;
 /// A path's last node counts as on the along parameter's far end within this fraction of
 /// the along range.
 const LEAD_OUT_EDGE_REL: f64 = 1e-9;
+
+/// A vertex of an offset curve: uv and the azimuth window (centre, half width; rad) the
+/// side step assumed there.
+type Vertex = (DVec2, (f64, f64));
+
+/// Most segments after a segment of an offset curve that [`trim_swallowtails`] tests it
+/// against: bounds its work by this × the vertices (a swallowtail spans a few nodes).
+const SWALLOWTAIL_SEGMENTS: usize = 256;
+
+/// Where segments p0p1 and q0q1 cross: the parameters (t, s) ∈ [0, 1)² along each, `None`
+/// when they do not cross or are parallel.
+fn crossing(p0: DVec2, p1: DVec2, q0: DVec2, q1: DVec2) -> Option<(f64, f64)> {
+    let (r, d, w) = (p1 - p0, q1 - q0, q0 - p0);
+    let den = r.perp_dot(d);
+    if den == 0.0 || !den.is_finite() {
+        return None;
+    }
+    let t = w.perp_dot(d) / den;
+    let s = w.perp_dot(r) / den;
+    ((0.0..1.0).contains(&t) && (0.0..1.0).contains(&s)).then_some((t, s))
+}
+
+/// A vertex between `a` and `b` at `t`: uv and azimuth interpolated, the wider window.
+fn vertex_between(a: &Vertex, b: &Vertex, t: f64) -> Vertex {
+    (a.0.lerp(b.0, t), (a.1.0 + t * (b.1.0 - a.1.0), a.1.1.max(b.1.1)))
+}
+
+/// The offset curve with its swallowtails cut out: where segment i crosses a later segment
+/// j (the farthest such j within [`SWALLOWTAIL_SEGMENTS`]), the loop between them is
+/// replaced by the crossing point. Where the curve offsets a concave stretch of the last
+/// path by more than its radius, it runs back over itself; the part of the loop beyond the
+/// crossing lies inside the strip already cut. (Keeping only the vertices whose a increases,
+/// as before, joined the loop's far branch to the near one across the crossing and left a
+/// gap: the mould's 3.7·h, docs/fillet.md.)
+fn trim_swallowtails(pts: &[Vertex]) -> Vec<Vertex> {
+    let n = pts.len();
+    let Some(first) = pts.first() else { return Vec::new() };
+    let mut work = pts.to_vec();
+    let mut out = vec![*first];
+    let mut i = 0;
+    while i + 1 < n {
+        let last = (i + SWALLOWTAIL_SEGMENTS).min(n - 2);
+        let cut = (i + 2..=last)
+            .rev()
+            .find_map(|j| crossing(work[i].0, work[i + 1].0, work[j].0, work[j + 1].0).map(|(t, s)| (j, t, s)));
+        if let Some((j, t, s)) = cut {
+            let x = vertex_between(&work[i], &work[i + 1], t);
+            let x = (x.0, vertex_between(&work[j], &work[j + 1], s).1);
+            out.push(x);
+            work[j] = x;
+            i = j;
+        } else {
+            out.push(work[i + 1]);
+            i += 1;
+        }
+    }
+    out
+}
+
+/// The polyline cut to the along range [a0, a1]: vertices outside are left out, and where a
+/// segment crosses an edge the crossing is put in (so a stretch that leaves and re-enters
+/// becomes a straight piece between the two crossings).
+fn clip_along(pts: &[Vertex], (a0, a1): (f64, f64), along: usize) -> Vec<Vertex> {
+    let inside = |v: &Vertex| (a0..=a1).contains(&a_of(v.0, along));
+    let mut out = Vec::with_capacity(pts.len());
+    for (k, v) in pts.iter().enumerate() {
+        if k > 0 {
+            let p = &pts[k - 1];
+            let (ap, av) = (a_of(p.0, along), a_of(v.0, along));
+            let mut cuts: Vec<f64> =
+                [a0, a1].iter().filter(|&&e| (ap - e) * (av - e) < 0.0).map(|&e| (e - ap) / (av - ap)).collect();
+            cuts.sort_by(f64::total_cmp);
+            for t in cuts {
+                let mut x = vertex_between(p, v, t);
+                x.0 = make_uv((a_of(x.0, along)).clamp(a0, a1), b_of(x.0, along), along);
+                out.push(x);
+            }
+        }
+        if inside(v) {
+            out.push(*v);
+        }
+    }
+    out
+}
+
+/// Half the chord that gives an offset path's feed at a node, relative to the longest
+/// forward step.
+const FEED_CHORD: f64 = 0.5;
 
 /// Most rounds of the side-step correction, and its acceptance (relative to h).
 const SIDE_STEP_ROUNDS: usize = 12;
@@ -1097,8 +1224,7 @@ impl IsoScallopSteps {
         if last.nodes.iter().all(|n| on_far_edge(n.frame.uv)) {
             return Ok(self.end_side());
         }
-        let mut poly: Vec<DVec2> = Vec::with_capacity(last.nodes.len() + 2);
-        let mut refs: Vec<(f64, f64)> = Vec::with_capacity(last.nodes.len() + 2);
+        let mut offset: Vec<Vertex> = Vec::with_capacity(last.nodes.len());
         let rate = opts.orient.max_turn_rad_per_mm;
         for node in last.nodes.iter_mut().filter(|n| !n.lead_out) {
             let (uv, _beyond, w, s) = ctx.side_step(node);
@@ -1106,17 +1232,26 @@ impl IsoScallopSteps {
                 node.side_step_mm = Some(w);
                 node.scallop_mm = Some(s);
             }
-            // Keep the along parameter increasing (drop loops of the offset curve), and drop
-            // the points the walk left the along range with (clamped onto an a-edge, they
-            // would put a sideways hook at the path's end that grows path by path through
-            // the end nodes' cross directions; the ends are extended below instead).
-            let a = a_of(uv, along);
-            let off_end = a <= a0 || a >= a1;
-            if !off_end && poly.last().is_none_or(|p| a > a_of(*p, along)) {
-                poly.push(uv);
-                refs.push((node.pose.azimuth_rad, rate * w));
-            }
+            // The vertex with a as walked (the side step's own uv is clamped to the domain).
+            let vertex =
+                if a_of(uv, along) > a0 && a_of(uv, along) < a1 { uv } else { ctx.offset_vertex(&node.frame, w) };
+            offset.push((vertex, (node.pose.azimuth_rad, rate * w)));
         }
+        // The offset curve cut at its self-intersections (swallowtails) and at the a-edges;
+        // then what is left of a cusp (a vertex or two back along a without a crossing:
+        // where the offset's radius is just that of the stretch it offsets) is dropped, so
+        // that no node's feed, and with it the next side step's direction, turns back.
+        let mut offset = clip_along(&trim_swallowtails(&offset), (a0, a1), along);
+        let mut a_last = f64::NEG_INFINITY;
+        offset.retain(|v| {
+            let keep = a_of(v.0, along) > a_last;
+            if keep {
+                a_last = a_of(v.0, along);
+            }
+            keep
+        });
+        let mut poly: Vec<DVec2> = offset.iter().map(|v| v.0).collect();
+        let mut refs: Vec<(f64, f64)> = offset.iter().map(|v| v.1).collect();
         let (Some(&f), Some(&l)) = (poly.first(), poly.last()) else {
             return Ok(self.end_side());
         };
@@ -1308,4 +1443,76 @@ pub fn iso_parametric_from(
     }
     let _ = budget;
     Err(FinishError::NoPath { reason: "the iso-parametric spacing did not settle in 8 rounds" })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn vertices(pts: &[(f64, f64)]) -> Vec<Vertex> {
+        pts.iter().enumerate().map(|(k, &(u, v))| (DVec2::new(u, v), (k as f64, 0.1))).collect()
+    }
+
+    /// Does any segment of the polyline cross a non-adjacent one? (brute force over all pairs)
+    fn self_crossing(p: &[Vertex]) -> bool {
+        (0..p.len().saturating_sub(1)).any(|i| {
+            (i + 2..p.len().saturating_sub(1)).any(|j| crossing(p[i].0, p[i + 1].0, p[j].0, p[j + 1].0).is_some())
+        })
+    }
+
+    #[test]
+    fn a_swallowtail_is_cut_at_its_crossing() {
+        // Along u, then a loop back over itself (the offset of a tight concave stretch), then
+        // along again: segments 1-2 and 4-5 cross at (0.5, 0.1).
+        let p = vertices(&[(0.0, 0.0), (0.4, 0.0), (0.7, 0.2), (0.6, 0.3), (0.3, 0.2), (0.7, 0.1), (1.0, 0.1)]);
+        assert!(self_crossing(&p));
+        let t = trim_swallowtails(&p);
+        assert!(!self_crossing(&t), "{t:?}");
+        // The loop's vertices are gone, the crossing replaces them, the ends are kept.
+        let uv: Vec<DVec2> = t.iter().map(|v| v.0).collect();
+        assert_eq!(uv.len(), 5, "{uv:?}");
+        assert_eq!(uv[0], DVec2::new(0.0, 0.0));
+        assert_eq!(uv[1], DVec2::new(0.4, 0.0));
+        // Segment (0.4, 0) → (0.7, 0.2) meets (0.3, 0.2) → (0.7, 0.1) where both lines agree.
+        let x = uv[2];
+        let on_first = (x - DVec2::new(0.4, 0.0)).perp_dot(DVec2::new(0.3, 0.2));
+        let on_second = (x - DVec2::new(0.3, 0.2)).perp_dot(DVec2::new(0.4, -0.1));
+        assert!(on_first.abs() < 1e-12 && on_second.abs() < 1e-12, "{x}");
+        assert_eq!(uv[3], DVec2::new(0.7, 0.1));
+        assert_eq!(uv[4], DVec2::new(1.0, 0.1));
+        // The crossing's azimuth window comes from the far branch (segment 4-5): between 4 and 5.
+        assert!(t[2].1.0 > 4.0 && t[2].1.0 < 5.0, "{:?}", t[2]);
+    }
+
+    #[test]
+    fn a_curve_without_crossings_is_left_as_it_is() {
+        let p: Vec<Vertex> = (0..200)
+            .map(|k| {
+                let u = f64::from(k) / 199.0;
+                (DVec2::new(u, 0.3 + 0.05 * (9.0 * u).sin()), (0.0, 0.1))
+            })
+            .collect();
+        assert_eq!(trim_swallowtails(&p), p);
+    }
+
+    #[test]
+    fn the_offset_is_cut_at_the_along_edges() {
+        // Leaves through a = 0 on the left (as the mould's corner offsets do), runs inside,
+        // leaves and re-enters through a = 1.
+        let p = vertices(&[(-0.2, 0.1), (0.2, 0.3), (0.8, 0.3), (1.2, 0.5), (0.9, 0.7)]);
+        for along in [0, 1] {
+            let q: Vec<Vertex> =
+                p.iter().map(|v| (if along == 0 { v.0 } else { DVec2::new(v.0.y, v.0.x) }, v.1)).collect();
+            let c = clip_along(&q, (0.0, 1.0), along);
+            let a: Vec<f64> = c.iter().map(|v| a_of(v.0, along)).collect();
+            let b: Vec<f64> = c.iter().map(|v| b_of(v.0, along)).collect();
+            assert_eq!(c.len(), 6, "{c:?}");
+            // The entry through a = 0 at b = 0.2, the exit and re-entry through a = 1 at
+            // b = 0.4 and b = 0.5 + 0.2·⅔ (linear along the segments).
+            let want = [(0.0, 0.2), (0.2, 0.3), (0.8, 0.3), (1.0, 0.4), (1.0, 0.5 + 0.2 * 2.0 / 3.0), (0.9, 0.7)];
+            for (k, &(wa, wb)) in want.iter().enumerate() {
+                assert!((a[k] - wa).abs() < 1e-12 && (b[k] - wb).abs() < 1e-12, "{k}: {} {}", a[k], b[k]);
+            }
+        }
+    }
 }

@@ -138,6 +138,16 @@ impl FinishScene {
             }
             options.orient.margin_per_mm = m;
         }
+        if let Some(k) = f.min_cross_curvature {
+            if !(k >= 0.0 && k.is_finite()) {
+                return Err(SceneError::new(
+                    "finish.min_cross_curvature",
+                    format!("must be ≥ 0, got {k}"),
+                    "give the smallest cross curvature in 1/mm, e.g. 0.0125 (0 turns the floor off)",
+                ));
+            }
+            options.orient.min_cross_curvature_per_mm = k;
+        }
         if let Some(a) = f.max_inclination {
             if !(a > 0.0 && a <= 80.0) {
                 return Err(SceneError::new(

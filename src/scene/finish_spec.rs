@@ -52,6 +52,9 @@ pub struct FinishSpec {
     pub direction: String,
     /// Curvature margin m (1/mm; default 0.002).
     pub margin: Option<f64>,
+    /// Smallest cross curvature Δκ `matched` leaves across the feed (1/mm; default 0.0125,
+    /// 0 turns the floor off).
+    pub min_cross_curvature: Option<f64>,
     /// Largest inclination of the axis from the normal (degrees; default 45).
     pub max_inclination: Option<f64>,
     /// Feed for the machining time and the G-code (mm/min; default 1000).

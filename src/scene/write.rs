@@ -161,6 +161,7 @@ pub(super) fn finish_to_json(s: &super::finish_spec::FinishScene) -> String {
     opt(&mut finish, "max_step", f.max_step);
     finish.insert("direction".into(), f.direction.clone().into());
     opt(&mut finish, "margin", f.margin);
+    opt(&mut finish, "min_cross_curvature", f.min_cross_curvature);
     opt(&mut finish, "max_inclination", f.max_inclination);
     opt(&mut finish, "feed", f.feed);
     match &f.start {
