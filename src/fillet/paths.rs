@@ -4,7 +4,8 @@
 //! Paths run along one parameter (the *along* parameter a, u or v) and follow each other
 //! across the other (b). Along a path the CC points are spaced by the **forward step** from
 //! the chord error E and the normal curvature k_f of the path: `ℓ = √(8E'/|k_f|)` with
-//! E' = min(E, h/40) (the chord's sag moves the cusp, see [`SAG_SHARE_OF_H`]), at most
+//! E' = min(E, h/40) where the surface is convex along the feed, else E (the chord's sag
+//! below a convex surface lowers the cusp; `SAG_SHARE_OF_H`), at most
 //! [`FinishOptions::max_step_mm`]. The nodes of a path are oriented by the strategy and
 //! smoothed ([`super::orient`]), checked for gouges ([`super::gouge`]), and then:
 //!

@@ -433,7 +433,7 @@ pub struct NurbsSurface {
     power: Option<PowerPatches>,
 }
 
-/// Most homogeneous coefficients [`PowerPatches`] holds (32 bytes each: 2 MB, and 1.5 MB
+/// Most homogeneous coefficients a surface's power form (`PowerPatches`) holds (32 bytes each: 2 MB, and 1.5 MB
 /// more for the copy without weights of a net whose weights are all 1).
 pub const MAX_POWER_COEFFICIENTS: usize = 1 << 16;
 
