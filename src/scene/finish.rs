@@ -221,7 +221,7 @@ fn start_of(spec: Option<&StartSpec>, surface: &Surface, direction: FeedDirectio
                     return Err(SceneError::new(
                         format!("finish.start.curve[{i}]"),
                         format!(
-                            "({}, {}) is outside the surface's domain u ∈ {}, v ∈ {}",
+                            "({}, {}) is outside the surface's domain u in {}, v in {}",
                             file_pts[i][0],
                             file_pts[i][1],
                             f(dom.u),
