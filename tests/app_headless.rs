@@ -1183,9 +1183,12 @@ fn the_fillet_tab_hands_its_program_to_the_simulation_and_two_maps_are_compared(
     }
     assert_eq!(cli["interior"]["rays"], ai["band_rays"], "{cli}");
     assert!(ai["rays"].as_u64().expect("rays") > 100, "the band holds scallops: {ai}");
+    // The band is a subset of the measured rays (since the paths end with lead-outs the
+    // patch's edges no longer hold the largest scallop, so the two maxima may be equal).
     assert!(
-        ai["max"].as_f64().expect("max") < a["scallop_um"]["max"].as_f64().expect("max"),
-        "the edges' scallops are left out of the interior: {ai} vs {}",
+        ai["rays"].as_u64().expect("rays") < a["scallop_um"]["rays"].as_u64().expect("rays")
+            && ai["max"].as_f64().expect("max") <= a["scallop_um"]["max"].as_f64().expect("max"),
+        "the interior is a part of the patch: {ai} vs {}",
         a["scallop_um"]
     );
     let _ = std::fs::remove_dir_all(&dir);
