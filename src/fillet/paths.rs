@@ -27,7 +27,8 @@
 //!   node the scallop to the next path is at most h.
 //!
 //! Every path that ends on the along parameter's far end gets a **lead-out**: one more CL
-//! node, the last cutter moved [`lead_out_mm`] on along its feed ([`CcNode::lead_out`]).
+//! node, the last cutter moved [`lead_out_mm`] on along its feed ([`CcNode::lead_out`]),
+//! rolled on with the surface's continuation where it is concave along the feed.
 //!
 //! All loops are capped ([`FinishOptions::max_paths`], [`FinishOptions::max_nodes`]).
 
@@ -302,9 +303,10 @@ pub struct CcNode {
     pub scallop_mm: Option<f64>,
     /// What the gouge checks changed, if anything.
     pub adjusted: Option<Adjustment>,
-    /// A lead-out past the path's end, not a CC point: the last node's cutter moved along
-    /// its feed (same axis; `frame.point` moved with it, off the surface, `frame.uv` the
-    /// edge's). See [`lead_out_mm`].
+    /// A lead-out past the path's end, not a CC point: the last node's cutter moved on along
+    /// its feed, straight with the same axis, or rolled on the feed's osculating circle where
+    /// the surface is concave along it (`frame` moved and turned with it, off the surface,
+    /// `frame.uv` the edge's). See [`lead_out_mm`].
     pub lead_out: bool,
 }
 
@@ -634,23 +636,24 @@ impl<'a> Ctx<'a> {
         let edge = if self.along == 0 { der.dv } else { der.du };
         let (along_f, along_c) = (edge.dot(last.frame.feed).abs(), edge.dot(last.frame.cross).abs());
         let slant = if along_c > 0.0 { along_f / along_c } else { f64::INFINITY };
-        // Moved straight along the feed the cutter leaves a surface that is concave along it
-        // (the surface rises ahead by ½·k·d²); where the far edge is slanted part of it is
-        // still over the surface there: the lead-out is checked like every pose and halved
-        // until it clears (none after LEAD_OUT_HALVINGS).
+        // Where the far edge is slanted part of the cutter is still over the surface past the
+        // end node: the lead-out is checked like every pose and halved until it clears (none
+        // after LEAD_OUT_HALVINGS).
         let mut d = lead_out_mm(tool, &last.pose, reach, slant);
-        let f = last.frame.feed;
         let tol = LEAD_OUT_CHECK_SHARE * self.opts.gouge_tol_mm;
         for _ in 0..=LEAD_OUT_HALVINGS {
             if d <= 0.0 {
                 return None;
             }
-            let frame = ContactFrame { point: last.frame.point + d * f, ..last.frame };
+            // The cutter continued with the surface past the end (its twist and its curvature
+            // along the feed), not moved straight: see `lead_out_frame`.
+            let frame = lead_out_frame(&last.frame, d);
             if check(tool, self.surface, self.part, &frame, &last.pose, tol).is_none() {
-                let tip = last.tip + d * f;
+                let (tip, axis) = place(tool, &frame, &last.pose);
                 return Some(CcNode {
                     frame,
                     tip,
+                    axis,
                     side_step_mm: None,
                     scallop_mm: None,
                     adjusted: None,
@@ -818,6 +821,27 @@ pub fn lead_out_mm(cutter: &Cutter, pose: &Pose, reach_mm: f64, slant: f64) -> f
     };
     let ahead = if slant.is_finite() { y * slant.abs() } else { f64::INFINITY };
     (lag + ahead).min(2.0 * cutter.radius_mm)
+}
+
+/// The contact frame a lead-out of `d_mm` (mm) past `end` stands on: the surface continued
+/// past the path's end to second order. The point moves along the feed's normal section
+/// (d·f + ½·k_ff·d²·n), and the frame turns as the surface's normal turns along the feed,
+/// dn/ds = −(k_ff·f + k_fc·c), df/ds = k_ff·n: the rotation by d·(k_fc·f − k_ff·c). The
+/// cutter placed there with the last pose keeps its pose to the surface's continuation: its
+/// lean across the feed follows the twist k_fc, its lean along it k_ff. Moved straight with
+/// the axis held, on the mould (k_fc up to 0.005 /mm at a 2.4 mm side step, the bowl rising
+/// ahead) the cusps of the last 0.4 mm before the far end rose to 1.19·h, 1.112·h inside the
+/// edge lines; turned, ≤ 1.04·h (docs/fillet.md, "The mould's ends").
+#[must_use]
+pub fn lead_out_frame(end: &ContactFrame, d_mm: f64) -> ContactFrame {
+    let (f, c, n) = (end.feed, end.cross, end.normal);
+    let (ff, fc) = (end.surface_form.ff, end.surface_form.fc);
+    // The point on the normal section's osculating circle (to second order: ½·ff·d² along n).
+    let point = end.point + d_mm * f + 0.5 * ff * d_mm * d_mm * n;
+    // The frame turned as the surface's normal turns along the feed: dn/ds = −(ff·f + fc·c),
+    // df/ds = ff·n, i.e. the rotation vector (fc·f − ff·c) per mm.
+    let rot = glam::DQuat::from_scaled_axis(d_mm * (fc * f - ff * c));
+    ContactFrame { point, feed: rot * f, cross: rot * c, normal: rot * n, ..*end }
 }
 
 /// The forward step keeps the chord's sag within this share of h as well as within E: the

@@ -6,8 +6,9 @@
 //! what the orientation would be if computed there. The path parameter s is the cumulative
 //! CC chord length (mm).
 //!
-//! A lead-out node ([`CcNode::lead_out`]) is reached by the last cutter moved straight
-//! along its feed with its axis held.
+//! A lead-out node ([`CcNode::lead_out`]) is reached by the last cutter moved on along its
+//! feed (straight with its axis held, or rolled with the surface's continuation where it is
+//! concave along the feed), tip and axis interpolated linearly.
 //!
 //! The step selection measures a ball at the point `tip + R·axis` with R =
 //! [`DesignPath::ball_radius_mm`]; a fillet-end mill is no ball, so this path reports a ball
@@ -64,8 +65,10 @@ impl<'a> FilletDesignPath<'a> {
             return Some((b.frame, b.tip, b.axis));
         }
         if b.lead_out {
-            // The lead-out: the last cutter moved straight along its feed, same axis.
-            return Some((a.frame, a.tip.lerp(b.tip, t), a.axis));
+            // The lead-out: the last cutter moved on along its feed (straight, or rolled on
+            // the feed's osculating circle where the surface is concave along it: the axis
+            // turned with it), tip and axis linearly as the machine moves between CL rows.
+            return Some((a.frame, a.tip.lerp(b.tip, t), a.axis.lerp(b.axis, t).normalize()));
         }
         let uv: DVec2 = a.frame.uv.lerp(b.frame.uv, t);
         let feed = a.frame.feed.lerp(b.frame.feed, t);
