@@ -27,8 +27,9 @@
 //!   node the scallop to the next path is at most h.
 //!
 //! Every path that ends on the along parameter's far end gets a **lead-out**: one more CL
-//! node, the last cutter moved [`lead_out_mm`] on along its feed ([`CcNode::lead_out`]),
-//! rolled on with the surface's continuation where it is concave along the feed.
+//! node, the last cutter moved [`lead_out_mm`] on along its feed with the surface's
+//! continuation ([`lead_out_frame`], [`CcNode::lead_out`]); every path that starts on the near
+//! end likewise a **lead-in** before its first node, the first cutter moved back.
 //!
 //! All loops are capped ([`FinishOptions::max_paths`], [`FinishOptions::max_nodes`]).
 
@@ -303,9 +304,9 @@ pub struct CcNode {
     pub scallop_mm: Option<f64>,
     /// What the gouge checks changed, if anything.
     pub adjusted: Option<Adjustment>,
-    /// A lead-out past the path's end, not a CC point: the last node's cutter moved on along
-    /// its feed, straight with the same axis, or rolled on the feed's osculating circle where
-    /// the surface is concave along it (`frame` moved and turned with it, off the surface,
+    /// A lead-out past the path's end or a lead-in before its start, not a CC point: the
+    /// last (first) node's cutter moved on (back) along its feed with the surface's
+    /// continuation (`frame` moved and turned with it by [`lead_out_frame`], off the surface,
     /// `frame.uv` the edge's). See [`lead_out_mm`].
     pub lead_out: bool,
 }
@@ -615,19 +616,30 @@ impl<'a> Ctx<'a> {
                 }
             }
         }
-        if let Some(lead) = nodes.last().and_then(|last| self.lead_out(&tool, last)) {
+        if let Some(lead) = nodes.last().and_then(|last| self.lead_out(&tool, last, true)) {
             nodes.push(lead);
+        }
+        if let Some(lead) = nodes.first().and_then(|first| self.lead_out(&tool, first, false)) {
+            nodes.insert(0, lead);
         }
         Ok(ToolPath { nodes })
     }
 
-    /// The lead-out after `last` when it lies on the along parameter's far end: its cutter
-    /// moved [`lead_out_mm`] along the feed, for the strip's reach at h on either side.
-    fn lead_out(&self, tool: &Cutter, last: &CcNode) -> Option<CcNode> {
+    /// The lead-out after `last` when it lies on the along parameter's far end (`far`), or
+    /// the lead-in before the first node `last` when it lies on the near end (`!far`): its
+    /// cutter moved [`lead_out_mm`] on (back) along the feed with the surface's continuation,
+    /// for the strip's reach at h on either side. The lowest point of the cutter at a cross
+    /// offset lies behind the contact on one side and, where the surface is twisted, ahead of
+    /// it on the other: both ends need the poses past them (the mould's start edge line
+    /// measured 2.10·h without a lead-in, 1.035·h with one).
+    fn lead_out(&self, tool: &Cutter, last: &CcNode, far: bool) -> Option<CcNode> {
         let ((a0, a1), _) = self.ranges();
-        if a_of(last.frame.uv, self.along) < a1 - LEAD_OUT_EDGE_REL * (a1 - a0) {
+        let a = a_of(last.frame.uv, self.along);
+        let slack = LEAD_OUT_EDGE_REL * (a1 - a0);
+        if (far && a < a1 - slack) || (!far && a > a0 + slack) {
             return None;
         }
+        let sense = if far { 1.0 } else { -1.0 };
         let h = self.opts.scallop_mm;
         let prof = CrossProfile::new(tool, self.surface, last.frame, &last.pose);
         let reach = prof.reach(h, 1.0).max(prof.reach(h, -1.0));
@@ -647,7 +659,7 @@ impl<'a> Ctx<'a> {
             }
             // The cutter continued with the surface past the end (its twist and its curvature
             // along the feed), not moved straight: see `lead_out_frame`.
-            let frame = lead_out_frame(&last.frame, d);
+            let frame = lead_out_frame(&last.frame, sense * d);
             if check(tool, self.surface, self.part, &frame, &last.pose, tol).is_none() {
                 let (tip, axis) = place(tool, &frame, &last.pose);
                 return Some(CcNode {
@@ -1172,7 +1184,7 @@ impl IsoScallopSteps {
         let mut refused = Vec::new();
         let mut budget = opts.max_nodes;
         let first = ctx.build_path(&poly, None, &mut refused, &mut budget)?;
-        let Some(n0) = first.nodes.first() else {
+        let Some(n0) = first.nodes.iter().find(|n| !n.lead_out) else {
             return Err(FinishError::NoPath { reason: refused.first().map_or("no CC point", |r| r.reason) });
         };
         // c toward increasing b?
