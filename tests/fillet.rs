@@ -963,8 +963,9 @@ fn height_map_of_the_material_left() {
 
 /// The judge's sections, densely: every other interior path (1 … n − 5, away from the far
 /// edge, where the last paths are put on the edge and overlap), nine nodes along each
-/// (117–189 sections per example). Measured: mould 0.959–1.021·h, patch 0.966–0.991·h, blade
-/// 0.9499–0.990·h (three sections near (u, v) = (0.26, 0.1–0.2) at 0.94987–0.94998·h: the
+/// (117–189 sections per example). Measured (with the lead-ins and lead-outs continued with
+/// the surface): mould 0.959–1.019·h, patch 0.971–0.993·h, blade 0.964–1.023·h (an earlier
+/// round: three blade sections near (u, v) = (0.26, 0.1–0.2) at 0.94987–0.94998·h: the
 /// band asserted is [0.949, 1.05]·h). Slow (~4.5 min in release):
 /// `cargo test --release --no-default-features --test fillet -- --ignored dense --nocapture`.
 #[test]
