@@ -941,12 +941,18 @@ fn height_map_of_the_material_left() {
             lo_last / h,
             hi_last / h
         );
+        // The edge lines too, since the lead-ins and lead-outs (measured: patch 0.995·h, blade
+        // 1.002·h, mould 1.035·h; before them up to 2.4·h on the blade, 2.10·h on the mould).
+        assert!(edge.left <= 1.05 * h, "{id}: {:.4}·h left on the edge line at {}", edge.left / h, edge.uv);
+        assert!(above.is_empty(), "{id}: {} grid points above 1.05·h", above.len());
         if id == "finish-concave-mould" {
-            // The mould (measured 1.112·h at 0.25 mm from an along end, cusps 0.949–1.064·h,
-            // the highest 1.2 mm from an along end): more than 2·R from the along ends no
-            // point is above 1.05·h; at the ends up to 1.12·h (docs/fillet.md).
+            // The mould (measured, with the lead-outs and lead-ins continued with the
+            // surface: 1.034·h at most inside the edge lines, 1.035·h on them, cusps
+            // 0.949–1.064·h, the 1.064 on line 0.98 where path 18's end nodes wobble
+            // ±0.15 mm, the 0.949 on line 0.7; docs/fillet.md, "The mould's ends"): every
+            // point within 1.05·h, the cusps in [0.945, 1.07]·h.
             assert!(inside == 0 && in_last == 0, "{id}: {inside} inside, {in_last} in the last strip above 1.05·h");
-            assert!(worst.left <= 1.12 * h, "{id}: {:.4}·h left at {}", worst.left / h, worst.uv);
+            assert!(worst.left <= 1.05 * h, "{id}: {:.4}·h left at {}", worst.left / h, worst.uv);
             assert!(lo >= 0.945 * h && hi <= 1.07 * h, "{id}: cusps {:.4}·h .. {:.4}·h", lo / h, hi / h);
         } else {
             assert!(worst.left <= 1.05 * h, "{id}: {:.4}·h left at {}", worst.left / h, worst.uv);
@@ -957,8 +963,9 @@ fn height_map_of_the_material_left() {
 
 /// The judge's sections, densely: every other interior path (1 … n − 5, away from the far
 /// edge, where the last paths are put on the edge and overlap), nine nodes along each
-/// (117–189 sections per example). Measured: mould 0.959–1.021·h, patch 0.966–0.991·h, blade
-/// 0.9499–0.990·h (three sections near (u, v) = (0.26, 0.1–0.2) at 0.94987–0.94998·h: the
+/// (117–189 sections per example). Measured (with the lead-ins and lead-outs continued with
+/// the surface): mould 0.959–1.019·h, patch 0.971–0.993·h, blade 0.964–1.023·h (an earlier
+/// round: three blade sections near (u, v) = (0.26, 0.1–0.2) at 0.94987–0.94998·h: the
 /// band asserted is [0.949, 1.05]·h). Slow (~4.5 min in release):
 /// `cargo test --release --no-default-features --test fillet -- --ignored dense --nocapture`.
 #[test]
@@ -1213,4 +1220,62 @@ fn the_lead_out_covers_the_lag_of_the_lowest_point() {
     }
     let ball = Cutter::ball(5.0).unwrap();
     assert_eq!(lead_out_mm(&ball, &Pose { inclination_rad: 0.0, azimuth_rad: 0.0 }, 1.0, 0.0), 0.0);
+}
+
+/// The lead-out's frame continues the surface past the path's end: on a bore (ρ 30 mm, the
+/// cutter inside, concave) with the feed 30° off the circumference the normal section is
+/// curved (k_ff = cos²β/ρ) and the frame twisted (k_fc = ±sinβ·cosβ/ρ); the path continued is
+/// the helix through the end point. The rotation d·(k_fc·f − k_ff·c) is then the helix's own
+/// turn about the bore's axis, so the frame's normal and feed are the helix's at arc length d
+/// exactly, and the point the helix's to second order: within cos³β·d³/(6ρ²) (the helix's
+/// third derivative). A frame moved straight on keeps the end's normal, d·cosβ/ρ off.
+#[test]
+fn the_lead_out_frame_is_the_surface_continued() {
+    use interpolab::fillet::paths::lead_out_frame;
+    use interpolab::geom::{Cylinder, Domain, Frame, ParamRange, ParamUnit};
+    let rho = 30.0;
+    let bore = Surface::Cylinder(Cylinder {
+        origin: DVec3::ZERO,
+        frame: Frame::from_axis(DVec3::Z, None),
+        radius: rho,
+        sign: -1.0,
+        domain: Domain {
+            u: ParamRange::new(-std::f64::consts::PI, std::f64::consts::PI, ParamUnit::Angle),
+            v: ParamRange::new(0.0, 20.0, ParamUnit::Length),
+        },
+    });
+    let uv = DVec2::new(0.4, 10.0);
+    let q0 = bore.point_at(uv);
+    let r0 = DVec3::new(q0.x, q0.y, 0.0) / rho;
+    let t0 = DVec3::Z.cross(r0);
+    let beta = 30f64.to_radians();
+    let end = ContactFrame::new(&bore, uv, beta.cos() * t0 + beta.sin() * DVec3::Z).unwrap();
+    assert!((end.normal + r0).length() < 1e-12, "the bore's normal points to its axis");
+    assert!((end.surface_form.ff - beta.cos().powi(2) / rho).abs() < 1e-12, "{:?}", end.surface_form);
+    assert!((end.surface_form.fc.abs() - beta.sin() * beta.cos() / rho).abs() < 1e-12, "{:?}", end.surface_form);
+    // The helix through q0 along the feed, by arc length s.
+    let (cb, sb) = (end.feed.dot(t0), end.feed.dot(DVec3::Z));
+    let helix = |s: f64| {
+        let phi = s * cb / rho;
+        let radial = phi.cos() * r0 + phi.sin() * t0;
+        let point = rho * radial + (q0.z + s * sb) * DVec3::Z;
+        let feed = cb * (phi.cos() * t0 - phi.sin() * r0) + sb * DVec3::Z;
+        (point, feed, -radial)
+    };
+    for d in [0.25, 0.5, 1.0, 2.0, 5.0] {
+        let lead = lead_out_frame(&end, d);
+        let (p, f, n) = helix(d);
+        assert!((lead.normal - n).length() < 1e-12, "d {d}: normal {} against {n}", lead.normal);
+        assert!((lead.feed - f).length() < 1e-12, "d {d}: feed {} against {f}", lead.feed);
+        assert!((lead.cross - lead.normal.cross(lead.feed)).length() < 1e-12, "d {d}: c = n × f");
+        let bound = cb.abs().powi(3) * d.powi(3) / (6.0 * rho * rho);
+        assert!((lead.point - p).length() <= bound * (1.0 + 1e-9), "d {d}: point {} mm off", (lead.point - p).length());
+        assert!((end.normal - n).length() > 0.9 * d * cb.abs() / rho, "d {d}: the straight move's normal is off");
+    }
+    // Flat along the feed and untwisted (a plane): straight on, as before.
+    let plane = ContactFrame::new(&plane(), DVec2::new(1.0, 2.0), DVec3::X).unwrap();
+    let lead = lead_out_frame(&plane, 3.0);
+    assert!(
+        (lead.point - (plane.point + 3.0 * DVec3::X)).length() < 1e-12 && (lead.normal - plane.normal).length() < 1e-15
+    );
 }

@@ -28,7 +28,9 @@
 //!   node the scallop to the next path is at most h.
 //!
 //! Every path that ends on the along parameter's far end gets a **lead-out**: one more CL
-//! node, the last cutter moved [`lead_out_mm`] on along its feed ([`CcNode::lead_out`]).
+//! node, the last cutter moved [`lead_out_mm`] on along its feed with the surface's
+//! continuation ([`lead_out_frame`], [`CcNode::lead_out`]); every path that starts on the near
+//! end likewise a **lead-in** before its first node, the first cutter moved back.
 //!
 //! All loops are capped ([`FinishOptions::max_paths`], [`FinishOptions::max_nodes`]).
 
@@ -303,9 +305,10 @@ pub struct CcNode {
     pub scallop_mm: Option<f64>,
     /// What the gouge checks changed, if anything.
     pub adjusted: Option<Adjustment>,
-    /// A lead-out past the path's end, not a CC point: the last node's cutter moved along
-    /// its feed (same axis; `frame.point` moved with it, off the surface, `frame.uv` the
-    /// edge's). See [`lead_out_mm`].
+    /// A lead-out past the path's end or a lead-in before its start, not a CC point: the
+    /// last (first) node's cutter moved on (back) along its feed with the surface's
+    /// continuation (`frame` moved and turned with it by [`lead_out_frame`], off the surface,
+    /// `frame.uv` the edge's). See [`lead_out_mm`].
     pub lead_out: bool,
 }
 
@@ -614,19 +617,30 @@ impl<'a> Ctx<'a> {
                 }
             }
         }
-        if let Some(lead) = nodes.last().and_then(|last| self.lead_out(&tool, last)) {
+        if let Some(lead) = nodes.last().and_then(|last| self.lead_out(&tool, last, true)) {
             nodes.push(lead);
+        }
+        if let Some(lead) = nodes.first().and_then(|first| self.lead_out(&tool, first, false)) {
+            nodes.insert(0, lead);
         }
         Ok(ToolPath { nodes })
     }
 
-    /// The lead-out after `last` when it lies on the along parameter's far end: its cutter
-    /// moved [`lead_out_mm`] along the feed, for the strip's reach at h on either side.
-    fn lead_out(&self, tool: &Cutter, last: &CcNode) -> Option<CcNode> {
+    /// The lead-out after `last` when it lies on the along parameter's far end (`far`), or
+    /// the lead-in before the first node `last` when it lies on the near end (`!far`): its
+    /// cutter moved [`lead_out_mm`] on (back) along the feed with the surface's continuation,
+    /// for the strip's reach at h on either side. The lowest point of the cutter at a cross
+    /// offset lies behind the contact on one side and, where the surface is twisted, ahead of
+    /// it on the other: both ends need the poses past them (the mould's start edge line
+    /// measured 2.10·h without a lead-in, 1.035·h with one).
+    fn lead_out(&self, tool: &Cutter, last: &CcNode, far: bool) -> Option<CcNode> {
         let ((a0, a1), _) = self.ranges();
-        if a_of(last.frame.uv, self.along) < a1 - LEAD_OUT_EDGE_REL * (a1 - a0) {
+        let a = a_of(last.frame.uv, self.along);
+        let slack = LEAD_OUT_EDGE_REL * (a1 - a0);
+        if (far && a < a1 - slack) || (!far && a > a0 + slack) {
             return None;
         }
+        let sense = if far { 1.0 } else { -1.0 };
         let h = self.opts.scallop_mm;
         let prof = CrossProfile::new(tool, self.surface, last.frame, &last.pose);
         let reach = prof.reach(h, 1.0).max(prof.reach(h, -1.0));
@@ -635,23 +649,24 @@ impl<'a> Ctx<'a> {
         let edge = if self.along == 0 { der.dv } else { der.du };
         let (along_f, along_c) = (edge.dot(last.frame.feed).abs(), edge.dot(last.frame.cross).abs());
         let slant = if along_c > 0.0 { along_f / along_c } else { f64::INFINITY };
-        // Moved straight along the feed the cutter leaves a surface that is concave along it
-        // (the surface rises ahead by ½·k·d²); where the far edge is slanted part of it is
-        // still over the surface there: the lead-out is checked like every pose and halved
-        // until it clears (none after LEAD_OUT_HALVINGS).
+        // Where the far edge is slanted part of the cutter is still over the surface past the
+        // end node: the lead-out is checked like every pose and halved until it clears (none
+        // after LEAD_OUT_HALVINGS).
         let mut d = lead_out_mm(tool, &last.pose, reach, slant);
-        let f = last.frame.feed;
         let tol = LEAD_OUT_CHECK_SHARE * self.opts.gouge_tol_mm;
         for _ in 0..=LEAD_OUT_HALVINGS {
             if d <= 0.0 {
                 return None;
             }
-            let frame = ContactFrame { point: last.frame.point + d * f, ..last.frame };
+            // The cutter continued with the surface past the end (its twist and its curvature
+            // along the feed), not moved straight: see `lead_out_frame`.
+            let frame = lead_out_frame(&last.frame, sense * d);
             if check(tool, self.surface, self.part, &frame, &last.pose, tol).is_none() {
-                let tip = last.tip + d * f;
+                let (tip, axis) = place(tool, &frame, &last.pose);
                 return Some(CcNode {
                     frame,
                     tip,
+                    axis,
                     side_step_mm: None,
                     scallop_mm: None,
                     adjusted: None,
@@ -819,6 +834,27 @@ pub fn lead_out_mm(cutter: &Cutter, pose: &Pose, reach_mm: f64, slant: f64) -> f
     };
     let ahead = if slant.is_finite() { y * slant.abs() } else { f64::INFINITY };
     (lag + ahead).min(2.0 * cutter.radius_mm)
+}
+
+/// The contact frame a lead-out of `d_mm` (mm) past `end` stands on: the surface continued
+/// past the path's end to second order. The point moves along the feed's normal section
+/// (d·f + ½·k_ff·d²·n), and the frame turns as the surface's normal turns along the feed,
+/// dn/ds = −(k_ff·f + k_fc·c), df/ds = k_ff·n: the rotation by d·(k_fc·f − k_ff·c). The
+/// cutter placed there with the last pose keeps its pose to the surface's continuation: its
+/// lean across the feed follows the twist k_fc, its lean along it k_ff. Moved straight with
+/// the axis held, on the mould (k_fc up to 0.005 /mm at a 2.4 mm side step, the bowl rising
+/// ahead) the cusps of the last 0.4 mm before the far end rose to 1.19·h, 1.112·h inside the
+/// edge lines; turned, ≤ 1.04·h (docs/fillet.md, "The mould's ends").
+#[must_use]
+pub fn lead_out_frame(end: &ContactFrame, d_mm: f64) -> ContactFrame {
+    let (f, c, n) = (end.feed, end.cross, end.normal);
+    let (ff, fc) = (end.surface_form.ff, end.surface_form.fc);
+    // The point on the normal section's osculating circle (to second order: ½·ff·d² along n).
+    let point = end.point + d_mm * f + 0.5 * ff * d_mm * d_mm * n;
+    // The frame turned as the surface's normal turns along the feed: dn/ds = −(ff·f + fc·c),
+    // df/ds = ff·n, i.e. the rotation vector (fc·f − ff·c) per mm.
+    let rot = glam::DQuat::from_scaled_axis(d_mm * (fc * f - ff * c));
+    ContactFrame { point, feed: rot * f, cross: rot * c, normal: rot * n, ..*end }
 }
 
 /// The forward step keeps the chord's sag within this share of h as well as within E: the
@@ -1149,7 +1185,7 @@ impl IsoScallopSteps {
         let mut refused = Vec::new();
         let mut budget = opts.max_nodes;
         let first = ctx.build_path(&poly, None, &mut refused, &mut budget)?;
-        let Some(n0) = first.nodes.first() else {
+        let Some(n0) = first.nodes.iter().find(|n| !n.lead_out) else {
             return Err(FinishError::NoPath { reason: refused.first().map_or("no CC point", |r| r.reason) });
         };
         // c toward increasing b?

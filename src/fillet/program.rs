@@ -6,8 +6,9 @@
 //! what the orientation would be if computed there. The path parameter s is the cumulative
 //! CC chord length (mm).
 //!
-//! A lead-out node ([`CcNode::lead_out`]) is reached by the last cutter moved straight
-//! along its feed with its axis held.
+//! A lead-in or lead-out node ([`CcNode::lead_out`]) is the first or last cutter moved along
+//! its feed with the surface's continuation; between it and its CC node tip and axis are
+//! interpolated linearly and the CC node's frame stands for the design.
 //!
 //! The step selection measures a ball at the point `tip + R·axis` with R =
 //! [`DesignPath::ball_radius_mm`]; a fillet-end mill is no ball, so this path reports a ball
@@ -63,9 +64,12 @@ impl<'a> FilletDesignPath<'a> {
         if t >= 1.0 {
             return Some((b.frame, b.tip, b.axis));
         }
-        if b.lead_out {
-            // The lead-out: the last cutter moved straight along its feed, same axis.
-            return Some((a.frame, a.tip.lerp(b.tip, t), a.axis));
+        if a.lead_out || b.lead_out {
+            // A lead-in or lead-out: the first or last cutter moved along its feed with the
+            // surface's continuation (the axis turned with it), tip and axis linearly as the
+            // machine moves between CL rows.
+            let cc = if a.lead_out { b } else { a };
+            return Some((cc.frame, a.tip.lerp(b.tip, t), a.axis.lerp(b.axis, t).normalize()));
         }
         let uv: DVec2 = a.frame.uv.lerp(b.frame.uv, t);
         let feed = a.frame.feed.lerp(b.frame.feed, t);
