@@ -1347,7 +1347,7 @@ fn a_curve_picked_in_the_fillet_view_is_the_cores_start_and_a_click_selects_a_cc
     let s = fillet_status(&mut h);
     let mut best = (f32::INFINITY, 0, 0);
     for (p, path) in core.paths.iter().enumerate() {
-        for (k, n) in path.nodes.iter().enumerate() {
+        for (k, n) in path.nodes.iter().enumerate().filter(|(_, n)| !n.lead_out) {
             if let Some(q) = screen(n.frame.point)
                 && q.distance(at) < best.0
             {

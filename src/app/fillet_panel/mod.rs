@@ -150,7 +150,12 @@ impl FilletPanel {
         let paths = self.job.as_ref()?.paths_so_far();
         let p = self.sel_path.min(paths.len().checked_sub(1)?);
         let nodes = &paths[p].nodes;
-        let k = ((nodes.len().checked_sub(1)?) as f64 * self.sel_along.clamp(0.0, 1.0)).round() as usize;
+        let mut k = ((nodes.len().checked_sub(1)?) as f64 * self.sel_along.clamp(0.0, 1.0)).round() as usize;
+        // A lead-in or lead-out row is not a CC point: the slider's ends select the path's
+        // first and last CC points.
+        if nodes.get(k)?.lead_out {
+            k = if k == 0 { (k + 1).min(nodes.len() - 1) } else { k - 1 };
+        }
         Some((p, k, nodes.get(k)?))
     }
 

@@ -157,7 +157,7 @@ impl FilletView {
         let half = Vec2::new(click.size.x, click.size.y) * 0.5;
         let mut best: Option<(f32, usize, usize)> = None;
         for (p, path) in job.paths_so_far().iter().enumerate() {
-            for (k, n) in path.nodes.iter().enumerate() {
+            for (k, n) in path.nodes.iter().enumerate().filter(|(_, n)| !n.lead_out) {
                 let Some(ndc) = self.camera.project(click.aspect(), self.origin.local_vec(n.frame.point)) else {
                     continue;
                 };
