@@ -124,10 +124,11 @@ impl FinishProgram {
         Ok(out)
     }
 
-    /// The contact points of every pass (mm), in travel order.
+    /// The contact points of every pass (mm), in travel order (lead-in and lead-out rows,
+    /// which are not contact points, left out).
     #[must_use]
     pub fn cc_points(&self) -> Vec<Vec<DVec3>> {
-        self.passes.iter().map(|p| p.iter().map(|n| n.frame.point).collect()).collect()
+        self.passes.iter().map(|p| p.iter().filter(|n| !n.lead_out).map(|n| n.frame.point).collect()).collect()
     }
 
     /// The rays of `grid` in the program's interior band ([`super::interior`]: between the
