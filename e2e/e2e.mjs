@@ -13,6 +13,7 @@ import fs from "node:fs";
 import os from "node:os";
 import path from "node:path";
 import { fileURLToPath } from "node:url";
+import { openBrowser } from "./browser.mjs";
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const url = process.argv[2] ?? "http://127.0.0.1:8765/";
@@ -65,28 +66,9 @@ function colourVariety(pngBuffer, region) {
   return seen.size;
 }
 
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium",
-  headless: true,
-  args: [
-    "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader", "--disable-quic", "--no-first-run",
-    "--disable-background-networking", "--disable-component-update", "--disable-sync",
-  ],
-});
-const context = await browser.newContext({ viewport: { width: 1400, height: 900 }, deviceScaleFactor: 1 });
-// Frame gaps: every page records the time between animation frames, so a frame the app
-// blocks (work on the main thread) shows as a long gap. Measured, reported, not asserted:
-// timings on a shared CPU are no test.
-await context.addInitScript(() => {
-  window.__frameGaps = [];
-  let last = null;
-  const tick = (t) => {
-    if (last !== null) window.__frameGaps.push(t - last);
-    last = t;
-    requestAnimationFrame(tick);
-  };
-  requestAnimationFrame(tick);
-});
+const { browser, context } = await openBrowser();
+// Frame gaps (`window.__frameGaps`, recorded on every page by openBrowser): measured,
+// reported, not asserted: timings on a shared CPU are no test.
 const frameReport = [];
 // Drags a slider by its published rectangle [x, y, w, h] from `from` to `to` points along
 // its rail, in small steps as a hand would.

@@ -13,11 +13,11 @@
 // (the page's main thread runs the wasm, the GPU process runs SwiftShader); --cpu: the page's
 // main-thread CPU profile (self time per function, wasm names included).
 // Writes e2e/artifacts/frame-profile.json.
-import { chromium } from "playwright-core";
 import fs from "node:fs";
 import os from "node:os";
 import path from "node:path";
 import { fileURLToPath } from "node:url";
+import { openBrowser } from "./browser.mjs";
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const args = process.argv.slice(2);
@@ -34,25 +34,7 @@ function base64url(text) {
   return Buffer.from(text, "utf8").toString("base64").replace(/\+/g, "-").replace(/\//g, "_").replace(/=+$/, "");
 }
 
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium",
-  headless: true,
-  args: [
-    "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader", "--disable-quic", "--no-first-run",
-    "--disable-background-networking", "--disable-component-update", "--disable-sync",
-  ],
-});
-const context = await browser.newContext({ viewport: { width: 1400, height: 900 }, deviceScaleFactor: 1 });
-await context.addInitScript(() => {
-  window.__frameGaps = [];
-  let last = null;
-  const tick = (t) => {
-    if (last !== null) window.__frameGaps.push(t - last);
-    last = t;
-    requestAnimationFrame(tick);
-  };
-  requestAnimationFrame(tick);
-});
+const { browser, context } = await openBrowser();
 
 async function status(page) {
   const text = await page.locator("#app-status").textContent().catch(() => null);

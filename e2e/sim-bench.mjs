@@ -18,11 +18,11 @@
 // start, so replays are timed by dragging the published slider rectangle, from release to
 // the exact stock at the move (stage done, `moves_simulated` the slider's move).
 // Writes e2e/artifacts/sim-bench.json and a screenshot e2e/artifacts/sim-bench.png.
-import { chromium } from "playwright-core";
 import fs from "node:fs";
 import os from "node:os";
 import path from "node:path";
 import { fileURLToPath } from "node:url";
+import { openBrowser } from "./browser.mjs";
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const args = process.argv.slice(2);
@@ -35,25 +35,7 @@ const replays = Number(arg("--replays", "4"));
 const artifacts = path.join(here, "artifacts");
 fs.mkdirSync(artifacts, { recursive: true });
 
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium",
-  headless: true,
-  args: [
-    "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader", "--disable-quic", "--no-first-run",
-    "--disable-background-networking", "--disable-component-update", "--disable-sync",
-  ],
-});
-const context = await browser.newContext({ viewport: { width: 1400, height: 900 }, deviceScaleFactor: 1 });
-await context.addInitScript(() => {
-  window.__frameGaps = [];
-  let last = null;
-  const tick = (t) => {
-    if (last !== null) window.__frameGaps.push(t - last);
-    last = t;
-    requestAnimationFrame(tick);
-  };
-  requestAnimationFrame(tick);
-});
+const { browser, context } = await openBrowser();
 const errors = [];
 context.on("console", (m) => { if (m.type() === "error" || m.type() === "warning") errors.push(m.text()); });
 
