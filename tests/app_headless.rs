@@ -1020,25 +1020,13 @@ fn the_fillet_view_refuses_bad_options_with_a_message() {
 
 /// Clicks the middle of a widget the shown view publishes in its status (`panel.status.ui`).
 fn click_panel_widget(h: &mut Harness, name: &str) {
-    h.frame();
-    let s: serde_json::Value = serde_json::from_str(&h.app.status()).expect("status is JSON");
-    let r = s["panel"]["status"]["ui"][name]
-        .as_array()
-        .unwrap_or_else(|| panic!("{name} is not on screen: {}", s["panel"]["status"]["ui"]))
-        .clone();
+    let s = panel_status(h);
+    let r = s["ui"][name].as_array().unwrap_or_else(|| panic!("{name} is not on screen: {}", s["ui"])).clone();
     let at = egui::pos2(
         (r[0].as_f64().expect("x") + r[2].as_f64().expect("w") / 2.0) as f32,
         (r[1].as_f64().expect("y") + r[3].as_f64().expect("h") / 2.0) as f32,
     );
-    let press = |pressed| egui::Event::PointerButton {
-        pos: at,
-        button: egui::PointerButton::Primary,
-        pressed,
-        modifiers: egui::Modifiers::NONE,
-    };
-    h.frame_events(vec![egui::Event::PointerMoved(at), press(true)]);
-    h.frame_events(vec![press(false)]);
-    h.frame_events(vec![egui::Event::PointerGone]);
+    click_at(h, at);
 }
 
 #[test]
@@ -1237,7 +1225,8 @@ fn the_fillet_tab_hands_its_program_to_the_simulation_and_two_maps_are_compared(
 }
 
 /// The fillet tab's panel status after one frame.
-fn fillet_status(h: &mut Harness) -> serde_json::Value {
+/// The shown view's status (`panel.status`) after one more frame.
+fn panel_status(h: &mut Harness) -> serde_json::Value {
     h.frame();
     let s: serde_json::Value = serde_json::from_str(&h.app.status()).expect("status is JSON");
     s["panel"]["status"].clone()
@@ -1271,7 +1260,7 @@ fn a_curve_picked_in_the_fillet_view_is_the_cores_start_and_a_click_selects_a_cc
     set(&mut h, FILLET, "preset", "finish-bicubic-patch");
     set(&mut h, FILLET, "h", "0.04");
     set(&mut h, FILLET, "start", "picked");
-    let s = fillet_status(&mut h);
+    let s = panel_status(&mut h);
     assert_eq!(s["click_mode"], "pick", "{s}");
     assert!(s["error"].as_str().is_some_and(|e| e.contains("click 2 or more points")), "{s}");
     let r: Vec<f32> =
@@ -1284,10 +1273,10 @@ fn a_curve_picked_in_the_fillet_view_is_the_cores_start_and_a_click_selects_a_cc
     ];
     for at in clicks {
         click_at(&mut h, at);
-        let s = fillet_status(&mut h);
+        let s = panel_status(&mut h);
         assert!(s["last_click"].as_str().is_some_and(|c| c.starts_with("picked")), "{s}");
     }
-    let s = fillet_status(&mut h);
+    let s = panel_status(&mut h);
     let picked: Vec<[f64; 2]> = s["picked"]
         .as_array()
         .expect("picked")
@@ -1344,7 +1333,7 @@ fn a_curve_picked_in_the_fillet_view_is_the_cores_start_and_a_click_selects_a_cc
     set(&mut h, FILLET, "click_mode", "select");
     let at = rect.center() + egui::vec2(40.0, 60.0);
     click_at(&mut h, at);
-    let s = fillet_status(&mut h);
+    let s = panel_status(&mut h);
     let mut best = (f32::INFINITY, 0, 0);
     for (p, path) in core.paths.iter().enumerate() {
         for (k, n) in path.nodes.iter().enumerate().filter(|(_, n)| !n.lead_out) {

@@ -832,18 +832,7 @@ mod tangents_tests {
                 k.extend(std::iter::repeat_n(last, p + 1));
                 k
             };
-            let points: Vec<Vec<DVec3>> = (0..n_u)
-                .map(|i| {
-                    (0..n_v)
-                        .map(|j| {
-                            let (x, y) = (i as f64, j as f64);
-                            DVec3::new(10.0 * x, 7.0 * y + x, (0.7 * x + 1.3 * y).sin() * 3.0)
-                        })
-                        .collect()
-                })
-                .collect();
-            let weights: Vec<Vec<f64>> =
-                (0..n_u).map(|i| (0..n_v).map(|j| 1.0 + 0.3 * ((i * 3 + j) % 4) as f64).collect()).collect();
+            let (points, weights) = wavy_net(n_u, n_v);
             let s = NurbsSurface::try_new(
                 degree,
                 clamped(degree[0], n_u),
@@ -874,6 +863,22 @@ mod tangents_tests {
 
     /// A clamped knot vector for n points of degree p with uneven interior spacing, one
     /// interior knot doubled when `doubled` (and p ≥ 2).
+    /// An n_u × n_v net of a wavy sheet and uneven weights (1 … 1.9), for the tests below.
+    fn wavy_net(n_u: usize, n_v: usize) -> (Vec<Vec<DVec3>>, Vec<Vec<f64>>) {
+        let points = (0..n_u)
+            .map(|i| {
+                (0..n_v)
+                    .map(|j| {
+                        let (x, y) = (i as f64, j as f64);
+                        DVec3::new(10.0 * x, 7.0 * y + x, (0.7 * x + 1.3 * y).sin() * 3.0)
+                    })
+                    .collect()
+            })
+            .collect();
+        let weights = (0..n_u).map(|i| (0..n_v).map(|j| 1.0 + 0.3 * ((i * 3 + j) % 4) as f64).collect()).collect();
+        (points, weights)
+    }
+
     fn uneven_knots(p: usize, n: usize, doubled: bool) -> Vec<f64> {
         let mut k = vec![0.0; p + 1];
         let mut i = 1;
@@ -899,18 +904,7 @@ mod tangents_tests {
         let cases = [([3, 3], true), ([2, 2], false), ([2, 1], true), ([1, 2], false), ([3, 2], true), ([5, 4], true)];
         for ((degree, doubled), rational) in cases.into_iter().flat_map(|c| [(c, true), (c, false)]) {
             let (n_u, n_v) = (degree[0] + 5, degree[1] + 4);
-            let points: Vec<Vec<DVec3>> = (0..n_u)
-                .map(|i| {
-                    (0..n_v)
-                        .map(|j| {
-                            let (x, y) = (i as f64, j as f64);
-                            DVec3::new(10.0 * x, 7.0 * y + x, (0.7 * x + 1.3 * y).sin() * 3.0)
-                        })
-                        .collect()
-                })
-                .collect();
-            let weights: Vec<Vec<f64>> =
-                (0..n_u).map(|i| (0..n_v).map(|j| 1.0 + 0.3 * ((i * 3 + j) % 4) as f64).collect()).collect();
+            let (points, weights) = wavy_net(n_u, n_v);
             let s = NurbsSurface::try_new(
                 degree,
                 uneven_knots(degree[0], n_u, doubled),
