@@ -78,14 +78,17 @@ pub fn measured_errors(job: &CreaseJob, row: &Row) -> [f64; 2] {
 
 /// The largest measured |e_i| of a run and the period where it occurred, kept for the b·T
 /// warning of `interpolab run` at a fraction of the cost of [`measured_errors`] on every
-/// row: each row is first *screened* by a projection of at most three Newton steps from the
-/// row's own contact parameters (already within a few micrometres of the foot point), that
-/// stops once a step moves less than [`tolerance::SCREEN_STEP_MM`];
-/// only a screened |e_i| of at least [`tolerance::SCREEN_FRACTION`]·b·T_i, or a screen
-/// that has not settled, is measured again by the full projection. Every row whose error
-/// exceeds b·T is therefore measured exactly as [`measured_errors`] measures it, and the
-/// warning (surface, size, period) is the same; below half of b·T the recorded worst is the
-/// screened value, equal to the full one to far below [`tolerance::MEASUREMENT_FLOOR_MM`].
+/// row: each row is first *screened* from one evaluation at the row's own contact
+/// parameters (already within a few micrometres of the foot point): the squared distance's
+/// second-order model there gives the foot point's distance without evaluating the surface
+/// again (`model_distance`) when the model's Newton step is shorter than
+/// [`tolerance::SCREEN_MODEL_STEP_MM`]; otherwise a projection of at most three Newton steps
+/// from those parameters, that stops once a step moves less than that. Only a screened
+/// |e_i| of at least [`tolerance::SCREEN_FRACTION`]·b·T_i, or a screen that has not
+/// settled, is measured again by the full projection. Every row whose error exceeds b·T is
+/// therefore measured exactly as [`measured_errors`] measures it, and the warning (surface,
+/// size, period) is the same; below half of b·T the recorded worst is the screened value,
+/// equal to the full one to far below [`tolerance::MEASUREMENT_FLOOR_MM`].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct WorstError {
     /// Per surface: the largest |e_i| seen (mm) and its period.
@@ -108,12 +111,19 @@ impl WorstError {
             let uv = s.domain().clamp(row.uv[i]);
             // The screen starts from the clamped parameters: the given evaluation serves only
             // where clamping left them as they were.
-            let foot = match derivs {
-                Some(d) if uv == row.uv[i] => project_point_from(s, row.p, uv, d[i], screen),
-                _ => project_point(s, row.p, uv, screen),
+            let d = match derivs {
+                Some(d) if uv == row.uv[i] => d[i],
+                _ => s.derivatives_at(uv),
             };
-            let mut e = (foot.signed_distance - job.r_eff_mm).abs();
-            if !foot.converged || !(e < tolerance::SCREEN_FRACTION * job.allowed_error_mm(i)) {
+            let screened = match model_distance(row.p, &d) {
+                Some(dist) => Some(dist),
+                None => {
+                    let foot = project_point_from(s, row.p, uv, d, screen);
+                    foot.converged.then_some(foot.signed_distance)
+                }
+            };
+            let mut e = screened.map_or(f64::INFINITY, |dist| (dist - job.r_eff_mm).abs());
+            if !(e < tolerance::SCREEN_FRACTION * job.allowed_error_mm(i)) {
                 e = (project_point(&job.surfaces[i], row.p, row.uv[i], ProjectOptions::default()).signed_distance
                     - job.r_eff_mm)
                     .abs();
@@ -134,6 +144,38 @@ impl WorstError {
             self.worst[i] = (e, k);
         }
     }
+}
+
+/// The signed distance (mm, positive on the normal's side) from `p` to the surface near
+/// `d`'s point, from one evaluation: the squared distance φ(s) = ½|r(uv + s) − p|² is
+/// replaced by its second-order model at uv (gradient Jᵀw, Hessian JᵀJ + w·r″, w = r − p),
+/// whose minimum ½|w|² + ½g·s* at the Newton step s* is the foot point's. `None` where the
+/// model does not settle it: a Hessian that is not positive definite, a step that moves the
+/// point [`tolerance::SCREEN_MODEL_STEP_MM`] or more (the model neglects φ's third-order
+/// term, which grows with the cube of the step), or a singular point (no normal).
+fn model_distance(p: DVec3, d: &SurfaceDerivs) -> Option<f64> {
+    if d.normal == DVec3::ZERO {
+        return None;
+    }
+    let w = d.point - p;
+    let grad = glam::DVec2::new(w.dot(d.du), w.dot(d.dv));
+    let (e, f, g) = (d.du.dot(d.du), d.du.dot(d.dv), d.dv.dot(d.dv));
+    let (huu, huv, hvv) = (e + w.dot(d.duu), f + w.dot(d.duv), g + w.dot(d.dvv));
+    if !(huu > 0.0 && huu * hvv - huv * huv > 0.0) {
+        return None;
+    }
+    let step = crate::linalg::solve2(huu, huv, huv, hvv, -grad)?;
+    let moved = (d.du * step.x + d.dv * step.y).length();
+    if !(moved < tolerance::SCREEN_MODEL_STEP_MM) {
+        return None;
+    }
+    // ½|w|² + ½ g·s* is the model's minimum of φ; the distance is √(2φ).
+    let dist2 = w.length_squared() + grad.dot(step);
+    if !(dist2 >= 0.0) {
+        return None;
+    }
+    let sign = if (-w).dot(d.normal) < 0.0 { -1.0 } else { 1.0 };
+    Some(sign * dist2.sqrt())
 }
 
 /// Evaluates measured errors and estimates at a row. `None` at a singular point.
@@ -185,4 +227,64 @@ pub fn diagnose(job: &CreaseJob, row: &Row) -> Option<Diagnostics> {
         mp,
         crease_angle_deg: sin.min(1.0).asin().to_degrees(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::model_distance;
+    use crate::geom::{Domain, Frame, ParamRange, ParamUnit, ParametricSurface, Sphere, Surface};
+    use crate::tolerance;
+    use glam::{DVec2, DVec3};
+
+    /// On a sphere the distance from p is |p − c| − ρ in closed form: the model's distance,
+    /// from the derivatives at parameters a little off the foot point, equals it to 1e-12 mm
+    /// while the model's step is short, and the model declines once the step reaches
+    /// `SCREEN_MODEL_STEP_MM` (the screen then projects).
+    #[test]
+    fn the_model_distance_is_the_closed_form_one_near_the_foot_point_and_declines_far_from_it() {
+        for (radius, sign) in [(40.0, 1.0), (12.0, -1.0)] {
+            let center = DVec3::new(3.0, -2.0, 5.0);
+            let sphere = Surface::Sphere(Sphere {
+                center,
+                frame: Frame::from_axis(DVec3::Z, Some(DVec3::X)),
+                radius,
+                sign,
+                domain: Domain {
+                    u: ParamRange::new(-std::f64::consts::PI, std::f64::consts::PI, ParamUnit::Angle),
+                    v: ParamRange::new(-1.5, 1.5, ParamUnit::Angle),
+                },
+            });
+            let foot_uv = DVec2::new(0.7, 0.4);
+            let foot = sphere.derivatives_at(foot_uv);
+            // A ball centre R' = 5 mm off the surface on the normal's side.
+            let p = foot.point + 5.0 * foot.normal;
+            let exact = sign * ((p - center).length() - radius);
+            assert!((exact - 5.0).abs() < 1e-12, "{exact}");
+            let mut settled = 0;
+            let mut declined = 0;
+            for &off_mm in &[0.0, 1e-6, 1e-5, 1e-4, 1e-3, 0.01, 0.1] {
+                for dir in [DVec2::X, DVec2::Y, DVec2::new(0.6, -0.8)] {
+                    // Parameters whose point lies about `off_mm` from the foot point.
+                    let uv = foot_uv + dir * off_mm / radius;
+                    let d = sphere.derivatives_at(uv);
+                    match model_distance(p, &d) {
+                        Some(dist) => {
+                            settled += 1;
+                            assert!(
+                                (dist - exact).abs() <= 1e-12,
+                                "ρ {radius} sign {sign}: {off_mm} mm off: {dist} vs {exact}"
+                            );
+                        }
+                        None => {
+                            declined += 1;
+                            // Declined only where the step is not short.
+                            assert!(off_mm >= tolerance::SCREEN_MODEL_STEP_MM * 0.5, "declined {off_mm} mm off");
+                        }
+                    }
+                }
+            }
+            assert_eq!(declined, 6, "the two far offsets decline in every direction");
+            assert_eq!(settled, 15);
+        }
+    }
 }
