@@ -116,8 +116,24 @@ impl WorstError {
                 _ => s.derivatives_at(uv),
             };
             let screened = match model_distance(row.p, &d) {
-                Some(dist) => Some(dist),
-                None => {
+                Ok(dist) => Some(dist),
+                // One Newton step of the model (it was long), then the model again there: the
+                // step converges quadratically, so one evaluation usually settles it.
+                Err(Some(step)) if domain_keeps(s, uv + step) => {
+                    let next = s.derivatives_at(uv + step);
+                    // Taken only if it does not move away (the projection's descent rule).
+                    let descends = (next.point - row.p).length_squared()
+                        <= (d.point - row.p).length_squared() * (1.0 + tolerance::DESCENT_SLACK_REL)
+                            + tolerance::DESCENT_SLACK_MM2;
+                    match model_distance(row.p, &next) {
+                        Ok(dist) if descends => Some(dist),
+                        _ => {
+                            let foot = project_point_from(s, row.p, uv, d, screen);
+                            foot.converged.then_some(foot.signed_distance)
+                        }
+                    }
+                }
+                Err(_) => {
                     let foot = project_point_from(s, row.p, uv, d, screen);
                     foot.converged.then_some(foot.signed_distance)
                 }
@@ -152,30 +168,36 @@ impl WorstError {
 /// whose minimum ½|w|² + ½g·s* at the Newton step s* is the foot point's. `None` where the
 /// model does not settle it: a Hessian that is not positive definite, a step that moves the
 /// point [`tolerance::SCREEN_MODEL_STEP_MM`] or more (the model neglects φ's third-order
-/// term, which grows with the cube of the step), or a singular point (no normal).
-fn model_distance(p: DVec3, d: &SurfaceDerivs) -> Option<f64> {
+/// term, which grows with the cube of the step; then `Err(Some(step))`, the model's Newton
+/// step in parameters), or a singular point (no normal).
+fn model_distance(p: DVec3, d: &SurfaceDerivs) -> Result<f64, Option<glam::DVec2>> {
     if d.normal == DVec3::ZERO {
-        return None;
+        return Err(None);
     }
     let w = d.point - p;
     let grad = glam::DVec2::new(w.dot(d.du), w.dot(d.dv));
     let (e, f, g) = (d.du.dot(d.du), d.du.dot(d.dv), d.dv.dot(d.dv));
     let (huu, huv, hvv) = (e + w.dot(d.duu), f + w.dot(d.duv), g + w.dot(d.dvv));
     if !(huu > 0.0 && huu * hvv - huv * huv > 0.0) {
-        return None;
+        return Err(None);
     }
-    let step = crate::linalg::solve2(huu, huv, huv, hvv, -grad)?;
+    let step = crate::linalg::solve2(huu, huv, huv, hvv, -grad).ok_or(None)?;
     let moved = (d.du * step.x + d.dv * step.y).length();
     if !(moved < tolerance::SCREEN_MODEL_STEP_MM) {
-        return None;
+        return Err(moved.is_finite().then_some(step));
     }
     // ½|w|² + ½ g·s* is the model's minimum of φ; the distance is √(2φ).
     let dist2 = w.length_squared() + grad.dot(step);
     if !(dist2 >= 0.0) {
-        return None;
+        return Err(None);
     }
     let sign = if (-w).dot(d.normal) < 0.0 { -1.0 } else { 1.0 };
-    Some(sign * dist2.sqrt())
+    Ok(sign * dist2.sqrt())
+}
+
+/// Whether `uv` lies in the surface's domain as it is (clamping would move it).
+fn domain_keeps(s: &crate::geom::Surface, uv: glam::DVec2) -> bool {
+    s.domain().clamp(uv) == uv
 }
 
 /// Evaluates measured errors and estimates at a row. `None` at a singular point.
@@ -268,14 +290,14 @@ mod tests {
                     let uv = foot_uv + dir * off_mm / radius;
                     let d = sphere.derivatives_at(uv);
                     match model_distance(p, &d) {
-                        Some(dist) => {
+                        Ok(dist) => {
                             settled += 1;
                             assert!(
                                 (dist - exact).abs() <= 1e-12,
                                 "ρ {radius} sign {sign}: {off_mm} mm off: {dist} vs {exact}"
                             );
                         }
-                        None => {
+                        Err(_) => {
                             declined += 1;
                             // Declined only where the step is not short.
                             assert!(off_mm >= tolerance::SCREEN_MODEL_STEP_MM * 0.5, "declined {off_mm} mm off");
