@@ -60,7 +60,7 @@ pub(crate) struct FinishArgs {
     #[arg(long, value_enum)]
     strategy: Option<StrategyArg>,
     /// Lead angle for --strategy fixed-lead (degrees).
-    #[arg(long, default_value_t = 5.0)]
+    #[arg(value_parser = super::finite, long, default_value_t = 5.0)]
     lead: f64,
     /// Path layout.
     #[arg(long, value_enum, default_value = "iso-scallop")]
@@ -75,7 +75,7 @@ pub(crate) struct FinishArgs {
     gcode: Option<PathBuf>,
     /// Tolerance E of the G-code steps (mm): the swept tool tip stays within E of its design
     /// path between blocks.
-    #[arg(long, default_value_t = 0.01)]
+    #[arg(value_parser = super::finite, long, default_value_t = 0.01)]
     gcode_tolerance: f64,
 }
 

@@ -79,7 +79,7 @@ pub(crate) struct StepsArgs {
     #[arg(long, conflicts_with_all = ["scene", "example1"])]
     blade: Option<String>,
     /// Tolerance E on every segment's total error |δt + δn| (mm).
-    #[arg(long)]
+    #[arg(value_parser = super::finite, long)]
     tolerance: f64,
     /// Root finder inside the bracket.
     #[arg(long, value_enum, default_value = "secant")]
@@ -97,7 +97,7 @@ pub(crate) struct StepsArgs {
 #[derive(Args)]
 pub(crate) struct Example1Args {
     /// Tolerance E (mm); the paper's chord error is 0.01.
-    #[arg(long, default_value_t = 0.01)]
+    #[arg(value_parser = super::finite, long, default_value_t = 0.01)]
     tolerance: f64,
     /// Root finder inside the bracket.
     #[arg(long, value_enum, default_value = "secant")]

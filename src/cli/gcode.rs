@@ -100,22 +100,22 @@ pub(crate) struct DesignArgs {
 #[derive(Args)]
 pub(crate) struct ProgramArgs {
     /// Tolerance E (mm): every program stays within E of the design path after rounding.
-    #[arg(long)]
+    #[arg(value_parser = super::finite, long)]
     tolerance: f64,
     /// Machine resolution (mm), a power of ten; numbers are rounded to it.
-    #[arg(long, default_value_t = 0.001)]
+    #[arg(value_parser = super::finite, long, default_value_t = 0.001)]
     resolution: f64,
     /// Programmed point.
     #[arg(long, value_enum, default_value = "centre")]
     point: PointArg,
     /// Feed F (mm/min); default the scene's motion.feed (1500 for a profile).
-    #[arg(long)]
+    #[arg(value_parser = super::finite, long)]
     feed: Option<f64>,
     /// Ball radius R for `--point tip` with a profile (mm); a scene gives its tool.radius.
-    #[arg(long)]
+    #[arg(value_parser = super::finite, long)]
     tool_radius: Option<f64>,
     /// Absolute safe height (mm); default 5 mm above the highest point of the path.
-    #[arg(long)]
+    #[arg(value_parser = super::finite, long)]
     safe_z: Option<f64>,
     /// Degree of G06.2 curves (1 to 3; BSPLINE and G5.2: 2 or 3).
     #[arg(long, default_value_t = 3)]
@@ -168,10 +168,10 @@ pub(crate) struct ReplayArgs {
     #[arg(long, value_enum)]
     point: Option<PointArg>,
     /// Ball radius for `--point tip` with a profile (mm).
-    #[arg(long)]
+    #[arg(value_parser = super::finite, long)]
     tool_radius: Option<f64>,
     /// Report whether the deviation is within this tolerance (mm); exit 1 if not.
-    #[arg(long)]
+    #[arg(value_parser = super::finite, long)]
     tolerance: Option<f64>,
     /// Dialect of the program: fanuc, sinumerik or linuxcnc; default guessed from the text
     /// (our header's DIALECT comment, else BSPLINE/SD=/PL=/PW=/G710 → sinumerik,
@@ -194,10 +194,10 @@ pub(crate) struct NurbsArgs {
     #[arg(long, value_enum, default_value = "corrected")]
     update: UpdateArg,
     /// Interpolation period Ts (ms); default the scene's motion.period (4 for a profile).
-    #[arg(long)]
+    #[arg(value_parser = super::finite, long)]
     period: Option<f64>,
     /// Chord tolerance of the curvature-based feed limit (mm); default none.
-    #[arg(long)]
+    #[arg(value_parser = super::finite, long)]
     chord_tol: Option<f64>,
     /// Write the per-period CSV to this file instead of standard output.
     #[arg(long)]

@@ -104,6 +104,20 @@ pub(crate) fn read_capped(path: &std::path::Path, cap: u64, what: &'static str) 
     interpolab::limits::read_text(file, cap, what)
 }
 
+/// The parser of every numeric option: a decimal number that is finite. `nan`, `inf` and
+/// `1e999` are refused while the arguments are read, with the option's name and the text
+/// given (clap adds them), before any work and before a message could print a non-number.
+pub(crate) fn finite(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        // The text is not repeated: it is a non-number, which no message of ours prints.
+        Ok(_) => {
+            Err("needs a finite number, and the value given is not one; give a decimal number such as 0.5".to_owned())
+        }
+        Err(_) => Err(format!("needs a number, got '{}'; give a decimal number such as 0.5", text.trim())),
+    }
+}
+
 /// A failure that ends the program with status 2 and one line on stderr.
 pub(crate) struct Fatal(pub(crate) String);
 
@@ -116,7 +130,10 @@ pub fn main() -> ExitCode {
         Some(plain_run::RunArgs { scene, format, out, errors, method, turns }) => {
             Some(Command::Run { scene, format, out, errors, method, turns })
         }
-        None => Cli::parse_from(args).command,
+        None => match Cli::try_parse_from(args) {
+            Ok(cli) => cli.command,
+            Err(e) => return usage_error(&e),
+        },
     };
     let result = match command {
         None => open_app(),
@@ -142,6 +159,58 @@ pub fn main() -> ExitCode {
             ExitCode::from(2)
         }
     }
+}
+
+/// clap's help and version go out as clap prints them; a usage error (an unknown option, a
+/// value that does not parse) becomes one line like every other refusal: clap's message and
+/// its tip, if any, status 2.
+fn usage_error(e: &clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    if matches!(
+        e.kind(),
+        ErrorKind::DisplayHelp | ErrorKind::DisplayVersion | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+    ) {
+        let _ = e.print();
+        return ExitCode::SUCCESS;
+    }
+    // A value our parser refused: the option and our reason (clap's own text would repeat a
+    // `nan` or `inf` the user typed).
+    if e.kind() == ErrorKind::ValueValidation {
+        use std::error::Error as _;
+        if let (Some(clap::error::ContextValue::String(arg)), Some(why)) =
+            (e.get(clap::error::ContextKind::InvalidArg), e.source())
+        {
+            let _ = writeln!(io::stderr(), "interpolab: {arg} {why} (see --help)");
+            return ExitCode::from(2);
+        }
+    }
+    let text = e.render().to_string();
+    // clap's message is its lines before `Usage:` (a list of missing arguments follows the
+    // first line), then perhaps a `tip:`.
+    let mut message = String::new();
+    let mut tip = None;
+    for l in text.lines().map(str::trim).filter(|l| !l.is_empty()) {
+        if l.starts_with("Usage:") || l.starts_with("For more information") {
+            break;
+        }
+        if let Some(t) = l.strip_prefix("tip: ") {
+            tip = Some(t.to_owned());
+            continue;
+        }
+        if !message.is_empty() {
+            message.push(' ');
+        }
+        message.push_str(l.strip_prefix("error: ").unwrap_or(l));
+    }
+    if message.is_empty() {
+        message.push_str("the arguments could not be read");
+    }
+    let line = match tip {
+        Some(tip) => format!("interpolab: {message}; {tip} (see --help)"),
+        None => format!("interpolab: {message} (see --help)"),
+    };
+    let _ = writeln!(io::stderr(), "{line}");
+    ExitCode::from(2)
 }
 
 #[cfg(feature = "app")]

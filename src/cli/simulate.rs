@@ -15,7 +15,7 @@ use interpolab::geom::Cutter;
 use interpolab::scene::Scene;
 use interpolab::simulate::bench::BenchKind;
 use interpolab::simulate::{
-    Design, DexelStock, FinishProgram, HeightMap, Program, SimStats, Simulation, heights_csv, png_rgb,
+    Design, DexelStock, FinishProgram, HeightMap, Program, SimStats, Simulation, heights_csv, png_rgb, stock_box_mm,
 };
 use interpolab::simulate::{INTERIOR_END_MM, INTERIOR_SIDE_MM, InteriorStats, interior_mask, interior_stats};
 use serde_json::json;
@@ -56,16 +56,16 @@ pub(crate) struct SimulateArgs {
     #[arg(long, allow_hyphen_values = true)]
     stock: Option<String>,
     /// Ray spacing in x and y (mm).
-    #[arg(long, default_value_t = 0.1)]
+    #[arg(value_parser = super::finite, long, default_value_t = 0.1)]
     pitch: f64,
     /// Which tool point the program gives.
     #[arg(long, value_enum, default_value = "auto")]
     point: PointArg,
     /// Chord tolerance for arcs and NURBS (mm); default a tenth of the pitch.
-    #[arg(long)]
+    #[arg(value_parser = super::finite, long)]
     chord_tol: Option<f64>,
     /// Design: the horizontal plane z = this (mm), material below.
-    #[arg(long, allow_hyphen_values = true, conflicts_with = "scene")]
+    #[arg(value_parser = super::finite, long, allow_hyphen_values = true, conflicts_with = "scene")]
     design_z: Option<f64>,
     /// Design: the two surfaces of this scene (interpolab-scene/1), normals toward the cutter.
     #[arg(long)]
@@ -78,32 +78,32 @@ pub(crate) struct SimulateArgs {
     png: Option<PathBuf>,
     /// PROGRAM is a scene: simulate its seed-002 five-axis tool steps at this tolerance (mm),
     /// joints interpolated linearly on the scene's machine; the design is its two surfaces.
-    #[arg(long, conflicts_with_all = ["design_z", "scene"])]
+    #[arg(value_parser = super::finite, long, conflicts_with_all = ["design_z", "scene"])]
     steps: Option<f64>,
     /// PROGRAM is a finishing scene (seed 001, a `finish` key): simulate the five-axis
     /// program `interpolab finish --gcode` writes for it, steps within this tolerance (mm),
     /// joints interpolated linearly on the scene's machine; the design is the finish surface.
-    #[arg(long, conflicts_with_all = ["design_z", "scene", "steps"])]
+    #[arg(value_parser = super::finite, long, conflicts_with_all = ["design_z", "scene", "steps"])]
     finish: Option<f64>,
     /// With --finish: the orientation strategy (default: the scene's `finish.strategy`).
     #[arg(long, value_enum, requires = "finish")]
     strategy: Option<super::finish::StrategyArg>,
     /// With --finish and --strategy fixed-lead: the lead angle (degrees).
-    #[arg(long, default_value_t = 5.0, requires = "finish")]
+    #[arg(value_parser = super::finite, long, default_value_t = 5.0, requires = "finish")]
     lead: f64,
     /// With --finish: the path layout.
     #[arg(long, value_enum, default_value = "iso-scallop", requires = "finish")]
     layout: super::finish::LayoutArg,
     /// With --finish and no --stock: margin (mm) of the automatic stock around the part.
-    #[arg(long, default_value_t = 2.0, requires = "finish")]
+    #[arg(value_parser = super::finite, long, default_value_t = 2.0, requires = "finish")]
     margin: f64,
     /// Sample 5-axis moves pose by pose (every cutter, the ball included) so no point of the
     /// cutter moves more than this (mm) between two poses; default one pitch for flat and
     /// fillet end mills, closed-form swept segments for the ball.
-    #[arg(long)]
+    #[arg(value_parser = super::finite, long)]
     sample_step: Option<f64>,
     /// Deviation shown at full colour in the PNG (µm).
-    #[arg(long, default_value_t = 50.0)]
+    #[arg(value_parser = super::finite, long, default_value_t = 50.0)]
     band_um: f64,
 }
 
@@ -256,6 +256,21 @@ fn simulate_finish(a: &SimulateArgs, tol: f64) -> Result<ExitCode, Fatal> {
     let name = path.display().to_string();
     let job = super::finish::load(path)?;
     let strategy = super::finish::strategy_arg(a.strategy, a.lead, &job)?;
+    // The cutter and the stock first: a stock refused (too many rays, an empty box) is
+    // refused before the paths are planned.
+    let cutter = match &a.cutter {
+        Some(c) => parse_cutter(c)?,
+        None => strategy.cutter_for(&job.cutter),
+    };
+    let stock = match &a.stock {
+        Some(s) => stock_block(s, a.pitch)?,
+        None => {
+            let s = stock_box_mm(&job.surface, &strategy.cutter_for(&job.cutter), a.margin).ok_or_else(|| {
+                Fatal(format!("{name}: the surface has no finite points to size the stock from; give --stock"))
+            })?;
+            DexelStock::block([s[0], s[1], s[2]], [s[3], s[4], s[5]], a.pitch).map_err(|e| Fatal(e.to_string()))?
+        }
+    };
     let part = PartSamples::new(&job.surface, job.options.part_grid);
     let set = match a.layout {
         LayoutArg::IsoScallop => iso_scallop_from(&job.surface, &job.cutter, strategy, &job.options, &part, &job.start),
@@ -264,27 +279,15 @@ fn simulate_finish(a: &SimulateArgs, tol: f64) -> Result<ExitCode, Fatal> {
         }
     }
     .map_err(|e| Fatal(format!("{name}: {e}")))?;
+    let fp = FinishProgram::new(&job, &set, tol).map_err(|e| Fatal(format!("--finish {tol}: {e}")))?;
+    let program = fp.program().map_err(|e| Fatal(format!("{name}: {e}")))?;
+    // Named once the program exists, so that a refusal of the command stays its only line.
     for r in &set.refused {
         eprintln!(
             "interpolab: {name}: the CC point ({:.3}, {:.3}, {:.3}) mm was refused ({}); the simulated program leaves it out",
             r.point.x, r.point.y, r.point.z, r.reason
         );
     }
-    let fp = FinishProgram::new(&job, &set, tol).map_err(|e| Fatal(format!("--finish {tol}: {e}")))?;
-    let program = fp.program().map_err(|e| Fatal(format!("{name}: {e}")))?;
-    let cutter = match &a.cutter {
-        Some(c) => parse_cutter(c)?,
-        None => fp.cutter,
-    };
-    let stock = match &a.stock {
-        Some(s) => stock_block(s, a.pitch)?,
-        None => {
-            let s = fp.stock_mm(a.margin).ok_or_else(|| {
-                Fatal(format!("{name}: the surface has no finite points to size the stock from; give --stock"))
-            })?;
-            DexelStock::block([s[0], s[1], s[2]], [s[3], s[4], s[5]], a.pitch).map_err(|e| Fatal(e.to_string()))?
-        }
-    };
     // Poses close enough that the sampling's cusps stay under a quarter of h (the app's
     // hand-over does the same), unless --sample-step says otherwise.
     let pose_step =
