@@ -81,6 +81,31 @@ pub struct PartSamples {
     /// sphere (centre, radius mm) holding all their points, so the global check can pass a
     /// whole block over at once.
     blocks: Vec<(usize, usize, DVec3, f64)>,
+    /// Cells the certified bottom checks against these samples have evaluated so far (the
+    /// measure of a plan's checking work, [`PartSamples::cells_checked`]).
+    checked: CellCount,
+    /// Bottom checks that ran out of cells and reported their lowest bound as a clash.
+    exhausted: CellCount,
+}
+
+/// A count that several checks may add to through a shared reference (relaxed atomics: it
+/// only measures work); a clone starts from the same count.
+#[derive(Debug, Default)]
+struct CellCount(std::sync::atomic::AtomicU64);
+
+impl Clone for CellCount {
+    fn clone(&self) -> Self {
+        Self(std::sync::atomic::AtomicU64::new(self.get()))
+    }
+}
+
+impl CellCount {
+    fn add(&self, n: usize) {
+        self.0.fetch_add(n as u64, std::sync::atomic::Ordering::Relaxed);
+    }
+    fn get(&self) -> u64 {
+        self.0.load(std::sync::atomic::Ordering::Relaxed)
+    }
 }
 
 /// Grid points per side of a block of [`PartSamples`].
@@ -124,7 +149,23 @@ impl PartSamples {
                 blocks.push((i0, j0, centre, radius));
             }
         }
-        Self { points, k_concave_max: kmax, second_bound: SECOND_DERIVATIVE_ALLOWANCE * second, side: n, blocks }
+        Self {
+            points,
+            k_concave_max: kmax,
+            second_bound: SECOND_DERIVATIVE_ALLOWANCE * second,
+            side: n,
+            blocks,
+            checked: CellCount::default(),
+            exhausted: CellCount::default(),
+        }
+    }
+
+    /// Cells evaluated so far by the certified bottom checks against these samples (each at
+    /// most [`MAX_CELLS`] a check): the planner stops a plan whose checks grow beyond its
+    /// budget (`paths::MAX_CHECK_CELLS`).
+    #[must_use]
+    pub fn cells_checked(&self) -> u64 {
+        self.checked.get()
     }
 }
 
@@ -243,10 +284,18 @@ impl Ord for Open {
 fn bottom_clash(
     surface: &Surface,
     body: &CutterBody,
-    k2: f64,
+    part: &PartSamples,
     tol_mm: f64,
     hint: Option<DVec2>,
 ) -> Option<(Clash, DVec2)> {
+    let k2 = part.second_bound;
+    /// Adds the cells a search evaluated to the count however it returns.
+    struct Tally<'c>(&'c CellCount, usize);
+    impl Drop for Tally<'_> {
+        fn drop(&mut self) {
+            self.0.add(self.1);
+        }
+    }
     let dom = surface.domain();
     if let Some(uv) = hint.filter(|&uv| dom.contains(uv)) {
         let at = surface.point_at(uv);
@@ -264,6 +313,7 @@ fn bottom_clash(
         (Cell { centre, half, depth, g, slope, bound }, point)
     };
     let n = FIRST_CELLS;
+    let mut evaluated = Tally(&part.checked, n * n);
     let half = DVec2::new(0.5 * dom.u.width() / n as f64, 0.5 * dom.v.width() / n as f64);
     let origin = DVec2::new(dom.u.min, dom.v.min);
     let mut heap = std::collections::BinaryHeap::new();
@@ -284,12 +334,12 @@ fn bottom_clash(
             }
         }
     }
-    let mut evaluated = n * n;
     while let Some(Open { index, .. }) = heap.pop() {
         // Every index pushed is that of a cell pushed with it.
         let cell = cells[index];
-        if evaluated > MAX_CELLS || cell.depth >= MAX_DEPTH {
+        if evaluated.1 > MAX_CELLS || cell.depth >= MAX_DEPTH {
             // Out of budget: err on the safe side.
+            part.exhausted.add(1);
             let at = surface.point_at(cell.centre);
             return Some((Clash { part: ClashPart::Bottom, depth_mm: -cell.bound, at }, cell.centre));
         }
@@ -302,7 +352,7 @@ fn bottom_clash(
         };
         for sign in [-1.0, 1.0] {
             let (child, at) = make(cell.centre + sign * step, half, cell.depth + 1);
-            evaluated += 1;
+            evaluated.1 += 1;
             if child.g < -tol_mm {
                 return Some((Clash { part: ClashPart::Bottom, depth_mm: -child.g, at }, child.centre));
             }
@@ -355,8 +405,7 @@ fn check_hinted(
     };
     // Local and rear: the part against the cutter's convex solid, certified.
     if part.k_concave_max > 0.0
-        && let Some((c, uv)) =
-            bottom_clash(surface, &CutterBody::new(cutter, tip, axis, tol_mm), part.second_bound, tol_mm, *hint)
+        && let Some((c, uv)) = bottom_clash(surface, &CutterBody::new(cutter, tip, axis, tol_mm), part, tol_mm, *hint)
     {
         *hint = Some(uv);
         note(c);
@@ -439,9 +488,17 @@ pub fn adjust(
     // (a raise of 0.25° rarely clears the deepest point), which answers a failing trial with
     // one evaluation; a passing one is certified in full as before.
     let mut hint = None;
+    let exhausted_before = part.exhausted.get();
     let Some(first) = check_hinted(cutter, surface, part, frame, &pose, tol, &mut hint) else {
         return Ok((pose, None));
     };
+    // A check that ran out of cells certifies nothing either way, and the next pose (a
+    // quarter degree on) would run out the same: the point is refused at once instead of
+    // after up to 2 500 such checks.
+    let exhausted = part.exhausted.get();
+    if exhausted > exhausted_before {
+        return Err(first);
+    }
     let mut ok = |p: &Pose| {
         gouge_margin(cutter, frame, p) >= opts.margin_per_mm
             && check_hinted(cutter, surface, part, frame, p, tol, &mut hint).is_none()

@@ -84,6 +84,15 @@ pub enum FinishError {
         /// The cap.
         max_nodes: usize,
     },
+    /// The certified gouge checks cost far more than on any usable part
+    /// (`paths::MAX_CHECK_CELLS_PER_NODE`, `paths::MAX_CHECK_CELLS`).
+    #[error(
+        "the gouge checks {detail}: the surface is far larger or more curved than this cutter can be checked against; check the surface (a mistyped control point?), or use a larger cutter or scallop height"
+    )]
+    TooMuchChecking {
+        /// What was measured against which cap.
+        detail: String,
+    },
 }
 
 /// One row of the comparison table.

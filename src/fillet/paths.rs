@@ -424,7 +424,23 @@ struct Ctx<'a> {
     side: f64,
     /// +1 while the paths advance toward increasing b, −1 toward decreasing b.
     toward: f64,
+    /// `part.cells_checked()` when the job started, and the CC points checked since.
+    cells_at_start: u64,
+    nodes_checked: std::cell::Cell<u64>,
 }
+
+/// Most cells of the certified bottom checks ([`PartSamples::cells_checked`]) a job may
+/// spend on average per CC point, once [`CHECK_COST_SAMPLE`] points are checked. The
+/// examples spend 190–1 470 (whole plans, every strategy and layout); a check stops at
+/// 40 000 cells, which a surface far larger or more curved than the cutter reaches at every
+/// pose tried (a NURBS with one control point at 10⁵ mm: minutes of checks that refuse
+/// every point). Stopping there takes a few seconds instead.
+pub const MAX_CHECK_CELLS_PER_NODE: u64 = 20_000;
+/// CC points checked before [`MAX_CHECK_CELLS_PER_NODE`] applies.
+pub const CHECK_COST_SAMPLE: u64 = 32;
+/// Most cells of the certified bottom checks a whole job may spend (the examples: 0.9–12
+/// million), some 30 s of checking.
+pub const MAX_CHECK_CELLS: u64 = 200_000_000;
 
 fn a_of(uv: DVec2, along: usize) -> f64 {
     if along == 0 { uv.x } else { uv.y }
@@ -450,7 +466,40 @@ impl<'a> Ctx<'a> {
     ) -> Result<Self, FinishError> {
         check_options(opts)?;
         let along = start.along(surface, cutter, &strategy, opts);
-        Ok(Self { surface, cutter: *cutter, strategy, opts, part, along, side: 1.0, toward: 1.0 })
+        Ok(Self {
+            surface,
+            cutter: *cutter,
+            strategy,
+            opts,
+            part,
+            along,
+            side: 1.0,
+            toward: 1.0,
+            cells_at_start: part.cells_checked(),
+            nodes_checked: std::cell::Cell::new(0),
+        })
+    }
+
+    /// Counts a checked CC point and stops the job once its checks cost far more than any
+    /// usable part's ([`MAX_CHECK_CELLS_PER_NODE`], [`MAX_CHECK_CELLS`]).
+    fn count_check(&self) -> Result<(), FinishError> {
+        let nodes = self.nodes_checked.get() + 1;
+        self.nodes_checked.set(nodes);
+        let cells = self.part.cells_checked().saturating_sub(self.cells_at_start);
+        if cells > MAX_CHECK_CELLS {
+            return Err(FinishError::TooMuchChecking {
+                detail: format!("passed {MAX_CHECK_CELLS} cells after {nodes} CC points"),
+            });
+        }
+        if nodes >= CHECK_COST_SAMPLE && cells / nodes > MAX_CHECK_CELLS_PER_NODE {
+            return Err(FinishError::TooMuchChecking {
+                detail: format!(
+                    "cost {} cells a CC point over the first {nodes} (more than {MAX_CHECK_CELLS_PER_NODE})",
+                    cells / nodes
+                ),
+            });
+        }
+        Ok(())
     }
 
     fn ranges(&self) -> ((f64, f64), (f64, f64)) {
@@ -571,7 +620,9 @@ impl<'a> Ctx<'a> {
         // Gouge checks and adjustment, then the inclinations smoothed again (raising only).
         let mut checked: Vec<(ContactFrame, Pose, Option<Adjustment>)> = Vec::with_capacity(frames.len());
         for (frame, pose) in frames.into_iter().zip(poses) {
-            match adjust(&tool, self.surface, self.part, &frame, pose, oo, self.opts.gouge_tol_mm) {
+            let verdict = adjust(&tool, self.surface, self.part, &frame, pose, oo, self.opts.gouge_tol_mm);
+            self.count_check()?;
+            match verdict {
                 Ok((pose, adjusted)) => checked.push((frame, pose, adjusted)),
                 Err(clash) => refused.push(Refusal {
                     uv: frame.uv,
@@ -1136,6 +1187,10 @@ pub struct IsoScallopSteps {
     second_side_at: Option<usize>,
     refused: Vec<Refusal>,
     budget: usize,
+    /// The checking work so far (see [`Ctx::count_check`]): the part's cell count when the
+    /// job started and the CC points checked.
+    cells_at_start: u64,
+    nodes_checked: u64,
     paths: Vec<ToolPath>,
     done: bool,
 }
@@ -1204,6 +1259,8 @@ impl IsoScallopSteps {
             second_side_at: None,
             refused,
             budget,
+            cells_at_start: ctx.cells_at_start,
+            nodes_checked: ctx.nodes_checked.get(),
             paths: vec![first],
             done: false,
         })
@@ -1241,7 +1298,18 @@ impl IsoScallopSteps {
         }
         let along = self.along;
         let (side, toward) = (self.c_sign * self.toward, self.toward);
-        let ctx = Ctx { surface, cutter: *cutter, strategy: self.strategy, opts, part, along, side, toward };
+        let ctx = Ctx {
+            surface,
+            cutter: *cutter,
+            strategy: self.strategy,
+            opts,
+            part,
+            along,
+            side,
+            toward,
+            cells_at_start: self.cells_at_start,
+            nodes_checked: std::cell::Cell::new(self.nodes_checked),
+        };
         let ((a0, a1), (b0, b1)) = ctx.ranges();
         if self.paths.len() >= opts.max_paths {
             return Err(FinishError::TooManyPaths { max_paths: opts.max_paths });
@@ -1309,6 +1377,7 @@ impl IsoScallopSteps {
             return Ok(self.end_side());
         }
         let next = ctx.build_path(&poly, Some(&refs), &mut self.refused, &mut self.budget)?;
+        self.nodes_checked = ctx.nodes_checked.get();
         if next.nodes.is_empty() {
             return Ok(self.end_side());
         }

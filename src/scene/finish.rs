@@ -162,6 +162,7 @@ impl FinishScene {
             positive("finish.feed", v, "the feed in mm/min")?;
             options.feed_mm_per_min = v;
         }
+        check_work(&surface, &cutter, &options)?;
         let start = start_of(f.start.as_ref(), &surface, options.direction)?;
         let machine = match &self.machine {
             Some(m) => {
@@ -172,6 +173,49 @@ impl FinishScene {
         };
         Ok(FinishJob { name: self.name.clone(), surface, cutter, strategy, options, machine, start })
     }
+}
+
+/// Cells a side of the area estimate of [`check_work`] (midpoint rule).
+const AREA_GRID: usize = 24;
+
+/// Refuses, before any path is built, a surface whose CC points could not stay under the cap
+/// ([`FinishOptions::max_nodes`]): every path has a CC point at least every max step, and no
+/// strip is wider than the cutter's diameter seen at the steepest inclination allowed,
+/// 2R / cos(max inclination), so the paths need at least area / (2R / cos · max step) CC
+/// points; the area is estimated on a 24 × 24 grid and halved, so the refusal errs on the
+/// side of trying. (A surface of a kilometre — one control point mistyped — otherwise ran
+/// for minutes until the cap stopped it.)
+fn check_work(surface: &Surface, cutter: &Cutter, options: &FinishOptions) -> Result<(), SceneError> {
+    use crate::geom::ParametricSurface;
+    let dom = surface.domain();
+    let n = AREA_GRID as f64;
+    let (du, dv) = (dom.u.width() / n, dom.v.width() / n);
+    let mut area_mm2 = 0.0;
+    for i in 0..AREA_GRID {
+        for j in 0..AREA_GRID {
+            let uv = glam::DVec2::new(dom.u.min + (i as f64 + 0.5) * du, dom.v.min + (j as f64 + 0.5) * dv);
+            let (_, ru, rv) = surface.tangents_fast_at(uv);
+            area_mm2 += ru.cross(rv).length() * du * dv;
+        }
+    }
+    let widest_mm = 2.0 * cutter.radius_mm / options.orient.max_inclination_rad.cos();
+    let least = 0.5 * area_mm2 / (widest_mm * options.max_step_mm);
+    if least <= options.max_nodes as f64 {
+        return Ok(());
+    }
+    let what = if area_mm2.is_finite() {
+        format!(
+            "the surface's area of about {:.3e} mm² needs at least {:.3e} CC points with a {} mm cutter and a max step of {} mm, more than the {} allowed",
+            area_mm2, least, cutter.radius_mm, options.max_step_mm, options.max_nodes
+        )
+    } else {
+        "the surface's area is not finite (a control point or dimension too large)".to_owned()
+    };
+    Err(SceneError::new(
+        "surfaces[0]",
+        what,
+        "check the surface's size (a mistyped control point?), or raise finish.max_step or the cutter radius",
+    ))
 }
 
 /// `finish.start` checked and in core units: an edge that agrees with `finish.direction`, or
