@@ -75,7 +75,10 @@ fn scene_values_that_must_not_pass() {
 fn gcode_options_are_checked_before_the_work() {
     let s = example("floor-round-wall");
     refused(&run(&["gcode", &s, "--kind", "g01", "--tolerance", "0.01", "--feed", "1e-9"]), &["feed", "1500"]);
-    refused(&run(&["gcode", &s, "--kind", "g01", "--tolerance", "0.01", "--safe-z", "NaN"]), &["safe Z"]);
+    refused(
+        &run(&["gcode", &s, "--kind", "g01", "--tolerance", "0.01", "--safe-z", "NaN"]),
+        &["--safe-z", "needs a finite number"],
+    );
     refused(&run(&["nurbs", &s, "--tolerance", "0.01", "--period", "1e-9"]), &["periods would be needed"]);
 }
 
@@ -109,4 +112,69 @@ fn json_output_states_the_final_period() {
     assert!((ms - dt).abs() < 1e-9 && ms > 0.0 && ms < 4.0, "{ms} vs {dt}");
     assert_eq!(v["stop"]["reason"], "left_domain");
     assert_eq!(last[5].as_f64(), Some(1.0), "u1 on its bound 1");
+}
+
+/// A numeric option given `nan`, `inf` or an overflowing number is refused while the
+/// arguments are read (one line, status 2, naming the option and the text given), on every
+/// command that takes numbers: no work starts and no output is written.
+#[test]
+fn non_finite_option_values_are_refused_before_any_work() {
+    let frw = example("floor-round-wall");
+    let cases: [&[&str]; 5] = [
+        &[
+            "simulate",
+            "--benchmark",
+            "three-axis:10",
+            "--cutter",
+            "ball:3",
+            "--stock",
+            "0,0,0,51.2,51.2,20",
+            "--pitch",
+            "nan",
+        ],
+        &["steps", &frw, "--tolerance", "inf"],
+        &["gcode", &frw, "--tolerance", "1e999"],
+        &["nurbs", &frw, "--tolerance", "NaN"],
+        &["finish", &example_finish("bicubic-patch"), "--gcode-tolerance=-inf"],
+    ];
+    for args in cases {
+        let o = run(args);
+        let last = args.last().copied().unwrap_or_default();
+        let (option, given) = last.split_once('=').unwrap_or((args[args.len() - 2], last));
+        refused(&o, &["needs a finite number", option]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!err.contains(given), "the non-number is not repeated: {err}");
+        assert!(o.stdout.is_empty(), "{args:?}: output was written");
+    }
+}
+
+fn example_finish(name: &str) -> String {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/finish").join(format!("{name}.json")).display().to_string()
+}
+
+/// The NACA blade with one control point mistyped far away: at 10⁶ mm the surface's area
+/// alone says the paths cannot fit the CC-point cap, before any path is built; at 2·10⁵ mm
+/// the certified gouge checks cannot bound the part near the cutter and the job stops after
+/// its first CC points (it ran for minutes, refusing every point, before).
+#[test]
+fn a_finishing_surface_with_a_mistyped_control_point_is_refused_early() {
+    let text = std::fs::read_to_string(example_finish("naca-blade")).expect("example");
+    for (x, words) in [
+        (1e6, &["surfaces[0]", "area", "CC points", "mistyped control point"][..]),
+        (2e5, &["gouge checks", "cells a CC point", "mistyped control point"][..]),
+    ] {
+        let mut v: serde_json::Value = serde_json::from_str(&text).expect("json");
+        v["surfaces"][0]["points"][6][4][0] = serde_json::json!(x);
+        let path = temp_file(&format!("blade-{x}.json"), v.to_string().as_bytes());
+        refused(&run(&["finish", &path]), words);
+        refused(&run(&["finish", &path, "--table"]), words);
+        // With a stock of its own (the automatic one, sized from the surface, is refused
+        // first: too many rays).
+        refused(
+            &run(&["simulate", &path, "--finish", "0.005", "--pitch", "0.5", "--stock", "-60,-60,-10,60,60,60"]),
+            words,
+        );
+        let o = run(&["simulate", &path, "--finish", "0.005", "--pitch", "0.5"]);
+        refused(&o, if x < 1e6 { &["rays, more than"][..] } else { words });
+    }
 }

@@ -169,11 +169,19 @@ impl FinishProgram {
     /// allowance). `None` when the box is not finite.
     #[must_use]
     pub fn stock_mm(&self, margin_mm: f64) -> Option<[f64; 6]> {
-        let (lo, hi) = self.part_box()?;
-        let m = margin_mm.max(0.0);
-        let w = self.cutter.radius_mm + m;
-        Some([lo.x - w, lo.y - w, lo.z - m, hi.x + w, hi.y + w, hi.z + m])
+        stock_box_mm(&self.surface, &self.cutter, margin_mm)
     }
+}
+
+/// [`FinishProgram::stock_mm`] before any path is planned: it depends only on the surface,
+/// the cutter the program machines with (`Strategy::cutter_for`) and the margin (mm), so a
+/// caller can size (and refuse) the stock before the planning's work.
+#[must_use]
+pub fn stock_box_mm(surface: &Surface, cutter: &Cutter, margin_mm: f64) -> Option<[f64; 6]> {
+    let (lo, hi) = part_box(surface)?;
+    let m = margin_mm.max(0.0);
+    let w = cutter.radius_mm + m;
+    Some([lo.x - w, lo.y - w, lo.z - m, hi.x + w, hi.y + w, hi.z + m])
 }
 
 /// The box (mm) of a surface's points on a [`PART_BOX_SAMPLES`]² grid of its domain.

@@ -36,7 +36,7 @@ pub mod sweep;
 use glam::DVec3;
 use thiserror::Error;
 
-pub use finish::FinishProgram;
+pub use finish::{FinishProgram, stock_box_mm};
 pub use interior::{INTERIOR_END_MM, INTERIOR_SIDE_MM, InteriorStats, interior_mask, interior_stats};
 pub use measure::{
     Design, DeviationScan, FootSeed, HeightMap, SimStats, heights_csv, over_surface_signed_distance,
@@ -86,6 +86,12 @@ const PRE_SAMPLES: usize = 32;
 /// program estimated above it is refused before it starts (about a minute of work).
 pub const MAX_RAY_VISITS: f64 = 4e9;
 
+/// A count of rays as a message prints it: whole below a billion, else to three digits
+/// with an exponent (a mistyped pitch gives 10²² rays, not 23 digits).
+fn ray_count(rays: f64) -> String {
+    if rays < 1e9 { format!("{rays:.0}") } else { format!("{rays:.2e}") }
+}
+
 /// Why a simulation could not be set up or run. Messages name the problem and the fix.
 #[derive(Clone, Debug, Error, PartialEq)]
 pub enum SimError {
@@ -94,7 +100,8 @@ pub enum SimError {
     Stock(String),
     /// The grid would have too many rays.
     #[error(
-        "a pitch of {pitch_mm} mm gives {rays:.0} rays, more than the {max} allowed; raise the pitch or shrink the stock"
+        "a pitch of {pitch_mm} mm gives {} rays, more than the {max} allowed; raise the pitch or shrink the stock",
+        ray_count(*rays)
     )]
     TooManyRays {
         /// Rays the grid would have.
