@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """Fuzz-style campaign of the command line (issue 11), for as long as wanted.
 
-Mutates the example scenes (numbers replaced by extreme values, keys dropped or repeated,
-bytes flipped) and small G-code programs, runs `run`, `check`, `gcode`, `steps`, `nurbs` and
-`replay` on them with a time and memory limit, and keeps every case that breaks a promise:
+Mutates the example scenes and finishing scenes (numbers replaced by extreme values, keys
+dropped or repeated, bytes flipped) and small G-code programs, runs `run`, `check`, `gcode`,
+`steps`, `nurbs`, `finish`, `replay` and `simulate` on them with a time and memory limit, and keeps every case that breaks a promise:
 a panic, an exit status other than 0/1/2, a refusal longer than one line, NaN/inf/runaway
 digits in a message, a hang (time limit) or a memory blow-up (address-space limit).
 
@@ -76,24 +76,38 @@ def main():
     rng = random.Random(a.seed)
     ex = os.path.join(ROOT, "examples")
     scenes = [json.load(open(os.path.join(ex, f))) for f in sorted(os.listdir(ex)) if f.endswith(".json")]
+    fin = os.path.join(ex, "finish")
+    finishes = [json.load(open(os.path.join(fin, f))) for f in sorted(os.listdir(fin)) if f.endswith(".json")]
     out = os.path.join(ROOT, "target/fuzz")
     os.makedirs(out, exist_ok=True)
     end, runs, fails = time.time() + 60 * a.minutes, 0, 0
     while time.time() < end:
-        if rng.random() < 0.75:
+        roll = rng.random()
+        if roll < 0.15:
+            # Seed 001's finishing scenes: the CL data, the comparison table, the program, and
+            # the program through the cutting simulation on a coarse grid.
+            data, name = mutate_scene(rng, rng.choice(finishes)), "case.json"
+            cmds = [["finish", "{f}"], ["finish", "{f}", "--table"], ["finish", "{f}", "--gcode", os.path.join(out, "case.nc.out")],
+                    ["simulate", "{f}", "--finish", "0.005", "--pitch=" + rng.choice(["0.5", "1", "1e-9", "-1", "1e9"])]]
+        elif roll < 0.7:
             data, name = mutate_scene(rng, rng.choice(scenes)), "case.json"
             cmds = [["run", "{f}"], ["check", "{f}"], ["steps", "{f}", "--tolerance", "0.01"],
                     ["gcode", "{f}", "--kind", rng.choice(["g01", "arcs", "nurbs"]), "--tolerance", "0.01"],
                     ["nurbs", "{f}", "--tolerance", "0.01"]]
         else:
             data, name = gcode(rng), "case.nc"
-            cmds = [["replay", "{f}"], ["replay", "{f}", "--scene", os.path.join(ex, "floor-round-wall.json")]]
+            cmds = [["replay", "{f}"], ["replay", "{f}", "--scene", os.path.join(ex, "floor-round-wall.json")],
+                    ["simulate", "{f}", "--cutter", rng.choice(["ball:3", "flat:2", "fillet:5,1", "ball:0", "fillet:1,5", "ball:1e9"]),
+                     "--stock", rng.choice(["-60,-60,-10,60,60,10", "0,0,0,0,0,0", "-1e9,-1e9,0,1e9,1e9,1"]),
+                     "--pitch=" + rng.choice(["0.5", "0.05", "0", "nan", "-2"])]]
         path = os.path.join(out, name)
         with open(path, "wb") as fh:
             fh.write(data if isinstance(data, bytes) else data.encode())
         args = [x.replace("{f}", path) for x in rng.choice(cmds)]
         runs += 1
-        why = check(a.bin, args, a.timeout, a.mem_mb)
+        # A comparison table is ten plans and a simulation plans and machines: more time.
+        slow = "--table" in args or args[0] == "simulate"
+        why = check(a.bin, args, a.timeout * (4 if slow else 1), a.mem_mb)
         if why:
             fails += 1
             d = os.path.join(out, str(fails))
