@@ -359,6 +359,7 @@ impl Job {
             design,
             target: None,
             keyframes: KEYFRAMES,
+            resume: false,
         })
     }
 
@@ -395,6 +396,7 @@ impl Job {
             design,
             target: None,
             keyframes: KEYFRAMES,
+            resume: false,
         })
     }
 
@@ -543,6 +545,7 @@ impl Job {
             stock_mm: Some(p.stock_mm),
             target: Some(k),
             keyframes: REPLAY_KEYFRAMES,
+            resume: true,
             ..req.clone()
         };
         self.fraction = 0.0;
@@ -550,6 +553,17 @@ impl Job {
         self.run = None;
         self.pending_replay = Some((replay, Instant::now()));
         self.run_target = Some(k);
+    }
+
+    /// When the panel should look at the run again if nothing else repaints: when a resting
+    /// slider's replay is due, else a few times a second for the progress bar (what the run
+    /// hands back wakes the page itself: `app::jobs::set_waker`).
+    #[must_use]
+    pub fn next_look(&self) -> Duration {
+        match &self.pending_replay {
+            Some((_, at)) => REPLAY_SETTLE.saturating_sub(at.elapsed()).max(crate::app::jobs::POLL),
+            None => crate::app::jobs::PROGRESS_POLL,
+        }
     }
 
     /// Stops the run where it is (the view keeps the stock shown).
@@ -567,7 +581,7 @@ impl Job {
         if self.pending_replay.as_ref().is_some_and(|(_, at)| at.elapsed() >= REPLAY_SETTLE)
             && let Some((replay, _)) = self.pending_replay.take()
         {
-            self.run = Some(BackgroundJob::start(replay));
+            self.run = Some(BackgroundJob::start_keeping_worker(replay));
         }
         let t0 = Instant::now();
         let Some(run) = &mut self.run else { return };
