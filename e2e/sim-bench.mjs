@@ -140,6 +140,7 @@ if (slider) {
     const gaps = await page.evaluate(() => window.__frameGaps.splice(0));
     const row = {
       target_move: target, release_to_exact_ms: st ? Date.now() - t0 : null, sim_ms: st && st.sim_ms,
+      resumed_from_move: st && st.resumed_from_move,
       removed_volume_mm3: st && st.removed_volume_mm3, frame_longest_ms: gaps.length ? Math.max(...gaps) : null,
     };
     report.replays.push(row);

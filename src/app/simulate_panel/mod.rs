@@ -654,6 +654,7 @@ impl Panel for SimulatePanel {
                 "worst_um": um(d), "x_mm": nm(p.x), "y_mm": nm(p.y), "rays": r.stats.gouge_rays
             }))),
             "sim_ms": job.sim_ms,
+            "resumed_from_move": results.map(|r| r.resumed_from),
             "total_ms": job.total_ms,
             "slowest_frame_ms": job.slowest_call_ms,
             "pose_step_mm": job.pose_step_mm(),

@@ -214,6 +214,9 @@ pub struct Results {
     pub moves: usize,
     /// The run's counts.
     pub counters: Counters,
+    /// The move of the kept stock the run started from (0: the block; see
+    /// `jobs::simulate_run::Session`).
+    pub resumed_from: usize,
     /// A finishing program's scallops over its interior band (`simulate::interior`), when
     /// measured against its finish surface.
     pub interior: Option<InteriorStats>,
@@ -640,6 +643,7 @@ impl Job {
                     interior,
                     moves: f.counters.moves,
                     counters: f.counters,
+                    resumed_from: f.resumed_from,
                     map: f.map,
                     stats: f.stats,
                 });
