@@ -32,6 +32,9 @@ const moves = Number(arg("--moves", "10000"));
 const pitch = arg("--pitch", "0.1");
 const runs = Number(arg("--runs", "2"));
 const replays = Number(arg("--replays", "4"));
+// --trace FILE: a Chromium trace (main thread, worker, GPU process) of each run (FILE, then
+// FILE-2.json, …), for finding what a long frame did (open it in chrome://tracing or Perfetto).
+const traceFile = arg("--trace", null);
 const artifacts = path.join(here, "artifacts");
 fs.mkdirSync(artifacts, { recursive: true });
 
@@ -53,6 +56,13 @@ const query = `?view=${encodeURIComponent("Cutting simulation")}&set=${encodeURI
 let page = null;
 for (let r = 0; r < runs; r++) {
   page = await context.newPage();
+  if (traceFile) {
+    await browser.startTracing(page, {
+      path: r === 0 ? traceFile : traceFile.replace(/(\.json)?$/, `-${r + 1}.json`),
+      categories: ["devtools.timeline", "disabled-by-default-devtools.timeline", "v8", "v8.execute", "disabled-by-default-v8.cpu_profiler",
+        "disabled-by-default-v8.gc", "blink", "gpu", "toplevel", "disabled-by-default-devtools.timeline.frame"],
+    });
+  }
   const t0 = Date.now();
   await page.goto(url + query);
   const progress = [];
@@ -93,6 +103,7 @@ for (let r = 0; r < runs; r++) {
   };
   if (row.ray_updates && row.sim_ms) row.m_updates_per_s_whole = Math.round(row.ray_updates / row.sim_ms / 1e3 * 10) / 10;
   if (row.ray_updates && row.machining_seen_ms) row.m_updates_per_s_machining = Math.round(row.ray_updates / row.machining_seen_ms / 1e3 * 10) / 10;
+  if (traceFile) await browser.stopTracing();
   report.runs.push(row);
   console.log(`run ${r + 1}: ${JSON.stringify(row)}`);
   if (r + 1 < runs) await page.close();
@@ -129,6 +140,7 @@ if (slider) {
     const gaps = await page.evaluate(() => window.__frameGaps.splice(0));
     const row = {
       target_move: target, release_to_exact_ms: st ? Date.now() - t0 : null, sim_ms: st && st.sim_ms,
+      resumed_from_move: st && st.resumed_from_move,
       removed_volume_mm3: st && st.removed_volume_mm3, frame_longest_ms: gaps.length ? Math.max(...gaps) : null,
     };
     report.replays.push(row);

@@ -48,3 +48,52 @@ fn ray_updates_per_second() {
         ));
     }
 }
+
+/// The simulation tab's whole job as its Web Worker runs it (`jobs::run_encoded` on the
+/// benchmark request of `e2e/sim-bench.mjs`: the program built, machined with its keyframes
+/// and kept stocks, measured, the output written as text), the first run in a fresh process
+/// (as a fresh worker runs it: the wasm's code not yet optimised by the engine) and a second
+/// one, then a replay to move 8 100 from the kept stocks.
+#[test]
+#[ignore = "benchmark; run with --ignored --nocapture"]
+fn the_simulation_job_as_the_worker_runs_it() {
+    use interpolab::jobs::simulate_run::{DesignSpec, ProgramSource, Request, SimulateRun};
+    use interpolab::jobs::{JobKind, NoProgress, run_encoded};
+    use interpolab::simulate::bench::BenchKind;
+    let platform = if cfg!(target_arch = "wasm32") { "wasm32 (Node)" } else { "native" };
+    let req = Request {
+        source: ProgramSource::Benchmark { kind: BenchKind::FiveAxis, moves: 10_000 },
+        cutter: Cutter::ball(3.0).expect("cutter"),
+        pitch_mm: Some(0.1),
+        stock_mm: Some(BenchKind::stock_mm()),
+        margin_mm: 0.0,
+        max_sample_step_mm: None,
+        design: DesignSpec::None,
+        target: None,
+        keyframes: 40,
+        resume: false,
+    };
+    let text = SimulateRun::encode_request(&req);
+    for run in ["first", "second"] {
+        let t = Instant::now();
+        let out = run_encoded(SimulateRun::NAME, &text, &mut NoProgress).expect("runs");
+        print(&format!(
+            "{platform}: the simulation job, {run} run: {:.3} s ({} bytes of output)",
+            t.elapsed().as_secs_f64(),
+            out.len()
+        ));
+    }
+    let program = BenchKind::FiveAxis.program(10_000).expect("program");
+    let replay =
+        Request { source: ProgramSource::Moves(program), target: Some(8_100), keyframes: 8, resume: true, ..req };
+    let t = Instant::now();
+    let replay_text = SimulateRun::encode_request(&replay);
+    let encoded = t.elapsed().as_secs_f64();
+    run_encoded(SimulateRun::NAME, &replay_text, &mut NoProgress).expect("runs");
+    print(&format!(
+        "{platform}: a replay to move 8 100 from the kept stocks: {:.3} s (its request written in {:.3} s, {} bytes)",
+        t.elapsed().as_secs_f64(),
+        encoded,
+        replay_text.len()
+    ));
+}

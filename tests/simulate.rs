@@ -607,3 +607,42 @@ fn the_deviation_is_the_signed_distance_to_the_union_of_the_torus_and_the_plate(
     }
     assert!(switched[0] && switched[1], "the walk meets both surfaces nearest");
 }
+
+/// A replay of the move slider from a stock the worker kept (`jobs::simulate_run::Session`)
+/// gives the stock of a fresh run to the same move bit for bit — natively and in the wasm32
+/// build the browser's worker runs.
+#[test]
+fn a_replay_from_a_kept_stock_is_the_fresh_run_bit_for_bit() {
+    use interpolab::jobs::NoProgress;
+    use interpolab::jobs::simulate_run::{DesignSpec, ProgramSource, Request, run_in_session};
+    use interpolab::simulate::bench::BenchKind;
+    let first = Request {
+        source: ProgramSource::Benchmark { kind: BenchKind::FiveAxis, moves: 200 },
+        cutter: Cutter::ball(3.0).unwrap(),
+        pitch_mm: Some(0.8),
+        stock_mm: Some(BenchKind::stock_mm()),
+        margin_mm: 0.0,
+        max_sample_step_mm: None,
+        design: DesignSpec::None,
+        target: None,
+        keyframes: 0,
+        resume: false,
+    };
+    let session = std::sync::Mutex::new(None);
+    let whole = run_in_session(&first, &mut NoProgress, &session).unwrap();
+    assert_eq!(whole.resumed_from, 0);
+    // 64 × 64 rays: eight stocks kept, every ⌈200 / 9⌉ = 23 moves.
+    for (k, from) in [(57, 46), (150, 138), (199, 184)] {
+        let replay = Request { target: Some(k), resume: true, ..first.clone() };
+        let fast = run_in_session(&replay, &mut NoProgress, &session).unwrap();
+        let fresh = run_in_session(&Request { resume: false, ..replay }, &mut NoProgress, &std::sync::Mutex::new(None))
+            .unwrap();
+        assert_eq!((fast.resumed_from, fresh.resumed_from), (from, 0), "move {k}");
+        assert_eq!(fast.counters.moves, k);
+        assert_eq!(fast.counters.ray_updates, fresh.counters.ray_updates);
+        assert_eq!(fast.counters.removed_mm3.to_bits(), fresh.counters.removed_mm3.to_bits());
+        assert_eq!(fast.map.machined, fresh.map.machined);
+        assert!(fast.map.top_mm.iter().zip(&fresh.map.top_mm).all(|(a, b)| a.to_bits() == b.to_bits()), "move {k}");
+        assert_eq!(fast.stats, fresh.stats);
+    }
+}

@@ -41,8 +41,10 @@ for (const name of wasms) {
   const t0 = Date.now();
   // -Oz: the smallest code; the wasm's own target_features section tells wasm-opt which
   // features (bulk memory, reference types, …) it may keep using. Names and producers are
-  // dropped (no -g).
-  const run = spawnSync(wasmOpt, ["-Oz", "--strip-debug", "--strip-producers", path, "-o", path], {
+  // dropped (no -g). The Web Worker's module computes (the simulation, the table rows) and
+  // is built for speed (Cargo profile worker-release, opt-level 3): -O3 keeps it so.
+  const level = name.startsWith("interpolab-worker") ? "-O3" : "-Oz";
+  const run = spawnSync(wasmOpt, [level, "--strip-debug", "--strip-producers", path, "-o", path], {
     stdio: "inherit",
   });
   if (run.status !== 0) {

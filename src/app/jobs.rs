@@ -63,6 +63,38 @@ fn cores() -> usize {
 /// How often a panel waiting for a job looks again when nothing else repaints.
 pub const POLL: Duration = Duration::from_millis(50);
 
+/// How often a panel whose job runs in the background repaints to show its progress and
+/// partial outputs (twice a second). A job's output wakes the page at once ([`set_waker`]),
+/// and the user's input repaints at once as always; only the progress bar and the partial
+/// outputs (a simulation's keyframes) wait for the next look. Why not [`POLL`]: in a browser
+/// drawing on a CPU rasteriser every repaint takes CPU from the worker: a frame of the
+/// simulation's stock costs SwiftShader 0.27–0.37 s, and repainting every 50 ms (or on
+/// every keyframe) kept one of 2 cores drawing for the whole run (docs/simulation.md, "In
+/// the browser").
+pub const PROGRESS_POLL: Duration = Duration::from_millis(500);
+
+/// The context repainted when a job gives its output.
+static WAKER: std::sync::Mutex<Option<eframe::egui::Context>> = std::sync::Mutex::new(None);
+
+/// Makes `ctx` the one woken when a job gives its output (a panel that polls jobs calls it
+/// each frame; cheap).
+pub fn set_waker(ctx: &eframe::egui::Context) {
+    if let Ok(mut w) = WAKER.lock()
+        && w.as_ref().is_none_or(|old| old != ctx)
+    {
+        *w = Some(ctx.clone());
+    }
+}
+
+/// Asks for a repaint now: a job's output (or its worker's readiness or failure) arrived.
+fn wake() {
+    if let Ok(w) = WAKER.lock()
+        && let Some(ctx) = w.as_ref()
+    {
+        ctx.request_repaint();
+    }
+}
+
 /// What a poll found.
 #[derive(Debug)]
 pub enum Poll<T> {
@@ -91,7 +123,20 @@ impl<K: JobKind> Job<K> {
     /// Starts a job.
     #[must_use]
     pub fn start(request: K::Request) -> Self {
-        Self { started: Instant::now(), progress: None, partials: Vec::new(), inner: imp::Inner::start(request) }
+        Self { started: Instant::now(), progress: None, partials: Vec::new(), inner: imp::Inner::start(request, false) }
+    }
+
+    /// Starts a job whose worker is worth more than the job: dropping it (a newer request
+    /// supersedes it) lets a browser's worker finish the job, its output thrown away, and
+    /// keeps the worker for the next job, which is posted to it at once and runs right after
+    /// (the worker keeps state between jobs: the simulation's kept stocks,
+    /// `jobs::simulate_run::Session`). For short jobs (a replay from a kept stock: a tenth of
+    /// the program at most); a long one delays the next by what it has left. Natively the
+    /// same as [`Job::start`] (the thread stops at its next look at the cancel flag; the
+    /// state lives in the process).
+    #[must_use]
+    pub fn start_keeping_worker(request: K::Request) -> Self {
+        Self { started: Instant::now(), progress: None, partials: Vec::new(), inner: imp::Inner::start(request, true) }
     }
 
     /// Takes what arrived since the last poll. After [`Poll::Done`] the job is spent: poll
@@ -204,7 +249,7 @@ mod imp {
     }
 
     impl<K: JobKind> Inner<K> {
-        pub fn start(request: K::Request) -> Self {
+        pub fn start(request: K::Request, _keep_worker: bool) -> Self {
             let (tx, rx) = mpsc::channel();
             let cancel = Arc::new(AtomicBool::new(false));
             let mut reporter = Reporter { tx: tx.clone(), cancel: cancel.clone() };
@@ -214,6 +259,7 @@ mod imp {
                 let Some(request) = slot2.lock().ok().and_then(|mut r| r.take()) else { return };
                 let out = K::run(&request, &mut reporter);
                 let _ = tx.send(Msg::Done(out));
+                super::wake();
             });
             // No thread (a platform without them): the request is still in its slot.
             let here = if spawned.is_err() { slot.lock().ok().and_then(|mut r| r.take()) } else { None };
@@ -269,6 +315,9 @@ mod imp {
         worker: web_sys::Worker,
         inbox: Inbox,
         sent: bool,
+        /// Answers of earlier, dropped jobs still to come before this job's messages (a
+        /// worker taken over from [`DRAINING`]): their messages are skipped.
+        skip: usize,
         _on_message: Closure<dyn FnMut(web_sys::MessageEvent)>,
         _on_error: Closure<dyn FnMut(web_sys::Event)>,
     }
@@ -278,6 +327,8 @@ mod imp {
         request: String,
         running: Option<Running>,
         ran_here: bool,
+        /// Dropping the job lets the worker finish it and keeps the worker ([`DRAINING`]).
+        keep_worker: bool,
         _kind: std::marker::PhantomData<K>,
     }
 
@@ -290,6 +341,10 @@ mod imp {
 
     thread_local! {
         static IDLE: RefCell<Vec<web_sys::Worker>> = const { RefCell::new(Vec::new()) };
+        /// A worker finishing a dropped job started by `Job::start_keeping_worker` (at most
+        /// one: a second one replaces it, ending the older). The next job is posted to it
+        /// at once and skips the dropped jobs' answers.
+        static DRAINING: RefCell<Option<Running>> = const { RefCell::new(None) };
     }
 
     impl Running {
@@ -322,6 +377,11 @@ mod imp {
     }
 
     fn spawn() -> Result<Running, JsValue> {
+        if let Some(mut r) = DRAINING.with(|d| d.borrow_mut().take()) {
+            // Its last request was the dropped job's: this job's goes at the first poll.
+            r.sent = false;
+            return Ok(r);
+        }
         let reused = IDLE.with(|idle| idle.borrow_mut().pop());
         let ready = reused.is_some();
         let worker = match reused {
@@ -335,7 +395,14 @@ mod imp {
         }
         let inbox2 = inbox.clone();
         let on_message = Closure::<dyn FnMut(web_sys::MessageEvent)>::new(move |e: web_sys::MessageEvent| {
-            inbox2.borrow_mut().push_back(e.data().as_string().unwrap_or_default());
+            let text = e.data().as_string().unwrap_or_default();
+            // Progress and partial outputs wait for the panel's next look; the output, a
+            // failure and the worker's readiness (its request goes at the next poll) wake it.
+            let shown = !(text.starts_with("progress\n") || text.starts_with("partial\n"));
+            inbox2.borrow_mut().push_back(text);
+            if shown {
+                super::wake();
+            }
         });
         let inbox3 = inbox.clone();
         let on_error = Closure::<dyn FnMut(web_sys::Event)>::new(move |e: web_sys::Event| {
@@ -343,14 +410,15 @@ mod imp {
                 .dyn_ref::<web_sys::ErrorEvent>()
                 .map_or_else(|| "the worker could not start".to_owned(), web_sys::ErrorEvent::message);
             inbox3.borrow_mut().push_back(format!("failed\n{what}"));
+            super::wake();
         });
         worker.set_onmessage(Some(on_message.as_ref().unchecked_ref()));
         worker.set_onerror(Some(on_error.as_ref().unchecked_ref()));
-        Ok(Running { worker, inbox, sent: false, _on_message: on_message, _on_error: on_error })
+        Ok(Running { worker, inbox, sent: false, skip: 0, _on_message: on_message, _on_error: on_error })
     }
 
     impl<K: JobKind> Inner<K> {
-        pub fn start(request: K::Request) -> Self {
+        pub fn start(request: K::Request, keep_worker: bool) -> Self {
             let running = match spawn() {
                 Ok(r) => Some(r),
                 Err(e) => {
@@ -358,7 +426,13 @@ mod imp {
                     None
                 }
             };
-            Self { request: K::encode_request(&request), running, ran_here: false, _kind: std::marker::PhantomData }
+            Self {
+                request: K::encode_request(&request),
+                running,
+                ran_here: false,
+                keep_worker,
+                _kind: std::marker::PhantomData,
+            }
         }
 
         /// Runs the job on the page (the worker failed or is missing).
@@ -381,9 +455,24 @@ mod imp {
             let Some(r) = self.running.as_mut() else {
                 return self.here("no worker", partials);
             };
+            if !r.sent && r.skip > 0 {
+                // A worker finishing dropped jobs: the request queues behind them.
+                r.sent = true;
+                let text = format!("{}\n{}", K::NAME, self.request);
+                if let Err(e) = r.worker.post_message(&JsValue::from_str(&text)) {
+                    return self.here(&format!("{e:?}"), partials);
+                }
+            }
             loop {
                 let msg = r.inbox.borrow_mut().pop_front()?;
                 let (tag, body) = msg.split_once('\n').unwrap_or((msg.as_str(), ""));
+                if r.skip > 0 && tag != "failed" {
+                    // A dropped job's message; its answer ends it.
+                    if matches!(tag, "ok" | "err") {
+                        r.skip -= 1;
+                    }
+                    continue;
+                }
                 match tag {
                     "ready" if !r.sent => {
                         r.sent = true;
@@ -421,7 +510,14 @@ mod imp {
 
     impl<K: JobKind> Drop for Inner<K> {
         fn drop(&mut self) {
-            if let Some(r) = self.running.take() {
+            let Some(mut r) = self.running.take() else { return };
+            if self.keep_worker && r.sent {
+                // Let it finish: its answer is skipped by the next job on this worker.
+                r.skip += 1;
+                if let Some(older) = DRAINING.with(|d| d.borrow_mut().replace(r)) {
+                    older.stop();
+                }
+            } else {
                 r.stop();
             }
         }

@@ -57,12 +57,20 @@ pub const PITCH_RANGE_MM: (f64, f64) = (0.02, 0.5);
 /// NURBS tab's and the `steps` command's default).
 pub const PROGRAM_TOL_MM: f64 = 0.01;
 /// Most bytes of keyframes (5 bytes a ray: an `f32` height and a machined flag) one run
-/// hands back: 12 keyframes of a 512 × 512 grid, or 48 of the automatic 256 × 256. (At
+/// hands back: 6 keyframes of a 512 × 512 grid, or 25 of the automatic 256 × 256. Each
+/// is a scan of the stock and 1.75 MB of text at 512 × 512 to write, post and decode;
+/// since replays start from a kept stock ([`Session`]) the slider needs fewer of them. (At
 /// 40 MiB a 512 × 512 run sent 32 keyframes, 56 MB of text, on a loaded 2-core machine the
-/// browser's run took 6.5–8.7 s against 2.0 s natively.)
-pub const KEYFRAME_BYTES: usize = 16 << 20;
+/// browser's run took 6.5–8.7 s against 2.0 s natively; 16 MiB: 12.)
+pub const KEYFRAME_BYTES: usize = 8 << 20;
 /// Most keyframes a request may ask for.
 pub const MAX_KEYFRAMES: usize = 256;
+/// Most bytes of stocks a [`Session`] keeps for replays (the stocks themselves, as
+/// [`DexelStock::memory_bytes`] counts them): 8 of a 512 × 512 grid (6 MiB each), 2 of a
+/// 1024 × 1024 one.
+pub const KEPT_STOCK_BYTES: usize = 64 << 20;
+/// Most stocks a [`Session`] keeps (evenly spaced over the program).
+pub const MAX_KEPT_STOCKS: usize = 8;
 /// Smallest change of the fraction done worth a progress report.
 const PROGRESS_STEP: f64 = 0.005;
 /// Shares of the fraction done: the program is made in the first, the moves cut in the
@@ -160,6 +168,11 @@ pub struct Request {
     pub target: Option<usize>,
     /// Most keyframes to hand back (0: none).
     pub keyframes: usize,
+    /// Whether the run may start from a stock an earlier run of the same program kept
+    /// ([`Session`]; a replay of the move slider) instead of the block. Every run keeps
+    /// stocks for later ones; a program's first run starts from the block so it sends all
+    /// its keyframes.
+    pub resume: bool,
 }
 
 /// The program made, with the stock it is cut into (the first partial output).
@@ -219,8 +232,10 @@ pub enum Partial {
 /// The run's result at its target move.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Finished {
-    /// Counts of the run.
+    /// Counts of the run (from move 0, also when it started from a kept stock).
     pub counters: Counters,
+    /// The move of the kept stock the run started from ([`Session`]; 0: the whole block).
+    pub resumed_from: usize,
     /// The stock's height map.
     pub map: HeightMap,
     /// Its measures against the design.
@@ -408,6 +423,194 @@ fn keyframe(sim: &Simulation) -> Keyframe {
     }
 }
 
+/// What makes two runs machine the same stock: the program's moves (their kinds, rapid
+/// flags and every number by its bits), the stock block, the pitch, the cutter and the
+/// sampling step asked for. Two runs with equal keys leave bit-identical stocks after every
+/// move, so one may start from the other's kept stock.
+#[derive(Clone, Debug, PartialEq, Eq)]
+struct SessionKey(Vec<u64>);
+
+impl SessionKey {
+    fn of(program: &Program, stock_mm: &[f64; 6], pitch_mm: f64, cutter: &Cutter, sample_step: Option<f64>) -> Self {
+        let mut key = Vec::with_capacity(program.moves.len() * 26 + 16);
+        for m in &program.moves {
+            key.push(u64::from(matches!(m.kind, MoveKind::Joints { .. })) | (u64::from(m.rapid) << 1));
+            key.extend(move_numbers(m).into_iter().map(f64::to_bits));
+        }
+        key.push(program.moves.len() as u64);
+        key.extend(stock_mm.iter().map(|x| x.to_bits()));
+        key.push(pitch_mm.to_bits());
+        key.extend(cutter_numbers(cutter).map(f64::to_bits));
+        key.push(sample_step.map_or(u64::MAX, f64::to_bits));
+        Self(key)
+    }
+}
+
+/// Stocks of one program kept between runs, so a replay to move k (the move slider) starts
+/// from the nearest kept stock at or before k instead of the block: the simulation state
+/// ([`Simulation`]: stock, counters, last pose) after every `every` moves, cloned as a run
+/// passes them, at most [`MAX_KEPT_STOCKS`] and [`KEPT_STOCK_BYTES`] in all. A run of
+/// another program (another key) replaces the session. In a browser the session lives in the
+/// Web Worker, which the page keeps between jobs (`app::jobs`); natively in the process.
+#[derive(Debug, Default)]
+pub struct Session {
+    key: Option<SessionKey>,
+    /// Bumped with every new key: a run offers its stocks only to the session it started
+    /// (another program's run may have replaced it meanwhile, natively on another thread).
+    generation: u64,
+    every: usize,
+    /// Kept states, in move order.
+    kept: Vec<Simulation>,
+    bytes: usize,
+}
+
+/// The process's (the worker's) session.
+static SESSION: std::sync::Mutex<Option<Session>> = std::sync::Mutex::new(None);
+
+impl Session {
+    /// Moves between kept stocks for a program of `moves` moves on a stock of `bytes` bytes:
+    /// as many stocks as the budget holds, at most [`MAX_KEPT_STOCKS`], spread evenly
+    /// (0: none fit).
+    #[must_use]
+    pub fn spacing(moves: usize, bytes: usize) -> usize {
+        let slots = (KEPT_STOCK_BYTES / bytes.max(1)).min(MAX_KEPT_STOCKS);
+        if slots == 0 || moves < 2 { 0 } else { moves.div_ceil(slots + 1).max(1) }
+    }
+
+    /// Moves of the stocks kept, in order.
+    #[must_use]
+    pub fn kept_moves(&self) -> Vec<usize> {
+        self.kept.iter().map(|s| s.counters().moves).collect()
+    }
+
+    /// Bytes of the stocks kept.
+    #[must_use]
+    pub fn kept_bytes(&self) -> usize {
+        self.bytes
+    }
+
+    /// The session's generation and the state to start a run of `key` to move `target`
+    /// from: a copy of the kept state nearest at or before `target`, if any. A different key
+    /// starts a new session for it (`moves` moves, `bytes` bytes a stock).
+    fn start(&mut self, key: SessionKey, target: usize, moves: usize, bytes: usize) -> (u64, Option<Simulation>) {
+        if self.key.as_ref() != Some(&key) {
+            let generation = self.generation.wrapping_add(1);
+            *self = Self { key: Some(key), generation, every: Self::spacing(moves, bytes), kept: Vec::new(), bytes: 0 };
+            return (generation, None);
+        }
+        (self.generation, self.kept.iter().rev().find(|s| s.counters().moves <= target).cloned())
+    }
+
+    /// Keeps a copy of `sim` (a state of the run that started generation `generation`) if
+    /// its move is on the spacing, not kept yet and within budget.
+    fn offer(&mut self, generation: u64, sim: &Simulation) {
+        let k = sim.counters().moves;
+        if generation != self.generation || self.every == 0 || k == 0 || !k.is_multiple_of(self.every) {
+            return;
+        }
+        let bytes = sim.stock().memory_bytes();
+        let at = self.kept.partition_point(|s| s.counters().moves < k);
+        if self.kept.get(at).is_some_and(|s| s.counters().moves == k)
+            || self.kept.len() >= MAX_KEPT_STOCKS
+            || self.bytes + bytes > KEPT_STOCK_BYTES
+        {
+            return;
+        }
+        self.kept.insert(at, sim.clone());
+        self.bytes += bytes;
+    }
+}
+
+/// Runs `req` with `session` holding the kept stocks ([`SimulateRun::run`] uses the
+/// process's own; a test gives its own).
+///
+/// # Errors
+/// The run's message (a bad program, grid or design, or cancelled).
+pub fn run_in_session(
+    req: &Request,
+    progress: &mut dyn Progress,
+    session: &std::sync::Mutex<Option<Session>>,
+) -> Result<Finished, String> {
+    let mut rep = Reporter { progress, last: -1.0 };
+    rep.at(0.0);
+    let program = make_program(req, &mut rep)?;
+    rep.cancelled()?;
+    let (stock_mm, pitch) = stock_and_pitch(req, &program)?;
+    let nx = ((stock_mm[3] - stock_mm[0]) / pitch).ceil();
+    let ny = ((stock_mm[4] - stock_mm[1]) / pitch).ceil();
+    if !(nx * ny <= MAX_RAYS as f64) {
+        return Err(format!(
+            "a pitch of {pitch} mm on this stock gives {nx:.0} × {ny:.0} rays, more than the {MAX_RAYS} this view simulates; raise the pitch or shrink the stock"
+        ));
+    }
+    let stock =
+        DexelStock::block([stock_mm[0], stock_mm[1], stock_mm[2]], [stock_mm[3], stock_mm[4], stock_mm[5]], pitch)
+            .map_err(|e| e.to_string())?;
+    let mut sim = Simulation::new(stock, &req.cutter);
+    let sample_step =
+        req.max_sample_step_mm.filter(|&step| step < pitch && req.cutter.kind() != crate::geom::CutterKind::Ball);
+    if let Some(step) = sample_step {
+        sim = sim.with_sample_step(step);
+    }
+    let visits = sim.estimate_visits(&program);
+    if !(visits <= MAX_RAY_VISITS) {
+        return Err(SimError::TooMuchWork { visits, max: MAX_RAY_VISITS }.to_string());
+    }
+    let (design, design_name) = match &req.design {
+        DesignSpec::None => (Design::None, "none"),
+        DesignSpec::PlaneZ(z) => (Design::PlaneZ(*z), "plane"),
+        DesignSpec::Scene(text) => (Design::Surfaces(scene_of(text)?.1.surfaces.to_vec()), "scene surfaces"),
+        DesignSpec::Finish(text) => {
+            let job =
+                FinishScene::from_json(text).and_then(|f| f.job()).map_err(|e| format!("the finishing scene: {e}"))?;
+            (Design::Surface(job.surface), "finish surface")
+        }
+    };
+    let grid = *sim.stock().grid();
+    let target = req.target.unwrap_or(usize::MAX).min(program.moves.len());
+    let every = keyframe_every(target, grid.len(), req.keyframes);
+    let key = SessionKey::of(&program, &stock_mm, pitch, &req.cutter, sample_step);
+    let bytes = sim.stock().memory_bytes();
+    let (generation, kept) = session
+        .lock()
+        .ok()
+        .map_or((0, None), |mut s| s.get_or_insert_default().start(key, target, program.moves.len(), bytes));
+    if let Some(k) = kept.filter(|_| req.resume) {
+        sim = k;
+    }
+    let resumed_from = sim.counters().moves;
+    // The moves went with the request: the page has them, so they do not cross back.
+    let sent = if matches!(req.source, ProgramSource::Moves(_)) { Program::default() } else { program.clone() };
+    let prepared =
+        Prepared { program: sent, stock_mm, pitch_mm: pitch, grid, design_name, target, keyframe_every: every };
+    rep.progress.partial(encode_partial(&Partial::Prepared(Box::new(prepared))));
+    rep.at(PROGRAM_SHARE);
+    let todo = (target - resumed_from).max(1) as f64;
+    for (k, m) in program.moves[..target].iter().enumerate().skip(resumed_from) {
+        rep.cancelled()?;
+        sim.apply(m);
+        if let Ok(mut s) = session.lock()
+            && let Some(s) = s.as_mut()
+        {
+            s.offer(generation, &sim);
+        }
+        if every > 0 && (k + 1) % every == 0 && k + 1 < target {
+            rep.progress.partial(encode_partial(&Partial::Keyframe(keyframe(&sim))));
+        }
+        rep.at(PROGRAM_SHARE + RUN_SHARE * (k + 1 - resumed_from) as f64 / todo);
+    }
+    let map = HeightMap::of(sim.stock());
+    let mut scan = DeviationScan::new(&map, &design);
+    let ny = map.grid.ny.max(1);
+    while scan.rows_done() < map.grid.ny {
+        rep.cancelled()?;
+        scan.rows(&map, &design, ROWS_PER_CALL);
+        rep.at(PROGRAM_SHARE + RUN_SHARE + (1.0 - PROGRAM_SHARE - RUN_SHARE) * scan.rows_done() as f64 / ny as f64);
+    }
+    let stats = scan.finish(&map, sim.stock());
+    Ok(Finished { counters: *sim.counters(), resumed_from, map, stats })
+}
+
 impl JobKind for SimulateRun {
     const NAME: &'static str = "simulate-run";
     type Request = Request;
@@ -415,68 +618,7 @@ impl JobKind for SimulateRun {
     type Partial = Partial;
 
     fn run(req: &Request, progress: &mut dyn Progress) -> Self::Output {
-        let mut rep = Reporter { progress, last: -1.0 };
-        rep.at(0.0);
-        let program = make_program(req, &mut rep)?;
-        rep.cancelled()?;
-        let (stock_mm, pitch) = stock_and_pitch(req, &program)?;
-        let nx = ((stock_mm[3] - stock_mm[0]) / pitch).ceil();
-        let ny = ((stock_mm[4] - stock_mm[1]) / pitch).ceil();
-        if !(nx * ny <= MAX_RAYS as f64) {
-            return Err(format!(
-                "a pitch of {pitch} mm on this stock gives {nx:.0} × {ny:.0} rays, more than the {MAX_RAYS} this view simulates; raise the pitch or shrink the stock"
-            ));
-        }
-        let stock =
-            DexelStock::block([stock_mm[0], stock_mm[1], stock_mm[2]], [stock_mm[3], stock_mm[4], stock_mm[5]], pitch)
-                .map_err(|e| e.to_string())?;
-        let mut sim = Simulation::new(stock, &req.cutter);
-        if let Some(step) = req.max_sample_step_mm
-            && step < pitch
-            && req.cutter.kind() != crate::geom::CutterKind::Ball
-        {
-            sim = sim.with_sample_step(step);
-        }
-        let visits = sim.estimate_visits(&program);
-        if !(visits <= MAX_RAY_VISITS) {
-            return Err(SimError::TooMuchWork { visits, max: MAX_RAY_VISITS }.to_string());
-        }
-        let (design, design_name) = match &req.design {
-            DesignSpec::None => (Design::None, "none"),
-            DesignSpec::PlaneZ(z) => (Design::PlaneZ(*z), "plane"),
-            DesignSpec::Scene(text) => (Design::Surfaces(scene_of(text)?.1.surfaces.to_vec()), "scene surfaces"),
-            DesignSpec::Finish(text) => {
-                let job = FinishScene::from_json(text)
-                    .and_then(|f| f.job())
-                    .map_err(|e| format!("the finishing scene: {e}"))?;
-                (Design::Surface(job.surface), "finish surface")
-            }
-        };
-        let grid = *sim.stock().grid();
-        let target = req.target.unwrap_or(usize::MAX).min(program.moves.len());
-        let every = keyframe_every(target, grid.len(), req.keyframes);
-        let prepared =
-            Prepared { program, stock_mm, pitch_mm: pitch, grid, design_name, target, keyframe_every: every };
-        rep.progress.partial(encode_partial(&Partial::Prepared(Box::new(prepared.clone()))));
-        rep.at(PROGRAM_SHARE);
-        for (k, m) in prepared.program.moves[..target].iter().enumerate() {
-            rep.cancelled()?;
-            sim.apply(m);
-            if every > 0 && (k + 1) % every == 0 && k + 1 < target {
-                rep.progress.partial(encode_partial(&Partial::Keyframe(keyframe(&sim))));
-            }
-            rep.at(PROGRAM_SHARE + RUN_SHARE * (k + 1) as f64 / target as f64);
-        }
-        let map = HeightMap::of(sim.stock());
-        let mut scan = DeviationScan::new(&map, &design);
-        let ny = map.grid.ny.max(1);
-        while scan.rows_done() < map.grid.ny {
-            rep.cancelled()?;
-            scan.rows(&map, &design, ROWS_PER_CALL);
-            rep.at(PROGRAM_SHARE + RUN_SHARE + (1.0 - PROGRAM_SHARE - RUN_SHARE) * scan.rows_done() as f64 / ny as f64);
-        }
-        let stats = scan.finish(&map, sim.stock());
-        Ok(Finished { counters: *sim.counters(), map, stats })
+        run_in_session(req, progress, &SESSION)
     }
 
     fn encode_request(r: &Request) -> String {
@@ -510,6 +652,7 @@ impl JobKind for SimulateRun {
             },
             "target": r.target,
             "keyframes": r.keyframes,
+            "resume": r.resume,
         })
         .to_string()
     }
@@ -583,6 +726,7 @@ impl JobKind for SimulateRun {
             design,
             target,
             keyframes: r.usize("keyframes")?,
+            resume: r.value("resume")?.as_bool().ok_or(format!("{W}.resume: not true or false"))?,
         })
     }
 
@@ -596,6 +740,7 @@ impl JobKind for SimulateRun {
         let has: Vec<bool> = s.deviation_mm.iter().map(Option::is_some).collect();
         json!({
             "counters": counters_value(&f.counters),
+            "resumed_from": f.resumed_from,
             "map": {
                 "grid": grid_value(&f.map.grid),
                 "top_mm": f64s_packed(&f.map.top_mm),
@@ -662,7 +807,12 @@ impl JobKind for SimulateRun {
             worst_gouge,
             gouge_rays: s.usize("gouge_rays")?,
         };
-        Ok(Ok(Finished { counters: counters_of(r.value("counters")?)?, map, stats }))
+        Ok(Ok(Finished {
+            counters: counters_of(r.value("counters")?)?,
+            resumed_from: r.usize("resumed_from")?,
+            map,
+            stats,
+        }))
     }
 
     fn decode_partial(text: &str) -> Result<Partial, String> {
@@ -729,8 +879,9 @@ pub fn encode_partial(p: &Partial) -> String {
     .to_string()
 }
 
-fn cutter_value(c: &Cutter) -> Value {
-    super::nums([
+/// The cutter's seven dimensions (mm), in [`cutter_of`]'s order.
+fn cutter_numbers(c: &Cutter) -> [f64; 7] {
+    [
         c.radius_mm,
         c.corner_radius_mm,
         c.flute_length_mm,
@@ -738,7 +889,11 @@ fn cutter_value(c: &Cutter) -> Value {
         c.gauge_length_mm,
         c.holder_radius_mm,
         c.holder_length_mm,
-    ])
+    ]
+}
+
+fn cutter_value(c: &Cutter) -> Value {
+    super::nums(cutter_numbers(c))
 }
 
 fn cutter_of(c: &[f64]) -> Result<Cutter, String> {
@@ -880,30 +1035,36 @@ const LINE_NUMBERS: usize = 6;
 /// flag, low, high) and the two joint sets (xyz, two rotary).
 const JOINTS_NUMBERS: usize = 14 + 10;
 
-fn program_value(p: &Program) -> Value {
-    let mut data = Vec::new();
-    for m in &p.moves {
-        match m.kind {
-            MoveKind::Line { from, to } => data.extend([from.x, from.y, from.z, to.x, to.y, to.z]),
-            MoveKind::Joints { machine, from, to } => {
-                let kind = MachineKind::ALL.iter().position(|k| *k == machine.kind).unwrap_or(0);
-                data.push(kind as f64);
-                for v in machine.pivots_mm {
-                    data.extend([v.x, v.y, v.z]);
-                }
-                data.push(machine.tool_length_mm);
-                for l in machine.limits_rad {
-                    match l {
-                        Some([lo, hi]) => data.extend([1.0, lo, hi]),
-                        None => data.extend([0.0, 0.0, 0.0]),
-                    }
-                }
-                for j in [from, to] {
-                    data.extend([j.xyz_mm.x, j.xyz_mm.y, j.xyz_mm.z, j.rotary_rad[0], j.rotary_rad[1]]);
+/// Every number of a move, in the order [`program_of`] reads them: a line's two tips (6),
+/// a 5-axis move's machine (kind, pivots, tool length, limits: 14) and its two joint sets
+/// (10).
+fn move_numbers(m: &SimMove) -> Vec<f64> {
+    match m.kind {
+        MoveKind::Line { from, to } => vec![from.x, from.y, from.z, to.x, to.y, to.z],
+        MoveKind::Joints { machine, from, to } => {
+            let mut data = Vec::with_capacity(24);
+            let kind = MachineKind::ALL.iter().position(|k| *k == machine.kind).unwrap_or(0);
+            data.push(kind as f64);
+            for v in machine.pivots_mm {
+                data.extend([v.x, v.y, v.z]);
+            }
+            data.push(machine.tool_length_mm);
+            for l in machine.limits_rad {
+                match l {
+                    Some([lo, hi]) => data.extend([1.0, lo, hi]),
+                    None => data.extend([0.0, 0.0, 0.0]),
                 }
             }
+            for j in [from, to] {
+                data.extend([j.xyz_mm.x, j.xyz_mm.y, j.xyz_mm.z, j.rotary_rad[0], j.rotary_rad[1]]);
+            }
+            data
         }
     }
+}
+
+fn program_value(p: &Program) -> Value {
+    let data: Vec<f64> = p.moves.iter().flat_map(move_numbers).collect();
     json!({
         "count": p.moves.len(),
         "joints": bits_packed(&p.moves.iter().map(|m| matches!(m.kind, MoveKind::Joints { .. })).collect::<Vec<_>>()),

@@ -590,9 +590,11 @@ impl Panel for SimulatePanel {
         if let Some(job) = &mut self.job {
             job.set_target(self.target);
             if job.computing() {
-                // The run is elsewhere: take what arrived, and look again soon.
+                // The run is elsewhere: take what arrived, and look again for the progress
+                // bar a few times a second (what the run hands back wakes the page at once).
+                super::jobs::set_waker(ui.ctx());
                 job.advance();
-                ui.ctx().request_repaint_after(super::jobs::POLL);
+                ui.ctx().request_repaint_after(job.next_look());
             }
         }
         self.playback(ui);
@@ -652,6 +654,7 @@ impl Panel for SimulatePanel {
                 "worst_um": um(d), "x_mm": nm(p.x), "y_mm": nm(p.y), "rays": r.stats.gouge_rays
             }))),
             "sim_ms": job.sim_ms,
+            "resumed_from_move": results.map(|r| r.resumed_from),
             "total_ms": job.total_ms,
             "slowest_frame_ms": job.slowest_call_ms,
             "pose_step_mm": job.pose_step_mm(),

@@ -25,6 +25,11 @@ const UNCUT: [f32; 4] = [0.62, 0.62, 0.6, 1.0];
 /// Most vertices a side of the drawn stock (a 512 × 512 grid is drawn every second ray:
 /// a software rasteriser draws a quarter of the triangles; the screen shows no more).
 pub const MAX_DRAWN_SIDE: usize = 256;
+/// Most vertices a side of a keyframe drawn while a run goes on (a quarter of the triangles
+/// of [`MAX_DRAWN_SIDE`]): a frame of the 256² mesh costs SwiftShader 0.27–0.37 s of CPU,
+/// taken from the worker machining on a 2-core machine; the exact stock, when it arrives,
+/// is drawn at the full side.
+pub const RUNNING_DRAWN_SIDE: usize = 128;
 
 /// Colour of a deviation `d_mm` for a band of `band_mm`: blue (≤ −band) → green (0) → red
 /// (≥ +band).
@@ -44,6 +49,8 @@ struct Built {
     band_um: f64,
     applied: usize,
     origin: [u64; 3],
+    /// Most vertices a side drawn.
+    side: usize,
 }
 
 /// The view's camera and upload state.
@@ -78,7 +85,9 @@ impl SimView {
         };
         let s = p.stock_mm;
         let origin = self.origin.0;
+        let side = if dev.is_none() && job.computing() { RUNNING_DRAWN_SIDE } else { MAX_DRAWN_SIDE };
         let key = Built {
+            side,
             map_generation: job.map_generation,
             band_um,
             applied: job.applied(),
@@ -99,7 +108,7 @@ impl SimView {
         // At most MAX_DRAWN_SIDE vertices a side: every `step`-th ray (and the last), each
         // coloured by the largest deviation (in size) of the rays it stands for, so a gouge
         // or crest narrower than the step still shows. The numbers are every ray's.
-        let step = g.nx.max(g.ny).div_ceil(MAX_DRAWN_SIDE).max(1);
+        let step = g.nx.max(g.ny).div_ceil(side).max(1);
         let picks = |n: usize| -> Vec<usize> {
             let mut v: Vec<usize> = (0..n).step_by(step).collect();
             if v.last().is_some_and(|&l| l + 1 < n) {

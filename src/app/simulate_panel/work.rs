@@ -214,6 +214,9 @@ pub struct Results {
     pub moves: usize,
     /// The run's counts.
     pub counters: Counters,
+    /// The move of the kept stock the run started from (0: the block; see
+    /// `jobs::simulate_run::Session`).
+    pub resumed_from: usize,
     /// A finishing program's scallops over its interior band (`simulate::interior`), when
     /// measured against its finish surface.
     pub interior: Option<InteriorStats>,
@@ -359,6 +362,7 @@ impl Job {
             design,
             target: None,
             keyframes: KEYFRAMES,
+            resume: false,
         })
     }
 
@@ -395,6 +399,7 @@ impl Job {
             design,
             target: None,
             keyframes: KEYFRAMES,
+            resume: false,
         })
     }
 
@@ -543,6 +548,7 @@ impl Job {
             stock_mm: Some(p.stock_mm),
             target: Some(k),
             keyframes: REPLAY_KEYFRAMES,
+            resume: true,
             ..req.clone()
         };
         self.fraction = 0.0;
@@ -550,6 +556,17 @@ impl Job {
         self.run = None;
         self.pending_replay = Some((replay, Instant::now()));
         self.run_target = Some(k);
+    }
+
+    /// When the panel should look at the run again if nothing else repaints: when a resting
+    /// slider's replay is due, else a few times a second for the progress bar (what the run
+    /// hands back wakes the page itself: `app::jobs::set_waker`).
+    #[must_use]
+    pub fn next_look(&self) -> Duration {
+        match &self.pending_replay {
+            Some((_, at)) => REPLAY_SETTLE.saturating_sub(at.elapsed()).max(crate::app::jobs::POLL),
+            None => crate::app::jobs::PROGRESS_POLL,
+        }
     }
 
     /// Stops the run where it is (the view keeps the stock shown).
@@ -567,7 +584,7 @@ impl Job {
         if self.pending_replay.as_ref().is_some_and(|(_, at)| at.elapsed() >= REPLAY_SETTLE)
             && let Some((replay, _)) = self.pending_replay.take()
         {
-            self.run = Some(BackgroundJob::start(replay));
+            self.run = Some(BackgroundJob::start_keeping_worker(replay));
         }
         let t0 = Instant::now();
         let Some(run) = &mut self.run else { return };
@@ -626,6 +643,7 @@ impl Job {
                     interior,
                     moves: f.counters.moves,
                     counters: f.counters,
+                    resumed_from: f.resumed_from,
                     map: f.map,
                     stats: f.stats,
                 });

@@ -37,6 +37,7 @@ fn grooves(target: Option<usize>, keyframes: usize) -> Request {
         design: DesignSpec::PlaneZ(-1.0),
         target,
         keyframes,
+        resume: false,
     }
 }
 
@@ -152,6 +153,7 @@ fn requests_cross_unchanged() {
             design: DesignSpec::Scene(scene.clone()),
             target: None,
             keyframes: 40,
+            resume: false,
         },
         Request { source: ProgramSource::Steps { scene: scene.clone() }, ..grooves(None, 1) },
         Request {
@@ -192,6 +194,7 @@ fn a_benchmark_run_machines_the_core_benchmark_program() {
         design: DesignSpec::None,
         target: None,
         keyframes: 0,
+        resume: false,
     };
     let mut c = Collect::default();
     let out = SimulateRun::run(&req, &mut c).unwrap();
@@ -264,6 +267,7 @@ fn a_finishing_scene_is_measured_against_its_machined_surface() {
         design: DesignSpec::Finish(text.to_owned()),
         target: None,
         keyframes: 0,
+        resume: false,
     };
     let req = SimulateRun::decode_request(&SimulateRun::encode_request(&req)).unwrap();
     let mut c = Collect::default();
@@ -292,6 +296,7 @@ fn the_largest_pose_step_reaches_the_simulation() {
         design: DesignSpec::None,
         target: None,
         keyframes: 0,
+        resume: false,
     };
     let fillet = Cutter::fillet(3.0, 0.5).unwrap();
     let samples = |r: &Request| SimulateRun::run(r, &mut NoProgress).unwrap().counters.samples;
@@ -340,6 +345,7 @@ fn a_finishing_program_is_planned_in_the_job_as_on_the_page() {
         design: DesignSpec::Finish(text),
         target: Some(3),
         keyframes: 0,
+        resume: false,
     };
     let crossed = SimulateRun::decode_request(&SimulateRun::encode_request(&req)).unwrap();
     // The nodes cross without the gouge checks' record (planning does not read it).
@@ -367,4 +373,98 @@ fn a_finishing_program_is_planned_in_the_job_as_on_the_page() {
     };
     let e = SimulateRun::run(&bad, &mut NoProgress).unwrap_err();
     assert!(e.contains("step tolerance"), "{e}");
+}
+
+/// The stock intervals of two simulations, every ray, by their bits.
+fn same_stock(a: &Simulation, b: &Simulation) -> bool {
+    let bits = |s: &Simulation, i: usize| -> Vec<(u64, u64)> {
+        s.stock().intervals(i).iter().map(|v| (v.lo_mm.to_bits(), v.hi_mm.to_bits())).collect()
+    };
+    a.stock().grid() == b.stock().grid()
+        && a.counters() == b.counters()
+        && (0..a.stock().grid().len()).all(|i| bits(a, i) == bits(b, i))
+}
+
+/// A worker keeps the stock for replays: the first run of the 5-axis benchmark program keeps
+/// full stocks at evenly spaced moves (each bit for bit the core's stock at its move); a
+/// replay to move k starts from the nearest kept at or before k and gives, bit for bit, what
+/// a fresh run to k gives; a run that may not resume, or of another program, starts from
+/// the block (and another program replaces the kept stocks).
+#[test]
+fn a_replay_starts_from_the_nearest_kept_stock_and_equals_a_fresh_run() {
+    use crate::simulate::bench::{self, BenchKind};
+    let first = Request {
+        source: ProgramSource::Benchmark { kind: BenchKind::FiveAxis, moves: 300 },
+        cutter: Cutter::ball(bench::BALL_MM).unwrap(),
+        pitch_mm: Some(0.4),
+        stock_mm: Some(BenchKind::stock_mm()),
+        margin_mm: 0.0,
+        max_sample_step_mm: None,
+        design: DesignSpec::PlaneZ(15.0),
+        target: None,
+        keyframes: 5,
+        resume: false,
+    };
+    let session = std::sync::Mutex::new(None);
+    let mut c = Collect::default();
+    let whole = run_in_session(&first, &mut c, &session).unwrap();
+    let (p, keys) = decode_all(&c);
+    assert_eq!((whole.resumed_from, keys.len()), (0, 4), "a first run starts from the block, sends its keyframes");
+    let block_bytes = direct(&p, &first.cutter, 0).stock().memory_bytes();
+    let every = Session::spacing(300, block_bytes);
+    assert_eq!(every, 300usize.div_ceil(MAX_KEPT_STOCKS + 1), "128 × 128 rays: 8 stocks fit the budget");
+    {
+        let s = session.lock().unwrap();
+        let s = s.as_ref().unwrap();
+        let want: Vec<usize> = (1..=MAX_KEPT_STOCKS).map(|i| i * every).filter(|&k| k <= 300).collect();
+        assert_eq!(s.kept_moves(), want);
+        assert!(s.kept_bytes() <= KEPT_STOCK_BYTES);
+        for kept in &s.kept {
+            let fresh = direct(&p, &first.cutter, kept.counters().moves);
+            assert!(same_stock(kept, &fresh), "kept stock at move {}", kept.counters().moves);
+        }
+    }
+    let replay_to = |k: usize, resume: bool| Request {
+        source: ProgramSource::Moves(p.program.clone()),
+        target: Some(k),
+        keyframes: 2,
+        resume,
+        ..first.clone()
+    };
+    for k in [0, every - 1, every, every + 7, 5 * every + 1, 299, 300] {
+        let req = SimulateRun::decode_request(&SimulateRun::encode_request(&replay_to(k, true))).unwrap();
+        let mut c = Collect::default();
+        let fast = run_in_session(&req, &mut c, &session).unwrap();
+        assert_eq!(fast.resumed_from, k / every * every, "move {k}");
+        let fresh = run_in_session(&replay_to(k, false), &mut NoProgress, &std::sync::Mutex::new(None)).unwrap();
+        assert_eq!(fresh.resumed_from, 0);
+        assert_eq!(Finished { resumed_from: 0, ..fast.clone() }, fresh, "move {k}");
+        assert!(fast.map.top_mm.iter().zip(&fresh.map.top_mm).all(|(a, b)| a.to_bits() == b.to_bits()));
+        assert_eq!(fast.counters.removed_mm3.to_bits(), fresh.counters.removed_mm3.to_bits());
+        assert_eq!(fast.map, HeightMap::of(direct(&p, &first.cutter, k).stock()));
+        // Progress still rises to 1; the moves the page has do not cross back.
+        assert_eq!(c.fractions.last(), Some(&1.0));
+        let (prepared, _) = decode_all(&c);
+        assert!(prepared.program.moves.is_empty() && prepared.target == k);
+    }
+    // Not allowed to resume: from the block, same stock.
+    let slow = run_in_session(&replay_to(250, false), &mut NoProgress, &session).unwrap();
+    assert_eq!(slow.resumed_from, 0);
+    // Another program (another pitch) replaces the kept stocks, and its own first replay
+    // starts from the block.
+    let other = Request { pitch_mm: Some(0.8), ..replay_to(250, true) };
+    assert_eq!(run_in_session(&other, &mut NoProgress, &session).unwrap().resumed_from, 0);
+    assert!(session.lock().unwrap().as_ref().unwrap().kept_moves().iter().all(|&k| k <= 250));
+    assert_eq!(run_in_session(&replay_to(250, true), &mut NoProgress, &session).unwrap().resumed_from, 0);
+}
+
+/// The kept stocks stay within their budget: none of a grid too large for it, fewer when a
+/// stock is large.
+#[test]
+fn kept_stocks_are_bounded_by_count_and_bytes() {
+    assert_eq!(Session::spacing(10_000, 24 * 512 * 512), 10_000usize.div_ceil(MAX_KEPT_STOCKS + 1));
+    assert_eq!(Session::spacing(10_000, 24 * 1024 * 1024), 10_000usize.div_ceil(3));
+    assert_eq!(Session::spacing(10_000, KEPT_STOCK_BYTES + 1), 0);
+    assert_eq!(Session::spacing(1, 100), 0);
+    assert_eq!(Session::spacing(0, 100), 0);
 }
