@@ -540,7 +540,9 @@ pub fn run_in_session(
     let ny = ((stock_mm[4] - stock_mm[1]) / pitch).ceil();
     if !(nx * ny <= MAX_RAYS as f64) {
         return Err(format!(
-            "a pitch of {pitch} mm on this stock gives {nx:.0} × {ny:.0} rays, more than the {MAX_RAYS} this view simulates; raise the pitch or shrink the stock"
+            "a pitch of {pitch} mm on this stock gives {} × {} rays, more than the {MAX_RAYS} this view simulates; raise the pitch or shrink the stock",
+            crate::simulate::ray_count(nx),
+            crate::simulate::ray_count(ny)
         ));
     }
     let stock =

@@ -88,7 +88,7 @@ pub const MAX_RAY_VISITS: f64 = 4e9;
 
 /// A count of rays as a message prints it: whole below a billion, else to three digits
 /// with an exponent (a mistyped pitch gives 10²² rays, not 23 digits).
-fn ray_count(rays: f64) -> String {
+pub(crate) fn ray_count(rays: f64) -> String {
     if rays < 1e9 { format!("{rays:.0}") } else { format!("{rays:.2e}") }
 }
 
