@@ -33,6 +33,8 @@ pub fn start() {
     // rasteriser (SwiftShader) it is a sizeable part of every pixel's shading.
     let web_options = eframe::WebOptions { dithering: false, ..eframe::WebOptions::default() };
     let query = web_sys::window().and_then(|w| w.location().search().ok()).unwrap_or_default();
+    // Measuring only (`e2e/frame-profile.mjs`): parts of the frame left out, see `app::ablate`.
+    super::ablate::set(super::ablate::parse(&query));
     wasm_bindgen_futures::spawn_local(async move {
         let Some(doc) = web_sys::window().and_then(|w| w.document()) else {
             return;

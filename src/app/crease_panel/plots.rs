@@ -234,6 +234,7 @@ pub fn plots(
             let cursor_t = cursor_k.floor() * period;
             state.cache.update(compute, scene, state.log);
             match state.tab {
+                _ if crate::app::ablate::hidden(crate::app::ablate::Part::Plot) => {}
                 PlotTab::Errors => errors_plot(ui, state.log, &state.cache, scene, cursor_t),
                 PlotTab::Steps => steps_plot(ui, &state.cache, scene, cursor_t),
             }

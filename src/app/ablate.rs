@@ -1,0 +1,169 @@
+//! Frame ablation for measuring where a frame's drawing time goes (`e2e/frame-profile.mjs`):
+//! the page address's `hide=` list leaves parts of every frame out, one at a time, so the
+//! frame time with and without each part can be compared on the same build. Web only: the
+//! browser entry point (`app::web`) reads the address once at start; natively nothing is ever
+//! hidden. Not a user feature: a page with a part hidden is incomplete on purpose.
+//!
+//! `?hide=NAME[,NAME…]`, names (unknown ones are ignored):
+//! - structural (the part is not laid out): `side` (the side panel), `top` (the top bar),
+//!   `tabs` (the row of tab buttons), `bottom` (the crease tab's plots panel: playback bar,
+//!   summary and plot), `plot` (only the plot widgets of every tab);
+//! - by kind of shape, removed after the frame was laid out (the layout is unchanged):
+//!   `view3d` (the 3D views' paint callbacks: their composite pass), `text` (all text),
+//!   `rects` (filled or outlined rectangles: buttons, frames, plot backgrounds, slider
+//!   rails), `lines` (paths and line segments: plot lines, grids, separators, the axis triad),
+//!   `meshes` (egui meshes: the slider handles' circles are not meshes, glyphs are not either);
+//! - inside the 3D views' scene pass (`render::gpu`): `scene3d` (no scene pass once a view
+//!   holds an image: it shows a stale image, but its composite still runs), `surfaces`
+//!   (the shaded surfaces), `offsets` (the translucent offset surfaces), `lines3d` (every line
+//!   layer), `spheres` (markers and cutters).
+
+use std::sync::atomic::{AtomicU32, Ordering};
+
+use eframe::egui;
+
+/// A part of the frame that can be left out.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u32)]
+pub enum Part {
+    /// The side panel (the tab's controls).
+    Side = 1,
+    /// The top bar (scene, presets, help).
+    Top = 1 << 1,
+    /// The row of tab buttons over the view.
+    Tabs = 1 << 2,
+    /// The crease tab's bottom panel (playback bar, summary, plot).
+    Bottom = 1 << 3,
+    /// Every tab's plot widgets (egui_plot).
+    Plot = 1 << 4,
+    /// The 3D views' paint callbacks.
+    View3d = 1 << 5,
+    /// All text shapes.
+    Text = 1 << 6,
+    /// All rectangle shapes.
+    Rects = 1 << 7,
+    /// All paths and line segments.
+    Lines = 1 << 8,
+    /// All mesh shapes.
+    Meshes = 1 << 9,
+    /// The 3D views' scene pass once they hold an image.
+    Scene3d = 1 << 10,
+    /// The 3D views' shaded surfaces.
+    Surfaces = 1 << 11,
+    /// The 3D views' translucent offset surfaces.
+    Offsets = 1 << 12,
+    /// The 3D views' line layers.
+    Lines3d = 1 << 13,
+    /// The 3D views' spheres (markers, cutters).
+    Spheres = 1 << 14,
+}
+
+/// The names in the address, in [`Part`]'s order.
+const NAMES: [(&str, Part); 15] = [
+    ("side", Part::Side),
+    ("top", Part::Top),
+    ("tabs", Part::Tabs),
+    ("bottom", Part::Bottom),
+    ("plot", Part::Plot),
+    ("view3d", Part::View3d),
+    ("text", Part::Text),
+    ("rects", Part::Rects),
+    ("lines", Part::Lines),
+    ("meshes", Part::Meshes),
+    ("scene3d", Part::Scene3d),
+    ("surfaces", Part::Surfaces),
+    ("offsets", Part::Offsets),
+    ("lines3d", Part::Lines3d),
+    ("spheres", Part::Spheres),
+];
+
+static HIDDEN: AtomicU32 = AtomicU32::new(0);
+
+/// The parts a query string (`?a=b&hide=side,plot`) hides, as a bit set.
+#[must_use]
+pub fn parse(query: &str) -> u32 {
+    let q = query.strip_prefix('?').unwrap_or(query);
+    q.split('&')
+        .filter_map(|kv| kv.strip_prefix("hide="))
+        .flat_map(|list| list.split([',', '+', ' ']))
+        .filter_map(|name| NAMES.iter().find(|(n, _)| *n == name).map(|(_, p)| *p as u32))
+        .fold(0, |acc, bit| acc | bit)
+}
+
+/// Sets the hidden parts for the rest of the session (the browser entry point, once),
+/// including the 3D views' layers (`render::gpu::set_skipped_layers`).
+pub fn set(bits: u32) {
+    use crate::render::gpu::{Layer, SKIP_SCENE_PASS, set_skipped_layers};
+    HIDDEN.store(bits, Ordering::Relaxed);
+    let has = |p: Part| bits & p as u32 != 0;
+    let layer = |l: Layer| 1u32 << l as u32;
+    let mut layers = 0;
+    if has(Part::Scene3d) {
+        layers |= SKIP_SCENE_PASS;
+    }
+    if has(Part::Surfaces) {
+        layers |= layer(Layer::Surfaces);
+    }
+    if has(Part::Offsets) {
+        layers |= layer(Layer::Offsets);
+    }
+    if has(Part::Lines3d) {
+        layers |=
+            layer(Layer::StaticLines) | layer(Layer::PathLines) | layer(Layer::ExactLines) | layer(Layer::DynamicLines);
+    }
+    if has(Part::Spheres) {
+        layers |= layer(Layer::Markers) | layer(Layer::Cutters);
+    }
+    set_skipped_layers(layers);
+}
+
+/// Whether `part` is left out of every frame.
+#[must_use]
+pub fn hidden(part: Part) -> bool {
+    HIDDEN.load(Ordering::Relaxed) & part as u32 != 0
+}
+
+/// Removes the hidden kinds of shape from everything painted so far this frame (called at the
+/// end of the app's frame). Does nothing when no kind of shape is hidden.
+pub fn strip_shapes(ctx: &egui::Context) {
+    let kinds = Part::View3d as u32 | Part::Text as u32 | Part::Rects as u32 | Part::Lines as u32 | Part::Meshes as u32;
+    let bits = HIDDEN.load(Ordering::Relaxed);
+    if bits & kinds == 0 {
+        return;
+    }
+    let drop = move |shape: &egui::Shape| match shape {
+        egui::Shape::Callback(_) => bits & Part::View3d as u32 != 0,
+        egui::Shape::Text(_) => bits & Part::Text as u32 != 0,
+        egui::Shape::Rect(_) => bits & Part::Rects as u32 != 0,
+        egui::Shape::Path(_) | egui::Shape::LineSegment { .. } => bits & Part::Lines as u32 != 0,
+        egui::Shape::Mesh(_) => bits & Part::Meshes as u32 != 0,
+        _ => false,
+    };
+    let layers: Vec<egui::LayerId> = ctx.memory(|m| m.layer_ids().collect());
+    ctx.graphics_mut(|g| {
+        for id in layers {
+            let Some(list) = g.get_mut(id) else { continue };
+            for i in 0..list.next_idx().0 {
+                list.mutate_shape(egui::layers::ShapeIdx(i), |cs| {
+                    if drop(&cs.shape) {
+                        cs.shape = egui::Shape::Noop;
+                    }
+                });
+            }
+        }
+    });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Part, parse};
+
+    #[test]
+    fn the_address_names_the_parts_to_hide() {
+        assert_eq!(parse("?hide=side,plot"), Part::Side as u32 | Part::Plot as u32);
+        assert_eq!(parse("?x=1&hide=text&hide=view3d"), Part::Text as u32 | Part::View3d as u32);
+        assert_eq!(parse("?hide=nothing,side"), Part::Side as u32, "unknown names are ignored");
+        assert_eq!(parse("?probe=floor"), 0);
+        assert_eq!(parse(""), 0);
+    }
+}
