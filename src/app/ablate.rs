@@ -7,7 +7,8 @@
 //! `?hide=NAME[,NAME…]`, names (unknown ones are ignored):
 //! - structural (the part is not laid out): `side` (the side panel), `top` (the top bar),
 //!   `tabs` (the row of tab buttons), `bottom` (the crease tab's plots panel: playback bar,
-//!   summary and plot), `plot` (only the plot widgets of every tab);
+//!   summary and plot), `plot` (only the crease tab's plot widget), `plotdata` (the crease
+//!   plot's series: frame, grid and axes stay), `grid` (the crease plot's grid);
 //! - by kind of shape, removed after the frame was laid out (the layout is unchanged):
 //!   `view3d` (the 3D views' paint callbacks: their composite pass), `text` (all text),
 //!   `rects` (filled or outlined rectangles: buttons, frames, plot backgrounds, slider
@@ -16,7 +17,9 @@
 //! - inside the 3D views' scene pass (`render::gpu`): `scene3d` (no scene pass once a view
 //!   holds an image: it shows a stale image, but its composite still runs), `surfaces`
 //!   (the shaded surfaces), `offsets` (the translucent offset surfaces), `lines3d` (every line
-//!   layer), `spheres` (markers and cutters).
+//!   layer), `spheres` (markers and cutters);
+//! - in egui's look: `feathering` (no anti-aliasing fringe on shapes: fewer triangles, jagged
+//!   edges), `rounding` (square corners on every widget: fewer triangles).
 
 use std::sync::atomic::{AtomicU32, Ordering};
 
@@ -34,7 +37,7 @@ pub enum Part {
     Tabs = 1 << 2,
     /// The crease tab's bottom panel (playback bar, summary, plot).
     Bottom = 1 << 3,
-    /// Every tab's plot widgets (egui_plot).
+    /// The crease tab's plot widget (egui_plot).
     Plot = 1 << 4,
     /// The 3D views' paint callbacks.
     View3d = 1 << 5,
@@ -56,10 +59,18 @@ pub enum Part {
     Lines3d = 1 << 13,
     /// The 3D views' spheres (markers, cutters).
     Spheres = 1 << 14,
+    /// egui's feathering (anti-aliasing fringe of shapes).
+    Feathering = 1 << 15,
+    /// The widgets' rounded corners.
+    Rounding = 1 << 16,
+    /// The crease plot's series (lines).
+    PlotData = 1 << 17,
+    /// The crease plot's grid.
+    Grid = 1 << 18,
 }
 
 /// The names in the address, in [`Part`]'s order.
-const NAMES: [(&str, Part); 15] = [
+const NAMES: [(&str, Part); 19] = [
     ("side", Part::Side),
     ("top", Part::Top),
     ("tabs", Part::Tabs),
@@ -75,6 +86,10 @@ const NAMES: [(&str, Part); 15] = [
     ("offsets", Part::Offsets),
     ("lines3d", Part::Lines3d),
     ("spheres", Part::Spheres),
+    ("feathering", Part::Feathering),
+    ("rounding", Part::Rounding),
+    ("plotdata", Part::PlotData),
+    ("grid", Part::Grid),
 ];
 
 static HIDDEN: AtomicU32 = AtomicU32::new(0);
@@ -121,6 +136,24 @@ pub fn set(bits: u32) {
 #[must_use]
 pub fn hidden(part: Part) -> bool {
     HIDDEN.load(Ordering::Relaxed) & part as u32 != 0
+}
+
+/// Applies the hidden parts of egui's look (`feathering`, `rounding`) to `ctx` (once, after
+/// the app's own style).
+pub fn restyle(ctx: &egui::Context) {
+    if hidden(Part::Feathering) {
+        ctx.tessellation_options_mut(|o| o.feathering = false);
+    }
+    if hidden(Part::Rounding) {
+        ctx.style_mut_of(egui::Theme::Dark, |s| {
+            let w = &mut s.visuals.widgets;
+            for v in [&mut w.noninteractive, &mut w.inactive, &mut w.hovered, &mut w.active, &mut w.open] {
+                v.corner_radius = egui::CornerRadius::ZERO;
+            }
+            s.visuals.window_corner_radius = egui::CornerRadius::ZERO;
+            s.visuals.menu_corner_radius = egui::CornerRadius::ZERO;
+        });
+    }
 }
 
 /// Removes the hidden kinds of shape from everything painted so far this frame (called at the

@@ -483,6 +483,7 @@ fn style(ctx: &egui::Context) {
     ctx.set_theme(egui::Theme::Dark);
     ctx.style_mut_of(egui::Theme::Dark, |s| s.visuals.panel_fill = egui::Color32::TRANSPARENT);
     fonts::install(ctx);
+    ablate::restyle(ctx);
 }
 
 /// The tabs, in order.
