@@ -4,6 +4,7 @@
 //
 //   node e2e/frame-profile.mjs http://127.0.0.1:PORT/ [--trace] [--cpu] [--tabs crease,chords]
 //        [--variants "none;hide=plot;hide=view3d"] [--rounds 2] [--no-floor]
+//        [--floor "draws=200;shapes=200;fills=1"]
 //
 // Per tab: the gaps between animation frames and the app's own frame count while idle (does
 // the idle page redraw?), while the mouse moves over the view (each move redraws: the cost of
@@ -18,6 +19,9 @@
 // ablation switches `hide=…` (`src/app/ablate.rs`), or the address of another build
 // (`http://127.0.0.1:8822/`); --rounds: how many rounds (default 1).
 // Every row carries the load average before and after it (the machine is shared).
+// --floor: the app's empty frame again with extras drawn (`?probe=floor&fills=1`: one
+// translucent full-window rectangle; `draws=N`: N small rectangles each in a clip rectangle of
+// its own, i.e. N draw calls; `shapes=N`: the same in one clip rectangle), --rounds times.
 // Writes e2e/artifacts/frame-profile.json.
 import fs from "node:fs";
 import os from "node:os";
@@ -199,18 +203,25 @@ if (wantFloor) {
   report.floor.webgl2_clear = summary(await takeGaps(page));
   await page.close();
 }
-// The app's empty egui frame (if this build knows `?probe=floor`).
-if (wantFloor) {
-  const page = await context.newPage();
-  await page.goto(url + "?probe=floor");
-  await page.waitForTimeout(3000);
-  const s = await status(page);
-  if (s && s.probe === "floor") {
-    await takeGaps(page);
-    await page.waitForTimeout(2000);
-    report.floor.egui_empty = summary(await takeGaps(page));
+// The app's empty egui frame (if this build knows `?probe=floor`), and with the extras asked
+// for by --floor (`draws=N`, `shapes=N`, `fills=N`: see `FloorExtra` in src/app/web.rs).
+const floorExtras = args.includes("--floor") ? args[args.indexOf("--floor") + 1].split(";") : [];
+for (let round = 1; wantFloor && round <= (floorExtras.length ? rounds : 1); round++) {
+  for (const extra of ["", ...floorExtras]) {
+    const page = await context.newPage();
+    await page.goto(url + "?probe=floor" + (extra ? "&" + extra : ""));
+    await page.waitForTimeout(3000);
+    const s = await status(page);
+    if (s && s.probe === "floor") {
+      await takeGaps(page);
+      await page.waitForTimeout(2000);
+      const row = { ...summary(await takeGaps(page)), load: load1() };
+      if (!extra && round === 1) report.floor.egui_empty = row;
+      (report.floor.extras ??= []).push({ round, extra: extra || "none", ...row });
+      if (floorExtras.length) console.log(`floor [${extra || "none"}] round ${round}`, JSON.stringify(row));
+    }
+    await page.close();
   }
-  await page.close();
 }
 console.log("floor", JSON.stringify(report.floor));
 

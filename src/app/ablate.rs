@@ -19,7 +19,12 @@
 //!   (the shaded surfaces), `offsets` (the translucent offset surfaces), `lines3d` (every line
 //!   layer), `spheres` (markers and cutters);
 //! - in egui's look: `feathering` (no anti-aliasing fringe on shapes: fewer triangles, jagged
-//!   edges), `rounding` (square corners on every widget: fewer triangles).
+//!   edges), `rounding` (square corners on every widget: fewer triangles);
+//! - `area` hides nothing: it logs to the browser console (as a warning: release builds keep
+//!   only warnings), every 30 frames, the area (in
+//!   points², clipped, from each shape's bounding rectangle) the frame's shapes cover, by kind
+//!   of shape — an upper bound of the pixels egui's shader fills (text is counted by its
+//!   bounding box, not its glyphs).
 
 use std::sync::atomic::{AtomicU32, Ordering};
 
@@ -67,10 +72,12 @@ pub enum Part {
     PlotData = 1 << 17,
     /// The crease plot's grid.
     Grid = 1 << 18,
+    /// Log the covered area by kind of shape (hides nothing).
+    Area = 1 << 19,
 }
 
 /// The names in the address, in [`Part`]'s order.
-const NAMES: [(&str, Part); 19] = [
+const NAMES: [(&str, Part); 20] = [
     ("side", Part::Side),
     ("top", Part::Top),
     ("tabs", Part::Tabs),
@@ -90,6 +97,7 @@ const NAMES: [(&str, Part); 19] = [
     ("rounding", Part::Rounding),
     ("plotdata", Part::PlotData),
     ("grid", Part::Grid),
+    ("area", Part::Area),
 ];
 
 static HIDDEN: AtomicU32 = AtomicU32::new(0);
@@ -154,6 +162,46 @@ pub fn restyle(ctx: &egui::Context) {
             s.visuals.menu_corner_radius = egui::CornerRadius::ZERO;
         });
     }
+}
+
+/// How often [`log_area`] logs (app frames).
+const AREA_LOG_EVERY_FRAMES: u64 = 30;
+
+/// Logs the area the frame's shapes cover by kind (every [`AREA_LOG_EVERY_FRAMES`]th frame,
+/// when `area` is asked).
+pub fn log_area(ctx: &egui::Context, frame: u64) {
+    if !hidden(Part::Area) || !frame.is_multiple_of(AREA_LOG_EVERY_FRAMES) {
+        return;
+    }
+    let mut area = [0.0f64; 7];
+    let names = ["rect", "text", "path/segment", "mesh", "callback", "circle", "other"];
+    let mut count = [0usize; 7];
+    let layers: Vec<egui::LayerId> = ctx.memory(|m| m.layer_ids().collect());
+    ctx.graphics(|g| {
+        for id in layers {
+            let Some(list) = g.get(id) else { continue };
+            for cs in list.all_entries() {
+                let k = match &cs.shape {
+                    egui::Shape::Rect(_) => 0,
+                    egui::Shape::Text(_) => 1,
+                    egui::Shape::Path(_) | egui::Shape::LineSegment { .. } => 2,
+                    egui::Shape::Mesh(_) => 3,
+                    egui::Shape::Callback(_) => 4,
+                    egui::Shape::Circle(_) => 5,
+                    egui::Shape::Noop => continue,
+                    _ => 6,
+                };
+                let r = cs.shape.visual_bounding_rect().intersect(cs.clip_rect);
+                if r.is_positive() {
+                    area[k] += f64::from(r.area());
+                    count[k] += 1;
+                }
+            }
+        }
+    });
+    let text: Vec<String> =
+        (0..7).map(|k| format!("{}: {} shapes, {:.0} kpt²", names[k], count[k], area[k] / 1e3)).collect();
+    log::warn!("frame area by kind of shape: {}", text.join("; "));
 }
 
 /// Removes the hidden kinds of shape from everything painted so far this frame (called at the

@@ -635,6 +635,7 @@ impl eframe::App for InterpolabApp {
             ctx.request_repaint_after(Duration::from_millis(500));
         }
         ablate::strip_shapes(&ctx);
+        ablate::log_area(&ctx, self.frames);
     }
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
