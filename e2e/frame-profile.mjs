@@ -3,6 +3,8 @@
 // the GPU process). Not a test: it measures and reports, and asserts nothing.
 //
 //   node e2e/frame-profile.mjs http://127.0.0.1:PORT/ [--trace] [--cpu] [--tabs crease,chords]
+//        [--variants "none;hide=plot;hide=view3d"] [--rounds 2] [--no-floor]
+//        [--floor "draws=200;shapes=200;fills=1"]
 //
 // Per tab: the gaps between animation frames and the app's own frame count while idle (does
 // the idle page redraw?), while the mouse moves over the view (each move redraws: the cost of
@@ -12,6 +14,14 @@
 // --trace: a Chromium trace of the redraw and drag phases, summarised as busy time per thread
 // (the page's main thread runs the wasm, the GPU process runs SwiftShader); --cpu: the page's
 // main-thread CPU profile (self time per function, wasm names included).
+// --variants: A/B runs on the same build, interleaved: each round opens every tab once per
+// variant, a variant being a query added to the address (`none`: the page as it is), e.g. the
+// ablation switches `hide=…` (`src/app/ablate.rs`), or the address of another build
+// (`http://127.0.0.1:8822/`); --rounds: how many rounds (default 1).
+// Every row carries the load average before and after it (the machine is shared).
+// --floor: the app's empty frame again with extras drawn (`?probe=floor&fills=1`: one
+// translucent full-window rectangle; `draws=N`: N small rectangles each in a clip rectangle of
+// its own, i.e. N draw calls; `shapes=N`: the same in one clip rectangle), --rounds times.
 // Writes e2e/artifacts/frame-profile.json.
 import fs from "node:fs";
 import os from "node:os";
@@ -26,6 +36,11 @@ const wantTrace = args.includes("--trace");
 const wantCpu = args.includes("--cpu");
 const tabsArg = args[args.indexOf("--tabs") + 1];
 const onlyTabs = args.includes("--tabs") && tabsArg ? tabsArg.split(",") : null;
+const variantsArg = args.includes("--variants") ? args[args.indexOf("--variants") + 1] : "none";
+const variants = variantsArg.split(";").map((v) => v.trim()).filter((v) => v.length > 0);
+const rounds = args.includes("--rounds") ? Number(args[args.indexOf("--rounds") + 1]) : 1;
+const wantFloor = !args.includes("--no-floor");
+const load1 = () => Math.round(os.loadavg()[0] * 100) / 100;
 const artifacts = path.join(here, "artifacts");
 fs.mkdirSync(artifacts, { recursive: true });
 const examples = path.join(here, "..", "examples");
@@ -35,6 +50,9 @@ function base64url(text) {
 }
 
 const { browser, context } = await openBrowser();
+// Every page starts from the same state: the app keeps the last scene in local storage, and a
+// drag on one page would change the scene the next page opens with (and so what its drag does).
+await context.addInitScript(() => window.localStorage.clear());
 
 async function status(page) {
   const text = await page.locator("#app-status").textContent().catch(() => null);
@@ -57,7 +75,7 @@ function summary(gaps) {
   const s = [...gaps].sort((a, b) => a - b);
   const q = (f) => s[Math.min(s.length - 1, Math.floor(f * s.length))];
   const r = (x) => Math.round(x * 10) / 10;
-  return { frames: gaps.length, median_ms: r(q(0.5)), p90_ms: r(q(0.9)), longest_ms: r(s[s.length - 1]) };
+  return { frames: gaps.length, median_ms: r(q(0.5)), p90_ms: r(q(0.9)), p99_ms: r(q(0.99)), longest_ms: r(s[s.length - 1]) };
 }
 async function takeGaps(page) {
   return page.evaluate(() => window.__frameGaps.splice(0));
@@ -171,7 +189,7 @@ const TABS = [
 const report = { url, load_average: os.loadavg().map((x) => Math.round(x * 100) / 100), floor: {}, tabs: {} };
 
 // The floor of the browser: a 1400×900 WebGL2 canvas cleared every frame, nothing else.
-{
+if (wantFloor) {
   const page = await context.newPage();
   await page.setContent(`<canvas id="c" width="1400" height="900" style="position:absolute;inset:0"></canvas><script>
     const gl = document.getElementById("c").getContext("webgl2");
@@ -185,26 +203,35 @@ const report = { url, load_average: os.loadavg().map((x) => Math.round(x * 100) 
   report.floor.webgl2_clear = summary(await takeGaps(page));
   await page.close();
 }
-// The app's empty egui frame (if this build knows `?probe=floor`).
-{
-  const page = await context.newPage();
-  await page.goto(url + "?probe=floor");
-  await page.waitForTimeout(3000);
-  const s = await status(page);
-  if (s && s.probe === "floor") {
-    await takeGaps(page);
-    await page.waitForTimeout(2000);
-    report.floor.egui_empty = summary(await takeGaps(page));
+// The app's empty egui frame (if this build knows `?probe=floor`), and with the extras asked
+// for by --floor (`draws=N`, `shapes=N`, `fills=N`: see `FloorExtra` in src/app/web.rs).
+const floorExtras = args.includes("--floor") ? args[args.indexOf("--floor") + 1].split(";") : [];
+for (let round = 1; wantFloor && round <= (floorExtras.length ? rounds : 1); round++) {
+  for (const extra of ["", ...floorExtras]) {
+    const page = await context.newPage();
+    await page.goto(url + "?probe=floor" + (extra ? "&" + extra : ""));
+    await page.waitForTimeout(3000);
+    const s = await status(page);
+    if (s && s.probe === "floor") {
+      await takeGaps(page);
+      await page.waitForTimeout(2000);
+      const row = { ...summary(await takeGaps(page)), load: load1() };
+      if (!extra && round === 1) report.floor.egui_empty = row;
+      (report.floor.extras ??= []).push({ round, extra: extra || "none", ...row });
+      if (floorExtras.length) console.log(`floor [${extra || "none"}] round ${round}`, JSON.stringify(row));
+    }
+    await page.close();
   }
-  await page.close();
 }
 console.log("floor", JSON.stringify(report.floor));
 
-for (const tab of TABS) {
-  if (onlyTabs && !onlyTabs.includes(tab.id)) continue;
+async function profileTab(tab, variant) {
   const page = await context.newPage();
   const scene = tab.scene ? "#scene=" + base64url(fs.readFileSync(path.join(examples, tab.scene), "utf8")) : "";
-  await page.goto(url + scene);
+  // A variant is a query for this build, or another build's address (`http…`, A/B of builds).
+  const base = variant.startsWith("http") ? variant : url;
+  const query = variant === "none" || variant.startsWith("http") ? "" : "?" + variant;
+  await page.goto(base + query + scene);
   let s = await waitFor(page, "the first path", settled);
   if (tab.title) {
     const r = s.ui[tab.title];
@@ -240,11 +267,36 @@ for (const tab of TABS) {
     }
     return out;
   }));
-  report.tabs[tab.id] = row;
-  console.log(tab.id, JSON.stringify({ idle: row.idle, redraw: row.redraw, drag: row.drag }));
-  if (row.trace) console.log("   trace", JSON.stringify(row.trace));
-  if (row.cpu) console.log("   cpu", row.cpu.total_ms, "ms\n     " + row.cpu.top.slice(0, 20).join("\n     "));
   await page.close();
+  return row;
+}
+
+report.runs = [];
+for (let round = 1; round <= rounds; round++) {
+  for (const variant of variants) {
+    for (const tab of TABS) {
+      if (onlyTabs && !onlyTabs.includes(tab.id)) continue;
+      const loadBefore = load1();
+      const row = await profileTab(tab, variant);
+      row.load = [loadBefore, load1()];
+      report.runs.push({ round, variant, tab: tab.id, ...row });
+      if (rounds === 1 && variants.length === 1) report.tabs[tab.id] = row;
+      console.log(`${tab.id} [${variant}] round ${round} load ${row.load.join("–")}`,
+        JSON.stringify({ idle: row.idle, redraw: row.redraw, drag: row.drag }));
+      if (row.trace) console.log("   trace", JSON.stringify(row.trace));
+      if (row.cpu) console.log("   cpu", row.cpu.total_ms, "ms\n     " + row.cpu.top.slice(0, 20).join("\n     "));
+    }
+  }
+}
+// One line per variant and tab: each round's redraw and drag figures side by side.
+for (const variant of variants) {
+  for (const tab of TABS) {
+    const rs = report.runs.filter((r) => r.variant === variant && r.tab === tab.id);
+    if (rs.length === 0) continue;
+    console.log(`summary ${tab.id} [${variant}]: redraw median ${rs.map((r) => r.redraw?.median_ms).join("/")} ms,`
+      + ` drag median ${rs.map((r) => r.drag?.median_ms).join("/")} ms, drag p99 ${rs.map((r) => r.drag?.p99_ms).join("/")},`
+      + ` drag longest ${rs.map((r) => r.drag?.longest_ms).join("/")} ms, load ${rs.map((r) => r.load.join("–")).join(", ")}`);
+  }
 }
 report.load_average_after = os.loadavg().map((x) => Math.round(x * 100) / 100);
 fs.writeFileSync(path.join(artifacts, "frame-profile.json"), JSON.stringify(report, null, 2));

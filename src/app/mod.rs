@@ -8,6 +8,7 @@
 //! measured errors, estimates, exact crease points) → the 3D view uploads what changed to the
 //! GPU and the plots draw.
 
+pub mod ablate;
 pub mod budget;
 mod chords_panel;
 mod compute;
@@ -482,6 +483,7 @@ fn style(ctx: &egui::Context) {
     ctx.set_theme(egui::Theme::Dark);
     ctx.style_mut_of(egui::Theme::Dark, |s| s.visuals.panel_fill = egui::Color32::TRANSPARENT);
     fonts::install(ctx);
+    ablate::restyle(ctx);
 }
 
 /// The tabs, in order.
@@ -561,11 +563,13 @@ impl eframe::App for InterpolabApp {
         }
         self.playback.k = self.playback.k.clamp(0.0, n_periods.saturating_sub(1) as f64);
 
-        egui::Panel::top("top_bar").show(ui, |ui| {
-            ui.add_space(2.0);
-            self.top_bar(ui);
-            ui.add_space(2.0);
-        });
+        if !ablate::hidden(ablate::Part::Top) {
+            egui::Panel::top("top_bar").show(ui, |ui| {
+                ui.add_space(2.0);
+                self.top_bar(ui);
+                ui.add_space(2.0);
+            });
+        }
 
         // The tab's controls in the side panel, then its view in the central area; both see
         // the same context, and the scene's edits are applied after each.
@@ -573,19 +577,21 @@ impl eframe::App for InterpolabApp {
         let mut incoming: Vec<Incoming> = other_files.drain(..).filter(|f| Some(f.kind) == kind).collect();
         let mut messages = Vec::new();
         let mut handoff = None;
-        egui::Panel::left("controls")
-            .resizable(true)
-            .default_size(320.0)
-            .min_size(240.0)
-            .max_size(SIDE_PANEL_MAX_WIDTH)
-            .show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| {
-                    let (panel, mut cx) = self.context(Vec::new());
-                    panel.controls(ui, &mut cx);
-                    messages.append(&mut cx.messages);
-                    handoff = handoff.take().or(cx.handoff);
+        if !ablate::hidden(ablate::Part::Side) {
+            egui::Panel::left("controls")
+                .resizable(true)
+                .default_size(320.0)
+                .min_size(240.0)
+                .max_size(SIDE_PANEL_MAX_WIDTH)
+                .show(ui, |ui| {
+                    egui::ScrollArea::vertical().show(ui, |ui| {
+                        let (panel, mut cx) = self.context(Vec::new());
+                        panel.controls(ui, &mut cx);
+                        messages.append(&mut cx.messages);
+                        handoff = handoff.take().or(cx.handoff);
+                    });
                 });
-            });
+        }
         let asked = std::mem::take(&mut self.editor.asked);
         self.act_on(asked, &ctx);
 
@@ -594,13 +600,15 @@ impl eframe::App for InterpolabApp {
             if self.show_help {
                 help(ui);
             }
-            ui.horizontal(|ui| {
-                for (i, p) in self.panels.iter().enumerate() {
-                    let r = ui.selectable_value(&mut self.tab, i, p.title());
-                    self.widget_rects.push((p.title(), r.rect));
-                }
-            });
-            ui.separator();
+            if !ablate::hidden(ablate::Part::Tabs) {
+                ui.horizontal(|ui| {
+                    for (i, p) in self.panels.iter().enumerate() {
+                        let r = ui.selectable_value(&mut self.tab, i, p.title());
+                        self.widget_rects.push((p.title(), r.rect));
+                    }
+                });
+                ui.separator();
+            }
             let (panel, mut cx) = self.context(std::mem::take(&mut incoming));
             panel.ui(ui, &mut cx);
             messages.append(&mut cx.messages);
@@ -626,6 +634,8 @@ impl eframe::App for InterpolabApp {
         if self.notice.as_ref().is_some_and(|n| n.level == Level::Info) {
             ctx.request_repaint_after(Duration::from_millis(500));
         }
+        ablate::strip_shapes(&ctx);
+        ablate::log_area(&ctx, self.frames);
     }
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {

@@ -33,6 +33,8 @@ pub fn start() {
     // rasteriser (SwiftShader) it is a sizeable part of every pixel's shading.
     let web_options = eframe::WebOptions { dithering: false, ..eframe::WebOptions::default() };
     let query = web_sys::window().and_then(|w| w.location().search().ok()).unwrap_or_default();
+    // Measuring only (`e2e/frame-profile.mjs`): parts of the frame left out, see `app::ablate`.
+    super::ablate::set(super::ablate::parse(&query));
     wasm_bindgen_futures::spawn_local(async move {
         let Some(doc) = web_sys::window().and_then(|w| w.document()) else {
             return;
@@ -45,7 +47,10 @@ pub fn start() {
         };
         let runner = eframe::WebRunner::new();
         let started = if query.contains(FLOOR_QUERY) {
-            runner.start(canvas, web_options, Box::new(|cc| Ok(Box::new(FloorProbe::new(&cc.egui_ctx))))).await
+            let extra = FloorExtra::from_query(&query);
+            runner
+                .start(canvas, web_options, Box::new(move |cc| Ok(Box::new(FloorProbe::new(&cc.egui_ctx, extra)))))
+                .await
         } else {
             runner.start(canvas, web_options, Box::new(|cc| Ok(Box::new(InterpolabApp::new(cc))))).await
         };
@@ -66,18 +71,48 @@ pub fn start() {
 /// The query that starts [`FloorProbe`] instead of the app (`e2e/frame-profile.mjs`).
 const FLOOR_QUERY: &str = "probe=floor";
 
+/// Most extra shapes [`FloorExtra`] draws.
+const FLOOR_EXTRA_MAX: usize = 10_000;
+
+/// What the floor probe draws besides its line of text, to price SwiftShader's costs
+/// (`?probe=floor&draws=N&shapes=N&fills=N`, each at most [`FLOOR_EXTRA_MAX`]).
+#[derive(Clone, Copy, Debug, Default)]
+struct FloorExtra {
+    /// Small rectangles (8×8 points), each in a clip rectangle of its own: as many extra
+    /// draw calls in egui's render pass.
+    draws: usize,
+    /// The same rectangles, all in the panel's clip rectangle: as many shapes, one draw.
+    shapes: usize,
+    /// Translucent rectangles covering the whole window: as many coverings of every pixel.
+    fills: usize,
+}
+
+impl FloorExtra {
+    fn from_query(query: &str) -> Self {
+        let q = query.strip_prefix('?').unwrap_or(query);
+        let get = |key: &str| {
+            q.split('&')
+                .find_map(|kv| kv.strip_prefix(key).and_then(|v| v.strip_prefix('=')))
+                .and_then(|v| v.parse::<usize>().ok())
+                .map_or(0, |n| n.min(FLOOR_EXTRA_MAX))
+        };
+        Self { draws: get("draws"), shapes: get("shapes"), fills: get("fills") }
+    }
+}
+
 /// The frame-time floor of this browser: an egui frame at the page's size with one line of
 /// text and nothing to compute, redrawn continuously. `e2e/frame-profile.mjs` compares every
 /// tab's frames with it. It publishes `{"probe":"floor","frames":n}` in the status element.
 struct FloorProbe {
     frames: u64,
+    extra: FloorExtra,
 }
 
 impl FloorProbe {
     /// With the app's fonts and look (transparent panels over the cleared frame).
-    fn new(ctx: &eframe::egui::Context) -> Self {
+    fn new(ctx: &eframe::egui::Context, extra: FloorExtra) -> Self {
         super::style(ctx);
-        Self { frames: 0 }
+        Self { frames: 0, extra }
     }
 }
 
@@ -88,8 +123,33 @@ impl eframe::App for FloorProbe {
 
     fn ui(&mut self, ui: &mut eframe::egui::Ui, _frame: &mut eframe::Frame) {
         self.frames += 1;
+        let extra = self.extra;
         eframe::egui::CentralPanel::default().show(ui, |ui| {
+            use eframe::egui::{Color32, Rect, pos2, vec2};
             ui.label(format!("interpolab frame-time floor: an empty frame, drawn {} times", self.frames));
+            let area = ui.max_rect();
+            let cols = ((area.width() / 10.0).max(1.0)) as usize;
+            let cell = |i: usize| {
+                Rect::from_min_size(
+                    area.min + vec2((i % cols) as f32 * 10.0, 30.0 + (i / cols) as f32 * 10.0),
+                    vec2(8.0, 8.0),
+                )
+            };
+            for i in 0..extra.draws {
+                let r = cell(i);
+                ui.painter().with_clip_rect(r.expand(1.0)).rect_filled(r, 0.0, Color32::from_rgb(90, 140, 200));
+            }
+            for i in 0..extra.shapes {
+                ui.painter().rect_filled(cell(i), 0.0, Color32::from_rgb(200, 140, 90));
+            }
+            let all = ui.ctx().content_rect();
+            for _ in 0..extra.fills {
+                ui.painter().with_clip_rect(all).rect_filled(
+                    Rect::from_min_max(pos2(all.min.x, all.min.y), all.max),
+                    0.0,
+                    Color32::from_white_alpha(4),
+                );
+            }
         });
         if let Some(el) = web_sys::window().and_then(|w| w.document()).and_then(|d| d.get_element_by_id("app-status")) {
             el.set_text_content(Some(&format!("{{\"probe\":\"floor\",\"frames\":{}}}", self.frames)));

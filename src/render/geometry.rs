@@ -58,7 +58,8 @@ impl Mesh {
     }
 }
 
-/// One screen-space-wide line segment, drawn as a quad (instance data).
+/// One screen-space-wide line segment, drawn as a quad (its data repeated at each of the quad's
+/// six vertices, see `Renderer3d::set_lines`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct LineSegment {

@@ -41,6 +41,23 @@ pub enum Layer {
     Cutters,
 }
 
+/// Measuring only (`app::ablate`, web `?hide=`): the layers left out of every scene pass, one
+/// bit per [`Layer`] in declaration order, and bit 31 to skip the scene pass altogether (the
+/// view then shows the image it holds). Zero in normal use.
+static SKIPPED: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+
+/// The bit of [`SKIPPED`] that skips the whole scene pass.
+pub const SKIP_SCENE_PASS: u32 = 1 << 31;
+
+/// Sets the layers (bit `1 << layer as u32`) left out of every scene pass, for measuring.
+pub fn set_skipped_layers(bits: u32) {
+    SKIPPED.store(bits, std::sync::atomic::Ordering::Relaxed);
+}
+
+fn skipped(layer: Layer) -> bool {
+    SKIPPED.load(std::sync::atomic::Ordering::Relaxed) & (1 << layer as u32) != 0
+}
+
 const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth24Plus;
 
@@ -178,6 +195,18 @@ pub struct Renderer3d {
     sphere_indices: wgpu::Buffer,
     sphere_index_count: u32,
     views: BTreeMap<ViewId, ViewGpu>,
+    /// Scratch of [`Renderer3d::set_lines`]: the segments repeated per corner.
+    line_corners: Vec<LineSegment>,
+}
+
+/// Vertices of a line segment's quad (two triangles; `vs_line` in scene.wgsl).
+const LINE_CORNERS: usize = 6;
+
+/// The vertex data of a line layer: each segment once per corner of its quad, in order, so
+/// vertex `i` belongs to segment `i / LINE_CORNERS` and is its corner `i % LINE_CORNERS`.
+fn per_corner(lines: &[LineSegment], out: &mut Vec<LineSegment>) {
+    out.clear();
+    out.extend(lines.iter().flat_map(|l| std::iter::repeat_n(*l, LINE_CORNERS)));
 }
 
 static MISSING_LOGGED: AtomicBool = AtomicBool::new(false);
@@ -301,9 +330,11 @@ impl Renderer3d {
             attributes: &sphere_attrs,
         };
         let line_attrs = wgpu::vertex_attr_array![0 => Float32x4, 1 => Float32x4, 2 => Float32x4];
+        // Per vertex, not per instance: each segment is stored once per corner of its quad (see
+        // `set_lines`), and the whole layer is one non-instanced draw.
         let line_buffer = wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<LineSegment>() as u64,
-            step_mode: wgpu::VertexStepMode::Instance,
+            step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &line_attrs,
         };
 
@@ -443,6 +474,7 @@ impl Renderer3d {
             sphere_indices,
             sphere_index_count: indices.len() as u32,
             views: BTreeMap::new(),
+            line_corners: Vec::new(),
         }
     }
 
@@ -471,13 +503,21 @@ impl Renderer3d {
 
     /// Replaces a line layer; the first `unchanged` segments are known to be on the GPU
     /// already (pass 0 when unsure).
+    ///
+    /// Each segment is written [`LINE_CORNERS`] times, once per vertex of its quad, and drawn
+    /// without instancing: SwiftShader (the browsers' CPU rasteriser) runs an instanced draw as
+    /// one draw per instance, so a layer of a few thousand segments cost some 100 ms per scene
+    /// pass; as plain vertices it is one draw (docs/speed.md, "Frames on SwiftShader").
     pub fn set_lines(&mut self, view: ViewId, layer: Layer, lines: &[LineSegment], unchanged: usize) {
-        let bytes = bytemuck::cast_slice::<LineSegment, u8>(lines);
-        let prefix = (unchanged.min(lines.len()) * std::mem::size_of::<LineSegment>()) as u64;
+        let mut corners = std::mem::take(&mut self.line_corners);
+        per_corner(lines, &mut corners);
+        let bytes = bytemuck::cast_slice::<LineSegment, u8>(&corners);
+        let prefix = (unchanged.min(lines.len()) * LINE_CORNERS * std::mem::size_of::<LineSegment>()) as u64;
         let v = self.views.entry(view).or_default();
-        if Self::write_instances(&self.device, &self.queue, v.lines.entry(layer), bytes, lines.len() as u32, prefix) {
+        if Self::write_instances(&self.device, &self.queue, v.lines.entry(layer), bytes, corners.len() as u32, prefix) {
             v.version += 1;
         }
+        self.line_corners = corners;
     }
 
     /// Replaces a sphere layer.
@@ -572,7 +612,9 @@ impl Renderer3d {
             return;
         };
         let drawn = Some((v.version, uniforms, cb.background));
-        if v.drawn == drawn {
+        if v.drawn == drawn
+            || (SKIPPED.load(std::sync::atomic::Ordering::Relaxed) & SKIP_SCENE_PASS != 0 && v.drawn.is_some())
+        {
             return;
         }
         v.drawn = drawn;
@@ -619,7 +661,7 @@ impl Renderer3d {
         });
         pass.set_bind_group(0, &*ubind, &[]);
         let draw_mesh = |pass: &mut wgpu::RenderPass<'_>, pipeline: &wgpu::RenderPipeline, layer: Layer| {
-            if let Some(m) = v.meshes.get(&layer).filter(|m| m.indices.count > 0) {
+            if let Some(m) = v.meshes.get(&layer).filter(|m| m.indices.count > 0 && !skipped(layer)) {
                 pass.set_pipeline(pipeline);
                 pass.set_vertex_buffer(0, m.vertices.buffer.slice(..));
                 pass.set_index_buffer(m.indices.buffer.slice(..), wgpu::IndexFormat::Uint32);
@@ -627,7 +669,7 @@ impl Renderer3d {
             }
         };
         let draw_spheres = |pass: &mut wgpu::RenderPass<'_>, pipeline: &wgpu::RenderPipeline, layer: Layer| {
-            if let Some(s) = v.spheres.get(&layer).filter(|s| s.count > 0) {
+            if let Some(s) = v.spheres.get(&layer).filter(|s| s.count > 0 && !skipped(layer)) {
                 pass.set_pipeline(pipeline);
                 pass.set_vertex_buffer(0, self.sphere_vertices.slice(..));
                 pass.set_vertex_buffer(1, s.buffer.slice(..));
@@ -638,10 +680,10 @@ impl Renderer3d {
         draw_mesh(&mut pass, &self.mesh_opaque, Layer::Surfaces);
         draw_spheres(&mut pass, &self.sphere_opaque, Layer::Markers);
         for layer in [Layer::StaticLines, Layer::PathLines, Layer::ExactLines, Layer::DynamicLines] {
-            if let Some(l) = v.lines.get(&layer).filter(|l| l.count > 0) {
+            if let Some(l) = v.lines.get(&layer).filter(|l| l.count > 0 && !skipped(layer)) {
                 pass.set_pipeline(&self.lines);
                 pass.set_vertex_buffer(0, l.buffer.slice(..));
-                pass.draw(0..6, 0..l.count);
+                pass.draw(0..l.count, 0..1);
             }
         }
         draw_mesh(&mut pass, &self.mesh_translucent, Layer::Offsets);
@@ -722,3 +764,21 @@ pub fn paint_callback(rect: egui::Rect, cb: ViewCallback) -> egui::PaintCallback
 }
 
 use eframe::egui;
+
+#[cfg(test)]
+mod tests {
+    use super::{LINE_CORNERS, LineSegment, per_corner};
+
+    #[test]
+    fn each_line_vertex_carries_its_segment() {
+        let lines: Vec<LineSegment> = (0..5u8)
+            .map(|i| LineSegment::new([f32::from(i), 0.0, 0.0], [0.0, f32::from(i), 1.0], 1.0 + f32::from(i), [1.0; 4]))
+            .collect();
+        let mut out = vec![LineSegment::default(); 3];
+        per_corner(&lines, &mut out);
+        assert_eq!(out.len(), lines.len() * LINE_CORNERS, "the scratch is cleared first");
+        for (i, v) in out.iter().enumerate() {
+            assert_eq!(*v, lines[i / LINE_CORNERS], "vertex {i}");
+        }
+    }
+}

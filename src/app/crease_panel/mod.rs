@@ -10,6 +10,7 @@ mod view;
 
 use eframe::egui;
 
+use super::ablate;
 use super::panel::{Panel, PanelContext};
 
 /// The crease tab.
@@ -35,18 +36,20 @@ impl Panel for CreasePanel {
     }
 
     fn ui(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
-        egui::Panel::bottom("plots").resizable(true).default_size(260.0).min_size(140.0).show(ui, |ui| {
-            plots::playback_bar(ui, cx.playback, cx.compute, cx.scene.motion.period);
-            ui.separator();
-            let out = plots::plots(ui, &mut self.plots, cx.compute, cx.scene, cx.playback.k);
-            if let Some(r) = out.toward_end_rect {
-                cx.publish("run_toward_end", r);
-            }
-            if let Some(d) = out.direction {
-                cx.editor.draft.path.direction = Some(d);
-                cx.editor.asked.scene_changed = true;
-            }
-        });
+        if !ablate::hidden(ablate::Part::Bottom) {
+            egui::Panel::bottom("plots").resizable(true).default_size(260.0).min_size(140.0).show(ui, |ui| {
+                plots::playback_bar(ui, cx.playback, cx.compute, cx.scene.motion.period);
+                ui.separator();
+                let out = plots::plots(ui, &mut self.plots, cx.compute, cx.scene, cx.playback.k);
+                if let Some(r) = out.toward_end_rect {
+                    cx.publish("run_toward_end", r);
+                }
+                if let Some(d) = out.direction {
+                    cx.editor.draft.path.direction = Some(d);
+                    cx.editor.asked.scene_changed = true;
+                }
+            });
+        }
         egui::CentralPanel::no_frame().show(ui, |ui| {
             self.view.ui(ui, cx.render_state, cx.scene, cx.compute, cx.playback);
         });

@@ -2,6 +2,7 @@
 //! e1, e2 per period against ±b·T and the paper's bound (16), and step length against f.
 //! The plots' cursor follows the playback position.
 
+use crate::app::ablate;
 use eframe::egui;
 use egui_plot::{Corner, HLine, Legend, Line, LineStyle, Plot, PlotPoints, VLine};
 
@@ -234,6 +235,7 @@ pub fn plots(
             let cursor_t = cursor_k.floor() * period;
             state.cache.update(compute, scene, state.log);
             match state.tab {
+                _ if ablate::hidden(ablate::Part::Plot) => {}
                 PlotTab::Errors => errors_plot(ui, state.log, &state.cache, scene, cursor_t),
                 PlotTab::Steps => steps_plot(ui, &state.cache, scene, cursor_t),
             }
@@ -249,6 +251,7 @@ fn errors_plot(ui: &mut egui::Ui, log: bool, series: &Series, scene: &Scene, cur
         .x_axis_label("t (ms)")
         .y_axis_label(if log { "|e| (µm, log)" } else { "e (µm)" })
         .allow_scroll(false)
+        .show_grid(!ablate::hidden(ablate::Part::Grid))
         .y_axis_formatter(
             move |mark, _| {
                 if log { format!("1e{:.0}", mark.value) } else { format!("{:.3}", mark.value) }
@@ -256,6 +259,9 @@ fn errors_plot(ui: &mut egui::Ui, log: bool, series: &Series, scene: &Scene, cur
         );
     plot.show(ui, |p| {
         for i in 0..2 {
+            if ablate::hidden(ablate::Part::PlotData) {
+                break;
+            }
             let color = SURFACE_COLORS[i];
             p.line(
                 Line::new(format!("e{} measured", i + 1), PlotPoints::from(series.e[i].clone()))

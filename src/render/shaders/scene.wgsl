@@ -85,7 +85,9 @@ struct LineOut {
 };
 
 // One segment = 6 vertices (two triangles) expanded in screen space to `width` pixels, with
-// the ends extended by half a width so consecutive segments join without gaps.
+// the ends extended by half a width so consecutive segments join without gaps. The segment's
+// data is stored once per vertex (not instanced: see `Renderer3d::set_lines`), so the corner
+// is the vertex index modulo 6.
 @vertex
 fn vs_line(
     @builtin(vertex_index) vi: u32,
