@@ -161,7 +161,7 @@ impl PartSamples {
     }
 
     /// Cells evaluated so far by the certified bottom checks against these samples (each at
-    /// most [`MAX_CELLS`] a check): the planner stops a plan whose checks grow beyond its
+    /// most `MAX_CELLS` a check): the planner stops a plan whose checks grow beyond its
     /// budget (`paths::MAX_CHECK_CELLS`).
     #[must_use]
     pub fn cells_checked(&self) -> u64 {
