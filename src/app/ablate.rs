@@ -167,7 +167,7 @@ pub fn restyle(ctx: &egui::Context) {
 /// How often [`log_area`] logs (app frames).
 const AREA_LOG_EVERY_FRAMES: u64 = 30;
 
-/// Logs the area the frame's shapes cover by kind (every [`AREA_LOG_EVERY_FRAMES`]th frame,
+/// Logs the area the frame's shapes cover by kind (every `AREA_LOG_EVERY_FRAMES`th frame,
 /// when `area` is asked).
 pub fn log_area(ctx: &egui::Context, frame: u64) {
     if !hidden(Part::Area) || !frame.is_multiple_of(AREA_LOG_EVERY_FRAMES) {

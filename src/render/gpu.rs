@@ -46,7 +46,7 @@ pub enum Layer {
 /// view then shows the image it holds). Zero in normal use.
 static SKIPPED: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
 
-/// The bit of [`SKIPPED`] that skips the whole scene pass.
+/// The bit of `SKIPPED` that skips the whole scene pass.
 pub const SKIP_SCENE_PASS: u32 = 1 << 31;
 
 /// Sets the layers (bit `1 << layer as u32`) left out of every scene pass, for measuring.
@@ -504,7 +504,7 @@ impl Renderer3d {
     /// Replaces a line layer; the first `unchanged` segments are known to be on the GPU
     /// already (pass 0 when unsure).
     ///
-    /// Each segment is written [`LINE_CORNERS`] times, once per vertex of its quad, and drawn
+    /// Each segment is written `LINE_CORNERS` times, once per vertex of its quad, and drawn
     /// without instancing: SwiftShader (the browsers' CPU rasteriser) runs an instanced draw as
     /// one draw per instance, so a layer of a few thousand segments cost some 100 ms per scene
     /// pass; as plain vertices it is one draw (docs/speed.md, "Frames on SwiftShader").
