@@ -4,7 +4,7 @@
 //
 //   node e2e/frame-profile.mjs http://127.0.0.1:PORT/ [--trace] [--cpu] [--tabs crease,chords]
 //        [--variants "none;hide=plot;hide=view3d"] [--rounds 2] [--no-floor]
-//        [--floor "draws=200;shapes=200;fills=1"]
+//        [--floor "draws=200;shapes=200;fills=1"] [--shots]
 //
 // Per tab: the gaps between animation frames and the app's own frame count while idle (does
 // the idle page redraw?), while the mouse moves over the view (each move redraws: the cost of
@@ -22,6 +22,8 @@
 // --floor: the app's empty frame again with extras drawn (`?probe=floor&fills=1`: one
 // translucent full-window rectangle; `draws=N`: N small rectangles each in a clip rectangle of
 // its own, i.e. N draw calls; `shapes=N`: the same in one clip rectangle), --rounds times.
+// --shots: a screenshot of each tab and variant once computed, before any input
+// (e2e/artifacts/shots/TAB--VARIANT.png), to compare what the variants look like.
 // Writes e2e/artifacts/frame-profile.json.
 import fs from "node:fs";
 import os from "node:os";
@@ -40,6 +42,7 @@ const variantsArg = args.includes("--variants") ? args[args.indexOf("--variants"
 const variants = variantsArg.split(";").map((v) => v.trim()).filter((v) => v.length > 0);
 const rounds = args.includes("--rounds") ? Number(args[args.indexOf("--rounds") + 1]) : 1;
 const wantFloor = !args.includes("--no-floor");
+const wantShots = args.includes("--shots");
 const load1 = () => Math.round(os.loadavg()[0] * 100) / 100;
 const artifacts = path.join(here, "artifacts");
 fs.mkdirSync(artifacts, { recursive: true });
@@ -239,6 +242,12 @@ async function profileTab(tab, variant) {
     s = await waitFor(page, `${tab.id} computed`, (x) => x.panel && x.panel.title === tab.title && x.panel.status && tab.done(x));
   }
   await page.waitForTimeout(1500);
+  if (wantShots) {
+    const dir = path.join(artifacts, "shots");
+    fs.mkdirSync(dir, { recursive: true });
+    const slug = variant.replace(/^https?:\/\//, "").replace(/[^A-Za-z0-9=,.-]+/g, "_");
+    await page.screenshot({ path: path.join(dir, `${tab.id}--${slug}.png`) });
+  }
   const row = {};
   // Idle: no input. An idle page should draw no frames of its own.
   await takeGaps(page);

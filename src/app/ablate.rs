@@ -24,7 +24,9 @@
 //!   only warnings), every 30 frames, the area (in
 //!   points², clipped, from each shape's bounding rectangle) the frame's shapes cover, by kind
 //!   of shape — an upper bound of the pixels egui's shader fills (text is counted by its
-//!   bounding box, not its glyphs).
+//!   bounding box, not its glyphs);
+//! - `flatfill` leaves out an optimisation instead of a part: the large opaque rectangles
+//!   are drawn by egui's shader again, not by `render::flat_fill`'s flat-colour pipeline.
 
 use std::sync::atomic::{AtomicU32, Ordering};
 
@@ -74,10 +76,12 @@ pub enum Part {
     Grid = 1 << 18,
     /// Log the covered area by kind of shape (hides nothing).
     Area = 1 << 19,
+    /// Leave the large opaque rectangles to egui's shader (`render::flat_fill` off).
+    FlatFill = 1 << 20,
 }
 
 /// The names in the address, in [`Part`]'s order.
-const NAMES: [(&str, Part); 20] = [
+const NAMES: [(&str, Part); 21] = [
     ("side", Part::Side),
     ("top", Part::Top),
     ("tabs", Part::Tabs),
@@ -98,6 +102,7 @@ const NAMES: [(&str, Part); 20] = [
     ("plotdata", Part::PlotData),
     ("grid", Part::Grid),
     ("area", Part::Area),
+    ("flatfill", Part::FlatFill),
 ];
 
 static HIDDEN: AtomicU32 = AtomicU32::new(0);
@@ -138,6 +143,7 @@ pub fn set(bits: u32) {
         layers |= layer(Layer::Markers) | layer(Layer::Cutters);
     }
     set_skipped_layers(layers);
+    crate::render::flat_fill::set_disabled(has(Part::FlatFill));
 }
 
 /// Whether `part` is left out of every frame.

@@ -126,6 +126,7 @@ impl InterpolabApp {
         let render_state = cc.wgpu_render_state.clone();
         if let Some(rs) = &render_state {
             crate::render::Renderer3d::install(rs);
+            crate::render::flat_fill::FlatFills::install(rs);
         }
         let mut notice = None;
         let fragment = platform.fragment();
@@ -636,6 +637,7 @@ impl eframe::App for InterpolabApp {
         }
         ablate::strip_shapes(&ctx);
         ablate::log_area(&ctx, self.frames);
+        crate::render::flat_fill::flatten(&ctx);
     }
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {

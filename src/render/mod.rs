@@ -6,11 +6,14 @@
 //!   and builders from core types — the one place where f64 becomes f32, relative to a
 //!   per-scene origin so f32 keeps sub-micrometre resolution near the part;
 //! - [`camera`]: an orbit camera with z up;
-//! - [`gpu`]: pipelines, per-view layer buffers and targets, the egui-wgpu callback.
+//! - [`gpu`]: pipelines, per-view layer buffers and targets, the egui-wgpu callback;
+//! - [`flat_fill`]: large opaque rectangles of the UI filled by a flat-colour pipeline
+//!   instead of egui's textured, blending one (cheap on CPU rasterisers).
 //!
 //! Nothing here computes geometry of the part: it only draws what the core produced.
 
 pub mod camera;
+pub mod flat_fill;
 pub mod geometry;
 pub mod gpu;
 
