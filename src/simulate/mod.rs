@@ -420,7 +420,9 @@ impl Simulation {
     /// into the caller's loop over a program's moves, the whole program ran in the one
     /// baseline-compiled call; as its own function the optimised code takes over after the
     /// first moves (docs/simulation.md, "In the browser"). The arithmetic is the same
-    /// either way (no reordering of floating-point operations), so are the rays.
+    /// either way (no reordering of floating-point operations), so are the rays. (`wasm-opt
+    /// -O3` does not know this attribute and inlines a function called from one place: the
+    /// worker's loop, `jobs::simulate_run`, calls it through an opaque pointer.)
     #[inline(never)]
     pub fn apply(&mut self, m: &SimMove) -> f64 {
         let removed = match m.kind {
