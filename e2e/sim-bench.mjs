@@ -5,6 +5,7 @@
 // reports, and asserts nothing.
 //
 //   node e2e/sim-bench.mjs http://127.0.0.1:PORT/ [--moves 10000] [--pitch 0.1] [--runs 2] [--replays 4]
+//     [--hide view3d] [--worker-only N] [--trace FILE]
 //
 // The program reaches the tab through the page address (`?view=Cutting+simulation&set=
 // benchmark:five-axis:N`, `app::query_options`): the worker builds it from those few
@@ -22,6 +23,7 @@ import fs from "node:fs";
 import os from "node:os";
 import path from "node:path";
 import { fileURLToPath } from "node:url";
+import { chromium } from "playwright-core";
 import { openBrowser } from "./browser.mjs";
 
 const here = path.dirname(fileURLToPath(import.meta.url));
@@ -35,6 +37,19 @@ const replays = Number(arg("--replays", "4"));
 // --trace FILE: a Chromium trace (main thread, worker, GPU process) of each run (FILE, then
 // FILE-2.json, …), for finding what a long frame did (open it in chrome://tracing or Perfetto).
 const traceFile = arg("--trace", null);
+// --worker-only N: after the app's runs, the same request the app posted to its worker (the
+// first `simulate-run` message recorded on the page) is run N times in a bare Web Worker of
+// the same build on a page that draws nothing (the build's assets/manifest.json): the
+// worker's compute-only time in this Chromium, for comparing with the app's `sim_ms` (which
+// adds the page's frames competing for the cores, decoding the partials and the output).
+const workerOnly = Number(arg("--worker-only", "0"));
+// --js-flags FLAGS: the --worker-only runs in a second Chromium started with these V8 flags
+// (e.g. `--no-liftoff`: the wasm compiled by the optimising tier at once), to see what the
+// engine's tiers cost the worker.
+const jsFlags = arg("--js-flags", null);
+// --hide LIST: passed as the page's `hide=` (app/ablate.rs), e.g. `view3d` to leave the 3D
+// view's drawing out of every frame (a measurement of the run without the stock's frames).
+const hide = arg("--hide", null);
 const artifacts = path.join(here, "artifacts");
 fs.mkdirSync(artifacts, { recursive: true });
 
@@ -49,10 +64,22 @@ async function status(page) {
 
 const sim = (s) => s && s.panel && s.panel.title === "Cutting simulation" ? s.panel.status : null;
 const load = () => os.loadavg().map((x) => Math.round(x * 100) / 100);
-const report = { moves, pitch_mm: Number(pitch), load_at_start: load(), runs: [], replays: [] };
+const report = { moves, pitch_mm: Number(pitch), hide, load_at_start: load(), runs: [], replays: [], worker_only: [] };
+
+// Records what the page posts to its workers (the job requests), for --worker-only.
+await context.addInitScript(() => {
+  window.__workerPosts = [];
+  const post = Worker.prototype.postMessage;
+  Worker.prototype.postMessage = function (m, ...rest) {
+    if (typeof m === "string" && m.startsWith("simulate-run\n") && window.__workerPosts.length < 4) window.__workerPosts.push(m);
+    return post.call(this, m, ...rest);
+  };
+});
 
 const query = `?view=${encodeURIComponent("Cutting simulation")}&set=${encodeURIComponent(`benchmark:five-axis:${moves}`)}`
-  + (pitch === "0.1" ? "" : `&set=${encodeURIComponent(`pitch:${pitch}`)}`);
+  + (pitch === "0.1" ? "" : `&set=${encodeURIComponent(`pitch:${pitch}`)}`)
+  + (hide ? `&hide=${encodeURIComponent(hide)}` : "");
+let posted = null;
 let page = null;
 for (let r = 0; r < runs; r++) {
   page = await context.newPage();
@@ -88,6 +115,7 @@ for (let r = 0; r < runs; r++) {
     await page.waitForTimeout(25);
   }
   const gaps = await page.evaluate(() => window.__frameGaps.splice(0));
+  if (posted === null) posted = await page.evaluate(() => window.__workerPosts[0] ?? null);
   const sorted = [...gaps].sort((a, b) => a - b);
   const q = (f) => sorted.length ? sorted[Math.min(sorted.length - 1, Math.floor(f * sorted.length))] : null;
   const row = {
@@ -148,6 +176,50 @@ if (slider) {
   }
 }
 await page.screenshot({ path: path.join(artifacts, "sim-bench.png") });
+
+// The worker alone: the recorded request in a bare worker on a page that draws nothing.
+if (workerOnly > 0 && posted) {
+  const other = jsFlags ? await chromium.launch({
+    executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium", headless: true,
+    args: ["--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader", "--no-first-run", `--js-flags=${jsFlags}`],
+  }) : null;
+  const bare = other ? await other.newPage() : await context.newPage();
+  await bare.goto(new URL("assets/manifest.json", url).href);
+  for (let r = 0; r < workerOnly; r++) {
+    const row = await bare.evaluate(async ({ script, message }) => {
+      const t0 = performance.now();
+      const w = new Worker(script);
+      let ready = null;
+      let start = null;
+      let progress = 0;
+      let partials = 0;
+      let partialChars = 0;
+      const out = await new Promise((resolve) => {
+        w.onmessage = (e) => {
+          const text = String(e.data);
+          const kind = text.slice(0, text.indexOf("\n"));
+          if (kind === "ready") { ready = performance.now() - t0; start = performance.now(); w.postMessage(message); }
+          else if (kind === "progress") progress++;
+          else if (kind === "partial") { partials++; partialChars += text.length; }
+          else resolve({ kind, chars: text.length });
+        };
+        w.onerror = (e) => resolve({ kind: "error", message: String(e.message) });
+      });
+      const job = performance.now() - start;
+      w.terminate();
+      return { worker_ready_ms: Math.round(ready), job_ms: Math.round(job), answer: out.kind, output_chars: out.chars,
+        progress_messages: progress, partials, partial_chars: partialChars };
+    }, { script: new URL("interpolab-worker_loader.js", url).href, message: posted });
+    row.load = load();
+    row.js_flags = jsFlags;
+    report.worker_only.push(row);
+    console.log(`worker only: ${JSON.stringify(row)}`);
+  }
+  await bare.close();
+  if (other) await other.close();
+} else if (workerOnly > 0) {
+  console.log("worker only: no simulate-run request was recorded on the page");
+}
 report.load_at_end = load();
 report.console = errors.slice(0, 20);
 fs.writeFileSync(path.join(artifacts, "sim-bench.json"), JSON.stringify(report, null, 2));

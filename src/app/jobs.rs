@@ -64,14 +64,14 @@ fn cores() -> usize {
 pub const POLL: Duration = Duration::from_millis(50);
 
 /// How often a panel whose job runs in the background repaints to show its progress and
-/// partial outputs (twice a second). A job's output wakes the page at once ([`set_waker`]),
+/// partial outputs (once a second). A job's output wakes the page at once ([`set_waker`]),
 /// and the user's input repaints at once as always; only the progress bar and the partial
 /// outputs (a simulation's keyframes) wait for the next look. Why not [`POLL`]: in a browser
 /// drawing on a CPU rasteriser every repaint takes CPU from the worker: a frame of the
 /// simulation's stock costs SwiftShader 0.27–0.37 s, and repainting every 50 ms (or on
 /// every keyframe) kept one of 2 cores drawing for the whole run (docs/simulation.md, "In
 /// the browser").
-pub const PROGRESS_POLL: Duration = Duration::from_millis(500);
+pub const PROGRESS_POLL: Duration = Duration::from_millis(1000);
 
 /// The context repainted when a job gives its output.
 static WAKER: std::sync::Mutex<Option<eframe::egui::Context>> = std::sync::Mutex::new(None);

@@ -413,6 +413,17 @@ impl Simulation {
     }
 
     /// Applies one move; returns the material it removed (mm³).
+    ///
+    /// Never inlined, on purpose: a browser's WebAssembly engine (V8) first runs a function
+    /// from quickly compiled baseline code and swaps in optimised code only for the calls
+    /// that start after it became hot — it cannot replace a call already running. Inlined
+    /// into the caller's loop over a program's moves, the whole program ran in the one
+    /// baseline-compiled call; as its own function the optimised code takes over after the
+    /// first moves (docs/simulation.md, "In the browser"). The arithmetic is the same
+    /// either way (no reordering of floating-point operations), so are the rays. (`wasm-opt
+    /// -O3` does not know this attribute and inlines a function called from one place: the
+    /// worker's loop, `jobs::simulate_run`, calls it through an opaque pointer.)
+    #[inline(never)]
     pub fn apply(&mut self, m: &SimMove) -> f64 {
         let removed = match m.kind {
             MoveKind::Line { from, to } => self.cut_line(from, to),

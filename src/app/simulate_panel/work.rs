@@ -27,8 +27,10 @@ use crate::scene::Scene;
 use crate::simulate::bench::BenchKind;
 use crate::simulate::{Counters, Grid, HeightMap, InteriorStats, Program, SimStats, interior_stats};
 
-/// How often the view's mesh follows the stock while moves are being cut.
-const MAP_REFRESH: Duration = Duration::from_millis(200);
+/// How often at most the view's mesh follows the stock while moves are being cut (a new
+/// keyframe is a new mesh for the GPU: in a browser drawing on the CPU the dearest frame of
+/// a run; the progress bar moves between them, `app::jobs::PROGRESS_POLL`).
+const MAP_REFRESH: Duration = Duration::from_millis(1500);
 /// Most rays the tab simulates (a 1024 × 1024 grid, 24 MiB); above it the run is refused.
 pub const MAX_APP_RAYS: usize = simulate_run::MAX_RAYS;
 /// Keyframes asked of a program's first run (the slider's instant positions).

@@ -116,6 +116,31 @@ fn the_run_is_the_core_simulation_with_keyframes_of_the_stock() {
     assert!(back.map.top_mm.iter().zip(&out.map.top_mm).all(|(a, b)| a.to_bits() == b.to_bits()));
 }
 
+/// A run without a design sends no deviation arrays (`null`), and its output still decodes
+/// to the run's exact map and measures: every ray without a deviation. With a design, the
+/// arrays are there.
+#[test]
+fn a_run_without_a_design_sends_no_deviations_and_decodes_to_the_same_output() {
+    let req = Request { design: DesignSpec::None, ..grooves(None, 0) };
+    let out = SimulateRun::run(&req, &mut NoProgress).unwrap();
+    assert!(out.counters.removed_mm3 > 1.0);
+    assert!(out.stats.deviation_mm.iter().all(Option::is_none));
+    let text = SimulateRun::encode_output(&Ok(out.clone()));
+    let v: Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(v["stats"]["deviation_mm"], Value::Null);
+    assert_eq!(v["stats"]["has_deviation"], Value::Null);
+    let back = SimulateRun::decode_output(&text).unwrap().unwrap();
+    assert_eq!(back, out);
+    assert!(back.map.top_mm.iter().zip(&out.map.top_mm).all(|(a, b)| a.to_bits() == b.to_bits()));
+    // The same run against a plane: the arrays are sent, and the text is longer by them.
+    let with = SimulateRun::run(&grooves(None, 0), &mut NoProgress).unwrap();
+    let with_text = SimulateRun::encode_output(&Ok(with.clone()));
+    let w: Value = serde_json::from_str(&with_text).unwrap();
+    assert!(w["stats"]["deviation_mm"].is_string(), "{}", w["stats"]["deviation_mm"]);
+    assert!(with_text.len() > text.len() + 8 * out.map.grid.len());
+    assert_eq!(SimulateRun::decode_output(&with_text).unwrap().unwrap(), with);
+}
+
 /// A replay of the first run's moves to move k (no program written again) gives the stock
 /// a run of the text to move k gives, which is the core's stock after k moves.
 #[test]
