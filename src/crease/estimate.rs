@@ -82,8 +82,10 @@ pub fn measured_errors(job: &CreaseJob, row: &Row) -> [f64; 2] {
 /// parameters (already within a few micrometres of the foot point): the squared distance's
 /// second-order model there gives the foot point's distance without evaluating the surface
 /// again (`model_distance`) when the model's Newton step is shorter than
-/// [`tolerance::SCREEN_MODEL_STEP_MM`]; otherwise a projection of at most three Newton steps
-/// from those parameters, that stops once a step moves less than that. Only a screened
+/// [`tolerance::SCREEN_MODEL_STEP_MM`]; a longer step is taken once (if it descends and
+/// stays in the domain) and the model applied again there, one evaluation; otherwise a
+/// projection of at most three Newton steps from those parameters, that stops once a step
+/// moves less than [`tolerance::SCREEN_STEP_MM`]. Only a screened
 /// |e_i| of at least [`tolerance::SCREEN_FRACTION`]·b·T_i, or a screen that has not
 /// settled, is measured again by the full projection. Every row whose error exceeds b·T is
 /// therefore measured exactly as [`measured_errors`] measures it, and the warning (surface,
