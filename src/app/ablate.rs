@@ -226,17 +226,9 @@ pub fn strip_shapes(ctx: &egui::Context) {
         egui::Shape::Mesh(_) => bits & Part::Meshes as u32 != 0,
         _ => false,
     };
-    let layers: Vec<egui::LayerId> = ctx.memory(|m| m.layer_ids().collect());
-    ctx.graphics_mut(|g| {
-        for id in layers {
-            let Some(list) = g.get_mut(id) else { continue };
-            for i in 0..list.next_idx().0 {
-                list.mutate_shape(egui::layers::ShapeIdx(i), |cs| {
-                    if drop(&cs.shape) {
-                        cs.shape = egui::Shape::Noop;
-                    }
-                });
-            }
+    crate::render::flat_fill::mutate_painted_shapes(ctx, |cs| {
+        if drop(&cs.shape) {
+            cs.shape = egui::Shape::Noop;
         }
     });
 }

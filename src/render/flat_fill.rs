@@ -214,18 +214,24 @@ pub fn flatten(ctx: &egui::Context) {
     if !INSTALLED.load(Ordering::Relaxed) || DISABLED.load(Ordering::Relaxed) {
         return;
     }
+    mutate_painted_shapes(ctx, |cs| {
+        if let egui::Shape::Rect(r) = &cs.shape
+            && let Some(s) = flat_replacement(r, cs.clip_rect)
+        {
+            cs.shape = s;
+        }
+    });
+}
+
+/// Calls `f` on every shape painted so far this frame, in every layer, to change it in place
+/// (the flat fills here, the ablation switches of `app::ablate`).
+pub fn mutate_painted_shapes(ctx: &egui::Context, mut f: impl FnMut(&mut egui::epaint::ClippedShape)) {
     let layers: Vec<egui::LayerId> = ctx.memory(|m| m.layer_ids().collect());
     ctx.graphics_mut(|g| {
         for id in layers {
             let Some(list) = g.get_mut(id) else { continue };
             for i in 0..list.next_idx().0 {
-                list.mutate_shape(egui::layers::ShapeIdx(i), |cs| {
-                    if let egui::Shape::Rect(r) = &cs.shape
-                        && let Some(s) = flat_replacement(r, cs.clip_rect)
-                    {
-                        cs.shape = s;
-                    }
-                });
+                list.mutate_shape(egui::layers::ShapeIdx(i), &mut f);
             }
         }
     });
