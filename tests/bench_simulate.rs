@@ -57,22 +57,11 @@ fn ray_updates_per_second() {
 #[test]
 #[ignore = "benchmark; run with --ignored --nocapture"]
 fn the_simulation_job_as_the_worker_runs_it() {
-    use interpolab::jobs::simulate_run::{DesignSpec, ProgramSource, Request, SimulateRun};
+    use interpolab::jobs::simulate_run::{ProgramSource, Request, SimulateRun};
     use interpolab::jobs::{JobKind, NoProgress, run_encoded};
     use interpolab::simulate::bench::BenchKind;
     let platform = if cfg!(target_arch = "wasm32") { "wasm32 (Node)" } else { "native" };
-    let req = Request {
-        source: ProgramSource::Benchmark { kind: BenchKind::FiveAxis, moves: 10_000 },
-        cutter: Cutter::ball(3.0).expect("cutter"),
-        pitch_mm: Some(0.1),
-        stock_mm: Some(BenchKind::stock_mm()),
-        margin_mm: 0.0,
-        max_sample_step_mm: None,
-        design: DesignSpec::None,
-        target: None,
-        keyframes: 40,
-        resume: false,
-    };
+    let req = Request { keyframes: 40, ..Request::benchmark(BenchKind::FiveAxis, 10_000, 0.1).expect("cutter") };
     let text = SimulateRun::encode_request(&req);
     for run in ["first", "second"] {
         let t = Instant::now();

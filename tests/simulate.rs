@@ -614,20 +614,9 @@ fn the_deviation_is_the_signed_distance_to_the_union_of_the_torus_and_the_plate(
 #[test]
 fn a_replay_from_a_kept_stock_is_the_fresh_run_bit_for_bit() {
     use interpolab::jobs::NoProgress;
-    use interpolab::jobs::simulate_run::{DesignSpec, ProgramSource, Request, run_in_session};
+    use interpolab::jobs::simulate_run::{Request, run_in_session};
     use interpolab::simulate::bench::BenchKind;
-    let first = Request {
-        source: ProgramSource::Benchmark { kind: BenchKind::FiveAxis, moves: 200 },
-        cutter: Cutter::ball(3.0).unwrap(),
-        pitch_mm: Some(0.8),
-        stock_mm: Some(BenchKind::stock_mm()),
-        margin_mm: 0.0,
-        max_sample_step_mm: None,
-        design: DesignSpec::None,
-        target: None,
-        keyframes: 0,
-        resume: false,
-    };
+    let first = Request::benchmark(BenchKind::FiveAxis, 200, 0.8).unwrap();
     let session = std::sync::Mutex::new(None);
     let whole = run_in_session(&first, &mut NoProgress, &session).unwrap();
     assert_eq!(whole.resumed_from, 0);

@@ -175,6 +175,30 @@ pub struct Request {
     pub resume: bool,
 }
 
+impl Request {
+    /// The benchmark program `kind` of `moves` moves as the benchmarks machine it (the CLI's
+    /// `simulate --benchmark`, `tests/bench_simulate.rs`): a ball of
+    /// [`crate::simulate::bench::BALL_MM`] on the benchmark block at `pitch_mm` (mm), no
+    /// design, no keyframes, from the block.
+    ///
+    /// # Errors
+    /// None for the benchmark's ball (the cutter's constructor is fallible in general).
+    pub fn benchmark(kind: BenchKind, moves: usize, pitch_mm: f64) -> Result<Self, crate::geom::CutterError> {
+        Ok(Self {
+            source: ProgramSource::Benchmark { kind, moves },
+            cutter: Cutter::ball(crate::simulate::bench::BALL_MM)?,
+            pitch_mm: Some(pitch_mm),
+            stock_mm: Some(BenchKind::stock_mm()),
+            margin_mm: 0.0,
+            max_sample_step_mm: None,
+            design: DesignSpec::None,
+            target: None,
+            keyframes: 0,
+            resume: false,
+        })
+    }
+}
+
 /// The program made, with the stock it is cut into (the first partial output).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Prepared {

@@ -209,18 +209,7 @@ fn requests_cross_unchanged() {
 #[test]
 fn a_benchmark_run_machines_the_core_benchmark_program() {
     use crate::simulate::bench::{self, BenchKind};
-    let req = Request {
-        source: ProgramSource::Benchmark { kind: BenchKind::FiveAxis, moves: 120 },
-        cutter: Cutter::ball(bench::BALL_MM).unwrap(),
-        pitch_mm: Some(0.8),
-        stock_mm: Some(BenchKind::stock_mm()),
-        margin_mm: 0.0,
-        max_sample_step_mm: None,
-        design: DesignSpec::None,
-        target: None,
-        keyframes: 0,
-        resume: false,
-    };
+    let req = Request::benchmark(BenchKind::FiveAxis, 120, 0.8).unwrap();
     let mut c = Collect::default();
     let out = SimulateRun::run(&req, &mut c).unwrap();
     let (p, _) = decode_all(&c);
@@ -417,18 +406,11 @@ fn same_stock(a: &Simulation, b: &Simulation) -> bool {
 /// the block (and another program replaces the kept stocks).
 #[test]
 fn a_replay_starts_from_the_nearest_kept_stock_and_equals_a_fresh_run() {
-    use crate::simulate::bench::{self, BenchKind};
+    use crate::simulate::bench::BenchKind;
     let first = Request {
-        source: ProgramSource::Benchmark { kind: BenchKind::FiveAxis, moves: 300 },
-        cutter: Cutter::ball(bench::BALL_MM).unwrap(),
-        pitch_mm: Some(0.4),
-        stock_mm: Some(BenchKind::stock_mm()),
-        margin_mm: 0.0,
-        max_sample_step_mm: None,
         design: DesignSpec::PlaneZ(15.0),
-        target: None,
         keyframes: 5,
-        resume: false,
+        ..Request::benchmark(BenchKind::FiveAxis, 300, 0.4).unwrap()
     };
     let session = std::sync::Mutex::new(None);
     let mut c = Collect::default();
