@@ -9,7 +9,10 @@
 //!   the output cross as text (`JobKind::encode_*`, numbers by their bits, so the output is
 //!   the one computed). One worker per job at a time; cancelling terminates it; a worker
 //!   that answered is kept for the next job (at most one kept), so a replay does not start
-//!   a worker again. If the worker cannot
+//!   a worker again. The page starts one worker while it loads ([`PRESTARTED_WORKER`]), so
+//!   the first job does not wait for the worker's wasm either; a request goes to its worker
+//!   the moment the worker is ready (from the worker's message handler, not at the next
+//!   frame). If the worker cannot
 //!   run (no script, an error inside it, an output that does not decode), the job is run on
 //!   the page instead, as the app did before: slower to the eye, same result.
 //!
@@ -35,6 +38,11 @@ pub fn finished_counts() -> (usize, usize) {
 
 /// The worker's loader script, next to `index.html` (Trunk's `data-loader-shim`).
 pub const WORKER_SCRIPT: &str = "./interpolab-worker_loader.js";
+
+/// The page's global under which `web/index.html` leaves the worker it starts while the
+/// page loads (`{worker, ready, failed}`: the worker, whether it said `ready`, why it could
+/// not start), taken by the first job (docs/background-jobs.md, "The first job's worker").
+pub const PRESTARTED_WORKER: &str = "interpolabWorker";
 
 /// Most cores a machine is taken to have (a bound on what the browser reports).
 const MAX_CORES: usize = 64;
@@ -299,22 +307,34 @@ mod imp {
 
 #[cfg(target_arch = "wasm32")]
 mod imp {
-    use std::cell::RefCell;
+    use std::cell::{Cell, RefCell};
     use std::collections::VecDeque;
     use std::rc::Rc;
 
     use eframe::wasm_bindgen::JsCast;
     use eframe::wasm_bindgen::prelude::{Closure, JsValue};
 
-    use super::WORKER_SCRIPT;
+    use super::{PRESTARTED_WORKER, WORKER_SCRIPT};
     use crate::jobs::JobKind;
 
-    type Inbox = Rc<RefCell<VecDeque<String>>>;
+    /// What a worker's message handler shares with the job on it.
+    #[derive(Default)]
+    struct Shared {
+        /// Messages for the job's next poll (progress, partial outputs, the answer, a failure).
+        inbox: RefCell<VecDeque<String>>,
+        /// The worker said `ready` (or is known to be: kept after answering, or running a
+        /// dropped job).
+        ready: Cell<bool>,
+        /// The job's request was posted.
+        sent: Cell<bool>,
+        /// The request to post the moment the worker says `ready` (not at the next frame's
+        /// poll: on a freshly opened page a frame can be 0.1–0.4 s away).
+        queued: RefCell<Option<JsValue>>,
+    }
 
     struct Running {
         worker: web_sys::Worker,
-        inbox: Inbox,
-        sent: bool,
+        shared: Rc<Shared>,
         /// Answers of earlier, dropped jobs still to come before this job's messages (a
         /// worker taken over from [`DRAINING`]): their messages are skipped.
         skip: usize,
@@ -345,22 +365,83 @@ mod imp {
         /// one: a second one replaces it, ending the older). The next job is posted to it
         /// at once and skips the dropped jobs' answers.
         static DRAINING: RefCell<Option<Running>> = const { RefCell::new(None) };
+        /// A worker still starting whose job was dropped before its request went (at most
+        /// one): the next job takes it instead of starting another.
+        static STARTING: RefCell<Option<Running>> = const { RefCell::new(None) };
     }
 
     impl Running {
-        /// Ends the worker. Its handlers are unset first: an event already queued for them
-        /// must not reach a closure that is about to be dropped.
+        /// Takes `worker` for a job: installs the handlers (replacing any). `ready`: the
+        /// worker said so already.
+        fn attach(worker: web_sys::Worker, ready: bool) -> Self {
+            let shared = Rc::new(Shared::default());
+            shared.ready.set(ready);
+            let shared2 = shared.clone();
+            let worker2 = worker.clone();
+            let on_message = Closure::<dyn FnMut(web_sys::MessageEvent)>::new(move |e: web_sys::MessageEvent| {
+                let text = e.data().as_string().unwrap_or_default();
+                if text.starts_with("ready\n") {
+                    shared2.ready.set(true);
+                    let queued = shared2.queued.borrow_mut().take();
+                    if let Some(request) = queued {
+                        match worker2.post_message(&request) {
+                            Ok(()) => shared2.sent.set(true),
+                            Err(e) => {
+                                shared2
+                                    .inbox
+                                    .borrow_mut()
+                                    .push_back(format!("failed\nthe request was not posted: {e:?}"));
+                                super::wake();
+                            }
+                        }
+                    }
+                    return;
+                }
+                // Progress and partial outputs wait for the panel's next look; the output
+                // and a failure wake it.
+                let shown = !(text.starts_with("progress\n") || text.starts_with("partial\n"));
+                shared2.inbox.borrow_mut().push_back(text);
+                if shown {
+                    super::wake();
+                }
+            });
+            let shared3 = shared.clone();
+            let on_error = Closure::<dyn FnMut(web_sys::Event)>::new(move |e: web_sys::Event| {
+                let what = e
+                    .dyn_ref::<web_sys::ErrorEvent>()
+                    .map_or_else(|| "the worker could not start".to_owned(), web_sys::ErrorEvent::message);
+                shared3.inbox.borrow_mut().push_back(format!("failed\n{what}"));
+                super::wake();
+            });
+            worker.set_onmessage(Some(on_message.as_ref().unchecked_ref()));
+            worker.set_onerror(Some(on_error.as_ref().unchecked_ref()));
+            Self { worker, shared, skip: 0, _on_message: on_message, _on_error: on_error }
+        }
+
+        /// Posts the job's request now if the worker is ready, else the moment it says so.
+        fn send(&self, request: JsValue) -> Result<(), JsValue> {
+            if self.shared.ready.get() {
+                self.worker.post_message(&request)?;
+                self.shared.sent.set(true);
+            } else {
+                *self.shared.queued.borrow_mut() = Some(request);
+            }
+            Ok(())
+        }
+
+        /// Whether the worker reported a failure (it could not start).
+        fn failed(&self) -> bool {
+            self.shared.inbox.borrow().iter().any(|m| m.starts_with("failed\n"))
+        }
+
+        /// Ends the worker (the handlers are unset when `self` drops).
         fn stop(self) {
-            self.worker.set_onmessage(None);
-            self.worker.set_onerror(None);
             self.worker.terminate();
         }
 
         /// Keeps the worker (it answered and waits for a message) for the next job, or ends
         /// it when enough are kept.
         fn park(self) {
-            self.worker.set_onmessage(None);
-            self.worker.set_onerror(None);
             let kept = IDLE.with(|idle| {
                 let mut idle = idle.borrow_mut();
                 if idle.len() < MAX_IDLE {
@@ -371,68 +452,80 @@ mod imp {
                 }
             });
             if !kept {
-                self.worker.terminate();
+                self.stop();
             }
         }
     }
 
+    impl Drop for Running {
+        /// Unsets the handlers: an event already queued for them must not reach a closure
+        /// that is about to be dropped.
+        fn drop(&mut self) {
+            self.worker.set_onmessage(None);
+            self.worker.set_onerror(None);
+        }
+    }
+
+    /// The worker `web/index.html` started while the page loaded
+    /// (`window[PRESTARTED_WORKER]` = `{worker, ready, failed}`), taken once: the first job
+    /// finds it compiled and ready instead of fetching and compiling the worker's wasm on
+    /// its path. One that failed is ended (the job starts its own, as without it).
+    fn prestarted() -> Option<Running> {
+        let window = web_sys::window()?;
+        let key = JsValue::from_str(PRESTARTED_WORKER);
+        let pre = js_sys::Reflect::get(&window, &key).ok().filter(|v| v.is_object())?;
+        let _ = js_sys::Reflect::delete_property(&window, &key);
+        let field = |name: &str| js_sys::Reflect::get(&pre, &JsValue::from_str(name)).unwrap_or(JsValue::UNDEFINED);
+        let worker: web_sys::Worker = field("worker").dyn_into().ok()?;
+        if field("failed").is_truthy() {
+            log::warn!("the pre-started worker failed ({:?}): a job starts its own", field("failed").as_string());
+            worker.terminate();
+            return None;
+        }
+        Some(Running::attach(worker, field("ready").as_bool() == Some(true)))
+    }
+
+    /// A worker for the next job: the one draining a dropped job, a kept one, one still
+    /// starting, the page's pre-started one, or a new one, in that order.
     fn spawn() -> Result<Running, JsValue> {
-        if let Some(mut r) = DRAINING.with(|d| d.borrow_mut().take()) {
-            // Its last request was the dropped job's: this job's goes at the first poll.
-            r.sent = false;
+        if let Some(r) = DRAINING.with(|d| d.borrow_mut().take()) {
+            // Its last request was the dropped job's: this job's goes at once, queued behind.
+            r.shared.sent.set(false);
             return Ok(r);
         }
-        let reused = IDLE.with(|idle| idle.borrow_mut().pop());
-        let ready = reused.is_some();
-        let worker = match reused {
-            Some(w) => w,
-            None => web_sys::Worker::new(WORKER_SCRIPT)?,
-        };
-        let inbox: Inbox = Rc::default();
-        if ready {
-            // A kept worker said "ready" long ago: the request goes at the first poll.
-            inbox.borrow_mut().push_back("ready\n".to_owned());
+        if let Some(w) = IDLE.with(|idle| idle.borrow_mut().pop()) {
+            return Ok(Running::attach(w, true));
         }
-        let inbox2 = inbox.clone();
-        let on_message = Closure::<dyn FnMut(web_sys::MessageEvent)>::new(move |e: web_sys::MessageEvent| {
-            let text = e.data().as_string().unwrap_or_default();
-            // Progress and partial outputs wait for the panel's next look; the output, a
-            // failure and the worker's readiness (its request goes at the next poll) wake it.
-            let shown = !(text.starts_with("progress\n") || text.starts_with("partial\n"));
-            inbox2.borrow_mut().push_back(text);
-            if shown {
-                super::wake();
+        if let Some(r) = STARTING.with(|s| s.borrow_mut().take()) {
+            if !r.failed() {
+                return Ok(r);
             }
-        });
-        let inbox3 = inbox.clone();
-        let on_error = Closure::<dyn FnMut(web_sys::Event)>::new(move |e: web_sys::Event| {
-            let what = e
-                .dyn_ref::<web_sys::ErrorEvent>()
-                .map_or_else(|| "the worker could not start".to_owned(), web_sys::ErrorEvent::message);
-            inbox3.borrow_mut().push_back(format!("failed\n{what}"));
-            super::wake();
-        });
-        worker.set_onmessage(Some(on_message.as_ref().unchecked_ref()));
-        worker.set_onerror(Some(on_error.as_ref().unchecked_ref()));
-        Ok(Running { worker, inbox, sent: false, skip: 0, _on_message: on_message, _on_error: on_error })
+            r.stop();
+        }
+        if let Some(r) = prestarted() {
+            return Ok(r);
+        }
+        Ok(Running::attach(web_sys::Worker::new(WORKER_SCRIPT)?, false))
     }
 
     impl<K: JobKind> Inner<K> {
         pub fn start(request: K::Request, keep_worker: bool) -> Self {
+            let request = K::encode_request(&request);
             let running = match spawn() {
-                Ok(r) => Some(r),
+                Ok(r) => match r.send(JsValue::from_str(&format!("{}\n{request}", K::NAME))) {
+                    Ok(()) => Some(r),
+                    Err(e) => {
+                        log::warn!("the request was not posted ({e:?}): {} runs on the page", K::NAME);
+                        r.stop();
+                        None
+                    }
+                },
                 Err(e) => {
                     log::warn!("no Web Worker ({e:?}): {} runs on the page", K::NAME);
                     None
                 }
             };
-            Self {
-                request: K::encode_request(&request),
-                running,
-                ran_here: false,
-                keep_worker,
-                _kind: std::marker::PhantomData,
-            }
+            Self { request, running, ran_here: false, keep_worker, _kind: std::marker::PhantomData }
         }
 
         /// Runs the job on the page (the worker failed or is missing).
@@ -455,16 +548,8 @@ mod imp {
             let Some(r) = self.running.as_mut() else {
                 return self.here("no worker", partials);
             };
-            if !r.sent && r.skip > 0 {
-                // A worker finishing dropped jobs: the request queues behind them.
-                r.sent = true;
-                let text = format!("{}\n{}", K::NAME, self.request);
-                if let Err(e) = r.worker.post_message(&JsValue::from_str(&text)) {
-                    return self.here(&format!("{e:?}"), partials);
-                }
-            }
             loop {
-                let msg = r.inbox.borrow_mut().pop_front()?;
+                let msg = r.shared.inbox.borrow_mut().pop_front()?;
                 let (tag, body) = msg.split_once('\n').unwrap_or((msg.as_str(), ""));
                 if r.skip > 0 && tag != "failed" {
                     // A dropped job's message; its answer ends it.
@@ -474,13 +559,6 @@ mod imp {
                     continue;
                 }
                 match tag {
-                    "ready" if !r.sent => {
-                        r.sent = true;
-                        let text = format!("{}\n{}", K::NAME, self.request);
-                        if let Err(e) = r.worker.post_message(&JsValue::from_str(&text)) {
-                            return self.here(&format!("{e:?}"), partials);
-                        }
-                    }
                     "progress" => *progress = body.parse().ok(),
                     "partial" => super::push_partial::<K>(body, partials),
                     "ok" => {
@@ -511,7 +589,16 @@ mod imp {
     impl<K: JobKind> Drop for Inner<K> {
         fn drop(&mut self) {
             let Some(mut r) = self.running.take() else { return };
-            if self.keep_worker && r.sent {
+            if !r.shared.sent.get() {
+                // The request never went (the worker is still starting): the worker is
+                // worth keeping for the next job, without this request.
+                r.shared.queued.borrow_mut().take();
+                if r.shared.ready.get() {
+                    r.park();
+                } else if let Some(older) = STARTING.with(|s| s.borrow_mut().replace(r)) {
+                    older.stop();
+                }
+            } else if self.keep_worker {
                 // Let it finish: its answer is skipped by the next job on this worker.
                 r.skip += 1;
                 if let Some(older) = DRAINING.with(|d| d.borrow_mut().replace(r)) {
