@@ -5,7 +5,7 @@
 // reports, and asserts nothing.
 //
 //   node e2e/sim-bench.mjs http://127.0.0.1:PORT/ [--moves 10000] [--pitch 0.1] [--runs 2] [--replays 4]
-//     [--hide view3d] [--worker-only N] [--trace FILE] [--press MS] [--block-worker] [--no-prestart]
+//     [--hide view3d] [--worker-only N] [--trace FILE] [--press MS] [--block-worker]
 //
 // The program reaches the tab through the page address (`?view=Cutting+simulation&set=
 // benchmark:five-axis:N`, `app::query_options`): the worker builds it from those few
@@ -56,25 +56,14 @@ const hide = arg("--hide", null);
 // the tab's program menu with the mouse (the same request as the address's). `sim_ms` is
 // then from the choice's frame; `pressed_ms` is the click.
 const press = args.includes("--press") ? Number(arg("--press", "2000")) : null;
-// --block-worker: the worker's loader script is refused (HTTP 404) on the app's pages, so no
+// --block-worker: the worker's script is refused (HTTP 404) on the app's pages, so no
 // worker can start (neither the one the page starts while it loads nor a job's own): shows
 // the fallback (the job runs on the page, `in_background` false) and what it costs.
 const blockWorker = args.includes("--block-worker");
-// --no-prestart: the worker the page starts while it loads (web/index.html,
-// `window.interpolabWorker`) is ended at once and never offered to the app, so the first job
-// starts its own worker as before that change: the same build with and without it.
-const noPrestart = args.includes("--no-prestart");
 const artifacts = path.join(here, "artifacts");
 fs.mkdirSync(artifacts, { recursive: true });
 
 const { browser, context } = await openBrowser();
-if (noPrestart) {
-  await context.addInitScript(() => {
-    Object.defineProperty(window, "interpolabWorker", {
-      configurable: true, get: () => undefined, set: (pre) => { if (pre && pre.worker) pre.worker.terminate(); },
-    });
-  });
-}
 const errors = [];
 context.on("console", (m) => { if (m.type() === "error" || m.type() === "warning") errors.push(m.text()); });
 
@@ -85,7 +74,7 @@ async function status(page) {
 
 const sim = (s) => s && s.panel && s.panel.title === "Cutting simulation" ? s.panel.status : null;
 const load = () => os.loadavg().map((x) => Math.round(x * 100) / 100);
-const report = { moves, pitch_mm: Number(pitch), hide, press_idle_ms: press, block_worker: blockWorker, no_prestart: noPrestart, load_at_start: load(), runs: [], replays: [], worker_only: [] };
+const report = { moves, pitch_mm: Number(pitch), hide, press_idle_ms: press, block_worker: blockWorker, load_at_start: load(), runs: [], replays: [], worker_only: [] };
 
 // Records what the page posts to its workers (the job requests), for --worker-only, and a
 // timeline of every worker (ms since navigation, the page's `performance.now()`): created,
@@ -165,7 +154,7 @@ let posted = null;
 let page = null;
 for (let r = 0; r < runs; r++) {
   page = await context.newPage();
-  if (blockWorker) await page.route("**/interpolab-worker_loader.js", (r) => r.fulfill({ status: 404, body: "blocked by sim-bench" }));
+  if (blockWorker) await page.route(/\/(jobs-worker|interpolab-worker_loader)\.js$/, (r) => r.fulfill({ status: 404, body: "blocked by sim-bench" }));
   if (traceFile) {
     await browser.startTracing(page, {
       path: r === 0 ? traceFile : traceFile.replace(/(\.json)?$/, `-${r + 1}.json`),

@@ -9,10 +9,11 @@
 //!   the output cross as text (`JobKind::encode_*`, numbers by their bits, so the output is
 //!   the one computed). One worker per job at a time; cancelling terminates it; a worker
 //!   that answered is kept for the next job (at most one kept), so a replay does not start
-//!   a worker again. The page starts one worker while it loads ([`PRESTARTED_WORKER`]), so
-//!   the first job does not wait for the worker's wasm either; a request goes to its worker
-//!   the moment the worker is ready (from the worker's message handler, not at the next
-//!   frame). If the worker cannot
+//!   a worker again. Once the page's first frame is shown a spare worker starts if no job
+//!   has one yet ([`start_spare_worker`]), so a user's first job does not wait for the
+//!   worker's wasm either, and a request is posted the moment the job starts, before the
+//!   worker is ready (its script keeps it; the page used to wait for the worker's `ready`,
+//!   which sat behind the page's first frames). If the worker cannot
 //!   run (no script, an error inside it, an output that does not decode), the job is run on
 //!   the page instead, as the app did before: slower to the eye, same result.
 //!
@@ -36,13 +37,19 @@ pub fn finished_counts() -> (usize, usize) {
     (FINISHED[0].load(Ordering::Relaxed), FINISHED[1].load(Ordering::Relaxed))
 }
 
-/// The worker's loader script, next to `index.html` (Trunk's `data-loader-shim`).
-pub const WORKER_SCRIPT: &str = "./interpolab-worker_loader.js";
+/// The worker's script, next to `index.html` (`web/jobs-worker.js`: loads the worker's wasm
+/// and keeps the messages that arrive before it runs).
+pub const WORKER_SCRIPT: &str = "./jobs-worker.js";
 
-/// The page's global under which `web/index.html` leaves the worker it starts while the
-/// page loads (`{worker, ready, failed}`: the worker, whether it said `ready`, why it could
-/// not start), taken by the first job (docs/background-jobs.md, "The first job's worker").
-pub const PRESTARTED_WORKER: &str = "interpolabWorker";
+/// Starts a spare worker for the page's first job if no job has started one yet (the app
+/// calls it once its first frame is on screen). Natively nothing: a job's thread starts at
+/// once. In a browser the worker then fetches and compiles its wasm while the page idles, so
+/// a job started later (a user's first run) finds it ready; started after the first frame,
+/// not while the page loads, because a job that runs during the page's first frames takes
+/// the CPU they need (docs/background-jobs.md, "The first job's worker").
+pub fn start_spare_worker() {
+    imp::start_spare();
+}
 
 /// Most cores a machine is taken to have (a bound on what the browser reports).
 const MAX_CORES: usize = 64;
@@ -303,38 +310,28 @@ mod imp {
             self.cancel.store(true, Ordering::Relaxed);
         }
     }
+
+    /// Nothing to start ahead: a job's thread starts at once.
+    pub fn start_spare() {}
 }
 
 #[cfg(target_arch = "wasm32")]
 mod imp {
-    use std::cell::{Cell, RefCell};
+    use std::cell::RefCell;
     use std::collections::VecDeque;
     use std::rc::Rc;
 
     use eframe::wasm_bindgen::JsCast;
     use eframe::wasm_bindgen::prelude::{Closure, JsValue};
 
-    use super::{PRESTARTED_WORKER, WORKER_SCRIPT};
+    use super::WORKER_SCRIPT;
     use crate::jobs::JobKind;
 
-    /// What a worker's message handler shares with the job on it.
-    #[derive(Default)]
-    struct Shared {
-        /// Messages for the job's next poll (progress, partial outputs, the answer, a failure).
-        inbox: RefCell<VecDeque<String>>,
-        /// The worker said `ready` (or is known to be: kept after answering, or running a
-        /// dropped job).
-        ready: Cell<bool>,
-        /// The job's request was posted.
-        sent: Cell<bool>,
-        /// The request to post the moment the worker says `ready` (not at the next frame's
-        /// poll: on a freshly opened page a frame can be 0.1–0.4 s away).
-        queued: RefCell<Option<JsValue>>,
-    }
+    type Inbox = Rc<RefCell<VecDeque<String>>>;
 
     struct Running {
         worker: web_sys::Worker,
-        shared: Rc<Shared>,
+        inbox: Inbox,
         /// Answers of earlier, dropped jobs still to come before this job's messages (a
         /// worker taken over from [`DRAINING`]): their messages are skipped.
         skip: usize,
@@ -365,73 +362,44 @@ mod imp {
         /// one: a second one replaces it, ending the older). The next job is posted to it
         /// at once and skips the dropped jobs' answers.
         static DRAINING: RefCell<Option<Running>> = const { RefCell::new(None) };
-        /// A worker still starting whose job was dropped before its request went (at most
-        /// one): the next job takes it instead of starting another.
-        static STARTING: RefCell<Option<Running>> = const { RefCell::new(None) };
+        /// The spare worker started after the page's first frame ([`start_spare`]), until a
+        /// job takes it.
+        static SPARE: RefCell<Option<Running>> = const { RefCell::new(None) };
+        /// Whether any worker was started (by a job or as the spare): a spare is started
+        /// only for a page that has none.
+        static STARTED: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
     }
 
     impl Running {
-        /// Takes `worker` for a job: installs the handlers (replacing any). `ready`: the
-        /// worker said so already.
-        fn attach(worker: web_sys::Worker, ready: bool) -> Self {
-            let shared = Rc::new(Shared::default());
-            shared.ready.set(ready);
-            let shared2 = shared.clone();
-            let worker2 = worker.clone();
+        /// Takes `worker` for a job: installs the handlers (replacing any).
+        fn attach(worker: web_sys::Worker) -> Self {
+            let inbox: Inbox = Rc::default();
+            let inbox2 = inbox.clone();
             let on_message = Closure::<dyn FnMut(web_sys::MessageEvent)>::new(move |e: web_sys::MessageEvent| {
                 let text = e.data().as_string().unwrap_or_default();
                 if text.starts_with("ready\n") {
-                    shared2.ready.set(true);
-                    let queued = shared2.queued.borrow_mut().take();
-                    if let Some(request) = queued {
-                        match worker2.post_message(&request) {
-                            Ok(()) => shared2.sent.set(true),
-                            Err(e) => {
-                                shared2
-                                    .inbox
-                                    .borrow_mut()
-                                    .push_back(format!("failed\nthe request was not posted: {e:?}"));
-                                super::wake();
-                            }
-                        }
-                    }
+                    // The request went already (the worker's script keeps it until then).
                     return;
                 }
                 // Progress and partial outputs wait for the panel's next look; the output
                 // and a failure wake it.
                 let shown = !(text.starts_with("progress\n") || text.starts_with("partial\n"));
-                shared2.inbox.borrow_mut().push_back(text);
+                inbox2.borrow_mut().push_back(text);
                 if shown {
                     super::wake();
                 }
             });
-            let shared3 = shared.clone();
+            let inbox3 = inbox.clone();
             let on_error = Closure::<dyn FnMut(web_sys::Event)>::new(move |e: web_sys::Event| {
                 let what = e
                     .dyn_ref::<web_sys::ErrorEvent>()
                     .map_or_else(|| "the worker could not start".to_owned(), web_sys::ErrorEvent::message);
-                shared3.inbox.borrow_mut().push_back(format!("failed\n{what}"));
+                inbox3.borrow_mut().push_back(format!("failed\n{what}"));
                 super::wake();
             });
             worker.set_onmessage(Some(on_message.as_ref().unchecked_ref()));
             worker.set_onerror(Some(on_error.as_ref().unchecked_ref()));
-            Self { worker, shared, skip: 0, _on_message: on_message, _on_error: on_error }
-        }
-
-        /// Posts the job's request now if the worker is ready, else the moment it says so.
-        fn send(&self, request: JsValue) -> Result<(), JsValue> {
-            if self.shared.ready.get() {
-                self.worker.post_message(&request)?;
-                self.shared.sent.set(true);
-            } else {
-                *self.shared.queued.borrow_mut() = Some(request);
-            }
-            Ok(())
-        }
-
-        /// Whether the worker reported a failure (it could not start).
-        fn failed(&self) -> bool {
-            self.shared.inbox.borrow().iter().any(|m| m.starts_with("failed\n"))
+            Self { worker, inbox, skip: 0, _on_message: on_message, _on_error: on_error }
         }
 
         /// Ends the worker (the handlers are unset when `self` drops).
@@ -466,53 +434,51 @@ mod imp {
         }
     }
 
-    /// The worker `web/index.html` started while the page loaded
-    /// (`window[PRESTARTED_WORKER]` = `{worker, ready, failed}`), taken once: the first job
-    /// finds it compiled and ready instead of fetching and compiling the worker's wasm on
-    /// its path. One that failed is ended (the job starts its own, as without it).
-    fn prestarted() -> Option<Running> {
-        let window = web_sys::window()?;
-        let key = JsValue::from_str(PRESTARTED_WORKER);
-        let pre = js_sys::Reflect::get(&window, &key).ok().filter(|v| v.is_object())?;
-        let _ = js_sys::Reflect::delete_property(&window, &key);
-        let field = |name: &str| js_sys::Reflect::get(&pre, &JsValue::from_str(name)).unwrap_or(JsValue::UNDEFINED);
-        let worker: web_sys::Worker = field("worker").dyn_into().ok()?;
-        if field("failed").is_truthy() {
-            log::warn!("the pre-started worker failed ({:?}): a job starts its own", field("failed").as_string());
-            worker.terminate();
-            return None;
-        }
-        Some(Running::attach(worker, field("ready").as_bool() == Some(true)))
+    /// Whether a worker reported a failure (it could not start): its inbox holds the message.
+    fn failed(r: &Running) -> bool {
+        r.inbox.borrow().iter().any(|m| m.starts_with("failed\n"))
     }
 
-    /// A worker for the next job: the one draining a dropped job, a kept one, one still
-    /// starting, the page's pre-started one, or a new one, in that order.
+    /// Starts the spare worker unless a worker was ever started on this page.
+    pub fn start_spare() {
+        if STARTED.with(std::cell::Cell::get) {
+            return;
+        }
+        STARTED.with(|s| s.set(true));
+        match web_sys::Worker::new(WORKER_SCRIPT) {
+            Ok(w) => SPARE.with(|s| *s.borrow_mut() = Some(Running::attach(w))),
+            Err(e) => log::warn!("no spare Web Worker ({e:?}): the first job starts its own"),
+        }
+    }
+
+    /// A worker for the next job: the one draining a dropped job, a kept one, the spare, or
+    /// a new one, in that order. A spare that failed is ended (the job starts its own).
     fn spawn() -> Result<Running, JsValue> {
+        STARTED.with(|s| s.set(true));
         if let Some(r) = DRAINING.with(|d| d.borrow_mut().take()) {
-            // Its last request was the dropped job's: this job's goes at once, queued behind.
-            r.shared.sent.set(false);
             return Ok(r);
         }
         if let Some(w) = IDLE.with(|idle| idle.borrow_mut().pop()) {
-            return Ok(Running::attach(w, true));
+            return Ok(Running::attach(w));
         }
-        if let Some(r) = STARTING.with(|s| s.borrow_mut().take()) {
-            if !r.failed() {
+        if let Some(r) = SPARE.with(|s| s.borrow_mut().take()) {
+            if !failed(&r) {
                 return Ok(r);
             }
+            log::warn!("the spare worker failed: a job starts its own");
             r.stop();
         }
-        if let Some(r) = prestarted() {
-            return Ok(r);
-        }
-        Ok(Running::attach(web_sys::Worker::new(WORKER_SCRIPT)?, false))
+        Ok(Running::attach(web_sys::Worker::new(WORKER_SCRIPT)?))
     }
 
     impl<K: JobKind> Inner<K> {
+        /// Takes a worker and posts the request at once, whether or not the worker has
+        /// started: its script (`web/jobs-worker.js`) keeps what arrives before its wasm
+        /// runs; a worker draining a dropped job runs it right after that one.
         pub fn start(request: K::Request, keep_worker: bool) -> Self {
             let request = K::encode_request(&request);
             let running = match spawn() {
-                Ok(r) => match r.send(JsValue::from_str(&format!("{}\n{request}", K::NAME))) {
+                Ok(r) => match r.worker.post_message(&JsValue::from_str(&format!("{}\n{request}", K::NAME))) {
                     Ok(()) => Some(r),
                     Err(e) => {
                         log::warn!("the request was not posted ({e:?}): {} runs on the page", K::NAME);
@@ -549,7 +515,7 @@ mod imp {
                 return self.here("no worker", partials);
             };
             loop {
-                let msg = r.shared.inbox.borrow_mut().pop_front()?;
+                let msg = r.inbox.borrow_mut().pop_front()?;
                 let (tag, body) = msg.split_once('\n').unwrap_or((msg.as_str(), ""));
                 if r.skip > 0 && tag != "failed" {
                     // A dropped job's message; its answer ends it.
@@ -589,16 +555,7 @@ mod imp {
     impl<K: JobKind> Drop for Inner<K> {
         fn drop(&mut self) {
             let Some(mut r) = self.running.take() else { return };
-            if !r.shared.sent.get() {
-                // The request never went (the worker is still starting): the worker is
-                // worth keeping for the next job, without this request.
-                r.shared.queued.borrow_mut().take();
-                if r.shared.ready.get() {
-                    r.park();
-                } else if let Some(older) = STARTING.with(|s| s.borrow_mut().replace(r)) {
-                    older.stop();
-                }
-            } else if self.keep_worker {
+            if self.keep_worker {
                 // Let it finish: its answer is skipped by the next job on this worker.
                 r.skip += 1;
                 if let Some(older) = DRAINING.with(|d| d.borrow_mut().replace(r)) {
