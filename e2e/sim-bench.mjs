@@ -6,6 +6,7 @@
 //
 //   node e2e/sim-bench.mjs http://127.0.0.1:PORT/ [--moves 10000] [--pitch 0.1] [--runs 2] [--replays 4]
 //     [--hide view3d] [--worker-only N] [--trace FILE] [--press MS] [--block-worker]
+//     [--first-frame N]
 //
 // The program reaches the tab through the page address (`?view=Cutting+simulation&set=
 // benchmark:five-axis:N`, `app::query_options`): the worker builds it from those few
@@ -62,6 +63,51 @@ const press = args.includes("--press") ? Number(arg("--press", "2000")) : null;
 const blockWorker = args.includes("--block-worker");
 const artifacts = path.join(here, "artifacts");
 fs.mkdirSync(artifacts, { recursive: true });
+
+// --first-frame N: only the page's first frame, no run: the default page (no address options)
+// opened in N fresh browsers one after another (no HTTP cache), each's `first_frame_ms` and
+// its workers' timeline (the spare worker starts after the first frame), then exit. Run it
+// against two builds in turn to compare their first frames.
+const firstFrames = Number(arg("--first-frame", "0"));
+if (firstFrames > 0) {
+  const rows = [];
+  for (let i = 0; i < firstFrames; i++) {
+    const { browser: b, context: c } = await openBrowser();
+    await c.addInitScript(() => {
+      window.__workers = [];
+      const Base = window.Worker;
+      window.Worker = class extends Base {
+        constructor(...a) {
+          super(...a);
+          const rec = { created: Math.round(performance.now()) };
+          window.__workers.push(rec);
+          this.addEventListener("message", (e) => {
+            if (rec.ready === undefined && String(e.data).startsWith("ready\n")) rec.ready = Math.round(performance.now());
+          });
+        }
+      };
+    });
+    const p = await c.newPage();
+    await p.goto(url);
+    await p.waitForFunction(() => {
+      const t = document.getElementById("app-status")?.textContent;
+      try { return t && JSON.parse(t).first_frame_ms != null; } catch { return false; }
+    }, null, { timeout: 60000 });
+    await p.waitForTimeout(1500);
+    const row = await p.evaluate(() => ({
+      first_frame_ms: Math.round(JSON.parse(document.getElementById("app-status").textContent).first_frame_ms),
+      workers: window.__workers,
+    }));
+    row.load = os.loadavg().map((x) => Math.round(x * 100) / 100);
+    rows.push(row);
+    console.log(`first frame: ${JSON.stringify(row)}`);
+    await b.close();
+  }
+  const ff = rows.map((r) => r.first_frame_ms).sort((x, y) => x - y);
+  console.log(`first frames (ms): ${ff.join(", ")}; median ${ff[Math.floor(ff.length / 2)]}`);
+  fs.writeFileSync(path.join(artifacts, "sim-bench-first-frame.json"), JSON.stringify(rows, null, 2));
+  process.exit(0);
+}
 
 const { browser, context } = await openBrowser();
 const errors = [];
