@@ -5,7 +5,8 @@
 // reports, and asserts nothing.
 //
 //   node e2e/sim-bench.mjs http://127.0.0.1:PORT/ [--moves 10000] [--pitch 0.1] [--runs 2] [--replays 4]
-//     [--hide view3d] [--worker-only N] [--trace FILE]
+//     [--hide view3d] [--worker-only N] [--trace FILE] [--press MS] [--block-worker]
+//     [--first-frame N]
 //
 // The program reaches the tab through the page address (`?view=Cutting+simulation&set=
 // benchmark:five-axis:N`, `app::query_options`): the worker builds it from those few
@@ -50,8 +51,63 @@ const jsFlags = arg("--js-flags", null);
 // --hide LIST: passed as the page's `hide=` (app/ablate.rs), e.g. `view3d` to leave the 3D
 // view's drawing out of every frame (a measurement of the run without the stock's frames).
 const hide = arg("--hide", null);
+// --press MS: the user on an already open page instead of an address that starts the run:
+// the tab opened with no program to run (`set=source:loaded` with no file loaded, the
+// benchmark's pitch), left idle MS ms after its first frame, then the benchmark chosen from
+// the tab's program menu with the mouse (the same request as the address's). `sim_ms` is
+// then from the choice's frame; `pressed_ms` is the click.
+const press = args.includes("--press") ? Number(arg("--press", "2000")) : null;
+// --block-worker: the worker's script is refused (HTTP 404) on the app's pages, so no
+// worker can start (neither the one the page starts while it loads nor a job's own): shows
+// the fallback (the job runs on the page, `in_background` false) and what it costs.
+const blockWorker = args.includes("--block-worker");
 const artifacts = path.join(here, "artifacts");
 fs.mkdirSync(artifacts, { recursive: true });
+
+// --first-frame N: only the page's first frame, no run: the default page (no address options)
+// opened in N fresh browsers one after another (no HTTP cache), each's `first_frame_ms` and
+// its workers' timeline (the spare worker starts after the first frame), then exit. Run it
+// against two builds in turn to compare their first frames.
+const firstFrames = Number(arg("--first-frame", "0"));
+if (firstFrames > 0) {
+  const rows = [];
+  for (let i = 0; i < firstFrames; i++) {
+    const { browser: b, context: c } = await openBrowser();
+    await c.addInitScript(() => {
+      window.__workers = [];
+      const Base = window.Worker;
+      window.Worker = class extends Base {
+        constructor(...a) {
+          super(...a);
+          const rec = { created: Math.round(performance.now()) };
+          window.__workers.push(rec);
+          this.addEventListener("message", (e) => {
+            if (rec.ready === undefined && String(e.data).startsWith("ready\n")) rec.ready = Math.round(performance.now());
+          });
+        }
+      };
+    });
+    const p = await c.newPage();
+    await p.goto(url);
+    await p.waitForFunction(() => {
+      const t = document.getElementById("app-status")?.textContent;
+      try { return t && JSON.parse(t).first_frame_ms != null; } catch { return false; }
+    }, null, { timeout: 60000 });
+    await p.waitForTimeout(1500);
+    const row = await p.evaluate(() => ({
+      first_frame_ms: Math.round(JSON.parse(document.getElementById("app-status").textContent).first_frame_ms),
+      workers: window.__workers,
+    }));
+    row.load = os.loadavg().map((x) => Math.round(x * 100) / 100);
+    rows.push(row);
+    console.log(`first frame: ${JSON.stringify(row)}`);
+    await b.close();
+  }
+  const ff = rows.map((r) => r.first_frame_ms).sort((x, y) => x - y);
+  console.log(`first frames (ms): ${ff.join(", ")}; median ${ff[Math.floor(ff.length / 2)]}`);
+  fs.writeFileSync(path.join(artifacts, "sim-bench-first-frame.json"), JSON.stringify(rows, null, 2));
+  process.exit(0);
+}
 
 const { browser, context } = await openBrowser();
 const errors = [];
@@ -64,25 +120,87 @@ async function status(page) {
 
 const sim = (s) => s && s.panel && s.panel.title === "Cutting simulation" ? s.panel.status : null;
 const load = () => os.loadavg().map((x) => Math.round(x * 100) / 100);
-const report = { moves, pitch_mm: Number(pitch), hide, load_at_start: load(), runs: [], replays: [], worker_only: [] };
+const report = { moves, pitch_mm: Number(pitch), hide, press_idle_ms: press, block_worker: blockWorker, load_at_start: load(), runs: [], replays: [], worker_only: [] };
 
-// Records what the page posts to its workers (the job requests), for --worker-only.
+// Records what the page posts to its workers (the job requests), for --worker-only, and a
+// timeline of every worker (ms since navigation, the page's `performance.now()`): created,
+// said ready, the simulation's request posted, its first progress and partial output, the
+// machining's start and end (progress 0.1 and 0.9), its answer; and the page's own wasm
+// (`TrunkApplicationStarted`: the app's module fetched, compiled and started).
 await context.addInitScript(() => {
   window.__workerPosts = [];
-  const post = Worker.prototype.postMessage;
-  Worker.prototype.postMessage = function (m, ...rest) {
-    if (typeof m === "string" && m.startsWith("simulate-run\n") && window.__workerPosts.length < 4) window.__workerPosts.push(m);
+  window.__workers = [];
+  window.__appStarted = null;
+  addEventListener("TrunkApplicationStarted", () => { window.__appStarted = performance.now(); });
+  const at = () => Math.round(performance.now());
+  const Base = window.Worker;
+  window.Worker = class extends Base {
+    constructor(...a) {
+      super(...a);
+      const rec = { created: at() };
+      window.__workers.push(rec);
+      this.__rec = rec;
+      this.addEventListener("message", (e) => {
+        const text = typeof e.data === "string" ? e.data : "";
+        const tag = text.slice(0, text.indexOf("\n"));
+        if (tag === "ready" && rec.ready === undefined) rec.ready = at();
+        if (rec.posted === undefined) return;
+        if (tag === "progress") {
+          const f = Number(text.slice(9));
+          if (rec.first_progress === undefined) rec.first_progress = at();
+          if (f >= 0.1 && rec.machining_from === undefined) rec.machining_from = at();
+          if (f >= 0.9 && rec.machining_to === undefined) rec.machining_to = at();
+        } else if (tag === "partial" && rec.first_partial === undefined) rec.first_partial = at();
+        else if ((tag === "ok" || tag === "err") && rec.answer === undefined) { rec.answer = at(); rec.answer_chars = text.length; }
+      });
+    }
+  };
+  const post = Base.prototype.postMessage;
+  Base.prototype.postMessage = function (m, ...rest) {
+    if (typeof m === "string" && m.startsWith("simulate-run\n")) {
+      if (window.__workerPosts.length < 4) window.__workerPosts.push(m);
+      if (this.__rec && this.__rec.posted === undefined) { this.__rec.posted = at(); this.__rec.request_chars = m.length; }
+    }
     return post.call(this, m, ...rest);
   };
 });
 
-const query = `?view=${encodeURIComponent("Cutting simulation")}&set=${encodeURIComponent(`benchmark:five-axis:${moves}`)}`
-  + (pitch === "0.1" ? "" : `&set=${encodeURIComponent(`pitch:${pitch}`)}`)
-  + (hide ? `&hide=${encodeURIComponent(hide)}` : "");
+const query = press === null
+  ? `?view=${encodeURIComponent("Cutting simulation")}&set=${encodeURIComponent(`benchmark:five-axis:${moves}`)}`
+    + (pitch === "0.1" ? "" : `&set=${encodeURIComponent(`pitch:${pitch}`)}`)
+    + (hide ? `&hide=${encodeURIComponent(hide)}` : "")
+  // --press: the tab with no program to run (no G-code file loaded) and the benchmark's pitch;
+  // the benchmark is then chosen from the tab's program menu.
+  : `?view=${encodeURIComponent("Cutting simulation")}&set=source:loaded&set=${encodeURIComponent(`pitch:${pitch}`)}`
+    + (hide ? `&hide=${encodeURIComponent(hide)}` : "");
+
+// Chooses the benchmark from the tab's program menu with the mouse, as a user would: opens
+// the menu (its published rectangle `sim_source`), then clicks the benchmark's item (its
+// published rectangle `sim_source_benchmark` once the menu is open; builds that do not
+// publish it: the last of the menu's seven items, found from the menu button's height).
+// Returns the page's `performance.now()` at the click.
+async function chooseBenchmark(page) {
+  const ui = (await status(page))?.panel?.status?.ui ?? {};
+  const combo = ui.sim_source;
+  if (!combo) throw new Error("the program menu's rectangle (sim_source) is not published");
+  await page.mouse.click(combo[0] + combo[2] / 2, combo[1] + combo[3] / 2);
+  let item = null;
+  for (let i = 0; i < 40 && !item; i++) {
+    await page.waitForTimeout(25);
+    item = (await status(page))?.panel?.status?.ui?.sim_source_benchmark ?? null;
+  }
+  const [x, y] = item
+    ? [item[0] + item[2] / 2, item[1] + item[3] / 2]
+    : [combo[0] + combo[2] / 2, combo[1] + combo[3] + 6 + 6.5 * (combo[3] + 2)];
+  const clicked = await page.evaluate(() => performance.now());
+  await page.mouse.click(x, y);
+  return { clicked, item_published: item !== null };
+}
 let posted = null;
 let page = null;
 for (let r = 0; r < runs; r++) {
   page = await context.newPage();
+  if (blockWorker) await page.route(/\/(jobs-worker|interpolab-worker_loader)\.js$/, (r) => r.fulfill({ status: 404, body: "blocked by sim-bench" }));
   if (traceFile) {
     await browser.startTracing(page, {
       path: r === 0 ? traceFile : traceFile.replace(/(\.json)?$/, `-${r + 1}.json`),
@@ -90,8 +208,19 @@ for (let r = 0; r < runs; r++) {
         "disabled-by-default-v8.gc", "blink", "gpu", "toplevel", "disabled-by-default-devtools.timeline.frame"],
     });
   }
-  const t0 = Date.now();
+  let t0 = Date.now();
   await page.goto(url + query);
+  let pressed = null;
+  if (press !== null) {
+    // An open page, idle: then the run through the tab's menu.
+    await page.waitForFunction(() => {
+      const t = document.getElementById("app-status")?.textContent;
+      try { return t && JSON.parse(t).first_frame_ms != null; } catch { return false; }
+    }, null, { timeout: 60000 });
+    await page.waitForTimeout(press);
+    pressed = await chooseBenchmark(page);
+    t0 = Date.now();
+  }
   const progress = [];
   let seenRun = null;
   let machStart = null;
@@ -110,11 +239,14 @@ for (let r = 0; r < runs; r++) {
       }
       if (machStart === null && s.progress >= 0.1 && s.computing) machStart = now;
       if (machEnd === null && (s.progress >= 0.9 || s.stage === "done")) machEnd = now;
-      if (s.stage === "done" || s.stage === "error") { st = s; break; }
+      if ((s.stage === "done" || s.stage === "error") && (press === null || s.source === "benchmark")) { st = s; break; }
     }
     await page.waitForTimeout(25);
   }
+  const doneAt = await page.evaluate(() => performance.now());
   const gaps = await page.evaluate(() => window.__frameGaps.splice(0));
+  const whole = await status(page);
+  const timeline = await page.evaluate(() => ({ app_started: window.__appStarted && Math.round(window.__appStarted), workers: window.__workers }));
   if (posted === null) posted = await page.evaluate(() => window.__workerPosts[0] ?? null);
   const sorted = [...gaps].sort((a, b) => a - b);
   const q = (f) => sorted.length ? sorted[Math.min(sorted.length - 1, Math.floor(f * sorted.length))] : null;
@@ -128,6 +260,15 @@ for (let r = 0; r < runs; r++) {
     frames: gaps.length, frame_median_ms: q(0.5), frame_p99_ms: q(0.99), frame_longest_ms: q(1),
     slowest_frame_ms: st && st.slowest_frame_ms,
     progress_values: progress.length, progress_first: progress.slice(0, 3), progress_last: progress.slice(-3),
+    // ms since navigation: the page's wasm started, its first frame, the done seen (polled
+    // every 25 ms; it comes after the frame that decoded the output and drew the result),
+    // each worker's timeline (`posted`: the run's request went to the worker).
+    first_frame_ms: whole && whole.first_frame_ms != null ? Math.round(whole.first_frame_ms) : null,
+    app_started_ms: timeline.app_started,
+    pressed_ms: pressed && Math.round(pressed.clicked), menu_item_published: pressed && pressed.item_published,
+    done_seen_ms: Math.round(doneAt),
+    workers: timeline.workers,
+    load: load(),
   };
   if (row.ray_updates && row.sim_ms) row.m_updates_per_s_whole = Math.round(row.ray_updates / row.sim_ms / 1e3 * 10) / 10;
   if (row.ray_updates && row.machining_seen_ms) row.m_updates_per_s_machining = Math.round(row.ray_updates / row.machining_seen_ms / 1e3 * 10) / 10;

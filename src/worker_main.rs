@@ -10,7 +10,9 @@ fn main() {
 }
 
 /// The Web Worker's side: installs a message handler on the worker's global scope, then says
-/// `ready`. Each message is a string `kind '\n' request`; the answer is `ok '\n' output` or
+/// `ready`. The worker's script (`web/jobs-worker.js`) keeps the messages that arrive before
+/// this handler is installed and hands them to it afterwards, so the page posts a job without
+/// waiting for `ready`. Each message is a string `kind '\n' request`; the answer is `ok '\n' output` or
 /// `err '\n' message` (a request the worker cannot decode). Progress is posted as
 /// `progress '\n' fraction`, a partial output as `partial '\n' text`. The page runs one job at a time on a worker, terminates it to
 /// cancel (so a job here never needs to look at `Progress::cancelled`) and may send a worker

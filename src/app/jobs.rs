@@ -9,7 +9,11 @@
 //!   the output cross as text (`JobKind::encode_*`, numbers by their bits, so the output is
 //!   the one computed). One worker per job at a time; cancelling terminates it; a worker
 //!   that answered is kept for the next job (at most one kept), so a replay does not start
-//!   a worker again. If the worker cannot
+//!   a worker again. Once the page's first frame is shown a spare worker starts if no job
+//!   has one yet ([`start_spare_worker`]), so a user's first job does not wait for the
+//!   worker's wasm either, and a request is posted the moment the job starts, before the
+//!   worker is ready (its script keeps it; the page used to wait for the worker's `ready`,
+//!   which sat behind the page's first frames). If the worker cannot
 //!   run (no script, an error inside it, an output that does not decode), the job is run on
 //!   the page instead, as the app did before: slower to the eye, same result.
 //!
@@ -33,8 +37,19 @@ pub fn finished_counts() -> (usize, usize) {
     (FINISHED[0].load(Ordering::Relaxed), FINISHED[1].load(Ordering::Relaxed))
 }
 
-/// The worker's loader script, next to `index.html` (Trunk's `data-loader-shim`).
-pub const WORKER_SCRIPT: &str = "./interpolab-worker_loader.js";
+/// The worker's script, next to `index.html` (`web/jobs-worker.js`: loads the worker's wasm
+/// and keeps the messages that arrive before it runs).
+pub const WORKER_SCRIPT: &str = "./jobs-worker.js";
+
+/// Starts a spare worker for the page's first job if no job has started one yet (the app
+/// calls it once its first frame is on screen). Natively nothing: a job's thread starts at
+/// once. In a browser the worker then fetches and compiles its wasm while the page idles, so
+/// a job started later (a user's first run) finds it ready; started after the first frame,
+/// not while the page loads, because a job that runs during the page's first frames takes
+/// the CPU they need (docs/background-jobs.md, "The first job's worker").
+pub fn start_spare_worker() {
+    imp::start_spare();
+}
 
 /// Most cores a machine is taken to have (a bound on what the browser reports).
 const MAX_CORES: usize = 64;
@@ -295,6 +310,9 @@ mod imp {
             self.cancel.store(true, Ordering::Relaxed);
         }
     }
+
+    /// Nothing to start ahead: a job's thread starts at once.
+    pub fn start_spare() {}
 }
 
 #[cfg(target_arch = "wasm32")]
@@ -314,7 +332,6 @@ mod imp {
     struct Running {
         worker: web_sys::Worker,
         inbox: Inbox,
-        sent: bool,
         /// Answers of earlier, dropped jobs still to come before this job's messages (a
         /// worker taken over from [`DRAINING`]): their messages are skipped.
         skip: usize,
@@ -345,22 +362,54 @@ mod imp {
         /// one: a second one replaces it, ending the older). The next job is posted to it
         /// at once and skips the dropped jobs' answers.
         static DRAINING: RefCell<Option<Running>> = const { RefCell::new(None) };
+        /// The spare worker started after the page's first frame ([`start_spare`]), until a
+        /// job takes it.
+        static SPARE: RefCell<Option<Running>> = const { RefCell::new(None) };
+        /// Whether any worker was started (by a job or as the spare): a spare is started
+        /// only for a page that has none.
+        static STARTED: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
     }
 
     impl Running {
-        /// Ends the worker. Its handlers are unset first: an event already queued for them
-        /// must not reach a closure that is about to be dropped.
+        /// Takes `worker` for a job: installs the handlers (replacing any).
+        fn attach(worker: web_sys::Worker) -> Self {
+            let inbox: Inbox = Rc::default();
+            let inbox2 = inbox.clone();
+            let on_message = Closure::<dyn FnMut(web_sys::MessageEvent)>::new(move |e: web_sys::MessageEvent| {
+                let text = e.data().as_string().unwrap_or_default();
+                if text.starts_with("ready\n") {
+                    // The request went already (the worker's script keeps it until then).
+                    return;
+                }
+                // Progress and partial outputs wait for the panel's next look; the output
+                // and a failure wake it.
+                let shown = !(text.starts_with("progress\n") || text.starts_with("partial\n"));
+                inbox2.borrow_mut().push_back(text);
+                if shown {
+                    super::wake();
+                }
+            });
+            let inbox3 = inbox.clone();
+            let on_error = Closure::<dyn FnMut(web_sys::Event)>::new(move |e: web_sys::Event| {
+                let what = e
+                    .dyn_ref::<web_sys::ErrorEvent>()
+                    .map_or_else(|| "the worker could not start".to_owned(), web_sys::ErrorEvent::message);
+                inbox3.borrow_mut().push_back(format!("failed\n{what}"));
+                super::wake();
+            });
+            worker.set_onmessage(Some(on_message.as_ref().unchecked_ref()));
+            worker.set_onerror(Some(on_error.as_ref().unchecked_ref()));
+            Self { worker, inbox, skip: 0, _on_message: on_message, _on_error: on_error }
+        }
+
+        /// Ends the worker (the handlers are unset when `self` drops).
         fn stop(self) {
-            self.worker.set_onmessage(None);
-            self.worker.set_onerror(None);
             self.worker.terminate();
         }
 
         /// Keeps the worker (it answered and waits for a message) for the next job, or ends
         /// it when enough are kept.
         fn park(self) {
-            self.worker.set_onmessage(None);
-            self.worker.set_onerror(None);
             let kept = IDLE.with(|idle| {
                 let mut idle = idle.borrow_mut();
                 if idle.len() < MAX_IDLE {
@@ -371,68 +420,78 @@ mod imp {
                 }
             });
             if !kept {
-                self.worker.terminate();
+                self.stop();
             }
         }
     }
 
+    impl Drop for Running {
+        /// Unsets the handlers: an event already queued for them must not reach a closure
+        /// that is about to be dropped.
+        fn drop(&mut self) {
+            self.worker.set_onmessage(None);
+            self.worker.set_onerror(None);
+        }
+    }
+
+    /// Whether a worker reported a failure (it could not start): its inbox holds the message.
+    fn failed(r: &Running) -> bool {
+        r.inbox.borrow().iter().any(|m| m.starts_with("failed\n"))
+    }
+
+    /// Starts the spare worker unless a worker was ever started on this page.
+    pub fn start_spare() {
+        if STARTED.with(std::cell::Cell::get) {
+            return;
+        }
+        STARTED.with(|s| s.set(true));
+        match web_sys::Worker::new(WORKER_SCRIPT) {
+            Ok(w) => SPARE.with(|s| *s.borrow_mut() = Some(Running::attach(w))),
+            Err(e) => log::warn!("no spare Web Worker ({e:?}): the first job starts its own"),
+        }
+    }
+
+    /// A worker for the next job: the one draining a dropped job, a kept one, the spare, or
+    /// a new one, in that order. A spare that failed is ended (the job starts its own).
     fn spawn() -> Result<Running, JsValue> {
-        if let Some(mut r) = DRAINING.with(|d| d.borrow_mut().take()) {
-            // Its last request was the dropped job's: this job's goes at the first poll.
-            r.sent = false;
+        STARTED.with(|s| s.set(true));
+        if let Some(r) = DRAINING.with(|d| d.borrow_mut().take()) {
             return Ok(r);
         }
-        let reused = IDLE.with(|idle| idle.borrow_mut().pop());
-        let ready = reused.is_some();
-        let worker = match reused {
-            Some(w) => w,
-            None => web_sys::Worker::new(WORKER_SCRIPT)?,
-        };
-        let inbox: Inbox = Rc::default();
-        if ready {
-            // A kept worker said "ready" long ago: the request goes at the first poll.
-            inbox.borrow_mut().push_back("ready\n".to_owned());
+        if let Some(w) = IDLE.with(|idle| idle.borrow_mut().pop()) {
+            return Ok(Running::attach(w));
         }
-        let inbox2 = inbox.clone();
-        let on_message = Closure::<dyn FnMut(web_sys::MessageEvent)>::new(move |e: web_sys::MessageEvent| {
-            let text = e.data().as_string().unwrap_or_default();
-            // Progress and partial outputs wait for the panel's next look; the output, a
-            // failure and the worker's readiness (its request goes at the next poll) wake it.
-            let shown = !(text.starts_with("progress\n") || text.starts_with("partial\n"));
-            inbox2.borrow_mut().push_back(text);
-            if shown {
-                super::wake();
+        if let Some(r) = SPARE.with(|s| s.borrow_mut().take()) {
+            if !failed(&r) {
+                return Ok(r);
             }
-        });
-        let inbox3 = inbox.clone();
-        let on_error = Closure::<dyn FnMut(web_sys::Event)>::new(move |e: web_sys::Event| {
-            let what = e
-                .dyn_ref::<web_sys::ErrorEvent>()
-                .map_or_else(|| "the worker could not start".to_owned(), web_sys::ErrorEvent::message);
-            inbox3.borrow_mut().push_back(format!("failed\n{what}"));
-            super::wake();
-        });
-        worker.set_onmessage(Some(on_message.as_ref().unchecked_ref()));
-        worker.set_onerror(Some(on_error.as_ref().unchecked_ref()));
-        Ok(Running { worker, inbox, sent: false, skip: 0, _on_message: on_message, _on_error: on_error })
+            log::warn!("the spare worker failed: a job starts its own");
+            r.stop();
+        }
+        Ok(Running::attach(web_sys::Worker::new(WORKER_SCRIPT)?))
     }
 
     impl<K: JobKind> Inner<K> {
+        /// Takes a worker and posts the request at once, whether or not the worker has
+        /// started: its script (`web/jobs-worker.js`) keeps what arrives before its wasm
+        /// runs; a worker draining a dropped job runs it right after that one.
         pub fn start(request: K::Request, keep_worker: bool) -> Self {
+            let request = K::encode_request(&request);
             let running = match spawn() {
-                Ok(r) => Some(r),
+                Ok(r) => match r.worker.post_message(&JsValue::from_str(&format!("{}\n{request}", K::NAME))) {
+                    Ok(()) => Some(r),
+                    Err(e) => {
+                        log::warn!("the request was not posted ({e:?}): {} runs on the page", K::NAME);
+                        r.stop();
+                        None
+                    }
+                },
                 Err(e) => {
                     log::warn!("no Web Worker ({e:?}): {} runs on the page", K::NAME);
                     None
                 }
             };
-            Self {
-                request: K::encode_request(&request),
-                running,
-                ran_here: false,
-                keep_worker,
-                _kind: std::marker::PhantomData,
-            }
+            Self { request, running, ran_here: false, keep_worker, _kind: std::marker::PhantomData }
         }
 
         /// Runs the job on the page (the worker failed or is missing).
@@ -455,14 +514,6 @@ mod imp {
             let Some(r) = self.running.as_mut() else {
                 return self.here("no worker", partials);
             };
-            if !r.sent && r.skip > 0 {
-                // A worker finishing dropped jobs: the request queues behind them.
-                r.sent = true;
-                let text = format!("{}\n{}", K::NAME, self.request);
-                if let Err(e) = r.worker.post_message(&JsValue::from_str(&text)) {
-                    return self.here(&format!("{e:?}"), partials);
-                }
-            }
             loop {
                 let msg = r.inbox.borrow_mut().pop_front()?;
                 let (tag, body) = msg.split_once('\n').unwrap_or((msg.as_str(), ""));
@@ -474,13 +525,6 @@ mod imp {
                     continue;
                 }
                 match tag {
-                    "ready" if !r.sent => {
-                        r.sent = true;
-                        let text = format!("{}\n{}", K::NAME, self.request);
-                        if let Err(e) = r.worker.post_message(&JsValue::from_str(&text)) {
-                            return self.here(&format!("{e:?}"), partials);
-                        }
-                    }
                     "progress" => *progress = body.parse().ok(),
                     "partial" => super::push_partial::<K>(body, partials),
                     "ok" => {
@@ -511,7 +555,7 @@ mod imp {
     impl<K: JobKind> Drop for Inner<K> {
         fn drop(&mut self) {
             let Some(mut r) = self.running.take() else { return };
-            if self.keep_worker && r.sent {
+            if self.keep_worker {
                 // Let it finish: its answer is skipped by the next job on this worker.
                 r.skip += 1;
                 if let Some(older) = DRAINING.with(|d| d.borrow_mut().replace(r)) {

@@ -516,6 +516,8 @@ impl eframe::App for InterpolabApp {
         if self.frames == 2 && self.first_frame_ms.is_none() {
             // The first frame has been presented by the time the second one starts.
             self.first_frame_ms = Some(Platform::now_ms());
+            // A worker for the first job, now that the page is up (none if a job has one).
+            jobs::start_spare_worker();
         }
 
         self.platform.accept_dropped(&ctx);

@@ -161,12 +161,20 @@ impl SimulatePanel {
         let s = &mut self.settings;
         ui.horizontal_wrapped(|ui| {
             ui.label("Program:");
+            let mut bench_item = None;
             let r = egui::ComboBox::from_id_salt("sim_source").selected_text(s.source.label()).show_ui(ui, |ui| {
                 for k in SourceKind::ALL {
-                    ui.selectable_value(&mut s.source, k, k.label());
+                    let item = ui.selectable_value(&mut s.source, k, k.label());
+                    if k == SourceKind::Benchmark {
+                        bench_item = Some(item.rect);
+                    }
                 }
             });
             self.rects.push(("sim_source", r.response.rect));
+            // The benchmark's item while the menu is open (automation: e2e/sim-bench.mjs --press).
+            if let Some(item) = bench_item {
+                self.rects.push(("sim_source_benchmark", item));
+            }
             if s.source == SourceKind::Finish {
                 ui.label(
                     self.finish
