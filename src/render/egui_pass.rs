@@ -13,9 +13,7 @@
 //! pixels per point, tessellation options, atlas size and prepared discs as egui's, so the
 //! triangles are egui's) and replaced by one paint callback ([`RunCallback`]) drawing that
 //! mesh with `shaders/egui_pass.wgsl`: vertex colour × the atlas's sample, premultiplied alpha
-//! blended exactly as egui-wgpu blends, or — when every vertex of the run sits on the atlas's
-//! white texel (shapes without text or prepared discs) — the vertex colour alone. The picture
-//! is the same; the order of everything is kept (each run's callback takes its first shape's
+//! blended exactly as egui-wgpu blends. The picture is the same; the order of everything is kept (each run's callback takes its first shape's
 //! place, the rest of the run becomes `Noop`).
 //!
 //! Left to egui: shapes with another texture, callbacks (3D views, flat fills) and `Vec`s
@@ -36,7 +34,8 @@ use eframe::egui_wgpu::{self, CallbackResources, CallbackTrait, RenderState, Scr
 use epaint::{ClippedShape, Shape, Tessellator, Vertex};
 
 /// Most vertices drawn by this pass in one frame (20 bytes each: 10 MiB of vertex buffer);
-/// further runs are drawn by egui. The app's busiest tab uses some 60 000.
+/// further runs are drawn by egui. The app's tabs draw 7 000–41 000 (counted headless at
+/// 1400×900; the crease tab the most, its plot's series).
 pub const MAX_EGUI_PASS_VERTICES: usize = 1 << 19;
 
 /// How deep a `Shape::Vec` is looked into to decide whether all of it can be drawn here;
@@ -113,8 +112,6 @@ pub fn runs(shapes: &[ClippedShape]) -> Vec<Range<usize>> {
 pub struct RunDraw {
     /// Its indices in the frame's index buffer (they already point at the frame's vertices).
     pub indices: Range<u32>,
-    /// Whether any vertex samples the atlas elsewhere than its white texel (text, discs).
-    pub textured: bool,
 }
 
 /// The meshes of one frame's runs, one after another.
@@ -173,10 +170,9 @@ pub fn replace_runs(
         }
         let base = frame.vertices.len() as u32;
         let start = frame.indices.len() as u32;
-        let textured = mesh.vertices.iter().any(|v| v.uv != epaint::WHITE_UV);
         frame.vertices.extend_from_slice(&mesh.vertices);
         frame.indices.extend(mesh.indices.iter().map(|i| i + base));
-        let draw = RunDraw { indices: start..frame.indices.len() as u32, textured };
+        let draw = RunDraw { indices: start..frame.indices.len() as u32 };
         shapes[first].shape = make(&draw, clip);
         replaced += 1;
     }
@@ -308,7 +304,7 @@ pub fn replace_frame(ctx: &egui::Context, rs: Option<&RenderState>) {
     let mut make = |draw: &RunDraw, clip: egui::Rect| {
         Shape::Callback(egui_wgpu::Callback::new_paint_callback(
             clip,
-            RunCallback { serial, indices: draw.indices.clone(), textured: draw.textured },
+            RunCallback { serial, indices: draw.indices.clone() },
         ))
     };
     let layers: Vec<egui::LayerId> = ctx.memory(|m| m.layer_ids().collect());
@@ -362,8 +358,7 @@ struct Locals {
 
 /// The pass's pipelines and buffers, in egui-wgpu's callback resources.
 pub struct EguiPass {
-    textured: wgpu::RenderPipeline,
-    flat: wgpu::RenderPipeline,
+    pipeline: wgpu::RenderPipeline,
     locals: wgpu::Buffer,
     locals_now: Locals,
     locals_group: wgpu::BindGroup,
@@ -504,15 +499,12 @@ impl EguiPass {
                 cache: None,
             })
         };
-        let textured = pipeline(
-            "interpolab egui pass, textured",
+        // As egui-wgpu: the gamma-space shader for a plain target (the web), the decoding one
+        // for an sRGB target.
+        let pipeline = pipeline(
+            "interpolab egui pass",
             &[Some(&locals_layout), Some(&atlas_layout)],
-            if srgb { "fs_textured_linear" } else { "fs_textured_gamma" },
-        );
-        let flat = pipeline(
-            "interpolab egui pass, flat",
-            &[Some(&locals_layout)],
-            if srgb { "fs_flat_linear" } else { "fs_flat_gamma" },
+            if srgb { "fs_main_linear_framebuffer" } else { "fs_main_gamma_framebuffer" },
         );
         // egui's sampler for its font atlas (`TextureOptions::LINEAR`).
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
@@ -524,8 +516,7 @@ impl EguiPass {
             ..Default::default()
         });
         let pass = Self {
-            textured,
-            flat,
+            pipeline,
             locals,
             locals_now,
             locals_group,
@@ -596,7 +587,6 @@ pub struct RunCallback {
     /// The frame the indices belong to.
     serial: u64,
     indices: Range<u32>,
-    textured: bool,
 }
 
 impl CallbackTrait for RunCallback {
@@ -627,14 +617,10 @@ impl CallbackTrait for RunCallback {
         // egui-wgpu set the viewport to the callback's rectangle; the mesh is in screen points.
         let [w, h] = info.screen_size_px;
         pass.set_viewport(0.0, 0.0, w as f32, h as f32, 0.0, 1.0);
-        if self.textured {
-            let Some((_, atlas)) = &p.atlas else { return };
-            pass.set_pipeline(&p.textured);
-            pass.set_bind_group(1, atlas, &[]);
-        } else {
-            pass.set_pipeline(&p.flat);
-        }
+        let Some((_, atlas)) = &p.atlas else { return };
+        pass.set_pipeline(&p.pipeline);
         pass.set_bind_group(0, &p.locals_group, &[]);
+        pass.set_bind_group(1, atlas, &[]);
         pass.set_vertex_buffer(0, p.vertices.slice(..));
         pass.set_index_buffer(p.indices.slice(..), wgpu::IndexFormat::Uint32);
         pass.draw_indexed(self.indices.clone(), 0, 0..1);

@@ -1,9 +1,9 @@
 // egui's own triangles (text, rectangles, lines, circles) drawn with the least a fragment can
 // cost (`render::egui_pass`): vertex colour times the font atlas's sample, premultiplied alpha
-// blended by the pipeline — as egui-wgpu's shader with dithering and predictable texture
-// filtering off, but without their branches (a CPU rasteriser pays for a branch even untaken).
-// The `flat` entry points leave the sample out, for runs whose every vertex sits on the atlas's
-// white texel. The `linear` ones are for an sRGB target (the hardware encodes on write).
+// blended by the pipeline — what egui-wgpu's shader computes with dithering and predictable
+// texture filtering off, without their branches (a CPU rasteriser pays for a branch even when
+// it is not taken). `fs_main_linear_framebuffer` is for an sRGB target (the hardware encodes
+// on write), as egui-wgpu picks.
 
 struct Locals {
     // The screen's size in points (egui's vertex positions are in points).
@@ -54,22 +54,12 @@ fn linear_from_gamma(srgb: vec3<f32>) -> vec3<f32> {
 }
 
 @fragment
-fn fs_textured_gamma(in: VertexOutput) -> @location(0) vec4<f32> {
+fn fs_main_gamma_framebuffer(in: VertexOutput) -> @location(0) vec4<f32> {
     return in.colour * textureSample(atlas, atlas_sampler, in.uv);
 }
 
 @fragment
-fn fs_textured_linear(in: VertexOutput) -> @location(0) vec4<f32> {
+fn fs_main_linear_framebuffer(in: VertexOutput) -> @location(0) vec4<f32> {
     let c = in.colour * textureSample(atlas, atlas_sampler, in.uv);
     return vec4<f32>(linear_from_gamma(c.rgb), c.a);
-}
-
-@fragment
-fn fs_flat_gamma(in: VertexOutput) -> @location(0) vec4<f32> {
-    return in.colour;
-}
-
-@fragment
-fn fs_flat_linear(in: VertexOutput) -> @location(0) vec4<f32> {
-    return vec4<f32>(linear_from_gamma(in.colour.rgb), in.colour.a);
 }
