@@ -24,7 +24,8 @@
 //!   only warnings), every 30 frames, the area (in
 //!   points², clipped, from each shape's bounding rectangle) the frame's shapes cover, by kind
 //!   of shape — an upper bound of the pixels egui's shader fills (text is counted by its
-//!   bounding box, not its glyphs);
+//!   bounding box, not its glyphs; counted before the flat fills and `render::egui_pass` take
+//!   theirs), and how many frames `render::egui_pass` drew and how many it left to egui whole;
 //! - `flatfill` leaves out an optimisation instead of a part: the large opaque rectangles
 //!   are drawn by egui's shader again, not by `render::flat_fill`'s flat-colour pipeline;
 //! - `eguipass` likewise: egui's text, rectangles, lines and circles are drawn by egui-wgpu's
@@ -213,7 +214,11 @@ pub fn log_area(ctx: &egui::Context, frame: u64) {
     });
     let text: Vec<String> =
         (0..7).map(|k| format!("{}: {} shapes, {:.0} kpt²", names[k], count[k], area[k] / 1e3)).collect();
-    log::warn!("frame area by kind of shape: {}", text.join("; "));
+    let (drawn, left) = crate::render::egui_pass::frame_counts();
+    log::warn!(
+        "frame area by kind of shape: {}; egui_pass since the start: {drawn} frames drawn, {left} left to egui",
+        text.join("; ")
+    );
 }
 
 /// Removes the hidden kinds of shape from everything painted so far this frame (called at the

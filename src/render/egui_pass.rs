@@ -60,6 +60,16 @@ static DISABLED: AtomicBool = AtomicBool::new(false);
 /// Number of the frame whose meshes are pending upload (callbacks carry it).
 static FRAME_SERIAL: AtomicU64 = AtomicU64::new(0);
 
+/// Frames left to egui whole because its atlas may have been replaced (for `?hide=area`'s log).
+static FRAMES_LEFT: AtomicU64 = AtomicU64::new(0);
+
+/// How many frames this pass drew and how many it left to egui whole because the atlas may
+/// have been replaced (since the start; measuring aid, logged by `app::ablate::log_area`).
+#[must_use]
+pub fn frame_counts() -> (u64, u64) {
+    (FRAME_SERIAL.load(Ordering::Relaxed), FRAMES_LEFT.load(Ordering::Relaxed))
+}
+
 /// Turns the pass off (`true`) for measuring the difference on the same build.
 pub fn set_disabled(disabled: bool) {
     DISABLED.store(disabled, Ordering::Relaxed);
@@ -283,16 +293,15 @@ pub fn replace_frame(ctx: &egui::Context, rs: Option<&RenderState>) {
     let Ok(mut hook) = HOOK.lock() else { return };
     let now = ctx.fonts(|f| AtlasGuard { fill_ratio: f.font_atlas_fill_ratio(), text_options: *f.options() });
     let last = hook.last_atlas.replace(now);
-    if !AtlasGuard::same_atlas(last, now) {
-        return;
-    }
     // The atlas egui-wgpu holds now, and its size against the one the text was laid out in.
     let atlas = rs.renderer.read().texture(&egui::TextureId::default()).and_then(|t| t.texture.clone());
-    let Some(atlas) = atlas else { return };
     let key = tessellator_key(ctx);
-    if [atlas.width() as usize, atlas.height() as usize] != key.atlas_size {
+    let Some(atlas) = atlas
+        .filter(|a| AtlasGuard::same_atlas(last, now) && [a.width() as usize, a.height() as usize] == key.atlas_size)
+    else {
+        FRAMES_LEFT.fetch_add(1, Ordering::Relaxed);
         return;
-    }
+    };
     let cached = match hook.tessellator.take() {
         Some(c) if c.key == key => c,
         _ => CachedTessellator { key, tessellator: make_tessellator(key) },
