@@ -7,13 +7,14 @@
 //! full-window covering by egui's shader costs ~67 ms, a texture-sampling one without the
 //! branches ~16 ms, a flat one nothing over the clear (docs/speed.md, rounds 5–7).
 //!
-//! [`replace_runs`] runs at the end of the app's frame (after `flat_fill`): in every painted
+//! [`replace_frame`] runs at the end of the app's frame (after `flat_fill`): in every painted
 //! layer, each *run* — consecutive shapes in one clip rectangle that egui would draw with its
 //! font atlas ([`eligible`]) — is tessellated here with epaint's own [`Tessellator`] (the same
 //! pixels per point, tessellation options, atlas size and prepared discs as egui's, so the
 //! triangles are egui's) and replaced by one paint callback ([`RunCallback`]) drawing that
 //! mesh with `shaders/egui_pass.wgsl`: vertex colour × the atlas's sample, premultiplied alpha
-//! blended exactly as egui-wgpu blends. The picture is the same; the order of everything is kept (each run's callback takes its first shape's
+//! blended exactly as egui-wgpu blends ([`replace_runs`] does it for one layer). The picture
+//! is the same; the order of everything is kept (each run's callback takes its first shape's
 //! place, the rest of the run becomes `Noop`).
 //!
 //! Left to egui: shapes with another texture, callbacks (3D views, flat fills) and `Vec`s
@@ -57,7 +58,8 @@ static INSTALLED: AtomicBool = AtomicBool::new(false);
 /// Measuring only (`app::ablate`, web `?hide=eguipass`): leave every shape to egui.
 static DISABLED: AtomicBool = AtomicBool::new(false);
 
-/// Number of the frame whose meshes are pending upload (callbacks carry it).
+/// Number of the last frame this pass drew (its callbacks carry it; the meshes pending upload
+/// are that frame's).
 static FRAME_SERIAL: AtomicU64 = AtomicU64::new(0);
 
 /// Frames left to egui whole because its atlas may have been replaced (for `?hide=area`'s log).
@@ -89,7 +91,6 @@ fn shape_eligible(shape: &Shape, depth: usize) -> bool {
     match shape {
         Shape::Callback(_) => false,
         Shape::Vec(parts) => depth < MAX_VEC_DEPTH && parts.iter().all(|s| shape_eligible(s, depth + 1)),
-        Shape::Mesh(m) => m.texture_id == egui::TextureId::default(),
         other => other.texture_id() == egui::TextureId::default(),
     }
 }
