@@ -4,6 +4,8 @@
 //
 //   node e2e/png-diff.mjs A.png B.png [--tolerance 0] [--out DIFF.png]
 // --out: A with every differing pixel painted magenta.
+// --crop X,Y,W,H --side OUT.png: that rectangle of A, of B and of the marked A side by side,
+// each enlarged twice (to look at small text).
 import fs from "node:fs";
 import { PNG } from "pngjs";
 
@@ -35,6 +37,26 @@ for (let y = 0; y < a.height; y++) {
       if (out) a.data.set([255, 0, 255, 255], i);
     }
   }
+}
+const side = args.includes("--side") ? args[args.indexOf("--side") + 1] : null;
+if (side && args.includes("--crop")) {
+  const [cx, cy, cw, ch] = args[args.indexOf("--crop") + 1].split(",").map(Number);
+  const marked = PNG.sync.read(PNG.sync.write(a));
+  const originalA = PNG.sync.read(fs.readFileSync(fa));
+  const k = 2;
+  const s = new PNG({ width: 3 * cw * k, height: ch * k });
+  [originalA, b, marked].forEach((img, panel) => {
+    for (let y = 0; y < ch * k; y++) {
+      for (let x = 0; x < cw * k; x++) {
+        const sx = Math.min(img.width - 1, cx + Math.floor(x / k));
+        const sy = Math.min(img.height - 1, cy + Math.floor(y / k));
+        const from = 4 * (sy * img.width + sx);
+        const to = 4 * (y * s.width + panel * cw * k + x);
+        for (let c = 0; c < 4; c++) s.data[to + c] = img.data[from + c];
+      }
+    }
+  });
+  fs.writeFileSync(side, PNG.sync.write(s));
 }
 if (out) fs.writeFileSync(out, PNG.sync.write(a));
 console.log(JSON.stringify({ differing_pixels: n, largest_channel_difference: worst, box: n ? box : null }));

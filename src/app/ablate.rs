@@ -24,9 +24,12 @@
 //!   only warnings), every 30 frames, the area (in
 //!   points², clipped, from each shape's bounding rectangle) the frame's shapes cover, by kind
 //!   of shape — an upper bound of the pixels egui's shader fills (text is counted by its
-//!   bounding box, not its glyphs);
+//!   bounding box, not its glyphs; counted before the flat fills and `render::egui_pass` take
+//!   theirs), and how many frames `render::egui_pass` drew and how many it left to egui whole;
 //! - `flatfill` leaves out an optimisation instead of a part: the large opaque rectangles
-//!   are drawn by egui's shader again, not by `render::flat_fill`'s flat-colour pipeline.
+//!   are drawn by egui's shader again, not by `render::flat_fill`'s flat-colour pipeline;
+//! - `eguipass` likewise: egui's text, rectangles, lines and circles are drawn by egui-wgpu's
+//!   own pipeline again, not by `render::egui_pass`'s.
 
 use std::sync::atomic::{AtomicU32, Ordering};
 
@@ -78,10 +81,12 @@ pub enum Part {
     Area = 1 << 19,
     /// Leave the large opaque rectangles to egui's shader (`render::flat_fill` off).
     FlatFill = 1 << 20,
+    /// Leave egui's shapes to egui-wgpu's pipeline (`render::egui_pass` off).
+    EguiPass = 1 << 21,
 }
 
 /// The names in the address, in [`Part`]'s order.
-const NAMES: [(&str, Part); 21] = [
+const NAMES: [(&str, Part); 22] = [
     ("side", Part::Side),
     ("top", Part::Top),
     ("tabs", Part::Tabs),
@@ -103,6 +108,7 @@ const NAMES: [(&str, Part); 21] = [
     ("grid", Part::Grid),
     ("area", Part::Area),
     ("flatfill", Part::FlatFill),
+    ("eguipass", Part::EguiPass),
 ];
 
 static HIDDEN: AtomicU32 = AtomicU32::new(0);
@@ -144,6 +150,7 @@ pub fn set(bits: u32) {
     }
     set_skipped_layers(layers);
     crate::render::flat_fill::set_disabled(has(Part::FlatFill));
+    crate::render::egui_pass::set_disabled(has(Part::EguiPass));
 }
 
 /// Whether `part` is left out of every frame.
@@ -207,7 +214,11 @@ pub fn log_area(ctx: &egui::Context, frame: u64) {
     });
     let text: Vec<String> =
         (0..7).map(|k| format!("{}: {} shapes, {:.0} kpt²", names[k], count[k], area[k] / 1e3)).collect();
-    log::warn!("frame area by kind of shape: {}", text.join("; "));
+    let (drawn, left) = crate::render::egui_pass::frame_counts();
+    log::warn!(
+        "frame area by kind of shape: {}; egui_pass since the start: {drawn} frames drawn, {left} left to egui",
+        text.join("; ")
+    );
 }
 
 /// Removes the hidden kinds of shape from everything painted so far this frame (called at the
@@ -242,6 +253,7 @@ mod tests {
         assert_eq!(parse("?hide=side,plot"), Part::Side as u32 | Part::Plot as u32);
         assert_eq!(parse("?x=1&hide=text&hide=view3d"), Part::Text as u32 | Part::View3d as u32);
         assert_eq!(parse("?hide=nothing,side"), Part::Side as u32, "unknown names are ignored");
+        assert_eq!(parse("?hide=eguipass,flatfill"), Part::EguiPass as u32 | Part::FlatFill as u32);
         assert_eq!(parse("?probe=floor"), 0);
         assert_eq!(parse(""), 0);
     }

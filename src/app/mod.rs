@@ -127,6 +127,7 @@ impl InterpolabApp {
         if let Some(rs) = &render_state {
             crate::render::Renderer3d::install(rs);
             crate::render::flat_fill::FlatFills::install(rs);
+            crate::render::egui_pass::EguiPass::install(rs);
         }
         let mut notice = None;
         let fragment = platform.fragment();
@@ -640,6 +641,7 @@ impl eframe::App for InterpolabApp {
         ablate::strip_shapes(&ctx);
         ablate::log_area(&ctx, self.frames);
         crate::render::flat_fill::flatten(&ctx);
+        crate::render::egui_pass::replace_frame(&ctx, self.render_state.as_ref());
     }
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {

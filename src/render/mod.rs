@@ -8,11 +8,14 @@
 //! - [`camera`]: an orbit camera with z up;
 //! - [`gpu`]: pipelines, per-view layer buffers and targets, the egui-wgpu callback;
 //! - [`flat_fill`]: large opaque rectangles of the UI filled by a flat-colour pipeline
-//!   instead of egui's textured, blending one (cheap on CPU rasterisers).
+//!   instead of egui's textured, blending one (cheap on CPU rasterisers);
+//! - [`egui_pass`]: egui's remaining shapes (text, small rectangles, lines, circles) drawn
+//!   from egui's own tessellation by a pipeline whose fragment shader has no branches.
 //!
 //! Nothing here computes geometry of the part: it only draws what the core produced.
 
 pub mod camera;
+pub mod egui_pass;
 pub mod flat_fill;
 pub mod geometry;
 pub mod gpu;
