@@ -12,7 +12,9 @@
 // The floor: a page whose only content is a 1400×900 WebGL2 canvas cleared every frame, and
 // the app's own empty frame (`?probe=floor`: an egui frame with nothing in it).
 // --trace: a Chromium trace of the redraw and drag phases, summarised as busy time per thread
-// (the page's main thread runs the wasm, the GPU process runs SwiftShader); --cpu: the page's
+// (the page's main thread runs the wasm, the GPU process runs SwiftShader), and every frame
+// over 50 ms one by one (its wasm callback, the GPU process's busy time, and with the variant
+// `hide=marks` the 3D renderer's marks: scene passes, uploads); --cpu: the page's
 // main-thread CPU profile (self time per function, wasm names included).
 // --variants: A/B runs on the same build, interleaved: each round opens every tab once per
 // variant, a variant being a query added to the address (`none`: the page as it is), e.g. the
