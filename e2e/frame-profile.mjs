@@ -12,7 +12,9 @@
 // The floor: a page whose only content is a 1400×900 WebGL2 canvas cleared every frame, and
 // the app's own empty frame (`?probe=floor`: an egui frame with nothing in it).
 // --trace: a Chromium trace of the redraw and drag phases, summarised as busy time per thread
-// (the page's main thread runs the wasm, the GPU process runs SwiftShader); --cpu: the page's
+// (the page's main thread runs the wasm, the GPU process runs SwiftShader), and every frame
+// over 50 ms one by one (its wasm callback, the GPU process's busy time, and with the variant
+// `hide=marks` the 3D renderer's marks: scene passes, uploads); --cpu: the page's
 // main-thread CPU profile (self time per function, wasm names included).
 // --variants: A/B runs on the same build, interleaved: each round opens every tab once per
 // variant, a variant being a query added to the address (`none`: the page as it is), e.g. the
@@ -111,9 +113,49 @@ function traceSummary(buffer) {
     if (e.name === "FireAnimationFrame") raf.push(e.dur / 1000);
   }
   const wall = (t1 - t0) / 1000;
+  // The long frames one by one: gaps of over 50 ms between the page's animation-frame
+  // callbacks, each with the callback that opened it (the wasm frame), the GPU process's main
+  // thread's busy time in the gap and its longest kinds of work there (nested events counted
+  // each), the page's main thread's busy time, and the app's performance marks (`?hide=marks`:
+  // 3D scene passes and uploads) from the gap before it to its end (the GPU draws a frame
+  // after the page's callback issued it).
+  const isGpuMain = (e) => /GPU/i.test(procs.get(e.pid) ?? "") && /CrGpuMain/.test(names.get(`${e.pid}:${e.tid}`) ?? "");
+  const rafEvents = events.filter((e) => e.ph === "X" && e.name === "FireAnimationFrame").sort((a, b) => a.ts - b.ts);
+  const marks = events.filter((e) => /user_timing/.test(e.cat ?? "") && (e.ph === "R" || e.ph === "I" || e.ph === "n" || e.ph === "b"))
+    .map((e) => ({ ts: e.ts, name: e.name })).sort((a, b) => a.ts - b.ts);
+  const longFrames = [];
+  for (let i = 1; i < rafEvents.length; i++) {
+    const [a, b] = [rafEvents[i - 1].ts, rafEvents[i].ts];
+    const gap = (b - a) / 1000;
+    if (gap <= 50) continue;
+    const before = i >= 2 ? rafEvents[i - 2].ts : a;
+    const inGap = (e) => e.ts < b && e.ts + e.dur > a;
+    const overlap = (e) => (Math.min(b, e.ts + e.dur) - Math.max(a, e.ts)) / 1000;
+    let gpuBusy = 0;
+    let pageBusy = 0;
+    const kinds = new Map();
+    for (const e of events) {
+      if (e.ph !== "X" || typeof e.dur !== "number" || !inGap(e)) continue;
+      const top = e.name === "ThreadControllerImpl::RunTask";
+      if (isGpuMain(e)) {
+        if (top) gpuBusy += overlap(e);
+        else if (e.dur >= 1000) kinds.set(e.name, (kinds.get(e.name) ?? 0) + overlap(e));
+      } else if (top && /Renderer/i.test(procs.get(e.pid) ?? "") && /CrRendererMain/.test(names.get(`${e.pid}:${e.tid}`) ?? "")) {
+        pageBusy += overlap(e);
+      }
+    }
+    longFrames.push({
+      gap_ms: Math.round(gap),
+      raf_ms: Math.round(rafEvents[i - 1].dur / 100) / 10,
+      gpu_main_busy_ms: Math.round(gpuBusy),
+      page_main_busy_ms: Math.round(pageBusy),
+      gpu_work: [...kinds.entries()].sort((x, y) => y[1] - x[1]).slice(0, 5).map(([k, ms]) => `${k} ${Math.round(ms)}`),
+      marks: marks.filter((m) => m.ts >= before && m.ts < b).map((m) => m.name),
+    });
+  }
   const threads = [...busy.entries()].sort((a, b) => b[1] - a[1]).slice(0, 8)
     .map(([k, ms]) => ({ thread: k, busy_ms: Math.round(ms), share: Math.round((100 * ms) / wall) + "%" }));
-  return { wall_ms: Math.round(wall), threads, animation_frame_callbacks: summary(raf), gpu_main_tasks: summary(gpuTasks) };
+  return { wall_ms: Math.round(wall), threads, animation_frame_callbacks: summary(raf), gpu_main_tasks: summary(gpuTasks), long_frames: longFrames };
 }
 
 // Self time per function from a CDP CPU profile, top `n`.
@@ -148,7 +190,7 @@ async function withProbes(page, label, fn) {
   }
   if (wantTrace) {
     await browser.startTracing(page, {
-      categories: ["toplevel", "devtools.timeline", "disabled-by-default-devtools.timeline", "gpu", "viz", "cc"],
+      categories: ["toplevel", "devtools.timeline", "disabled-by-default-devtools.timeline", "gpu", "viz", "cc", "blink.user_timing"],
     });
   }
   const out = await fn();

@@ -29,7 +29,10 @@
 //! - `flatfill` leaves out an optimisation instead of a part: the large opaque rectangles
 //!   are drawn by egui's shader again, not by `render::flat_fill`'s flat-colour pipeline;
 //! - `eguipass` likewise: egui's text, rectangles, lines and circles are drawn by egui-wgpu's
-//!   own pipeline again, not by `render::egui_pass`'s.
+//!   own pipeline again, not by `render::egui_pass`'s;
+//! - `marks` hides nothing: the 3D renderer leaves a `performance.mark` for every scene pass
+//!   (view, size, spheres, line vertices, mesh indices) and every layer upload (bytes), so a
+//!   trace of a long frame says what it drew and sent (`frame-profile.mjs --trace`).
 
 use std::sync::atomic::{AtomicU32, Ordering};
 
@@ -83,10 +86,12 @@ pub enum Part {
     FlatFill = 1 << 20,
     /// Leave egui's shapes to egui-wgpu's pipeline (`render::egui_pass` off).
     EguiPass = 1 << 21,
+    /// Leave performance marks of the 3D views' scene passes and uploads (hides nothing).
+    Marks = 1 << 22,
 }
 
 /// The names in the address, in [`Part`]'s order.
-const NAMES: [(&str, Part); 22] = [
+const NAMES: [(&str, Part); 23] = [
     ("side", Part::Side),
     ("top", Part::Top),
     ("tabs", Part::Tabs),
@@ -109,6 +114,7 @@ const NAMES: [(&str, Part); 22] = [
     ("area", Part::Area),
     ("flatfill", Part::FlatFill),
     ("eguipass", Part::EguiPass),
+    ("marks", Part::Marks),
 ];
 
 static HIDDEN: AtomicU32 = AtomicU32::new(0);
@@ -151,6 +157,7 @@ pub fn set(bits: u32) {
     set_skipped_layers(layers);
     crate::render::flat_fill::set_disabled(has(Part::FlatFill));
     crate::render::egui_pass::set_disabled(has(Part::EguiPass));
+    crate::render::gpu::set_marks(has(Part::Marks));
 }
 
 /// Whether `part` is left out of every frame.

@@ -54,6 +54,31 @@ pub fn set_skipped_layers(bits: u32) {
     SKIPPED.store(bits, std::sync::atomic::Ordering::Relaxed);
 }
 
+/// Measuring only (`app::ablate`, web `?hide=marks`): whether the renderer leaves a
+/// `performance.mark` in the page for each scene pass and each layer upload, so a Chromium
+/// trace (`e2e/frame-profile.mjs --trace`) tells what a long frame held. Off in normal use.
+static MARKS: AtomicBool = AtomicBool::new(false);
+
+/// Turns the performance marks of scene passes and uploads on or off, for measuring.
+pub fn set_marks(on: bool) {
+    MARKS.store(on, Ordering::Relaxed);
+}
+
+/// Leaves `text()` as a performance mark in the page when marks are on (web only).
+fn mark(text: impl FnOnce() -> String) {
+    if !MARKS.load(Ordering::Relaxed) {
+        return;
+    }
+    let text = text();
+    #[cfg(target_arch = "wasm32")]
+    if let Some(p) = web_sys::window().and_then(|w| w.performance()) {
+        // A failed mark only loses a measuring aid.
+        let _ = p.mark(&text);
+    }
+    #[cfg(not(target_arch = "wasm32"))]
+    log::debug!("{text}");
+}
+
 fn skipped(layer: Layer) -> bool {
     SKIPPED.load(std::sync::atomic::Ordering::Relaxed) & (1 << layer as u32) != 0
 }
@@ -77,23 +102,56 @@ struct GpuArray {
     count: u32,
     label: &'static str,
     usage: wgpu::BufferUsages,
-    /// A hash of the contents when they were small enough to hash (see [`content_hash`]):
-    /// the same small data written again (the per-frame layers) is not sent again.
-    hash: Option<u64>,
+    /// The bytes the buffer holds (its first `shadow.len()` bytes), kept on the CPU so a
+    /// write sends only the range that differs: the same data again (a layer rebuilt with
+    /// nothing changed, the unchanged index buffer of a mesh whose heights changed) sends
+    /// nothing and leaves the view's image valid.
+    shadow: Vec<u8>,
+    /// Bytes sent by the last write that changed something (for `?hide=marks`).
+    sent_bytes: usize,
 }
 
-/// Largest array (bytes) whose contents are hashed to skip rewriting the same data; larger
-/// ones are written only when their owner's data changed anyway.
-const HASHED_BYTES_MAX: usize = 64 * 1024;
+/// Bytes compared at a time when looking for the first or last difference (a slice
+/// comparison per chunk, then byte by byte inside the chunk that differs).
+const DIFF_CHUNK_BYTES: usize = 256;
 
-/// A hash of `bytes` if they are at most [`HASHED_BYTES_MAX`] long.
-fn content_hash(bytes: &[u8]) -> Option<u64> {
-    use std::hash::{Hash, Hasher};
-    (bytes.len() <= HASHED_BYTES_MAX).then(|| {
-        let mut h = std::collections::hash_map::DefaultHasher::new();
-        bytes.hash(&mut h);
-        h.finish()
-    })
+/// The first index below `min(a.len(), b.len())` where `a` and `b` differ.
+fn first_difference(a: &[u8], b: &[u8]) -> Option<usize> {
+    let n = a.len().min(b.len());
+    let (a, b) = (&a[..n], &b[..n]);
+    let chunk = a.chunks(DIFF_CHUNK_BYTES).zip(b.chunks(DIFF_CHUNK_BYTES)).position(|(x, y)| x != y)?;
+    let from = chunk * DIFF_CHUNK_BYTES;
+    a[from..].iter().zip(&b[from..]).position(|(x, y)| x != y).map(|i| from + i)
+}
+
+/// The last index below `min(a.len(), b.len())` where `a` and `b` differ.
+fn last_difference(a: &[u8], b: &[u8]) -> Option<usize> {
+    let n = a.len().min(b.len());
+    let (a, b) = (&a[..n], &b[..n]);
+    let chunk = a.rchunks(DIFF_CHUNK_BYTES).zip(b.rchunks(DIFF_CHUNK_BYTES)).position(|(x, y)| x != y)?;
+    let to = n - chunk * DIFF_CHUNK_BYTES;
+    let from = to.saturating_sub(DIFF_CHUNK_BYTES);
+    a[from..to].iter().zip(&b[from..to]).rposition(|(x, y)| x != y).map(|i| from + i)
+}
+
+/// The byte range of `new` to send to a buffer holding `old` so that it holds `new`, the
+/// first `known_same` bytes being known equal (rounded to whole 4-byte words, as
+/// `write_buffer` wants); `None` if nothing differs.
+fn changed_range(old: &[u8], new: &[u8], known_same: usize) -> Option<std::ops::Range<usize>> {
+    let skip = known_same.min(old.len()).min(new.len());
+    let common = old.len().min(new.len());
+    let first = first_difference(&old[skip..common], &new[skip..common]).map(|i| skip + i);
+    let last = last_difference(&old[skip..common], &new[skip..common]).map(|i| skip + i);
+    let grown = new.len() > common;
+    let (start, end) = match (first, last) {
+        (Some(f), _) if grown => (f, new.len()),
+        (Some(f), Some(l)) => (f, l + 1),
+        _ if grown => (common, new.len()),
+        _ => return None,
+    };
+    let start = start & !3;
+    let end = end.next_multiple_of(4).min(new.len());
+    Some(start..end)
 }
 
 impl GpuArray {
@@ -111,12 +169,13 @@ impl GpuArray {
             usage: usage | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        Self { buffer, capacity_bytes: size, count: 0, label, usage, hash: None }
+        Self { buffer, capacity_bytes: size, count: 0, label, usage, shadow: Vec::new(), sent_bytes: 0 }
     }
 
-    /// Writes `bytes` (all `count` elements); only bytes from `unchanged_prefix_bytes` on are
-    /// sent when the buffer is large enough (the path grows by appending). Returns whether
-    /// the contents changed (false: the same small data again, nothing sent).
+    /// Writes `bytes` (all `count` elements), sending only the range that differs from what
+    /// the buffer holds; the first `unchanged_prefix_bytes` are known to be the same (the
+    /// path grows by appending) and are not compared. Returns whether the contents changed
+    /// (false: the same data again, nothing sent).
     fn write(
         &mut self,
         device: &wgpu::Device,
@@ -125,24 +184,28 @@ impl GpuArray {
         count: u32,
         unchanged_prefix_bytes: u64,
     ) -> bool {
-        let hash = content_hash(bytes);
-        if hash.is_some() && hash == self.hash && count == self.count {
-            return false;
-        }
+        self.sent_bytes = 0;
         if bytes.len() as u64 > self.capacity_bytes {
             *self = Self::with_capacity(device, self.label, self.usage, bytes.len() * 3 / 2);
             queue.write_buffer(&self.buffer, 0, bytes);
-        } else {
-            let start = unchanged_prefix_bytes.min(bytes.len() as u64) & !3;
-            let tail = &bytes[start as usize..];
-            if !tail.is_empty() {
-                // write_buffer needs a multiple of 4 bytes; vertex data always is.
-                queue.write_buffer(&self.buffer, start, tail);
-            }
+            self.shadow.extend_from_slice(bytes);
+            self.sent_bytes = bytes.len();
+            self.count = count;
+            return true;
+        }
+        let known_same = usize::try_from(unchanged_prefix_bytes).unwrap_or(usize::MAX);
+        let range = changed_range(&self.shadow, bytes, known_same);
+        if range.is_none() && count == self.count {
+            return false;
+        }
+        self.shadow.resize(bytes.len(), 0);
+        self.sent_bytes = range.as_ref().map_or(0, std::ops::Range::len);
+        if let Some(r) = range.filter(|r| !r.is_empty()) {
+            // write_buffer needs a multiple of 4 bytes; vertex data always is.
+            queue.write_buffer(&self.buffer, r.start as u64, &bytes[r.clone()]);
+            self.shadow[r.clone()].copy_from_slice(&bytes[r]);
         }
         self.count = count;
-        // After a regrown buffer too (`with_capacity` starts without a hash).
-        self.hash = hash;
         true
     }
 }
@@ -498,6 +561,8 @@ impl Renderer3d {
             | m.indices.write(device, queue, ib, mesh.indices.len() as u32, 0);
         if changed {
             v.version += 1;
+            let sent = m.vertices.sent_bytes + m.indices.sent_bytes;
+            mark(|| format!("3d upload view {view} {layer:?} mesh {} B, sent {sent} B", vb.len() + ib.len()));
         }
     }
 
@@ -516,6 +581,8 @@ impl Renderer3d {
         let v = self.views.entry(view).or_default();
         if Self::write_instances(&self.device, &self.queue, v.lines.entry(layer), bytes, corners.len() as u32, prefix) {
             v.version += 1;
+            let sent = v.lines.get(&layer).map_or(0, |a| a.sent_bytes);
+            mark(|| format!("3d upload view {view} {layer:?} lines {} B, sent {sent} B", bytes.len()));
         }
         self.line_corners = corners;
     }
@@ -526,6 +593,10 @@ impl Renderer3d {
         let v = self.views.entry(view).or_default();
         if Self::write_instances(&self.device, &self.queue, v.spheres.entry(layer), bytes, spheres.len() as u32, 0) {
             v.version += 1;
+            let sent = v.spheres.get(&layer).map_or(0, |a| a.sent_bytes);
+            mark(|| {
+                format!("3d upload view {view} {layer:?} spheres {} ({} B), sent {sent} B", spheres.len(), bytes.len())
+            });
         }
     }
 
@@ -597,6 +668,7 @@ impl Renderer3d {
             ],
         });
         v.targets = Some(Targets { size, msaa, depth, resolved, composite });
+        mark(|| format!("3d targets view {view} {}x{}", size[0], size[1]));
         v.drawn = None;
     }
 
@@ -618,6 +690,15 @@ impl Renderer3d {
             return;
         }
         v.drawn = drawn;
+        mark(|| {
+            let spheres: u32 = v.spheres.values().map(|s| s.count).sum();
+            let line_vertices: u32 = v.lines.values().map(|l| l.count).sum();
+            let mesh_indices: u32 = v.meshes.values().map(|m| m.indices.count).sum();
+            format!(
+                "3d scene pass view {} {}x{}: spheres {spheres}, line vertices {line_vertices}, mesh indices {mesh_indices}",
+                cb.view, cb.size_px[0], cb.size_px[1]
+            )
+        });
         let (ubuf, ubind) = v.uniforms.get_or_insert_with(|| {
             let buffer = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("interpolab frame uniforms"),
@@ -767,7 +848,78 @@ use eframe::egui;
 
 #[cfg(test)]
 mod tests {
-    use super::{LINE_CORNERS, LineSegment, per_corner};
+    use super::{LINE_CORNERS, LineSegment, changed_range, per_corner};
+
+    /// A small deterministic generator (xorshift) for the byte patterns below.
+    fn bytes(seed: &mut u64, n: usize) -> Vec<u8> {
+        (0..n)
+            .map(|_| {
+                *seed ^= *seed << 13;
+                *seed ^= *seed >> 7;
+                *seed ^= *seed << 17;
+                (*seed >> 56) as u8
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_changed_range_makes_the_old_contents_the_new_and_starts_at_the_first_difference() {
+        let mut seed = 0x9E37_79B9_7F4A_7C15;
+        for case in 0..400 {
+            let n_old = 4 * (case % 7) * (1 + case % 300);
+            let old = bytes(&mut seed, n_old);
+            let mut new = old.clone();
+            // Grow, shrink or keep the length, then change a few bytes (or none).
+            let n_new = match case % 3 {
+                0 => n_old + 4 * (case % 5),
+                1 => n_old - 4 * (case % 5).min(n_old / 4),
+                _ => n_old,
+            };
+            new.resize(n_new, 0);
+            let tail = bytes(&mut seed, n_new.saturating_sub(n_old));
+            new[n_old.min(n_new)..].copy_from_slice(&tail);
+            let changes = case % 4;
+            for k in 0..changes {
+                if n_new > 0 {
+                    let at = (case * 7919 + k * 104_729) % n_new;
+                    new[at] = new[at].wrapping_add(1);
+                }
+            }
+            let first = (0..n_old.min(n_new)).find(|&i| old[i] != new[i]).or((n_new > n_old).then_some(n_old));
+            let last = (0..n_old.min(n_new)).rev().find(|&i| old[i] != new[i]);
+            match changed_range(&old, &new, 0) {
+                None => assert_eq!(first, None, "case {case}: a difference was missed"),
+                Some(r) => {
+                    let f = first.expect("a range only where something differs");
+                    assert_eq!(r.start, f & !3, "case {case}: starts at the first difference's word");
+                    assert_eq!(r.start % 4, 0, "case {case}");
+                    assert!(r.end % 4 == 0 && r.end <= n_new, "case {case}: {r:?} of {n_new}");
+                    if n_new <= n_old {
+                        assert_eq!(r.end, (last.expect("a last difference") + 1).next_multiple_of(4), "case {case}");
+                    }
+                    // Applying the range to the old contents gives the new ones.
+                    let mut held = old.clone();
+                    held.resize(n_new, 0);
+                    held[r.clone()].copy_from_slice(&new[r]);
+                    assert_eq!(held, new, "case {case}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_known_same_prefix_is_not_compared() {
+        let old = vec![1u8; 64];
+        let mut new = old.clone();
+        new[8] = 9; // inside the prefix said to be the same: not looked at
+        new[40] = 9;
+        assert_eq!(changed_range(&old, &new, 16), Some(40..44));
+        assert_eq!(changed_range(&old, &old, 0), None);
+        let mut longer = old.clone();
+        longer.extend_from_slice(&[7; 8]);
+        assert_eq!(changed_range(&old, &longer, 0), Some(64..72), "only the appended tail");
+        assert_eq!(changed_range(&old, &old[..32], 0), None, "a shorter prefix sends nothing");
+    }
 
     #[test]
     fn each_line_vertex_carries_its_segment() {

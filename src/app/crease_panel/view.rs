@@ -135,8 +135,9 @@ impl CreaseView {
         self.fit_requested = true;
     }
 
-    fn rebuild_static(&mut self, rs: &RenderState, scene: &Scene, compute: &Computation) {
-        let Some(job) = &compute.job else { return };
+    /// Uploads the surfaces, offsets and iso-lines when the scene changed; returns whether it did.
+    fn rebuild_static(&mut self, rs: &RenderState, scene: &Scene, compute: &Computation) -> bool {
+        let Some(job) = &compute.job else { return false };
         let shown = ViewSettings {
             magnify: 1.0,
             show_cutters: true,
@@ -146,7 +147,7 @@ impl CreaseView {
         };
         let key = (scene.surfaces.clone(), job.r_eff_mm, shown);
         if self.built_for.as_ref() == Some(&key) {
-            return;
+            return false;
         }
         // Origin and size from the surfaces (sampled), so f32 stays precise near the part.
         let mut samples = Vec::new();
@@ -196,6 +197,7 @@ impl CreaseView {
             self.camera.fit(Vec3::ZERO, self.scene_radius as f32);
             self.fit_requested = false;
         }
+        true
     }
 
     fn centre_drawn(&self, p: &Period) -> DVec3 {
@@ -335,9 +337,20 @@ impl CreaseView {
             no_gpu(ui.painter(), rect);
             return;
         };
-        self.rebuild_static(rs, scene, compute);
-        self.update_path(rs, compute);
-        self.update_cutters(rs, scene, compute, playback);
+        let rebuilt = self.rebuild_static(rs, scene, compute);
+        // A run that has just started has at most one period: no segment to draw yet. Its
+        // first frame keeps the previous run's path and cutters (same scene, same origin)
+        // instead of drawing the scene once more without them — during a slider drag every
+        // step starts a run, and that empty frame cost SwiftShader a scene pass of its own
+        // (docs/speed.md, round 8). The next frame, with the new run's periods, draws them.
+        let starting = compute.running()
+            && compute.periods.len() < 2
+            && self.path_for.0 != compute.generation
+            && self.path_for.0 != u64::MAX;
+        if rebuilt || !starting {
+            self.update_path(rs, compute);
+            self.update_cutters(rs, scene, compute, playback);
+        }
 
         camera_controls(&mut self.camera, ui, &response, rect, self.scene_radius as f32);
 

@@ -19,15 +19,26 @@ fn vs_fullscreen(@builtin(vertex_index) vi: u32) -> Out {
     return out;
 }
 
+// The image's texel under this fragment. The image has the view's size in pixels and the
+// viewport is the view, so a fragment's centre falls on a texel's centre, where a filtered
+// sample returns that texel alone: reading it directly gives the same picture and spares a
+// CPU rasteriser (SwiftShader) the four fetches and the blend of a bilinear sample at every
+// pixel of the view (docs/speed.md, round 8). `image_sampler` stays in the layout unused.
+fn texel(uv: vec2<f32>) -> vec4<f32> {
+    let size = textureDimensions(image);
+    let p = min(vec2<u32>(max(uv * vec2<f32>(size), vec2<f32>(0.0))), size - vec2<u32>(1u));
+    return textureLoad(image, p, 0);
+}
+
 // For a non-sRGB target (the web): the image is already display-encoded.
 @fragment
 fn fs_display(in: Out) -> @location(0) vec4<f32> {
-    return textureSample(image, image_sampler, in.uv);
+    return texel(in.uv);
 }
 
 // For an sRGB target (native): decode, the hardware encodes again on write.
 @fragment
 fn fs_linear(in: Out) -> @location(0) vec4<f32> {
-    let c = textureSample(image, image_sampler, in.uv);
+    let c = texel(in.uv);
     return vec4<f32>(pow(c.rgb, vec3<f32>(2.2)), c.a);
 }
