@@ -260,14 +260,15 @@ impl FiveAxisPanel {
             return false;
         };
         if self.plan.as_ref().is_none_or(|p| p.inputs != inputs) {
-            if let Some(old) = self.plan.take()
+            let old = self.plan.take();
+            self.serial += 1;
+            self.plan = Some(Plan::new(inputs, design.clone(), self.serial, old.as_ref()));
+            if let Some(old) = old
                 && old.shown_complete()
                 && old.design.key == design.key
             {
                 self.previous = Some(old);
             }
-            self.serial += 1;
-            self.plan = Some(Plan::new(inputs, design, self.serial));
         }
         let Some(plan) = self.plan.as_mut() else {
             return false;

@@ -61,6 +61,21 @@ pub struct Inputs {
     pub bound_tip: bool,
 }
 
+impl Inputs {
+    /// Whether a plan for `self` has the same "before" block as one for `other`: Example 1's
+    /// single block P1 → P2 and its swept samples depend on the design and the machine, not
+    /// on the tolerance E, the root method or the tip bound (only the iteration comparison
+    /// and the tip's distance from the design, computed in slices, do).
+    pub fn same_single_block(&self, other: &Self) -> bool {
+        self.before
+            && other.before
+            && self.source == other.source
+            && self.generation == other.generation
+            && self.machine == other.machine
+            && self.rule == other.rule
+    }
+}
+
 /// Where the design came from, for the 3D view's surfaces.
 #[derive(Clone, Debug)]
 pub enum Shape {
@@ -273,8 +288,11 @@ fn options(inputs: &Inputs, method: RootMethod, reports: bool) -> StepOptions {
 }
 
 impl Plan {
-    /// Starts a plan (the first block is computed here).
-    pub fn new(inputs: Inputs, design: Rc<Design>, serial: u64) -> Self {
+    /// Starts a plan (the first block is computed here). Example 1's single "before" block
+    /// is taken from `earlier` when that plan holds the same one ([`Inputs::same_single_block`]):
+    /// its evaluation (the swept error maximised over the whole gouging block, 13.5 ms
+    /// natively) does not fit in a frame, and dragging E does not change it.
+    pub fn new(inputs: Inputs, design: Rc<Design>, serial: u64, earlier: Option<&Self>) -> Self {
         let mut plan = Self {
             inputs,
             design,
@@ -289,6 +307,21 @@ impl Plan {
             compare_run: None,
             plan_ms: 0.0,
         };
+        let reusable = earlier.filter(|e| {
+            e.inputs.same_single_block(&inputs)
+                && Rc::ptr_eq(&e.design, &plan.design)
+                && e.planned
+                && e.error.is_none()
+                && e.nodes.len() == 2
+                && e.segs.len() == 1
+        });
+        if let Some(e) = reusable.filter(|_| plan.design.example1.is_some()) {
+            plan.nodes.clone_from(&e.nodes);
+            plan.segs.clone_from(&e.segs);
+            plan.planned = true;
+            plan.plan_ms = e.plan_ms;
+            return plan;
+        }
         let t0 = Instant::now();
         let path = plan.design.path.as_ref();
         let machine = &inputs.machine;
@@ -476,5 +509,90 @@ impl Plan {
             Some(x) if x.abs() >= d.abs() => Some(x),
             _ => Some(d),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn inputs(tol_mm: f64, method: RootMethod) -> Inputs {
+        Inputs {
+            source: Source::Example1,
+            generation: 0,
+            machine: example1().machine,
+            rule: ToolAxisRule::Bisector,
+            tol_mm,
+            method,
+            before: true,
+            bound_tip: false,
+        }
+    }
+
+    /// Advances a plan to its end (bounded: a plan of Example 1 takes well under a second).
+    fn finish(mut plan: Plan) -> Plan {
+        for _ in 0..10_000 {
+            if plan.finished() {
+                return plan;
+            }
+            plan.advance(Duration::from_millis(50));
+        }
+        panic!("the plan did not finish: {plan:?}");
+    }
+
+    #[test]
+    fn the_single_block_is_shared_only_where_e_method_and_tip_bound_differ() {
+        let a = inputs(0.01, RootMethod::Secant);
+        let mut b = inputs(0.05, RootMethod::AndersonBjorck);
+        b.bound_tip = true;
+        assert!(a.same_single_block(&b) && b.same_single_block(&a));
+        let mut other_machine = a;
+        other_machine.machine.pivots_mm[0].x += 1.0;
+        assert!(!a.same_single_block(&other_machine));
+        let mut after = a;
+        after.before = false;
+        assert!(!a.same_single_block(&after) && !after.same_single_block(&after));
+        let mut scene = a;
+        scene.source = Source::Scene;
+        assert!(!a.same_single_block(&scene));
+        let mut rule = a;
+        rule.rule = ToolAxisRule::Normal1 { lead_rad: 0.0, tilt_rad: 0.1 };
+        assert!(!a.same_single_block(&rule));
+    }
+
+    /// A plan whose "before" block is taken from the plan at another E gives what a plan
+    /// computed from nothing gives: the same block, swept samples, comparison and tip errors.
+    #[test]
+    fn a_reused_single_block_gives_the_plan_computed_anew() {
+        let design = Rc::new(build_design(Source::Example1, 0, ToolAxisRule::Bisector, None).expect("example 1"));
+        let first = finish(Plan::new(inputs(0.01, RootMethod::Secant), design.clone(), 1, None));
+        let at = inputs(0.05, RootMethod::AndersonBjorck);
+        let reused = Plan::new(at, design.clone(), 2, Some(&first));
+        // Taken over whole, before any slice: the frame that starts it does no evaluation.
+        assert!(reused.shown_complete(), "{reused:?}");
+        assert!(reused.compare.iter().all(|r| *r == CompareRow::Pending) && reused.tip_design_mm.is_empty());
+        let reused = finish(reused);
+        let anew = finish(Plan::new(at, design, 3, None));
+        assert_eq!(reused.nodes, anew.nodes);
+        assert_eq!(reused.segs.len(), 1);
+        assert_eq!(reused.segs[0].samples.len(), anew.segs[0].samples.len());
+        for (x, y) in reused.segs[0].samples.iter().zip(&anew.segs[0].samples) {
+            assert_eq!((x.tau, x.tip, x.centre, x.delta_mm), (y.tau, y.tip, y.centre, y.delta_mm));
+            assert_eq!((x.tip_chord, x.centre_chord), (y.tip_chord, y.centre_chord));
+        }
+        assert_eq!(reused.tip_design_mm, anew.tip_design_mm);
+        let iterations = |p: &Plan| -> Vec<Option<(u64, usize)>> {
+            p.compare
+                .iter()
+                .map(|r| match r {
+                    CompareRow::Done { iterations, nodes, .. } => Some((*iterations, *nodes)),
+                    _ => None,
+                })
+                .collect()
+        };
+        assert_eq!(iterations(&reused), iterations(&anew));
+        assert!(iterations(&reused).iter().all(Option::is_some));
+        // The comparison depends on E: it is not carried over from the first plan.
+        assert_ne!(iterations(&reused), iterations(&first));
     }
 }
