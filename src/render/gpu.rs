@@ -10,7 +10,7 @@
 //! skipped — never a panic in the browser.
 
 use std::collections::BTreeMap;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 
 use eframe::egui_wgpu::{self, CallbackResources, CallbackTrait, RenderState, ScreenDescriptor, wgpu};
 use wgpu::util::DeviceExt;
@@ -44,14 +44,14 @@ pub enum Layer {
 /// Measuring only (`app::ablate`, web `?hide=`): the layers left out of every scene pass, one
 /// bit per [`Layer`] in declaration order, and bit 31 to skip the scene pass altogether (the
 /// view then shows the image it holds). Zero in normal use.
-static SKIPPED: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+static SKIPPED: AtomicU32 = AtomicU32::new(0);
 
 /// The bit of `SKIPPED` that skips the whole scene pass.
 pub const SKIP_SCENE_PASS: u32 = 1 << 31;
 
 /// Sets the layers (bit `1 << layer as u32`) left out of every scene pass, for measuring.
 pub fn set_skipped_layers(bits: u32) {
-    SKIPPED.store(bits, std::sync::atomic::Ordering::Relaxed);
+    SKIPPED.store(bits, Ordering::Relaxed);
 }
 
 /// Measuring only (`app::ablate`, web `?hide=marks`): whether the renderer leaves a
@@ -80,7 +80,7 @@ fn mark(text: impl FnOnce() -> String) {
 }
 
 fn skipped(layer: Layer) -> bool {
-    SKIPPED.load(std::sync::atomic::Ordering::Relaxed) & (1 << layer as u32) != 0
+    SKIPPED.load(Ordering::Relaxed) & (1 << layer as u32) != 0
 }
 
 const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
@@ -247,7 +247,6 @@ pub struct Renderer3d {
     sample_count: u32,
     frame_layout: wgpu::BindGroupLayout,
     composite_layout: wgpu::BindGroupLayout,
-    sampler: wgpu::Sampler,
     mesh_opaque: wgpu::RenderPipeline,
     mesh_translucent: wgpu::RenderPipeline,
     sphere_opaque: wgpu::RenderPipeline,
@@ -323,45 +322,15 @@ impl Renderer3d {
             label: Some("interpolab composite shader"),
             source: wgpu::ShaderSource::Wgsl(include_str!("shaders/composite.wgsl").into()),
         });
-        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("interpolab frame uniforms layout"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            }],
-        });
+        let frame_layout = super::uniform_layout(
+            &device,
+            "interpolab frame uniforms layout",
+            wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
+        );
+        // The composite reads the view's image texel by texel (`textureLoad`): no sampler.
         let composite_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("interpolab composite layout"),
-            entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                    count: None,
-                },
-            ],
-        });
-        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("interpolab composite sampler"),
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            ..Default::default()
+            entries: &[super::fragment_texture_entry(0)],
         });
         let scene_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("interpolab scene pipeline layout"),
@@ -526,7 +495,6 @@ impl Renderer3d {
             sample_count,
             frame_layout,
             composite_layout,
-            sampler,
             mesh_opaque,
             mesh_translucent,
             sphere_opaque,
@@ -662,10 +630,7 @@ impl Renderer3d {
         let composite = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("interpolab composite bind group"),
             layout: &self.composite_layout,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&resolved) },
-                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::Sampler(&self.sampler) },
-            ],
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&resolved) }],
         });
         v.targets = Some(Targets { size, msaa, depth, resolved, composite });
         mark(|| format!("3d targets view {view} {}x{}", size[0], size[1]));
@@ -684,9 +649,7 @@ impl Renderer3d {
             return;
         };
         let drawn = Some((v.version, uniforms, cb.background));
-        if v.drawn == drawn
-            || (SKIPPED.load(std::sync::atomic::Ordering::Relaxed) & SKIP_SCENE_PASS != 0 && v.drawn.is_some())
-        {
+        if v.drawn == drawn || (SKIPPED.load(Ordering::Relaxed) & SKIP_SCENE_PASS != 0 && v.drawn.is_some()) {
             return;
         }
         v.drawn = drawn;

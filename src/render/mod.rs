@@ -21,5 +21,43 @@ pub mod geometry;
 pub mod gpu;
 
 pub use camera::OrbitCamera;
+
+use eframe::egui_wgpu::wgpu;
+
+/// A bind group layout of one uniform buffer at binding 0, seen by `visibility`'s stages (the
+/// per-frame uniforms of the 3D views, the egui pass's screen size).
+pub(crate) fn uniform_layout(
+    device: &wgpu::Device,
+    label: &str,
+    visibility: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayout {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(label),
+        entries: &[wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        }],
+    })
+}
+
+/// A layout entry for a filterable 2D colour texture read by the fragment stage at `binding`.
+pub(crate) fn fragment_texture_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::FRAGMENT,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: true },
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
 pub use geometry::{LineSegment, Mesh, MeshVertex, SphereInstance};
 pub use gpu::{Layer, Renderer3d, ViewCallback, ViewId};

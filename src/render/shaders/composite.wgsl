@@ -1,7 +1,6 @@
 // Copies the resolved off-screen image of a 3D view into egui's render pass.
 
 @group(0) @binding(0) var image: texture_2d<f32>;
-@group(0) @binding(1) var image_sampler: sampler;
 
 struct Out {
     @builtin(position) pos: vec4<f32>,
@@ -23,7 +22,7 @@ fn vs_fullscreen(@builtin(vertex_index) vi: u32) -> Out {
 // viewport is the view, so a fragment's centre falls on a texel's centre, where a filtered
 // sample returns that texel alone: reading it directly gives the same picture and spares a
 // CPU rasteriser (SwiftShader) the four fetches and the blend of a bilinear sample at every
-// pixel of the view (docs/speed.md, round 8). `image_sampler` stays in the layout unused.
+// pixel of the view (docs/speed.md, round 8).
 fn texel(uv: vec2<f32>) -> vec4<f32> {
     let size = textureDimensions(image);
     let p = min(vec2<u32>(max(uv * vec2<f32>(size), vec2<f32>(0.0))), size - vec2<u32>(1u));
