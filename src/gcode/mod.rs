@@ -25,6 +25,7 @@ pub mod arcs;
 pub mod compare;
 pub mod design;
 pub mod dialect;
+pub mod interp;
 pub mod kind;
 pub mod parse;
 pub mod path;
