@@ -24,6 +24,11 @@ pub const MAX_ARC_TABLE_NODES: usize = 1 << 20;
 /// grows, and the spacing used is reported with the result.
 pub const MAX_REPLAY_SAMPLES: usize = 1_000_000;
 
+/// Longest line of a G-code program (bytes): a block is rarely over a hundred characters
+/// (LinuxCNC's own limit is 255); beyond this the file is not a program, and one huge line
+/// is refused instead of being held in memory.
+pub const MAX_LINE_BYTES: usize = 64 << 10;
+
 /// Largest |coordinate| of a scene's `path.start` and `path.end` (mm): a kilometre, past any
 /// machine's travel. Beyond it, the squares and cross products of the crease solve lose all
 /// precision or overflow (z = 1e308 would square to infinity).

@@ -13,6 +13,7 @@ mod finish;
 mod fiveaxis;
 mod gcode;
 mod plain_run;
+mod program;
 mod simulate;
 
 use std::ffi::OsString;
@@ -79,6 +80,8 @@ enum Command {
     Gcode(gcode::GcodeArgs),
     /// Read a G-code program; with --scene, report its deviation from the design crease.
     Replay(gcode::ReplayArgs),
+    /// Read a G-code program as the controller reads it (RS274/NGC, LinuxCNC, FANUC macros) and print its canonical calls, one a line, in machine mm.
+    Canon(program::CanonArgs),
     /// Compare the G01, G02/G03 and G06.2 programs at a tolerance (blocks, bytes, deviation, smoothness).
     Compare(gcode::CompareArgs),
     /// Real-time interpolation of the fitted G06.2 curve: one CSV row per period.
@@ -143,6 +146,7 @@ pub fn main() -> ExitCode {
         Some(Command::Check { scene }) => crease::check(&scene),
         Some(Command::Gcode(a)) => gcode::gcode(&a),
         Some(Command::Replay(a)) => gcode::replay(&a),
+        Some(Command::Canon(a)) => program::canon(&a),
         Some(Command::Compare(a)) => gcode::compare_cmd(&a),
         Some(Command::Nurbs(a)) => gcode::nurbs(&a),
         Some(Command::Steps(a)) => fiveaxis::steps(&a),
