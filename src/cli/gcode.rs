@@ -16,7 +16,7 @@ use super::Fatal;
 
 use interpolab::gcode::{
     CompareOptions, DeviationOptions, Dialect, ProgramKind, ProgramOptions, ProgrammedPoint, Segment, TableStyle,
-    compare, crease_design, deviation, format_comparisons, parse_program_in, summarize, write_program,
+    compare, crease_design, deviation, format_comparisons, summarize, write_program,
 };
 use interpolab::geom::Curve3;
 use interpolab::nurbs_path::measure::Translated;
@@ -178,6 +178,8 @@ pub(crate) struct ReplayArgs {
     /// G5.2/G5.3 → linuxcnc, else fanuc).
     #[arg(long, value_parser = parse_dialect)]
     dialect: Option<Dialect>,
+    #[command(flatten)]
+    read: super::program::ReadArgs,
 }
 
 fn parse_dialect(s: &str) -> Result<Dialect, String> {
@@ -335,13 +337,7 @@ fn v3(p: glam::DVec3) -> String {
 }
 
 pub(super) fn replay(a: &ReplayArgs) -> Result<ExitCode, Fatal> {
-    let text = super::read_capped(&a.program, interpolab::limits::MAX_PROGRAM_BYTES, "G-code program")
-        .map_err(|e| Fatal(format!("cannot read program {}: {e}", a.program.display())))?;
-    let (dialect, how) = match a.dialect {
-        Some(d) => (d, "given"),
-        None => (Dialect::guess(&text), "guessed from the text"),
-    };
-    let parsed = parse_program_in(&text, dialect).map_err(|e| Fatal(format!("{}: {e}", a.program.display())))?;
+    let (parsed, dialect, how) = super::program::read_path(&a.program, a.dialect, &a.read)?;
     let s = summarize(&parsed.toolpath);
     let mut lines = vec![
         format!("program      {} ({} lines, {} blocks)", a.program.display(), parsed.lines, parsed.blocks),
@@ -372,9 +368,7 @@ pub(super) fn replay(a: &ReplayArgs) -> Result<ExitCode, Fatal> {
             fmt_num(b)
         ));
     }
-    for u in &parsed.unsupported {
-        lines.push(format!("UNSUPPORTED  line {}: {} ({}); its effect is left out", u.line, u.word, u.reason));
-    }
+    lines.extend(super::program::report_lines(&parsed));
     let mut failed = !parsed.unsupported.is_empty();
     if a.scene.is_some() || a.profile.is_some() {
         let design = load_design(a.scene.as_deref(), a.profile)?;

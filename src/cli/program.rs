@@ -38,7 +38,12 @@ pub(crate) struct ReadArgs {
 
 impl ReadArgs {
     pub(crate) fn options(&self) -> Options {
-        Options { inch: self.units == UnitsArg::Inch, strict: self.strict, block_delete: self.block_delete, ..Options::default() }
+        Options {
+            inch: self.units == UnitsArg::Inch,
+            strict: self.strict,
+            block_delete: self.block_delete,
+            ..Options::default()
+        }
     }
 }
 
@@ -65,7 +70,8 @@ impl DirLibrary {
 
 impl<'a> Library<'a> for DirLibrary {
     fn open(&mut self, name: &str) -> Option<Box<dyn Source + 'a>> {
-        let entries = std::fs::read_dir(if self.dir.as_os_str().is_empty() { Path::new(".") } else { &self.dir }).ok()?;
+        let entries =
+            std::fs::read_dir(if self.dir.as_os_str().is_empty() { Path::new(".") } else { &self.dir }).ok()?;
         for e in entries.flatten() {
             let file_name = e.file_name();
             let file_name = file_name.to_string_lossy();
@@ -176,4 +182,55 @@ pub(crate) fn report(it: &Interpreter<'_>, program: &Path) {
         let times = if r.count == 1 { "once".to_owned() } else { format!("{} times", r.count) };
         eprintln!("{name}: {} ({times}, first on line {}): {}", r.code, loc_text(it, r.first), r.what);
     }
+}
+
+/// How many bytes of a program its dialect is guessed from.
+const GUESS_BYTES: u64 = 64 << 10;
+
+/// Reads a program file into a path: FANUC and LinuxCNC programs through the interpreter,
+/// streamed from the file (with the files beside it as subroutines), Sinumerik by its reader.
+/// Returns the program, its dialect and whether that was given or guessed.
+pub(crate) fn read_path(
+    path: &Path,
+    dialect: Option<interpolab::gcode::Dialect>,
+    read: &ReadArgs,
+) -> Result<(interpolab::gcode::ParsedProgram, interpolab::gcode::Dialect, &'static str), Fatal> {
+    use std::io::Read;
+
+    use interpolab::gcode::{Dialect, parse_program_in, read_from};
+    let (dialect, how) = match dialect {
+        Some(d) => (d, "given"),
+        None => {
+            let f =
+                std::fs::File::open(path).map_err(|e| Fatal(format!("cannot read program {}: {e}", path.display())))?;
+            let mut head = Vec::new();
+            f.take(GUESS_BYTES)
+                .read_to_end(&mut head)
+                .map_err(|e| Fatal(format!("cannot read program {}: {e}", path.display())))?;
+            (Dialect::guess(&String::from_utf8_lossy(&head)), "guessed from the text")
+        }
+    };
+    let parsed = if dialect == Dialect::Sinumerik {
+        let text = super::read_capped(path, MAX_PROGRAM_BYTES, "G-code program")
+            .map_err(|e| Fatal(format!("cannot read program {}: {e}", path.display())))?;
+        parse_program_in(&text, dialect)
+    } else {
+        let opts = Options { keep_comments: 64, ..read.options() };
+        read_from(open(path, opts)?, dialect)
+    };
+    let parsed = parsed.map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
+    Ok((parsed, dialect, how))
+}
+
+/// One line per report or warning of a program read into a path.
+pub(crate) fn report_lines(p: &interpolab::gcode::ParsedProgram) -> Vec<String> {
+    let mut lines = Vec::new();
+    for (line, text) in &p.warnings {
+        lines.push(format!("WARNING      line {line}: {text}"));
+    }
+    for u in &p.unsupported {
+        let times = if u.count > 1 { format!(", {} times", u.count) } else { String::new() };
+        lines.push(format!("UNSUPPORTED  line {}: {} ({}{times}); its effect is left out", u.line, u.word, u.reason));
+    }
+    lines
 }

@@ -10,7 +10,7 @@ use clap::Args;
 use glam::DVec3;
 use interpolab::crease::CreaseJob;
 use interpolab::fillet::{PartSamples, iso_parametric_from, iso_scallop_from};
-use interpolab::gcode::{ProgrammedPoint, parse_program};
+use interpolab::gcode::ProgrammedPoint;
 use interpolab::geom::Cutter;
 use interpolab::scene::Scene;
 use interpolab::simulate::bench::BenchKind;
@@ -22,9 +22,6 @@ use serde_json::json;
 
 use super::Fatal;
 use super::finish::LayoutArg;
-
-/// Largest program file read (bytes).
-const MAX_PROGRAM_BYTES: u64 = 64 << 20;
 
 /// Which point of the tool the program's coordinates give.
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -42,6 +39,8 @@ pub(crate) struct SimulateArgs {
     /// G-code program (G00/G01/G02/G03 in G17/G18/G19, helical, G06.2 NURBS).
     #[arg(required_unless_present = "benchmark")]
     program: Option<PathBuf>,
+    #[command(flatten)]
+    read: super::program::ReadArgs,
     /// Instead of PROGRAM: the benchmark program `five-axis:N` or `three-axis:N` (N moves of
     /// the ball raster on the 51.2 mm block, docs/simulation.md), built in memory; give
     /// --cutter and --stock as for a program (the benchmarks: ball:3, 0,0,0,51.2,51.2,20).
@@ -135,17 +134,6 @@ fn parse_cutter(text: &str) -> Result<Cutter, Fatal> {
     c.map_err(|e| Fatal(format!("--cutter `{text}`: {e}")))
 }
 
-fn read_program(path: &Path) -> Result<String, Fatal> {
-    let len = fs::metadata(path).map_err(|e| Fatal(format!("cannot read program {}: {e}", path.display())))?.len();
-    if len > MAX_PROGRAM_BYTES {
-        return Err(Fatal(format!(
-            "program {} is {len} bytes, more than the {MAX_PROGRAM_BYTES} read; split it",
-            path.display()
-        )));
-    }
-    fs::read_to_string(path).map_err(|e| Fatal(format!("cannot read program {}: {e}", path.display())))
-}
-
 /// Where the design comes from.
 struct SimulateDesign<'a> {
     design_z: Option<f64>,
@@ -222,10 +210,9 @@ pub(super) fn simulate(a: &SimulateArgs) -> Result<ExitCode, Fatal> {
         return finish(a, &cutter, stock, &program, &design, how);
     }
     let design = load_design(&SimulateDesign { design_z: a.design_z, scene: a.scene.as_deref() })?;
-    let text = read_program(path)?;
-    let parsed = parse_program(&text).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
-    for u in &parsed.unsupported {
-        eprintln!("interpolab: UNSUPPORTED line {}: {} ({}); its effect is left out", u.line, u.word, u.reason);
+    let (parsed, _, _) = super::program::read_path(path, None, &a.read)?;
+    for l in super::program::report_lines(&parsed) {
+        eprintln!("interpolab: {l}");
     }
     let centre = match a.point {
         PointArg::Tip => false,

@@ -29,6 +29,7 @@ pub mod interp;
 pub mod kind;
 pub mod parse;
 pub mod path;
+pub mod read;
 pub mod replay;
 pub mod write;
 
@@ -41,5 +42,6 @@ pub use dialect::{Dialect, UnknownDialect};
 pub use kind::ProgramKind;
 pub use parse::{ParseError, ParsedProgram, Unsupported, parse_program, parse_program_in};
 pub use path::{ArcMove, LineMove, Motion, PathBlock, Plane, Segment, Toolpath};
+pub use read::{read_from, read_program};
 pub use replay::{Deviation, DeviationOptions, ProgramSummary, ReplayError, deviation, summarize};
 pub use write::{Program, ProgramError, ProgramOptions, ProgrammedPoint, write_program};

@@ -259,6 +259,17 @@ pub enum ParseError {
         /// What is wrong and what to change.
         what: String,
     },
+    /// More moves than a path holds.
+    #[error("line {line}: more than {max} moves; the program is too large to hold as one path — split it")]
+    TooManyMoves {
+        /// The line of the first move over the cap.
+        line: usize,
+        /// The cap.
+        max: usize,
+    },
+    /// The interpreter could not read on ([`crate::gcode::interp`]).
+    #[error("{0}")]
+    Interp(crate::gcode::interp::InterpError),
     /// The NURBS is invalid otherwise.
     #[error("line {line}: invalid G06.2 curve: {source}")]
     Nurbs {
@@ -300,19 +311,24 @@ impl ParseError {
             | Self::NurbsWeight { line, .. }
             | Self::Spline { line, .. }
             | Self::Nurbs { line, .. } => *line,
+            Self::Interp(e) => e.loc.line as usize,
+            Self::TooManyMoves { line, .. } => *line,
         }
     }
 }
 
-/// A word that changes the path but is not modelled; its effect is left out.
+/// A word that changes the path but is not modelled (its effect is left out), or a line
+/// skipped: reported once per code with its first line and count.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Unsupported {
-    /// 1-based line.
+    /// 1-based line where it first occurs.
     pub line: usize,
     /// The word as written (upper case), e.g. `G41`.
     pub word: String,
     /// What it does that is not modelled.
-    pub reason: &'static str,
+    pub reason: String,
+    /// Times it occurs.
+    pub count: u64,
 }
 
 /// A parsed program.
@@ -322,6 +338,8 @@ pub struct ParsedProgram {
     pub toolpath: Toolpath,
     /// Words reported as not modelled.
     pub unsupported: Vec<Unsupported>,
+    /// Notes on the reading (line, text), e.g. an inch-looking program with no units word.
+    pub warnings: Vec<(usize, String)>,
     /// Comments with their lines (text without the delimiters).
     pub comments: Vec<(usize, String)>,
     /// Lines of the text.
@@ -600,7 +618,8 @@ fn block(line: usize, words: &[Word], st: &mut State, out: &mut ParsedProgram) -
                         out.unsupported.push(Unsupported {
                             line,
                             word: format!("G{}", w.text),
-                            reason: unsupported_g(t),
+                            reason: unsupported_g(t).into(),
+                            count: 1,
                         });
                     }
                 }
@@ -608,7 +627,12 @@ fn block(line: usize, words: &[Word], st: &mut State, out: &mut ParsedProgram) -
             'M' => {
                 let m = w.value.round() as i64;
                 if let Some(reason) = unsupported_m(m) {
-                    out.unsupported.push(Unsupported { line, word: format!("M{}", w.text), reason });
+                    out.unsupported.push(Unsupported {
+                        line,
+                        word: format!("M{}", w.text),
+                        reason: reason.into(),
+                        count: 1,
+                    });
                 }
             }
             _ => {
@@ -639,7 +663,12 @@ fn block(line: usize, words: &[Word], st: &mut State, out: &mut ParsedProgram) -
             _ => None,
         };
         if let Some(reason) = reason {
-            out.unsupported.push(Unsupported { line, word: format!("{}{}", w.letter, w.text), reason });
+            out.unsupported.push(Unsupported {
+                line,
+                word: format!("{}{}", w.letter, w.text),
+                reason: reason.into(),
+                count: 1,
+            });
         }
     }
     if dwell || skip_axes {
@@ -665,7 +694,12 @@ fn block(line: usize, words: &[Word], st: &mut State, out: &mut ParsedProgram) -
         return Err(ParseError::NurbsAfterEnd { line });
     }
     if get('P').is_some() && !consumes_p {
-        out.unsupported.push(Unsupported { line, word: "P".into(), reason: "P outside G04/G05/G06.2 is not modelled" });
+        out.unsupported.push(Unsupported {
+            line,
+            word: "P".into(),
+            reason: "P outside G04/G05/G06.2 is not modelled".into(),
+            count: 1,
+        });
     }
     let has_axis = ['X', 'Y', 'Z'].iter().any(|&l| get(l).is_some());
     if !has_axis {
@@ -696,7 +730,8 @@ fn block(line: usize, words: &[Word], st: &mut State, out: &mut ParsedProgram) -
                 out.unsupported.push(Unsupported {
                     line,
                     word: format!("{l}{}", w.text),
-                    reason: "centre or radius words have no meaning on a straight move",
+                    reason: "centre or radius words have no meaning on a straight move".into(),
+                    count: 1,
                 });
             }
         }

@@ -54,7 +54,9 @@ pub enum Problem {
     #[error("more G or M words on one line than any block needs")]
     TooManyCodes,
     /// A function name not known.
-    #[error("unknown function '{0}'; the functions are ABS ACOS ASIN ATAN COS EXP FIX FUP LN ROUND SIN SQRT TAN EXISTS")]
+    #[error(
+        "unknown function '{0}'; the functions are ABS ACOS ASIN ATAN COS EXP FIX FUP LN ROUND SIN SQRT TAN EXISTS"
+    )]
     UnknownFunction(String),
     /// A function outside its domain.
     #[error("{0} of {v} is not defined", v = show(*.1))]
@@ -72,7 +74,9 @@ pub enum Problem {
     #[error("{0}")]
     Param(ParamError),
     /// An O-word keyword not known.
-    #[error("unknown O-word keyword '{0}'; use sub, endsub, call, return, if, elseif, else, endif, while, endwhile, do, repeat, endrepeat, break or continue")]
+    #[error(
+        "unknown O-word keyword '{0}'; use sub, endsub, call, return, if, elseif, else, endif, while, endwhile, do, repeat, endrepeat, break or continue"
+    )]
     UnknownOWord(String),
     /// Text after an O-word.
     #[error("unexpected '{0}' after the O-word")]

@@ -36,6 +36,10 @@ pub(super) struct Exec {
     /// Z of the plane's normal axis when the current series of canned cycles began (G98
     /// returns there).
     cycle_clear: Option<f64>,
+    /// The largest `G64 P` path tolerance programmed (mm).
+    pub blend_mm: Option<f64>,
+    /// Comments kept (line, text), at most [`super::Options::keep_comments`].
+    pub comments: Vec<(Loc, String)>,
 }
 
 fn codes(g: &[i32]) -> String {
@@ -101,6 +105,9 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
     let non_modal: Vec<i32> = b.g.iter().copied().filter(|t| g_group(*t) == Some(0)).collect();
 
     // 1. Comment: messages are reported so a viewer can show them.
+    if b.has_comment && it.exec.comments.len() < it.opts.keep_comments {
+        it.exec.comments.push((loc, b.comment.clone()));
+    }
     if b.has_comment {
         let c = b.comment.trim_start();
         if c.len() >= 3 && c[..3].eq_ignore_ascii_case("msg") {
@@ -158,7 +165,9 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
                 it.emit(Canon::ToolChange { loc, tool });
             }
             61 => {
-                let q = b.get(b'q').ok_or_else(|| Problem::Rule("M61 needs Q, the tool number now in the spindle".into()))?;
+                let q = b
+                    .get(b'q')
+                    .ok_or_else(|| Problem::Rule("M61 needs Q, the tool number now in the spindle".into()))?;
                 it.st.tool = q.round() as i32;
                 it.st.selected_tool = it.st.tool;
                 let tool = it.st.tool;
@@ -192,7 +201,10 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
     }
     // 7. Dwell.
     if has(40) {
-        let p = b.get(b'p').or_else(|| b.get(b'x')).ok_or_else(|| Problem::Rule("G4 needs P, the dwell in seconds".into()))?;
+        let p = b
+            .get(b'p')
+            .or_else(|| b.get(b'x'))
+            .ok_or_else(|| Problem::Rule("G4 needs P, the dwell in seconds".into()))?;
         if p < 0.0 {
             return Err(Problem::Rule("G4 with a negative time; P is seconds ≥ 0".into()));
         }
@@ -237,12 +249,21 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
             }
         };
         if it.st.comp != CompSide::Off {
-            return Err(Problem::Rule("cannot change the coordinate system with cutter compensation on; give G40 first".into()));
+            return Err(Problem::Rule(
+                "cannot change the coordinate system with cutter compensation on; give G40 first".into(),
+            ));
         }
         it.st.keep_tool(|s| s.system = sys);
         it.params.set(5220, sys as f64);
     }
-    // 13. Path control (G61, G64): the feed planner's business, not the path's.
+    // 13. Path control (G61, G64): the feed planner's business, not the path's; the largest
+    // G64 P is kept (the control may leave the path by that much at junctions).
+    if seen[13] == Some(640)
+        && let Some(p) = b.get(b'p')
+    {
+        let p = it.length(p);
+        it.exec.blend_mm = Some(it.exec.blend_mm.map_or(p, |b: f64| b.max(p)));
+    }
     // 14. Distance modes and retract mode.
     if let Some(t) = seen[3] {
         it.st.absolute = t == 900;
@@ -260,10 +281,7 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
                 it.report("G68", loc, "G68 rotation outside G17 is not modelled");
             } else {
                 let sc = it.st.scale();
-                let c = [
-                    b.get(b'x').map_or(0.0, |v| v * sc),
-                    b.get(b'y').map_or(0.0, |v| v * sc),
-                ];
+                let c = [b.get(b'x').map_or(0.0, |v| v * sc), b.get(b'y').map_or(0.0, |v| v * sc)];
                 let r = b.get(b'r').unwrap_or(0.0);
                 it.st.keep_tool(|s| s.g68 = Some((c, r)));
             }
@@ -399,11 +417,7 @@ fn compensation(it: &mut Interpreter<'_>, loc: Loc, b: &Block, t: i32) -> Result
             };
             it.st.comp = if t / 10 == 41 { CompSide::Left } else { CompSide::Right };
             it.st.comp_radius = radius;
-            it.report(
-                &gname(t),
-                loc,
-                "cutter radius compensation is not applied yet: the programmed path is used",
-            );
+            it.report(&gname(t), loc, "cutter radius compensation is not applied yet: the programmed path is used");
         }
         _ => {}
     }
@@ -453,7 +467,10 @@ fn setup(it: &mut Interpreter<'_>, loc: Loc, b: &Block) -> Result<(), Problem> {
     }
     let p = b.get(b'p').unwrap_or(0.0);
     if !(0.0..=9.0).contains(&p.round()) || (p - p.round()).abs() > 1e-4 {
-        return Err(Problem::Rule(format!("G10 L{l} P{} is not a coordinate system; use P0 (current) or P1 (G54) to P9 (G59.3)", super::error::show(p))));
+        return Err(Problem::Rule(format!(
+            "G10 L{l} P{} is not a coordinate system; use P0 (current) or P1 (G54) to P9 (G59.3)",
+            super::error::show(p)
+        )));
     }
     let sys = if p.round() == 0.0 { it.st.system } else { p.round() as usize };
     let sc = it.st.scale();
@@ -700,12 +717,20 @@ fn motion(it: &mut Interpreter<'_>, loc: Loc, b: &Block, machine: bool, code: Op
             Ok(())
         }
         MotionMode::Synchronised(t) => {
-            it.report(&gname(t), loc, "spindle-synchronised motion (threading, rigid tapping): drawn as a straight feed");
+            it.report(
+                &gname(t),
+                loc,
+                "spindle-synchronised motion (threading, rigid tapping): drawn as a straight feed",
+            );
             let end = find_end(&it.st, b)?;
             straight(it, loc, end, false, Origin::Programmed)
         }
         MotionMode::Cycle(t) => {
-            it.report(&gname(t), loc, "canned cycles are not expanded yet: the hole positions are visited by rapid moves");
+            it.report(
+                &gname(t),
+                loc,
+                "canned cycles are not expanded yet: the hole positions are visited by rapid moves",
+            );
             let end = find_end(&it.st, b)?;
             straight(it, loc, end, true, Origin::Cycle)
         }
@@ -732,7 +757,9 @@ fn straight(it: &mut Interpreter<'_>, loc: Loc, end: Axes, rapid: bool, origin: 
 fn check_feed(it: &Interpreter<'_>) -> Result<super::Feed, Problem> {
     let f = it.st.feed;
     if f.rate <= 0.0 {
-        return Err(Problem::Rule("a feed move with no feed rate; give F (mm/min, or in/min after G20) on this or an earlier block".into()));
+        return Err(Problem::Rule(
+            "a feed move with no feed rate; give F (mm/min, or in/min after G20) on this or an earlier block".into(),
+        ));
     }
     Ok(f)
 }
@@ -769,7 +796,9 @@ fn arc(it: &mut Interpreter<'_>, loc: Loc, b: &Block, ccw: bool) -> Result<(), P
         }
         let r = r * sc;
         if ea == sa && eb == sb {
-            return Err(Problem::Rule("an R-format arc ending where it starts has no defined centre; use I J K for a full circle".into()));
+            return Err(Problem::Rule(
+                "an R-format arc ending where it starts has no defined centre; use I J K for a full circle".into(),
+            ));
         }
         let abs_r = r.abs();
         let (ma, mb) = (0.5 * (sa + ea), 0.5 * (sb + eb));

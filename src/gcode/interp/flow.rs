@@ -316,10 +316,16 @@ impl<'a> Interpreter<'a> {
         }
         match (&skip, &peek) {
             (_, Peek::O { name, kind: OKind::Sub }) => {
-                self.flow.subs.entry((loc.file, name.clone())).or_insert_with(|| self.files.last().map(|f| f.src.tell()).unwrap_or_default());
+                self.flow
+                    .subs
+                    .entry((loc.file, name.clone()))
+                    .or_insert_with(|| self.files.last().map(|f| f.src.tell()).unwrap_or_default());
             }
             (_, Peek::O { name, kind: OKind::Label }) => {
-                self.flow.programs.entry((loc.file, name.clone())).or_insert_with(|| self.files.last().map(|f| f.src.tell()).unwrap_or_default());
+                self.flow
+                    .programs
+                    .entry((loc.file, name.clone()))
+                    .or_insert_with(|| self.files.last().map(|f| f.src.tell()).unwrap_or_default());
             }
             _ => {}
         }
@@ -329,7 +335,8 @@ impl<'a> Interpreter<'a> {
                 OKind::ElseIf => {
                     // Compute this condition now.
                     let view = View { params: &self.params, st: &self.st, depth: self.flow.calls.len() };
-                    let cond = self.reader.read(&self.line, &view)?.oword.as_ref().and_then(|o| o.args.first().copied());
+                    let cond =
+                        self.reader.read(&self.line, &view)?.oword.as_ref().and_then(|o| o.args.first().copied());
                     if cond.unwrap_or(0.0) != 0.0 {
                         self.flow.skip = None;
                     }
@@ -366,14 +373,17 @@ impl<'a> Interpreter<'a> {
     }
 
     fn pop_ctl(&mut self, name: &str) {
-        if let Some(i) = self.flow.ctl.iter().rposition(|c| c.name == name && !matches!(c.kind, CtlKind::FanucLoop { .. }))
+        if let Some(i) =
+            self.flow.ctl.iter().rposition(|c| c.name == name && !matches!(c.kind, CtlKind::FanucLoop { .. }))
         {
             self.flow.ctl.truncate(i);
         }
     }
 
     fn pop_fanuc(&mut self, id: u32) {
-        if let Some(i) = self.flow.ctl.iter().rposition(|c| matches!(c.kind, CtlKind::FanucLoop { id: j, .. } if j == id)) {
+        if let Some(i) =
+            self.flow.ctl.iter().rposition(|c| matches!(c.kind, CtlKind::FanucLoop { id: j, .. } if j == id))
+        {
             self.flow.ctl.truncate(i);
         }
     }
@@ -391,7 +401,10 @@ impl<'a> Interpreter<'a> {
     /// The innermost open construct of this call with the label.
     fn find_ctl(&self, name: &str) -> Option<usize> {
         let depth = self.flow.calls.len();
-        self.flow.ctl.iter().rposition(|c| c.depth == depth && c.name == name && !matches!(c.kind, CtlKind::FanucLoop { .. }))
+        self.flow
+            .ctl
+            .iter()
+            .rposition(|c| c.depth == depth && c.name == name && !matches!(c.kind, CtlKind::FanucLoop { .. }))
     }
 
     fn oword(&mut self, loc: Loc, pos: SourcePos, o: super::read::OWord) -> Result<(), Problem> {
@@ -409,7 +422,9 @@ impl<'a> Interpreter<'a> {
                         return Err(Problem::Rule(format!("o{name} return outside a subroutine")));
                     }
                     // An endsub reached in the main flow without a call: LinuxCNC refuses.
-                    return Err(Problem::Rule(format!("o{name} endsub without a call; subroutines are entered by o{name} call")));
+                    return Err(Problem::Rule(format!(
+                        "o{name} endsub without a call; subroutines are entered by o{name} call"
+                    )));
                 }
                 if let Some(v) = o.args.first() {
                     self.params.set_named("_value", *v)?;
@@ -577,7 +592,9 @@ impl<'a> Interpreter<'a> {
     /// Calls subroutine `name` (O-word sub, or FANUC program number with `fanuc`).
     fn call(&mut self, loc: Loc, name: &str, args: &[f64], repeats: u64, fanuc: bool) -> Result<(), Problem> {
         if self.flow.calls.len() >= MAX_CALL_DEPTH {
-            return Err(Problem::Cap(format!("calls nested more than {MAX_CALL_DEPTH} deep; a subroutine calls itself without end?")));
+            return Err(Problem::Cap(format!(
+                "calls nested more than {MAX_CALL_DEPTH} deep; a subroutine calls itself without end?"
+            )));
         }
         let file = self.file_id();
         let key = (file, name.to_owned());
@@ -599,8 +616,11 @@ impl<'a> Interpreter<'a> {
             body
         } else {
             // A file of its own: `name.ngc` (LinuxCNC) or `O1234` (FANUC).
-            let candidates: Vec<String> =
-                if fanuc { vec![format!("o{name}"), format!("o{name:0>4}"), name.to_owned()] } else { vec![name.to_owned()] };
+            let candidates: Vec<String> = if fanuc {
+                vec![format!("o{name}"), format!("o{name:0>4}"), name.to_owned()]
+            } else {
+                vec![name.to_owned()]
+            };
             let mut opened = None;
             for c in &candidates {
                 if let Some(src) = self.library.open(c) {
@@ -612,7 +632,9 @@ impl<'a> Interpreter<'a> {
                 let what = if fanuc {
                     format!("program O{name} is neither in this file nor a file of its own (O{name}.nc); add it")
                 } else {
-                    format!("subroutine o<{name}> is not defined in this file and there is no file {name}.ngc beside it; give its file")
+                    format!(
+                        "subroutine o<{name}> is not defined in this file and there is no file {name}.ngc beside it; give its file"
+                    )
                 };
                 return Err(Problem::Rule(what));
             };
@@ -746,7 +768,9 @@ impl<'a> Interpreter<'a> {
         };
         // Loops left by the jump are closed when their lines are met again.
         let depth = self.flow.calls.len();
-        self.flow.ctl.retain(|c| c.depth != depth || !matches!(c.kind, CtlKind::FanucLoop { .. }) || c.line < loc.line.min(pos.line));
+        self.flow.ctl.retain(|c| {
+            c.depth != depth || !matches!(c.kind, CtlKind::FanucLoop { .. }) || c.line < loc.line.min(pos.line)
+        });
         self.seek(pos)
     }
 
@@ -761,7 +785,8 @@ impl<'a> Interpreter<'a> {
             FanucFlow::While { cond, id } => self.fanuc_loop(loc, pos, cond, id)?,
             FanucFlow::Do { id } => self.fanuc_loop(loc, pos, 1.0, id)?,
             FanucFlow::End { id } => {
-                let open = self.flow.ctl.iter().rposition(|c| matches!(c.kind, CtlKind::FanucLoop { id: j, .. } if j == id));
+                let open =
+                    self.flow.ctl.iter().rposition(|c| matches!(c.kind, CtlKind::FanucLoop { id: j, .. } if j == id));
                 match open.map(|i| self.flow.ctl[i].kind.clone()) {
                     Some(CtlKind::FanucLoop { start, .. }) => self.seek(start)?,
                     _ => return Err(Problem::Rule(format!("END{id} without its DO{id}"))),

@@ -71,6 +71,9 @@ pub struct Options {
     pub block_delete: bool,
     /// The tool table by tool number.
     pub tools: HashMap<i32, ToolData>,
+    /// Comments to keep (the first ones, with their lines), e.g. a header naming the
+    /// programmed point; the rest are not held.
+    pub keep_comments: usize,
     /// Most lines executed (loops counted each time round); `None` is
     /// [`MAX_EXECUTED_LINES`].
     pub max_lines: Option<u64>,
@@ -124,6 +127,8 @@ pub struct Interpreter<'a> {
     exec: exec::Exec,
     executed: u64,
     lines_read: u64,
+    main_lines: u32,
+    main_blocks: u64,
     done: bool,
     failed: bool,
     /// Last line read (for errors at the end).
@@ -151,6 +156,8 @@ impl<'a> Interpreter<'a> {
             exec: exec::Exec::default(),
             executed: 0,
             lines_read: 0,
+            main_lines: 0,
+            main_blocks: 0,
 
             done: false,
             failed: false,
@@ -188,10 +195,34 @@ impl<'a> Interpreter<'a> {
         self.lines_read
     }
 
+    /// Lines of the main program read so far (its last line number reached).
+    #[must_use]
+    pub fn main_lines(&self) -> u32 {
+        self.main_lines
+    }
+
+    /// Lines of the main program holding more than comments, read so far.
+    #[must_use]
+    pub fn main_blocks(&self) -> u64 {
+        self.main_blocks
+    }
+
     /// The byte offset reached in the main program (for progress over a file of known size).
     #[must_use]
     pub fn main_offset(&self) -> u64 {
         self.files.first().map_or(0, |f| f.src.tell().offset)
+    }
+
+    /// The comments kept ([`Options::keep_comments`]).
+    #[must_use]
+    pub fn comments(&self) -> &[(Loc, String)] {
+        &self.exec.comments
+    }
+
+    /// The largest LinuxCNC `G64 P` path tolerance programmed (mm).
+    #[must_use]
+    pub fn blend_mm(&self) -> Option<f64> {
+        self.exec.blend_mm
     }
 
     /// The state after the last line executed (units, modes, offsets, tool, position).
@@ -233,6 +264,12 @@ impl<'a> Interpreter<'a> {
             };
             self.loc = Loc { file: id, line: pos.line };
             self.lines_read += 1;
+            if id == 0 && pos.line > self.main_lines {
+                self.main_lines = pos.line;
+                if has_code(&self.line) {
+                    self.main_blocks += 1;
+                }
+            }
             self.executed += 1;
             let cap = self.opts.max_lines.unwrap_or(MAX_EXECUTED_LINES);
             if self.executed > cap {
@@ -240,10 +277,7 @@ impl<'a> Interpreter<'a> {
                     || "the program is larger than any real one".to_owned(),
                     |l| format!("the loop at line {l} seems to run without end"),
                 );
-                return Err(self.error(
-                    self.loc,
-                    Problem::Cap(format!("more than {cap} lines executed; {why}")),
-                ));
+                return Err(self.error(self.loc, Problem::Cap(format!("more than {cap} lines executed; {why}"))));
             }
             let loc = self.loc;
             self.line_(loc, pos).map_err(|p| self.error(loc, p))?;
@@ -257,8 +291,7 @@ impl<'a> Interpreter<'a> {
             return Err(self.error(
                 loc,
                 Problem::Rule(
-                    "the file ended inside a subroutine; end it with its endsub (LinuxCNC) or M99 (FANUC)"
-                        .into(),
+                    "the file ended inside a subroutine; end it with its endsub (LinuxCNC) or M99 (FANUC)".into(),
                 ),
             ));
         }
@@ -279,6 +312,21 @@ impl<'a> Interpreter<'a> {
         }
         Ok(())
     }
+}
+
+/// A line holds something other than comments, spaces and tape marks.
+fn has_code(line: &str) -> bool {
+    let mut depth = 0u32;
+    for c in line.chars() {
+        match c {
+            '(' => depth += 1,
+            ')' if depth > 0 => depth -= 1,
+            ';' if depth == 0 => return false,
+            c if depth == 0 && !c.is_whitespace() && c != '%' => return true,
+            _ => {}
+        }
+    }
+    false
 }
 
 impl Iterator for Interpreter<'_> {

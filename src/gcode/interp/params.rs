@@ -58,7 +58,12 @@ struct Frame {
 
 impl Default for Params {
     fn default() -> Self {
-        Self { numbered: vec![0.0; MAX_NUMBERED + 1], globals: HashMap::new(), frames: vec![Frame::default()], named_count: 0 }
+        Self {
+            numbered: vec![0.0; MAX_NUMBERED + 1],
+            globals: HashMap::new(),
+            frames: vec![Frame::default()],
+            named_count: 0,
+        }
     }
 }
 

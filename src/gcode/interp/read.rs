@@ -703,9 +703,9 @@ impl Parser<'_, '_> {
                 self.i += 1;
                 match self.param_ref()? {
                     ParamRef::Numbered(n) => Ok(self.env.numbered(n)),
-                    ParamRef::Named(name) => self.env.named(&name).ok_or(Problem::Param(
-                        super::params::ParamError::Undefined(name),
-                    )),
+                    ParamRef::Named(name) => {
+                        self.env.named(&name).ok_or(Problem::Param(super::params::ParamError::Undefined(name)))
+                    }
                 }
             }
             Some(b'-') => {
@@ -744,10 +744,11 @@ impl Parser<'_, '_> {
 
     fn function(&mut self) -> Result<f64, Problem> {
         const NAMES: [&[u8]; 14] = [
-            b"abs", b"acos", b"asin", b"atan", b"cos", b"exp", b"fix", b"fup", b"ln", b"round", b"sin", b"sqrt", b"tan",
-            b"exists",
+            b"abs", b"acos", b"asin", b"atan", b"cos", b"exp", b"fix", b"fup", b"ln", b"round", b"sin", b"sqrt",
+            b"tan", b"exists",
         ];
-        let Some(name) = NAMES.iter().find(|n| self.rest().starts_with(n) && self.s.get(self.i + n.len()) == Some(&b'['))
+        let Some(name) =
+            NAMES.iter().find(|n| self.rest().starts_with(n) && self.s.get(self.i + n.len()) == Some(&b'['))
         else {
             let st = self.i;
             while self.peek().is_some_and(|c| c.is_ascii_lowercase()) {

@@ -189,14 +189,7 @@ impl State {
             x = cx + rx;
             y = cy + ry;
         }
-        [
-            x,
-            y,
-            m.xyz.z - o[2] - g[2],
-            m.abc.x - o[3] - g[3],
-            m.abc.y - o[4] - g[4],
-            m.abc.z - o[5] - g[5],
-        ]
+        [x, y, m.xyz.z - o[2] - g[2], m.abc.x - o[3] - g[3], m.abc.y - o[4] - g[4], m.abc.z - o[5] - g[5]]
     }
 
     /// The machine pose of the program position.

@@ -135,7 +135,8 @@ M99
 #[test]
 fn offsets_rotation_and_units_reach_the_machine_frame() {
     // G10 L2 R rotates the system about its origin; G92 shifts before the rotation.
-    let text = "G21 G10 L2 P2 X10 Y20 Z0 R90\nG55 G0 X1 Y0 Z0\nG92 X0 Y0\nG0 X1 Y0\nG92.1\nG20 G0 X1 Y0\nG53 G0 X0 Y0 Z0\n";
+    let text =
+        "G21 G10 L2 P2 X10 Y20 Z0 R90\nG55 G0 X1 Y0 Z0\nG92 X0 Y0\nG0 X1 Y0\nG92.1\nG20 G0 X1 Y0\nG53 G0 X0 Y0 Z0\n";
     let c = run(text).unwrap_or_default();
     let e = ends(&c);
     assert!(near(e[0], DVec3::new(10.0, 21.0, 0.0)), "{e:?}");
@@ -168,8 +169,10 @@ fn incremental_polar_and_stored_positions() {
 #[test]
 fn arcs_follow_linuxcnc_formats_and_tolerances() {
     let c = run("G0 X0 Y0\nG2 X10 Y0 R5 F100\nG3 X0 Y0 I-5 J0 P3\nG18 G2 X0 Z10 K5\n").unwrap_or_default();
-    let arcs: Vec<(DVec3, i32)> =
-        c.iter().filter_map(|c| if let Canon::Arc { center, turns, .. } = c { Some((*center, *turns)) } else { None }).collect();
+    let arcs: Vec<(DVec3, i32)> = c
+        .iter()
+        .filter_map(|c| if let Canon::Arc { center, turns, .. } = c { Some((*center, *turns)) } else { None })
+        .collect();
     assert!(near(arcs[0].0, DVec3::new(5.0, 0.0, 0.0)) && arcs[0].1 == -1);
     assert!(near(arcs[1].0, DVec3::new(5.0, 0.0, 0.0)) && arcs[1].1 == 3);
     assert!(near(arcs[2].0, DVec3::new(0.0, 0.0, 5.0)) && arcs[2].1 == -1);
@@ -236,7 +239,12 @@ fn subroutine_files_come_from_the_library() {
     );
     let c: Vec<Canon> = it.by_ref().collect::<Result<_, _>>().unwrap_or_default();
     let e = ends(&c);
-    assert!(near(e[0], DVec3::new(3.0, 0.0, 0.0)) && near(e[1], DVec3::new(3.0, 7.0, 0.0)) && near(e[2], DVec3::new(3.0, 7.0, 1.0)), "{e:?}");
+    assert!(
+        near(e[0], DVec3::new(3.0, 0.0, 0.0))
+            && near(e[1], DVec3::new(3.0, 7.0, 0.0))
+            && near(e[2], DVec3::new(3.0, 7.0, 1.0)),
+        "{e:?}"
+    );
     assert_eq!(c[0].loc().file, 1);
     assert_eq!(it.file_name(1), "drill");
 }

@@ -112,7 +112,7 @@ pub(super) fn named_words(line: usize, words: &[Word], out: &mut ParsedProgram) 
                     _ => "this Sinumerik command is not modelled",
                 };
                 let word = if w.text.is_empty() { other.to_owned() } else { format!("{other}={}", w.text) };
-                out.unsupported.push(Unsupported { line, word, reason });
+                out.unsupported.push(Unsupported { line, word, reason: reason.into(), count: 1 });
                 continue;
             }
         };
@@ -142,7 +142,8 @@ pub(super) fn dialect_g(
         (Dialect::Sinumerik, 6410 | 6420 | 6430 | 6440 | 6450) => out.unsupported.push(Unsupported {
             line,
             word: format!("G{text}"),
-            reason: "corner rounding (G641–G645) moves the path by a machine-data tolerance; use G64",
+            reason: "corner rounding (G641–G645) moves the path by a machine-data tolerance; use G64".into(),
+            count: 1,
         }),
         (Dialect::LinuxCnc, 52) => flags.open = true,
         (Dialect::LinuxCnc, 53) => flags.close = true,
@@ -231,7 +232,8 @@ fn sinumerik_block(
                 out.unsupported.push(Unsupported {
                     line,
                     word: format!("{name}={v}"),
-                    reason: "SD, PL and PW act only in BSPLINE mode",
+                    reason: "SD, PL and PW act only in BSPLINE mode".into(),
+                    count: 1,
                 });
             }
         }
@@ -298,7 +300,10 @@ fn linuxcnc_block(
             _ => out.unsupported.push(Unsupported {
                 line,
                 word: "G64".into(),
-                reason: "G64 without a P tolerance lets LinuxCNC leave the path by an unbounded amount; write G64 P<mm>",
+                reason:
+                    "G64 without a P tolerance lets LinuxCNC leave the path by an unbounded amount; write G64 P<mm>"
+                        .into(),
+                count: 1,
             }),
         }
     }
@@ -403,7 +408,8 @@ fn finish(st: &mut State, out: &mut ParsedProgram) -> Result<(), ParseError> {
         out.unsupported.push(Unsupported {
             line,
             word: "BSPLINE".into(),
-            reason: "without PL the control chooses the knot spacing itself; read with equal spacing",
+            reason: "without PL the control chooses the knot spacing itself; read with equal spacing".into(),
+            count: 1,
         });
     }
     let h = sp.pl.map_or(1.0, |(_, v)| v);

@@ -1,0 +1,162 @@
+//! A program read through the interpreter ([`super::interp`]) into the [`Toolpath`] the
+//! replay, the deviation, the comparison and the simulation consume.
+//!
+//! Canonical calls become path blocks one for one: a traverse a G00 line, a feed a G01 line, an
+//! arc a G02/G03 arc (several turns as one block per turn), a spline a NURBS block. Moves
+//! of zero length in X, Y, Z are left out (a rotary-only move has no tool path here; the
+//! canonical stream keeps it). Sinumerik programs are read by the dialect reader
+//! ([`super::parse`]).
+
+use glam::DVec3;
+
+use super::dialect::Dialect;
+use super::interp::{Canon, InterpError, Interpreter, Options};
+use super::parse::{ParseError, ParsedProgram, Unsupported, parse_program_in};
+use super::path::{ArcMove, LineMove, Motion, PathBlock, Segment};
+
+/// Most moves of a program held as a path (each about 112 bytes: 450 MB at the cap);
+/// commands that need every move at once refuse a program with more. A million-line
+/// program is a quarter of it.
+pub const MAX_PATH_MOVES: usize = 4_000_000;
+
+/// Header comments kept for [`super::write::ProgrammedPoint::from_comments`].
+const KEPT_COMMENTS: usize = 64;
+
+/// Reads a program in a dialect: FANUC and LinuxCNC through the interpreter, Sinumerik by
+/// its own reader.
+///
+/// # Errors
+/// The line that cannot be read, as [`ParseError::Interp`] (or the Sinumerik reader's
+/// [`ParseError`]).
+pub fn read_program(text: &str, dialect: Dialect, opts: &Options) -> Result<ParsedProgram, ParseError> {
+    if dialect == Dialect::Sinumerik {
+        return parse_program_in(text, dialect);
+    }
+    let opts = Options { keep_comments: opts.keep_comments.max(KEPT_COMMENTS), ..opts.clone() };
+    read_from(Interpreter::from_text(text, opts), dialect)
+}
+
+/// Reads the canonical calls of an interpreter (over a file, with its subroutine library)
+/// into a program: memory for the moves, not for the text.
+///
+/// # Errors
+/// The line that cannot be read, or [`ParseError::TooManyMoves`] past
+/// [`MAX_PATH_MOVES`].
+pub fn read_from(mut it: Interpreter<'_>, dialect: Dialect) -> Result<ParsedProgram, ParseError> {
+    let mut out = ParsedProgram { dialect, ..ParsedProgram::default() };
+    let mut pos = DVec3::ZERO;
+    for c in it.by_ref() {
+        let c = c.map_err(ParseError::Interp)?;
+        if out.toolpath.blocks.len() >= MAX_PATH_MOVES {
+            return Err(ParseError::TooManyMoves { line: c.loc().line as usize, max: MAX_PATH_MOVES });
+        }
+        push(&mut out, &mut pos, c);
+    }
+    finish(&mut out, &it);
+    Ok(out)
+}
+
+/// Adds one canonical call to the path.
+pub(crate) fn push(out: &mut ParsedProgram, pos: &mut DVec3, c: Canon) {
+    let line = c.loc().line as usize;
+    match c {
+        Canon::Traverse { end, .. } | Canon::Line { end, .. } => {
+            let rapid = matches!(c, Canon::Traverse { .. });
+            let feed = if let Canon::Line { feed, .. } = &c { Some(feed.rate) } else { None };
+            if end.xyz != *pos {
+                let motion = if rapid { Motion::Rapid } else { Motion::Linear };
+                out.toolpath.blocks.push(PathBlock {
+                    line,
+                    motion,
+                    segment: Segment::Line(LineMove { start: *pos, end: end.xyz }),
+                    feed_mm_per_min: if rapid { None } else { feed },
+                });
+            }
+            *pos = end.xyz;
+        }
+        Canon::Arc { end, center, plane, turns, feed, .. } => {
+            let ccw = turns > 0;
+            let motion = if ccw { Motion::ArcCcw } else { Motion::ArcCw };
+            let last = ArcMove { start: *pos, end: end.xyz, center, plane, ccw };
+            let extra = turns.unsigned_abs().saturating_sub(1);
+            let (_, _, ni) = plane.axes();
+            if extra > 0 {
+                // Full turns first, the normal axis advancing with the angle.
+                let partial = last.sweep().abs();
+                let total = partial + std::f64::consts::TAU * f64::from(extra);
+                let dn = end.xyz[ni] - pos[ni];
+                let mut s = *pos;
+                for _ in 0..extra {
+                    let mut e = s;
+                    e[ni] += dn * std::f64::consts::TAU / total;
+                    let mut cc = center;
+                    cc[ni] = s[ni];
+                    let seg = ArcMove { start: s, end: e, center: cc, plane, ccw };
+                    out.toolpath.blocks.push(PathBlock {
+                        line,
+                        motion,
+                        segment: Segment::Arc(seg),
+                        feed_mm_per_min: Some(feed.rate),
+                    });
+                    s = e;
+                }
+                let mut cc = center;
+                cc[ni] = s[ni];
+                let seg = ArcMove { start: s, end: end.xyz, center: cc, plane, ccw };
+                out.toolpath.blocks.push(PathBlock {
+                    line,
+                    motion,
+                    segment: Segment::Arc(seg),
+                    feed_mm_per_min: Some(feed.rate),
+                });
+            } else {
+                out.toolpath.blocks.push(PathBlock {
+                    line,
+                    motion,
+                    segment: Segment::Arc(last),
+                    feed_mm_per_min: Some(feed.rate),
+                });
+            }
+            *pos = end.xyz;
+        }
+        Canon::Spline { curve, end, feed, .. } => {
+            out.toolpath.blocks.push(PathBlock {
+                line,
+                motion: Motion::Nurbs,
+                segment: Segment::Nurbs(*curve),
+                feed_mm_per_min: Some(feed.rate),
+            });
+            *pos = end.xyz;
+        }
+        Canon::Dwell { .. }
+        | Canon::ToolChange { .. }
+        | Canon::ToolLengthOffset { .. }
+        | Canon::Spindle { .. }
+        | Canon::Stop { .. } => {}
+    }
+}
+
+/// The reports, comments and counts after the last call.
+pub(crate) fn finish(out: &mut ParsedProgram, it: &Interpreter<'_>) {
+    out.unsupported = it
+        .reports()
+        .iter()
+        .map(|r| Unsupported {
+            line: r.first.line as usize,
+            word: r.code.clone(),
+            reason: r.what.clone(),
+            count: r.count,
+        })
+        .collect();
+    out.warnings = it.warnings().iter().map(|w| (w.loc.line as usize, w.text.clone())).collect();
+    out.comments = it.comments().iter().map(|(l, c)| (l.line as usize, c.clone())).collect();
+    out.lines = it.main_lines() as usize;
+    out.blocks = it.main_blocks() as usize;
+    out.blend_mm = it.blend_mm();
+}
+
+impl From<InterpError> for ParseError {
+    fn from(e: InterpError) -> Self {
+        Self::Interp(e)
+    }
+}
