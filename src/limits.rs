@@ -33,6 +33,17 @@ pub const MAX_COORDINATE_MM: f64 = 1e6;
 /// beyond any machine.
 pub const MAX_FEED_MM_PER_MIN: f64 = 1e6;
 
+/// Most repeats (L) one canned-cycle block may ask for: a hundred thousand holes in a row is
+/// far past any real drilling pattern (`gcode::interp::cycles`).
+pub const MAX_CYCLE_REPEATS: u32 = 100_000;
+
+/// Most pecks of one G73/G83 hole (depth / Q): a 1 m deep hole in 10 µm pecks.
+pub const MAX_CYCLE_PECKS: usize = 100_000;
+
+/// Most moves one canned-cycle block may expand to (all repeats and pecks together), checked
+/// before the first move: about 100 MB of moves.
+pub const MAX_CYCLE_MOVES: usize = 2_000_000;
+
 /// Why a file's bytes are not usable as text.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum TextError {

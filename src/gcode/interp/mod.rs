@@ -8,3 +8,4 @@
 pub mod canon;
 
 pub use canon::{Canon, Feed, FeedMode, Loc, Origin, Pose};
+pub mod cycles;
