@@ -44,6 +44,14 @@ pub const MAX_CYCLE_PECKS: usize = 100_000;
 /// before the first move: about 100 MB of moves.
 pub const MAX_CYCLE_MOVES: usize = 2_000_000;
 
+/// Most tools one tool table may hold (`gcode::interp::tools`): LinuxCNC's pockets go to
+/// 1000; ten times that bounds a mistaken file, not a real changer.
+pub const MAX_TOOLS: usize = 10_000;
+
+/// Largest tool table read (bytes, 16 MiB): ten thousand tools with long remarks are about
+/// 2 MB.
+pub const MAX_TOOL_TABLE_BYTES: u64 = 16 << 20;
+
 /// Why a file's bytes are not usable as text.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum TextError {

@@ -10,3 +10,4 @@ pub mod canon;
 pub use canon::{Canon, Feed, FeedMode, Loc, Origin, Pose};
 pub mod cycles;
 pub mod splines;
+pub mod tools;

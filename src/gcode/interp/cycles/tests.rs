@@ -32,16 +32,6 @@ fn seen(moves: &[CycleMove], unit: f64) -> Vec<Seen> {
         .collect()
 }
 
-/// Whether two lists agree, positions within `tol` (program units).
-fn agree(a: &[Seen], b: &[Seen], tol: f64) -> bool {
-    a.len() == b.len()
-        && a.iter().zip(b).all(|(x, y)| match (x, y) {
-            (Seen::Rapid(p), Seen::Rapid(q)) | (Seen::Feed(p), Seen::Feed(q)) => (*p - *q).abs().max_element() <= tol,
-            (Seen::Dwell(s), Seen::Dwell(t)) => (s - t).abs() <= tol,
-            _ => x == y,
-        })
-}
-
 fn input(kind: CycleKind, plane: Plane, position: DVec3, words: CycleWords) -> CycleInput {
     CycleInput {
         kind,
@@ -339,6 +329,18 @@ fn a_new_cycle_code_needs_its_words_again_but_p_carries_to_tapping() {
 mod against_rs274 {
     use super::*;
     use crate::gcode::interp::cycles::rs274;
+
+    /// Whether two lists agree, positions within `tol` (program units).
+    fn agree(a: &[Seen], b: &[Seen], tol: f64) -> bool {
+        a.len() == b.len()
+            && a.iter().zip(b).all(|(x, y)| match (x, y) {
+                (Seen::Rapid(p), Seen::Rapid(q)) | (Seen::Feed(p), Seen::Feed(q)) => {
+                    (*p - *q).abs().max_element() <= tol
+                }
+                (Seen::Dwell(s), Seen::Dwell(t)) => (s - t).abs() <= tol,
+                _ => x == y,
+            })
+    }
 
     /// One case: a start, the modes, the words of the two blocks.
     struct Case {

@@ -414,7 +414,8 @@ mod against_rs274 {
 
     #[test]
     fn what_rs274_refuses_in_g5_is_refused() {
-        let cases: [(&str, fn(&mut BezierBlock)); 4] = [
+        type Edit = fn(&mut BezierBlock);
+        let cases: [(&str, Edit); 4] = [
             ("G18 G5 I1 J1 P1 Q1 X1 Y1", |b: &mut BezierBlock| b.plane = Plane::Zx),
             ("G5 I1 P1 Q1 X1 Y1", |b: &mut BezierBlock| b.j = None),
             ("G5 I1 J1 X1 Y1", |b: &mut BezierBlock| b.q = None),
