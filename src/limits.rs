@@ -38,6 +38,25 @@ pub const MAX_COORDINATE_MM: f64 = 1e6;
 /// beyond any machine.
 pub const MAX_FEED_MM_PER_MIN: f64 = 1e6;
 
+/// Most repeats (L) one canned-cycle block may ask for: a hundred thousand holes in a row is
+/// far past any real drilling pattern (`gcode::interp::cycles`).
+pub const MAX_CYCLE_REPEATS: u32 = 100_000;
+
+/// Most pecks of one G73/G83 hole (depth / Q): a 1 m deep hole in 10 µm pecks.
+pub const MAX_CYCLE_PECKS: usize = 100_000;
+
+/// Most moves one canned-cycle block may expand to (all repeats and pecks together), checked
+/// before the first move: about 100 MB of moves.
+pub const MAX_CYCLE_MOVES: usize = 2_000_000;
+
+/// Most tools one tool table may hold (`gcode::interp::tools`): LinuxCNC's pockets go to
+/// 1000; ten times that bounds a mistaken file, not a real changer.
+pub const MAX_TOOLS: usize = 10_000;
+
+/// Largest tool table read (bytes, 16 MiB): ten thousand tools with long remarks are about
+/// 2 MB.
+pub const MAX_TOOL_TABLE_BYTES: u64 = 16 << 20;
+
 /// Why a file's bytes are not usable as text.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum TextError {

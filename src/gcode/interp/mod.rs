@@ -18,13 +18,16 @@
 //! [`Options::strict`].
 
 pub mod canon;
+pub mod cycles;
 mod error;
 mod exec;
 mod flow;
 pub mod params;
 mod read;
 pub mod source;
+pub mod splines;
 pub mod state;
+pub mod tools;
 
 use std::collections::{HashMap, VecDeque};
 
