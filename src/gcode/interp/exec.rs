@@ -7,7 +7,9 @@
 use glam::DVec3;
 
 use super::canon::{Canon, FeedMode, Loc, Origin, Pose};
+use super::cycles::{self, CycleInput, CycleKind, CycleMove, CycleState, CycleWords, Retract, SpindleDir};
 use super::read::Block;
+use super::splines::{BezierBlock, FinishedSpline, SplineBlock, SplineBuilder, SplineKind, SplineWords};
 use super::state::{Axes, CompSide, MotionMode, State, g_group};
 use super::{Interpreter, Problem, Warning};
 use crate::gcode::path::Plane;
@@ -33,9 +35,10 @@ pub(super) struct Exec {
     hi: DVec3,
     max_feed: f64,
     first_cut: Option<Loc>,
-    /// Z of the plane's normal axis when the current series of canned cycles began (G98
-    /// returns there).
-    cycle_clear: Option<f64>,
+    /// Canned cycles' sticky words and initial level.
+    cycles: CycleState,
+    /// The multi-block spline being read.
+    splines: SplineBuilder,
     /// The largest `G64 P` path tolerance programmed (mm).
     pub blend_mm: Option<f64>,
     /// Comments kept (line, text), at most [`super::Options::keep_comments`].
@@ -342,12 +345,22 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
     if seen[8] == Some(431) || seen[16] == Some(680) {
         axes_used = true;
     }
-    // 16. Motion.
-    if let Some(t) = motion_code {
-        set_motion(it, t);
-    }
-    if !axes_used {
-        motion(it, loc, b, has(530), motion_code)?;
+    // 16. Motion. FANUC's G5 P… and G5.1 Q… (high-speed modes) hold no axis word: they are
+    // not LinuxCNC's splines and leave the motion mode alone.
+    let motion_code = motion_code.filter(|t| !(matches!(t, 50 | 51) && !has_axes(b)));
+    if spline_block(it, loc, b, motion_code)? {
+        if let Some(t) = motion_code
+            && !matches!(t, 62 | 52 | 53)
+        {
+            set_motion(it, t);
+        }
+    } else {
+        if let Some(t) = motion_code {
+            set_motion(it, t);
+        }
+        if !axes_used {
+            motion(it, loc, b, has(530), motion_code)?;
+        }
     }
     // 17. Stop.
     if let Some(m) = stop {
@@ -393,7 +406,7 @@ fn set_motion(it: &mut Interpreter<'_>, t: i32) {
         _ => MotionMode::Cycle(t),
     };
     if !matches!(m, MotionMode::Cycle(_)) {
-        it.exec.cycle_clear = None;
+        it.exec.cycles.leave();
     }
     it.st.motion = m;
 }
@@ -413,7 +426,7 @@ fn compensation(it: &mut Interpreter<'_>, loc: Loc, b: &Block, t: i32) -> Result
                 b.get(b'd').map_or(0.0, |d| 0.5 * it.length(d))
             } else {
                 let n = b.get(b'd').map_or(it.st.tool, |d| d.round() as i32);
-                it.opts.tools.get(&n).map_or(0.0, |td| 0.5 * td.diameter_mm)
+                it.opts.tools.get(n).map_or(0.0, |td| 0.5 * td.diameter_mm)
             };
             it.st.comp = if t / 10 == 41 { CompSide::Left } else { CompSide::Right };
             it.st.comp_radius = radius;
@@ -425,7 +438,7 @@ fn compensation(it: &mut Interpreter<'_>, loc: Loc, b: &Block, t: i32) -> Result
 }
 
 fn tool_length(it: &mut Interpreter<'_>, loc: Loc, b: &Block, t: i32) -> Result<(), Problem> {
-    let table = |n: i32| it.opts.tools.get(&n).map_or(DVec3::ZERO, |td| td.offset_mm);
+    let table = |n: i32| it.opts.tools.get(n).map_or(DVec3::ZERO, |td| td.offset_mm);
     let tlo = match t {
         430 | 440 => {
             let n = b.get(b'h').map_or(it.st.tool, |h| h.round() as i32);
@@ -725,20 +738,11 @@ fn motion(it: &mut Interpreter<'_>, loc: Loc, b: &Block, machine: bool, code: Op
             let end = find_end(&it.st, b)?;
             straight(it, loc, end, false, Origin::Programmed)
         }
-        MotionMode::Cycle(t) => {
-            it.report(
-                &gname(t),
-                loc,
-                "canned cycles are not expanded yet: the hole positions are visited by rapid moves",
-            );
-            let end = find_end(&it.st, b)?;
-            straight(it, loc, end, true, Origin::Cycle)
-        }
-        MotionMode::Cubic | MotionMode::Quadratic | MotionMode::LinuxNurbs | MotionMode::FanucNurbs => {
-            it.report("spline", loc, "splines are not read yet: their end points are joined by straight feeds");
-            let end = find_end(&it.st, b)?;
-            straight(it, loc, end, false, Origin::Programmed)
-        }
+        MotionMode::Cycle(t) => cycle(it, loc, b, t),
+        MotionMode::Cubic | MotionMode::Quadratic => bezier(it, loc, b, mode == MotionMode::Cubic),
+        // Blocks of a multi-block spline are taken by `spline_block`; coordinates after a
+        // finished G6.2 are refused there.
+        MotionMode::LinuxNurbs | MotionMode::FanucNurbs => Ok(()),
     }
 }
 
@@ -868,8 +872,11 @@ fn arc(it: &mut Interpreter<'_>, loc: Loc, b: &Block, ccw: bool) -> Result<(), P
     Ok(())
 }
 
-/// The end of the program: constructs still open are refused.
-pub(super) fn finish(_it: &mut Interpreter<'_>, _loc: Loc) -> Result<(), Problem> {
+/// The end of the program: a spline still open is finished (Sinumerik) or refused.
+pub(super) fn finish(it: &mut Interpreter<'_>, _loc: Loc) -> Result<(), Problem> {
+    if let Some(f) = it.exec.splines.end_of_program().map_err(|e| Problem::Rule(e.to_string()))? {
+        emit_spline(it, f)?;
+    }
     Ok(())
 }
 
@@ -899,4 +906,181 @@ pub(super) fn inch_warning(it: &mut Interpreter<'_>) {
 
 fn round3(x: f64) -> f64 {
     (x * 1000.0).round() / 1000.0
+}
+
+/// A canned cycle block: its moves from [`cycles::expand`], mapped to the machine.
+fn cycle(it: &mut Interpreter<'_>, loc: Loc, b: &Block, t: i32) -> Result<(), Problem> {
+    let Some(kind) = CycleKind::from_g(f64::from(t) / 10.0) else {
+        it.report(&gname(t), loc, "this canned cycle is not modelled");
+        return Ok(());
+    };
+    let st = &it.st;
+    let sc = st.scale();
+    let len = |c: u8| b.get(c).map(|v| v * sc);
+    let rotary = [b'a', b'b', b'c'].into_iter().find(|&c| b.get(c).is_some()).map(|c| c.to_ascii_uppercase() as char);
+    let input = CycleInput {
+        kind,
+        plane: st.plane,
+        position: DVec3::new(st.prog[0], st.prog[1], st.prog[2]),
+        incremental: !st.absolute,
+        retract: if st.retract_initial { Retract::OldZ } else { Retract::RPlane },
+        spindle: match st.spindle_dir {
+            1 => SpindleDir::Clockwise,
+            -1 => SpindleDir::CounterClockwise,
+            _ => SpindleDir::Stopped,
+        },
+        feed_rate: st.feed.rate,
+        inverse_time: st.feed.mode == FeedMode::InverseTime,
+        cutter_comp: st.comp != CompSide::Off,
+        unit_mm: sc,
+        words: CycleWords {
+            x: len(b'x'),
+            y: len(b'y'),
+            z: len(b'z'),
+            r: len(b'r'),
+            q: len(b'q'),
+            p: b.get(b'p'),
+            i: len(b'i'),
+            j: len(b'j'),
+            k: len(b'k'),
+            l: b.get(b'l'),
+            polar_radius: b.polar_r.map(|r| r * sc),
+            polar_angle_deg: b.polar_a,
+            rotary,
+        },
+    };
+    let mut moves = Vec::new();
+    let outcome = cycles::expand(&input, &mut it.exec.cycles, &mut moves).map_err(|e| Problem::Rule(e.to_string()))?;
+    let feed = it.st.feed;
+    for m in moves {
+        match m {
+            CycleMove::Rapid(p) | CycleMove::OperatorRetract(p) => {
+                let mut q = it.st.prog;
+                q[..3].copy_from_slice(&p.to_array());
+                let end = it.st.to_machine(&q);
+                it.emit(Canon::Traverse { loc, end, origin: Origin::Cycle });
+                it.st.prog = q;
+            }
+            CycleMove::Feed(p) => {
+                let mut q = it.st.prog;
+                q[..3].copy_from_slice(&p.to_array());
+                let end = it.st.to_machine(&q);
+                it.emit(Canon::Line { loc, end, feed, origin: Origin::Cycle });
+                it.st.prog = q;
+            }
+            CycleMove::Dwell { seconds } => it.emit(Canon::Dwell { loc, seconds }),
+            CycleMove::SpindleStop => it.emit(Canon::Spindle { loc, rpm: 0.0 }),
+            CycleMove::SpindleStart { clockwise } => {
+                let rpm = if clockwise { it.st.speed_rpm } else { -it.st.speed_rpm };
+                it.emit(Canon::Spindle { loc, rpm });
+            }
+            CycleMove::SpindleOrient { .. } => {}
+            CycleMove::ProgramStop => it.emit(Canon::Stop { loc, end: false }),
+        }
+    }
+    it.st.prog[..3].copy_from_slice(&outcome.end.to_array());
+    if let Some(note) = outcome.note {
+        it.report(&format!("{} note", kind.name()), loc, &note.to_string());
+    }
+    Ok(())
+}
+
+/// A curve in the program frame, mapped to the machine frame (an affine map: the control
+/// points move, knots and weights stay).
+fn curve_to_machine(st: &State, c: &crate::geom::NurbsCurve) -> Result<crate::geom::NurbsCurve, Problem> {
+    let pts: Vec<DVec3> = (0..c.len())
+        .map(|i| {
+            let p = c.control_point(i);
+            let mut q = st.prog;
+            q[..3].copy_from_slice(&p.to_array());
+            st.to_machine(&q).xyz
+        })
+        .collect();
+    let w: Vec<f64> = (0..c.len()).map(|i| c.weight(i)).collect();
+    crate::geom::NurbsCurve::try_new(c.degree(), c.knots().to_vec(), &pts, Some(&w))
+        .map_err(|e| Problem::Rule(format!("the spline cannot be placed in the machine frame: {e}")))
+}
+
+fn emit_spline(it: &mut Interpreter<'_>, f: FinishedSpline) -> Result<(), Problem> {
+    let feed = check_feed(it)?;
+    let curve = curve_to_machine(&it.st, &f.curve)?;
+    let mut q = it.st.prog;
+    q[..3].copy_from_slice(&f.end.to_array());
+    let end = it.st.to_machine(&q);
+    it.emit(Canon::Spline { loc: f.loc, curve: Box::new(curve), end, feed });
+    it.st.prog = q;
+    if let Some(note) = f.note {
+        it.report("spline note", f.loc, &note.to_string());
+    }
+    Ok(())
+}
+
+/// Multi-block splines (G6.2, G5.2 … G5.3): a block of a curve (or one that opens or closes
+/// one) goes to the [`SplineBuilder`]; returns whether it took the block.
+fn spline_block(it: &mut Interpreter<'_>, loc: Loc, b: &Block, code: Option<i32>) -> Result<bool, Problem> {
+    let open = match code {
+        Some(62) => Some(SplineKind::Fanuc),
+        Some(52) => Some(SplineKind::LinuxCnc),
+        _ => None,
+    };
+    let close = code == Some(53);
+    if !(it.exec.splines.is_active() || open.is_some() || close) {
+        return Ok(false);
+    }
+    let other = code.filter(|t| !matches!(t, 62 | 52 | 53)).map(gname);
+    let sc = it.st.scale();
+    let len = |c: u8| b.get(c).map(|v| v * sc);
+    let sb = SplineBlock {
+        loc,
+        open,
+        close,
+        other_motion: other.as_deref(),
+        position: DVec3::new(it.st.prog[0], it.st.prog[1], it.st.prog[2]),
+        absolute: it.st.absolute,
+        plane: it.st.plane,
+        feed_set: it.st.feed.rate > 0.0,
+        inch: it.st.inch,
+        words: SplineWords {
+            x: len(b'x'),
+            y: len(b'y'),
+            z: len(b'z'),
+            k: b.get(b'k'),
+            r: b.get(b'r'),
+            p: b.get(b'p'),
+            l: b.get(b'l'),
+            ..SplineWords::default()
+        },
+    };
+    let step = it.exec.splines.block(&sb).map_err(|e| Problem::Rule(e.to_string()))?;
+    if let Some(f) = step.finished {
+        emit_spline(it, f)?;
+    }
+    Ok(step.taken)
+}
+
+/// G5 / G5.1: one Bézier.
+fn bezier(it: &mut Interpreter<'_>, loc: Loc, b: &Block, cubic: bool) -> Result<(), Problem> {
+    let st = &it.st;
+    let sc = st.scale();
+    let end = find_end(st, b)?;
+    let other_axis =
+        [b'z', b'a', b'b', b'c'].into_iter().find(|&c| b.get(c).is_some()).map(|c| c.to_ascii_uppercase() as char);
+    let len = |c: u8| b.get(c).map(|v| v * sc);
+    let bb = BezierBlock {
+        loc,
+        position: DVec3::new(st.prog[0], st.prog[1], st.prog[2]),
+        end_xy: [end[0], end[1]],
+        i: len(b'i'),
+        j: len(b'j'),
+        p: len(b'p'),
+        q: len(b'q'),
+        plane: st.plane,
+        other_axis,
+        cutter_comp: st.comp != CompSide::Off,
+        feed_ok: st.feed.rate > 0.0,
+    };
+    let end3 = DVec3::new(end[0], end[1], st.prog[2]);
+    let curve = if cubic { it.exec.splines.cubic(&bb) } else { it.exec.splines.quadratic(&bb) }
+        .map_err(|e| Problem::Rule(e.to_string()))?;
+    emit_spline(it, FinishedSpline { loc, curve, end: end3, note: None })
 }

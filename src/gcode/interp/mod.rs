@@ -31,8 +31,6 @@ pub mod tools;
 
 use std::collections::{HashMap, VecDeque};
 
-use glam::DVec3;
-
 pub use canon::{Canon, Feed, FeedMode, Loc, Origin, Pose};
 pub use error::{InterpError, Problem};
 pub use source::{Library, NoLibrary, ReaderSource, Source, SourceError, SourcePos, TextLibrary, TextSource};
@@ -51,15 +49,6 @@ pub const MAX_CALL_DEPTH: usize = 64;
 /// Most open `if`/`while`/`repeat` levels at once.
 pub const MAX_CONTROL_DEPTH: usize = 256;
 
-/// A tool as the interpreter needs it: its length offset and diameter (mm).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct ToolData {
-    /// Length (and X/Y) offset (mm): `G43 H n` puts it in force.
-    pub offset_mm: DVec3,
-    /// Diameter (mm): cutter compensation's `G41 D n` uses half of it.
-    pub diameter_mm: f64,
-}
-
 /// How to read a program.
 #[derive(Clone, Debug, Default)]
 pub struct Options {
@@ -72,8 +61,11 @@ pub struct Options {
     /// Skip lines starting with `/` (the block-delete switch; off by default, as in
     /// LinuxCNC's `rs274`).
     pub block_delete: bool,
-    /// The tool table by tool number.
-    pub tools: HashMap<i32, ToolData>,
+    /// The tool table: `G43 H n` takes its length offsets, `G41 D n` half its diameter.
+    pub tools: tools::ToolTable,
+    /// Read FANUC's meaning where it differs from LinuxCNC's: `G4 P` in milliseconds (a
+    /// whole number; `X` or a decimal `P` in seconds).
+    pub fanuc: bool,
     /// Comments to keep (the first ones, with their lines), e.g. a header naming the
     /// programmed point; the rest are not held.
     pub keep_comments: usize,

@@ -109,7 +109,7 @@ pub struct State {
     pub g68: Option<([f64; 2], f64)>,
     /// FANUC G16 polar coordinate command.
     pub polar: bool,
-    /// G98 (else G99): cycles retract to the initial level.
+    /// G98 (else G99, LinuxCNC's default): cycles retract to the initial level.
     pub retract_initial: bool,
     /// The program position (mm / degrees): the programmed, uncompensated point.
     pub prog: Axes,
@@ -138,7 +138,7 @@ impl Default for State {
             g92: [0.0; 6],
             g68: None,
             polar: false,
-            retract_initial: true,
+            retract_initial: false,
             prog: [0.0; 6],
         }
     }
