@@ -6,5 +6,6 @@
 //! unit, and emits one stream of [`canon::Canon`] calls in machine millimetres.
 
 pub mod canon;
+pub mod comp;
 
 pub use canon::{Canon, Feed, FeedMode, Loc, Origin, Pose};
