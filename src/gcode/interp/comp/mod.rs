@@ -13,7 +13,8 @@
 //! (`convert_cutter_compensation_on/off`, `convert_straight_comp1/comp2`,
 //! `convert_arc_comp1/comp2`), `interp_arc.cc` (`arc_data_comp_ijk/r`) and `interp_queue.cc`
 //! (the queue of delayed moves, `move_endpoint_and_flush`), at the version Debian 12 ships
-//! (2.9.0~pre1, git f1270d6ed7); they are restated here in our own terms.
+//! (2.9.0~pre1, git f1270d6ed7; the same in substance on LinuxCNC's master of 2026); they
+//! are restated here in our own terms.
 //!
 //! - **Delay.** The end of a compensated move depends on the move after it (an outside
 //!   corner ends on the offset line, an inside corner stops short), so each compensated move
@@ -37,10 +38,12 @@
 //!     to where it meets the new move's offset path — the intersection of two offset lines,
 //!     of an offset line and an offset circle, or of two offset circles. A held straight move
 //!     that would have to run backwards to get there, or a held arc that would have to turn
-//!     further than it was programmed (by more than 0.0254 mm of angle·1), is a gouge and an
-//!     error naming the line of the new move; so is an offset line or circle that the other
-//!     offset path does not reach. A reversal on a tangent arc (the "h" and "m" shapes) is
-//!     treated as concave.
+//!     further than it was programmed (by more than 0.0254 rad in a G21 program, 0.001 rad
+//!     in G20), is a gouge and an error naming the line of the new move; so is an offset
+//!     line or circle that the other offset path does not reach. A reversal after an arc
+//!     with the tool outside it (the "h" and "m" shapes) is treated as concave. (A held
+//!     *entry* move is checked against its offset normal, not its direction: LinuxCNC
+//!     records it so.)
 //! - **Arcs** with the tool inside need a radius larger than the tool's.
 //! - **G40** ends the held moves where they are (no corner with the next move) and turns
 //!   compensation off; the next move is an ordinary move from there to its programmed end,
@@ -50,9 +53,9 @@
 //!   from its emptied queue's memory (the first move released last); that is kept, as it
 //!   decides whether the corner is refused.
 //! - A negative radius (a negative tool table diameter, `G41.1 D-…`) swaps the side.
-//! - Rotary axes and motion along the plane's normal happen on the programmed move, not on
-//!   an added corner arc — except that LinuxCNC gives a corner arc the rotary axes' end
-//!   values (they move on the corner arc), which is kept here.
+//! - Motion along the plane's normal happens on the programmed move, none on an added
+//!   corner move; the rotary axes, as in LinuxCNC, reach their end values on the corner
+//!   move already.
 //!
 //! Everything here is in **mm in the program frame** (the interpreter's coordinates before
 //! work offsets and rotation); the interpreter maps the output to the machine.
@@ -95,10 +98,12 @@ mod tests;
 /// LinuxCNC's `TOLERANCE_CONCAVE_CORNER`.
 pub const CORNER_TOLERANCE_RAD: f64 = 0.05;
 
-/// A held arc shortened at a concave corner may turn further than programmed by this
-/// (radians·mm, compared as an angle): LinuxCNC's 0.0254 (mm programs) or 0.001 (inch
-/// programs, in inches) — the same length.
-const ARC_OVERTURN_SLACK: f64 = 0.0254;
+/// A held arc whose end moves at a concave corner may turn further than programmed by this
+/// much (radians) in a millimetre program: LinuxCNC compares the two sweep angles with a
+/// slack of 0.0254 in G21 and 0.001 in G20 (a length in program units, used as an angle).
+const ARC_OVERTURN_SLACK_MM_PROGRAM: f64 = 0.0254;
+/// The same in an inch program (radians).
+const ARC_OVERTURN_SLACK_INCH_PROGRAM: f64 = 0.001;
 
 /// `|cos A|` below this in the entry-arc construction means the tool cannot make the arc:
 /// LinuxCNC's `TOLERANCE_EQUAL`.
@@ -539,7 +544,8 @@ impl<T: Clone, P> CutterComp<T, P> {
         self.plane
     }
 
-    /// Whether the program is in inches (G20): LinuxCNC's consistency tolerances differ.
+    /// Whether the program is in inches (G20) now: three of LinuxCNC's tolerances are in
+    /// program units (the slack of a shortened arc's sweep, and two consistency checks).
     /// Positions stay in mm.
     pub fn set_inch(&mut self, inch: bool) {
         self.inch = inch;
@@ -1028,7 +1034,9 @@ impl<T: Clone, P> CutterComp<T, P> {
             return Ok(());
         }
         let start = self.endpoint;
+        // LinuxCNC's 0.01 program units between a held arc's old and new radius.
         let mismatch = if self.inch { 0.01 * 25.4 } else { 0.01 };
+        let slack = if self.inch { ARC_OVERTURN_SLACK_INCH_PROGRAM } else { ARC_OVERTURN_SLACK_MM_PROGRAM };
         for h in &mut self.held {
             match h {
                 Held::Line { traverse, dir, end, .. } => {
@@ -1045,7 +1053,7 @@ impl<T: Clone, P> CutterComp<T, P> {
                     }
                     if let Some(s) = start {
                         let now = sweep(s, *center, *turns, to);
-                        if *planned != 0.0 && now.abs() > planned.abs() + ARC_OVERTURN_SLACK {
+                        if *planned != 0.0 && now.abs() > planned.abs() + slack {
                             return Err(CompError::ConcaveArcGouge { at });
                         }
                     }
@@ -1069,9 +1077,10 @@ impl<T: Clone, P> CutterComp<T, P> {
             Some(Held::Line { .. }) => self.last_front = Front::Line,
             Some(Held::Pass(_)) | None => {}
         }
-        let held = std::mem::take(&mut self.held);
+        // The buffer is put back afterwards, so holding and releasing does not allocate.
+        let mut held = std::mem::take(&mut self.held);
         out.reserve(held.len());
-        for h in held {
+        for h in held.drain(..) {
             let e = match h {
                 Held::Line { traverse, end, n, abc, loc, tag, origin, .. } => {
                     let kind = if traverse { MoveKind::Traverse } else { MoveKind::Feed };
@@ -1087,6 +1096,7 @@ impl<T: Clone, P> CutterComp<T, P> {
             };
             out.push(e);
         }
+        self.held = held;
     }
 
     /// A lathe tool's reference point from its nose centre (XZ plane, orientations 1–8):

@@ -173,11 +173,13 @@ impl Driver<'_> {
                     self.comp.start_with_orientation(side, d * self.scale / 2.0, orientation, self.pos, loc)?;
                 }
                 0 | 10 | 20 | 30 => self.motion = Some(*g),
-                40 | 170 | 180 | 190 | 200 | 210 | 430 | 490 | 540 | 610 | 640 | 900 | 940 => {}
+                40 | 170 | 180 | 190 | 200 | 210 | 430 | 490 | 540 | 610 | 640 | 800 | 900 | 940 => {}
                 _ => panic!("test program: G{} is not in the test driver", f64::from(*g) / 10.0),
             }
         }
-        let axis = ['X', 'Y', 'Z', 'A', 'B', 'C'].iter().any(|c| get(*c).is_some());
+        // A G2/G3 with only a centre is a full circle.
+        let axis = ['X', 'Y', 'Z', 'A', 'B', 'C'].iter().any(|c| get(*c).is_some())
+            || (matches!(self.motion, Some(20 | 30)) && ['I', 'J', 'K'].iter().any(|c| get(*c).is_some()));
         if axis {
             let mut end = self.pos;
             for (i, c) in ['X', 'Y', 'Z'].iter().enumerate() {
@@ -1078,15 +1080,44 @@ fn rule_programs_match_rs274() {
         }
     }
     eprintln!("rules: {} programs agree with rs274: {ran} ran, {stopped} refused", progs.len());
-    // LinuxCNC's lathe sample, inches, with its lathe tool table (orientations 1–9).
-    let lathe = std::fs::read_to_string("/usr/share/linuxcnc/ncfiles/lathecomp.ngc");
-    if let Ok(text) = lathe {
-        let table: HashMap<i32, Tool> =
-            (1..=9).map(|t| (t, Tool { diameter_inch: 0.1, orientation: t as u8 })).collect();
-        let got =
-            rs274::agree(&text, &table).expect("rs274 ran before").unwrap_or_else(|why| panic!("lathecomp.ngc: {why}"));
-        assert!(matches!(got, rs274::Outcome::Ran(n) if n > 20), "{got:?}");
-    } else {
-        eprintln!("SKIPPED: /usr/share/linuxcnc/ncfiles/lathecomp.ngc is not installed");
+}
+
+/// LinuxCNC's sample programs that use compensation (all in inches), read by the test
+/// driver: their motions equal rs274's.
+#[cfg(not(target_arch = "wasm32"))]
+#[test]
+fn linuxcnc_sample_programs_match_rs274() {
+    if !rs274::have_rs274() {
+        return;
     }
+    let dir = std::path::Path::new("/usr/share/linuxcnc/ncfiles");
+    // A mill table (inches) with the 1" tool 4 that comp-g1.ngc asks for; LinuxCNC's lathe
+    // table for lathecomp.ngc (tool n has orientation n).
+    let mill: HashMap<i32, Tool> = [(1, 0.125), (2, 0.0625), (3, 0.201), (4, 1.0)]
+        .into_iter()
+        .map(|(t, d)| (t, Tool { diameter_inch: d, orientation: 0 }))
+        .collect();
+    let lathe: HashMap<i32, Tool> = (1..=9).map(|t| (t, Tool { diameter_inch: 0.1, orientation: t as u8 })).collect();
+    let samples = [
+        ("comp.ngc", &mill),
+        ("comp-g1.ngc", &mill),
+        ("comp311.ngc", &mill),
+        ("comp311_2.ngc", &mill),
+        ("cds.ngc", &mill),
+        ("gmoccapy_2_tools_with_cutter_radius_compensation.ngc", &mill),
+        ("lathecomp.ngc", &lathe),
+    ];
+    let mut read = 0;
+    for (name, table) in samples {
+        let Ok(text) = std::fs::read_to_string(dir.join(name)) else {
+            eprintln!("SKIPPED: {name} is not installed");
+            continue;
+        };
+        let got = rs274::agree(&text, table).expect("rs274 ran before").unwrap_or_else(|why| panic!("{name}: {why}"));
+        let rs274::Outcome::Ran(n) = got else { panic!("{name}: refused by both: {got:?}") };
+        eprintln!("{name}: {n} motions and dwells equal rs274's");
+        assert!(n > 10, "{name}: only {n} motions");
+        read += 1;
+    }
+    eprintln!("{read} of {} LinuxCNC samples compared", samples.len());
 }
