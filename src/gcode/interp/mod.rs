@@ -18,6 +18,7 @@
 //! [`Options::strict`].
 
 pub mod canon;
+pub mod comp;
 pub mod cycles;
 mod error;
 mod exec;
