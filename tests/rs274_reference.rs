@@ -456,8 +456,10 @@ fn tool_table_lengths_are_read_as_inches() {
 }
 
 #[test]
-fn numbering_the_lines_changes_no_call_on_linuxcncs_samples() {
-    // The numbered copy is what gives every call its line; LinuxCNC must not notice it.
+fn linuxcncs_samples_run_alike_numbered_or_not_and_their_arcs_close() {
+    // The numbered copy is what gives every call its line; LinuxCNC must not notice it. And
+    // over these programs, whatever they do between arcs, each normalised arc must start and
+    // end on its circle (see `arcs_close`).
     rs274::require();
     let root = Path::new("/usr/share/linuxcnc/ncfiles");
     let mut files = Vec::new();
@@ -465,7 +467,7 @@ fn numbering_the_lines_changes_no_call_on_linuxcncs_samples() {
     assert!(files.len() > 100, "LinuxCNC's samples are missing from {}", root.display());
     let plain = Rs274 { numbered: false, subroutine_dirs: vec![root.to_path_buf()], ..Rs274::default() };
     let numbered = Rs274 { numbered: true, ..plain.clone() };
-    let mut with_lines = 0;
+    let (mut with_lines, mut arcs) = (0, 0);
     for f in &files {
         let (a, b) = match (plain.run(f), numbered.run(f)) {
             (Ok(a), Ok(b)) => (a, b),
@@ -474,11 +476,39 @@ fn numbering_the_lines_changes_no_call_on_linuxcncs_samples() {
         let kinds = |r: &RefRun| r.calls.iter().map(|c| (c.seq, c.kind.clone())).collect::<Vec<_>>();
         assert_eq!(kinds(&a), kinds(&b), "{}: numbering changed the calls", f.display());
         assert_eq!(a.error.as_ref().map(|e| &e.text), b.error.as_ref().map(|e| &e.text), "{}", f.display());
+        assert!(b.unparsed.is_empty(), "{}: lines not understood: {:?}", f.display(), b.unparsed);
         if b.calls.iter().any(|c| c.line.is_some()) {
             with_lines += 1;
         }
+        arcs += arcs_close(f, &b);
     }
     assert!(with_lines > files.len() / 2, "only {with_lines} of {} named their lines", files.len());
+    assert!(arcs > 1000, "only {arcs} arcs checked");
+}
+
+/// Each arc's centre is as far from the end of the motion before it as from its own end,
+/// within LinuxCNC's own arc tolerance (0.002·√2 in, or 0.1 % of the radius) and the
+/// printing's. Returns the number of arcs checked.
+fn arcs_close(f: &Path, r: &RefRun) -> usize {
+    let mut arcs = 0;
+    let mut start: Option<DVec3> = None;
+    for c in r.motions() {
+        if let (RefKind::Arc { end, center, plane, .. }, Some(s)) = (&c.kind, start) {
+            let (i, j, _) = plane_axes(*plane);
+            let r0 = (s[i] - center[i]).hypot(s[j] - center[j]);
+            let r1 = (end.pose.xyz[i] - center[i]).hypot(end.pose.xyz[j] - center[j]);
+            let allowed = 2.0 * 0.001 * std::f64::consts::SQRT_2 * 25.4 + 0.001 * r0.max(r1) + 4.0 * end.tol_mm;
+            assert!((r0 - r1).abs() <= allowed, "{} call {}: radii {r0} and {r1} mm", f.display(), c.seq);
+            arcs += 1;
+        }
+        // After a probe rs274 backs off, and a NURBS_FEED does not print its end: the arc that
+        // may follow them is not checked.
+        start = match &c.kind {
+            RefKind::Traverse { end } | RefKind::Line { end, .. } | RefKind::Arc { end, .. } => Some(end.pose.xyz),
+            _ => None,
+        };
+    }
+    arcs
 }
 
 fn collect_ngc(dir: &Path, out: &mut Vec<PathBuf>, depth: u32) {

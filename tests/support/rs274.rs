@@ -191,8 +191,11 @@ pub struct RefRun {
     pub calls: Vec<RefCall>,
     /// Set when `rs274` stopped on an error.
     pub error: Option<RefError>,
-    /// Lines of its standard output that are not calls (normally none).
+    /// Lines of its standard output in the form of a call that could not be read (normally
+    /// none: a sign that the parser misses something).
     pub unparsed: Vec<String>,
+    /// Other lines of its standard output: the text of `(PRINT, …)` comments.
+    pub printed: Vec<String>,
 }
 
 impl RefRun {
@@ -490,6 +493,7 @@ fn parse_error(stderr: &str, code: Option<i32>) -> RefError {
 struct Parser {
     calls: Vec<RefCall>,
     unparsed: Vec<String>,
+    printed: Vec<String>,
     inch: bool,
     g5x: [f64; 6],
     g92: [f64; 6],
@@ -516,6 +520,7 @@ impl Parser {
             tools,
             calls: Vec::new(),
             unparsed: Vec::new(),
+            printed: Vec::new(),
             inch: false,
             g5x: [0.0; 6],
             g92: [0.0; 6],
@@ -534,7 +539,7 @@ impl Parser {
     }
 
     fn finish(self) -> RefRun {
-        RefRun { calls: self.calls, error: None, unparsed: self.unparsed }
+        RefRun { calls: self.calls, error: None, unparsed: self.unparsed, printed: self.printed }
     }
 
     fn unit(&self) -> f64 {
@@ -602,7 +607,10 @@ impl Parser {
 
     fn line(&mut self, text: &str) {
         if self.try_line(text).is_none() {
-            self.unparsed.push(text.to_owned());
+            let t = text.trim_start();
+            let call_like =
+                t.find(|c: char| !c.is_ascii_digit()).is_some_and(|d| d > 0 && t[d..].trim_start().starts_with('N'));
+            if call_like { self.unparsed.push(text.to_owned()) } else { self.printed.push(text.to_owned()) }
         }
     }
 
