@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # Installs what this project needs and a fresh machine lacks, skipping what is there.
 # Nothing prebuilt is downloaded from the internet: tools are built from crates.io, the
-# browser comes from Debian, the test driver from npm.
+# browser and LinuxCNC's reference interpreter come from Debian, the test driver from npm.
 #
 #   scripts/setup.sh build   # enough to build and serve the app
-#   scripts/setup.sh test    # also the browser and npm packages the tests need
+#   scripts/setup.sh test    # also the browser, rs274 and npm packages the tests need
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH="$HOME/.cargo/bin:$PATH"
@@ -53,6 +53,16 @@ if [ "$what" = "test" ]; then
         [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
         $sudo_cmd apt-get update -qq
         DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq chromium
+    fi
+    # LinuxCNC's standalone interpreter `rs274` and its sample programs
+    # (/usr/share/linuxcnc/ncfiles): the reference the G-code interpreter is compared with
+    # (tests/rs274_reference.rs, scripts/corpus.py).
+    if ! command -v rs274 >/dev/null 2>&1; then
+        say "installing Debian's linuxcnc-uspace (LinuxCNC's rs274 interpreter and sample programs)"
+        sudo_cmd=""
+        [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
+        $sudo_cmd apt-get update -qq
+        DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends linuxcnc-uspace
     fi
     if [ ! -d e2e/node_modules/playwright-core ] || [ ! -d e2e/node_modules/pngjs ]; then
         say "installing the end-to-end test driver (npm: playwright-core, pngjs; no browser download)"

@@ -6,6 +6,9 @@
 #![allow(dead_code)]
 
 pub mod outside;
+/// LinuxCNC's `rs274` as the reference interpreter (native only: it runs a program).
+#[cfg(not(target_arch = "wasm32"))]
+pub mod rs274;
 
 use interpolab::crease::CreaseJob;
 use interpolab::scene::Scene;
