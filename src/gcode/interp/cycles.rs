@@ -42,8 +42,6 @@ use thiserror::Error;
 use crate::gcode::path::Plane;
 pub use crate::limits::{MAX_CYCLE_MOVES, MAX_CYCLE_PECKS, MAX_CYCLE_REPEATS};
 
-#[cfg(all(test, not(target_arch = "wasm32")))]
-pub(crate) mod rs274;
 #[cfg(test)]
 mod tests;
 

@@ -90,6 +90,15 @@ pub enum Problem {
     /// A cap on work.
     #[error("{0}")]
     Cap(String),
+    /// A problem found at another line than the one being read (a move held by cutter
+    /// compensation is refused when the next one shows its corner).
+    #[error("{text}")]
+    Located {
+        /// The line it is about.
+        loc: Loc,
+        /// What.
+        text: String,
+    },
 }
 
 impl From<ParamError> for Problem {

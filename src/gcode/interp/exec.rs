@@ -6,7 +6,8 @@
 
 use glam::DVec3;
 
-use super::canon::{Canon, FeedMode, Loc, Origin, Pose};
+use super::canon::{Canon, Feed, FeedMode, Loc, Origin, Pose};
+use super::comp::{CompError, CutterComp, Emit, MoveKind, ProgMove, Refusal, Side};
 use super::cycles::{self, CycleInput, CycleKind, CycleMove, CycleState, CycleWords, Retract, SpindleDir};
 use super::read::Block;
 use super::splines::{BezierBlock, FinishedSpline, SplineBlock, SplineBuilder, SplineKind, SplineWords};
@@ -39,6 +40,12 @@ pub(super) struct Exec {
     cycles: CycleState,
     /// The multi-block spline being read.
     splines: SplineBuilder,
+    /// Cutter radius compensation, from the first G41/G42 on (every move then goes through
+    /// it, on or off, as LinuxCNC's rules need).
+    comp: Option<CutterComp<Feed, Canon>>,
+    comp_out: Vec<Emit<Feed, Canon>>,
+    /// An error met while passing a call through the compensation's queue.
+    deferred: Option<Problem>,
     /// The largest `G64 P` path tolerance programmed (mm).
     pub blend_mm: Option<f64>,
     /// Comments kept (line, text), at most [`super::Options::keep_comments`].
@@ -54,8 +61,126 @@ pub(super) fn gname(t: i32) -> String {
     if t % 10 == 0 { format!("G{}", t / 10) } else { format!("G{}.{}", t / 10, t % 10) }
 }
 
+/// A compensation error at the line it names.
+fn comp_err(e: CompError) -> Problem {
+    let text = e.to_string();
+    // Its message starts "line N: " or "line N of subroutine file F: ".
+    let parsed = text.strip_prefix("line ").and_then(|rest| {
+        let (head, tail) = rest.split_once(": ")?;
+        let mut words = head.split(' ');
+        let line: u32 = words.next()?.parse().ok()?;
+        let file: u16 = if head.contains("file") { words.last()?.parse().ok()? } else { 0 };
+        Some((Loc { file, line }, tail.to_owned()))
+    });
+    match parsed {
+        Some((loc, text)) => Problem::Located { loc, text },
+        None => Problem::Rule(text),
+    }
+}
+
 impl Interpreter<'_> {
+    /// Queues a call; one that does not move waits behind a move the compensation holds.
     fn emit(&mut self, c: Canon) {
+        if c.end().is_none()
+            && let Some(comp) = self.exec.comp.as_mut()
+            && comp.held() > 0
+        {
+            let loc = c.loc();
+            let mut out = std::mem::take(&mut self.exec.comp_out);
+            if let Err(e) = comp.pass(c, loc, &mut out) {
+                self.exec.deferred.get_or_insert(comp_err(e));
+            }
+            self.drain(&mut out);
+            self.exec.comp_out = out;
+            return;
+        }
+        self.emit_now(c);
+    }
+
+    /// Turns what the compensation released into canonical calls.
+    fn drain(&mut self, out: &mut Vec<Emit<Feed, Canon>>) {
+        let plane = self.exec.comp.as_ref().map_or(self.st.plane, CutterComp::plane);
+        for e in out.drain(..) {
+            match e {
+                Emit::Pass(c) => self.emit_now(c),
+                Emit::Move { mv, origin } => {
+                    let mut q = self.st.prog;
+                    q[..3].copy_from_slice(&mv.end.to_array());
+                    q[3..].copy_from_slice(&mv.abc.to_array());
+                    let end = self.st.to_machine(&q);
+                    let loc = mv.loc;
+                    let c = match mv.kind {
+                        MoveKind::Traverse => Canon::Traverse { loc, end, origin },
+                        MoveKind::Feed => Canon::Line { loc, end, feed: mv.tag, origin },
+                        MoveKind::Arc { center, turns } => {
+                            let mut cq = q;
+                            cq[..3].copy_from_slice(&center.to_array());
+                            let center = self.st.to_machine(&cq).xyz;
+                            Canon::Arc { loc, end, center, plane, turns, feed: mv.tag, origin }
+                        }
+                    };
+                    self.emit_now(c);
+                }
+            }
+        }
+    }
+
+    /// A programmed G0/G1/G2/G3 move in the program frame: through the compensation once it
+    /// has been used, else straight to the machine frame.
+    fn prog_move(&mut self, loc: Loc, kind: MoveKind, end: Axes, feed: Feed) -> Result<(), Problem> {
+        if let Some(comp) = self.exec.comp.as_mut() {
+            let mv = ProgMove {
+                kind,
+                end: DVec3::new(end[0], end[1], end[2]),
+                abc: DVec3::new(end[3], end[4], end[5]),
+                loc,
+                tag: feed,
+            };
+            let mut out = std::mem::take(&mut self.exec.comp_out);
+            let r = comp.push(mv, &mut out).map_err(comp_err);
+            self.drain(&mut out);
+            self.exec.comp_out = out;
+            r?;
+            self.st.prog = end;
+            return Ok(());
+        }
+        let m = self.st.to_machine(&end);
+        let c = match kind {
+            MoveKind::Traverse => Canon::Traverse { loc, end: m, origin: Origin::Programmed },
+            MoveKind::Feed => Canon::Line { loc, end: m, feed, origin: Origin::Programmed },
+            MoveKind::Arc { center, turns } => {
+                let mut cq = end;
+                cq[..3].copy_from_slice(&center.to_array());
+                let center = self.st.to_machine(&cq).xyz;
+                Canon::Arc { loc, end: m, center, plane: self.st.plane, turns, feed, origin: Origin::Programmed }
+            }
+        };
+        self.emit_now(c);
+        self.st.prog = end;
+        Ok(())
+    }
+
+    /// Refuses what LinuxCNC refuses while compensation is on.
+    fn refuse_if_comp(&self, what: Refusal, loc: Loc) -> Result<(), Problem> {
+        match &self.exec.comp {
+            Some(c) => c.refuse_if_on(what, loc).map_err(comp_err),
+            None => Ok(()),
+        }
+    }
+
+    /// Releases what compensation holds: at M0/M1/M60 (`end` false) or the program's end.
+    pub(super) fn comp_release(&mut self, loc: Loc, end: bool) -> Result<(), Problem> {
+        let Some(comp) = self.exec.comp.as_mut() else {
+            return Ok(());
+        };
+        let mut out = std::mem::take(&mut self.exec.comp_out);
+        let r = if end { comp.end_program(loc, &mut out) } else { comp.flush(loc, &mut out) };
+        self.drain(&mut out);
+        self.exec.comp_out = out;
+        r.map_err(comp_err)
+    }
+
+    fn emit_now(&mut self, c: Canon) {
         if let Canon::Line { end, feed, origin, .. } | Canon::Arc { end, feed, origin, .. } = &c
             && *origin != Origin::Probe
         {
@@ -163,6 +288,7 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
     for &m in &b.m.clone() {
         match m {
             6 => {
+                it.refuse_if_comp(Refusal::ToolChange, loc)?;
                 it.st.tool = it.st.selected_tool;
                 let tool = it.st.tool;
                 it.emit(Canon::ToolChange { loc, tool });
@@ -220,11 +346,17 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
             190 | 191 => Plane::Yz,
             _ => Plane::Xy,
         };
+        if let Some(c) = it.exec.comp.as_mut() {
+            c.set_plane(it.st.plane, loc).map_err(comp_err)?;
+        }
     }
     // 9. Units.
     if let Some(t) = seen[6] {
         it.st.inch = t == 200;
         it.st.units_given = true;
+        if let Some(c) = it.exec.comp.as_mut() {
+            c.set_inch(it.st.inch);
+        }
     }
     // 10. Cutter compensation.
     if let Some(t) = seen[7] {
@@ -232,6 +364,7 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
     }
     // 11. Tool length offset.
     if let Some(t) = seen[8] {
+        it.refuse_if_comp(Refusal::ToolLengthOffset, loc)?;
         tool_length(it, loc, b, t)?;
     }
     // 12. Coordinate system.
@@ -261,6 +394,9 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
     }
     // 13. Path control (G61, G64): the feed planner's business, not the path's; the largest
     // G64 P is kept (the control may leave the path by that much at junctions).
+    if seen[13].is_some() {
+        it.refuse_if_comp(Refusal::PathControlMode, loc)?;
+    }
     if seen[13] == Some(640)
         && let Some(p) = b.get(b'p')
     {
@@ -275,6 +411,7 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
         it.st.arc_absolute = t == 901;
     }
     if let Some(t) = seen[10] {
+        it.refuse_if_comp(Refusal::RetractMode, loc)?;
         it.st.retract_initial = t == 980;
     }
     // FANUC groups: rotation, polar input, scaling, mirror.
@@ -313,14 +450,20 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
         match *t {
             40 | 90 => {}
             100 => {
+                let p = b.get(b'p').unwrap_or(0.0).round();
+                if p == 0.0 || p as usize == it.st.system {
+                    it.refuse_if_comp(Refusal::CoordinateSystem, loc)?;
+                }
                 setup(it, loc, b)?;
                 axes_used = true;
             }
             280 | 300 => {
+                it.refuse_if_comp(Refusal::ReferenceReturn, loc)?;
                 home(it, loc, b, *t)?;
                 axes_used = true;
             }
             281 | 301 => {
+                it.refuse_if_comp(Refusal::SetReference, loc)?;
                 let m = it.st.pose();
                 let tlo = it.st.tlo;
                 let base = if *t == 281 { 5161 } else { 5181 };
@@ -330,6 +473,7 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
                 }
             }
             520 | 920 | 921 | 922 | 923 => {
+                it.refuse_if_comp(Refusal::AxisOffsets, loc)?;
                 axis_offsets(it, b, *t);
                 axes_used = *t == 520 || *t == 920;
             }
@@ -365,6 +509,7 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
     // 17. Stop.
     if let Some(m) = stop {
         let end = matches!(m, 2 | 30);
+        it.comp_release(loc, end)?;
         it.emit(Canon::Stop { loc, end });
         if end {
             it.finish(loc)?;
@@ -372,7 +517,10 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
         }
     }
     let _ = codes;
-    Ok(())
+    match it.exec.deferred.take() {
+        Some(p) => Err(p),
+        None => Ok(()),
+    }
 }
 
 fn motion_of(m: MotionMode) -> Option<i32> {
@@ -419,18 +567,59 @@ fn spindle(it: &mut Interpreter<'_>, loc: Loc) {
 
 fn compensation(it: &mut Interpreter<'_>, loc: Loc, b: &Block, t: i32) -> Result<(), Problem> {
     match t {
-        400 => it.st.comp = CompSide::Off,
+        400 => {
+            it.st.comp = CompSide::Off;
+            if let Some(comp) = it.exec.comp.as_mut() {
+                let mut out = std::mem::take(&mut it.exec.comp_out);
+                let r = comp.stop(loc, &mut out);
+                it.drain(&mut out);
+                it.exec.comp_out = out;
+                r.map_err(comp_err)?;
+            }
+        }
         410 | 420 | 411 | 421 => {
             let radius = if t % 10 == 1 {
                 // G41.1/G42.1 D: the diameter itself.
-                b.get(b'd').map_or(0.0, |d| 0.5 * it.length(d))
+                let d = b.get(b'd').ok_or_else(|| Problem::Rule(format!("{} needs D, the tool diameter", gname(t))))?;
+                0.5 * it.length(d)
             } else {
-                let n = b.get(b'd').map_or(it.st.tool, |d| d.round() as i32);
-                it.opts.tools.get(n).map_or(0.0, |td| 0.5 * td.diameter_mm)
+                let n = match b.get(b'd') {
+                    Some(d) if d < 0.0 || (d - d.round()).abs() > 1e-4 => {
+                        return Err(Problem::Rule(format!(
+                            "{} D{} is not a tool number (a whole number ≥ 0)",
+                            gname(t),
+                            super::error::show(d)
+                        )));
+                    }
+                    Some(d) => d.round() as i32,
+                    None => it.st.tool,
+                };
+                match it.opts.tools.get(n) {
+                    Some(td) => 0.5 * td.diameter_mm,
+                    None => {
+                        if n != 0 {
+                            it.report(
+                                &format!("{} D{n}", gname(t)),
+                                loc,
+                                "the tool is not in the tool table (give one with --tools): compensated with radius 0, the programmed path",
+                            );
+                        }
+                        0.0
+                    }
+                }
             };
-            it.st.comp = if t / 10 == 41 { CompSide::Left } else { CompSide::Right };
+            let side = if t / 10 == 41 { Side::Left } else { Side::Right };
+            let plane = it.st.plane;
+            let inch = it.st.inch;
+            let comp = it.exec.comp.get_or_insert_with(|| {
+                let mut c = CutterComp::new(plane);
+                c.set_inch(inch);
+                c
+            });
+            let position = DVec3::new(it.st.prog[0], it.st.prog[1], it.st.prog[2]);
+            comp.start(side, radius, position, loc).map_err(comp_err)?;
+            it.st.comp = if side == Side::Left { CompSide::Left } else { CompSide::Right };
             it.st.comp_radius = radius;
-            it.report(&gname(t), loc, "cutter radius compensation is not applied yet: the programmed path is used");
         }
         _ => {}
     }
@@ -683,6 +872,7 @@ fn motion(it: &mut Interpreter<'_>, loc: Loc, b: &Block, machine: bool, code: Op
         }
     }
     if machine {
+        it.refuse_if_comp(Refusal::MachineCoordinates, loc)?;
         // G53: this block's coordinates are machine positions (absolute only).
         if !matches!(mode, MotionMode::Rapid | MotionMode::Linear) {
             return Err(Problem::Rule("G53 is only allowed with G0 or G1".into()));
@@ -721,6 +911,7 @@ fn motion(it: &mut Interpreter<'_>, loc: Loc, b: &Block, machine: bool, code: Op
         }
         MotionMode::ArcCw | MotionMode::ArcCcw => arc(it, loc, b, mode == MotionMode::ArcCcw),
         MotionMode::Probe(t) => {
+            it.refuse_if_comp(Refusal::Probe, loc)?;
             it.report(&gname(t), loc, "probing: the move is taken to its programmed end (no contact is simulated)");
             let end = find_end(&it.st, b)?;
             let feed = it.st.feed;
@@ -747,6 +938,10 @@ fn motion(it: &mut Interpreter<'_>, loc: Loc, b: &Block, machine: bool, code: Op
 }
 
 fn straight(it: &mut Interpreter<'_>, loc: Loc, end: Axes, rapid: bool, origin: Origin) -> Result<(), Problem> {
+    if origin == Origin::Programmed {
+        let (kind, feed) = if rapid { (MoveKind::Traverse, it.st.feed) } else { (MoveKind::Feed, check_feed(it)?) };
+        return it.prog_move(loc, kind, end, feed);
+    }
     let m = it.st.to_machine(&end);
     if rapid {
         it.emit(Canon::Traverse { loc, end: m, origin });
@@ -861,19 +1056,17 @@ fn arc(it: &mut Interpreter<'_>, loc: Loc, b: &Block, ccw: bool) -> Result<(), P
     let mut center = start;
     center[ia] = ca;
     center[ib] = cb;
-    let m_end = st.to_machine(&end);
-    let m_center = st.to_machine(&center).xyz;
     if plane != Plane::Xy && st.xy_rotation_deg() != 0.0 {
         it.report("rotated arc", loc, "an arc outside G17 under a rotated coordinate system is not modelled exactly");
     }
     let turns = if ccw { turns } else { -turns };
-    it.emit(Canon::Arc { loc, end: m_end, center: m_center, plane, turns, feed, origin: Origin::Programmed });
-    it.st.prog = end;
-    Ok(())
+    let center = DVec3::new(center[0], center[1], center[2]);
+    it.prog_move(loc, MoveKind::Arc { center, turns }, end, feed)
 }
 
 /// The end of the program: a spline still open is finished (Sinumerik) or refused.
-pub(super) fn finish(it: &mut Interpreter<'_>, _loc: Loc) -> Result<(), Problem> {
+pub(super) fn finish(it: &mut Interpreter<'_>, loc: Loc) -> Result<(), Problem> {
+    it.comp_release(loc, true)?;
     if let Some(f) = it.exec.splines.end_of_program().map_err(|e| Problem::Rule(e.to_string()))? {
         emit_spline(it, f)?;
     }
@@ -910,6 +1103,7 @@ fn round3(x: f64) -> f64 {
 
 /// A canned cycle block: its moves from [`cycles::expand`], mapped to the machine.
 fn cycle(it: &mut Interpreter<'_>, loc: Loc, b: &Block, t: i32) -> Result<(), Problem> {
+    it.refuse_if_comp(Refusal::CannedCycle, loc)?;
     let Some(kind) = CycleKind::from_g(f64::from(t) / 10.0) else {
         it.report(&gname(t), loc, "this canned cycle is not modelled");
         return Ok(());
@@ -1026,6 +1220,9 @@ fn spline_block(it: &mut Interpreter<'_>, loc: Loc, b: &Block, code: Option<i32>
     let close = code == Some(53);
     if !(it.exec.splines.is_active() || open.is_some() || close) {
         return Ok(false);
+    }
+    if open.is_some() {
+        it.refuse_if_comp(Refusal::Spline, loc)?;
     }
     let other = code.filter(|t| !matches!(t, 62 | 52 | 53)).map(gname);
     let sc = it.st.scale();

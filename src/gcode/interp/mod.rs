@@ -237,6 +237,10 @@ impl<'a> Interpreter<'a> {
     }
 
     fn error(&self, loc: Loc, problem: Problem) -> InterpError {
+        let (loc, problem) = match problem {
+            Problem::Located { loc, text } => (loc, Problem::Rule(text)),
+            p => (loc, p),
+        };
         let file = (loc.file != 0).then(|| self.file_name(loc.file).to_owned());
         InterpError { loc, file, problem }
     }

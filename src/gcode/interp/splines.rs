@@ -343,7 +343,8 @@ enum State {
 /// `G5.3`, `BSPLINE`), before carrying out the block's own motion, and
 /// [`SplineBuilder::end_of_program`] at the end. G5 and G5.1 blocks go to
 /// [`SplineBuilder::cubic`] and [`SplineBuilder::quadratic`] (after `block` has seen them as
-/// another motion).
+/// another motion). Blocks whose axis words are not a position — G4, G10, G28/G30, G53, G92 —
+/// are not passed, as our reader leaves them out of a curve.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SplineBuilder {
     state: State,

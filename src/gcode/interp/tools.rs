@@ -732,7 +732,10 @@ fn camotics_tool(path: &str, key: &str, value: &serde_json::Value) -> Result<Too
             Some(v) => v.as_f64().filter(|v| v.is_finite() && *v >= 0.0).map(|v| v * s).ok_or_else(|| {
                 bad(
                     &format!("{path}.{k}"),
-                    format!("must be a length of zero or more ({})", if s == 1.0 { "mm" } else { "inches" }),
+                    format!(
+                        "must be a length of zero or more ({})",
+                        if units == TableUnits::Mm { "mm" } else { "inches" }
+                    ),
                 )
             }),
         }

@@ -1,6 +1,6 @@
 //! The spline builder against our reader (`parse_program_in`: the same curves and errors on
 //! the programs the writers make and the reader's own tests use), G5/G5.1 against the Bézier
-//! closed forms, and natively against LinuxCNC's `rs274`.
+//! closed forms (`tests/interp_rs274.rs` checks them against LinuxCNC's `rs274`).
 
 use glam::DVec3;
 
@@ -352,97 +352,4 @@ fn g5_refusals_are_linuxcncs() {
     }
     let e = b.quadratic(&BezierBlock { j: None, ..blk }).err().map(|e| e.to_string()).unwrap_or_default();
     assert!(e.contains("both I and J"), "{e}");
-}
-
-#[cfg(not(target_arch = "wasm32"))]
-mod against_rs274 {
-    use super::*;
-    use crate::gcode::interp::cycles::rs274;
-
-    /// The control-point counts `rs274` prints for each NURBS_FEED, and where its position
-    /// is after the program (from a G91 G1 X0.1 that follows).
-    fn run(text: &str) -> Option<(Vec<usize>, DVec3)> {
-        let calls = rs274::run(text, None)?.unwrap_or_else(|e| panic!("rs274 refused\n{text}\n{e}"));
-        let counts = calls.iter().filter(|c| c.name == "NURBS_FEED").map(|c| c.args[0].parse().unwrap_or(0)).collect();
-        let last = calls.iter().rev().find(|c| c.name == "STRAIGHT_FEED")?;
-        let n = last.numbers();
-        Some((counts, DVec3::new(n[0]?, n[1]?, n[2]?) - DVec3::new(0.1, 0.0, 0.0)))
-    }
-
-    #[test]
-    fn g5_and_g5_1_end_where_rs274_ends_with_as_many_control_points() {
-        let text =
-            "G21 G17 F100\nG0 X1 Y2 Z3\nG5 I0 J3 P1 Q-3 X4 Y5\nG5 P0 Q-1 X6 Y7\nG5.1 X8 Y6.5 I1 J-2\nG91 G1 X0.1\nM2\n";
-        let Some((counts, end)) = run(text) else { return };
-        let mut b = SplineBuilder::new();
-        let blk = |position: DVec3, end_xy, i, j, p, q| BezierBlock {
-            loc: Loc::main(1),
-            position,
-            end_xy,
-            i,
-            j,
-            p,
-            q,
-            plane: Plane::Xy,
-            other_axis: None,
-            cutter_comp: false,
-            feed_ok: true,
-        };
-        let c1 = b.cubic(&blk(DVec3::new(1.0, 2.0, 3.0), [4.0, 5.0], Some(0.0), Some(3.0), Some(1.0), Some(-3.0)));
-        let c1 = c1.unwrap_or_else(|e| panic!("{e}"));
-        let e1 = c1.point_at(c1.range().1);
-        let c2 = b.cubic(&blk(e1, [6.0, 7.0], None, None, Some(0.0), Some(-1.0))).unwrap_or_else(|e| panic!("{e}"));
-        let e2 = c2.point_at(c2.range().1);
-        let c3 = b.quadratic(&blk(e2, [8.0, 6.5], Some(1.0), Some(-2.0), None, None)).unwrap_or_else(|e| panic!("{e}"));
-        assert_eq!(counts, vec![c1.len(), c2.len(), c3.len()]);
-        assert!((c3.point_at(c3.range().1) - end).length() < 0.5e-4, "{end}");
-    }
-
-    #[test]
-    fn g5_2_ends_where_rs274_ends_with_as_many_control_points() {
-        // LinuxCNC's manual example, P on every point as its interpreter wants.
-        let text =
-            "G21 G17 F10\nG0 X1 Y2 Z3\nG5.2 P1 L3\nX0 Y1 P1\nX2 Y2 P1\nX2 Y0 P1\nX0 Y0 P2\nG5.3\nG91 G1 X0.1\nM2\n";
-        let Some((counts, end)) = run(text) else { return };
-        let ours = drive(&text.replace("G91 G1 X0.1\n", ""), Dialect::LinuxCnc).unwrap_or_else(|e| panic!("{e}"));
-        assert_eq!(ours.len(), 1);
-        assert_eq!(counts, vec![ours[0].curve.len()]);
-        assert!((ours[0].end - end).length() < 0.5e-4, "{} vs {end}", ours[0].end);
-        let c = &ours[0].curve;
-        assert!((c.point_at(c.range().1) - end).length() < 0.5e-4, "the curve ends at its last point");
-    }
-
-    #[test]
-    fn what_rs274_refuses_in_g5_is_refused() {
-        type Edit = fn(&mut BezierBlock);
-        let cases: [(&str, Edit); 4] = [
-            ("G18 G5 I1 J1 P1 Q1 X1 Y1", |b: &mut BezierBlock| b.plane = Plane::Zx),
-            ("G5 I1 P1 Q1 X1 Y1", |b: &mut BezierBlock| b.j = None),
-            ("G5 I1 J1 X1 Y1", |b: &mut BezierBlock| b.q = None),
-            ("G5 I1 J1 P1 Q1 X1 Y1 Z4", |b: &mut BezierBlock| b.other_axis = Some('Z')),
-        ];
-        for (block, edit) in cases {
-            let Some(r) = rs274::run(&format!("G21 G17 F100\nG0 X0 Y0 Z3\n{block}\nM2\n"), None) else { return };
-            assert!(r.is_err(), "rs274 accepted {block}");
-            let mut blk = BezierBlock {
-                loc: Loc::main(3),
-                position: DVec3::new(0.0, 0.0, 3.0),
-                end_xy: [1.0, 1.0],
-                i: Some(1.0),
-                j: Some(1.0),
-                p: Some(1.0),
-                q: Some(1.0),
-                plane: Plane::Xy,
-                other_axis: None,
-                cutter_comp: false,
-                feed_ok: true,
-            };
-            edit(&mut blk);
-            assert!(SplineBuilder::new().cubic(&blk).is_err(), "we accepted {block}");
-        }
-        for block in ["G5.1 X1 Y1 I1", "G19 G5.1 X1 Y1 I1 J1"] {
-            let Some(r) = rs274::run(&format!("G21 G17 F100\nG0 X0 Y0 Z3\n{block}\nM2\n"), None) else { return };
-            assert!(r.is_err(), "rs274 accepted {block}");
-        }
-    }
 }

@@ -1,5 +1,6 @@
 //! Tool tables: every field and unit, the remark convention, round trips, CAMotics projects
-//! and specs against closed forms, and natively the length offsets `rs274 -t` applies.
+//! and specs against closed forms (`tests/interp_rs274.rs` checks the length offsets
+//! against `rs274 -t`).
 
 use glam::DVec3;
 
@@ -199,45 +200,5 @@ fn a_camotics_project_gives_its_tools_workpiece_and_files() {
     ] {
         let e = ToolTable::from_camotics(text).err().map(|e| e.to_string()).unwrap_or_default();
         assert!(e.contains(want), "{text}: {e:?} lacks {want:?}");
-    }
-}
-
-#[cfg(not(target_arch = "wasm32"))]
-#[test]
-fn rs274_applies_the_same_length_offsets() {
-    use crate::gcode::interp::cycles::rs274;
-    // rs274 reads its table in inches (its machine units) and prints mm in a G21 program.
-    let text = "\
-T1 P1 Z12.5 D0.25 ;ball
-T2 P2 X0.5 Y-0.25 Z3.75 A10 B-20 C30 U1 V-2 W0.125 D0.5 ;bull r=0.0625
-T3 P3 Z-1.0625 D0.125 ;drill
-T5 P4 X-0.03125 Z7.5 ;v60
-T40 P5 Z0.001 D0.01
-";
-    let table = ToolTable::from_linuxcnc(text, TableUnits::Inch).unwrap_or_else(|e| panic!("{e}"));
-    let mut program = String::from("G21\n");
-    for t in table.iter() {
-        program.push_str(&format!("T{} M6 G43\n", t.number));
-    }
-    program.push_str("M2\n");
-    let Some(calls) = rs274::run(&program, Some(text)) else { return };
-    let calls = calls.unwrap_or_else(|e| panic!("rs274 refused:\n{e}"));
-    let offsets: Vec<[DVec3; 3]> = calls
-        .iter()
-        .filter(|c| c.name == "USE_TOOL_LENGTH_OFFSET")
-        .map(|c| {
-            let v = |i: usize| {
-                let n: Vec<f64> = c.args[i].split_whitespace().filter_map(|s| s.parse().ok()).collect();
-                DVec3::new(n[0], n[1], n[2])
-            };
-            [v(0), v(1), v(2)]
-        })
-        .collect();
-    assert_eq!(offsets.len(), table.len());
-    for (t, [xyz, abc, uvw]) in table.iter().zip(offsets) {
-        let near = |a: DVec3, b: DVec3| (a - b).abs().max_element() <= 0.5e-4 + 1e-9;
-        assert!(near(t.offset_mm, xyz), "T{}: {} vs rs274 {xyz}", t.number, t.offset_mm);
-        assert!(near(t.rotary_offset_deg, abc), "T{}: {} vs rs274 {abc}", t.number, t.rotary_offset_deg);
-        assert!(near(t.uvw_offset_mm, uvw), "T{}: {} vs rs274 {uvw}", t.number, t.uvw_offset_mm);
     }
 }
