@@ -45,19 +45,20 @@ pub fn read_program(text: &str, dialect: Dialect, opts: &Options) -> Result<Pars
 pub fn read_from(mut it: Interpreter<'_>, dialect: Dialect) -> Result<ParsedProgram, ParseError> {
     let mut out = ParsedProgram { dialect, ..ParsedProgram::default() };
     let mut pos = DVec3::ZERO;
+    let mut tlo = DVec3::ZERO;
     for c in it.by_ref() {
         let c = c.map_err(ParseError::Interp)?;
         if out.toolpath.blocks.len() >= MAX_PATH_MOVES {
             return Err(ParseError::TooManyMoves { line: c.loc().line as usize, max: MAX_PATH_MOVES });
         }
-        push(&mut out, &mut pos, c);
+        push(&mut out, &mut pos, &mut tlo, c);
     }
     finish(&mut out, &it);
     Ok(out)
 }
 
 /// Adds one canonical call to the path.
-pub(crate) fn push(out: &mut ParsedProgram, pos: &mut DVec3, c: Canon) {
+pub(crate) fn push(out: &mut ParsedProgram, pos: &mut DVec3, tlo: &mut DVec3, c: Canon) {
     let line = c.loc().line as usize;
     match c {
         Canon::Traverse { end, .. } | Canon::Line { end, .. } => {
@@ -128,11 +129,12 @@ pub(crate) fn push(out: &mut ParsedProgram, pos: &mut DVec3, c: Canon) {
             });
             *pos = end.xyz;
         }
-        Canon::Dwell { .. }
-        | Canon::ToolChange { .. }
-        | Canon::ToolLengthOffset { .. }
-        | Canon::Spindle { .. }
-        | Canon::Stop { .. } => {}
+        Canon::ToolLengthOffset { offset, .. } => {
+            // The spindle stays: the tip's position reads old − new further along the axis.
+            *pos += *tlo - offset;
+            *tlo = offset;
+        }
+        Canon::Dwell { .. } | Canon::ToolChange { .. } | Canon::Spindle { .. } | Canon::Stop { .. } => {}
     }
 }
 

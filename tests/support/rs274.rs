@@ -963,6 +963,8 @@ fn our_events(ours: &[Canon]) -> Vec<(Event, String, Option<f64>)> {
     for c in ours {
         let at = format!("our call at line {} (file {})", c.loc().line, c.loc().file);
         match c {
+            // Our probe's back-off: LinuxCNC's stand-alone canon moves the position without a call.
+            Canon::Traverse { origin: interpolab::gcode::interp::Origin::Probe, .. } => {}
             Canon::Traverse { end, .. } => out.push((Event::Traverse { end: *end }, at, None)),
             Canon::Line { end, feed, origin, .. } => {
                 if *origin == interpolab::gcode::interp::Origin::Probe {

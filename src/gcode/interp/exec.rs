@@ -180,6 +180,11 @@ impl Interpreter<'_> {
         r.map_err(comp_err)
     }
 
+    /// The program's end as a call.
+    pub(super) fn emit_stop(&mut self, loc: Loc) {
+        self.emit(Canon::Stop { loc, end: true });
+    }
+
     fn emit_now(&mut self, c: Canon) {
         if let Canon::Line { end, feed, origin, .. } | Canon::Arc { end, feed, origin, .. } = &c
             && *origin != Origin::Probe
@@ -232,6 +237,18 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
     let motion_code = seen[1];
     let non_modal: Vec<i32> = b.g.iter().copied().filter(|t| g_group(*t) == Some(0)).collect();
 
+    // Axes this interpreter does not carry.
+    for c in [b'u', b'v', b'w'] {
+        if let Some(v) = b.get(c)
+            && v != 0.0
+        {
+            let name = (c.to_ascii_uppercase() as char).to_string();
+            it.report(&name, loc, "the U, V and W axes are not modelled: their words are left out");
+        }
+    }
+    if b.get(b'e').is_some() {
+        it.report("E", loc, "E (an extruder or thread word) is not modelled: left out");
+    }
     // 1. Comment: messages are reported so a viewer can show them.
     if b.has_comment && it.exec.comments.len() < it.opts.keep_comments {
         it.exec.comments.push((loc, b.comment.clone()));
@@ -289,6 +306,11 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
         match m {
             6 => {
                 it.refuse_if_comp(Refusal::ToolChange, loc)?;
+                // The spindle stops for the change (LinuxCNC's M6); M3/M4 start it again.
+                if it.st.spindle_dir != 0 {
+                    it.st.spindle_dir = 0;
+                    spindle(it, loc);
+                }
                 it.st.tool = it.st.selected_tool;
                 let tool = it.st.tool;
                 it.emit(Canon::ToolChange { loc, tool });
@@ -454,7 +476,7 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
                 if p == 0.0 || p as usize == it.st.system {
                     it.refuse_if_comp(Refusal::CoordinateSystem, loc)?;
                 }
-                setup(it, loc, b)?;
+                setup(it, b)?;
                 axes_used = true;
             }
             280 | 300 => {
@@ -479,9 +501,6 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
             }
             530 => {}
             650 => {}
-            101 => {
-                it.report("G10 L1", loc, "tool table edits from the program are not modelled");
-            }
             _ => {}
         }
     }
@@ -510,6 +529,9 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
     if let Some(m) = stop {
         let end = matches!(m, 2 | 30);
         it.comp_release(loc, end)?;
+        if end {
+            program_end(it, loc);
+        }
         it.emit(Canon::Stop { loc, end });
         if end {
             it.finish(loc)?;
@@ -550,13 +572,24 @@ fn set_motion(it: &mut Interpreter<'_>, t: i32) {
         62 => MotionMode::FanucNurbs,
         800 => MotionMode::None,
         382..=385 => MotionMode::Probe(t),
-        330 | 331 | 760 => MotionMode::Synchronised(t),
+        330 | 331 | 760 | 700..=722 => MotionMode::Synchronised(t),
         _ => MotionMode::Cycle(t),
     };
     if !matches!(m, MotionMode::Cycle(_)) {
         it.exec.cycles.leave();
     }
     it.st.motion = m;
+}
+
+/// What the end of a program resets (LinuxCNC's `convert_stop` for M2/M30): the spindle
+/// stops, feed per minute, G17, G90 … The offsets and the position stay.
+pub(super) fn program_end(it: &mut Interpreter<'_>, loc: Loc) {
+    it.st.spindle_dir = 0;
+    it.st.speed_rpm = 0.0;
+    it.emit(Canon::Spindle { loc, rpm: 0.0 });
+    it.st.feed.mode = FeedMode::PerMinute;
+    it.st.plane = Plane::Xy;
+    it.st.absolute = true;
 }
 
 fn spindle(it: &mut Interpreter<'_>, loc: Loc) {
@@ -648,6 +681,12 @@ fn tool_length(it: &mut Interpreter<'_>, loc: Loc, b: &Block, t: i32) -> Result<
         }
         _ => DVec3::ZERO,
     };
+    // The spindle does not move: the tip it holds now reads that much lower (LinuxCNC's
+    // `convert_tool_length_offset` moves the current point by old − new).
+    let d = it.st.tlo - tlo;
+    it.st.prog[0] += d.x;
+    it.st.prog[1] += d.y;
+    it.st.prog[2] += d.z;
     it.st.tlo = tlo;
     for (i, v) in [tlo.x, tlo.y, tlo.z].into_iter().enumerate() {
         it.params.set(5401 + i, v);
@@ -657,14 +696,11 @@ fn tool_length(it: &mut Interpreter<'_>, loc: Loc, b: &Block, t: i32) -> Result<
 }
 
 /// G10 L2 / L20: a coordinate system's offsets (LinuxCNC's `convert_setup`).
-fn setup(it: &mut Interpreter<'_>, loc: Loc, b: &Block) -> Result<(), Problem> {
+fn setup(it: &mut Interpreter<'_>, b: &Block) -> Result<(), Problem> {
     let l = b.get(b'l').map_or(-1.0, f64::round) as i32;
     match l {
         2 | 20 => {}
-        1 | 10 | 11 => {
-            it.report(&format!("G10 L{l}"), loc, "tool table edits from the program are not modelled");
-            return Ok(());
-        }
+        1 | 10 | 11 => return tool_setup(it, b, l),
         _ => return Err(Problem::Rule("G10 needs L2 or L20 (coordinate systems) or L1, L10, L11 (tools)".into())),
     }
     let p = b.get(b'p').unwrap_or(0.0);
@@ -729,6 +765,61 @@ fn setup(it: &mut Interpreter<'_>, loc: Loc, b: &Block) -> Result<(), Problem> {
         it.params.set(5201 + sys * 20 + i, it.st.g5x[sys][i]);
     }
     it.params.set(5210 + sys * 20, it.st.rotation_deg[sys]);
+    Ok(())
+}
+
+/// G10 L1 / L10 / L11: a tool table entry set from the program (LinuxCNC's
+/// `convert_setup_tool`). L1 takes the offsets as given; L10 (and L11, in G59.3's frame)
+/// the offsets that make the current position read as the given values with that tool.
+fn tool_setup(it: &mut Interpreter<'_>, b: &Block, l: i32) -> Result<(), Problem> {
+    let p = b.get(b'p').unwrap_or(-1.0);
+    if p < 1.0 || (p - p.round()).abs() > 1e-4 {
+        return Err(Problem::Rule(format!("G10 L{l} needs P, the tool number (a whole number ≥ 1)")));
+    }
+    let n = p.round() as i32;
+    let sc = it.st.scale();
+    let mut entry = it
+        .opts
+        .tools
+        .get(n)
+        .cloned()
+        .unwrap_or_else(|| super::tools::ToolEntry::new(n, super::tools::ToolShape::Flat, 0.0));
+    let given = |c: u8| b.get(c).map(|v| v * sc);
+    if l == 1 {
+        for (i, c) in [b'x', b'y', b'z'].into_iter().enumerate() {
+            if let Some(v) = given(c) {
+                entry.offset_mm[i] = v;
+            }
+        }
+    } else {
+        // The spindle stays where it is: new offset = spindle − where the value lies.
+        let saved = it.st.system;
+        if l == 11 {
+            it.st.system = 9;
+        }
+        let spindle = it.st.pose().xyz + it.st.tlo;
+        for (i, c) in [b'x', b'y', b'z'].into_iter().enumerate() {
+            if let Some(v) = b.get(c) {
+                let mut q = it.st.prog;
+                q[i] = v * sc;
+                let at = if l == 11 {
+                    let mut probe = it.st.clone();
+                    probe.g5x[9] = [0.0; 6];
+                    probe.g92 = [0.0; 6];
+                    probe.rotation_deg[9] = 0.0;
+                    probe.to_machine(&q).xyz
+                } else {
+                    it.st.to_machine(&q).xyz
+                };
+                entry.offset_mm[i] = spindle[i] - at[i];
+            }
+        }
+        it.st.system = saved;
+    }
+    if let Some(r) = given(b'r') {
+        entry.diameter_mm = 2.0 * r.abs();
+    }
+    it.opts.tools.set(entry).map_err(|e| Problem::Rule(e.to_string()))?;
     Ok(())
 }
 
@@ -917,7 +1008,26 @@ fn motion(it: &mut Interpreter<'_>, loc: Loc, b: &Block, machine: bool, code: Op
             let feed = it.st.feed;
             let m = it.st.to_machine(&end);
             it.emit(Canon::Line { loc, end: m, feed, origin: Origin::Probe });
-            it.st.prog = end;
+            // As LinuxCNC's stand-alone interpreter models it: the probe trips at the end of
+            // its move (#5061… hold that point, program units), #5070 says it did not close,
+            // and the tool backs off 0.254 mm (0.01 inch) toward where it came from.
+            let sc = it.st.scale();
+            for i in 0..6 {
+                it.params.set(5061 + i, if i < 3 { end[i] / sc } else { end[i] });
+            }
+            it.params.set(5070, 0.0);
+            let start = it.st.prog;
+            let d = DVec3::new(start[0] - end[0], start[1] - end[1], start[2] - end[2]);
+            let mut after = end;
+            if d.length() > 0.0 {
+                let back = d / d.length() * (if it.st.inch { 0.01 * 25.4 } else { 0.254 });
+                after[0] += back.x;
+                after[1] += back.y;
+                after[2] += back.z;
+                let m = it.st.to_machine(&after);
+                it.emit(Canon::Traverse { loc, end: m, origin: Origin::Probe });
+            }
+            it.st.prog = after;
             Ok(())
         }
         MotionMode::Synchronised(t) => {

@@ -234,6 +234,9 @@ impl<'a> Interpreter<'a> {
             self.flow.percent += 1;
             if self.flow.percent >= 2 && self.flow.calls.is_empty() && self.files.len() == 1 {
                 // The second tape mark ends the program; what follows is not read.
+                self.comp_release(loc, true)?;
+                super::exec::program_end(self, loc);
+                self.emit_stop(loc);
                 self.finish(loc)?;
                 self.done = true;
             }
@@ -272,7 +275,7 @@ impl<'a> Interpreter<'a> {
             return self.m99(loc, block);
         }
         if block.g.contains(&650) {
-            return self.g65(loc, block);
+            return self.g65(block);
         }
         super::exec::block(self, loc, block)
     }
@@ -434,7 +437,7 @@ impl<'a> Interpreter<'a> {
                 }
                 self.return_from_call()?;
             }
-            OKind::Call => self.call(loc, &name, &o.args, 0, false)?,
+            OKind::Call => self.call(&name, &o.args, 0, false)?,
             OKind::If => {
                 self.push_ctl(name.clone(), CtlKind::If, loc.line)?;
                 if cond == 0.0 {
@@ -543,8 +546,9 @@ impl<'a> Interpreter<'a> {
 
     /// Scans the current file for a line matching `want`, from here to the end and then from
     /// the start; returns the position after the line. The read position is restored.
-    fn scan_for(&mut self, want: &dyn Fn(&Peek) -> bool, loc: Loc) -> Result<Option<SourcePos>, Problem> {
+    fn scan_for(&mut self, want: &dyn Fn(&Peek) -> bool) -> Result<Option<SourcePos>, Problem> {
         let here = self.tell();
+        let fid = self.file_id();
         let mut found = None;
         for pass in 0..2 {
             if pass == 1 {
@@ -566,13 +570,13 @@ impl<'a> Interpreter<'a> {
                 let after = self.tell();
                 match &peek {
                     Peek::O { name, kind: OKind::Sub } => {
-                        self.flow.subs.entry((loc.file, name.clone())).or_insert(after);
+                        self.flow.subs.entry((fid, name.clone())).or_insert(after);
                     }
                     Peek::O { name, kind: OKind::Label } => {
-                        self.flow.programs.entry((loc.file, name.clone())).or_insert(after);
+                        self.flow.programs.entry((fid, name.clone())).or_insert(after);
                     }
                     Peek::N(n) => {
-                        self.flow.labels.entry((loc.file, n.round() as i64)).or_insert(at);
+                        self.flow.labels.entry((fid, n.round() as i64)).or_insert(at);
                     }
                     _ => {}
                 }
@@ -590,7 +594,7 @@ impl<'a> Interpreter<'a> {
     }
 
     /// Calls subroutine `name` (O-word sub, or FANUC program number with `fanuc`).
-    fn call(&mut self, loc: Loc, name: &str, args: &[f64], repeats: u64, fanuc: bool) -> Result<(), Problem> {
+    fn call(&mut self, name: &str, args: &[f64], repeats: u64, fanuc: bool) -> Result<(), Problem> {
         if self.flow.calls.len() >= MAX_CALL_DEPTH {
             return Err(Problem::Cap(format!(
                 "calls nested more than {MAX_CALL_DEPTH} deep; a subroutine calls itself without end?"
@@ -604,9 +608,9 @@ impl<'a> Interpreter<'a> {
             None => {
                 let n = name.to_owned();
                 if fanuc {
-                    self.scan_for(&|p| matches!(p, Peek::O { name, kind: OKind::Label } if *name == n), loc)?
+                    self.scan_for(&|p| matches!(p, Peek::O { name, kind: OKind::Label } if *name == n))?
                 } else {
-                    self.scan_for(&|p| matches!(p, Peek::O { name, kind: OKind::Sub } if *name == n), loc)?
+                    self.scan_for(&|p| matches!(p, Peek::O { name, kind: OKind::Sub } if *name == n))?
                 }
             }
         };
@@ -648,9 +652,9 @@ impl<'a> Interpreter<'a> {
             self.files.push(Open { id, src });
             let n = name.to_owned();
             let found = if fanuc {
-                self.scan_for(&|p| matches!(p, Peek::O { name, kind: OKind::Label } if *name == n), loc)?
+                self.scan_for(&|p| matches!(p, Peek::O { name, kind: OKind::Label } if *name == n))?
             } else {
-                self.scan_for(&|p| matches!(p, Peek::O { name, kind: OKind::Sub } if *name == n), loc)?
+                self.scan_for(&|p| matches!(p, Peek::O { name, kind: OKind::Sub } if *name == n))?
             };
             // A FANUC program file may hold the program without its O number.
             match found {
@@ -711,7 +715,7 @@ impl<'a> Interpreter<'a> {
         if !rest.is_empty() {
             super::exec::block(self, loc, &mut rest)?;
         }
-        self.call(loc, &program.to_string(), &[], repeats - 1, true)
+        self.call(&program.to_string(), &[], repeats - 1, true)
     }
 
     fn m99(&mut self, loc: Loc, block: &super::read::Block) -> Result<(), Problem> {
@@ -741,7 +745,7 @@ impl<'a> Interpreter<'a> {
         self.return_from_call()
     }
 
-    fn g65(&mut self, loc: Loc, block: &super::read::Block) -> Result<(), Problem> {
+    fn g65(&mut self, block: &super::read::Block) -> Result<(), Problem> {
         let Some(p) = block.get(b'p') else {
             return Err(Problem::Rule("G65 needs P, the number of the macro program to call".into()));
         };
@@ -753,7 +757,7 @@ impl<'a> Interpreter<'a> {
             }
         }
         // Arguments not given are vacant on a FANUC; here they read as 0.
-        self.call(loc, &(p.round() as i64).to_string(), &args, repeats - 1, true)
+        self.call(&(p.round() as i64).to_string(), &args, repeats - 1, true)
     }
 
     fn goto(&mut self, loc: Loc, target: f64) -> Result<(), Problem> {
@@ -761,7 +765,7 @@ impl<'a> Interpreter<'a> {
         let key = (self.file_id(), n);
         let pos = match self.flow.labels.get(&key) {
             Some(p) => *p,
-            None => match self.scan_for(&|p| matches!(p, Peek::N(m) if m.round() as i64 == n), loc)? {
+            None => match self.scan_for(&|p| matches!(p, Peek::N(m) if m.round() as i64 == n))? {
                 Some(p) => p,
                 None => return Err(Problem::Rule(format!("GOTO {n}: no block N{n} in this program"))),
             },

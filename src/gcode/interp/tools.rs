@@ -365,6 +365,18 @@ impl ToolTable {
         Ok(())
     }
 
+    /// Sets a tool, replacing the entry of its number (`G10 L1`, `L10`, `L11`).
+    ///
+    /// # Errors
+    /// [`ToolError::TooMany`] when a new number would pass [`MAX_TOOLS`].
+    pub fn set(&mut self, tool: ToolEntry) -> Result<(), ToolError> {
+        if !self.tools.contains_key(&tool.number) && self.tools.len() >= MAX_TOOLS {
+            return Err(ToolError::TooMany { place: "G10".to_owned(), cap: MAX_TOOLS });
+        }
+        self.tools.insert(tool.number, tool);
+        Ok(())
+    }
+
     /// Reads a LinuxCNC `.tbl` written in `units`.
     ///
     /// # Errors
