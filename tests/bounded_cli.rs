@@ -46,7 +46,12 @@ fn frw_with(edit: impl Fn(&mut serde_json::Value)) -> serde_json::Value {
 fn an_endless_file_is_refused_at_the_size_cap() {
     if std::path::Path::new("/dev/zero").exists() {
         refused(&run(&["run", "/dev/zero"]), &["larger than 64 MiB"]);
-        refused(&run(&["replay", "/dev/zero"]), &["larger than 256 MiB"]);
+        // A program is streamed: its first "line" is refused at 64 KiB, long before the cap.
+        refused(&run(&["replay", "/dev/zero"]), &["line 1", "longer than 65536 characters"]);
+        refused(
+            &run(&["simulate", "/dev/zero", "--cutter", "ball:3", "--stock", "0,0,0,10,10,10"]),
+            &["line 1", "longer than 65536 characters"],
+        );
     }
 }
 

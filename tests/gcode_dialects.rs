@@ -16,9 +16,7 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 mod support;
 
 use glam::DVec3;
-use interpolab::gcode::{
-    Dialect, ParseError, ProgramError, ProgramKind, ProgramOptions, Segment, parse_program_in, write_program,
-};
+use interpolab::gcode::{Dialect, ProgramError, ProgramKind, ProgramOptions, Segment, parse_program_in, write_program};
 use interpolab::geom::Curve3;
 use interpolab::nurbs_path::Parabola;
 use support::outside::{RawNurbs, feed_move, parabola_distance, seg_dist};
@@ -411,7 +409,7 @@ fn sinumerik_reader_takes_degree_weights_and_one_knot_interval() {
     }
     // In FANUC's reader the same text is malformed, not silently misread.
     let e = parse_program_in(text, Dialect::Fanuc).expect_err("not FANUC");
-    assert!(matches!(e, ParseError::MissingValue { line: 4, letter: 'B' }), "{e}");
+    assert!(e.line() == 2 && e.to_string().contains("G710"), "{e}");
 }
 
 #[test]

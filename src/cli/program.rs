@@ -215,7 +215,7 @@ pub(crate) fn read_path(
             .map_err(|e| Fatal(format!("cannot read program {}: {e}", path.display())))?;
         parse_program_in(&text, dialect)
     } else {
-        let opts = Options { keep_comments: 64, ..read.options() };
+        let opts = Options { keep_comments: 64, fanuc: dialect == Dialect::Fanuc, ..read.options() };
         read_from(open(path, opts)?, dialect)
     };
     let parsed = parsed.map_err(|e| Fatal(format!("{}: {e}", path.display())))?;

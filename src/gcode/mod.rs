@@ -42,6 +42,6 @@ pub use dialect::{Dialect, UnknownDialect};
 pub use kind::ProgramKind;
 pub use parse::{ParseError, ParsedProgram, Unsupported, parse_program, parse_program_in};
 pub use path::{ArcMove, LineMove, Motion, PathBlock, Plane, Segment, Toolpath};
-pub use read::{read_from, read_program};
+pub use read::{ProgramReader, read_from, read_program};
 pub use replay::{Deviation, DeviationOptions, ProgramSummary, ReplayError, deviation, summarize};
 pub use write::{Program, ProgramError, ProgramOptions, ProgrammedPoint, write_program};

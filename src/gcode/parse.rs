@@ -528,13 +528,25 @@ pub fn parse_program(text: &str) -> Result<ParsedProgram, ParseError> {
     parse_program_in(text, Dialect::Fanuc)
 }
 
-/// Parses a program in a controller's dialect: [`parse_program`] plus Sinumerik `BSPLINE`
-/// (`SD=`, `PL=`, `PW=`, `G70`/`G71`/`G700`/`G710`) or LinuxCNC `G5.2`/`G5.3` (`P` weight, `L`
-/// order) and `G64 P Q`; see `docs/gcode-dialects.md`.
+/// Parses a program in a controller's dialect, strictly (a line that is not G-code or a code
+/// that is not modelled is refused): FANUC and LinuxCNC programs through the interpreter
+/// ([`crate::gcode::interp`], via [`crate::gcode::read::read_program`]), Sinumerik 840D
+/// programs (`BSPLINE`, `SD=`, `PL=`, `PW=`, `G70`/`G71`/`G700`/`G710`) by the dialect reader
+/// here; see `docs/gcode-dialects.md`. The product's writers prove their programs with it.
+/// User programs are read leniently by [`crate::gcode::read::read_program`].
 ///
 /// # Errors
 /// The first malformed line, as a [`ParseError`].
 pub fn parse_program_in(text: &str, dialect: Dialect) -> Result<ParsedProgram, ParseError> {
+    if dialect == Dialect::Sinumerik {
+        return parse_dialect_reader(text, dialect);
+    }
+    let opts = crate::gcode::interp::Options { strict: true, ..crate::gcode::interp::Options::default() };
+    crate::gcode::read::read_program(text, dialect, &opts)
+}
+
+/// The reader of Sinumerik programs (and, before the interpreter, of every dialect).
+pub(crate) fn parse_dialect_reader(text: &str, dialect: Dialect) -> Result<ParsedProgram, ParseError> {
     let mut out = ParsedProgram { dialect, ..ParsedProgram::default() };
     let mut st = State {
         pos: DVec3::ZERO,

@@ -11,7 +11,7 @@ use glam::DVec3;
 
 use super::dialect::Dialect;
 use super::interp::{Canon, InterpError, Interpreter, Options};
-use super::parse::{ParseError, ParsedProgram, Unsupported, parse_program_in};
+use super::parse::{ParseError, ParsedProgram, Unsupported, parse_dialect_reader};
 use super::path::{ArcMove, LineMove, Motion, PathBlock, Segment};
 
 /// Most moves of a program held as a path (each about 112 bytes: 450 MB at the cap);
@@ -30,9 +30,13 @@ const KEPT_COMMENTS: usize = 64;
 /// [`ParseError`]).
 pub fn read_program(text: &str, dialect: Dialect, opts: &Options) -> Result<ParsedProgram, ParseError> {
     if dialect == Dialect::Sinumerik {
-        return parse_program_in(text, dialect);
+        return parse_dialect_reader(text, dialect);
     }
-    let opts = Options { keep_comments: opts.keep_comments.max(KEPT_COMMENTS), ..opts.clone() };
+    let opts = Options {
+        keep_comments: opts.keep_comments.max(KEPT_COMMENTS),
+        fanuc: opts.fanuc || dialect == Dialect::Fanuc,
+        ..opts.clone()
+    };
     read_from(Interpreter::from_text(text, opts), dialect)
 }
 
@@ -55,6 +59,115 @@ pub fn read_from(mut it: Interpreter<'_>, dialect: Dialect) -> Result<ParsedProg
     }
     finish(&mut out, &it);
     Ok(out)
+}
+
+/// A program read a slice at a time (the app reads a big file over several frames, showing
+/// the path as it grows).
+pub struct ProgramReader {
+    it: Option<Interpreter<'static>>,
+    out: ParsedProgram,
+    pos: DVec3,
+    tlo: DVec3,
+    len: u64,
+    error: Option<ParseError>,
+}
+
+impl ProgramReader {
+    /// A reader of `text` in `dialect` (Sinumerik programs are read at once).
+    #[must_use]
+    pub fn new(text: std::sync::Arc<str>, dialect: Dialect, opts: &Options) -> Self {
+        let len = text.len() as u64;
+        let mut r = Self {
+            it: None,
+            out: ParsedProgram { dialect, ..ParsedProgram::default() },
+            pos: DVec3::ZERO,
+            tlo: DVec3::ZERO,
+            len,
+            error: None,
+        };
+        if dialect == Dialect::Sinumerik {
+            match parse_dialect_reader(&text, dialect) {
+                Ok(p) => r.out = p,
+                Err(e) => r.error = Some(e),
+            }
+            return r;
+        }
+        let opts = Options {
+            keep_comments: opts.keep_comments.max(KEPT_COMMENTS),
+            fanuc: opts.fanuc || dialect == Dialect::Fanuc,
+            ..opts.clone()
+        };
+        let src = super::interp::SharedTextSource::new(text);
+        r.it = Some(Interpreter::new(Box::new(src), Box::new(super::interp::NoLibrary), opts));
+        r
+    }
+
+    /// Reads up to `calls` canonical calls; returns whether the program is read (or refused).
+    pub fn step(&mut self, calls: usize) -> bool {
+        let Some(it) = self.it.as_mut() else {
+            return true;
+        };
+        for _ in 0..calls {
+            match it.next() {
+                Some(Ok(c)) => {
+                    if self.out.toolpath.blocks.len() >= MAX_PATH_MOVES {
+                        self.error =
+                            Some(ParseError::TooManyMoves { line: c.loc().line as usize, max: MAX_PATH_MOVES });
+                        self.it = None;
+                        return true;
+                    }
+                    push(&mut self.out, &mut self.pos, &mut self.tlo, c);
+                }
+                Some(Err(e)) => {
+                    self.error = Some(ParseError::Interp(e));
+                    self.it = None;
+                    return true;
+                }
+                None => {
+                    finish(&mut self.out, it);
+                    self.it = None;
+                    return true;
+                }
+            }
+        }
+        false
+    }
+
+    /// The fraction of the file read (0 to 1).
+    #[must_use]
+    pub fn progress(&self) -> f64 {
+        match &self.it {
+            Some(it) if self.len > 0 => (it.main_offset() as f64 / self.len as f64).min(1.0),
+            Some(_) => 0.0,
+            None => 1.0,
+        }
+    }
+
+    /// The program read so far.
+    #[must_use]
+    pub fn program(&self) -> &ParsedProgram {
+        &self.out
+    }
+
+    /// The program, or the line that could not be read.
+    ///
+    /// # Errors
+    /// As [`read_program`].
+    pub fn into_result(self) -> Result<ParsedProgram, ParseError> {
+        match self.error {
+            Some(e) => Err(e),
+            None => Ok(self.out),
+        }
+    }
+}
+
+impl std::fmt::Debug for ProgramReader {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ProgramReader")
+            .field("moves", &self.out.toolpath.blocks.len())
+            .field("progress", &self.progress())
+            .finish()
+    }
 }
 
 /// Adds one canonical call to the path.

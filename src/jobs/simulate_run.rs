@@ -27,9 +27,8 @@ use crate::crease::CreaseJob;
 use crate::fillet::CcNode;
 use crate::fillet::contact::{ContactFrame, Form2, Pose};
 use crate::fiveaxis::{CreasePath, Joints, Machine, MachineKind, StepOptions, StepPlanner, ToolAxisRule};
-use crate::gcode::{
-    DesignBuilder, Dialect, ProgramKind, ProgramOptions, ProgrammedPoint, parse_program_in, write_program,
-};
+use crate::gcode::interp::Options as ReadOptions;
+use crate::gcode::{DesignBuilder, Dialect, ProgramKind, ProgramOptions, ProgrammedPoint, read_program, write_program};
 use crate::geom::Cutter;
 use crate::scene::finish::FinishScene;
 use crate::scene::{Scene, build_machine, build_tool_axis};
@@ -351,7 +350,7 @@ fn make_program(req: &Request, rep: &mut Reporter<'_>) -> Result<Program, String
             (p.parsed.toolpath, true)
         }
         ProgramSource::Text { name, text } => {
-            let parsed = parse_program_in(text, Dialect::guess(text))
+            let parsed = read_program(text, Dialect::guess(text), &ReadOptions::default())
                 .map_err(|e| format!("{name} is not a program this reader can follow — {e}"))?;
             let centre = matches!(ProgrammedPoint::from_comments(&parsed.comments), Some(ProgrammedPoint::BallCentre));
             (parsed.toolpath, centre)

@@ -83,6 +83,15 @@ impl NurbsPanel {
             }
             Shown::Loaded => {
                 let Some(l) = &self.work.loaded else { return };
+                if let Some(r) = &l.reader {
+                    ui.label(format!(
+                        "{}: reading — {:.0} % of the file, {} moves so far …",
+                        l.name,
+                        100.0 * r.progress(),
+                        r.program().toolpath.blocks.len()
+                    ));
+                    return;
+                }
                 match &l.parsed {
                     Err(e) => {
                         ui.label(egui::RichText::new(format!("{}: {e}", l.name)).color(red));
@@ -131,7 +140,11 @@ impl NurbsPanel {
                                 .unsupported
                                 .iter()
                                 .take(6)
-                                .map(|u| format!("line {}: {} ({})", u.line, u.word, u.reason))
+                                .map(|u| {
+                                    let times =
+                                        if u.count > 1 { format!(", {} times", u.count) } else { String::new() };
+                                    format!("line {}: {} ({}{times})", u.line, u.word, u.reason)
+                                })
                                 .collect();
                             let more = if p.unsupported.len() > 6 {
                                 format!(" and {} more", p.unsupported.len() - 6)

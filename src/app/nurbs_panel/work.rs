@@ -19,7 +19,7 @@ use crate::app::jobs::{Job, Poll};
 use crate::crease::{CreaseCurve, CreaseJob};
 use crate::gcode::{
     CompareOptions, CompareRow, Comparison, DesignBuilder, DesignError, Deviation, DeviationOptions, Dialect,
-    ParsedProgram, ProgramKind, ProgramOptions, ProgrammedPoint, compare_row, deviation, parse_program_in,
+    ParsedProgram, ProgramKind, ProgramOptions, ProgrammedPoint, compare_row, deviation,
 };
 use crate::geom::Curve3;
 pub use crate::jobs::program_row::describe_program_error;
@@ -213,7 +213,14 @@ pub struct Loaded {
     pub point: Option<ProgrammedPoint>,
     /// Bumped for every file loaded.
     pub generation: u64,
+    /// The interpreter while it reads the file, a slice a step ([`READ_CALLS_PER_STEP`]): the
+    /// path drawn grows as it reads; `parsed` is final once this is `None`.
+    pub reader: Option<crate::gcode::ProgramReader>,
 }
+
+/// Canonical calls read in one step of loading a program: a few milliseconds of the frame
+/// budget in the browser, so a 180 000-line program opens over a few dozen frames.
+const READ_CALLS_PER_STEP: usize = 4000;
 
 type DesignSlot = Slot<DesignInput, Rc<Design>>;
 type RowKey = (u64, ProgramInput);
@@ -290,14 +297,43 @@ impl Work {
     /// Loads a program's text (parsed at once: reading is fast).
     pub fn load(&mut self, name: &str, text: String) {
         // The dialect as the program says (our header) or its words show.
-        let parsed = parse_program_in(&text, Dialect::guess(&text));
-        let error_line = parsed.as_ref().err().map(crate::gcode::ParseError::line);
-        let parsed = parsed.map_err(|e| e.to_string());
-        let point = parsed.as_ref().ok().and_then(|p| ProgrammedPoint::from_comments(&p.comments));
+        let dialect = Dialect::guess(&text);
+        let reader = crate::gcode::ProgramReader::new(
+            std::sync::Arc::from(text.as_str()),
+            dialect,
+            &crate::gcode::interp::Options::default(),
+        );
         self.loaded_generation += 1;
         self.loaded_deviation.clear();
-        self.loaded =
-            Some(Loaded { name: name.to_owned(), text, parsed, error_line, point, generation: self.loaded_generation });
+        self.loaded = Some(Loaded {
+            name: name.to_owned(),
+            text,
+            parsed: Ok(ParsedProgram::default()),
+            error_line: None,
+            point: None,
+            generation: self.loaded_generation,
+            reader: Some(reader),
+        });
+    }
+
+    /// Reads the next slice of the loaded program; `true` when a slice was read.
+    fn read_step(&mut self) -> bool {
+        let Some(l) = self.loaded.as_mut() else {
+            return false;
+        };
+        let Some(reader) = l.reader.as_mut() else {
+            return false;
+        };
+        if !reader.step(READ_CALLS_PER_STEP) {
+            return true;
+        }
+        if let Some(reader) = l.reader.take() {
+            let parsed = reader.into_result();
+            l.error_line = parsed.as_ref().err().map(crate::gcode::ParseError::line);
+            l.point = parsed.as_ref().ok().and_then(|p| ProgrammedPoint::from_comments(&p.comments));
+            l.parsed = parsed.map_err(|e| e.to_string());
+        }
+        true
     }
 
     /// Forgets the loaded program.
@@ -345,7 +381,8 @@ impl Work {
     /// What is left to do for `w`.
     #[must_use]
     pub fn pending(&self, w: &Wanted) -> Pending {
-        let loaded_due = self.loaded.as_ref().is_some_and(|l| l.parsed.is_ok()) && !self.loaded_fresh(w);
+        let loaded_due =
+            self.loaded.as_ref().is_some_and(|l| l.reader.is_some() || l.parsed.is_ok()) && !self.loaded_fresh(w);
         let design_ok = self.design_fresh(w) && self.design.ok().is_some();
         let done = self.design_fresh(w)
             && (!design_ok || ((0..3).all(|i| self.row_fresh(i, w)) && self.realtime_done(w) && !loaded_due));
@@ -475,6 +512,9 @@ impl Work {
             if let Some(value) = self.realtime_step(&key, &opts, w.realtime.update) {
                 self.realtime.set(key, value);
             }
+            return true;
+        }
+        if self.read_step() {
             return true;
         }
         if let (Some(key), Some(loaded)) = (self.loaded_key(w), &self.loaded)

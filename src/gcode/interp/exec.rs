@@ -61,6 +61,11 @@ pub(super) fn gname(t: i32) -> String {
     if t % 10 == 0 { format!("G{}", t / 10) } else { format!("G{}.{}", t / 10, t % 10) }
 }
 
+/// A spline error at the line it is about (the block that opened the curve, or this one).
+fn spline_err(e: super::splines::SplineError) -> Problem {
+    Problem::Located { loc: e.loc(), text: e.to_string() }
+}
+
 /// A compensation error at the line it names.
 fn comp_err(e: CompError) -> Problem {
     let text = e.to_string();
@@ -214,10 +219,13 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
     let mut seen: [Option<i32>; 24] = [None; 24];
     for &t in &b.g {
         match g_group(t) {
+            // G80 beside another motion code gives way to it (LinuxCNC's `read_g`).
+            Some(1) if t == 800 && seen[1].is_some() => {}
+            Some(1) if seen[1] == Some(800) => seen[1] = Some(t),
             Some(grp) if grp != 0 => {
                 if let Some(prev) = seen[grp as usize] {
                     return Err(Problem::Rule(format!(
-                        "{} and {} are in the same modal group; a block can hold one of them",
+                        "{} and {} in the same block: they are in one modal group; keep one",
                         gname(prev),
                         gname(t)
                     )));
@@ -1067,7 +1075,7 @@ fn check_feed(it: &Interpreter<'_>) -> Result<super::Feed, Problem> {
     let f = it.st.feed;
     if f.rate <= 0.0 {
         return Err(Problem::Rule(
-            "a feed move with no feed rate; give F (mm/min, or in/min after G20) on this or an earlier block".into(),
+            "a feed move without a feed rate; give F (mm/min, or in/min after G20) on this or an earlier block — a feed must be positive".into(),
         ));
     }
     Ok(f)
@@ -1077,6 +1085,7 @@ fn check_feed(it: &Interpreter<'_>) -> Result<super::Feed, Problem> {
 /// plane's normal, LinuxCNC's tolerances (`arc_data_ijk`, `arc_data_r`).
 fn arc(it: &mut Interpreter<'_>, loc: Loc, b: &Block, ccw: bool) -> Result<(), Problem> {
     let feed = check_feed(it)?;
+    let mut notes: Vec<(&str, String)> = Vec::new();
     let st = &it.st;
     let end = find_end(st, b)?;
     let plane = st.plane;
@@ -1113,11 +1122,16 @@ fn arc(it: &mut Interpreter<'_>, loc: Loc, b: &Block, ccw: bool) -> Result<(), P
         let (ma, mb) = (0.5 * (sa + ea), 0.5 * (sb + eb));
         let mut half = (ma - ea).hypot(mb - eb);
         if half - abs_r > zero_tol {
-            return Err(Problem::Rule(format!(
+            let what = format!(
                 "radius R{} is smaller than half the distance to the end point ({} mm); no such arc exists",
                 super::error::show(r / sc),
                 super::error::show(half)
-            )));
+            );
+            if it.opts.strict {
+                return Err(Problem::Rule(what));
+            }
+            // LinuxCNC refuses it; a viewer draws the half circle over the chord and says so.
+            notes.push(("R arc", format!("{what} (LinuxCNC refuses it): drawn as the half circle")));
         }
         if half / abs_r > 1.0 - 1e-12 {
             half = abs_r;
@@ -1154,15 +1168,24 @@ fn arc(it: &mut Interpreter<'_>, loc: Loc, b: &Block, ccw: bool) -> Result<(), P
         let abs_err = (r1 - r2).abs();
         let rel_err = abs_err / r1.max(r2);
         if abs_err > 100.0 * abs_tol || (rel_err > SPIRAL_REL_TOL && abs_err > abs_tol) {
-            return Err(Problem::Rule(format!(
+            let what = format!(
                 "the arc's end is not on its circle: radius {} mm at the start, {} mm at the end (LinuxCNC allows {} mm); correct the end point or the centre",
                 super::error::show(r1),
                 super::error::show(r2),
                 super::error::show(abs_tol)
-            )));
+            );
+            if it.opts.strict {
+                return Err(Problem::Rule(what));
+            }
+            // LinuxCNC refuses it; a viewer draws the spiral from one radius to the other.
+            notes.push(("arc radius", format!("{what} — LinuxCNC refuses it; drawn as a spiral")));
         }
         c
     };
+    for (code, what) in notes {
+        it.report(code, loc, &what);
+    }
+    let st = &it.st;
     let mut center = start;
     center[ia] = ca;
     center[ib] = cb;
@@ -1177,7 +1200,7 @@ fn arc(it: &mut Interpreter<'_>, loc: Loc, b: &Block, ccw: bool) -> Result<(), P
 /// The end of the program: a spline still open is finished (Sinumerik) or refused.
 pub(super) fn finish(it: &mut Interpreter<'_>, loc: Loc) -> Result<(), Problem> {
     it.comp_release(loc, true)?;
-    if let Some(f) = it.exec.splines.end_of_program().map_err(|e| Problem::Rule(e.to_string()))? {
+    if let Some(f) = it.exec.splines.end_of_program().map_err(spline_err)? {
         emit_spline(it, f)?;
     }
     Ok(())
@@ -1358,7 +1381,7 @@ fn spline_block(it: &mut Interpreter<'_>, loc: Loc, b: &Block, code: Option<i32>
             ..SplineWords::default()
         },
     };
-    let step = it.exec.splines.block(&sb).map_err(|e| Problem::Rule(e.to_string()))?;
+    let step = it.exec.splines.block(&sb).map_err(spline_err)?;
     if let Some(f) = step.finished {
         emit_spline(it, f)?;
     }
@@ -1387,7 +1410,6 @@ fn bezier(it: &mut Interpreter<'_>, loc: Loc, b: &Block, cubic: bool) -> Result<
         feed_ok: st.feed.rate > 0.0,
     };
     let end3 = DVec3::new(end[0], end[1], st.prog[2]);
-    let curve = if cubic { it.exec.splines.cubic(&bb) } else { it.exec.splines.quadratic(&bb) }
-        .map_err(|e| Problem::Rule(e.to_string()))?;
+    let curve = if cubic { it.exec.splines.cubic(&bb) } else { it.exec.splines.quadratic(&bb) }.map_err(spline_err)?;
     emit_spline(it, FinishedSpline { loc, curve, end: end3, note: None })
 }

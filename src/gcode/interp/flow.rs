@@ -115,16 +115,39 @@ pub(super) struct View<'s> {
     pub params: &'s super::params::Params,
     pub st: &'s super::state::State,
     pub depth: usize,
+    /// Set when a line read a controller's HAL pin or INI value, which a program file does
+    /// not hold (read as 0 and reported).
+    pub outside: std::cell::Cell<bool>,
 }
 
 impl Env for View<'_> {
     fn numbered(&self, n: usize) -> f64 {
-        self.params.get(n)
+        let st = self.st;
+        let s = st.scale();
+        let axis = |v: &[f64; 6], i: usize| if i < 3 { v[i] / s } else { v[i] };
+        match n {
+            // LinuxCNC: the current position in the program frame (program units).
+            5420..=5425 => axis(&st.prog, n - 5420),
+            // FANUC: the block's end and the current position in work coordinates …
+            5001..=5006 => axis(&st.prog, n - 5001),
+            5041..=5046 => axis(&st.prog, n - 5041),
+            // … and in machine coordinates.
+            5021..=5026 => {
+                let m = st.pose();
+                let v = [m.xyz.x, m.xyz.y, m.xyz.z, m.abc.x, m.abc.y, m.abc.z];
+                axis(&v, n - 5021)
+            }
+            _ => self.params.get(n),
+        }
     }
 
     fn named(&self, name: &str) -> Option<f64> {
         if let Some(v) = self.params.named(name) {
             return Some(v);
+        }
+        if name.starts_with("_hal[") || name.starts_with("_ini[") {
+            self.outside.set(true);
+            return Some(0.0);
         }
         let st = self.st;
         let s = st.scale();
@@ -219,11 +242,20 @@ impl<'a> Interpreter<'a> {
         if self.flow.skip.is_some() {
             return self.skip_line(loc, pos);
         }
-        let view = View { params: &self.params, st: &self.st, depth: self.flow.calls.len() };
-        let block = match self.reader.read(&self.line, &view) {
-            Ok(b) => b,
-            Err(p) => return self.unreadable(loc, p),
+        let view = View {
+            params: &self.params,
+            st: &self.st,
+            depth: self.flow.calls.len(),
+            outside: std::cell::Cell::new(false),
         };
+        let result = self.reader.read(&self.line, &view).map(|_| ());
+        if view.outside.get() {
+            self.report("#<_hal[…]>", loc, "a machine's HAL pin or INI value is not in the program: read as 0");
+        }
+        if let Err(p) = result {
+            return self.unreadable(loc, p);
+        }
+        let block = &self.reader.block;
         if block.percent {
             if block.percent_text {
                 if self.opts.strict {
@@ -337,7 +369,12 @@ impl<'a> Interpreter<'a> {
             (Skip::IfFalse(n), Peek::O { name, kind }) if n == name => match kind {
                 OKind::ElseIf => {
                     // Compute this condition now.
-                    let view = View { params: &self.params, st: &self.st, depth: self.flow.calls.len() };
+                    let view = View {
+                        params: &self.params,
+                        st: &self.st,
+                        depth: self.flow.calls.len(),
+                        outside: std::cell::Cell::new(false),
+                    };
                     let cond =
                         self.reader.read(&self.line, &view)?.oword.as_ref().and_then(|o| o.args.first().copied());
                     if cond.unwrap_or(0.0) != 0.0 {

@@ -34,7 +34,9 @@ use std::collections::{HashMap, VecDeque};
 
 pub use canon::{Canon, Feed, FeedMode, Loc, Origin, Pose};
 pub use error::{InterpError, Problem};
-pub use source::{Library, NoLibrary, ReaderSource, Source, SourceError, SourcePos, TextLibrary, TextSource};
+pub use source::{
+    Library, NoLibrary, ReaderSource, SharedTextSource, Source, SourceError, SourcePos, TextLibrary, TextSource,
+};
 
 use params::Params;
 use read::Reader;

@@ -22,7 +22,7 @@ pub const MAX_NAMED: usize = 100_000;
 #[derive(Clone, Debug, thiserror::Error, PartialEq)]
 pub enum ParamError {
     /// A numbered parameter outside 1…5602 (or not an integer).
-    #[error("parameter #{0} does not exist; numbered parameters are #1 to #5602")]
+    #[error("parameter #{0} does not exist; numbered parameters are #0 to #5602")]
     OutOfRange(String),
     /// A named parameter read before any value was given.
     #[error("named parameter #<{0}> has no value yet; set it (#<{0}> = …) before reading it")]
@@ -75,7 +75,8 @@ impl Params {
     /// [`ParamError::OutOfRange`].
     pub fn index(value: f64) -> Result<usize, ParamError> {
         let r = value.round();
-        if (value - r).abs() < 1e-6 && (1.0..=MAX_NUMBERED as f64).contains(&r) {
+        // #0 is FANUC's vacant variable: it reads as 0 and cannot be set.
+        if (value - r).abs() < 1e-6 && (0.0..=MAX_NUMBERED as f64).contains(&r) {
             Ok(r as usize)
         } else {
             Err(ParamError::OutOfRange(crate::numerics::format::fmt_num(value)))
@@ -90,6 +91,9 @@ impl Params {
 
     /// Sets `#n` (n already checked by [`Params::index`]).
     pub fn set(&mut self, n: usize, v: f64) {
+        if n == 0 {
+            return;
+        }
         if let Some(slot) = self.numbered.get_mut(n) {
             *slot = v;
         }
@@ -192,7 +196,8 @@ mod tests {
     fn numbers_must_be_integers_in_range() {
         assert_eq!(Params::index(5.0000001), Ok(5));
         assert!(Params::index(5.1).is_err());
-        assert!(Params::index(0.0).is_err());
+        assert_eq!(Params::index(0.0), Ok(0), "FANUC's vacant #0");
+        assert!(Params::index(-1.0).is_err());
         assert!(Params::index(5603.0).is_err());
         assert!(Params::index(f64::NAN).is_err());
     }

@@ -283,8 +283,9 @@ impl Reader {
             if let Some(kind) = o_keyword(after) {
                 return Peek::O { name, kind };
             }
-            if after.is_empty() {
-                return Peek::O { name, kind: OKind::Label };
+            if after.iter().all(u8::is_ascii_alphanumeric) {
+                let suffix = String::from_utf8_lossy(after);
+                return Peek::O { name: format!("{name}{suffix}"), kind: OKind::Label };
             }
         }
         if rest.starts_with(b"while") || rest.starts_with(b"do") {
@@ -526,7 +527,9 @@ impl Parser<'_, '_> {
         }
         if r.starts_with(b"if[") {
             self.i += 2;
-            let cond = self.real_value()?;
+            // `IF [a] AND [b] GOTO n`: the condition may join bracketed terms.
+            let first = self.real_value()?;
+            let cond = self.binary_tail(first, 0, false)?;
             if self.eat_word(b"goto") {
                 b.flow = Some(Flow::Goto { target: self.real_value()?, cond: Some(cond) });
                 return Ok(true);
@@ -602,7 +605,10 @@ impl Parser<'_, '_> {
         };
         self.i = self.s.len() - rest_len;
         let Some(kind) = o_keyword(self.rest()) else {
-            if self.i >= self.s.len() {
+            // A FANUC program number, possibly with a letter suffix (`O7997A`).
+            if self.rest().iter().all(u8::is_ascii_alphanumeric) {
+                let name = format!("{name}{}", self.text_from(self.i));
+                self.i = self.s.len();
                 b.oword = Some(OWord { name, kind: OKind::Label, args: Vec::new() });
                 return Ok(());
             }
@@ -658,15 +664,15 @@ impl Parser<'_, '_> {
                 digits += 1;
             } else if c == b'.' {
                 dots += 1;
-                if dots > 1 {
-                    break;
-                }
             } else {
                 break;
             }
             self.i += 1;
         }
         let text = self.text_from(st);
+        if dots > 1 {
+            return Err(Problem::BadNumber(text));
+        }
         if digits == 0 {
             self.i = st;
             return Err(Problem::BadNumber(text));

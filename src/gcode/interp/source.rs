@@ -24,7 +24,7 @@ pub struct SourcePos {
 pub enum SourceError {
     /// A line longer than [`MAX_LINE_BYTES`].
     #[error(
-        "line {line} is longer than {max} characters; a G-code block is far shorter — check that the file is a program"
+        "the line is longer than {max} characters; a G-code block is far shorter — check that the file is a program"
     )]
     LineTooLong {
         /// The line.
@@ -33,7 +33,7 @@ pub enum SourceError {
         max: usize,
     },
     /// Bytes that are not UTF-8.
-    #[error("line {line}: the text is not UTF-8 (the program must be plain text: ASCII or UTF-8)")]
+    #[error("the text is not UTF-8 (the program must be plain text: ASCII or UTF-8)")]
     NotUtf8 {
         /// The line.
         line: u32,
@@ -107,6 +107,55 @@ impl Source for TextSource<'_> {
         }
         buf.push_str(body.strip_suffix('\r').unwrap_or(body));
         Ok(Some(pos))
+    }
+
+    fn tell(&self) -> SourcePos {
+        SourcePos { offset: self.offset as u64, line: self.line.saturating_add(1) }
+    }
+
+    fn seek(&mut self, pos: SourcePos) -> Result<(), SourceError> {
+        self.offset = (pos.offset as usize).min(self.text.len());
+        self.line = pos.line.saturating_sub(1);
+        Ok(())
+    }
+}
+
+/// A program held in a shared string the source owns (the browser's file, read in slices
+/// over several frames).
+#[derive(Clone, Debug)]
+pub struct SharedTextSource {
+    text: std::sync::Arc<str>,
+    offset: usize,
+    line: u32,
+}
+
+impl SharedTextSource {
+    /// Lines of `text`.
+    #[must_use]
+    pub fn new(text: std::sync::Arc<str>) -> Self {
+        Self { text, offset: 0, line: 0 }
+    }
+
+    /// Its length in bytes.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.text.len()
+    }
+
+    /// Whether it is empty.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.text.is_empty()
+    }
+}
+
+impl Source for SharedTextSource {
+    fn next_line(&mut self, buf: &mut String) -> Result<Option<SourcePos>, SourceError> {
+        let mut t = TextSource { text: &self.text, offset: self.offset, line: self.line };
+        let r = t.next_line(buf);
+        self.offset = t.offset;
+        self.line = t.line;
+        r
     }
 
     fn tell(&self) -> SourcePos {

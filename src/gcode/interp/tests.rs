@@ -178,9 +178,17 @@ fn arcs_follow_linuxcnc_formats_and_tolerances() {
     assert!(near(arcs[2].0, DVec3::new(0.0, 0.0, 5.0)) && arcs[2].1 == -1);
     // A Fusion 360 arc whose radii differ by 0.1 µm reads; one whose end is 0.1 mm off does not.
     assert!(run("G0 X0 Y0\nG2 X10.0000001 Y0 I5 J0 F100\n").is_ok());
-    let e = run("G0 X0 Y0\nG2 X10.1 Y0 I5 J0 F100\n").err().map(|e| e.to_string()).unwrap_or_default();
+    // Beyond LinuxCNC's tolerance: refused when strict, else drawn and reported.
+    let strict = Options { strict: true, ..Options::default() };
+    let e = run_with("G0 X0 Y0\nG2 X10.1 Y0 I5 J0 F100\n", strict.clone())
+        .0
+        .err()
+        .map(|e| e.to_string())
+        .unwrap_or_default();
     assert!(e.starts_with("line 2:") && e.contains("not on its circle"), "{e}");
-    let e = run("G0 X0 Y0\nG2 X10 Y0 R4 F100\n").err().map(|e| e.to_string()).unwrap_or_default();
+    let (r, reports, _) = run_with("G0 X0 Y0\nG2 X10.1 Y0 I5 J0 F100\n", Options::default());
+    assert!(r.is_ok() && reports.iter().any(|r| r.code == "arc radius" && r.first.line == 2), "{reports:?}");
+    let e = run_with("G0 X0 Y0\nG2 X10 Y0 R4 F100\n", strict).0.err().map(|e| e.to_string()).unwrap_or_default();
     assert!(e.contains("smaller than half"), "{e}");
 }
 

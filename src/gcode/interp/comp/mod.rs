@@ -91,9 +91,6 @@ use glam::{DVec2, DVec3};
 use super::canon::{Loc, Origin};
 use crate::gcode::path::Plane;
 
-#[cfg(test)]
-mod tests;
-
 /// β within this many radians of a straight continuation (or of a reversal) counts as one:
 /// LinuxCNC's `TOLERANCE_CONCAVE_CORNER`.
 pub const CORNER_TOLERANCE_RAD: f64 = 0.05;

@@ -1,11 +1,11 @@
-//! The spline builder against our reader (`parse_program_in`: the same curves and errors on
+//! The spline builder against our reader (the dialect reader `parse::parse_dialect_reader`: the same curves and errors on
 //! the programs the writers make and the reader's own tests use), G5/G5.1 against the Bézier
 //! closed forms (`tests/interp_rs274.rs` checks them against LinuxCNC's `rs274`).
 
 use glam::DVec3;
 
 use super::*;
-use crate::gcode::{Dialect, ParseError, ProgramKind, ProgramOptions, Segment, parse_program_in, write_program};
+use crate::gcode::{Dialect, ParseError, ProgramKind, ProgramOptions, Segment, write_program};
 use crate::geom::Curve3;
 use crate::nurbs_path::Parabola;
 
@@ -159,7 +159,7 @@ fn drive(text: &str, dialect: Dialect) -> Result<Vec<FinishedSpline>, String> {
 
 /// The reader's curves, or its error as text.
 fn reader(text: &str, dialect: Dialect) -> Result<Vec<NurbsCurve>, String> {
-    let p = parse_program_in(text, dialect).map_err(|e: ParseError| e.to_string())?;
+    let p = crate::gcode::parse::parse_dialect_reader(text, dialect).map_err(|e: ParseError| e.to_string())?;
     Ok(p.toolpath
         .blocks
         .iter()

@@ -12,7 +12,9 @@ use std::collections::HashMap;
 
 use glam::{DVec2, DVec3};
 
-use super::*;
+use interpolab::gcode::Plane;
+use interpolab::gcode::interp::comp::*;
+use interpolab::gcode::interp::{Loc, Origin};
 
 /// A non-motion call in the tests.
 #[derive(Clone, Debug, PartialEq)]
