@@ -10,7 +10,7 @@ use clap::Args;
 use glam::DVec3;
 use interpolab::crease::CreaseJob;
 use interpolab::fillet::{PartSamples, iso_parametric_from, iso_scallop_from};
-use interpolab::gcode::{ProgrammedPoint, parse_program};
+use interpolab::gcode::{Dialect, ProgrammedPoint, parse_program_in};
 use interpolab::geom::Cutter;
 use interpolab::scene::Scene;
 use interpolab::simulate::bench::BenchKind;
@@ -223,7 +223,10 @@ pub(super) fn simulate(a: &SimulateArgs) -> Result<ExitCode, Fatal> {
     }
     let design = load_design(&SimulateDesign { design_z: a.design_z, scene: a.scene.as_deref() })?;
     let text = read_program(path)?;
-    let parsed = parse_program(&text).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
+    // In the dialect it is written in, as `replay` reads it: a Sinumerik BSPLINE or a
+    // LinuxCNC G5.2 is a curve, not words to leave out.
+    let parsed =
+        parse_program_in(&text, Dialect::guess(&text)).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
     for u in &parsed.unsupported {
         eprintln!("interpolab: UNSUPPORTED line {}: {} ({}); its effect is left out", u.line, u.word, u.reason);
     }
