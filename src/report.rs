@@ -255,27 +255,6 @@ fn push_index(out: &mut String, k: u64) {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::push_index;
-
-    #[test]
-    fn indices_print_as_display_does() {
-        let mut k = 1u64;
-        let mut samples = vec![0, 9, 10, 99, 100, 101, 999_999, u64::MAX, u64::MAX - 1];
-        for _ in 0..200 {
-            // A fixed pseudo-random walk over all magnitudes.
-            k = k.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-            samples.push(k >> (k % 64));
-        }
-        for k in samples {
-            let mut s = String::from("x");
-            push_index(&mut s, k);
-            assert_eq!(s, format!("x{k}"));
-        }
-    }
-}
-
 /// Characters a spreadsheet takes, at the start of a cell, as the start of a formula (OWASP's
 /// list for CSV injection; TAB and CR are turned into spaces before this is asked).
 const FORMULA_STARTS: [char; 4] = ['=', '+', '-', '@'];
@@ -344,4 +323,42 @@ pub fn csv_comment_text(text: &str) -> String {
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::push_index;
+
+    #[test]
+    fn indices_print_as_display_does() {
+        let mut k = 1u64;
+        let mut samples = vec![0, 9, 10, 99, 100, 101, 999_999, u64::MAX, u64::MAX - 1];
+        for _ in 0..200 {
+            // A fixed pseudo-random walk over all magnitudes.
+            k = k.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            samples.push(k >> (k % 64));
+        }
+        for k in samples {
+            let mut s = String::from("x");
+            push_index(&mut s, k);
+            assert_eq!(s, format!("x{k}"));
+        }
+    }
+}
+
+#[cfg(test)]
+mod text_tests {
+    use super::{csv_comment_text, one_line};
+
+    #[test]
+    fn benign_text_is_kept_and_hostile_text_stays_on_its_line_without_formulas() {
+        let benign = "Torus ring through a tilted plate, on a head B/C machine (µm, 30°)";
+        assert_eq!(one_line(benign), benign);
+        assert_eq!(csv_comment_text(benign), benign);
+        assert_eq!(one_line("a\nb\r\u{2028}c\u{85}d\u{0}e\u{202e}"), "a b  c d_e_");
+        assert_eq!(csv_comment_text("x,=1+1; @A1,  -2,\"q\""), "x,'=1+1; '@A1,  '-2,'q'");
+        let long = one_line(&"y".repeat(1000));
+        assert_eq!(long.chars().count(), crate::limits::MAX_COMMENT_CHARS);
+        assert!(long.ends_with("..."));
+    }
 }
