@@ -149,8 +149,7 @@ fn safe_char(c: char) -> char {
 /// [`CUT_MARK`] when the text was longer). Looks at no more than `cap + 1` characters.
 fn clean(text: &str, cap: usize) -> String {
     let mut out = String::with_capacity(cap.min(text.len()));
-    let mut n = 0usize;
-    for c in text.chars() {
+    for (n, c) in text.chars().enumerate() {
         if n == cap {
             let keep = cap.saturating_sub(CUT_MARK.len());
             out.truncate(keep);
@@ -158,7 +157,6 @@ fn clean(text: &str, cap: usize) -> String {
             return out;
         }
         out.push(safe_char(c));
-        n += 1;
     }
     out
 }
