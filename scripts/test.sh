@@ -57,5 +57,8 @@ for _ in $(seq 50); do
     sleep 0.1
 done
 node e2e/e2e.mjs "http://127.0.0.1:$port/"
+# A share link with a hostile scene name: every program the app offers downloaded and its
+# blocks checked, the page's title and markup unchanged (issue 29).
+node e2e/hostile.mjs "http://127.0.0.1:$port/"
 
 say "all checks passed"

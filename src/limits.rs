@@ -57,6 +57,13 @@ pub const MAX_TOOLS: usize = 10_000;
 /// 2 MB.
 pub const MAX_TOOL_TABLE_BYTES: u64 = 16 << 20;
 
+/// Most characters of text in one comment of a written program
+/// ([`crate::gcode::comment::safe_comment`]; longer text is cut, ending in `...`), and of a
+/// user's text on one comment line of a CSV output ([`crate::report::csv_comment_text`]). A
+/// comment line is then at most 202 characters, under LinuxCNC's 256-character line and
+/// Sinumerik's 512; every name of the presets and examples fits whole.
+pub const MAX_COMMENT_CHARS: usize = 200;
+
 /// Why a file's bytes are not usable as text.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum TextError {

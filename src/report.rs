@@ -255,6 +255,76 @@ fn push_index(out: &mut String, k: u64) {
     }
 }
 
+/// Characters a spreadsheet takes, at the start of a cell, as the start of a formula (OWASP's
+/// list for CSV injection; TAB and CR are turned into spaces before this is asked).
+const FORMULA_STARTS: [char; 4] = ['=', '+', '-', '@'];
+
+/// Invisible characters that reorder or hide text (bidirectional overrides and isolates,
+/// zero-width characters, the byte-order mark): shown as `_` in one-line text.
+fn invisible(c: char) -> bool {
+    matches!(c, '\u{200b}'..='\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2060}'..='\u{2064}' | '\u{2066}'..='\u{2069}' | '\u{feff}')
+}
+
+/// One character of user text on one line of a text output: every line break and white
+/// space a space, every control or invisible character `_`.
+fn line_char(c: char) -> char {
+    if c.is_whitespace() {
+        ' '
+    } else if c.is_control() || invisible(c) {
+        '_'
+    } else {
+        c
+    }
+}
+
+/// A user's text (a scene's name, a file's path) on one line of a text report — a Markdown
+/// heading or table line, a summary line: every line break (LF, CR, VT, FF, NEL, U+2028,
+/// U+2029) and white space a space, every control character (C0, DEL, C1) and invisible one
+/// (bidirectional overrides, zero widths) `_`; everything else, non-ASCII too, kept.
+/// At most [`crate::limits::MAX_COMMENT_CHARS`] characters (`...` at the end when cut). A
+/// text without those characters, of at most that length, is returned as it is.
+#[must_use]
+pub fn one_line(text: &str) -> String {
+    let cap = crate::limits::MAX_COMMENT_CHARS;
+    let mut out = String::new();
+    for (n, c) in text.chars().enumerate() {
+        if n == cap {
+            let cut: String = out.chars().take(cap - 3).collect();
+            return cut + "...";
+        }
+        out.push(line_char(c));
+    }
+    out
+}
+
+/// A user's text on a `#` comment line of a CSV output (`# interpolab steps: NAME`), so a
+/// spreadsheet that opens the file runs nothing and the rows stay rows: [`one_line`]
+/// (no line break can start a row), `"` as `'` (a quote cannot open a field that runs on
+/// over the following lines), and every piece after a `,` or `;` (the field separators of
+/// spreadsheets in different locales) that would begin, after spaces, with `=` `+` `-` or
+/// `@` gets a `'` before that character, as spreadsheets mark text. The first piece shares
+/// its field with the line's `#`. Numeric cells of the outputs never pass here: they stay
+/// the numbers they are (`-3.5`).
+#[must_use]
+pub fn csv_comment_text(text: &str) -> String {
+    let line = one_line(text).replace('"', "'");
+    let mut out = String::with_capacity(line.len() + 8);
+    let mut field_start = false;
+    for c in line.chars() {
+        if field_start && c != ' ' {
+            if FORMULA_STARTS.contains(&c) {
+                out.push('\'');
+            }
+            field_start = false;
+        }
+        out.push(c);
+        if c == ',' || c == ';' {
+            field_start = true;
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::push_index;
@@ -273,5 +343,22 @@ mod tests {
             push_index(&mut s, k);
             assert_eq!(s, format!("x{k}"));
         }
+    }
+}
+
+#[cfg(test)]
+mod text_tests {
+    use super::{csv_comment_text, one_line};
+
+    #[test]
+    fn benign_text_is_kept_and_hostile_text_stays_on_its_line_without_formulas() {
+        let benign = "Torus ring through a tilted plate, on a head B/C machine (µm, 30°)";
+        assert_eq!(one_line(benign), benign);
+        assert_eq!(csv_comment_text(benign), benign);
+        assert_eq!(one_line("a\nb\r\u{2028}c\u{85}d\u{0}e\u{202e}"), "a b  c d_e_");
+        assert_eq!(csv_comment_text("x,=1+1; @A1,  -2,\"q\""), "x,'=1+1; '@A1,  '-2,'q'");
+        let long = one_line(&"y".repeat(1000));
+        assert_eq!(long.chars().count(), crate::limits::MAX_COMMENT_CHARS);
+        assert!(long.ends_with("..."));
     }
 }

@@ -329,14 +329,7 @@ impl InterpolabApp {
     }
 
     fn file_name(&self) -> String {
-        let stem: String = self
-            .scene
-            .name
-            .chars()
-            .map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '-' })
-            .collect();
-        let stem = stem.split('-').filter(|s| !s.is_empty()).collect::<Vec<_>>().join("-");
-        format!("{}.json", if stem.is_empty() { "scene".to_owned() } else { stem })
+        format!("{}.json", crate::scene::file_stem(&self.scene.name).unwrap_or_else(|| "scene".to_owned()))
     }
 
     fn top_bar(&mut self, ui: &mut egui::Ui) {

@@ -156,7 +156,7 @@ fn surface_ui(ui: &mut egui::Ui, i: usize, s: &mut SurfaceSpec) -> bool {
 }
 
 /// The scene picker: the presets, open, save and share link (their rectangles are published
-/// as `open_button` and `share_button`).
+/// as `open_button`, `save_button` and `share_button`).
 fn picker(ui: &mut egui::Ui, ed: &mut SceneEditor, rects: &mut Vec<(&'static str, egui::Rect)>) {
     let label = ed.preset.map_or_else(|| "(custom scene)".to_owned(), preset_title);
     egui::ComboBox::from_id_salt("preset")
@@ -177,7 +177,9 @@ fn picker(ui: &mut egui::Ui, ed: &mut SceneEditor, rects: &mut Vec<(&'static str
             rects.push(("open_button", open.rect));
             ed.asked.open |= open.clicked();
         }
-        ed.asked.save |= ui.button("Save").on_hover_text("Download the current scene as JSON").clicked();
+        let save = ui.button("Save").on_hover_text("Download the current scene as JSON");
+        rects.push(("save_button", save.rect));
+        ed.asked.save |= save.clicked();
         let share = ui.button("Share link").on_hover_text("Copy a link that opens this exact scene");
         rects.push(("share_button", share.rect));
         ed.asked.share |= share.clicked();

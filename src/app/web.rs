@@ -15,10 +15,14 @@ fn show_failure(message: &str) {
         return;
     };
     if let Some(el) = doc.get_element_by_id(LOADING_ID) {
-        el.set_inner_html(&format!(
-            "<p><b>interpolab stopped.</b></p><p>{}</p><p>Reload the page to start again; your last scene is kept.</p>",
-            message.replace('&', "&amp;").replace('<', "&lt;")
-        ));
+        // Fixed markup; the message (which may quote a scene's name) only as text.
+        el.set_inner_html("<p><b>interpolab stopped.</b></p>");
+        for text in [message, "Reload the page to start again; your last scene is kept."] {
+            if let Ok(p) = doc.create_element("p") {
+                p.set_text_content(Some(text));
+                let _ = el.append_child(&p);
+            }
+        }
         if let Ok(html) = el.dyn_into::<web_sys::HtmlElement>() {
             let _ = html.style().set_property("display", "block");
         }

@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use super::{Fatal, MethodArg, OutFormat};
 
 use interpolab::crease::{CreaseJob, InterpOptions, Interpolator, Method, Step, WorstError, diagnose};
-use interpolab::report::{Format, RowWriter, fmt_num};
+use interpolab::report::{Format, RowWriter, fmt_num, one_line};
 use interpolab::scene::Scene;
 
 pub(super) fn load(path: &Path) -> Result<(Scene, CreaseJob), Fatal> {
@@ -169,7 +169,11 @@ pub(super) fn check(path: &Path) -> Result<ExitCode, Fatal> {
     };
     w(
         &mut o,
-        format!("scene        {} ({})", if scene.name.is_empty() { "(unnamed)" } else { &scene.name }, path.display()),
+        format!(
+            "scene        {} ({})",
+            one_line(if scene.name.is_empty() { "(unnamed)" } else { &scene.name }),
+            one_line(&path.display().to_string())
+        ),
     );
     w(
         &mut o,

@@ -16,11 +16,11 @@ use serde_json::{Value, json};
 
 use super::{Fatal, OutFormat};
 
-use interpolab::fillet::program::plan_path;
+use interpolab::fillet::program::FinishGcode;
 use interpolab::fillet::{
     PartSamples, PathSet, PathStart, Strategy, compare_from, iso_parametric_from, iso_scallop_from,
 };
-use interpolab::report::fmt_num;
+use interpolab::report::{fmt_num, one_line};
 use interpolab::scene::finish::{FinishJob, FinishScene};
 
 /// Orientation strategies by their command-line names.
@@ -219,7 +219,7 @@ pub(super) fn finish(a: &FinishArgs) -> Result<ExitCode, Fatal> {
         let h = job.options.scallop_mm;
         let mut text = format!(
             "{}: {}, scallop h {h} mm, chord tolerance {} mm, feed {} mm/min\n",
-            if job.name.is_empty() { &name } else { &job.name },
+            one_line(if job.name.is_empty() { &name } else { &job.name }),
             job.cutter.describe(),
             job.options.chord_tol_mm,
             job.options.feed_mm_per_min
@@ -326,44 +326,8 @@ pub(super) fn finish(a: &FinishArgs) -> Result<ExitCode, Fatal> {
 }
 
 fn write_gcode(job: &FinishJob, set: &PathSet, path: &Path, name: &str, tol_mm: f64) -> Result<(), Fatal> {
-    let tool = set.strategy.cutter_for(&job.cutter);
-    let m = &job.machine;
-    let [ta, ca] = m.axis_names();
-    let mut text = format!(
-        "(interpolab finish: {})\n(cutter {}, strategy {}, {} paths, steps within {} mm by seed-002 step selection, machine {})\n(X Y Z in mm, {ta} {ca} in degrees; each pass starts with a rapid move: check the clearance)\nG90 G21 G94\n",
-        if job.name.is_empty() { name } else { &job.name },
-        tool.describe(),
-        set.strategy.name(),
-        set.paths.len(),
-        tol_mm,
-        m.kind.as_str()
-    );
-    let mut blocks = 0usize;
-    for (pi, p) in set.paths.iter().enumerate() {
-        if p.nodes.len() < 2 {
-            continue;
-        }
-        let plan = plan_path(m, &job.surface, &tool, &p.nodes, tol_mm)
-            .map_err(|e| Fatal(format!("{name}: path {pi}: {e}")))?;
-        text.push_str(&format!("(pass {pi})\n"));
-        for (k, n) in plan.nodes.iter().enumerate() {
-            let j = &n.block.joints;
-            let word = if k == 0 { "G00" } else { "G01" };
-            text.push_str(&format!(
-                "{word} X{:.4} Y{:.4} Z{:.4} {ta}{:.4} {ca}{:.4}",
-                j.xyz_mm.x,
-                j.xyz_mm.y,
-                j.xyz_mm.z,
-                j.rotary_rad[0].to_degrees(),
-                j.rotary_rad[1].to_degrees()
-            ));
-            if k == 1 {
-                text.push_str(&format!(" F{}", fmt_num(job.options.feed_mm_per_min)));
-            }
-            text.push('\n');
-            blocks += 1;
-        }
-    }
-    text.push_str(&format!("M30\n({blocks} blocks)\n"));
+    let program = FinishGcode::plan(&job.machine, &job.surface, &job.cutter, set, job.options.feed_mm_per_min, tol_mm)
+        .map_err(|e| Fatal(format!("{name}: {e}")))?;
+    let text = program.text(if job.name.is_empty() { name } else { &job.name });
     fs::write(path, text).map_err(|e| Fatal(format!("cannot write {}: {e}", path.display())))
 }

@@ -24,7 +24,7 @@ use interpolab::fiveaxis::{
 };
 use interpolab::gcode::crease_design;
 use interpolab::geom::Curve3;
-use interpolab::report::fmt_num;
+use interpolab::report::{csv_comment_text, fmt_num, one_line};
 use interpolab::scene::{build_machine, build_tool_axis, machine_spec, machine_value};
 
 /// Root methods by their command-line names.
@@ -377,7 +377,7 @@ pub(super) fn steps(a: &StepsArgs) -> Result<ExitCode, Fatal> {
     let r = (|| -> io::Result<()> {
         match a.format {
             OutFormat::Csv => {
-                writeln!(o, "# interpolab steps: {}", case.title)?;
+                writeln!(o, "# interpolab steps: {}", csv_comment_text(&case.title))?;
                 writeln!(o, "# machine: {}{}", describe_machine(&case.machine), case.machine_note)?;
                 writeln!(
                     o,
@@ -593,7 +593,7 @@ pub(super) fn table1(a: &Table1Args) -> Result<ExitCode, Fatal> {
     ))?;
     for case in &cases {
         w(String::new())?;
-        w(format!("### {}", case.title))?;
+        w(format!("### {}", one_line(&case.title)))?;
         w(format!("machine: {}{}; tool axis: {}", describe_machine(&case.machine), case.machine_note, case.rule))?;
         w(String::new())?;
         let mut header = "| method |".to_owned();
@@ -688,7 +688,8 @@ pub(super) fn chords(a: &ChordsArgs) -> Result<ExitCode, Fatal> {
             OutFormat::Csv => {
                 writeln!(
                     o,
-                    "# interpolab chords: {title}; every chord deviates by d = {} mm, the last by at most d",
+                    "# interpolab chords: {}; every chord deviates by d = {} mm, the last by at most d",
+                    csv_comment_text(&title),
                     fmt_num(tol)
                 )?;
                 writeln!(o, "node,param,x,y,z,chord_error_mm,iterations")?;
@@ -747,7 +748,7 @@ fn chords_table(a: &ChordsArgs, opts: &ChordOptions) -> Result<ExitCode, Fatal> 
     w("Nodes and worst chord error per spacing (seed 003). Equal-interval: constant parameter step; equal-step: constant chord length.".into())?;
     for (title, curve) in &curves {
         w(String::new())?;
-        w(format!("### {title}"))?;
+        w(format!("### {}", one_line(title)))?;
         w(String::new())?;
         w("| d (mm) | spacing | nodes | worst error (mm) | step |".into())?;
         w("|---:|---|---:|---:|---:|".into())?;

@@ -383,7 +383,7 @@ pub(super) fn replay(a: &ReplayArgs) -> Result<ExitCode, Fatal> {
             "design       {} ({:.4} mm), programmed point: {}",
             design.title,
             d.design_length_mm,
-            point.comment().trim_start_matches("PROGRAMMED POINT: ").to_lowercase()
+            point.value().to_lowercase()
         ));
         if d.sample_spacing_mm > DeviationOptions::default().design_spacing_mm {
             lines.push(format!(

@@ -19,11 +19,15 @@
 //! tip of the fillet-end mill).
 
 use glam::{DVec2, DVec3};
+use thiserror::Error;
 
 use super::contact::{ContactFrame, Pose, place};
-use super::paths::CcNode;
-use crate::fiveaxis::{CutterLocation, DesignPath, FiveAxisError, Machine, StepOptions, StepPlan, plan_steps};
+use super::orient::Strategy;
+use super::paths::{CcNode, PathSet};
+use crate::fiveaxis::{CutterLocation, DesignPath, FiveAxisError, Joints, Machine, StepOptions, StepPlan, plan_steps};
+use crate::gcode::{Dialect, safe_comment};
 use crate::geom::{Cutter, Surface};
+use crate::numerics::format::fmt_num;
 
 /// One path's CL data as a design path (module docs).
 #[derive(Clone, Debug)]
@@ -145,5 +149,124 @@ pub fn plan_path(
             plan_steps(machine, &path, &opts.with_method(crate::numerics::roots::RootMethod::Bisection))
         }
         other => other,
+    }
+}
+
+/// Why a finishing program could not be planned.
+#[derive(Clone, Debug, Error, PartialEq)]
+pub enum FinishProgramError {
+    /// The seed-002 steps of one path failed.
+    #[error("path {path}: {source}")]
+    Plan {
+        /// Index of the path in its set.
+        path: usize,
+        /// The planner's error.
+        source: FiveAxisError,
+    },
+}
+
+/// The five-axis program of a finishing job, planned (what `interpolab finish --gcode`
+/// writes): per path of two or more nodes, the joints of its seed-002 steps on the machine.
+/// [`FinishGcode::text`] writes it for any name: the name enters the program only through
+/// [`crate::gcode::comment::safe_comment`], so the blocks do not depend on it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FinishGcode {
+    /// The machine whose joints the blocks carry.
+    pub machine: Machine,
+    /// The cutter that machines (the strategy's).
+    pub tool: Cutter,
+    /// The orientation strategy.
+    pub strategy: Strategy,
+    /// Paths in the set (including any too short to write).
+    pub paths: usize,
+    /// Tolerance E of the steps (mm).
+    pub tol_mm: f64,
+    /// Programmed feed (mm/min).
+    pub feed_mm_per_min: f64,
+    /// Per written path: its index in the set and its blocks' joints, first to last.
+    pub passes: Vec<(usize, Vec<Joints>)>,
+}
+
+impl FinishGcode {
+    /// Plans the steps of every path of `set` (cut by the strategy's cutter from `cutter`)
+    /// on `machine` within `tol_mm`.
+    ///
+    /// # Errors
+    /// [`FinishProgramError::Plan`] naming the path whose steps failed.
+    pub fn plan(
+        machine: &Machine,
+        surface: &Surface,
+        cutter: &Cutter,
+        set: &PathSet,
+        feed_mm_per_min: f64,
+        tol_mm: f64,
+    ) -> Result<Self, FinishProgramError> {
+        let tool = set.strategy.cutter_for(cutter);
+        let mut passes = Vec::new();
+        for (pi, p) in set.paths.iter().enumerate() {
+            if p.nodes.len() < 2 {
+                continue;
+            }
+            let plan = plan_path(machine, surface, &tool, &p.nodes, tol_mm)
+                .map_err(|source| FinishProgramError::Plan { path: pi, source })?;
+            passes.push((pi, plan.nodes.iter().map(|n| n.block.joints).collect()));
+        }
+        Ok(Self {
+            machine: *machine,
+            tool,
+            strategy: set.strategy,
+            paths: set.paths.len(),
+            tol_mm,
+            feed_mm_per_min,
+            passes,
+        })
+    }
+
+    /// The program's text, named `name` in its first comment: a header of comments, `G90
+    /// G21 G94`, per pass a comment, a `G00` to its first block and `G01` through the rest
+    /// (X Y Z in mm to 4 decimals, the rotary axes in degrees; F on the first `G01`), `M30`
+    /// and a comment counting the blocks. Every comment by
+    /// [`crate::gcode::comment::safe_comment`] (FANUC's `( … )`).
+    #[must_use]
+    pub fn text(&self, name: &str) -> String {
+        let m = &self.machine;
+        let [ta, ca] = m.axis_names();
+        let comment = |text: &str| safe_comment(Dialect::Fanuc, text) + "\n";
+        let mut text = comment(&format!("interpolab finish: {name}"));
+        text.push_str(&comment(&format!(
+            "cutter {}, strategy {}, {} paths, steps within {} mm by seed-002 step selection, machine {}",
+            self.tool.describe(),
+            self.strategy.name().replace('°', " deg"),
+            self.paths,
+            self.tol_mm,
+            m.kind.as_str()
+        )));
+        text.push_str(&comment(&format!(
+            "X Y Z in mm, {ta} {ca} in degrees, each pass starts with a rapid move: check the clearance"
+        )));
+        text.push_str("G90 G21 G94\n");
+        let mut blocks = 0usize;
+        for (pi, joints) in &self.passes {
+            text.push_str(&comment(&format!("pass {pi}")));
+            for (k, j) in joints.iter().enumerate() {
+                let word = if k == 0 { "G00" } else { "G01" };
+                text.push_str(&format!(
+                    "{word} X{:.4} Y{:.4} Z{:.4} {ta}{:.4} {ca}{:.4}",
+                    j.xyz_mm.x,
+                    j.xyz_mm.y,
+                    j.xyz_mm.z,
+                    j.rotary_rad[0].to_degrees(),
+                    j.rotary_rad[1].to_degrees()
+                ));
+                if k == 1 {
+                    text.push_str(&format!(" F{}", fmt_num(self.feed_mm_per_min)));
+                }
+                text.push('\n');
+                blocks += 1;
+            }
+        }
+        text.push_str("M30\n");
+        text.push_str(&comment(&format!("{blocks} blocks")));
+        text
     }
 }

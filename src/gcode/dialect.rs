@@ -18,6 +18,7 @@ use std::str::FromStr;
 
 use thiserror::Error;
 
+use super::comment::HeaderKey;
 use super::kind::ProgramKind;
 use crate::geom::NurbsCurve;
 
@@ -131,7 +132,7 @@ impl Dialect {
     pub fn guess(text: &str) -> Self {
         let upper = text.to_ascii_uppercase();
         for d in [Self::Sinumerik, Self::LinuxCnc, Self::Fanuc] {
-            if upper.contains(&format!("DIALECT: {}", d.as_str().to_ascii_uppercase())) {
+            if upper.contains(&format!("{} {}", HeaderKey::Dialect.as_str(), d.as_str().to_ascii_uppercase())) {
                 return d;
             }
         }

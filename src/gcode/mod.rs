@@ -15,13 +15,15 @@
 //!   path ([`replay::deviation`]).
 //!
 //! Modules: [`path`] the geometry of moves; [`kind`] the three program kinds; [`dialect`] the
-//! controllers' words; [`arcs`] tolerance-driven arc fitting;
+//! controllers' words; [`comment`] the one way text enters a program (every comment any
+//! writer writes, user text made safe); [`arcs`] tolerance-driven arc fitting;
 //! [`mod@write`] the three program writers with the rounding check; [`parse`] the reader;
 //! [`replay`] deviation and summary; [`mod@compare`] the comparison table; [`design`] the design
 //! path of a scene. All are pure functions of (curve, tolerance, options), for the command
 //! line and the app alike.
 
 pub mod arcs;
+pub mod comment;
 pub mod compare;
 pub mod design;
 pub mod dialect;
@@ -33,6 +35,7 @@ pub mod read;
 pub mod replay;
 pub mod write;
 
+pub use comment::{HeaderKey, safe_comment};
 pub use compare::{
     CompareOptions, CompareRow, Comparison, TableStyle, compare, compare_row, format_comparison, format_comparisons,
     realtime_stats,

@@ -24,6 +24,7 @@ use glam::DVec3;
 use thiserror::Error;
 
 use super::arcs::{ArcFitError, ArcFitOptions, Piece, fit_arcs};
+use super::comment::{HeaderKey, key_comment, safe_comment};
 use super::dialect::Dialect;
 use super::kind::ProgramKind;
 use super::parse::{ParseError, ParsedProgram, parse_program_in};
@@ -58,15 +59,22 @@ impl ProgrammedPoint {
         }
     }
 
-    /// The header comment naming the point (read back by [`ProgrammedPoint::from_comments`]).
+    /// The header comment's value naming the point: `BALL CENTRE`, `BALL TIP = BALL CENTRE -
+    /// Z 5.000000`.
+    #[must_use]
+    pub fn value(self) -> String {
+        match self {
+            Self::BallCentre => "BALL CENTRE".to_owned(),
+            Self::BallTip { radius_mm } => format!("BALL TIP = BALL CENTRE - Z {}", fmt_fixed(radius_mm, 6)),
+        }
+    }
+
+    /// The text of the header comment naming the point (read back by
+    /// [`ProgrammedPoint::from_comments`]): `PROGRAMMED POINT: ` and [`Self::value`]. Written
+    /// by [`super::comment::key_comment`] only.
     #[must_use]
     pub fn comment(self) -> String {
-        match self {
-            Self::BallCentre => "PROGRAMMED POINT: BALL CENTRE".to_owned(),
-            Self::BallTip { radius_mm } => {
-                format!("PROGRAMMED POINT: BALL TIP = BALL CENTRE - Z {}", fmt_fixed(radius_mm, 6))
-            }
-        }
+        format!("{} {}", HeaderKey::ProgrammedPoint.as_str(), self.value())
     }
 
     /// The programmed point named by a header comment of ours, if any.
@@ -74,7 +82,7 @@ impl ProgrammedPoint {
     pub fn from_comments(comments: &[(usize, String)]) -> Option<Self> {
         for (_, c) in comments {
             let c = c.trim();
-            let Some(rest) = c.strip_prefix("PROGRAMMED POINT:") else {
+            let Some(rest) = c.strip_prefix(HeaderKey::ProgrammedPoint.as_str()) else {
                 continue;
             };
             if rest.contains("BALL TIP") {
@@ -360,26 +368,15 @@ impl Emitter {
     fn qv(&self, p: DVec3) -> DVec3 {
         DVec3::new(self.q(p.x), self.q(p.y), self.q(p.z))
     }
+    /// A comment line of any text, upper case, by [`safe_comment`].
     fn comment(&mut self, c: &str) {
-        let clean: String = c
-            .chars()
-            .map(|ch| {
-                if ch.is_ascii_graphic() || ch == ' ' {
-                    if matches!(ch, '(' | ')' | ';') { '_' } else { ch }
-                } else {
-                    '_'
-                }
-            })
-            .collect();
-        if self.dialect == Dialect::Sinumerik {
-            self.text.push_str("; ");
-            self.text.push_str(&clean.to_ascii_uppercase());
-            self.text.push('\n');
-            return;
-        }
-        self.text.push('(');
-        self.text.push_str(&clean.to_ascii_uppercase());
-        self.text.push_str(")\n");
+        let line = safe_comment(self.dialect, &c.to_ascii_uppercase());
+        self.raw(&line);
+    }
+    /// A header comment the readers look for, by [`key_comment`].
+    fn key_comment(&mut self, key: HeaderKey, value: &str) {
+        let line = key_comment(self.dialect, key, &value.to_ascii_uppercase());
+        self.raw(&line);
     }
     fn raw(&mut self, s: &str) {
         self.text.push_str(s);
@@ -602,9 +599,9 @@ fn assemble(
         }
     ));
     if dialect != Dialect::Fanuc {
-        e.comment(&format!("DIALECT: {}", dialect.as_str()));
+        e.key_comment(HeaderKey::Dialect, dialect.as_str());
     }
-    e.comment(&opts.point.comment());
+    e.key_comment(HeaderKey::ProgrammedPoint, &opts.point.value());
     e.comment(&format!(
         "TOLERANCE {} MM, RESOLUTION {} MM, FIT TOLERANCE {} MM",
         fmt_fixed(tol_mm, 6),

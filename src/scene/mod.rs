@@ -28,6 +28,38 @@ pub const FORMAT: &str = "interpolab-scene/1";
 /// Default of `path.max_steps` when the key is absent.
 pub const DEFAULT_MAX_STEPS: u64 = 200_000;
 
+/// Most characters of a file name's stem made from a scene's name ([`file_stem`]).
+pub const MAX_FILE_STEM_CHARS: usize = 100;
+
+/// The stem of a file name for a scene's downloads (`torus-ring-through-a-tilted-plate`):
+/// the name's ASCII letters and digits in lower case, every run of anything else one `-`,
+/// none at either end, at most [`MAX_FILE_STEM_CHARS`] characters; `None` when nothing is
+/// left. So a name can give a file no path, no extension and no character a file system or
+/// a browser treats specially. Looks at no more of the name than it needs.
+#[must_use]
+pub fn file_stem(name: &str) -> Option<String> {
+    let mut stem = String::new();
+    let mut gap = false;
+    for c in name.chars() {
+        if c.is_ascii_alphanumeric() {
+            if gap && !stem.is_empty() {
+                if stem.len() + 1 >= MAX_FILE_STEM_CHARS {
+                    break;
+                }
+                stem.push('-');
+            }
+            gap = false;
+            stem.push(c.to_ascii_lowercase());
+            if stem.len() == MAX_FILE_STEM_CHARS {
+                break;
+            }
+        } else {
+            gap = true;
+        }
+    }
+    (!stem.is_empty()).then_some(stem)
+}
+
 /// A problem in a scene: where (`path`, e.g. `surfaces[1].radius`), what, and how to fix it.
 #[derive(Clone, Debug, Error, PartialEq, Eq)]
 #[error("{path}: {problem}; {fix}")]

@@ -50,10 +50,7 @@ impl NurbsPanel {
             Source::Parabola => "parabola",
             Source::Crease => cx.scene.name.as_str(),
         };
-        let stem: String =
-            name.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '-' }).collect();
-        let stem = stem.split('-').filter(|s| !s.is_empty()).collect::<Vec<_>>().join("-");
-        if stem.is_empty() { "program".to_owned() } else { stem }
+        crate::scene::file_stem(name).unwrap_or_else(|| "program".to_owned())
     }
 
     pub(super) fn gcode(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
