@@ -1,4 +1,4 @@
-//! A program read through the interpreter ([`super::interp`]) into the [`Toolpath`] the
+//! A program read through the interpreter ([`super::interp`]) into the [`super::Toolpath`] the
 //! replay, the deviation, the comparison and the simulation consume.
 //!
 //! Canonical calls become path blocks one for one: a traverse a G00 line, a feed a G01 line, an

@@ -74,7 +74,7 @@ fn comp_err(e: CompError) -> Problem {
         let (head, tail) = rest.split_once(": ")?;
         let mut words = head.split(' ');
         let line: u32 = words.next()?.parse().ok()?;
-        let file: u16 = if head.contains("file") { words.last()?.parse().ok()? } else { 0 };
+        let file: u16 = if head.contains("file") { words.next_back()?.parse().ok()? } else { 0 };
         Some((Loc { file, line }, tail.to_owned()))
     });
     match parsed {
@@ -332,7 +332,7 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
                 let tool = it.st.tool;
                 it.emit(Canon::ToolChange { loc, tool });
             }
-            3 | 4 | 5 => {
+            3..=5 => {
                 it.st.spindle_dir = match m {
                     3 => 1,
                     4 => -1,
@@ -518,7 +518,7 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
     }
     // 16. Motion. FANUC's G5 P… and G5.1 Q… (high-speed modes) hold no axis word: they are
     // not LinuxCNC's splines and leave the motion mode alone.
-    let motion_code = motion_code.filter(|t| !(matches!(t, 50 | 51) && !has_axes(b)));
+    let motion_code = motion_code.filter(|t| !matches!(t, 50 | 51) || has_axes(b));
     if spline_block(it, loc, b, motion_code)? {
         if let Some(t) = motion_code
             && !matches!(t, 62 | 52 | 53)
@@ -1028,7 +1028,8 @@ fn motion(it: &mut Interpreter<'_>, loc: Loc, b: &Block, machine: bool, code: Op
             let d = DVec3::new(start[0] - end[0], start[1] - end[1], start[2] - end[2]);
             let mut after = end;
             if d.length() > 0.0 {
-                let back = d / d.length() * (if it.st.inch { 0.01 * 25.4 } else { 0.254 });
+                // 0.254 mm, which is also the 0.01 inch of an inch program.
+                let back = d / d.length() * 0.254;
                 after[0] += back.x;
                 after[1] += back.y;
                 after[2] += back.z;
@@ -1081,6 +1082,12 @@ fn check_feed(it: &Interpreter<'_>) -> Result<super::Feed, Problem> {
     Ok(f)
 }
 
+/// The end of an R-format arc is its start (LinuxCNC compares exactly).
+#[expect(clippy::float_cmp, reason = "LinuxCNC refuses an R arc whose end equals its start exactly")]
+fn same_point(ea: f64, eb: f64, sa: f64, sb: f64) -> bool {
+    ea == sa && eb == sb
+}
+
 /// G2/G3: centre by I J K (or absolute with G90.1) or by R, turns by P, helical along the
 /// plane's normal, LinuxCNC's tolerances (`arc_data_ijk`, `arc_data_r`).
 fn arc(it: &mut Interpreter<'_>, loc: Loc, b: &Block, ccw: bool) -> Result<(), Problem> {
@@ -1113,7 +1120,7 @@ fn arc(it: &mut Interpreter<'_>, loc: Loc, b: &Block, ccw: bool) -> Result<(), P
             return Err(Problem::Rule("an arc with both R and centre words (I J K); give one".into()));
         }
         let r = r * sc;
-        if ea == sa && eb == sb {
+        if same_point(ea, eb, sa, sb) {
             return Err(Problem::Rule(
                 "an R-format arc ending where it starts has no defined centre; use I J K for a full circle".into(),
             ));
@@ -1277,7 +1284,23 @@ fn cycle(it: &mut Interpreter<'_>, loc: Loc, b: &Block, t: i32) -> Result<(), Pr
         },
     };
     let mut moves = Vec::new();
-    let outcome = cycles::expand(&input, &mut it.exec.cycles, &mut moves).map_err(|e| Problem::Rule(e.to_string()))?;
+    let outcome = match cycles::expand(&input, &mut it.exec.cycles, &mut moves) {
+        Err(cycles::CycleError::MissingR { .. }) if !it.opts.strict => {
+            // Haas and FANUC programs drill without R from where the tool is; LinuxCNC
+            // refuses. Read it with R at the current height, and say so.
+            let mut retry = input;
+            let n = retry.plane.axes().2;
+            retry.words.r = Some(if retry.incremental { 0.0 } else { retry.position[n] });
+            it.report(
+                &format!("{} without R", kind.name()),
+                loc,
+                "a canned cycle without R (LinuxCNC refuses it): R taken as the current height",
+            );
+            cycles::expand(&retry, &mut it.exec.cycles, &mut moves)
+        }
+        r => r,
+    }
+    .map_err(|e| Problem::Rule(e.to_string()))?;
     let feed = it.st.feed;
     for m in moves {
         match m {

@@ -591,10 +591,8 @@ impl<'a> Interpreter<'a> {
             if pass == 1 {
                 self.seek(SourcePos { offset: 0, line: 1 })?;
             }
-            loop {
-                let Some(f) = self.files.last_mut() else { break };
-                let at = f.src.next_line(&mut self.line)?;
-                let Some(at) = at else { break };
+            while let Some(f) = self.files.last_mut() {
+                let Some(at) = f.src.next_line(&mut self.line)? else { break };
                 if pass == 1 && at.offset >= here.offset {
                     break;
                 }

@@ -632,10 +632,8 @@ impl Parser<'_, '_> {
                 }
                 args.push(self.real_value()?);
             }
-            OKind::Return | OKind::EndSub => {
-                if self.peek() == Some(b'[') {
-                    args.push(self.real_value()?);
-                }
+            OKind::Return | OKind::EndSub if self.peek() == Some(b'[') => {
+                args.push(self.real_value()?);
             }
             _ => {}
         }
