@@ -1284,23 +1284,28 @@ fn cycle(it: &mut Interpreter<'_>, loc: Loc, b: &Block, t: i32) -> Result<(), Pr
         },
     };
     let mut moves = Vec::new();
-    let outcome = match cycles::expand(&input, &mut it.exec.cycles, &mut moves) {
-        Err(cycles::CycleError::MissingR { .. }) if !it.opts.strict => {
-            // Haas and FANUC programs drill without R from where the tool is; LinuxCNC
-            // refuses. Read it with R at the current height, and say so.
-            let mut retry = input;
-            let n = retry.plane.axes().2;
-            retry.words.r = Some(if retry.incremental { 0.0 } else { retry.position[n] });
-            it.report(
-                &format!("{} without R", kind.name()),
-                loc,
-                "a canned cycle without R (LinuxCNC refuses it): R taken as the current height",
-            );
-            cycles::expand(&retry, &mut it.exec.cycles, &mut moves)
-        }
-        r => r,
+    // Haas and FANUC programs drill without R (from where the tool is) or without a dwell P;
+    // LinuxCNC refuses both. Read leniently, R at the current height and P as 0, and say so.
+    let mut input = input;
+    let mut outcome = cycles::expand(&input, &mut it.exec.cycles, &mut moves);
+    for _ in 0..2 {
+        let what = match &outcome {
+            Err(cycles::CycleError::MissingR { .. }) if !it.opts.strict => {
+                let n = input.plane.axes().2;
+                input.words.r = Some(if input.incremental { 0.0 } else { input.position[n] });
+                "a canned cycle without R (LinuxCNC refuses it): R taken as the current height"
+            }
+            Err(cycles::CycleError::MissingP { .. }) if !it.opts.strict => {
+                input.words.p = Some(0.0);
+                "a dwelling canned cycle without P (LinuxCNC refuses it): no dwell"
+            }
+            _ => break,
+        };
+        it.report(&format!("{} lenient", kind.name()), loc, what);
+        moves.clear();
+        outcome = cycles::expand(&input, &mut it.exec.cycles, &mut moves);
     }
-    .map_err(|e| Problem::Rule(e.to_string()))?;
+    let outcome = outcome.map_err(|e| Problem::Rule(e.to_string()))?;
     let feed = it.st.feed;
     for m in moves {
         match m {
