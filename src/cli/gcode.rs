@@ -353,7 +353,7 @@ pub(super) fn replay(a: &ReplayArgs) -> Result<ExitCode, Fatal> {
             s.nurbs_control_points,
             parsed.path_blocks()
         ),
-        format!("length       cutting {:.4} mm, rapid {:.4} mm", s.cut_length_mm, s.rapid_length_mm),
+        format!("length       cutting {:.4} mm, rapid {:.4} mm", s.cut_length_mm + 0.0, s.rapid_length_mm + 0.0),
     ];
     if let Some((lo, hi)) = s.bounds {
         lines.push(format!("bounds       {} to {} mm", v3(lo), v3(hi)));

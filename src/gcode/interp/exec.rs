@@ -243,7 +243,6 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
     }
     let has = |t: i32| b.g.contains(&t);
     let motion_code = seen[1];
-    let non_modal: Vec<i32> = b.g.iter().copied().filter(|t| g_group(*t) == Some(0)).collect();
 
     // Axes this interpreter does not carry.
     for c in [b'u', b'v', b'w'] {
@@ -310,7 +309,7 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
     }
     // 6. M codes (stops last).
     let mut stop: Option<i32> = None;
-    for &m in &b.m.clone() {
+    for &m in &b.m {
         match m {
             6 => {
                 it.refuse_if_comp(Refusal::ToolChange, loc)?;
@@ -476,7 +475,7 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
     }
     // 15. Non-modal codes.
     let mut axes_used = false;
-    for t in &non_modal {
+    for t in b.g.iter().filter(|t| g_group(**t) == Some(0)) {
         match *t {
             40 | 90 => {}
             100 => {
