@@ -256,3 +256,25 @@ fn subroutine_files_come_from_the_library() {
     assert_eq!(c[0].loc().file, 1);
     assert_eq!(it.file_name(1), "drill");
 }
+
+#[test]
+fn fanuc_manual_examples_give_their_closed_forms() {
+    // Macro B's summation example: the sum of 1 to 10 in #1.
+    let c = run("O9500\n#1=0\n#2=1\nWHILE[#2LE10]DO1\n#1=#1+#2\n#2=#2+1\nEND1\nG1 X#1 F100\nM30\n").unwrap_or_default();
+    assert!(near(ends(&c)[0], DVec3::new(55.0, 0.0, 0.0)), "{:?}", ends(&c));
+    // M98 P51002: program 1002 five times (repeat count in the leading digits).
+    let c = run("G91 F100\nM98 P51002\nM30\nO1002\nG1 X2\nM99\n").unwrap_or_default();
+    let e = ends(&c);
+    assert_eq!(e.len(), 5);
+    assert!(near(e[4], DVec3::new(10.0, 0.0, 0.0)), "{e:?}");
+    // G68 rotates a square about its centre: the corners land where the rotation puts them.
+    let c = run("G90 G0 X0 Y0\nG68 X5 Y5 R90\nG1 X10 Y0 F100\nG1 X10 Y10\nG69\n").unwrap_or_default();
+    let e = ends(&c);
+    assert!(near(e[1], DVec3::new(10.0, 10.0, 0.0)) && near(e[2], DVec3::new(0.0, 10.0, 0.0)), "{e:?}");
+    // G65 with arguments A (#1) and B (#2), a local of the macro.
+    let c =
+        run("G90 F100\nG65 P9010 A3 B4\nG1 Y#1\nM30\nO9010\n#3=SQRT[#1*#1+#2*#2]\nG1 X#3\nM99\n").unwrap_or_default();
+    let e = ends(&c);
+    assert!(near(e[0], DVec3::new(5.0, 0.0, 0.0)), "{e:?}");
+    assert!(near(e[1], DVec3::new(5.0, 0.0, 0.0)), "the caller's #1 is its own again: {e:?}");
+}
