@@ -253,7 +253,7 @@ impl<'a> Interpreter<'a> {
             self.report("#<_hal[…]>", loc, "a machine's HAL pin or INI value is not in the program: read as 0");
         }
         if let Err(p) = result {
-            return self.unreadable(loc, p);
+            return self.unreadable(loc, pos, p);
         }
         let block = &self.reader.block;
         if block.percent {
@@ -313,7 +313,7 @@ impl<'a> Interpreter<'a> {
     }
 
     /// A line that cannot be read: refused in strict mode, else reported and skipped.
-    fn unreadable(&mut self, loc: Loc, p: Problem) -> Result<(), Problem> {
+    fn unreadable(&mut self, loc: Loc, pos: SourcePos, p: Problem) -> Result<(), Problem> {
         let lexical = matches!(
             p,
             Problem::Char(_)
@@ -332,7 +332,6 @@ impl<'a> Interpreter<'a> {
             // The words before the comment still count.
             self.report("unclosed comment", loc, "a comment without ')' (read to the end of its line)");
             let mut block = std::mem::take(&mut self.reader.block);
-            let pos = SourcePos { offset: 0, line: loc.line };
             let r = self.after_read(loc, pos, &mut block);
             self.reader.block = block;
             return r;
