@@ -153,3 +153,72 @@ fn linuxcnc_sample_programs_read_as_linuxcnc_reads_them() {
     eprintln!("{to_the_end} of {} samples read to the end by LinuxCNC and equal", files.len());
     assert!(failures.is_empty(), "{} of {} differ:\n{}", failures.len(), files.len(), failures.join("\n"));
 }
+
+mod random_text {
+    use interpolab::gcode::interp::{Interpreter, Options};
+    use proptest::prelude::*;
+
+    /// Pieces of G-code, valid and not, glued into lines.
+    fn piece() -> impl Strategy<Value = String> {
+        prop_oneof![
+            Just("G0".to_owned()),
+            Just("G1".to_owned()),
+            Just("G2".to_owned()),
+            Just("G3".to_owned()),
+            Just("G91".to_owned()),
+            Just("G20".to_owned()),
+            Just("G41 D1".to_owned()),
+            Just("G40".to_owned()),
+            Just("G81 R1 Z-1".to_owned()),
+            Just("G92 X0".to_owned()),
+            Just("G10 L2 P1 R30".to_owned()),
+            Just("G5.2 L3".to_owned()),
+            Just("G5.3".to_owned()),
+            Just("G6.2 P4 K0".to_owned()),
+            Just("o1 while [#1 lt 3]".to_owned()),
+            Just("o1 endwhile".to_owned()),
+            Just("#1=[#1+1]".to_owned()),
+            Just("o<s> call [1]".to_owned()),
+            Just("o<s> sub".to_owned()),
+            Just("o<s> endsub".to_owned()),
+            Just("WHILE [#2 LT 2] DO1".to_owned()),
+            Just("END1".to_owned()),
+            Just("GOTO 10".to_owned()),
+            Just("M98 P1".to_owned()),
+            Just("M99".to_owned()),
+            Just("(".to_owned()),
+            Just(")".to_owned()),
+            Just("%".to_owned()),
+            (prop::sample::select(vec!['X', 'Y', 'Z', 'I', 'J', 'K', 'R', 'F', 'P', 'Q', 'A', 'N']), -1e3f64..1e3)
+                .prop_map(|(l, v)| format!("{l}{v:.3}")),
+            "[ -~]{0,12}",
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 300, ..ProptestConfig::default() })]
+
+        /// Any text: the interpreter ends (a program or one error), never panics, and every
+        /// position it hands out is finite.
+        #[test]
+        fn any_text_ends_in_calls_or_one_error(lines in prop::collection::vec(prop::collection::vec(piece(), 0..6), 0..40)) {
+            let text: String = lines.iter().map(|l| l.join(" ") + "\n").collect();
+            let opts = Options { max_lines: Some(200_000), ..Options::default() };
+            let mut errors = 0;
+            for c in Interpreter::from_text(&text, opts) {
+                match c {
+                    Ok(c) => {
+                        if let Some(p) = c.end() {
+                            prop_assert!(p.xyz.is_finite() && p.abc.is_finite(), "{c:?}\n{text}");
+                        }
+                    }
+                    Err(e) => {
+                        errors += 1;
+                        prop_assert!(e.to_string().starts_with("line ") || e.to_string().contains(" line "), "{e}");
+                    }
+                }
+            }
+            prop_assert!(errors <= 1);
+        }
+    }
+}
