@@ -4,12 +4,12 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-mod support;
+use crate::support;
 
+use crate::support::Rng;
 use glam::{DVec2, DVec3};
 use interpolab::geom::{LocalGeometry, ParametricSurface, Surface};
 use interpolab::scene::{Orientation, SurfaceSpec, build_surface};
-use support::Rng;
 
 fn build(spec: SurfaceSpec) -> Surface {
     build_surface(&spec, "s").expect("valid surface")
@@ -116,7 +116,7 @@ fn torus_principal_curvatures_match_the_closed_form() {
 
 #[test]
 fn weingarten_normal_derivatives_match_finite_differences() {
-    let text = include_str!("../examples/bspline-floor-wall.json");
+    let text = include_str!("../../../examples/bspline-floor-wall.json");
     let scene = support::scene(text);
     let s = build_surface(&scene.surfaces[0], "s").expect("valid");
     let torus = build(SurfaceSpec::Torus {

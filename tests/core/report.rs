@@ -5,10 +5,8 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-mod support;
-
+use crate::support::Rng;
 use interpolab::report::{fmt_num, push_num};
-use support::Rng;
 
 /// The formatter as it was, on `core::fmt` (the reference).
 fn reference(x: f64) -> String {

@@ -5,7 +5,7 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-mod support;
+use crate::support;
 
 use glam::DVec3;
 use interpolab::assert_near;
@@ -13,7 +13,7 @@ use interpolab::fiveaxis::{MachineKind, ToolAxisRule};
 use interpolab::scene::{MachineSpec, Scene, SceneError, ToolAxisSpec, build_machine, build_tool_axis};
 use serde_json::Value;
 
-const BASE: &str = include_str!("../examples/torus-plane.json");
+const BASE: &str = include_str!("../../../examples/torus-plane.json");
 
 /// The base scene with `extra` (a JSON object's members) added at the top level.
 fn with(extra: &str) -> String {
@@ -154,7 +154,7 @@ fn bad_tool_axis_values_name_their_key() {
 
 #[test]
 fn the_five_axis_example_reads_writes_and_builds() {
-    let text = include_str!("../examples/torus-plate-head-bc.json");
+    let text = include_str!("../../../examples/torus-plate-head-bc.json");
     let s = support::scene(text);
     assert_eq!(s.to_json(), text, "the example file is in the writer's own layout");
     let m = build_machine(&s.machine.unwrap());

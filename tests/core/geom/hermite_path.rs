@@ -3,11 +3,9 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-mod support;
-
+use crate::support::Rng;
 use glam::DVec3;
 use interpolab::geom::{Curve3, HermitePath};
-use support::Rng;
 
 fn helix(n: usize, uneven: bool) -> HermitePath {
     let mut t = 0.0;

@@ -10,8 +10,7 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-mod support;
-
+use crate::support::Rng;
 use glam::DVec3;
 use interpolab::fiveaxis::{Joints, Machine};
 use interpolab::gcode::parse_program;
@@ -20,7 +19,6 @@ use interpolab::simulate::{
     BallSegment, Design, DexelStock, HeightMap, MoveKind, Program, SimMove, SimStats, Simulation, ToolShape,
     tilted_span,
 };
-use support::Rng;
 
 fn line(from: [f64; 3], to: [f64; 3]) -> SimMove {
     SimMove { kind: MoveKind::Line { from: DVec3::from(from), to: DVec3::from(to) }, line: 0, rapid: false }
@@ -575,7 +573,8 @@ fn the_deviation_is_the_signed_distance_to_the_union_of_the_torus_and_the_plate(
     // n = (0, −0.2079, 0.9781), material below). The part is their union.
     use interpolab::simulate::part_signed_distance;
     // Compiled in, so the wasm32 build (no file system) runs it too.
-    let scene = interpolab::scene::Scene::from_json(include_str!("../examples/torus-plate-head-bc.json")).unwrap();
+    let scene =
+        interpolab::scene::Scene::from_json(include_str!("../../../examples/torus-plate-head-bc.json")).unwrap();
     let surfaces = interpolab::crease::CreaseJob::from_scene(&scene).unwrap().surfaces.to_vec();
     let n = DVec3::new(0.0, -0.207_911_690_817_759_37, 0.978_147_600_733_805_6);
     let plate = |p: DVec3| n.dot(p - DVec3::new(0.0, 0.0, 4.0));

@@ -9,8 +9,9 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-mod support;
+use crate::support;
 
+use crate::support::Rng;
 use glam::{DMat3, DVec3};
 use interpolab::assert_near;
 use interpolab::chords::distance_to_segment;
@@ -19,7 +20,6 @@ use interpolab::fiveaxis::{
     CreasePath, DesignPath, Joints, Machine, MachineKind, ToolAxisRule, block_at, evaluate_nodes, example1,
     segment_report,
 };
-use support::Rng;
 
 /// Largest distance of the swept tool tip from the chord of its end tips, by dense sampling
 /// of the linearly interpolated joints.
@@ -101,7 +101,7 @@ fn round_pocket_on_the_c_axis_nonlinear_error_cancels_the_chord_error() {
     // about the Z axis, which is the default machine's C axis. With the bisector tool axis,
     // following the crease needs only C, so the swept ball stays on the crease: the total
     // error is zero, while the chord alone leaves stock 45(1 − cos(θ/2)) on the wall.
-    let job = support::job(include_str!("../examples/floor-round-wall.json"));
+    let job = support::job(include_str!("../../../examples/floor-round-wall.json"));
     let curve = CreaseCurve::from_rows(&job, &run_to_end(job.clone(), InterpOptions::default()).rows).unwrap();
     let path = CreasePath::new(curve, ToolAxisRule::Bisector);
     let m = Machine::default();

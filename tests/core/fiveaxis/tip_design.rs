@@ -11,12 +11,12 @@
 //!   unconverged search);
 //! - the distance function itself agrees with a brute-force measurement.
 //!
-//! `cargo test --release --test fiveaxis_tip_design -- --nocapture` prints the table.
+//! `cargo test --release --test core fiveaxis::tip_design -- --nocapture` prints the table.
 #![allow(clippy::unwrap_used, reason = "tests: an error should fail the test")]
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-mod support;
+use crate::support;
 
 use interpolab::chords::maximise::MaxOptions;
 use interpolab::crease::{CreaseCurve, InterpOptions, run_to_end};
@@ -52,13 +52,13 @@ fn cases() -> Vec<Case> {
     vec![
         Case { name: "example1", path: Box::new(ex.path), machine: ex.machine, crease: false },
         Case { name: "naca2412", path: Box::new(blade), machine: blade_machine, crease: false },
-        scene_case("floor-round-wall", include_str!("../examples/floor-round-wall.json")),
-        scene_case("sphere-plane", include_str!("../examples/sphere-plane.json")),
-        scene_case("crossing-cylinders", include_str!("../examples/crossing-cylinders.json")),
-        scene_case("torus-plane", include_str!("../examples/torus-plane.json")),
-        scene_case("bspline-floor-wall", include_str!("../examples/bspline-floor-wall.json")),
-        scene_case("rational-nurbs-vault", include_str!("../examples/rational-nurbs-vault.json")),
-        scene_case("torus-plate-head-bc", include_str!("../examples/torus-plate-head-bc.json")),
+        scene_case("floor-round-wall", include_str!("../../../examples/floor-round-wall.json")),
+        scene_case("sphere-plane", include_str!("../../../examples/sphere-plane.json")),
+        scene_case("crossing-cylinders", include_str!("../../../examples/crossing-cylinders.json")),
+        scene_case("torus-plane", include_str!("../../../examples/torus-plane.json")),
+        scene_case("bspline-floor-wall", include_str!("../../../examples/bspline-floor-wall.json")),
+        scene_case("rational-nurbs-vault", include_str!("../../../examples/rational-nurbs-vault.json")),
+        scene_case("torus-plate-head-bc", include_str!("../../../examples/torus-plate-head-bc.json")),
     ]
 }
 

@@ -4,7 +4,7 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-mod support;
+use crate::support;
 
 use interpolab::crease::{CreaseError, InterpOptions, Interpolator, Location, Step, diagnose};
 
@@ -67,7 +67,7 @@ fn a_start_far_from_any_crease_is_reported() {
 #[test]
 fn a_concave_radius_below_the_cutter_radius_is_a_fold() {
     // A bore of radius 4 mm with a 5 mm ball: the ball cannot reach the corner.
-    let json = include_str!("../examples/floor-round-wall.json")
+    let json = include_str!("../../../examples/floor-round-wall.json")
         .replace("\"radius\": 50.0", "\"radius\": 4.0")
         .replace("[44.8, 0.5, 5.2]", "[-1.0, 0.0, 5.0]");
     let e = start_error(&json);
@@ -85,7 +85,7 @@ fn a_concave_radius_below_the_cutter_radius_is_a_fold() {
 fn a_crease_running_into_tangential_contact_stops_there_with_earlier_rows_intact() {
     // Two perpendicular cylinders of equal radius: their offset surfaces meet in two ellipses
     // that cross where both normals are ±y, so the crease runs into tangential contact.
-    let json = include_str!("../examples/crossing-cylinders.json")
+    let json = include_str!("../../../examples/crossing-cylinders.json")
         .replace("\"radius\": 20.0", "\"radius\": 30.0")
         .replace("\"v\": [10, 80]", "\"v\": [-80, 80]")
         .replace("[25.0, 0.0, 35.0]", "[35.0, 0.0, 35.0]");
@@ -120,7 +120,7 @@ fn a_crease_running_into_tangential_contact_stops_there_with_earlier_rows_intact
 #[test]
 fn a_feed_per_period_too_long_for_the_crease_is_refused() {
     // A 6 mm bore with a 5 mm ball: the centre circles on radius 1 mm; f = 1.5 mm per period.
-    let json = include_str!("../examples/floor-round-wall.json")
+    let json = include_str!("../../../examples/floor-round-wall.json")
         .replace("\"radius\": 50.0", "\"radius\": 6.0")
         .replace("\"feed\": 1500.0", "\"feed\": 22500.0")
         .replace("[44.8, 0.5, 5.2]", "[1.0, 0.0, 5.0]");
@@ -139,7 +139,7 @@ fn a_feed_per_period_too_long_for_the_crease_is_refused() {
 
 #[test]
 fn a_direction_across_the_crease_is_ambiguous() {
-    let mut scene = support::scene(include_str!("../examples/floor-round-wall.json"));
+    let mut scene = support::scene(include_str!("../../../examples/floor-round-wall.json"));
     scene.path.direction = Some([0.0, 0.0, 1.0]);
     let job = interpolab::crease::CreaseJob::from_scene(&scene).expect("valid scene");
     let e = Interpolator::new(job, InterpOptions::default()).expect_err("ambiguous");
@@ -149,7 +149,7 @@ fn a_direction_across_the_crease_is_ambiguous() {
 /// A straight V-groove along x between two planes at ±45°, from x = −40 toward x = +40. The
 /// sense of n1 × n2 is −x, so without `path.direction` the run goes away from `path.end`.
 fn groove(max_steps: u64, direction: Option<[f64; 3]>) -> String {
-    let mut scene = support::scene(include_str!("data/groove-end-behind-start.json"));
+    let mut scene = support::scene(include_str!("../../data/groove-end-behind-start.json"));
     scene.path.max_steps = max_steps;
     scene.path.direction = direction;
     scene.to_json()

@@ -3,7 +3,7 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-mod support;
+use crate::support;
 
 use glam::DVec3;
 use interpolab::crease::{
@@ -13,8 +13,8 @@ use interpolab::crease::{
 use interpolab::scene::PRESETS;
 use interpolab::tolerance::MEASUREMENT_FLOOR_MM;
 
-const FLOOR_WALL: &str = include_str!("../examples/floor-round-wall.json");
-const SPHERE_PLANE: &str = include_str!("../examples/sphere-plane.json");
+const FLOOR_WALL: &str = include_str!("../../../examples/floor-round-wall.json");
+const SPHERE_PLANE: &str = include_str!("../../../examples/sphere-plane.json");
 
 fn run(job: &CreaseJob, opts: InterpOptions) -> (Vec<Row>, StopReason) {
     let r = run_to_end(job.clone(), opts);
@@ -174,7 +174,7 @@ fn interpolated_centres_stay_on_the_exact_crease_and_the_exact_mode_sits_on_it()
 fn ten_turns_of_a_closed_crease_do_not_accumulate_error() {
     // Crossing cylinders: a closed crease with curvature and torsion on both surfaces, so the
     // per-period error is well above rounding.
-    let job = support::job(include_str!("../examples/crossing-cylinders.json"));
+    let job = support::job(include_str!("../../../examples/crossing-cylinders.json"));
     let mut it =
         Interpolator::new(job.clone(), InterpOptions { turns: 10, ..InterpOptions::default() }).expect("starts");
     let mut worst = [0.0f64; 11];
@@ -198,7 +198,7 @@ fn ten_turns_of_a_closed_crease_do_not_accumulate_error() {
 
 #[test]
 fn stops_at_the_period_nearest_path_end() {
-    let job = support::job(include_str!("../examples/bspline-floor-wall.json"));
+    let job = support::job(include_str!("../../../examples/bspline-floor-wall.json"));
     let (rows, reason) = run(&job, InterpOptions::default());
     assert_eq!(reason, StopReason::ReachedEnd);
     let end = locate_crease_point(&job, job.end.expect("has an end"), Location::End).expect("end on the crease").p;
@@ -209,7 +209,7 @@ fn stops_at_the_period_nearest_path_end() {
 
 #[test]
 fn stops_before_a_contact_leaves_its_domain() {
-    let job = support::job(include_str!("../examples/rational-nurbs-vault.json"));
+    let job = support::job(include_str!("../../../examples/rational-nurbs-vault.json"));
     let (rows, reason) = run(&job, InterpOptions::default());
     match reason {
         StopReason::LeftDomain { surface: 0, param: 'u', value, range } => {

@@ -5,7 +5,7 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-mod support;
+use crate::support;
 
 use interpolab::chords::RootMethod;
 use interpolab::crease::{CreaseCurve, InterpOptions, run_to_end};
@@ -37,7 +37,7 @@ fn the_planner_node_by_node_gives_the_nodes_of_plan_steps() {
 
 #[test]
 fn the_planner_keeps_the_nodes_found_before_a_tool_axis_leaves_travel() {
-    let job = support::job(include_str!("../examples/torus-plane.json"));
+    let job = support::job(include_str!("../../../examples/torus-plane.json"));
     let rows = run_to_end(job.clone(), InterpOptions::default()).rows;
     let path = CreasePath::new(CreaseCurve::from_rows(&job, &rows).unwrap(), ToolAxisRule::Bisector);
     // The bisector tilts past 40° part-way along this crease: a travel of ±40° is left there.

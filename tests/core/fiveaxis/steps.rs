@@ -5,7 +5,7 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-mod support;
+use crate::support;
 
 use glam::DVec3;
 use interpolab::chords::RootMethod;
@@ -18,7 +18,7 @@ use interpolab::fiveaxis::{
 /// The torus ring through a tilted plate: torus R0 = 40, r0 = 15 about Z (outward), plane
 /// through (0, 0, 4) with normal (0, −sin 12°, cos 12°), ball R = 4.
 fn torus_plane_path(rule: ToolAxisRule) -> CreasePath {
-    let job = support::job(include_str!("../examples/torus-plane.json"));
+    let job = support::job(include_str!("../../../examples/torus-plane.json"));
     let rows = run_to_end(job.clone(), InterpOptions::default()).rows;
     CreasePath::new(CreaseCurve::from_rows(&job, &rows).unwrap(), rule)
 }

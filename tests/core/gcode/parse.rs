@@ -28,7 +28,7 @@ fn close(a: DVec3, b: DVec3) -> bool {
 
 #[test]
 fn reads_a_hand_written_program() {
-    let p = parse_program(include_str!("data/gcode/hand_written/program.nc")).expect("valid program");
+    let p = parse_program(include_str!("../../data/gcode/hand_written/program.nc")).expect("valid program");
     assert!(p.unsupported.is_empty(), "{:?}", p.unsupported);
     let b = &p.toolpath.blocks;
     let kinds: Vec<Motion> = b.iter().map(|x| x.motion).collect();

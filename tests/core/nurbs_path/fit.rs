@@ -11,7 +11,7 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-mod support;
+use crate::support;
 
 use glam::DVec3;
 use interpolab::geom::{Curve3, NurbsCurve};
@@ -325,7 +325,7 @@ fn bad_fitting_input_is_refused_with_the_reason() {
 
 #[test]
 fn approximation_of_the_crease_is_within_tolerance() {
-    let job = support::job(include_str!("../examples/rational-nurbs-vault.json"));
+    let job = support::job(include_str!("../../../examples/rational-nurbs-vault.json"));
     let design = interpolab::gcode::crease_design(&job).expect("crease");
     let fit = approximate_curve(&design, 0.005, &ApproxOptions::default()).expect("fit");
     assert!(fit.max_deviation_mm <= 0.005);

@@ -3,12 +3,10 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-mod support;
-
+use crate::support::Rng;
 use glam::{DVec2, DVec3};
 use interpolab::geom::nurbs::{NurbsError, basis_derivatives, basis_functions, find_span, validate_knots};
 use interpolab::geom::{NurbsCurve, NurbsSurface, ParametricSurface};
-use support::Rng;
 
 /// The full circle of radius `r` in the xy-plane as a 9-point rational quadratic.
 fn circle(r: f64) -> NurbsCurve {

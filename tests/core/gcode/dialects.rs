@@ -13,15 +13,13 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-mod support;
-
+use crate::support::outside::{RawNurbs, feed_move, parabola_distance, seg_dist};
 use glam::DVec3;
 use interpolab::gcode::{
     Dialect, ParseError, ProgramError, ProgramKind, ProgramOptions, Segment, parse_program_in, write_program,
 };
 use interpolab::geom::Curve3;
 use interpolab::nurbs_path::Parabola;
-use support::outside::{RawNurbs, feed_move, parabola_distance, seg_dist};
 
 /// LinuxCNC's implied knots for `cps` control points of order k, written out as its source
 /// builds them: index i from 0 to n + k (n = cps − 1) is 0 below k, i − k + 1 up to n, and

@@ -12,9 +12,9 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-mod support;
+use crate::support;
 
-use support::outside::{RawNurbs, feed_move, parabola_distance, seg_dist};
+use crate::support::outside::{RawNurbs, feed_move, parabola_distance, seg_dist};
 
 use glam::DVec3;
 use interpolab::chords::equal_error_chords;
@@ -164,9 +164,10 @@ fn every_program_is_within_tolerance_of_the_parabola_for_an_outside_reader() {
 
 #[test]
 fn every_program_of_a_crease_is_within_tolerance_for_an_outside_reader() {
-    for json in
-        [include_str!("../examples/crossing-cylinders.json"), include_str!("../examples/bspline-floor-wall.json")]
-    {
+    for json in [
+        include_str!("../../../examples/crossing-cylinders.json"),
+        include_str!("../../../examples/bspline-floor-wall.json"),
+    ] {
         let job = support::job(json);
         let design = crease_design(&job).expect("crease");
         let (ta, tb) = design.range();
@@ -203,7 +204,7 @@ fn every_program_of_a_crease_is_within_tolerance_for_an_outside_reader() {
 #[test]
 fn nurbs_program_read_back_reproduces_the_fitted_curve_to_the_resolution() {
     let para = Parabola::paper_like();
-    let job = support::job(include_str!("../examples/torus-plane.json"));
+    let job = support::job(include_str!("../../../examples/torus-plane.json"));
     let torus = crease_design(&job).expect("crease");
     for design in [&para as &dyn Curve3, &torus] {
         let p = write_program(ProgramKind::Nurbs, design, 0.01, &ProgramOptions::default()).expect("program");
@@ -274,7 +275,7 @@ fn written_g06_2_follows_the_fanuc_rules() {
 #[test]
 fn arc_programs_have_consistent_centres_and_radii() {
     let para = Parabola::paper_like();
-    let job = support::job(include_str!("../examples/crossing-cylinders.json"));
+    let job = support::job(include_str!("../../../examples/crossing-cylinders.json"));
     let cyl = crease_design(&job).expect("crease");
     for design in [&para as &dyn Curve3, &cyl] {
         let p = write_program(ProgramKind::Arcs, design, 0.01, &ProgramOptions::default()).expect("program");
@@ -306,7 +307,7 @@ fn g01_blocks_are_the_equal_error_chords() {
 
 #[test]
 fn tip_program_is_the_centre_program_lowered_by_the_ball_radius() {
-    let job = support::job(include_str!("../examples/bspline-floor-wall.json"));
+    let job = support::job(include_str!("../../../examples/bspline-floor-wall.json"));
     let design = crease_design(&job).expect("crease");
     let r = job.ball_radius_mm;
     let centre = write_program(ProgramKind::Nurbs, &design, 0.01, &ProgramOptions::default()).expect("program");
@@ -365,7 +366,7 @@ fn golden_g06_2_program_of_the_parabola() {
         &ProgramOptions::default().with_title("parabola y = x^2/40, x from -60 to 60 mm"),
     )
     .expect("program");
-    assert_eq!(p.text, include_str!("data/gcode/parabola/g06_2_tol0.01.nc"));
+    assert_eq!(p.text, include_str!("../../data/gcode/parabola/g06_2_tol0.01.nc"));
 }
 
 #[test]
@@ -476,7 +477,7 @@ fn the_worst_deviation_line_is_a_cutting_block_of_the_text() {
 /// `crease_design` (and so the command line) gives.
 #[test]
 fn the_design_built_in_steps_is_the_crease_design() {
-    let job = support::job(include_str!("../examples/sphere-plane.json"));
+    let job = support::job(include_str!("../../../examples/sphere-plane.json"));
     let whole = crease_design(&job).expect("design");
     let mut builder = DesignBuilder::new(&job).expect("starts");
     let mut calls = 0;

@@ -9,7 +9,7 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-mod support;
+use crate::support;
 
 use glam::DVec3;
 use interpolab::assert_near;
@@ -175,7 +175,7 @@ fn deviation_counts_a_bulge_past_the_chord_end() {
 fn crease_of_floor_and_round_wall_is_a_circle_of_radius_45() {
     // Ball R = 5 in a floor/cylinder (radius 50, inward) corner: the centre runs on a circle
     // of radius 45 at z = 5; the crease curve is parametrised by chord length.
-    let job = support::job(include_str!("../examples/floor-round-wall.json"));
+    let job = support::job(include_str!("../../../examples/floor-round-wall.json"));
     let rows = run_to_end(job.clone(), InterpOptions::default()).rows;
     let curve = CreaseCurve::from_rows(&job, &rows).unwrap();
     let (s0, s1) = curve.range();

@@ -8,12 +8,10 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-mod support;
-
+use crate::support::Rng;
 use glam::DVec3;
 use interpolab::assert_near;
 use interpolab::fiveaxis::{Joints, KinematicsError, Machine, MachineKind};
-use support::Rng;
 
 fn deg(x: f64) -> f64 {
     x.to_radians()

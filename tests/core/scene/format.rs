@@ -3,12 +3,12 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-mod support;
+use crate::support;
 
 use interpolab::crease::CreaseJob;
 use interpolab::scene::{PRESETS, Scene, SceneError};
 
-const BASE: &str = include_str!("../examples/floor-round-wall.json");
+const BASE: &str = include_str!("../../../examples/floor-round-wall.json");
 
 #[test]
 fn every_example_round_trips_through_the_writer() {
@@ -168,7 +168,7 @@ fn degenerate_directions_are_refused() {
     assert_error(&e, "surfaces[0].domain.v", "empty or reversed");
 }
 
-const NURBS: &str = include_str!("../examples/rational-nurbs-vault.json");
+const NURBS: &str = include_str!("../../../examples/rational-nurbs-vault.json");
 
 fn nurbs_error(edit: impl FnOnce(&mut serde_json::Value)) -> SceneError {
     let mut v: serde_json::Value = serde_json::from_str(NURBS).expect("json");
@@ -198,7 +198,8 @@ fn bad_knot_vectors_and_weights_are_refused() {
 
 #[test]
 fn torus_must_not_cross_its_axis() {
-    let mut v: serde_json::Value = serde_json::from_str(include_str!("../examples/torus-plane.json")).expect("json");
+    let mut v: serde_json::Value =
+        serde_json::from_str(include_str!("../../../examples/torus-plane.json")).expect("json");
     v["surfaces"][0]["major_radius"] = 10.0.into();
     let e = Scene::from_json(&v.to_string()).expect_err("spindle torus");
     assert_error(&e, "surfaces[0].major_radius", "not larger than minor_radius");

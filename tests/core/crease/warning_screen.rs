@@ -5,7 +5,7 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-mod support;
+use crate::support;
 
 use interpolab::crease::{CreaseJob, InterpOptions, Method, WorstError, measured_errors, run_to_end};
 use interpolab::scene::PRESETS;

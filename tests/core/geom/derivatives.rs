@@ -4,12 +4,12 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-mod support;
+use crate::support;
 
+use crate::support::Rng;
 use glam::{DVec2, DVec3};
 use interpolab::geom::{ParametricSurface, Surface};
 use interpolab::scene::{PRESETS, SurfaceSpec, build_surface};
-use support::Rng;
 
 /// One surface of each type, plus a rational NURBS and a non-uniform bicubic.
 fn surfaces() -> Vec<(&'static str, Surface)> {
