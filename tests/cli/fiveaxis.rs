@@ -200,7 +200,7 @@ fn bad_input_exits_2_with_a_message() {
         assert!(err.contains(needle), "{args:?}: {err}");
     }
     // A machine whose A axis cannot reach the bisector: the error names the axis.
-    let mut scene: serde_json::Value = serde_json::from_str(include_str!("../examples/torus-plane.json")).unwrap();
+    let mut scene: serde_json::Value = serde_json::from_str(include_str!("../../examples/torus-plane.json")).unwrap();
     scene["machine"] = serde_json::json!({ "kind": "table-ac", "limits": { "a": [-10, 10] } });
     let path = std::env::temp_dir().join(format!("interpolab-out-of-travel-{}.json", std::process::id()));
     std::fs::write(&path, scene.to_string()).unwrap();

@@ -164,7 +164,7 @@ fn check_summarises_length_periods_curvature_and_errors() {
 #[test]
 fn a_run_that_misses_path_end_says_which_path_direction_reaches_it() {
     // A straight V-groove along x from x = −40 toward x = +40; the sense of n1 × n2 is −x.
-    let groove = include_str!("data/groove-end-behind-start.json");
+    let groove = include_str!("../data/groove-end-behind-start.json");
     let p = temp_file("groove.json", groove);
     let o = run(&["run", p.to_str().expect("utf8"), "--format", "json"]);
     assert!(o.status.success(), "stopping at a domain edge is a normal end: {}", stderr(&o));
