@@ -1,5 +1,5 @@
 //! The simulation benchmarks' programs, shared by `benches/simulate.rs` (criterion, native)
-//! and `tests/bench_simulate.rs` (the same source natively and as wasm32 under Node), so both
+//! and `benches/native_and_wasm/simulate.rs` (the same source natively and as wasm32 under Node), so both
 //! time the same moves. They live in the core (`interpolab::simulate::bench`), where the
 //! command line (`--benchmark`) and the app's worker build the same ones; this file only
 //! gives the benchmarks their old names.

@@ -3,20 +3,16 @@
 //! wasm32 under Node, so the two numbers compare like with like:
 //!
 //! ```text
-//! cargo test --release --no-default-features --test bench_recompute -- --ignored --nocapture
-//! cargo test --release --no-default-features --target wasm32-unknown-unknown --test bench_recompute -- --include-ignored --nocapture
+//! cargo test --release --no-default-features --test native_and_wasm recompute:: -- --ignored --nocapture
+//! cargo test --release --no-default-features --target wasm32-unknown-unknown --test native_and_wasm recompute:: -- --include-ignored --nocapture
 //! ```
 //! (`scripts/bench-wasm.sh` runs both.) Reports the median of several runs.
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
+use crate::web_time_shim::{Instant, print};
 use interpolab::crease::{CreaseJob, InterpOptions, Interpolator, Step, diagnose};
 use interpolab::scene::Scene;
-use web_time_shim::{Instant, print};
-
-/// `std::time::Instant` natively; `performance.now()` under Node (no std clock on wasm32).
-#[path = "common/web_time.rs"]
-mod web_time_shim;
 
 const PERIODS: u64 = 10_000;
 
@@ -46,8 +42,8 @@ fn recompute(job: &CreaseJob, measure: bool) -> f64 {
 fn recompute_10k_periods() {
     let platform = if cfg!(target_arch = "wasm32") { "wasm32 (Node)" } else { "native" };
     for (name, json) in [
-        ("torus-plane", include_str!("../examples/torus-plane.json")),
-        ("crossing-cylinders", include_str!("../examples/crossing-cylinders.json")),
+        ("torus-plane", include_str!("../../examples/torus-plane.json")),
+        ("crossing-cylinders", include_str!("../../examples/crossing-cylinders.json")),
     ] {
         let mut scene = Scene::from_json(json).expect("example");
         scene.path.max_steps = PERIODS + 1;

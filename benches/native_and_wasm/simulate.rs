@@ -4,27 +4,18 @@
 //! natively and compiled to wasm32 under Node, so the two compare like with like:
 //!
 //! ```text
-//! cargo test --release --no-default-features --test bench_simulate -- --ignored --nocapture
-//! cargo test --release --no-default-features --target wasm32-unknown-unknown --test bench_simulate -- --include-ignored --nocapture
+//! cargo test --release --no-default-features --test native_and_wasm simulate:: -- --ignored --nocapture
+//! cargo test --release --no-default-features --target wasm32-unknown-unknown --test native_and_wasm simulate:: -- --include-ignored --nocapture
 //! ```
 //! (`scripts/bench-wasm.sh` runs both.) Wall clock (Node has no thread CPU clock), the best
 //! of three runs, so other processes' time slices count as little as possible.
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
+use crate::sim_programs::{SIDE_MM, five_axis, three_axis};
+use crate::web_time_shim::{Instant, print};
 use interpolab::geom::Cutter;
 use interpolab::simulate::{DexelStock, Simulation};
-use sim_programs::{SIDE_MM, five_axis, three_axis};
-use web_time_shim::{Instant, print};
-
-/// The programs of `benches/simulate.rs`, from the one shared source.
-#[path = "common/sim_programs.rs"]
-mod sim_programs;
-
-/// `std::time::Instant` natively; `performance.now()` under Node (the shared clock of the
-/// benchmarks that run both ways).
-#[path = "common/web_time.rs"]
-mod web_time_shim;
 
 #[test]
 #[ignore = "benchmark; run with --ignored --nocapture"]

@@ -3,21 +3,17 @@
 //! Node from the same source, so the two numbers compare like with like:
 //!
 //! ```text
-//! cargo test --release --no-default-features --test bench_fillet -- --ignored --nocapture
-//! cargo test --release --no-default-features --target wasm32-unknown-unknown --test bench_fillet -- --include-ignored --nocapture
+//! cargo test --release --no-default-features --test native_and_wasm fillet:: -- --ignored --nocapture
+//! cargo test --release --no-default-features --target wasm32-unknown-unknown --test native_and_wasm fillet:: -- --include-ignored --nocapture
 //! ```
 //! (`scripts/bench-wasm.sh` runs both.) Reports the median of several runs; the criterion
 //! benchmark `benches/fillet.rs` measures the same work natively.
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
+use crate::web_time_shim::{Instant, print};
 use interpolab::fillet::{PartSamples, Strategy, iso_scallop};
 use interpolab::scene::finish::{FINISH_PRESETS, FinishScene};
-use web_time_shim::{Instant, print};
-
-/// `std::time::Instant` natively; `performance.now()` under Node (no std clock on wasm32).
-#[path = "common/web_time.rs"]
-mod web_time_shim;
 
 #[test]
 #[ignore = "benchmark: run with --ignored --nocapture (scripts/bench-wasm.sh)"]
