@@ -849,22 +849,45 @@ fn the_material_left_is_h_between_every_pair_of_paths() {
     }
 }
 
+/// The examples of the height map and the dense sections.
+const FINISH_EXAMPLES: [&str; 3] = ["finish-bicubic-patch", "finish-naca-blade", "finish-concave-mould"];
+
+/// The lines across the paths the full height map measures the cusps on (fractions of the
+/// along range).
+const CUSP_LINES: [f64; 9] = [0.02, 0.1, 0.2, 0.3, 0.5, 0.7, 0.8, 0.9, 0.98];
+
 /// The height map over every example in release, printed and asserted:
-/// `cargo test --release --no-default-features --test fillet -- --ignored height_map --nocapture`.
+/// `cargo test --release --no-default-features --test core -- --ignored fillet::height_map --nocapture`
+/// (241 × 241 points and nine lines across; its fast form below runs in CI).
 /// Prints where the points above 1.05·h lie: within 2·R of an along end (measured across the
 /// along range by the surface's mean speed), in the last strip (between the last two paths),
 /// or inside; and on the chord (t within 0.2 of a CL row, or between). The map between the
 /// paths also finds gaps the sections at the nodes miss (the mould's 3.73·h before the
 /// swallowtail trim).
 #[test]
-#[ignore = "slow in debug (~10 s release for patch and blade, the mould's paths take longer); prints the measured numbers"]
+#[ignore = "slow in debug (~10 s release for patch and blade, the mould's paths take longer); prints the measured numbers; its fast form runs by default"]
 fn height_map_of_the_material_left() {
-    for id in ["finish-bicubic-patch", "finish-naca-blade", "finish-concave-mould"] {
+    material_left_on_every_example(240, &CUSP_LINES);
+}
+
+/// [`height_map_of_the_material_left`] in a form fast enough for every run: the same
+/// examples and the same assertions with the same bounds, on 41 × 41 points (every 6th of
+/// the full form's 241 × 241: the same points) and four of its nine lines across (the ends,
+/// the middle, and 0.7, where the mould's lowest cusp lies).
+#[test]
+fn height_map_of_the_material_left_fast() {
+    material_left_on_every_example(40, &[0.02, 0.5, 0.7, 0.98]);
+}
+
+/// The height map of the material left on `cells` + 1 points a side and the cusps on `lines`
+/// (fractions of the along range) on every example: what the full and the fast forms assert.
+fn material_left_on_every_example(cells: usize, lines: &[f64]) {
+    for id in FINISH_EXAMPLES {
         let jb = job(id);
         let set = paths(&jb, Strategy::Matched);
         let h = jb.options.scallop_mm;
         let sw = Swept::new(&jb, &set);
-        let points = height_map(&jb, &sw, 240, [0.0, 1.0, 0.0, 1.0]);
+        let points = height_map(&jb, &sw, cells, [0.0, 1.0, 0.0, 1.0]);
         let along = set.along;
         let d = jb.surface.domain();
         let (ra, rb) = if along == 0 { (d.u, d.v) } else { (d.v, d.u) };
@@ -918,7 +941,7 @@ fn height_map_of_the_material_left() {
         let free = free_paths(&jb, &set);
         let (mut lo, mut hi, mut count) = (f64::INFINITY, 0.0f64, 0);
         let (mut lo_last, mut hi_last) = (f64::INFINITY, 0.0f64);
-        for a in [0.02, 0.1, 0.2, 0.3, 0.5, 0.7, 0.8, 0.9, 0.98] {
+        for &a in lines {
             for (k, c, uv) in cusps_across(&jb, &sw, a, 480) {
                 if k + 1 < free {
                     if c < 0.95 * h || c > 1.05 * h {
@@ -934,7 +957,8 @@ fn height_map_of_the_material_left() {
             }
         }
         eprintln!(
-            "{id}: {count} cusps on nine lines across between the {free} paths clear of the far edge: {:.3}·h .. {:.3}·h; between the last {} paths (put on the far edge in part): {:.3}·h .. {:.3}·h",
+            "{id}: {count} cusps on {} lines across between the {free} paths clear of the far edge: {:.3}·h .. {:.3}·h; between the last {} paths (put on the far edge in part): {:.3}·h .. {:.3}·h",
+            lines.len(),
             lo / h,
             hi / h,
             n - free + 1,
@@ -967,19 +991,36 @@ fn height_map_of_the_material_left() {
 /// the surface): mould 0.959–1.019·h, patch 0.971–0.993·h, blade 0.964–1.023·h (an earlier
 /// round: three blade sections near (u, v) = (0.26, 0.1–0.2) at 0.94987–0.94998·h: the
 /// band asserted is [0.949, 1.05]·h). Slow (~4.5 min in release):
-/// `cargo test --release --no-default-features --test fillet -- --ignored dense --nocapture`.
+/// `cargo test --release --no-default-features --test core -- --ignored fillet::dense --nocapture`
+/// (its fast form below runs in CI).
 #[test]
-#[ignore = "slow: ~500 brute-force sections"]
+#[ignore = "slow: ~500 brute-force sections; its fast form runs by default"]
 fn dense_sections_stay_within_h_over_the_interior() {
+    dense_sections_on_every_example(2, &[1, 2, 3, 4, 5, 6, 7, 8, 9], 100);
+}
+
+/// [`dense_sections_stay_within_h_over_the_interior`] in a form fast enough for every run:
+/// the same examples and band, on every 10th interior path (among the full form's every
+/// other) at three of its nine nodes (2, 5 and 8 tenths along): a fifteenth of its sections,
+/// 9–12 per example.
+#[test]
+fn dense_sections_stay_within_h_over_the_interior_fast() {
+    dense_sections_on_every_example(10, &[2, 5, 8], 8);
+}
+
+/// Brute-force sections on every `path_step`-th interior path (1 … n − 5) at the nodes
+/// `tenths`/10 along each, on every example: at least `min_sections` each, all within
+/// [0.949, 1.05]·h.
+fn dense_sections_on_every_example(path_step: usize, tenths: &[usize], min_sections: usize) {
     for id in ["finish-concave-mould", "finish-bicubic-patch", "finish-naca-blade"] {
         let jb = job(id);
         let set = paths(&jb, Strategy::Matched);
         let h = jb.options.scallop_mm;
         let count = set.paths.len();
         let (mut lo, mut hi, mut n) = (f64::INFINITY, 0.0f64, 0usize);
-        for i in (1..count.saturating_sub(4)).step_by(2) {
+        for i in (1..count.saturating_sub(4)).step_by(path_step) {
             let nodes = &set.paths[i].nodes;
-            for q in 1..10 {
+            for &q in tenths {
                 if let Some((s, _)) = brute_scallop(&jb, &set, i, nodes.len() * q / 10) {
                     lo = lo.min(s / h);
                     hi = hi.max(s / h);
@@ -988,7 +1029,7 @@ fn dense_sections_stay_within_h_over_the_interior() {
             }
         }
         eprintln!("{id}: {n} sections on paths 1..{}: {lo:.4}..{hi:.4}·h", count - 5);
-        assert!(n >= 100, "{id}: only {n} sections");
+        assert!(n >= min_sections, "{id}: only {n} sections");
         assert!(lo >= 0.949 && hi <= 1.05, "{id}: {lo:.4}..{hi:.4}·h outside [0.949, 1.05]·h");
     }
 }
