@@ -17,8 +17,8 @@ use interpolab::geom::Cutter;
 use interpolab::simulate::{DexelStock, Program, Simulation};
 use sim_programs::{SIDE_MM, five_axis, raster_points, three_axis, tilt_rad};
 
-/// The programs, shared with `tests/bench_simulate.rs` (which runs them natively and in wasm).
-#[path = "../tests/common/sim_programs.rs"]
+/// The programs, shared with `benches/native_and_wasm/simulate.rs` (which runs them natively and in wasm).
+#[path = "support/sim_programs.rs"]
 mod sim_programs;
 const PITCH_MM: f64 = 0.1;
 const BALL_MM: f64 = 3.0;

@@ -1,14 +1,12 @@
 #!/usr/bin/env bash
-# Time to recompute a 10 000-period crease path, natively and as wasm32 under Node, from
-# the same source (tests/bench_recompute.rs).
+# The benchmarks of benches/native_and_wasm/, natively and as wasm32 under Node, from the
+# same source: a 10 000-period crease recompute (recompute.rs), seed 001's paths on a whole
+# example surface (fillet.rs), ray-interval updates per second of the cutting simulation and
+# its worker job (simulate.rs).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH="$HOME/.cargo/bin:$PATH"
-cargo test --release --no-default-features --test bench_recompute -- --ignored --nocapture 2>/dev/null | grep -E "^native"
-cargo test --release --no-default-features --target wasm32-unknown-unknown --test bench_recompute -- --include-ignored --nocapture 2>/dev/null | grep -E "wasm32"
-# Seed 001: a whole example surface's iso-scallop paths (tests/bench_fillet.rs).
-cargo test --release --no-default-features --test bench_fillet -- --ignored --nocapture 2>/dev/null | grep -E "^native"
-cargo test --release --no-default-features --target wasm32-unknown-unknown --test bench_fillet -- --include-ignored --nocapture 2>/dev/null | grep -E "wasm32"
-# Ray-interval updates per second of the cutting simulation (tests/bench_simulate.rs).
-cargo test --release --no-default-features --test bench_simulate -- --ignored --nocapture 2>/dev/null | grep -E "^native"
-cargo test --release --no-default-features --target wasm32-unknown-unknown --test bench_simulate -- --include-ignored --nocapture 2>/dev/null | grep -E "wasm32"
+for bench in recompute fillet simulate; do
+    cargo test --release --no-default-features --test native_and_wasm "$bench::" -- --ignored --nocapture 2>/dev/null | grep -E "^native"
+    cargo test --release --no-default-features --target wasm32-unknown-unknown --test native_and_wasm "$bench::" -- --include-ignored --nocapture 2>/dev/null | grep -E "wasm32"
+done

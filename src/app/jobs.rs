@@ -573,11 +573,13 @@ mod tests {
     use super::*;
     use crate::jobs::Progress;
 
-    /// Counts to n, reporting progress; stops early when cancelled.
+    /// Counts to n, reporting progress; stops early when cancelled, and then (or at n) sets
+    /// its `returned` flag.
     struct Count;
     impl JobKind for Count {
         const NAME: &'static str = "count";
-        type Request = (u64, std::sync::Arc<std::sync::atomic::AtomicU64>);
+        type Request =
+            (u64, std::sync::Arc<std::sync::atomic::AtomicU64>, std::sync::Arc<std::sync::atomic::AtomicBool>);
         type Output = u64;
         type Partial = u64;
         fn run(r: &Self::Request, p: &mut dyn Progress) -> u64 {
@@ -593,6 +595,7 @@ mod tests {
                     std::thread::sleep(Duration::from_micros(50));
                 }
             }
+            r.2.store(true, std::sync::atomic::Ordering::Release);
             i
         }
         fn encode_request(r: &Self::Request) -> String {
@@ -612,12 +615,19 @@ mod tests {
         }
     }
 
-    fn wait<K: JobKind>(job: &mut Job<K>) -> (K::Output, bool) {
-        let mut saw_progress = false;
-        for _ in 0..20_000 {
+    /// A hang guard only: how long a job of these tests may take on a loaded machine.
+    const HANG_GUARD: Duration = Duration::from_secs(120);
+
+    /// Polls until the job is done; returns its output and the progress readings taken
+    /// while it ran (how many there are depends on the machine's load: none if the job
+    /// finished before the first poll).
+    fn wait<K: JobKind>(job: &mut Job<K>) -> (K::Output, Vec<f64>) {
+        let mut readings = Vec::new();
+        let t0 = Instant::now();
+        while t0.elapsed() < HANG_GUARD {
             match job.poll() {
-                Poll::Done(out) => return (out, saw_progress),
-                Poll::Running(p) => saw_progress |= p.is_some_and(|f| f > 0.0 && f <= 1.0),
+                Poll::Done(out) => return (out, readings),
+                Poll::Running(p) => readings.extend(p),
             }
             std::thread::sleep(Duration::from_millis(1));
         }
@@ -627,11 +637,16 @@ mod tests {
     #[test]
     fn a_job_runs_off_the_thread_reports_progress_and_gives_its_output_once() {
         let seen = std::sync::Arc::new(std::sync::atomic::AtomicU64::new(0));
-        let mut job = Job::<Count>::start((20_000, seen));
+        let returned = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let mut job = Job::<Count>::start((20_000, seen, returned));
         assert!(job.in_background());
-        let (out, progressed) = wait(&mut job);
+        let (out, readings) = wait(&mut job);
         assert_eq!(out, 20_000);
-        assert!(progressed, "progress was reported");
+        // Progress was reported and reached the end: the last fraction the job sent (taken
+        // with its output) is 1; any reading while it ran was in (0, 1] and none went back.
+        assert_eq!(job.progress, Some(1.0), "progress was reported up to the end");
+        assert!(readings.iter().all(|&f| f > 0.0 && f <= 1.0), "readings {readings:?}");
+        assert!(readings.windows(2).all(|w| w[0] <= w[1]), "readings rise: {readings:?}");
         assert_eq!(
             job.take_partials(),
             [5000, 10_000, 15_000, 20_000],
@@ -642,15 +657,25 @@ mod tests {
 
     #[test]
     fn dropping_a_job_cancels_it() {
+        use std::sync::atomic::Ordering;
         let seen = std::sync::Arc::new(std::sync::atomic::AtomicU64::new(0));
-        let job = Job::<Count>::start((u64::MAX, seen.clone()));
-        while seen.load(std::sync::atomic::Ordering::Relaxed) < 2000 {
+        let returned = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let job = Job::<Count>::start((u64::MAX, seen.clone(), returned.clone()));
+        let t0 = Instant::now();
+        while seen.load(Ordering::Relaxed) < 2000 {
+            assert!(t0.elapsed() < HANG_GUARD, "the job did not start counting");
             std::thread::sleep(Duration::from_millis(1));
         }
         drop(job);
-        std::thread::sleep(Duration::from_millis(50));
-        let a = seen.load(std::sync::atomic::Ordering::Relaxed);
-        std::thread::sleep(Duration::from_millis(50));
-        assert_eq!(seen.load(std::sync::atomic::Ordering::Relaxed), a, "the job stopped counting");
+        // Counting to u64::MAX never ends: the job returns only because it was cancelled.
+        // Waited for as a state (its return), not for a time.
+        while !returned.load(Ordering::Acquire) {
+            assert!(t0.elapsed() < HANG_GUARD, "the job did not stop after it was dropped");
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        let a = seen.load(Ordering::Relaxed);
+        assert!(a < u64::MAX, "the job stopped counting at {a}");
+        std::thread::sleep(Duration::from_millis(10));
+        assert_eq!(seen.load(Ordering::Relaxed), a, "the job stopped counting");
     }
 }

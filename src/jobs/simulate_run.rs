@@ -176,7 +176,7 @@ pub struct Request {
 
 impl Request {
     /// The benchmark program `kind` of `moves` moves as the benchmarks machine it (the CLI's
-    /// `simulate --benchmark`, `tests/bench_simulate.rs`): a ball of
+    /// `simulate --benchmark`, `benches/native_and_wasm/simulate.rs`): a ball of
     /// [`crate::simulate::bench::BALL_MM`] on the benchmark block at `pitch_mm` (mm), no
     /// design, no keyframes, from the block.
     ///

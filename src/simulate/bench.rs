@@ -3,7 +3,7 @@
 //! and the same tips with the tool axis swinging ±15° about X over 40 moves as 5-axis moves
 //! (joints from a table A/C machine's inverse kinematics, interpolated linearly).
 //!
-//! The native benchmarks (`benches/simulate.rs`, `tests/bench_simulate.rs`), the command line
+//! The native benchmarks (`benches/simulate.rs`, `benches/native_and_wasm/simulate.rs`), the command line
 //! (`interpolab simulate --benchmark five-axis:N`) and the app's simulation tab
 //! (`set_option("benchmark", "five-axis:N")`, built in its Web Worker) all run these, so a
 //! browser measurement times the same moves as the native one without a 10 000-line program

@@ -1,5 +1,5 @@
 //! The outside checker's arithmetic, shared by the G-code tests that read programs with
-//! their own small readers (tests/gcode_roundtrip.rs, tests/gcode_dialects.rs): written here
+//! their own small readers (tests/core/gcode/roundtrip.rs, tests/core/gcode/dialects.rs): written here
 //! from the textbook formulas, independently of the library's evaluation and measuring code.
 
 use glam::DVec3;

@@ -1,0 +1,72 @@
+//! The core's tests, one module per area of `src/` (natively with `--no-default-features`,
+//! and the same sources compiled to wasm32 under Node). Each file swaps `#[test]` for
+//! `wasm_bindgen_test` on wasm32; the few that need files or processes are
+//! `#[cfg(not(target_arch = "wasm32"))]`. Where a new test goes: tests/README.md.
+//!
+//! Run one area: `cargo test --no-default-features --test core fiveaxis::`.
+
+#[path = "../support/mod.rs"]
+mod support;
+
+/// `src/chords/`: equal-error chords (seed 003) and typed curves.
+mod chords {
+    mod equal_error;
+    mod expr;
+    mod planar;
+}
+
+/// `src/crease/`: the seed-000 interpolator, its failures, path ends and the b·T warning.
+mod crease {
+    mod failures;
+    mod interpolation;
+    mod path_ends;
+    mod warning_screen;
+}
+
+// `src/fillet/`: seed 001's fillet-end finishing.
+mod fillet;
+
+/// `src/fiveaxis/`: machines, the swept tool, step selection (seed 002).
+mod fiveaxis {
+    mod kinematics;
+    mod planner;
+    mod steps;
+    mod swept;
+    mod tip_design;
+}
+
+/// `src/gcode/`: programs out and in, the three dialects.
+mod gcode {
+    mod dialects;
+    mod parse;
+    mod roundtrip;
+}
+
+/// `src/geom/`: differential geometry, derivatives, the Hermite path, NURBS evaluation.
+mod geom {
+    mod curvature;
+    mod derivatives;
+    mod hermite_path;
+    mod nurbs;
+}
+
+/// `src/nurbs_path/`: NURBS fitting and real-time NURBS interpolation (seed 004).
+mod nurbs_path {
+    mod fit;
+    mod realtime;
+}
+
+// `src/report.rs`: the CSV/JSON number format.
+mod report;
+
+/// `src/scene/`: the scene format and its machine keys.
+mod scene {
+    mod format;
+    mod machine;
+}
+
+/// `src/simulate/`: the dexel cutting simulation, and finishing programs through it.
+mod simulate {
+    mod dexel;
+    mod finish;
+}
