@@ -58,3 +58,7 @@ fn core_sources_do_not_use_gui_gpu_browser_clock_or_threads() {
     }
     assert!(core_files > 20, "found only {core_files} core files; is the source tree where the test expects it?");
 }
+
+// No program writer builds a comment itself (user text enters programs one way).
+#[path = "boundary/comments.rs"]
+mod comments;

@@ -77,11 +77,12 @@ export const checks = [
     name: "a malformed G-code file shows the line and the fix",
     run: async ({ state }) => {
       const { page } = state;
-      const bad = "%\nG21 G90\nG00 X0 Y0 Z5\nG01 X10 Y#1 F500\nM30\n%\n";
+      // An arc with neither centre nor radius: no controller can follow it.
+      const bad = "%\nG21 G90\nG00 X0 Y0 Z5\nG02 X10 Y0 F500\nM30\n%\n";
       await page.setInputFiles("#scene-file", { name: "bad.ngc", mimeType: "text/plain", buffer: Buffer.from(bad) });
       const sn = await waitFor(page, "the malformed program's error", (s) => s.error.includes("bad.ngc"));
       await page.screenshot({ path: shotPath("nurbs-3-bad-program.png") });
-      check("a malformed G-code file shows the line and the fix", sn.error.includes("line 4") && sn.error.includes("plain numbers")
+      check("a malformed G-code file shows the line and the fix", sn.error.includes("line 4") && sn.error.includes("radius R")
         && sn.panel.status.loaded.error.includes("line 4"), sn.error);
     },
   },

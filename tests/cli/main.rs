@@ -13,6 +13,8 @@ mod fillet;
 mod fiveaxis;
 // `interpolab gcode`, `replay`, `compare`, `nurbs` (seed 004).
 mod gcode;
+// User text through every writer of the command line.
+mod hostile;
 // `interpolab run` and `check` (seed 000).
 mod run;
 // `interpolab simulate`.

@@ -37,7 +37,12 @@ mod fiveaxis {
 
 /// `src/gcode/`: programs out and in, the three dialects.
 mod gcode {
+    // Cutter radius compensation (`gcode::interp::comp`), with rs274 natively.
+    mod comp;
     mod dialects;
+    // User text in written programs: every writer, hostile names (proptest, native).
+    #[cfg(not(target_arch = "wasm32"))]
+    mod hostile;
     mod parse;
     mod roundtrip;
 }

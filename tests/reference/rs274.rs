@@ -2,17 +2,15 @@
 //! read and normalised to our convention (tests/support/rs274.rs), checked here on its own
 //! against positions computed independently from the programs' numbers, so that the
 //! interpreter can later be compared with it call for call.
-#![cfg(not(target_arch = "wasm32"))]
 
-mod support;
 
 use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 use interpolab::gcode::Plane;
 use interpolab::gcode::interp::{Canon, Feed, FeedMode, Loc, Origin, Pose};
-use support::Rng;
-use support::rs274::{self, RefCall, RefKind, RefPose, RefRun, Rs274, compare, plane_axes};
+use crate::support::Rng;
+use crate::support::rs274::{self, RefCall, RefKind, RefPose, RefRun, Rs274, compare, plane_axes};
 
 fn run(text: &str) -> RefRun {
     rs274::require();

@@ -5,7 +5,6 @@
 //! equal them (within half a unit of the last printed decimal). Each test says "skipped" on
 //! stderr and checks nothing when `rs274` is not installed. (Integration tests, because
 //! running a program means writing it to a file, which the core's sources may not do.)
-#![cfg(not(target_arch = "wasm32"))]
 #![allow(
     clippy::unwrap_used,
     clippy::expect_used,

@@ -11,7 +11,6 @@
 //! decoded as the Web Worker does), and the five-axis finishing program
 //! (`fillet::program::FinishGcode`, what `finish --gcode` writes). `tests/hostile_cli.rs`
 //! drives the command line.
-#![cfg(not(target_arch = "wasm32"))]
 
 use std::sync::OnceLock;
 

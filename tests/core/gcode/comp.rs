@@ -8,6 +8,9 @@
 // On wasm32 only the closed-form tests run; the rs274 driver and generators stay unused.
 #![cfg_attr(target_arch = "wasm32", allow(dead_code))]
 
+#[cfg(target_arch = "wasm32")]
+use wasm_bindgen_test::wasm_bindgen_test as test;
+
 use std::collections::HashMap;
 
 use glam::{DVec2, DVec3};

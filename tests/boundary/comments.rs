@@ -1,5 +1,5 @@
 //! No program writer builds a comment itself: every comment of a written program comes from
-//! `gcode::comment` (`safe_comment`, `key_comment`), which makes any text safe (issue 29).
+//! `gcode::comment` (`safe_comment`, `key_comment`), which makes any text safe .
 //! As `core_boundary.rs` scans the core for imports, this scans the writers' sources.
 //!
 //! The rule, checkable on the text: a *writer* is any source file whose string literals hold
@@ -11,7 +11,6 @@
 //! be the character `(`, `)` or `;`. That is how a comment line is built by hand
 //! (`"(interpolab finish: {})\n"`, `push('(')`, `"; "`), and the comment module is the one
 //! file allowed to.
-#![cfg(not(target_arch = "wasm32"))]
 
 use std::path::{Path, PathBuf};
 
