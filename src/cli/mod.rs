@@ -15,6 +15,7 @@ mod gcode;
 mod plain_run;
 mod program;
 mod simulate;
+mod userprog;
 
 use std::ffi::OsString;
 use std::io::{self, Write};
