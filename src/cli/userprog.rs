@@ -12,12 +12,12 @@ use std::time::Instant;
 use clap::{Args, ValueEnum};
 use glam::DVec3;
 use interpolab::gcode::interp::tools::{CamoticsProject, TableUnits, ToolTable, parse_tool_spec};
-use interpolab::gcode::interp::{Canon, Interpreter, Loc};
+use interpolab::gcode::interp::{Interpreter, Loc};
 use interpolab::geom::Cutter;
 use interpolab::limits::MAX_TOOL_TABLE_BYTES;
 use interpolab::numerics::format::{fmt_fixed, fmt_num};
 use interpolab::simulate::canon::{
-    BlockKind, CanonBuilder, CanonOptions, CanonProgram, KinematicsChoice, MachineSetup, RotaryMode, TcpWatch,
+    BlockKind, CanonBuilder, CanonOptions, CanonProgram, KinematicsChoice, MachineSetup, RotaryMode,
 };
 use interpolab::simulate::{Design, DexelStock, HeightMap, NO_TOOL, SimStats, Simulation, heights_csv, png_rgb};
 use serde_json::json;
@@ -229,16 +229,8 @@ pub(crate) fn read(
     let mut main_lines = 0;
     for path in files {
         let mut it: Interpreter<'static> = super::program::open(path, opts.clone())?;
-        let mut watch = TcpWatch::default();
         let mut sub_files = vec![String::new()];
-        while let Some(c) = it.next() {
-            let c = c.map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
-            let tcp = watch.update(it.reports());
-            if matches!(c, Canon::ToolLengthOffset { .. }) {
-                watch.tool_offset();
-            }
-            b.push(&c, tcp).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
-        }
+        b.read(&mut it, |_| true).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
         for k in 1..64u16 {
             let n = it.file_name(k);
             if n.is_empty() {

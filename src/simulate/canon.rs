@@ -63,7 +63,7 @@ use super::program::{MoveKind, Program, SimMove};
 use super::{SimError, Simulation};
 use crate::fiveaxis::{Joints, Machine, MachineKind};
 use crate::gcode::interp::tools::{ToolEntry, ToolShape as TableShape, ToolTable};
-use crate::gcode::interp::{Canon, Feed, FeedMode, Loc, Pose, Report};
+use crate::gcode::interp::{Canon, Feed, FeedMode, Interpreter, Loc, Pose, Report};
 use crate::gcode::parse::ParsedProgram;
 use crate::gcode::path::Segment;
 use crate::geom::Cutter;
@@ -600,6 +600,9 @@ impl CanonBuilder {
                 Ok(())
             }
             Canon::ToolLengthOffset { offset, .. } => {
+                // The spindle stays where it is: the programmed point now reads old − new
+                // further along the axis.
+                self.pos.xyz += self.offset - *offset;
                 self.offset = *offset;
                 Ok(())
             }
@@ -938,6 +941,33 @@ impl CanonBuilder {
         Ok(())
     }
 
+    /// Reads an interpreter's calls to its end (or an error), following tool-centre-point
+    /// control through its reports ([`TcpWatch`]). `keep_going` is asked after each call
+    /// (for progress and cancelling): false stops the reading. Returns whether it reached
+    /// the end.
+    ///
+    /// # Errors
+    /// The interpreter's error (its line and message), or the builder's ([`Self::push`]).
+    pub fn read(
+        &mut self,
+        it: &mut Interpreter<'_>,
+        mut keep_going: impl FnMut(&Interpreter<'_>) -> bool,
+    ) -> Result<bool, SimError> {
+        let mut watch = TcpWatch::default();
+        while let Some(c) = it.next() {
+            let c = c.map_err(|e| SimError::Program(e.to_string()))?;
+            let tcp = watch.update(it.reports());
+            if matches!(c, Canon::ToolLengthOffset { .. }) {
+                watch.tool_offset();
+            }
+            self.push(&c, tcp)?;
+            if !keep_going(it) {
+                return Ok(false);
+            }
+        }
+        Ok(true)
+    }
+
     /// The program, with the notes of what was counted along the way.
     #[must_use]
     pub fn finish(mut self) -> CanonProgram {
@@ -971,24 +1001,6 @@ impl CanonBuilder {
 }
 
 impl CanonProgram {
-    /// Reads a whole program: `calls` are the interpreter's results, `reports` gives its
-    /// reports after each call (for [`TcpWatch`]).
-    ///
-    /// # Errors
-    /// The interpreter's error (as text, by `on_error`) or the builder's.
-    pub fn build<E>(
-        opts: CanonOptions,
-        mut next: impl FnMut() -> Option<Result<(Canon, bool), E>>,
-        on_error: impl Fn(E) -> SimError,
-    ) -> Result<Self, SimError> {
-        let mut b = CanonBuilder::new(opts);
-        while let Some(r) = next() {
-            let (c, tcp) = r.map_err(&on_error)?;
-            b.push(&c, tcp)?;
-        }
-        Ok(b.finish())
-    }
-
     /// The blocks that turn a rotary axis and whose nonlinear error exceeds `tol_mm`.
     pub fn over_tolerance(&self, tol_mm: f64) -> impl Iterator<Item = &ProgramBlock> {
         self.blocks.iter().filter(move |b| b.rotary.and_then(|r| r.nonlinear_mm).is_some_and(|e| e > tol_mm))

@@ -363,8 +363,8 @@ fn cone_span(tool: &ToolShape, tip: DVec3, axis: DVec3, x: f64, y: f64) -> Optio
     } else {
         return None;
     };
-    // cos²α = 1 / (1 + cot²α).
-    let c2 = 1.0 / (1.0 + tool.cot * tool.cot);
+    // cos²α = cot²α / (1 + cot²α).
+    let c2 = tool.cot * tool.cot / (1.0 + tool.cot * tool.cot);
     let qa = c2 - az * az;
     let qb = 2.0 * (c2 * w0.z - wa * az);
     let qc = c2 * w0.length_squared() - wa * wa;
