@@ -203,24 +203,24 @@ pub(crate) fn read(
     let mut messages = Vec::new();
     let mut machine = s.machine;
     // The machine from the header when none is given: read the first file's comments.
-    if machine.is_none() {
-        if let Some(first) = files.first() {
-            let mut head = super::program::open(first, opts.clone())?;
-            let mut n = 0;
-            while n < 200 {
-                match head.next() {
-                    Some(Ok(_)) => n += 1,
-                    _ => break,
-                }
+    if machine.is_none()
+        && let Some(first) = files.first()
+    {
+        let mut head = super::program::open(first, opts.clone())?;
+        let mut n = 0;
+        while n < 200 {
+            match head.next() {
+                Some(Ok(_)) => n += 1,
+                _ => break,
             }
-            if let Some((m, loc)) = MachineSetup::from_comments(head.comments(), 0.0) {
-                messages.push(format!(
-                    "machine      {} (named by the comment on line {}; --machine to choose another)",
-                    m.name(),
-                    loc.line
-                ));
-                machine = Some(m);
-            }
+        }
+        if let Some((m, loc)) = MachineSetup::from_comments(head.comments(), 0.0) {
+            messages.push(format!(
+                "machine      {} (named by the comment on line {}; --machine to choose another)",
+                m.name(),
+                loc.line
+            ));
+            machine = Some(m);
         }
     }
     let copts =

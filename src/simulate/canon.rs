@@ -758,11 +758,10 @@ impl CanonBuilder {
                         RotaryMode::Joints => Joints { xyz_mm: p, rotary_rad: a },
                     }
                 };
-                if mode == RotaryMode::Joints {
-                    if machine.kind.uses_tool_length() {
-                        machine.tool_length_mm += delta;
-                    }
-                    // Table machines: the tool (along machine Z) reaches Δ lower.
+                // Head machines: the tool reaches Δ further from the head axis; table
+                // machines: Δ lower along machine Z (the shift below).
+                if mode == RotaryMode::Joints && machine.kind.uses_tool_length() {
+                    machine.tool_length_mm += delta;
                 }
                 let shift = if mode == RotaryMode::Joints && !machine.kind.uses_tool_length() {
                     delta * DVec3::Z
