@@ -202,7 +202,7 @@ pub fn read(req: &Request, progress: &mut dyn Progress) -> Result<(CanonProgram,
     let done = b
         .read(&mut it, |it| {
             calls += 1;
-            if calls % 512 == 0 {
+            if calls.is_multiple_of(512) {
                 progress.progress(READ_SHARE * it.main_offset() as f64 / size);
                 return !progress.cancelled();
             }
@@ -297,7 +297,7 @@ fn summarize(
         let last = moves.len().saturating_sub(1);
         for (j, m) in moves.iter().enumerate() {
             k += 1;
-            if j == last || k % keep_every == 0 {
+            if j == last || k.is_multiple_of(keep_every) {
                 push(crate::simulate::canon::move_ends(m)[1]);
             }
         }
