@@ -602,6 +602,15 @@ impl Panel for UserProgramPanel {
     }
 
     fn set_option(&mut self, key: &str, value: &str) -> Result<(), String> {
+        // A file given by name (automation): `file:job.ngc`, `file:tools.tbl`, … with its text.
+        if let Some(name) = key.strip_prefix("file:") {
+            let kind = FileKind::from_name(name);
+            if kind == FileKind::Scene {
+                return Err(format!("{name}: give a program (.ngc, .nc, …), a tool table (.tbl) or a CAMotics project (.camotics)"));
+            }
+            self.take_file(kind, name.to_owned(), value.to_owned());
+            return Ok(());
+        }
         match key {
             "colour" => {
                 self.colour = ColourBy::ALL
@@ -647,7 +656,7 @@ impl Panel for UserProgramPanel {
             }
             _ => {
                 return Err(format!(
-                    "this view has no option \"{key}\" (colour, tolerance, machine, kinematics, simulate, line, pitch)"
+                    "this view has no option \"{key}\" (file:NAME, colour, tolerance, machine, kinematics, simulate, line, pitch)"
                 ));
             }
         }
