@@ -69,9 +69,9 @@ async function clickKey(page, key) {
 // subroutine file it calls.
 const PROGRAM = [
   "(two tools: a 6 mm end mill clears a pocket, a 90 degree V engraves two grooves)",
-  "G21 G90 G17 G94", "G0 Z30", "T1 M6", "G0 G43 H1 Z30 S12000 M3", "G0 X5 Y5", "G0 Z2",
+  "G21 G90 G17 G94", "G0 Z100", "T1 M6", "G0 G43 H1 Z30 S12000 M3", "G0 X5 Y5", "G0 Z2",
   "G1 Z-2 F300", "G1 X35 F900", "G1 Y25", "G1 X5", "G1 Y5", "G1 X35 Y10", "G1 X5 Y15", "G1 X35 Y20",
-  "G2 X35 Y5 I0 J-7.5", "G0 Z30", "T2 M6", "G0 G43 H2 Z30", "o<engrave> call [32]", "o<engrave> call [36]",
+  "G2 X35 Y5 I0 J-7.5", "G0 Z100", "T2 M6", "G0 G43 H2 Z30", "o<engrave> call [32]", "o<engrave> call [36]",
   "G0 Z30", "M30",
 ].join("\n") + "\n";
 const SUB = ["o<engrave> sub", "G0 X0 Y#1", "G0 Z2", "G1 Z-1.2 F400", "G1 X40", "G0 Z5", "o<engrave> endsub"].join("\n") + "\n";
@@ -107,7 +107,7 @@ try {
   s = await waitFor(page, "the stock machined", (s) => tabReady(s) && s.panel.status.removed_mm3 && !s.panel.status.computing);
   st = s.panel.status;
   const g = await frameGaps(page);
-  check("Simulate machines it with both tools", st.removed_mm3.length === 2 && st.removed_mm3.every((v) => v > 1),
+  check("Simulate machines it with both tools, no rapid in the material", st.removed_mm3.length === 2 && st.removed_mm3.every((v) => v > 1) && st.rapid_cuts === 0,
     `removed ${st.removed_mm3.map((v) => v.toFixed(1)).join(" + ")} mm³ on ${st.stock_rays} rays in ${Math.round(st.run_ms)} ms; frames: median ${g.median?.toFixed(1)} ms, longest ${g.longest?.toFixed(1)} ms`);
   await page.waitForTimeout(300);
   shot = await page.screenshot({ path: path.join(artifacts, "userprog-2-simulated.png") });

@@ -667,7 +667,12 @@ impl CanonBuilder {
         let start = self.pos;
         let first_move = !self.moved;
         self.moved = true;
-        let slot = self.current_slot(loc)?;
+        // A leading rapid before any tool change is not cut and needs no tool.
+        let slot = if first_move && kind == BlockKind::Rapid && self.slot.is_none() {
+            NO_SLOT
+        } else {
+            self.current_slot(loc)?
+        };
         let mode = match self.opts.kinematics {
             KinematicsChoice::Joints => RotaryMode::Joints,
             KinematicsChoice::Tcp => RotaryMode::Tcp,

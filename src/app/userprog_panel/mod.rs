@@ -316,6 +316,18 @@ impl UserProgramPanel {
             let over = s.block_error.iter().filter(|e| f64::from(**e) > self.tol()).count();
             ui.label(format!("machine {m}: {measured} blocks measured, {over} over {} mm", self.tol()));
         }
+        if let Some(r) = &self.result
+            && r.counters.rapid_cuts > 0
+        {
+            super::widgets::error_text(
+                ui,
+                format!(
+                    "{} rapid move(s) (G0) cut material, the first at line {}",
+                    r.counters.rapid_cuts,
+                    r.counters.first_rapid_cut_line.unwrap_or(0)
+                ),
+            );
+        }
         egui::Grid::new("userprog_tools").striped(true).show(ui, |ui| {
             ui.strong("tool");
             ui.strong("cutter");
@@ -598,6 +610,8 @@ impl Panel for UserProgramPanel {
             "drawn_segments": self.view.drawn_segments(),
             "removed_mm3": self.result.as_ref().map(|r| r.removed_mm3.clone()),
             "stock_rays": self.result.as_ref().map(|r| r.map.grid.len()),
+            "rapid_cuts": self.result.as_ref().map(|r| r.counters.rapid_cuts),
+            "first_rapid_cut_line": self.result.as_ref().and_then(|r| r.counters.first_rapid_cut_line),
         })
     }
 
@@ -606,7 +620,9 @@ impl Panel for UserProgramPanel {
         if let Some(name) = key.strip_prefix("file:") {
             let kind = FileKind::from_name(name);
             if kind == FileKind::Scene {
-                return Err(format!("{name}: give a program (.ngc, .nc, …), a tool table (.tbl) or a CAMotics project (.camotics)"));
+                return Err(format!(
+                    "{name}: give a program (.ngc, .nc, …), a tool table (.tbl) or a CAMotics project (.camotics)"
+                ));
             }
             self.take_file(kind, name.to_owned(), value.to_owned());
             return Ok(());

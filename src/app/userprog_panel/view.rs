@@ -30,6 +30,9 @@ pub fn tool_colour(slot: usize) -> egui::Color32 {
     PALETTE[slot % PALETTE.len()]
 }
 
+/// Most path points drawn (about as many segments): past it the path is thinned evenly.
+pub const MAX_DRAWN: usize = 40_000;
+
 const RAPID: egui::Color32 = egui::Color32::from_rgb(120, 120, 120);
 const UNMEASURED: egui::Color32 = egui::Color32::from_rgb(95, 105, 115);
 const OVER: egui::Color32 = egui::Color32::from_rgb(255, 0, 220);
@@ -223,7 +226,26 @@ impl PathView {
             feeds.iter().copied().fold(f32::INFINITY, f32::min),
             feeds.iter().copied().fold(f32::NEG_INFINITY, f32::max),
         );
+        // The stock block's edges.
+        let b = s.stock_mm;
+        let corner = |i: usize| {
+            Vec3::new(
+                if i & 1 == 0 { b[0] } else { b[3] } as f32,
+                if i & 2 == 0 { b[1] } else { b[4] } as f32,
+                if i & 4 == 0 { b[2] } else { b[5] } as f32,
+            )
+        };
+        for (i, j) in [(0, 1), (2, 3), (4, 5), (6, 7), (0, 2), (1, 3), (4, 6), (5, 7), (0, 4), (1, 5), (2, 6), (3, 7)] {
+            if let (Some(p), Some(q)) = (to_screen(corner(i)), to_screen(corner(j))) {
+                self.shapes
+                    .push(egui::Shape::line_segment([p, q], egui::Stroke::new(1.0, egui::Color32::from_gray(70))));
+            }
+        }
         let limit = shown.unwrap_or(usize::MAX);
+        // At most MAX_DRAWN points: past it every `stride`-th point of a run is kept (its
+        // first and last always), besides merging points within a pixel.
+        let stride = (s.point_block.len() / MAX_DRAWN + 1).max(1);
+        let mut since = 0usize;
         let mut run: Vec<egui::Pos2> = Vec::new();
         let mut run_colour = egui::Color32::TRANSPARENT;
         let mut last: Option<egui::Pos2> = None;
@@ -236,19 +258,28 @@ impl PathView {
                 }
                 run.clear();
             };
-        let mut pick_stride = 0usize;
         let mut marker = None;
+        let n_points = s.point_block.len();
         for (k, p) in s.points.chunks_exact(3).enumerate() {
             let b = s.point_block.get(k).copied().unwrap_or(0) as usize;
             if b >= limit {
                 break;
+            }
+            let colour = block_colour(s, b, by, tol, feed_range);
+            let change = colour != run_colour;
+            let next_block = s.point_block.get(k + 1).map(|nb| *nb as usize);
+            let is_end = next_block.is_none_or(|nb| nb >= limit || block_colour(s, nb, by, tol, feed_range) != colour);
+            let is_selected = Some(b) == selected || next_block == selected;
+            since += 1;
+            // Points between kept ones are not even projected (the thinning's saving).
+            if !(change || is_end || is_selected || since.is_multiple_of(stride) || k + 1 == n_points) {
+                continue;
             }
             let Some(q) = to_screen(Vec3::new(p[0], p[1], p[2])) else {
                 last = None;
                 continue;
             };
             marker = Some(q);
-            let colour = block_colour(s, b, by, tol, feed_range);
             if Some(b) == selected {
                 if sel_pts.is_empty()
                     && let Some(l) = last
@@ -257,7 +288,7 @@ impl PathView {
                 }
                 sel_pts.push(q);
             }
-            if colour != run_colour {
+            if change {
                 let prev = run.last().copied();
                 flush(&mut run, run_colour, &mut self.shapes, &mut self.segments);
                 run_colour = colour;
@@ -265,14 +296,11 @@ impl PathView {
                     run.push(pv);
                 }
                 run.push(q);
-            } else if run.last().is_none_or(|l| l.distance_sq(q) >= 1.0) {
+            } else if is_end || run.last().is_none_or(|l| l.distance_sq(q) >= 1.0) {
                 run.push(q);
             }
             last = Some(q);
-            pick_stride += 1;
-            if pick_stride.is_multiple_of(4) || self.picks.len() < 50_000 {
-                self.picks.push((q, u32::try_from(b).unwrap_or(u32::MAX)));
-            }
+            self.picks.push((q, u32::try_from(b).unwrap_or(u32::MAX)));
         }
         flush(&mut run, run_colour, &mut self.shapes, &mut self.segments);
         if sel_pts.len() == 1 {
