@@ -91,6 +91,7 @@ struct Key {
     rect: egui::Rect,
     camera: OrbitCamera,
     serial: u64,
+    moving: bool,
 }
 
 /// The path view: camera, cached shapes and projected points (for picking).
@@ -105,6 +106,8 @@ pub struct PathView {
     segments: usize,
     /// Projected points kept for picking: (screen position, block).
     picks: Vec<(egui::Pos2, u32)>,
+    /// Each block's colour, for the serial they were made for.
+    colours: (u64, Vec<egui::Color32>),
     map_texture: Option<(usize, egui::TextureHandle)>,
 }
 
@@ -177,10 +180,15 @@ impl PathView {
         }
         let painter = ui.painter_at(rect);
         painter.rect_filled(rect, 0.0, egui::Color32::from_gray(22));
-        let key = Key { rect, camera: self.camera, serial: self.serial };
+        // While the view turns, a coarser path (a quarter of the points); the whole when it rests.
+        let moving = resp.dragged() || ui.input(|i| i.smooth_scroll_delta.y.abs() > 0.0);
+        let key = Key { rect, camera: self.camera, serial: self.serial, moving };
         if self.key != Some(key) {
-            self.build(rect, s, by, tol, selected, shown);
+            self.build(rect, s, by, tol, selected, shown, if moving { MAX_DRAWN / 4 } else { MAX_DRAWN });
             self.key = Some(key);
+        }
+        if moving {
+            ui.ctx().request_repaint();
         }
         painter.extend(self.shapes.iter().cloned());
         self.legend(&painter, rect, s, by, tol);
@@ -195,6 +203,7 @@ impl PathView {
         })
     }
 
+    #[allow(clippy::too_many_arguments, reason = "the view's inputs, all read-only")]
     fn build(
         &mut self,
         rect: egui::Rect,
@@ -203,6 +212,7 @@ impl PathView {
         tol: f64,
         selected: Option<usize>,
         shown: Option<usize>,
+        max_points: usize,
     ) {
         self.shapes.clear();
         self.picks.clear();
@@ -241,10 +251,16 @@ impl PathView {
                     .push(egui::Shape::line_segment([p, q], egui::Stroke::new(1.0, egui::Color32::from_gray(70))));
             }
         }
+        if self.colours.0 != self.serial || self.colours.1.len() != s.block_kind.len() {
+            let colours = (0..s.block_kind.len()).map(|b| block_colour(s, b, by, tol, feed_range)).collect();
+            self.colours = (self.serial, colours);
+        }
+        let colours = &self.colours.1;
+        let colour_of = |b: usize| colours.get(b).copied().unwrap_or(RAPID);
         let limit = shown.unwrap_or(usize::MAX);
         // At most MAX_DRAWN points: past it every `stride`-th point of a run is kept (its
         // first and last always), besides merging points within a pixel.
-        let stride = (s.point_block.len() / MAX_DRAWN + 1).max(1);
+        let stride = (s.point_block.len() / max_points.max(1) + 1).max(1);
         let mut since = 0usize;
         let mut run: Vec<egui::Pos2> = Vec::new();
         let mut run_colour = egui::Color32::TRANSPARENT;
@@ -265,10 +281,10 @@ impl PathView {
             if b >= limit {
                 break;
             }
-            let colour = block_colour(s, b, by, tol, feed_range);
+            let colour = colour_of(b);
             let change = colour != run_colour;
             let next_block = s.point_block.get(k + 1).map(|nb| *nb as usize);
-            let is_end = next_block.is_none_or(|nb| nb >= limit || block_colour(s, nb, by, tol, feed_range) != colour);
+            let is_end = next_block.is_none_or(|nb| nb >= limit || colour_of(nb) != colour);
             let is_selected = Some(b) == selected || next_block == selected;
             since += 1;
             // Points between kept ones are not even projected (the thinning's saving).
