@@ -348,7 +348,7 @@ fn block_times_follow_g94_g93_and_g95() {
 #[test]
 fn tools_the_table_lacks_take_the_default_cutter_or_are_refused() {
     let tools = table();
-    let text = "G21 G90\nG0 X0 Y0 Z5\nT7 M6\nG1 Z-1 F100\nM30\n";
+    let text = "G21 G90\nG0 X0 Y0 Z5\nG1 Z4 F100\nT7 M6\nG1 Z-1 F100\nM30\n";
     let mut it = Interpreter::from_text(text, Options { tools: tools.clone(), ..Options::default() });
     let mut b = CanonBuilder::new(CanonOptions {
         machine: None,
@@ -358,10 +358,11 @@ fn tools_the_table_lacks_take_the_default_cutter_or_are_refused() {
         default_cutter: None,
     });
     let e = b.read(&mut it, |_| true).unwrap_err().to_string();
-    assert!(e.contains("line 3: tool 7 is not in the tool table") && e.contains("--tool 7:"), "{e}");
+    assert!(e.contains("line 4: tool 7 is not in the tool table") && e.contains("--tool 7:"), "{e}");
     let p = read(text, &tools, Some(Cutter::ball(1.0).unwrap()));
     let numbers: Vec<i32> = p.tools.iter().map(|t| t.number).collect();
-    // Before M6 the default cutter; then tool 7, also the default cutter.
+    // A feed move before M6 is cut with the default cutter (the leading rapid needs none);
+    // then tool 7, also the default cutter.
     assert_eq!(numbers, [-1, 7]);
     assert!(p.tools[1].source.contains("tool 7 is not in the tool table"), "{}", p.tools[1].source);
 }

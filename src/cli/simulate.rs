@@ -134,7 +134,7 @@ fn numbers(text: &str, what: &str, n: usize) -> Result<Vec<f64>, Fatal> {
 fn parse_cutter(text: &str) -> Result<Cutter, Fatal> {
     let bad = || {
         Fatal(format!(
-            "--cutter `{text}`: give ball:R, flat:R, fillet:R,r, v:R,angle or drill:R[,angle] in mm and degrees (e.g. ball:5, fillet:5,1, v:3,90)"
+            "--cutter `{text}`: give ball:R, flat:R or fillet:R,r in mm, or a tapered v:R,angle or drill:R[,angle] (included angle in degrees), e.g. ball:5, fillet:5,1, v:3,90"
         ))
     };
     let (kind, dims) = text.split_once(':').ok_or_else(bad)?;
