@@ -24,6 +24,7 @@ mod platform;
 pub mod ranges;
 mod scene_controls;
 mod simulate_panel;
+mod userprog_panel;
 mod widgets;
 
 #[cfg(not(target_arch = "wasm32"))]
@@ -490,6 +491,7 @@ fn panels() -> Vec<Box<dyn Panel>> {
         Box::new(nurbs_panel::NurbsPanel::default()),
         Box::new(simulate_panel::SimulatePanel::default()),
         Box::new(fillet_panel::FilletPanel::default()),
+        Box::new(userprog_panel::UserProgramPanel::default()),
     ]
 }
 
@@ -529,12 +531,17 @@ impl eframe::App for InterpolabApp {
             self.program_generation += 1;
         }
         // Files for a panel switch to it; with no panel for them, say so.
+        // The tab shown keeps a file it takes (a G-code file opened in the user-program tab
+        // stays there); otherwise the first tab that takes it is shown.
         if let Some(f) = other_files.first() {
-            match self.panels.iter().position(|p| p.accepts() == Some(f.kind)) {
-                Some(i) => self.tab = i,
-                None => {
-                    self.error(format!("{}: this app version has no view for this kind of file.", f.name));
-                    other_files.clear();
+            let takes = |p: &dyn Panel| p.accepts() == Some(f.kind) || p.accepts_also().contains(&f.kind);
+            if !self.panels.get(self.tab).is_some_and(|p| takes(p.as_ref())) {
+                match self.panels.iter().position(|p| takes(p.as_ref())) {
+                    Some(i) => self.tab = i,
+                    None => {
+                        self.error(format!("{}: this app version has no view for this kind of file.", f.name));
+                        other_files.clear();
+                    }
                 }
             }
         }
@@ -571,7 +578,9 @@ impl eframe::App for InterpolabApp {
         // The tab's controls in the side panel, then its view in the central area; both see
         // the same context, and the scene's edits are applied after each.
         let kind = self.panels.get(self.tab).and_then(|p| p.accepts());
-        let mut incoming: Vec<Incoming> = other_files.drain(..).filter(|f| Some(f.kind) == kind).collect();
+        let also = self.panels.get(self.tab).map_or(&[][..], |p| p.accepts_also());
+        let mut incoming: Vec<Incoming> =
+            other_files.drain(..).filter(|f| Some(f.kind) == kind || also.contains(&f.kind)).collect();
         let mut messages = Vec::new();
         let mut handoff = None;
         if !ablate::hidden(ablate::Part::Side) {

@@ -124,6 +124,11 @@ pub trait Panel {
     fn accepts(&self) -> Option<FileKind> {
         None
     }
+    /// Other kinds of files this view takes: routed to it when it is shown, or when no view
+    /// [`Panel::accepts`] them first.
+    fn accepts_also(&self) -> &'static [FileKind] {
+        &[]
+    }
     /// Draws the controls that act on what this tab shows into the app's side panel; a tab
     /// that shows the scene or its crease adds the shared [`PanelContext::scene_controls`].
     /// Called every frame before [`Panel::ui`].

@@ -8,6 +8,10 @@ pub enum FileKind {
     Scene,
     /// A G-code program (`.nc`, `.ngc`, `.gcode`, `.tap`, `.txt`).
     GCode,
+    /// A LinuxCNC tool table (`.tbl`).
+    ToolTable,
+    /// A CAMotics project (`.camotics`).
+    Project,
 }
 
 impl FileKind {
@@ -17,6 +21,10 @@ impl FileKind {
         let lower = name.to_ascii_lowercase();
         if [".nc", ".ngc", ".gcode", ".tap", ".cnc", ".txt"].iter().any(|e| lower.ends_with(e)) {
             Self::GCode
+        } else if lower.ends_with(".tbl") {
+            Self::ToolTable
+        } else if lower.ends_with(".camotics") {
+            Self::Project
         } else {
             Self::Scene
         }
@@ -28,6 +36,8 @@ impl FileKind {
         match self {
             Self::Scene => (crate::limits::MAX_SCENE_BYTES, "scene"),
             Self::GCode => (crate::limits::MAX_PROGRAM_BYTES, "G-code program"),
+            Self::ToolTable => (crate::limits::MAX_TOOL_TABLE_BYTES, "tool table"),
+            Self::Project => (crate::limits::MAX_TOOL_TABLE_BYTES, "CAMotics project"),
         }
     }
 
@@ -37,6 +47,8 @@ impl FileKind {
         match self {
             Self::Scene => ".json,application/json",
             Self::GCode => ".nc,.ngc,.gcode,.tap,.cnc,.txt,text/plain",
+            Self::ToolTable => ".tbl,text/plain",
+            Self::Project => ".camotics,application/json",
         }
     }
 }
@@ -95,12 +107,12 @@ mod imp {
                         return;
                     };
                     let name = file.name();
-                    // A G-code file goes to the G-code view whichever button opened the
-                    // picker (and so does one given to the input by a test driver); anything
-                    // else is what the button asked for.
+                    // A G-code file, tool table or project is what its name says whichever
+                    // button opened the picker (and so is one given to the input by a test
+                    // driver); anything else is what the button asked for.
                     let kind = match FileKind::from_name(&name) {
-                        FileKind::GCode => FileKind::GCode,
                         FileKind::Scene => picking2.get(),
+                        k => k,
                     };
                     let inbox3 = inbox2.clone();
                     let ctx3 = ctx2.clone();
@@ -283,7 +295,12 @@ mod imp {
             let kind = *kind;
             let mut open = true;
             let mut load = false;
-            let title = if kind == FileKind::Scene { "Open a scene file" } else { "Open a G-code program" };
+            let title = match kind {
+                FileKind::Scene => "Open a scene file",
+                FileKind::GCode => "Open a G-code program",
+                FileKind::ToolTable => "Open a tool table",
+                FileKind::Project => "Open a CAMotics project",
+            };
             egui::Window::new(title).open(&mut open).collapsible(false).show(ctx, |ui| {
                 ui.label("Path of the file:");
                 let r = ui.text_edit_singleline(path);

@@ -180,6 +180,12 @@ pub(crate) struct ReplayArgs {
     dialect: Option<Dialect>,
     #[command(flatten)]
     read: super::program::ReadArgs,
+    #[command(flatten)]
+    tools: super::userprog::ToolArgs,
+    /// With --machine and --tolerance: list every block that turns a rotary axis, not only
+    /// those over the tolerance.
+    #[arg(long)]
+    all: bool,
 }
 
 fn parse_dialect(s: &str) -> Result<Dialect, String> {
@@ -337,6 +343,14 @@ fn v3(p: glam::DVec3) -> String {
 }
 
 pub(super) fn replay(a: &ReplayArgs) -> Result<ExitCode, Fatal> {
+    if a.tools.machine.is_some() {
+        if a.scene.is_some() || a.profile.is_some() {
+            return Err(Fatal(
+                "--machine reports the program's own nonlinear error; leave out --scene and --profile".to_owned(),
+            ));
+        }
+        return super::userprog::replay(&a.program, &a.read, &a.tools, a.tolerance, a.all);
+    }
     let (parsed, dialect, how) = super::program::read_path(&a.program, a.dialect, &a.read)?;
     let s = summarize(&parsed.toolpath);
     let mut lines = vec![

@@ -15,6 +15,7 @@ mod gcode;
 mod plain_run;
 mod program;
 mod simulate;
+mod userprog;
 
 use std::ffi::OsString;
 use std::io::{self, Write};
@@ -79,7 +80,7 @@ enum Command {
     /// Write a G01, G02/G03 or G06.2 program for a scene's crease within a tolerance (seed 004).
     Gcode(gcode::GcodeArgs),
     /// Read a G-code program; with --scene, report its deviation from the design crease.
-    Replay(gcode::ReplayArgs),
+    Replay(Box<gcode::ReplayArgs>),
     /// Read a G-code program as the controller reads it (RS274/NGC, LinuxCNC, FANUC macros) and print its canonical calls, one a line, in machine mm.
     Canon(program::CanonArgs),
     /// Compare the G01, G02/G03 and G06.2 programs at a tolerance (blocks, bytes, deviation, smoothness).
@@ -97,7 +98,7 @@ enum Command {
     /// Five-axis finishing of one surface with a fillet-end mill (seed 001): CL data, --table, --gcode.
     Finish(finish::FinishArgs),
     /// Cutting simulation: machine a G-code program into a dexel stock; height map (CSV), PNG, statistics (JSON).
-    Simulate(simulate::SimulateArgs),
+    Simulate(Box<simulate::SimulateArgs>),
 }
 
 /// Reads a file the command line was given, at most `cap` bytes of it

@@ -34,47 +34,17 @@ pub(crate) struct ReadArgs {
     /// Skip the lines that start with `/` (the block-delete switch on).
     #[arg(long)]
     pub block_delete: bool,
-    /// The tool table: a LinuxCNC `.tbl` (lengths and diameters in `--table-units`) or a
-    /// CAMotics project (`.camotics`); G43 takes its lengths, G41/G42 its radii.
-    #[arg(long)]
-    pub tools: Option<PathBuf>,
-    /// A tool `N:shape:diameter[:corner]` (mm; shape flat, ball, bull, v, drill), e.g.
-    /// `2:ball:6`; repeatable, and over a table's tool of the same number.
-    #[arg(long = "tool")]
-    pub tool: Vec<String>,
-    /// Units of a `.tbl` tool table.
-    #[arg(long, value_enum, default_value = "mm")]
-    pub table_units: UnitsArg,
 }
 
 impl ReadArgs {
-    /// The interpreter's options, with the tool table read.
-    pub(crate) fn options(&self) -> Result<Options, Fatal> {
-        use interpolab::gcode::interp::tools::{TableUnits, ToolTable, parse_tool_spec};
-        let mut tools = ToolTable::default();
-        if let Some(path) = &self.tools {
-            let text = super::read_capped(path, interpolab::limits::MAX_TOOL_TABLE_BYTES, "tool table")
-                .map_err(|e| Fatal(format!("cannot read tool table {}: {e}", path.display())))?;
-            let camotics = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("camotics"));
-            tools = if camotics {
-                ToolTable::from_camotics(&text).map(|p| p.tools)
-            } else {
-                let units = if self.table_units == UnitsArg::Inch { TableUnits::Inch } else { TableUnits::Mm };
-                ToolTable::from_linuxcnc(&text, units)
-            }
-            .map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
-        }
-        for spec in &self.tool {
-            let t = parse_tool_spec(spec).map_err(|e| Fatal(format!("--tool {e}")))?;
-            tools.set(t).map_err(|e| Fatal(format!("--tool {e}")))?;
-        }
-        Ok(Options {
+    /// The interpreter's options (a tool table comes from the tool options, `userprog::ToolArgs`).
+    pub(crate) fn options(&self) -> Options {
+        Options {
             inch: self.units == UnitsArg::Inch,
             strict: self.strict,
             block_delete: self.block_delete,
-            tools,
             ..Options::default()
-        })
+        }
     }
 }
 
@@ -86,6 +56,9 @@ pub(crate) struct CanonArgs {
     pub program: PathBuf,
     #[command(flatten)]
     pub read: ReadArgs,
+    /// Tools (`--tools`, `--project`, `--tool`): G43 takes their lengths, G41/G42 their radii.
+    #[command(flatten)]
+    pub tools: super::userprog::ToolArgs,
 }
 
 /// Subroutine files in a directory.
@@ -129,7 +102,8 @@ fn loc_text(it: &Interpreter<'_>, loc: interpolab::gcode::interp::Loc) -> String
 
 /// Prints the program's canonical calls.
 pub(crate) fn canon(a: &CanonArgs) -> Result<ExitCode, Fatal> {
-    let mut it = open(&a.program, a.read.options()?)?;
+    let table = super::userprog::setup(&a.tools)?.table;
+    let mut it = open(&a.program, Options { tools: table, ..a.read.options() })?;
     let stdout = io::stdout();
     let mut out = io::BufWriter::new(stdout.lock());
     let mut line = String::new();
@@ -246,7 +220,7 @@ pub(crate) fn read_path(
             .map_err(|e| Fatal(format!("cannot read program {}: {e}", path.display())))?;
         parse_program_in(&text, dialect)
     } else {
-        let opts = Options { keep_comments: 64, fanuc: dialect == Dialect::Fanuc, ..read.options()? };
+        let opts = Options { keep_comments: 64, fanuc: dialect == Dialect::Fanuc, ..read.options() };
         read_from(open(path, opts)?, dialect)
     };
     let parsed = parsed.map_err(|e| Fatal(format!("{}: {e}", path.display())))?;

@@ -36,8 +36,9 @@ pub(crate) enum PointArg {
 
 #[derive(Args)]
 pub(crate) struct SimulateArgs {
-    /// G-code program (G00/G01/G02/G03 in G17/G18/G19, helical, G06.2 NURBS).
-    #[arg(required_unless_present = "benchmark")]
+    /// G-code program (G00/G01/G02/G03 in G17/G18/G19, helical, G06.2 NURBS); with
+    /// --project it may be left out (the project's files are read).
+    #[arg(required_unless_present_any = ["benchmark", "project"])]
     program: Option<PathBuf>,
     #[command(flatten)]
     read: super::program::ReadArgs,
@@ -46,8 +47,10 @@ pub(crate) struct SimulateArgs {
     /// --cutter and --stock as for a program (the benchmarks: ball:3, 0,0,0,51.2,51.2,20).
     #[arg(long, conflicts_with_all = ["program", "steps", "finish", "scene"])]
     benchmark: Option<String>,
-    /// Cutter: `ball:R`, `flat:R` or `fillet:R,r` (mm), e.g. `ball:5` (with --finish: default
-    /// the scene's cutter as its strategy machines).
+    /// Cutter: `ball:R`, `flat:R`, `fillet:R,r`, `v:R,angle` or `drill:R[,angle]` (mm,
+    /// degrees), e.g. `ball:5` (with --finish: default the scene's cutter as its strategy
+    /// machines; with tools: the cutter before the first tool change and of tools the table
+    /// lacks).
     #[arg(long)]
     cutter: Option<String>,
     /// Stock block `x0,y0,z0,x1,y1,z1` (mm) (with --finish: default the part's box widened
@@ -104,6 +107,15 @@ pub(crate) struct SimulateArgs {
     /// Deviation shown at full colour in the PNG (µm).
     #[arg(value_parser = super::finite, long, default_value_t = 50.0)]
     band_um: f64,
+    #[command(flatten)]
+    tools: super::userprog::ToolArgs,
+    /// With tools or a machine: write which tool last cut each ray (`.csv`: i,j,x_mm,y_mm,tool;
+    /// `.png`: a colour per tool, grey where none cut).
+    #[arg(long)]
+    tool_map: Option<PathBuf>,
+    /// With a machine: count the blocks whose nonlinear error exceeds this (mm), in the JSON.
+    #[arg(value_parser = super::finite, long)]
+    tolerance: Option<f64>,
 }
 
 fn numbers(text: &str, what: &str, n: usize) -> Result<Vec<f64>, Fatal> {
@@ -118,9 +130,13 @@ fn numbers(text: &str, what: &str, n: usize) -> Result<Vec<f64>, Fatal> {
     Ok(v)
 }
 
-/// Parses `ball:R`, `flat:R`, `fillet:R,r`.
+/// Parses `ball:R`, `flat:R`, `fillet:R,r`, `v:R,angle`, `drill:R[,angle]`.
 fn parse_cutter(text: &str) -> Result<Cutter, Fatal> {
-    let bad = || Fatal(format!("--cutter `{text}`: give ball:R, flat:R or fillet:R,r in mm (e.g. ball:5, fillet:5,1)"));
+    let bad = || {
+        Fatal(format!(
+            "--cutter `{text}`: give ball:R, flat:R or fillet:R,r in mm, or a tapered v:R,angle or drill:R[,angle] (included angle in degrees), e.g. ball:5, fillet:5,1, v:3,90"
+        ))
+    };
     let (kind, dims) = text.split_once(':').ok_or_else(bad)?;
     let c = match kind.trim() {
         "ball" => Cutter::ball(numbers(dims, "cutter", 1)?[0]),
@@ -128,6 +144,15 @@ fn parse_cutter(text: &str) -> Result<Cutter, Fatal> {
         "fillet" => {
             let v = numbers(dims, "cutter", 2)?;
             Cutter::fillet(v[0], v[1])
+        }
+        "v" => {
+            let v = numbers(dims, "cutter", 2)?;
+            Cutter::tapered(v[0], v[1], 0.0)
+        }
+        "drill" => {
+            let v: Vec<f64> =
+                if dims.contains(',') { numbers(dims, "cutter", 2)? } else { numbers(dims, "cutter", 1)? };
+            Cutter::tapered(v[0], v.get(1).copied().unwrap_or(118.0), 0.0)
         }
         _ => return Err(bad()),
     };
@@ -160,7 +185,7 @@ fn write(path: &Path, bytes: &[u8]) -> Result<(), Fatal> {
     fs::write(path, bytes).map_err(|e| Fatal(format!("cannot write {}: {e}", path.display())))
 }
 
-fn stock_block(text: &str, pitch: f64) -> Result<DexelStock, Fatal> {
+pub(super) fn stock_block(text: &str, pitch: f64) -> Result<DexelStock, Fatal> {
     let s = numbers(text, "stock", 6)?;
     DexelStock::block([s[0], s[1], s[2]], [s[3], s[4], s[5]], pitch).map_err(|e| Fatal(e.to_string()))
 }
@@ -184,6 +209,12 @@ pub(super) fn simulate(a: &SimulateArgs) -> Result<ExitCode, Fatal> {
             )));
         }
         return simulate_finish(a, tol);
+    }
+    if a.tools.any() {
+        return simulate_user(a);
+    }
+    if a.tool_map.is_some() {
+        return Err(Fatal("--tool-map needs the program's tools: give --tools, --project or --tool".to_owned()));
     }
     let cutter = parse_cutter(a.cutter.as_deref().ok_or_else(|| {
         Fatal("--cutter is required: give ball:R, flat:R or fillet:R,r in mm (e.g. ball:5)".to_owned())
@@ -233,6 +264,43 @@ pub(super) fn simulate(a: &SimulateArgs) -> Result<ExitCode, Fatal> {
         &design,
         RunHow { sample_step: a.sample_step, centre, finish_info: None, interior_passes: None },
     )
+}
+
+/// With tools or a machine: the program read through the interpreter into the moves of its
+/// own tools and rotary axes (`userprog`).
+fn simulate_user(a: &SimulateArgs) -> Result<ExitCode, Fatal> {
+    if a.benchmark.is_some() || a.steps.is_some() || a.finish.is_some() {
+        return Err(Fatal(
+            "--tools, --project, --tool and --machine read a G-code PROGRAM; leave out --benchmark, --steps and --finish"
+                .to_owned(),
+        ));
+    }
+    if let Some(t) = a.tolerance
+        && !(t > 0.0)
+    {
+        return Err(Fatal(format!("--tolerance {t}: give a positive length in mm, e.g. 0.01")));
+    }
+    let cutter = a.cutter.as_deref().map(parse_cutter).transpose()?;
+    let design = load_design(&SimulateDesign { design_z: a.design_z, scene: a.scene.as_deref() })?;
+    let chord_tol = a.chord_tol.unwrap_or(a.pitch / 10.0);
+    if !(chord_tol > 0.0) {
+        return Err(Fatal(format!("--chord-tol {chord_tol}: give a positive length in mm")));
+    }
+    super::userprog::simulate(&super::userprog::SimulateRequest {
+        program: a.program.as_deref(),
+        read: &a.read,
+        tools: &a.tools,
+        cutter,
+        stock: super::userprog::StockChoice { given: a.stock.as_deref(), pitch: a.pitch },
+        chord_tol,
+        sample_step: a.sample_step,
+        design,
+        out: a.out.as_deref(),
+        png: a.png.as_deref(),
+        tool_map: a.tool_map.as_deref(),
+        band_um: a.band_um,
+        tolerance: a.tolerance,
+    })
 }
 
 /// `--finish TOL`: PROGRAM is a finishing scene; its paths (the strategy and layout asked
@@ -421,7 +489,7 @@ fn finish(
 /// number as the shortest decimal that reads back to the same double
 /// ([`interpolab::numerics::format::push_num`], as every other command prints numbers:
 /// `4`, not `4.0`); a non-finite number prints as null.
-fn pretty_json(v: &serde_json::Value, depth: usize, out: &mut String) {
+pub(super) fn pretty_json(v: &serde_json::Value, depth: usize, out: &mut String) {
     use serde_json::Value;
     let pad = |out: &mut String, d: usize| out.extend(std::iter::repeat_n("  ", d));
     match v {

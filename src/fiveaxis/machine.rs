@@ -391,6 +391,18 @@ impl Machine {
         Ok(Joints { xyz_mm: tip_m - self.tip_offset_in_machine(angles), rotary_rad: angles })
     }
 
+    /// The joints that put the tool tip at `tip_in_workpiece` with the rotary axes at
+    /// `rotary_rad` (`[tilt, C]`): the angles as given, the linear joints from the inverse of
+    /// the forward kinematics at those angles. This is what a controller under
+    /// tool-centre-point control (`G43.4`, LinuxCNC's TCP kinematics) commands for a
+    /// programmed tip and rotary position; [`Self::pose_from_joints`] of the result gives the
+    /// tip back.
+    #[must_use]
+    pub fn joints_at_angles(&self, tip_in_workpiece: DVec3, rotary_rad: [f64; 2]) -> Joints {
+        let tip_m = self.machine_from_workpiece(rotary_rad, tip_in_workpiece);
+        Joints { xyz_mm: tip_m - self.tip_offset_in_machine(rotary_rad), rotary_rad }
+    }
+
     /// Whether these rotary angles are within travel.
     #[must_use]
     pub fn within_travel(&self, j: &Joints) -> bool {

@@ -17,6 +17,17 @@
 //! A ball end mill has R0 = 0 (no flat bottom), a flat end mill r = 0 (no corner). The
 //! *cutting edge* is the bottom, corner and flank (height ≤ flute length); the shank and
 //! holder must never touch the part (the global interference check).
+//!
+//! A *tapered* cutter (V cutter, engraver, chamfer mill, drill point, CAMotics' snub-nose
+//! tool) has a cone instead of the corner: a flat of radius r_t at the tip (0 for a sharp
+//! point), then the cone of half angle α (half the included tip angle) up to the radius R,
+//! reached at the cone height h_c = (R − r_t)·cot α, then the flank:
+//!
+//! | part | profile |
+//! |---|---|
+//! | flat tip | z = 0 for ρ ≤ r_t |
+//! | cone | z = (ρ − r_t)·cot α, for r_t ≤ ρ ≤ R |
+//! | flank | ρ = R for h_c ≤ z ≤ flute length |
 
 use thiserror::Error;
 
@@ -29,6 +40,8 @@ pub enum CutterKind {
     Fillet,
     /// r = 0: a flat end mill.
     Flat,
+    /// A conical tip ([`Taper`]): V cutter, engraver, drill.
+    Tapered,
 }
 
 impl CutterKind {
@@ -39,6 +52,7 @@ impl CutterKind {
             Self::Ball => "ball",
             Self::Fillet => "fillet",
             Self::Flat => "flat",
+            Self::Tapered => "tapered",
         }
     }
 }
@@ -74,6 +88,32 @@ pub enum CutterError {
         /// r (mm).
         corner_mm: f64,
     },
+    /// A tapered cutter's tip angle is outside (0°, 180°).
+    #[error(
+        "cutter tip angle {angle_deg}° must lie between 0° and 180° (the included angle, e.g. 90 for a V cutter, 118 for a drill)"
+    )]
+    TipAngle {
+        /// The included angle given (degrees).
+        angle_deg: f64,
+    },
+    /// A tapered cutter's flat tip is negative or not smaller than R.
+    #[error("cutter flat tip radius {tip_mm} mm must lie in [0, R) with R = {radius_mm} mm (0 is a sharp point)")]
+    TipFlat {
+        /// r_t (mm).
+        tip_mm: f64,
+        /// R (mm).
+        radius_mm: f64,
+    },
+}
+
+/// The conical tip of a tapered cutter (module docs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Taper {
+    /// Half the included tip angle, α (rad), 0 < α < π/2: a 90° V cutter has π/4, a 118°
+    /// drill 59°.
+    pub half_angle_rad: f64,
+    /// Radius of the flat at the tip, r_t (mm), 0 ≤ r_t < R: 0 for a sharp point.
+    pub tip_radius_mm: f64,
 }
 
 /// A fillet-end mill with its shank and holder. All lengths mm; see the module docs for the
@@ -95,6 +135,9 @@ pub struct Cutter {
     pub holder_radius_mm: f64,
     /// Length of the tool holder along the axis (mm).
     pub holder_length_mm: f64,
+    /// A conical tip instead of the corner (then `corner_radius_mm` is 0); `None` for the
+    /// ball, fillet and flat end mills.
+    pub taper: Option<Taper>,
 }
 
 impl Cutter {
@@ -165,14 +208,51 @@ impl Cutter {
             gauge_length_mm: gauge_length_mm.max(flute_length_mm),
             holder_radius_mm,
             holder_length_mm,
+            taper: None,
         })
+    }
+
+    /// A tapered cutter (V cutter, drill, snub nose) of radius R with an included tip angle
+    /// (degrees, in (0, 180)) and a flat of radius `tip_radius_mm` at the tip (0: a sharp
+    /// point), default proportions as [`Cutter::fillet`] with the flutes and the gauge length
+    /// raised to at least the cone height h_c = (R − r_t)·cot α.
+    ///
+    /// # Errors
+    /// When R is not a positive length, the angle lies outside (0°, 180°) or the flat is
+    /// negative or not smaller than R.
+    pub fn tapered(radius_mm: f64, tip_angle_deg: f64, tip_radius_mm: f64) -> Result<Self, CutterError> {
+        let r = radius_mm;
+        let base = Self::try_new(r, 0.0, 3.0 * r, r, 6.0 * r, 2.5 * r, 6.0 * r)?;
+        if !(tip_angle_deg > 0.0 && tip_angle_deg < 180.0) {
+            return Err(CutterError::TipAngle { angle_deg: tip_angle_deg });
+        }
+        if !(tip_radius_mm >= 0.0 && tip_radius_mm < r) {
+            return Err(CutterError::TipFlat { tip_mm: tip_radius_mm, radius_mm: r });
+        }
+        let taper = Taper { half_angle_rad: 0.5 * tip_angle_deg.to_radians(), tip_radius_mm };
+        let h = (r - tip_radius_mm) / taper.half_angle_rad.tan();
+        Ok(Self {
+            flute_length_mm: base.flute_length_mm.max(h),
+            gauge_length_mm: base.gauge_length_mm.max(h),
+            taper: Some(taper),
+            ..base
+        })
+    }
+
+    /// The height of the cone of a tapered cutter above the tip (mm): (R − r_t)·cot α; 0 for
+    /// the others.
+    #[must_use]
+    pub fn cone_height_mm(&self) -> f64 {
+        self.taper.map_or(0.0, |t| (self.radius_mm - t.tip_radius_mm).max(0.0) / t.half_angle_rad.tan())
     }
 
     /// Ball, fillet or flat, by the corner radius. A corner radius within 1e-12 relative of
     /// R counts as a ball.
     #[must_use]
     pub fn kind(&self) -> CutterKind {
-        if self.corner_radius_mm <= 0.0 {
+        if self.taper.is_some() {
+            CutterKind::Tapered
+        } else if self.corner_radius_mm <= 0.0 {
             CutterKind::Flat
         } else if self.corner_radius_mm >= self.radius_mm * (1.0 - crate::tolerance::CORNER_IS_RADIUS_REL) {
             CutterKind::Ball
@@ -197,6 +277,9 @@ impl Cutter {
         if rho > self.radius_mm {
             return None;
         }
+        if let Some(t) = self.taper {
+            return Some((rho - t.tip_radius_mm).max(0.0) / t.half_angle_rad.tan());
+        }
         let r0 = self.torus_radius_mm();
         if rho <= r0 {
             return Some(0.0);
@@ -214,6 +297,11 @@ impl Cutter {
         let r = self.corner_radius_mm;
         if z_mm < 0.0 {
             return None;
+        }
+        if let Some(t) = self.taper
+            && z_mm < self.cone_height_mm()
+        {
+            return Some(t.tip_radius_mm + z_mm * t.half_angle_rad.tan());
         }
         if z_mm < r {
             let dz = r - z_mm;
@@ -238,6 +326,15 @@ impl Cutter {
             CutterKind::Ball => format!("ball R {} mm", self.radius_mm),
             CutterKind::Flat => format!("flat R {} mm", self.radius_mm),
             CutterKind::Fillet => format!("fillet R {} mm, r {} mm", self.radius_mm, self.corner_radius_mm),
+            CutterKind::Tapered => {
+                let t = self.taper.unwrap_or(Taper { half_angle_rad: 0.0, tip_radius_mm: 0.0 });
+                let angle = crate::numerics::format::fmt_num((2e6 * t.half_angle_rad.to_degrees()).round() / 1e6);
+                if t.tip_radius_mm > 0.0 {
+                    format!("tapered R {} mm, {angle}°, flat tip r {} mm", self.radius_mm, t.tip_radius_mm)
+                } else {
+                    format!("V R {} mm, {angle}°", self.radius_mm)
+                }
+            }
         }
     }
 }

@@ -16,11 +16,13 @@
 //! Kinds: [`program_row::ProgramRow`] (one program of the NURBS & G-code comparison),
 //! [`fillet_row::FilletRow`] (one row of the fillet tab's comparison table),
 //! [`simulate_run::SimulateRun`] (a cutting simulation: the program written, machined and
-//! measured, with keyframes of the stock on the way).
+//! measured, with keyframes of the stock on the way), [`user_program::UserProgram`] (a user's
+//! program with its tools and machine: read, drawn, machined).
 
 pub mod fillet_row;
 pub mod program_row;
 pub mod simulate_run;
+pub mod user_program;
 
 use glam::DVec3;
 use serde_json::Value;
@@ -82,6 +84,7 @@ pub fn run_encoded(name: &str, request: &str, progress: &mut dyn Progress) -> Re
         program_row::ProgramRow::NAME => go::<program_row::ProgramRow>(request, progress),
         fillet_row::FilletRow::NAME => go::<fillet_row::FilletRow>(request, progress),
         simulate_run::SimulateRun::NAME => go::<simulate_run::SimulateRun>(request, progress),
+        user_program::UserProgram::NAME => go::<user_program::UserProgram>(request, progress),
         _ => Err(format!("the worker knows no job \"{name}\"")),
     }
 }

@@ -1018,11 +1018,11 @@ fn nodes_of(v: &Value) -> Result<Vec<CcNode>, String> {
         .collect())
 }
 
-fn grid_value(g: &Grid) -> Value {
+pub(crate) fn grid_value(g: &Grid) -> Value {
     json!({ "x0_mm": super::num(g.x0_mm), "y0_mm": super::num(g.y0_mm), "pitch_mm": super::num(g.pitch_mm), "nx": g.nx, "ny": g.ny })
 }
 
-fn grid_of(v: &Value) -> Result<Grid, String> {
+pub(crate) fn grid_of(v: &Value) -> Result<Grid, String> {
     let g = Reader::new(v, "simulate-run grid")?;
     let grid = Grid {
         x0_mm: g.f64("x0_mm")?,
@@ -1037,7 +1037,7 @@ fn grid_of(v: &Value) -> Result<Grid, String> {
     Ok(grid)
 }
 
-fn counters_value(c: &Counters) -> Value {
+pub(crate) fn counters_value(c: &Counters) -> Value {
     json!({
         "moves": c.moves,
         "samples": c.samples,
@@ -1050,7 +1050,7 @@ fn counters_value(c: &Counters) -> Value {
     })
 }
 
-fn counters_of(v: &Value) -> Result<Counters, String> {
+pub(crate) fn counters_of(v: &Value) -> Result<Counters, String> {
     let c = Reader::new(v, "simulate-run counters")?;
     let u64_of = |k: &str| c.value(k)?.as_u64().ok_or_else(|| format!("simulate-run counters.{k}: not a count"));
     Ok(Counters {

@@ -372,6 +372,20 @@ pub fn png_rgb(map: &HeightMap, stats: Option<&SimStats>, z_range: (f64, f64), b
     encode_png(u32::try_from(g.nx).unwrap_or(u32::MAX), u32::try_from(g.ny).unwrap_or(u32::MAX), &raw)
 }
 
+/// A PNG of `width` × `height` 8-bit RGB pixels given row by row from the top (3 bytes a
+/// pixel); missing pixels are black.
+#[must_use]
+pub fn png_from_rgb(width: usize, height: usize, rgb: &[u8]) -> Vec<u8> {
+    let mut raw = Vec::with_capacity(height * (1 + 3 * width));
+    for row in 0..height {
+        raw.push(0u8);
+        for k in 0..3 * width {
+            raw.push(rgb.get(row * 3 * width + k).copied().unwrap_or(0));
+        }
+    }
+    encode_png(u32::try_from(width).unwrap_or(u32::MAX), u32::try_from(height).unwrap_or(u32::MAX), &raw)
+}
+
 /// A PNG of 8-bit RGB pixels from filtered scanlines `raw` (each row: a filter byte 0 and
 /// 3·width bytes).
 fn encode_png(width: u32, height: u32, raw: &[u8]) -> Vec<u8> {

@@ -26,6 +26,7 @@
 //! benchmark programs). Layout and error bounds: `docs/simulation.md`.
 
 pub mod bench;
+pub mod canon;
 pub mod finish;
 pub mod interior;
 pub mod measure;
@@ -164,7 +165,21 @@ pub struct Simulation {
     /// skips the pose it shares with it.
     last_pose: Option<(DVec3, DVec3)>,
     counters: Counters,
+    /// The sweep tolerance asked for by [`Self::with_sweep_tol`] (kept for later ball end
+    /// mills after a tool change); `None`: the default.
+    sweep_tol_asked: Option<f64>,
+    /// Whether 5-axis moves are sampled pose by pose for every cutter
+    /// ([`Self::with_sample_step`]).
+    sampled: bool,
+    /// Which tool slot cuts now ([`Self::set_tool`]), and, when asked for
+    /// ([`Self::with_tool_map`]), the slot that last removed material from each ray
+    /// ([`NO_TOOL`] where none did).
+    slot: u16,
+    tool_map: Option<Vec<u16>>,
 }
+
+/// A ray of the tool map no tool cut.
+pub const NO_TOOL: u16 = u16::MAX;
 
 impl Simulation {
     /// A simulation of `cutter` on `stock`; 5-axis moves are sampled so no point of the
@@ -174,7 +189,46 @@ impl Simulation {
         let pitch = stock.grid().pitch_mm;
         let tool = ToolShape::of(cutter);
         let sweep_tol_mm = (tool.kind == CutterKind::Ball).then_some(pitch * SWEEP_TOL_PER_PITCH);
-        Self { stock, tool, sample_step_mm: pitch, sweep_tol_mm, last_pose: None, counters: Counters::default() }
+        Self {
+            stock,
+            tool,
+            sample_step_mm: pitch,
+            sweep_tol_mm,
+            last_pose: None,
+            counters: Counters::default(),
+            sweep_tol_asked: None,
+            sampled: false,
+            slot: 0,
+            tool_map: None,
+        }
+    }
+
+    /// Changes the cutter from the next move on (a program's tool change): `slot` numbers
+    /// it in the tool map ([`Self::with_tool_map`]). The sampling and sweep settings asked
+    /// for stay: a ball end mill cuts 5-axis moves in swept segments unless
+    /// [`Self::with_sample_step`] was called.
+    pub fn set_tool(&mut self, cutter: &Cutter, slot: u16) {
+        self.tool = ToolShape::of(cutter);
+        self.slot = slot;
+        self.last_pose = None;
+        let pitch = self.stock.grid().pitch_mm;
+        self.sweep_tol_mm = (self.tool.kind == CutterKind::Ball && !self.sampled)
+            .then(|| self.sweep_tol_asked.unwrap_or(pitch * SWEEP_TOL_PER_PITCH));
+    }
+
+    /// The same simulation recording, for every ray, the tool slot ([`Self::set_tool`]; 0 at
+    /// the start) that last removed material from it.
+    #[must_use]
+    pub fn with_tool_map(mut self) -> Self {
+        self.tool_map = Some(vec![NO_TOOL; self.stock.grid().len()]);
+        self
+    }
+
+    /// The tool slot that last removed material from each ray (row-major, as the grid),
+    /// [`NO_TOOL`] where none did; `None` unless [`Self::with_tool_map`] was called.
+    #[must_use]
+    pub fn tool_map(&self) -> Option<&[u16]> {
+        self.tool_map.as_deref()
     }
 
     /// The same simulation sampling 5-axis moves pose by pose (every cutter, the ball end
@@ -187,6 +241,7 @@ impl Simulation {
             self.sample_step_mm = step_mm;
         }
         self.sweep_tol_mm = None;
+        self.sampled = true;
         self
     }
 
@@ -196,6 +251,9 @@ impl Simulation {
     /// other cutters.
     #[must_use]
     pub fn with_sweep_tol(mut self, tol_mm: f64) -> Self {
+        if tol_mm > 0.0 && tol_mm.is_finite() {
+            self.sweep_tol_asked = Some(tol_mm);
+        }
         if self.tool.kind == CutterKind::Ball {
             let pitch = self.stock.grid().pitch_mm;
             self.sweep_tol_mm =
@@ -357,6 +415,12 @@ impl Simulation {
     /// refuse a run before it starts.
     #[must_use]
     pub fn estimate_visits(&self, program: &Program) -> f64 {
+        program.moves.iter().map(|m| self.estimate_move_visits(m)).sum()
+    }
+
+    /// Estimated rays one move visits with the current cutter ([`Self::estimate_visits`]).
+    #[must_use]
+    pub fn estimate_move_visits(&self, m: &SimMove) -> f64 {
         let g = self.stock.grid();
         let area = |lo: DVec3, hi: DVec3| {
             let w = ((hi.x - lo.x) / g.pitch_mm + 1.0).min(g.nx as f64);
@@ -364,36 +428,24 @@ impl Simulation {
             w.max(0.0) * h.max(0.0)
         };
         let r = DVec3::new(self.tool.radius_mm, self.tool.radius_mm, 0.0);
-        program
-            .moves
-            .iter()
-            .map(|m| match m.kind {
-                MoveKind::Line { from, to } => area(from.min(to) - r, from.max(to) + r),
-                MoveKind::Joints { machine, from, to } if self.sweep_tol_mm.is_some() => {
-                    let n = self.segments_of(&machine, &from, &to, self.sweep_tol_mm.unwrap_or(0.0));
-                    let (p, q) = (machine.pose_from_joints(&from), machine.pose_from_joints(&to));
-                    let step = DVec3::splat((q.tip_in_workpiece - p.tip_in_workpiece).length() / n as f64);
-                    let (lo, hi) = sweep::tilted_box(
-                        &self.tool,
-                        p.tip_in_workpiece,
-                        p.axis_in_workpiece,
-                        self.tool.radius_mm * 2.0,
-                    );
-                    n as f64 * area(lo - step, hi + step)
-                }
-                MoveKind::Joints { machine, from, to } => {
-                    let n = self.samples_of(&machine, &from, &to);
-                    let p = machine.pose_from_joints(&from);
-                    let (lo, hi) = sweep::tilted_box(
-                        &self.tool,
-                        p.tip_in_workpiece,
-                        p.axis_in_workpiece,
-                        self.tool.radius_mm * 2.0,
-                    );
-                    n as f64 * area(lo, hi)
-                }
-            })
-            .sum()
+        match m.kind {
+            MoveKind::Line { from, to } => area(from.min(to) - r, from.max(to) + r),
+            MoveKind::Joints { machine, from, to } if self.sweep_tol_mm.is_some() => {
+                let n = self.segments_of(&machine, &from, &to, self.sweep_tol_mm.unwrap_or(0.0));
+                let (p, q) = (machine.pose_from_joints(&from), machine.pose_from_joints(&to));
+                let step = DVec3::splat((q.tip_in_workpiece - p.tip_in_workpiece).length() / n as f64);
+                let (lo, hi) =
+                    sweep::tilted_box(&self.tool, p.tip_in_workpiece, p.axis_in_workpiece, self.tool.radius_mm * 2.0);
+                n as f64 * area(lo - step, hi + step)
+            }
+            MoveKind::Joints { machine, from, to } => {
+                let n = self.samples_of(&machine, &from, &to);
+                let p = machine.pose_from_joints(&from);
+                let (lo, hi) =
+                    sweep::tilted_box(&self.tool, p.tip_in_workpiece, p.axis_in_workpiece, self.tool.radius_mm * 2.0);
+                n as f64 * area(lo, hi)
+            }
+        }
     }
 
     /// Runs a whole program.
@@ -500,7 +552,15 @@ impl Simulation {
                 self.counters.rays_visited += 1;
                 if let Some((lo, hi)) = span(g.x_mm(i), y) {
                     self.counters.ray_updates += 1;
-                    removed += self.stock.subtract(j * g.nx + i, lo, hi);
+                    let k = j * g.nx + i;
+                    let cut = self.stock.subtract(k, lo, hi);
+                    if cut > 0.0
+                        && let Some(map) = self.tool_map.as_mut()
+                        && let Some(t) = map.get_mut(k)
+                    {
+                        *t = self.slot;
+                    }
+                    removed += cut;
                 }
             }
         }

@@ -94,25 +94,7 @@ impl Program {
         let skip = usize::from(path.blocks.first().is_some_and(|b| b.motion == Motion::Rapid));
         for b in &path.blocks[skip..] {
             let rapid = b.motion == Motion::Rapid;
-            let points = match &b.segment {
-                Segment::Line(l) => vec![l.start, l.end],
-                Segment::Arc(a) => {
-                    let rho = a.radius_start().max(a.radius_end());
-                    let sweep = a.sweep().abs();
-                    let step = if chord_tol_mm >= rho { sweep } else { 2.0 * (1.0 - chord_tol_mm / rho).acos() };
-                    let n = chord_count(sweep / step, b.line)?;
-                    let c = b.segment.curve();
-                    let pts: Vec<DVec3> = (0..=n).map(|i| c.point_at(i as f64 / n as f64)).collect();
-                    out.measure(&pts, |k| c.point_at((k as f64 + 0.5) / n as f64));
-                    pts
-                }
-                Segment::Nurbs(c) => {
-                    let params = nurbs_params(c, chord_tol_mm, b.line)?;
-                    let pts: Vec<DVec3> = params.iter().map(|&u| c.point_at(u)).collect();
-                    out.measure(&pts, |k| c.point_at(0.5 * (params[k] + params[k + 1])));
-                    pts
-                }
-            };
+            let points = out.segment_points(&b.segment, b.line, chord_tol_mm)?;
             for w in points.windows(2) {
                 out.push(SimMove {
                     kind: MoveKind::Line { from: w[0] + tip_offset, to: w[1] + tip_offset },
@@ -153,6 +135,44 @@ impl Program {
         }
         self.moves.push(m);
         Ok(())
+    }
+
+    /// The points of a path segment's chords (its two ends for a line), arcs and NURBS cut
+    /// within `chord_tol_mm` (module docs); the chord error measured is kept in
+    /// [`Self::chord_error_mm`].
+    ///
+    /// # Errors
+    /// [`SimError::Program`] for a curve needing more than [`MAX_CHORDS_PER_MOVE`] chords.
+    pub(crate) fn segment_points(
+        &mut self,
+        segment: &Segment,
+        line: usize,
+        chord_tol_mm: f64,
+    ) -> Result<Vec<DVec3>, SimError> {
+        Ok(match segment {
+            Segment::Line(l) => vec![l.start, l.end],
+            Segment::Arc(a) => {
+                let rho = a.radius_start().max(a.radius_end());
+                let sweep = a.sweep().abs();
+                let step = if chord_tol_mm >= rho { sweep } else { 2.0 * (1.0 - chord_tol_mm / rho).acos() };
+                let n = chord_count(sweep / step, line)?;
+                let c = segment.curve();
+                let pts: Vec<DVec3> = (0..=n).map(|i| c.point_at(i as f64 / n as f64)).collect();
+                self.measure(&pts, |k| c.point_at((k as f64 + 0.5) / n as f64));
+                pts
+            }
+            Segment::Nurbs(c) => {
+                let params = nurbs_params(c, chord_tol_mm, line)?;
+                let pts: Vec<DVec3> = params.iter().map(|&u| c.point_at(u)).collect();
+                self.measure(&pts, |k| c.point_at(0.5 * (params[k] + params[k + 1])));
+                pts
+            }
+        })
+    }
+
+    /// Raises [`Self::chord_error_mm`] to a deviation measured elsewhere (mm).
+    pub(crate) fn note_chord_error(&mut self, mm: f64) {
+        self.chord_error_mm = self.chord_error_mm.max(mm);
     }
 
     fn measure(&mut self, pts: &[DVec3], mid: impl Fn(usize) -> DVec3) {

@@ -12,10 +12,13 @@
 //! - flat: the cylinder of radius R from T to T + H·a;
 //! - fillet: the points within r of the disk of radius R0 = R − r centred at T + r·a
 //!   (that is the flat bottom and the corner torus, and a little above it inside the
-//!   flank), and the cylinder of radius R from T + r·a to T + H·a. Exact when H ≥ 2r.
+//!   flank), and the cylinder of radius R from T + r·a to T + H·a. Exact when H ≥ 2r;
+//! - tapered (V cutter, drill): the cone frustum from the flat tip of radius r_t at T to the
+//!   radius R at T + h_c·a (the points whose distance from the axis is at most
+//!   r_t + h·tan α at height h), and the cylinder of radius R from T + h_c·a to T + H·a.
 //!
 //! Each body is convex, so a ray crosses it in one interval, found in closed form (sphere,
-//! cylinder: a quadratic) or, for the fillet's corner, by minimising the convex distance
+//! cylinder, cone: a quadratic) or, for the fillet's corner, by minimising the convex distance
 //! along the ray to the centre disk and bisecting for its two roots to
 //! [`super::ROOT_TOL_MM`].
 
@@ -34,8 +37,14 @@ pub struct ToolShape {
     pub radius_mm: f64,
     /// Corner radius r (mm).
     pub corner_mm: f64,
-    /// Body top H above the tip (mm): the gauge length, at least 2r.
+    /// Body top H above the tip (mm): the gauge length, at least 2r and the cone height.
     pub top_mm: f64,
+    /// Tapered cutters: the radius of the flat at the tip, r_t (mm); 0 for the others.
+    pub tip_flat_mm: f64,
+    /// Tapered cutters: cot α, the cone's rise per mm of radius; 0 for the others.
+    pub cot: f64,
+    /// Tapered cutters: the cone height h_c = (R − r_t)·cot α (mm); 0 for the others.
+    pub cone_mm: f64,
 }
 
 impl ToolShape {
@@ -45,14 +54,19 @@ impl ToolShape {
         let kind = cutter.kind();
         let corner_mm = match kind {
             CutterKind::Ball => cutter.radius_mm,
-            CutterKind::Flat => 0.0,
+            CutterKind::Flat | CutterKind::Tapered => 0.0,
             CutterKind::Fillet => cutter.corner_radius_mm,
         };
+        let (tip_flat_mm, cot) = cutter.taper.map_or((0.0, 0.0), |t| (t.tip_radius_mm, 1.0 / t.half_angle_rad.tan()));
+        let cone_mm = cutter.cone_height_mm();
         Self {
             kind,
             radius_mm: cutter.radius_mm,
             corner_mm,
-            top_mm: cutter.gauge_length_mm.max(2.0 * corner_mm).max(cutter.flute_length_mm),
+            top_mm: cutter.gauge_length_mm.max(2.0 * corner_mm).max(cutter.flute_length_mm).max(cone_mm),
+            tip_flat_mm,
+            cot,
+            cone_mm,
         }
     }
 
@@ -65,6 +79,9 @@ impl ToolShape {
     /// Height of the bottom above the tip at radial distance ρ ≤ R (mm).
     #[must_use]
     pub fn bottom_mm(&self, rho_mm: f64) -> f64 {
+        if self.kind == CutterKind::Tapered {
+            return (rho_mm - self.tip_flat_mm).max(0.0) * self.cot;
+        }
         let d = rho_mm - self.torus_mm();
         if d <= 0.0 {
             return 0.0;
@@ -89,8 +106,8 @@ pub fn line_span(tool: &ToolShape, a: DVec3, b: DVec3, x: f64, y: f64) -> Option
 /// (the nearest point of the projected segment), for a plunge, for a flat end mill (an end
 /// of the range of the move where the ray is under the cutter) and for a ball end mill (the
 /// lowest point of the capsule of the ball centre's segment); for a fillet-end mill on a
-/// sloped move the function is convex in the move's parameter and is minimised by golden
-/// sections to [`ROOT_TOL_MM`] of the move's length. hi is the highest tip height over the
+/// sloped move (and a tapered cutter's) the function is convex in the move's parameter and
+/// is minimised by golden sections to [`ROOT_TOL_MM`] of the move's length. hi is the highest tip height over the
 /// range of the move where the ray is under the cutter, plus H.
 #[derive(Clone, Copy, Debug)]
 pub struct LineSweep {
@@ -135,7 +152,7 @@ impl LineSweep {
                 let r = self.tool.radius_mm;
                 r - (r * r - rho2).max(0.0).sqrt()
             }
-            CutterKind::Fillet => self.tool.bottom_mm(rho2.sqrt()),
+            CutterKind::Fillet | CutterKind::Tapered => self.tool.bottom_mm(rho2.sqrt()),
         }
     }
 
@@ -192,7 +209,7 @@ impl LineSweep {
         let lo = match tool.kind {
             CutterKind::Flat => z(t1).min(z(t2)),
             CutterKind::Ball => capsule_low(big_r, qx, qy, d.x, d.y, d.z, qd, q2, a2, self.len2, a.z + big_r),
-            CutterKind::Fillet => {
+            CutterKind::Fillet | CutterKind::Tapered => {
                 let f = |t: f64| {
                     let (ex, ey) = (qx - t * d.x, qy - t * d.y);
                     z(t) + tool.bottom_mm((ex * ex + ey * ey).sqrt())
@@ -305,7 +322,8 @@ fn ray_cylinder(p0: DVec3, axis: DVec3, len: f64, radius: f64, x: f64, y: f64) -
 #[must_use]
 pub fn tilted_span(tool: &ToolShape, tip: DVec3, axis: DVec3, x: f64, y: f64) -> Option<(f64, f64)> {
     let big_r = tool.radius_mm;
-    let r = tool.corner_mm;
+    // The flank starts above the corner (r) or the cone (h_c); one of them is 0.
+    let r = tool.corner_mm + tool.cone_mm;
     let body = ray_cylinder(tip + r * axis, axis, tool.top_mm - r, big_r, x, y);
     let corner = match tool.kind {
         CutterKind::Flat => None,
@@ -316,10 +334,76 @@ pub fn tilted_span(tool: &ToolShape, tip: DVec3, axis: DVec3, x: f64, y: f64) ->
             (s2 >= 0.0).then(|| (c.z - s2.sqrt(), c.z + s2.sqrt()))
         }
         CutterKind::Fillet => fillet_corner(tool, tip, axis, x, y),
+        CutterKind::Tapered => cone_span(tool, tip, axis, x, y),
     };
     match (body, corner) {
         (Some(p), Some(q)) => Some((p.0.min(q.0), p.1.max(q.1))),
         (p, q) => p.or(q),
+    }
+}
+
+/// The ray against a tapered cutter's cone frustum: the part of the infinite cone with apex
+/// A = T − r_t·cot α·a, half angle α, between the heights h₀ = r_t·cot α and h₀ + h_c above
+/// A. A point p = A + w lies in the cone when cos²α·|w|² − (w·a)² ≤ 0 and w·a ≥ 0; along the
+/// ray that is a quadratic in z, and the slab bounds z linearly. The frustum is convex, so
+/// the ray meets it in one interval.
+fn cone_span(tool: &ToolShape, tip: DVec3, axis: DVec3, x: f64, y: f64) -> Option<(f64, f64)> {
+    let h0 = tool.tip_flat_mm * tool.cot;
+    let apex = tip - h0 * axis;
+    let w0 = DVec3::new(x - apex.x, y - apex.y, -apex.z);
+    let wa = w0.dot(axis);
+    let az = axis.z;
+    // Slab h₀ ≤ w·a ≤ h₀ + h_c, with w·a = wa + z·a_z.
+    let (lo, hi) = if az.abs() > super::AXIS_FLAT_SIN {
+        let za = (h0 - wa) / az;
+        let zb = (h0 + tool.cone_mm - wa) / az;
+        (za.min(zb), za.max(zb))
+    } else if (h0..=h0 + tool.cone_mm).contains(&wa) {
+        (f64::NEG_INFINITY, f64::INFINITY)
+    } else {
+        return None;
+    };
+    // cos²α = cot²α / (1 + cot²α).
+    let c2 = tool.cot * tool.cot / (1.0 + tool.cot * tool.cot);
+    let qa = c2 - az * az;
+    let qb = 2.0 * (c2 * w0.z - wa * az);
+    let qc = c2 * w0.length_squared() - wa * wa;
+    quadratic_le_zero(qa, qb, qc, lo, hi)
+}
+
+/// The interval of z in [lo, hi] where qa·z² + qb·z + qc ≤ 0, for a quadratic known to be
+/// ≤ 0 on at most one interval there (a convex body's section); `None` when empty. Where the
+/// quadratic opens downward its two outer pieces are cut to [lo, hi] and the longer kept
+/// (the other is empty unless the ray only touches the body).
+fn quadratic_le_zero(qa: f64, qb: f64, qc: f64, lo: f64, hi: f64) -> Option<(f64, f64)> {
+    let keep = |a: f64, b: f64| (a <= b && a.is_finite() && b.is_finite()).then_some((a, b));
+    let scale = qa.abs().max(qb.abs()).max(qc.abs()).max(f64::MIN_POSITIVE);
+    if qa.abs() <= super::AXIS_FLAT_SIN * scale {
+        // Linear: qb·z + qc ≤ 0.
+        if qb.abs() <= f64::MIN_POSITIVE {
+            return if qc <= 0.0 { keep(lo, hi) } else { None };
+        }
+        let z = -qc / qb;
+        return if qb > 0.0 { keep(lo, hi.min(z)) } else { keep(lo.max(z), hi) };
+    }
+    let disc = qb * qb - 4.0 * qa * qc;
+    if qa > 0.0 {
+        if disc < 0.0 {
+            return None;
+        }
+        let s = disc.sqrt();
+        let (r1, r2) = ((-qb - s) / (2.0 * qa), (-qb + s) / (2.0 * qa));
+        return keep(lo.max(r1.min(r2)), hi.min(r1.max(r2)));
+    }
+    if disc <= 0.0 {
+        return keep(lo, hi);
+    }
+    let s = disc.sqrt();
+    let (r1, r2) = ((-qb - s) / (2.0 * qa), (-qb + s) / (2.0 * qa));
+    let (r1, r2) = (r1.min(r2), r1.max(r2));
+    match (keep(lo, hi.min(r1)), keep(lo.max(r2), hi)) {
+        (Some(a), Some(b)) => Some(if a.1 - a.0 >= b.1 - b.0 { a } else { b }),
+        (a, b) => a.or(b),
     }
 }
 

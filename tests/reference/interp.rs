@@ -4,12 +4,11 @@
 //! spindle and stops equal within what `rs274` prints (1e-4 of the program's unit) — and the
 //! programs LinuxCNC refuses refused by ours at the same line.
 
-
 use std::path::{Path, PathBuf};
 
+use crate::support::rs274::{self, RefRun, Rs274, compare, is_subroutine_file};
 use interpolab::gcode::interp::tools::{TableUnits, ToolTable};
 use interpolab::gcode::interp::{Canon, InterpError, Interpreter, Library, Options, Source, TextSource};
-use crate::support::rs274::{self, RefRun, Rs274, compare, is_subroutine_file};
 
 /// Subroutine files found by name in a list of directories (as LinuxCNC's SUBROUTINE_PATH).
 struct Dirs(Vec<PathBuf>);

@@ -3,14 +3,13 @@
 //! against positions computed independently from the programs' numbers, so that the
 //! interpreter can later be compared with it call for call.
 
-
 use std::path::{Path, PathBuf};
 
+use crate::support::Rng;
+use crate::support::rs274::{self, RefCall, RefKind, RefPose, RefRun, Rs274, compare, plane_axes};
 use glam::DVec3;
 use interpolab::gcode::Plane;
 use interpolab::gcode::interp::{Canon, Feed, FeedMode, Loc, Origin, Pose};
-use crate::support::Rng;
-use crate::support::rs274::{self, RefCall, RefKind, RefPose, RefRun, Rs274, compare, plane_axes};
 
 fn run(text: &str) -> RefRun {
     rs274::require();

@@ -1,0 +1,682 @@
+//! The "Your program" view: a program the user brings, with its tool table, CAMotics project
+//! and subroutine files, read by the interpreter and drawn as its tool path — coloured by
+//! move kind, feed, tool or five-axis nonlinear error — with the interpreter's reports and
+//! the reading's notes listed by line (a click shows the line and its block), a slider over
+//! its blocks, and *Simulate*: the program machined with its own tools, in the background
+//! (`jobs::user_program`: a thread natively, a Web Worker in the browser) with progress and
+//! cancel, the stock shown coloured by which tool cut it last. The same pipeline as
+//! `interpolab simulate --tools/--project/--machine` (docs/user-programs.md).
+
+mod view;
+
+use std::rc::Rc;
+
+use eframe::egui;
+
+use super::jobs::{Job, Poll};
+use super::panel::{Panel, PanelContext};
+use super::platform::FileKind;
+use crate::geom::Cutter;
+use crate::jobs::user_program::{Finished, ReadSummary, Request, UserProgram};
+use crate::simulate::canon::{KinematicsChoice, MachineSetup};
+use view::PathView;
+
+/// Title of the tab.
+pub const TITLE: &str = "Your program";
+
+/// Range of the nonlinear-error tolerance slider (mm).
+pub const TOL_RANGE_MM: std::ops::RangeInclusive<f64> = 0.0005..=1.0;
+
+/// What the path is coloured by.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ColourBy {
+    /// Rapid, line, arc, spline.
+    #[default]
+    Kind,
+    /// The programmed feed.
+    Feed,
+    /// The tool.
+    Tool,
+    /// The five-axis nonlinear error against the tolerance.
+    Error,
+}
+
+impl ColourBy {
+    const ALL: [Self; 4] = [Self::Kind, Self::Feed, Self::Tool, Self::Error];
+    fn key(self) -> &'static str {
+        match self {
+            Self::Kind => "kind",
+            Self::Feed => "feed",
+            Self::Tool => "tool",
+            Self::Error => "error",
+        }
+    }
+    fn label(self) -> &'static str {
+        match self {
+            Self::Kind => "move kind",
+            Self::Feed => "feed",
+            Self::Tool => "tool",
+            Self::Error => "nonlinear error",
+        }
+    }
+}
+
+/// Machine choices: automatic (as the program names it, else three axes), then the names.
+fn machine_names() -> Vec<&'static str> {
+    std::iter::once("auto").chain(MachineSetup::NAMES).collect()
+}
+
+/// The files and choices a run is made of.
+#[derive(Clone, Debug, Default, PartialEq)]
+struct Inputs {
+    program: Option<(String, String)>,
+    subs: Vec<(String, String)>,
+    table: Option<(String, String)>,
+    project: Option<(String, String)>,
+    machine: usize,
+    kinematics: usize,
+    pitch_mm: Option<f64>,
+}
+
+impl Inputs {
+    fn request(&self, simulate: bool) -> Option<Request> {
+        let (name, text) = self.program.clone()?;
+        let names = machine_names();
+        Some(Request {
+            name,
+            text,
+            files: self.subs.clone(),
+            tool_table: self.table.as_ref().map(|t| t.1.clone()),
+            project: self.project.as_ref().map(|p| p.1.clone()),
+            default_cutter: Cutter::flat(1.5).ok()?,
+            machine: (self.machine > 0).then(|| names.get(self.machine).map(|s| (*s).to_owned())).flatten(),
+            kinematics: [KinematicsChoice::Auto, KinematicsChoice::Joints, KinematicsChoice::Tcp]
+                .get(self.kinematics)
+                .copied()
+                .unwrap_or_default(),
+            pitch_mm: self.pitch_mm,
+            stock_mm: None,
+            simulate,
+        })
+    }
+}
+
+/// A run under way or done.
+struct Run {
+    job: Option<Job<UserProgram>>,
+    simulate: bool,
+    inputs: Inputs,
+    progress: f64,
+    started_ms: f64,
+    done_ms: Option<f64>,
+}
+
+/// The panel.
+#[derive(Default)]
+pub struct UserProgramPanel {
+    inputs: Inputs,
+    /// The next G-code file is a subroutine file (the button asked for one).
+    expect_sub: bool,
+    run: Option<Run>,
+    summary: Option<Rc<ReadSummary>>,
+    result: Option<Rc<Finished>>,
+    error: Option<String>,
+    colour: ColourBy,
+    tol_mm: f64,
+    /// The block picked (a message, a click in the view, the slider).
+    selected: Option<usize>,
+    /// Blocks drawn: the first `shown` (the slider).
+    shown: Option<usize>,
+    view: PathView,
+    rects: Vec<(&'static str, egui::Rect)>,
+}
+
+impl UserProgramPanel {
+    fn tol(&self) -> f64 {
+        if self.tol_mm > 0.0 { self.tol_mm } else { 0.01 }
+    }
+
+    fn start(&mut self, simulate: bool) {
+        let Some(req) = self.inputs.request(simulate) else {
+            return;
+        };
+        self.error = None;
+        if simulate {
+            self.result = None;
+        }
+        self.run = Some(Run {
+            job: Some(Job::start(req)),
+            simulate,
+            inputs: self.inputs.clone(),
+            progress: 0.0,
+            started_ms: super::platform::Platform::now_ms(),
+            done_ms: None,
+        });
+    }
+
+    /// A file given to the view.
+    fn take_file(&mut self, kind: FileKind, name: String, text: String) {
+        match kind {
+            FileKind::ToolTable => self.inputs.table = Some((name, text)),
+            FileKind::Project => self.inputs.project = Some((name, text)),
+            FileKind::GCode => {
+                if self.expect_sub || is_subroutine_file(&text) {
+                    self.inputs.subs.retain(|(n, _)| *n != name);
+                    self.inputs.subs.push((name, text));
+                } else {
+                    self.inputs.program = Some((name, text));
+                    self.summary = None;
+                    self.result = None;
+                    self.selected = None;
+                    self.shown = None;
+                    self.view.refit();
+                }
+                self.expect_sub = false;
+            }
+            FileKind::Scene => {}
+        }
+    }
+
+    fn poll(&mut self, ctx: &egui::Context) {
+        let Some(run) = self.run.as_mut() else {
+            return;
+        };
+        let Some(job) = run.job.as_mut() else {
+            return;
+        };
+        super::jobs::set_waker(ctx);
+        let polled = job.poll();
+        for s in job.take_partials() {
+            let fresh = self.summary.as_ref().is_none_or(|old| old.block_line.len() != s.block_line.len());
+            self.summary = Some(Rc::from(s));
+            if fresh {
+                self.view.refit();
+                self.selected = None;
+                self.shown = None;
+            }
+            self.view.invalidate();
+        }
+        match polled {
+            Poll::Running(f) => {
+                run.progress = f.unwrap_or(run.progress);
+                ctx.request_repaint_after(std::time::Duration::from_millis(100));
+            }
+            Poll::Done(out) => {
+                run.job = None;
+                run.progress = 1.0;
+                run.done_ms = Some(super::platform::Platform::now_ms());
+                match out {
+                    Ok(Some(f)) => self.result = Some(Rc::new(f)),
+                    Ok(None) => {}
+                    Err(e) => self.error = Some(e),
+                }
+                self.view.invalidate();
+            }
+        }
+    }
+
+    fn running(&self) -> bool {
+        self.run.as_ref().is_some_and(|r| r.job.is_some())
+    }
+
+    fn file_row(ui: &mut egui::Ui, what: &str, name: Option<&str>) -> bool {
+        let mut remove = false;
+        ui.horizontal(|ui| {
+            ui.label(format!("{what}:"));
+            match name {
+                Some(n) => {
+                    ui.monospace(short(n));
+                    remove = ui.small_button("✕").on_hover_text("leave it out").clicked();
+                }
+                None => {
+                    ui.weak("none");
+                }
+            }
+        });
+        remove
+    }
+
+    fn files_controls(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
+        ui.horizontal_wrapped(|ui| {
+            let r = ui.button("Open program…");
+            if r.clicked() {
+                self.expect_sub = false;
+                cx.pick_file(FileKind::GCode);
+            }
+            self.rects.push(("open_program", r.rect));
+            let r = ui.button("Tool table…").on_hover_text("a LinuxCNC .tbl: T, Z (length), D; the shape as the remark's first word (flat, ball, bull r=1, v90, drill)");
+            if r.clicked() {
+                cx.pick_file(FileKind::ToolTable);
+            }
+            self.rects.push(("open_table", r.rect));
+            let r = ui.button("CAMotics project…").on_hover_text("its tools and workpiece");
+            if r.clicked() {
+                cx.pick_file(FileKind::Project);
+            }
+            let r = ui.button("Subroutine file…").on_hover_text("a file the program calls (o<name> call, M98)");
+            if r.clicked() {
+                self.expect_sub = true;
+                cx.pick_file(FileKind::GCode);
+            }
+        });
+        if Self::file_row(ui, "program", self.inputs.program.as_ref().map(|p| p.0.as_str())) {
+            self.inputs.program = None;
+            self.summary = None;
+            self.result = None;
+        }
+        if Self::file_row(ui, "tool table", self.inputs.table.as_ref().map(|p| p.0.as_str())) {
+            self.inputs.table = None;
+        }
+        if Self::file_row(ui, "project", self.inputs.project.as_ref().map(|p| p.0.as_str())) {
+            self.inputs.project = None;
+        }
+        let mut drop_sub = None;
+        for (i, (n, _)) in self.inputs.subs.iter().enumerate() {
+            if Self::file_row(ui, "subroutine", Some(n)) {
+                drop_sub = Some(i);
+            }
+        }
+        if let Some(i) = drop_sub {
+            self.inputs.subs.remove(i);
+        }
+    }
+
+    fn machine_controls(&mut self, ui: &mut egui::Ui) {
+        let names = machine_names();
+        egui::ComboBox::from_label("machine")
+            .selected_text(*names.get(self.inputs.machine).unwrap_or(&"auto"))
+            .show_ui(ui, |ui| {
+                for (i, n) in names.iter().enumerate() {
+                    ui.selectable_value(&mut self.inputs.machine, i, *n);
+                }
+            });
+        let kin = ["auto (M428/G43.4)", "joints", "TCP"];
+        egui::ComboBox::from_label("rotary words")
+            .selected_text(*kin.get(self.inputs.kinematics).unwrap_or(&"auto"))
+            .show_ui(ui, |ui| {
+                for (i, n) in kin.iter().enumerate() {
+                    ui.selectable_value(&mut self.inputs.kinematics, i, *n);
+                }
+            });
+    }
+
+    fn numbers(&self, ui: &mut egui::Ui) {
+        let Some(s) = &self.summary else {
+            return;
+        };
+        ui.label(format!(
+            "{} lines, {} blocks, {} moves; {:.2} min at the programmed feed",
+            s.lines,
+            s.block_line.len(),
+            s.moves,
+            s.feed_min
+        ));
+        if let Some(m) = &s.machine {
+            let measured = s.block_error.iter().filter(|e| e.is_finite()).count();
+            let over = s.block_error.iter().filter(|e| f64::from(**e) > self.tol()).count();
+            ui.label(format!("machine {m}: {measured} blocks measured, {over} over {} mm", self.tol()));
+        }
+        if let Some(r) = &self.result
+            && r.counters.rapid_cuts > 0
+        {
+            super::widgets::error_text(
+                ui,
+                format!(
+                    "{} rapid move(s) (G0) cut material, the first at line {}",
+                    r.counters.rapid_cuts,
+                    r.counters.first_rapid_cut_line.unwrap_or(0)
+                ),
+            );
+        }
+        egui::Grid::new("userprog_tools").striped(true).show(ui, |ui| {
+            ui.strong("tool");
+            ui.strong("cutter");
+            ui.strong("min");
+            ui.strong("mm³");
+            ui.end_row();
+            for (k, t) in s.tools.iter().enumerate() {
+                let c = view::tool_colour(k);
+                ui.colored_label(c, if t.number < 0 { "default".to_owned() } else { format!("T{}", t.number) });
+                ui.label(&t.cutter).on_hover_text(&t.source);
+                ui.label(format!("{:.2}", t.feed_min));
+                let v = self.result.as_ref().and_then(|r| r.removed_mm3.get(k).copied());
+                ui.label(v.map_or_else(|| "–".to_owned(), |v| format!("{v:.1}")));
+                ui.end_row();
+            }
+        });
+    }
+
+    /// The blocks of a line (the first block on it).
+    fn block_of_line(&self, line: u32) -> Option<usize> {
+        let s = self.summary.as_ref()?;
+        s.block_line.iter().zip(&s.block_file).position(|(l, f)| *l == line && *f == 0)
+    }
+
+    fn messages(&mut self, ui: &mut egui::Ui) {
+        let Some(s) = self.summary.clone() else {
+            return;
+        };
+        if s.messages.is_empty() {
+            return;
+        }
+        ui.strong(format!("Reports and notes ({})", s.messages.len()));
+        let mut picked = None;
+        egui::ScrollArea::vertical().id_salt("userprog_messages").max_height(160.0).show(ui, |ui| {
+            for (k, (line, text)) in s.messages.iter().enumerate() {
+                let label = if *line > 0 { format!("line {line}: {text}") } else { text.clone() };
+                let r = ui.selectable_label(false, label);
+                if k == 0 {
+                    self.rects.push(("first_message", r.rect));
+                }
+                if r.clicked() && *line > 0 {
+                    picked = Some(*line);
+                }
+            }
+        });
+        if let Some(line) = picked {
+            self.select_line(line);
+        }
+    }
+
+    fn select_line(&mut self, line: u32) {
+        // A line without a motion shows the next block after it.
+        let Some(s) = &self.summary else {
+            return;
+        };
+        let at = self
+            .block_of_line(line)
+            .or_else(|| s.block_line.iter().zip(&s.block_file).position(|(l, f)| *l >= line && *f == 0));
+        self.selected = at;
+        self.view.invalidate();
+    }
+
+    /// The text of a line of the main program.
+    fn line_text(&self, line: u32) -> Option<&str> {
+        let (_, text) = self.inputs.program.as_ref()?;
+        text.lines().nth(line.checked_sub(1)? as usize)
+    }
+}
+
+/// Whether a G-code text is a subroutine file: its first line of code opens an O-word
+/// subroutine (`o<name> sub`).
+fn is_subroutine_file(text: &str) -> bool {
+    text.lines()
+        .map(|l| l.split([';', '(']).next().unwrap_or("").trim().to_ascii_lowercase())
+        .find(|l| !l.is_empty() && l != "%")
+        .is_some_and(|l| l.starts_with("o<") && l.contains("sub") && !l.contains("call"))
+}
+
+fn short(name: &str) -> String {
+    let base = name.rsplit(['/', '\\']).next().unwrap_or(name);
+    if base.chars().count() > 40 {
+        format!("…{}", base.chars().rev().take(38).collect::<String>().chars().rev().collect::<String>())
+    } else {
+        base.to_owned()
+    }
+}
+
+impl Panel for UserProgramPanel {
+    fn title(&self) -> &'static str {
+        TITLE
+    }
+
+    fn accepts_also(&self) -> &'static [FileKind] {
+        &[FileKind::GCode, FileKind::ToolTable, FileKind::Project]
+    }
+
+    fn controls(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
+        self.rects.clear();
+        super::widgets::section(ui, "Program and tools", true, |ui| self.files_controls(ui, cx));
+        super::widgets::section(ui, "Machine", true, |ui| self.machine_controls(ui));
+        super::widgets::section(ui, "View", true, |ui| {
+            egui::ComboBox::from_label("colour by").selected_text(self.colour.label()).show_ui(ui, |ui| {
+                for c in ColourBy::ALL {
+                    if ui.selectable_value(&mut self.colour, c, c.label()).changed() {
+                        self.view.invalidate();
+                    }
+                }
+            });
+            let mut tol = self.tol();
+            let r = super::widgets::tolerance_slider(ui, &mut tol, TOL_RANGE_MM, "tolerance E");
+            if (tol - self.tol()).abs() > 0.0 {
+                self.tol_mm = tol;
+                self.view.invalidate();
+            }
+            self.rects.push(("tolerance", r.rect));
+        });
+        // Read again when the files or choices change.
+        let stale = self.run.as_ref().is_none_or(|r| r.inputs != self.inputs);
+        if stale && self.inputs.program.is_some() {
+            self.start(false);
+        }
+        self.poll(ui.ctx());
+        super::widgets::section(ui, "Simulate", true, |ui| {
+            ui.horizontal(|ui| {
+                let running = self.running();
+                let sim = self.run.as_ref().is_some_and(|r| r.simulate);
+                if running {
+                    let r = ui.button("Cancel");
+                    self.rects.push(("cancel", r.rect));
+                    if r.clicked() {
+                        if let Some(run) = self.run.as_mut() {
+                            run.job = None;
+                        }
+                        self.error = Some("cancelled".to_owned());
+                    }
+                    let f = self.run.as_ref().map_or(0.0, |r| r.progress) as f32;
+                    ui.add(egui::ProgressBar::new(f).show_percentage().desired_width(140.0));
+                } else {
+                    let r = ui.add_enabled(self.inputs.program.is_some(), egui::Button::new("Simulate"));
+                    self.rects.push(("simulate", r.rect));
+                    if r.clicked() {
+                        self.start(true);
+                    }
+                }
+                let _ = sim;
+            });
+            let mut auto = self.inputs.pitch_mm.is_none();
+            ui.horizontal(|ui| {
+                ui.checkbox(&mut auto, "automatic pitch");
+                if !auto {
+                    let mut p = self.inputs.pitch_mm.unwrap_or(0.2);
+                    ui.add(egui::Slider::new(&mut p, 0.02..=2.0).logarithmic(true).suffix(" mm"));
+                    self.inputs.pitch_mm = Some(p);
+                } else {
+                    self.inputs.pitch_mm = None;
+                }
+            });
+            if let Some(s) = &self.summary {
+                let b = s.stock_mm;
+                ui.label(format!(
+                    "stock {:.1} … {:.1} × {:.1} … {:.1} × {:.1} … {:.1} mm ({}), pitch {} mm",
+                    b[0], b[3], b[1], b[4], b[2], b[5], s.stock_from, s.pitch_mm
+                ));
+            }
+        });
+        if let Some(e) = &self.error {
+            super::widgets::error_text(ui, e.clone());
+        }
+        self.numbers(ui);
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
+        // Files arrive with the view's context (read at the next frame's controls).
+        for f in std::mem::take(&mut cx.incoming) {
+            match f.text {
+                Ok(t) => self.take_file(f.kind, f.name, t),
+                Err(e) => cx.error(format!("{}: {e}", f.name)),
+            }
+            ui.ctx().request_repaint();
+        }
+        let Some(s) = self.summary.clone() else {
+            let rect = ui.available_rect_before_wrap();
+            let text = if self.inputs.program.is_some() {
+                "reading the program…"
+            } else {
+                "Open a program (G-code) with its tool table or CAMotics project: it is drawn here, its reports listed, and Simulate machines it with its own tools."
+            };
+            ui.painter().text(
+                rect.center(),
+                egui::Align2::CENTER_CENTER,
+                text,
+                egui::FontId::proportional(15.0),
+                egui::Color32::from_gray(200),
+            );
+            return;
+        };
+        let n = s.block_line.len();
+        // The slider over the blocks, and the picked block's line.
+        ui.horizontal(|ui| {
+            let mut shown = self.shown.unwrap_or(n);
+            let r = ui.add(egui::Slider::new(&mut shown, 0..=n).text("blocks shown"));
+            self.rects.push(("blocks_slider", r.rect));
+            if r.changed() {
+                self.shown = (shown < n).then_some(shown);
+                self.selected = shown.checked_sub(1);
+                self.view.invalidate();
+            }
+        });
+        if let Some(b) = self.selected.filter(|b| *b < n) {
+            let (line, file) = (s.block_line[b], s.block_file[b]);
+            let text = if file == 0 {
+                self.line_text(line).unwrap_or("").trim().to_owned()
+            } else {
+                format!("(in subroutine file {file})")
+            };
+            let err = s.block_error[b];
+            let extra = if err.is_finite() { format!("  — nonlinear error {:.4} mm", err) } else { String::new() };
+            ui.monospace(format!("line {line}: {text}{extra}"));
+        }
+        self.messages(ui);
+        let rect = ui.available_rect_before_wrap();
+        let (map_rect, path_rect) = if self.result.is_some() && rect.width() > 500.0 {
+            let w = (rect.width() * 0.38).min(rect.height());
+            (
+                Some(egui::Rect::from_min_size(egui::pos2(rect.right() - w, rect.top()), egui::vec2(w, w))),
+                egui::Rect::from_min_max(rect.min, egui::pos2(rect.right() - w - 8.0, rect.bottom())),
+            )
+        } else {
+            (None, rect)
+        };
+        let picked = self.view.ui(ui, path_rect, &s, self.colour, self.tol(), self.selected, self.shown);
+        if let Some(b) = picked {
+            self.selected = Some(b);
+            self.view.invalidate();
+        }
+        self.rects.push(("path_view", path_rect));
+        if let (Some(r), Some(f)) = (map_rect, self.result.clone()) {
+            self.view.map(ui, r, &f);
+            self.rects.push(("stock_map", r));
+        }
+    }
+
+    fn status(&self) -> serde_json::Value {
+        let s = self.summary.as_ref();
+        let run = self.run.as_ref();
+        let over = s.map(|s| s.block_error.iter().filter(|e| f64::from(**e) > self.tol()).count());
+        let worst = s.and_then(|s| {
+            s.block_error
+                .iter()
+                .enumerate()
+                .filter(|(_, e)| e.is_finite())
+                .max_by(|a, b| a.1.total_cmp(b.1))
+                .map(|(i, e)| serde_json::json!({ "mm": f64::from(*e), "line": s.block_line[i] }))
+        });
+        serde_json::json!({
+            "ui": super::widgets::rects_json(&self.rects),
+            "program": self.inputs.program.as_ref().map(|p| p.0.clone()),
+            "tool_table": self.inputs.table.as_ref().map(|p| p.0.clone()),
+            "project": self.inputs.project.as_ref().map(|p| p.0.clone()),
+            "subroutines": self.inputs.subs.iter().map(|s| s.0.clone()).collect::<Vec<_>>(),
+            "computing": self.running(),
+            "simulating": run.is_some_and(|r| r.simulate && r.job.is_some()),
+            "progress": run.map(|r| r.progress),
+            "run_ms": run.and_then(|r| r.done_ms.map(|d| d - r.started_ms)),
+            "error": self.error,
+            "lines": s.map(|s| s.lines),
+            "blocks": s.map(|s| s.block_line.len()),
+            "points": s.map(|s| s.point_block.len()),
+            "moves": s.map(|s| s.moves),
+            "machine": s.and_then(|s| s.machine.clone()),
+            "feed_min": s.map(|s| s.feed_min),
+            "tools": s.map(|s| s.tools.iter().map(|t| serde_json::json!({"number": t.number, "cutter": t.cutter})).collect::<Vec<_>>()),
+            "messages": s.map(|s| s.messages.iter().map(|(l, t)| format!("{l}: {t}")).collect::<Vec<_>>()),
+            "colour": self.colour.key(),
+            "tol_mm": self.tol(),
+            "over_tolerance": over,
+            "worst_error": worst,
+            "selected_line": self.selected.and_then(|b| s.map(|s| s.block_line[b])),
+            "shown": self.shown,
+            "drawn_segments": self.view.drawn_segments(),
+            "removed_mm3": self.result.as_ref().map(|r| r.removed_mm3.clone()),
+            "stock_rays": self.result.as_ref().map(|r| r.map.grid.len()),
+            "rapid_cuts": self.result.as_ref().map(|r| r.counters.rapid_cuts),
+            "first_rapid_cut_line": self.result.as_ref().and_then(|r| r.counters.first_rapid_cut_line),
+        })
+    }
+
+    fn set_option(&mut self, key: &str, value: &str) -> Result<(), String> {
+        // A file given by name (automation): `file:job.ngc`, `file:tools.tbl`, … with its text.
+        if let Some(name) = key.strip_prefix("file:") {
+            let kind = FileKind::from_name(name);
+            if kind == FileKind::Scene {
+                return Err(format!(
+                    "{name}: give a program (.ngc, .nc, …), a tool table (.tbl) or a CAMotics project (.camotics)"
+                ));
+            }
+            self.take_file(kind, name.to_owned(), value.to_owned());
+            return Ok(());
+        }
+        match key {
+            "colour" => {
+                self.colour = ColourBy::ALL
+                    .into_iter()
+                    .find(|c| c.key() == value)
+                    .ok_or_else(|| format!("colour \"{value}\": use kind, feed, tool or error"))?;
+            }
+            "tolerance" => self.tol_mm = super::widgets::tolerance_option(key, value, &TOL_RANGE_MM)?,
+            "machine" => {
+                self.inputs.machine = machine_names()
+                    .iter()
+                    .position(|n| *n == value)
+                    .ok_or_else(|| format!("machine \"{value}\": use one of {}", machine_names().join(", ")))?;
+            }
+            "kinematics" => {
+                self.inputs.kinematics = ["auto", "joints", "tcp"]
+                    .iter()
+                    .position(|n| *n == value)
+                    .ok_or_else(|| format!("kinematics \"{value}\": use auto, joints or tcp"))?;
+            }
+            "simulate" => {
+                if self.inputs.program.is_none() {
+                    return Err("no program: open one first".to_owned());
+                }
+                self.start(true);
+            }
+            "line" => {
+                let line: u32 = value.parse().map_err(|_| format!("line \"{value}\": give a line number"))?;
+                self.select_line(line);
+            }
+            "pitch" => {
+                self.inputs.pitch_mm = if value == "auto" {
+                    None
+                } else {
+                    Some(
+                        value
+                            .parse::<f64>()
+                            .ok()
+                            .filter(|p| *p > 0.0 && p.is_finite())
+                            .ok_or_else(|| format!("pitch \"{value}\": give a length in mm or auto"))?,
+                    )
+                };
+            }
+            _ => {
+                return Err(format!(
+                    "this view has no option \"{key}\" (file:NAME, colour, tolerance, machine, kinematics, simulate, line, pitch)"
+                ));
+            }
+        }
+        self.view.invalidate();
+        Ok(())
+    }
+}

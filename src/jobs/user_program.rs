@@ -1,0 +1,690 @@
+//! A user's program as a background job: read by the interpreter with its tool table, CAMotics
+//! project and subroutine files ([`crate::simulate::canon`]), handed back at once as what a
+//! view draws and lists ([`ReadSummary`]: the path, each block's line, kind, tool, feed and
+//! nonlinear error, the reports), then — when asked — machined into its stock with each of its
+//! tools ([`Finished`]: the height map, which tool last cut each ray, each tool's volume).
+//! The same pipeline as `interpolab simulate --tools/--project/--machine`.
+
+use glam::DVec3;
+use serde_json::{Value, json};
+
+use super::simulate_run::{counters_of, counters_value, grid_of, grid_value};
+use super::{JobKind, Progress, Reader, f32s_packed, f64s_packed, parse};
+use crate::gcode::interp::tools::{TableUnits, ToolTable};
+use crate::gcode::interp::{Interpreter, NoLibrary, Options, TextLibrary, TextSource};
+use crate::geom::Cutter;
+use crate::simulate::canon::{
+    BlockKind, CanonBuilder, CanonOptions, CanonProgram, KinematicsChoice, MachineSetup, NO_SLOT,
+};
+use crate::simulate::stock::Grid;
+use crate::simulate::{Counters, DexelStock, HeightMap, NO_TOOL, Simulation};
+
+/// Most points of the path handed back for drawing; a longer program's path is thinned
+/// evenly (every block keeps its end).
+pub const MAX_PATH_POINTS: usize = 400_000;
+/// Most rays of the stock (as the simulation tab's).
+pub const MAX_RAYS: usize = 1024 * 1024;
+/// Longest side of an automatic grid (rays).
+pub const AUTO_GRID_SIDE: f64 = 256.0;
+/// Share of the progress bar the reading takes.
+const READ_SHARE: f64 = 0.3;
+
+/// A run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Request {
+    /// The program's name (for messages).
+    pub name: String,
+    /// Its text.
+    pub text: String,
+    /// Subroutine files (name, text): `o<name> call` and `M98 P…` find them by name.
+    pub files: Vec<(String, String)>,
+    /// A LinuxCNC tool table (`.tbl` text, mm).
+    pub tool_table: Option<String>,
+    /// A CAMotics project (`.camotics` JSON): its tools and workpiece.
+    pub project: Option<String>,
+    /// The cutter of moves before any tool change and of tools no table has.
+    pub default_cutter: Cutter,
+    /// The machine's name ([`MachineSetup::NAMES`]); `None`: as the program's comments name
+    /// one, else three axes.
+    pub machine: Option<String>,
+    /// How rotary words are read.
+    pub kinematics: KinematicsChoice,
+    /// Pitch (mm); `None`: automatic.
+    pub pitch_mm: Option<f64>,
+    /// The stock block (mm); `None`: the project's workpiece or the automatic one.
+    pub stock_mm: Option<[f64; 6]>,
+    /// Machine the program (else only read it).
+    pub simulate: bool,
+}
+
+/// What a view draws and lists of a program read.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ReadSummary {
+    /// Lines of the main program.
+    pub lines: u32,
+    /// The path: tool tip positions (mm, workpiece), x y z per point, in order.
+    pub points: Vec<f32>,
+    /// For each point, the block whose motion ends the segment to it.
+    pub point_block: Vec<u32>,
+    /// Per block: its line (in its file), its file (0: the main program), kind (0 rapid,
+    /// 1 line, 2 arc, 3 spline), tool slot ([`NO_SLOT`]: none), programmed feed (F as
+    /// given: mm/min, 1/min under G93), nonlinear error (mm; NaN: not measured).
+    pub block_line: Vec<u32>,
+    /// Block files.
+    pub block_file: Vec<u16>,
+    /// Block kinds.
+    pub block_kind: Vec<u8>,
+    /// Block tool slots.
+    pub block_slot: Vec<u16>,
+    /// Block feeds.
+    pub block_feed: Vec<f32>,
+    /// Block nonlinear errors.
+    pub block_error: Vec<f32>,
+    /// The tools: number (−1: the default cutter), cutter description, source, feed time
+    /// (min), feed blocks.
+    pub tools: Vec<ToolRow>,
+    /// The interpreter's reports and warnings and the builder's notes: (line, text); line 0
+    /// when none applies.
+    pub messages: Vec<(u32, String)>,
+    /// The machine, when rotary axes go through one.
+    pub machine: Option<String>,
+    /// The stock block (mm) and where it comes from.
+    pub stock_mm: [f64; 6],
+    /// Where the stock comes from.
+    pub stock_from: String,
+    /// The pitch (mm).
+    pub pitch_mm: f64,
+    /// Moves the simulation will cut.
+    pub moves: usize,
+    /// Time of the feed blocks at the programmed feed (min).
+    pub feed_min: f64,
+}
+
+/// One tool of a program.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ToolRow {
+    /// T (−1: the default cutter before any tool change).
+    pub number: i32,
+    /// `Cutter::describe`.
+    pub cutter: String,
+    /// Where its size comes from.
+    pub source: String,
+    /// Feed blocks.
+    pub feed_blocks: usize,
+    /// Time of its feed blocks (min).
+    pub feed_min: f64,
+}
+
+/// The machined stock.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Finished {
+    /// The run's counts.
+    pub counters: Counters,
+    /// The height map.
+    pub map: HeightMap,
+    /// Per ray the tool slot that last removed material ([`NO_TOOL`]: none).
+    pub tool_map: Vec<u16>,
+    /// Volume each tool removed (mm³), by slot.
+    pub removed_mm3: Vec<f64>,
+}
+
+/// A partial output: the program read.
+pub type Partial = Box<ReadSummary>;
+
+/// The job kind.
+#[derive(Clone, Copy, Debug)]
+pub struct UserProgram;
+
+/// The tools of a request: the project's, then the table's (a number in both: the table's).
+fn tools_of(req: &Request) -> Result<(ToolTable, Option<crate::gcode::interp::tools::CamoticsProject>), String> {
+    let mut table = ToolTable::new();
+    let mut project = None;
+    if let Some(p) = &req.project {
+        let proj = ToolTable::from_camotics(p).map_err(|e| format!("the CAMotics project: {e}"))?;
+        table = proj.tools.clone();
+        project = Some(proj);
+    }
+    if let Some(t) = &req.tool_table {
+        let t = ToolTable::from_linuxcnc(t, TableUnits::Mm).map_err(|e| format!("the tool table: {e}"))?;
+        for e in t.iter() {
+            table.set(e.clone()).map_err(|e| format!("the tool table: {e}"))?;
+        }
+    }
+    Ok((table, project))
+}
+
+/// Reads the request's program into moves; `progress` gets the fraction of the text read.
+///
+/// # Errors
+/// A bad table or project, an unknown machine, the interpreter's error with its line, the
+/// builder's (a tool no table gives), or cancelled.
+pub fn read(req: &Request, progress: &mut dyn Progress) -> Result<(CanonProgram, ReadSummary), String> {
+    let (table, project) = tools_of(req)?;
+    let mut opts = Options { tools: table.clone(), keep_comments: 64, ..Options::default() };
+    if project.as_ref().is_some_and(|p| p.units == TableUnits::Inch) {
+        opts.inch = true;
+    }
+    let mut machine =
+        match &req.machine {
+            None => None,
+            Some(name) => Some(MachineSetup::from_name(name, 0.0).ok_or_else(|| {
+                format!("\"{name}\" is not a machine; choose one of {}", MachineSetup::NAMES.join(", "))
+            })?),
+        };
+    let mut messages = Vec::new();
+    if machine.is_none() {
+        // The machine the first comments name (LinuxCNC's `M428 ;TCP:xyzac`).
+        let mut head = Interpreter::new(Box::new(TextSource::new(&req.text)), Box::new(NoLibrary), opts.clone());
+        for _ in 0..200 {
+            if !matches!(head.next(), Some(Ok(_))) {
+                break;
+            }
+        }
+        if let Some((m, loc)) = MachineSetup::from_comments(head.comments(), 0.0) {
+            messages.push((loc.line, format!("machine {} named by this comment", m.name())));
+            machine = Some(m);
+        }
+    }
+    let mut lib = TextLibrary::new();
+    for (name, text) in &req.files {
+        lib.add(name, text);
+    }
+    let mut it = Interpreter::new(Box::new(TextSource::new(&req.text)), Box::new(lib), opts);
+    let mut b = CanonBuilder::new(CanonOptions {
+        machine,
+        kinematics: req.kinematics,
+        chord_tol_mm: req.pitch_mm.unwrap_or(0.2) / 10.0,
+        tools: table,
+        default_cutter: Some(req.default_cutter),
+    });
+    let size = req.text.len().max(1) as f64;
+    let mut calls = 0u64;
+    let done = b
+        .read(&mut it, |it| {
+            calls += 1;
+            if calls.is_multiple_of(512) {
+                progress.progress(READ_SHARE * it.main_offset() as f64 / size);
+                return !progress.cancelled();
+            }
+            true
+        })
+        .map_err(|e| format!("{}: {e}", req.name))?;
+    if !done {
+        return Err("cancelled".to_owned());
+    }
+    for w in it.warnings() {
+        messages.push((w.loc.line, format!("warning: {}", w.text)));
+    }
+    for r in it.reports() {
+        let times = if r.count == 1 { "once".to_owned() } else { format!("{} times", r.count) };
+        messages.push((r.first.line, format!("{} ({times}): {}", r.code, r.what)));
+    }
+    let main_lines = it.main_lines();
+    let p = b.finish();
+    for n in &p.notes {
+        messages.push((n.loc.line, n.text.clone()));
+    }
+    messages.sort_by_key(|m| m.0);
+    let (stock_mm, stock_from) = match (req.stock_mm, project.as_ref().and_then(|p| p.workpiece)) {
+        (Some(s), _) => (s, "given".to_owned()),
+        (None, Some(w)) if !w.automatic && w.bounds_mm.is_some() => {
+            let (lo, hi) = w.bounds_mm.unwrap_or_default();
+            ([lo.x, lo.y, lo.z, hi.x, hi.y, hi.z], "the project's workpiece".to_owned())
+        }
+        (None, w) => {
+            let margin = w.map_or(5.0, |w| w.margin_percent);
+            let s = p
+                .automatic_stock(margin)
+                .ok_or("the program has no feed move to size the stock from; give the stock")?;
+            (s, format!("automatic (the cuts' box, margin {margin} %)"))
+        }
+    };
+    let pitch_mm = match req.pitch_mm {
+        Some(p) => p,
+        None => {
+            let side = (stock_mm[3] - stock_mm[0]).max(stock_mm[4] - stock_mm[1]);
+            let p = side / AUTO_GRID_SIDE;
+            let scale = 10f64.powf(p.log10().floor() - 1.0);
+            ((p / scale).ceil() * scale).clamp(0.02, 2.0)
+        }
+    };
+    let summary = summarize(&p, main_lines, messages, stock_mm, stock_from, pitch_mm);
+    Ok((p, summary))
+}
+
+fn summarize(
+    p: &CanonProgram,
+    lines: u32,
+    messages: Vec<(u32, String)>,
+    stock_mm: [f64; 6],
+    stock_from: String,
+    pitch_mm: f64,
+) -> ReadSummary {
+    let n = p.blocks.len();
+    let mut s = ReadSummary {
+        lines,
+        messages,
+        machine: p.machine.map(|m| m.name().to_owned()),
+        stock_mm,
+        stock_from,
+        pitch_mm,
+        moves: p.program.moves.len(),
+        feed_min: p.tools.iter().map(|t| t.feed_min).sum(),
+        ..ReadSummary::default()
+    };
+    // Every move's end, thinned evenly past the cap (each block keeps its end).
+    let total: usize = p.blocks.iter().map(|b| (b.moves.1 - b.moves.0).max(1) as usize).sum();
+    let keep_every = total.div_ceil(MAX_PATH_POINTS).max(1);
+    let mut k = 0usize;
+    for (i, b) in p.blocks.iter().enumerate() {
+        s.block_line.push(b.loc.line);
+        s.block_file.push(b.loc.file);
+        s.block_kind.push(match b.kind {
+            BlockKind::Rapid => 0,
+            BlockKind::Line => 1,
+            BlockKind::Arc => 2,
+            BlockKind::Spline => 3,
+        });
+        s.block_slot.push(b.slot);
+        s.block_feed.push(b.feed.rate as f32);
+        s.block_error.push(b.rotary.and_then(|r| r.nonlinear_mm).map_or(f32::NAN, |e| e as f32));
+        let block = u32::try_from(i).unwrap_or(u32::MAX);
+        let moves = p.program.moves.get(b.moves.0 as usize..b.moves.1 as usize).unwrap_or(&[]);
+        let mut push = |q: DVec3| {
+            s.points.extend([q.x as f32, q.y as f32, q.z as f32]);
+            s.point_block.push(block);
+        };
+        let last = moves.len().saturating_sub(1);
+        for (j, m) in moves.iter().enumerate() {
+            k += 1;
+            if j == last || k.is_multiple_of(keep_every) {
+                push(crate::simulate::canon::move_ends(m)[1]);
+            }
+        }
+        if moves.is_empty() {
+            push(b.end_tip);
+        }
+    }
+    debug_assert_eq!(s.block_line.len(), n);
+    s.tools = p
+        .tools
+        .iter()
+        .map(|t| ToolRow {
+            number: t.number,
+            cutter: t.cutter.describe(),
+            source: t.source.clone(),
+            feed_blocks: t.feed_blocks,
+            feed_min: t.feed_min,
+        })
+        .collect();
+    s
+}
+
+/// Reads and, when asked, machines the program.
+///
+/// # Errors
+/// As [`read`]; a grid over [`MAX_RAYS`], too much work, or cancelled.
+pub fn run(req: &Request, progress: &mut dyn Progress) -> Result<Option<Finished>, String> {
+    let (mut p, summary) = read(req, progress)?;
+    let (stock_mm, pitch) = (summary.stock_mm, summary.pitch_mm);
+    progress.partial(encode_partial(&summary));
+    if !req.simulate {
+        progress.progress(1.0);
+        return Ok(None);
+    }
+    let nx = ((stock_mm[3] - stock_mm[0]) / pitch).ceil();
+    let ny = ((stock_mm[4] - stock_mm[1]) / pitch).ceil();
+    if !(nx * ny <= MAX_RAYS as f64) {
+        return Err(format!(
+            "a pitch of {pitch} mm on this stock gives {} × {} rays, more than the {MAX_RAYS} this view simulates; raise the pitch",
+            crate::simulate::ray_count(nx),
+            crate::simulate::ray_count(ny)
+        ));
+    }
+    let stock =
+        DexelStock::block([stock_mm[0], stock_mm[1], stock_mm[2]], [stock_mm[3], stock_mm[4], stock_mm[5]], pitch)
+            .map_err(|e| e.to_string())?;
+    let first = p.tools.first().map_or(req.default_cutter, |t| t.cutter);
+    let mut sim = Simulation::new(stock, &first).with_tool_map();
+    let total = p.program.moves.len().max(1) as f64;
+    let done = p
+        .run(&mut sim, |moves| {
+            progress.progress(READ_SHARE + (1.0 - READ_SHARE) * moves as f64 / total);
+            !progress.cancelled()
+        })
+        .map_err(|e| e.to_string())?;
+    if !done {
+        return Err("cancelled".to_owned());
+    }
+    let map = HeightMap::of(sim.stock());
+    let tool_map = sim.tool_map().map_or_else(|| vec![NO_TOOL; map.grid.len()], <[u16]>::to_vec);
+    Ok(Some(Finished {
+        counters: *sim.counters(),
+        map,
+        tool_map,
+        removed_mm3: p.tools.iter().map(|t| t.removed_mm3).collect(),
+    }))
+}
+
+fn f32s_of(xs: impl IntoIterator<Item = f32>) -> Value {
+    f32s_packed(&xs.into_iter().collect::<Vec<_>>())
+}
+
+/// The partial output as text.
+#[must_use]
+pub fn encode_partial(s: &ReadSummary) -> String {
+    json!({
+        "lines": s.lines,
+        "points": s.point_block.len(),
+        "xyz": f32s_packed(&s.points),
+        "point_block": f32s_of(s.point_block.iter().map(|&b| b as f32)),
+        "blocks": s.block_line.len(),
+        // Lines and files as f32: exact below 2^24 (the interpreter's files and a program's
+        // lines stay far below it).
+        "block_line": f32s_of(s.block_line.iter().map(|&l| l as f32)),
+        "block_file": f32s_of(s.block_file.iter().map(|&f| f32::from(f))),
+        "block_kind": f32s_of(s.block_kind.iter().map(|&k| f32::from(k))),
+        "block_slot": f32s_of(s.block_slot.iter().map(|&k| f32::from(k))),
+        "block_feed": f32s_packed(&s.block_feed),
+        "block_error": f32s_packed(&s.block_error),
+        "tools": s.tools.iter().map(|t| json!({
+            "number": t.number, "cutter": t.cutter, "source": t.source,
+            "feed_blocks": t.feed_blocks, "feed_min": super::num(t.feed_min),
+        })).collect::<Vec<_>>(),
+        "messages": s.messages.iter().map(|(l, t)| json!([l, t])).collect::<Vec<_>>(),
+        "machine": s.machine,
+        "stock_mm": super::nums(s.stock_mm),
+        "stock_from": s.stock_from,
+        "pitch_mm": super::num(s.pitch_mm),
+        "moves": s.moves,
+        "feed_min": super::num(s.feed_min),
+    })
+    .to_string()
+}
+
+fn decode_summary(text: &str) -> Result<ReadSummary, String> {
+    const W: &str = "user-program partial";
+    let v = parse(text, W)?;
+    let r = Reader::new(&v, W)?;
+    let n = r.usize("points")?;
+    let nb = r.usize("blocks")?;
+    if n > MAX_PATH_POINTS + crate::simulate::canon::MAX_BLOCKS || nb > crate::simulate::canon::MAX_BLOCKS {
+        return Err(format!("{W}: too many points or blocks"));
+    }
+    let as_u = |xs: Vec<f32>| -> Vec<u32> { xs.into_iter().map(|x| x as u32).collect() };
+    let tools = r
+        .value("tools")?
+        .as_array()
+        .ok_or(format!("{W}.tools: not a list"))?
+        .iter()
+        .map(|t| {
+            let t = Reader::new(t, "user-program partial.tools[]")?;
+            Ok(ToolRow {
+                number: i32::try_from(t.value("number")?.as_i64().ok_or("a tool number")?)
+                    .map_err(|e| e.to_string())?,
+                cutter: t.str("cutter")?.to_owned(),
+                source: t.str("source")?.to_owned(),
+                feed_blocks: t.usize("feed_blocks")?,
+                feed_min: t.f64("feed_min")?,
+            })
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    let messages = r
+        .value("messages")?
+        .as_array()
+        .ok_or(format!("{W}.messages: not a list"))?
+        .iter()
+        .map(|m| {
+            let line = m.get(0).and_then(Value::as_u64).and_then(|l| u32::try_from(l).ok());
+            let text = m.get(1).and_then(Value::as_str);
+            line.zip(text).map(|(l, t)| (l, t.to_owned())).ok_or(format!("{W}.messages: not [line, text]"))
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    Ok(ReadSummary {
+        lines: u32::try_from(r.usize("lines")?).unwrap_or(u32::MAX),
+        points: r.f32s_packed("xyz", 3 * n)?,
+        point_block: as_u(r.f32s_packed("point_block", n)?),
+        block_line: as_u(r.f32s_packed("block_line", nb)?),
+        block_file: r.f32s_packed("block_file", nb)?.into_iter().map(|x| x as u16).collect(),
+        block_kind: r.f32s_packed("block_kind", nb)?.into_iter().map(|x| x as u8).collect(),
+        block_slot: r.f32s_packed("block_slot", nb)?.into_iter().map(|x| x as u16).collect(),
+        block_feed: r.f32s_packed("block_feed", nb)?,
+        block_error: r.f32s_packed("block_error", nb)?,
+        tools,
+        messages,
+        machine: match r.value("machine")? {
+            Value::Null => None,
+            v => Some(v.as_str().ok_or(format!("{W}.machine: not text"))?.to_owned()),
+        },
+        stock_mm: r.f64s("stock_mm")?.try_into().map_err(|_| format!("{W}.stock_mm: not six numbers"))?,
+        stock_from: r.str("stock_from")?.to_owned(),
+        pitch_mm: r.f64("pitch_mm")?,
+        moves: r.usize("moves")?,
+        feed_min: r.f64("feed_min")?,
+    })
+}
+
+fn cutter_numbers(c: &Cutter) -> Vec<f64> {
+    let taper = c.taper.map_or([0.0, 0.0], |t| [t.half_angle_rad, t.tip_radius_mm]);
+    vec![
+        c.radius_mm,
+        c.corner_radius_mm,
+        c.flute_length_mm,
+        c.shank_radius_mm,
+        c.gauge_length_mm,
+        c.holder_radius_mm,
+        c.holder_length_mm,
+        taper[0],
+        taper[1],
+    ]
+}
+
+fn cutter_from(v: &[f64]) -> Result<Cutter, String> {
+    let [r, corner, flute, shank, gauge, hr, hl, half, tip] = v[..] else {
+        return Err("the cutter: not nine numbers".to_owned());
+    };
+    let mut c = Cutter::try_new(r, corner, flute, shank, gauge, hr, hl).map_err(|e| e.to_string())?;
+    if half > 0.0 {
+        c.taper = Some(crate::geom::Taper { half_angle_rad: half, tip_radius_mm: tip });
+    }
+    Ok(c)
+}
+
+fn kinematics_index(k: KinematicsChoice) -> u64 {
+    match k {
+        KinematicsChoice::Auto => 0,
+        KinematicsChoice::Joints => 1,
+        KinematicsChoice::Tcp => 2,
+    }
+}
+
+impl JobKind for UserProgram {
+    const NAME: &'static str = "user-program";
+    type Request = Request;
+    type Output = Result<Option<Finished>, String>;
+    type Partial = Partial;
+
+    fn run(req: &Request, progress: &mut dyn Progress) -> Self::Output {
+        run(req, progress)
+    }
+
+    fn encode_request(r: &Request) -> String {
+        json!({
+            "name": r.name,
+            "text": r.text,
+            "files": r.files.iter().map(|(n, t)| json!([n, t])).collect::<Vec<_>>(),
+            "tool_table": r.tool_table,
+            "project": r.project,
+            "default_cutter": super::nums(cutter_numbers(&r.default_cutter)),
+            "machine": r.machine,
+            "kinematics": kinematics_index(r.kinematics),
+            "pitch_mm": r.pitch_mm.map_or(Value::Null, super::num),
+            "stock_mm": r.stock_mm.map_or(Value::Null, super::nums),
+            "simulate": r.simulate,
+        })
+        .to_string()
+    }
+
+    fn decode_request(text: &str) -> Result<Request, String> {
+        const W: &str = "user-program request";
+        let v = parse(text, W)?;
+        let r = Reader::new(&v, W)?;
+        let opt_text = |k: &str| -> Result<Option<String>, String> {
+            match r.value(k)? {
+                Value::Null => Ok(None),
+                v => v.as_str().map(|s| Some(s.to_owned())).ok_or(format!("{W}.{k}: not text")),
+            }
+        };
+        let files = r
+            .value("files")?
+            .as_array()
+            .ok_or(format!("{W}.files: not a list"))?
+            .iter()
+            .map(|f| {
+                let n = f.get(0).and_then(Value::as_str);
+                let t = f.get(1).and_then(Value::as_str);
+                n.zip(t).map(|(n, t)| (n.to_owned(), t.to_owned())).ok_or(format!("{W}.files: not [name, text]"))
+            })
+            .collect::<Result<Vec<_>, String>>()?;
+        Ok(Request {
+            name: r.str("name")?.to_owned(),
+            text: r.str("text")?.to_owned(),
+            files,
+            tool_table: opt_text("tool_table")?,
+            project: opt_text("project")?,
+            default_cutter: cutter_from(&r.f64s("default_cutter")?)?,
+            machine: opt_text("machine")?,
+            kinematics: match r.usize("kinematics")? {
+                0 => KinematicsChoice::Auto,
+                1 => KinematicsChoice::Joints,
+                2 => KinematicsChoice::Tcp,
+                k => return Err(format!("{W}.kinematics: {k} is not 0, 1 or 2")),
+            },
+            pitch_mm: r.opt_f64("pitch_mm")?,
+            stock_mm: match r.value("stock_mm")? {
+                Value::Null => None,
+                _ => Some(r.f64s("stock_mm")?.try_into().map_err(|_| format!("{W}.stock_mm: not six numbers"))?),
+            },
+            simulate: r.value("simulate")?.as_bool().ok_or(format!("{W}.simulate: not true or false"))?,
+        })
+    }
+
+    fn encode_output(out: &Self::Output) -> String {
+        match out {
+            Err(e) => json!({ "error": e }),
+            Ok(None) => json!({ "read": true }),
+            Ok(Some(f)) => json!({
+                "counters": counters_value(&f.counters),
+                "grid": grid_value(&f.map.grid),
+                "top_mm": f64s_packed(&f.map.top_mm),
+                "machined": super::bits_packed(&f.map.machined),
+                "through": f.map.through,
+                "tool_map": f32s_of(f.tool_map.iter().map(|&t| f32::from(t))),
+                "removed_mm3": super::nums(f.removed_mm3.iter().copied()),
+            }),
+        }
+        .to_string()
+    }
+
+    fn decode_output(text: &str) -> Result<Self::Output, String> {
+        const W: &str = "user-program output";
+        let v = parse(text, W)?;
+        if let Some(e) = v.get("error") {
+            return Ok(Err(e.as_str().unwrap_or("the run failed").to_owned()));
+        }
+        if v.get("read").is_some() {
+            return Ok(Ok(None));
+        }
+        let r = Reader::new(&v, W)?;
+        let grid: Grid = grid_of(r.value("grid")?)?;
+        let n = grid.len();
+        Ok(Ok(Some(Finished {
+            counters: counters_of(r.value("counters")?)?,
+            map: HeightMap {
+                grid,
+                top_mm: r.f64s_packed("top_mm", n)?,
+                machined: r.bits_packed("machined", n)?,
+                through: r.usize("through")?,
+            },
+            tool_map: r.f32s_packed("tool_map", n)?.into_iter().map(|t| t as u16).collect(),
+            removed_mm3: r.f64s("removed_mm3")?,
+        })))
+    }
+
+    fn decode_partial(text: &str) -> Result<Partial, String> {
+        decode_summary(text).map(Box::new)
+    }
+}
+
+/// Whether a slot is a tool ([`NO_SLOT`] is none).
+#[must_use]
+pub fn is_tool(slot: u16) -> bool {
+    slot != NO_SLOT
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::jobs::NoProgress;
+
+    /// Collects partial outputs.
+    struct Keep(Vec<String>);
+    impl Progress for Keep {
+        fn progress(&mut self, _f: f64) {}
+        fn cancelled(&self) -> bool {
+            false
+        }
+        fn partial(&mut self, e: String) {
+            self.0.push(e);
+        }
+    }
+
+    fn request(simulate: bool) -> Request {
+        Request {
+            name: "two.ngc".to_owned(),
+            text: "G21 G90\nT1 M6\nG0 X0 Y0 Z5\nG1 Z-1 F200\nG1 X20\nG0 Z5\nT2 M6\no<groove> call\nM30\n".to_owned(),
+            files: vec![(
+                "groove.ngc".to_owned(),
+                "o<groove> sub\nG0 X0 Y8\nG1 Z-2 F100\nG1 X20\nG0 Z5\no<groove> endsub\n".to_owned(),
+            )],
+            tool_table: Some("T1 P1 D6 ;flat\nT2 P2 D4 ;v90\n".to_owned()),
+            project: None,
+            default_cutter: Cutter::ball(1.0).unwrap_or_else(|_| unreachable!()),
+            machine: None,
+            kinematics: KinematicsChoice::Auto,
+            pitch_mm: Some(0.25),
+            stock_mm: Some([-5.0, -5.0, -5.0, 25.0, 15.0, 0.0]),
+            simulate,
+        }
+    }
+
+    #[test]
+    fn a_request_crosses_as_text_and_runs_the_same_on_both_sides() {
+        let req = request(true);
+        let back = UserProgram::decode_request(&UserProgram::encode_request(&req)).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(back, req);
+        let mut keep = Keep(Vec::new());
+        let out = UserProgram::run(&req, &mut keep);
+        let f = out.clone().unwrap_or_else(|e| panic!("{e}")).unwrap_or_else(|| panic!("no stock"));
+        // The subroutine's groove is tool 2's (a V: 2 mm deep is 4 mm wide), the first tool 1's.
+        let g = f.map.grid;
+        let at = |x: f64, y: f64| {
+            let i = ((x - g.x0_mm) / g.pitch_mm) as usize;
+            let j = ((y - g.y0_mm) / g.pitch_mm) as usize;
+            (j * g.nx + i, g.y_mm(j))
+        };
+        assert_eq!(f.tool_map[at(10.0, 0.1).0], 0);
+        let (k, y) = at(10.0, 8.1);
+        assert_eq!(f.tool_map[k], 1);
+        assert!((f.map.top_mm[k] - (-2.0 + (y - 8.0).abs())).abs() < 1e-9, "{}", f.map.top_mm[k]);
+        let again = UserProgram::decode_output(&UserProgram::encode_output(&out)).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(again, out);
+        let s = UserProgram::decode_partial(&keep.0[0]).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(s.block_line.len(), 8);
+        assert_eq!(s.tools.iter().map(|t| t.number).collect::<Vec<_>>(), [1, 2]);
+        // Blocks of the subroutine carry their file's lines.
+        assert_eq!((s.block_file[4], s.block_line[4]), (1, 2));
+        let read_only = UserProgram::run(&request(false), &mut NoProgress);
+        assert_eq!(read_only, Ok(None));
+    }
+}

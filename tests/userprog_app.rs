@@ -1,0 +1,107 @@
+//! The "Your program" tab run headless (no window, no GPU): a two-tool program with its tool
+//! table and a subroutine file is read and drawn, its reports listed by line, a message picks
+//! its line, and Simulate machines the same stock as the core's job for the same request.
+//! Native only; needs the `app` feature.
+#![cfg(all(feature = "app", not(target_arch = "wasm32")))]
+#![allow(clippy::unwrap_used, clippy::expect_used, reason = "tests: a failure should fail the test")]
+
+use eframe::egui;
+use interpolab::app::InterpolabApp;
+use interpolab::geom::Cutter;
+use interpolab::jobs::NoProgress;
+use interpolab::jobs::user_program::{Request, run};
+use interpolab::simulate::canon::KinematicsChoice;
+
+const TAB: &str = "Your program";
+
+struct Harness {
+    ctx: egui::Context,
+    app: InterpolabApp,
+    frame: eframe::Frame,
+}
+
+impl Harness {
+    fn new() -> Self {
+        let ctx = egui::Context::default();
+        let cc = eframe::CreationContext::_new_kittest(ctx.clone());
+        let app = InterpolabApp::new(&cc);
+        Self { ctx, app, frame: eframe::Frame::_new_kittest() }
+    }
+
+    fn frame(&mut self) {
+        let input = egui::RawInput {
+            screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(1400.0, 900.0))),
+            ..Default::default()
+        };
+        let (app, frame) = (&mut self.app, &mut self.frame);
+        let out = self.ctx.run_ui(input, |ui| eframe::App::ui(app, ui, frame));
+        out.drop_without_applying_deltas();
+    }
+
+    fn panel(&self) -> serde_json::Value {
+        let s: serde_json::Value = serde_json::from_str(&self.app.status()).expect("status is JSON");
+        s["panel"]["status"].clone()
+    }
+
+    /// Frames until the tab's job is done and `ready` holds.
+    fn until(&mut self, what: &str, ready: impl Fn(&serde_json::Value) -> bool) -> serde_json::Value {
+        for _ in 0..20_000 {
+            self.frame();
+            let p = self.panel();
+            if p["computing"] == false && ready(&p) {
+                return p;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(2));
+        }
+        panic!("{what}: never ready; last {}", self.panel());
+    }
+}
+
+const PROGRAM: &str = "G21 G90\nT1 M6\nG0 X0 Y0 Z5\nG1 Z-1 F200\nG1 X20\nG0 Z5\nT2 M6\no<groove> call\nM123\nM30\n";
+const SUB: &str = "o<groove> sub\nG0 X0 Y8\nG1 Z-2 F100\nG1 X20\nG0 Z5\no<groove> endsub\n";
+const TABLE: &str = "T1 P1 D6 ;flat\nT2 P2 D4 ;v90\n";
+
+#[test]
+fn a_two_tool_program_is_read_listed_and_machined_as_the_core_does() {
+    let mut h = Harness::new();
+    h.app.set_panel_option(TAB, "file:tools.tbl", TABLE).unwrap();
+    h.app.set_panel_option(TAB, "file:groove.ngc", SUB).unwrap();
+    h.app.set_panel_option(TAB, "file:two.ngc", PROGRAM).unwrap();
+    let p = h.until("the program read", |p| p["blocks"].is_number());
+    assert_eq!(p["program"], "two.ngc");
+    assert_eq!(p["subroutines"][0], "groove.ngc", "{p}");
+    assert_eq!(p["blocks"], 8, "{p}");
+    assert_eq!(p["tools"][1]["cutter"], "V R 2 mm, 90°", "{p}");
+    assert!(p["drawn_segments"].as_u64().unwrap() >= 5, "{p}");
+    // The unknown M code is reported with its line; picking it selects the next motion's line.
+    let msgs: Vec<String> = p["messages"].as_array().unwrap().iter().map(|m| m.as_str().unwrap().to_owned()).collect();
+    assert!(msgs.iter().any(|m| m.starts_with("9: M123")), "{msgs:?}");
+    h.app.set_panel_option(TAB, "line", "4").unwrap();
+    h.frame();
+    assert_eq!(h.panel()["selected_line"], 4);
+    h.app.set_panel_option(TAB, "colour", "tool").unwrap();
+    h.app.set_panel_option(TAB, "pitch", "0.25").unwrap();
+    // The pitch changed the inputs: wait for the new reading before simulating.
+    h.until("the program read again", |p| p["blocks"] == 8);
+    h.app.set_panel_option(TAB, "simulate", "").unwrap();
+    let p = h.until("the stock machined", |p| p["removed_mm3"].is_array());
+    let removed: Vec<f64> = p["removed_mm3"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    // The core's job for the same request (its automatic stock and the pitch).
+    let req = Request {
+        name: "two.ngc".to_owned(),
+        text: PROGRAM.to_owned(),
+        files: vec![("groove.ngc".to_owned(), SUB.to_owned())],
+        tool_table: Some(TABLE.to_owned()),
+        project: None,
+        default_cutter: Cutter::flat(1.5).unwrap(),
+        machine: None,
+        kinematics: KinematicsChoice::Auto,
+        pitch_mm: Some(0.25),
+        stock_mm: None,
+        simulate: true,
+    };
+    let f = run(&req, &mut NoProgress).unwrap().unwrap();
+    assert_eq!(removed, f.removed_mm3);
+    assert!(removed[0] > 100.0 && removed[1] > 20.0, "{removed:?}");
+    assert_eq!(p["stock_rays"].as_u64().unwrap() as usize, f.map.grid.len());
+}
