@@ -19,6 +19,8 @@ mod sim_programs;
 
 // Seed 001: a whole example surface's iso-scallop paths.
 mod fillet;
+// A million-line program through the interpreter.
+mod interp;
 // A 10 000-period crease recompute (what a slider move costs).
 mod recompute;
 // Ray-interval updates per second of the cutting simulation, and its job as the worker runs it.
