@@ -82,7 +82,7 @@ enum Command {
     /// Read a G-code program; with --scene, report its deviation from the design crease.
     Replay(Box<gcode::ReplayArgs>),
     /// Read a G-code program as the controller reads it (RS274/NGC, LinuxCNC, FANUC macros) and print its canonical calls, one a line, in machine mm.
-    Canon(program::CanonArgs),
+    Canon(userprog::CanonArgs),
     /// Compare the G01, G02/G03 and G06.2 programs at a tolerance (blocks, bytes, deviation, smoothness).
     Compare(gcode::CompareArgs),
     /// Real-time interpolation of the fitted G06.2 curve: one CSV row per period.
@@ -122,6 +122,67 @@ pub(crate) fn finite(text: &str) -> Result<f64, String> {
     }
 }
 
+/// Pretty-prints a JSON document (two-space indent, keys in insertion order) with every
+/// number as the shortest decimal that reads back to the same double
+/// ([`interpolab::numerics::format::push_num`], as every other command prints numbers:
+/// `4`, not `4.0`); a non-finite number prints as null.
+pub(crate) fn pretty_json(v: &serde_json::Value, depth: usize, out: &mut String) {
+    use serde_json::Value;
+    let pad = |out: &mut String, d: usize| out.extend(std::iter::repeat_n("  ", d));
+    match v {
+        Value::Number(n) => match (n.as_i64(), n.as_u64(), n.as_f64()) {
+            (Some(i), _, _) => out.push_str(&i.to_string()),
+            (_, Some(u), _) => out.push_str(&u.to_string()),
+            (_, _, Some(x)) if x.is_finite() => interpolab::numerics::format::push_num(out, x),
+            _ => out.push_str("null"),
+        },
+        Value::Array(items) if !items.is_empty() => {
+            out.push('[');
+            for (k, item) in items.iter().enumerate() {
+                out.push_str(if k == 0 { "\n" } else { ",\n" });
+                pad(out, depth + 1);
+                pretty_json(item, depth + 1, out);
+            }
+            out.push('\n');
+            pad(out, depth);
+            out.push(']');
+        }
+        Value::Object(map) if !map.is_empty() => {
+            out.push('{');
+            for (k, (key, item)) in map.iter().enumerate() {
+                out.push_str(if k == 0 { "\n" } else { ",\n" });
+                pad(out, depth + 1);
+                out.push_str(&serde_json::to_string(key).unwrap_or_default());
+                out.push_str(": ");
+                pretty_json(item, depth + 1, out);
+            }
+            out.push('\n');
+            pad(out, depth);
+            out.push('}');
+        }
+        other => out.push_str(&serde_json::to_string(other).unwrap_or_default()),
+    }
+}
+
+pub(crate) fn numbers(text: &str, what: &str, n: usize) -> Result<Vec<f64>, Fatal> {
+    let v: Vec<f64> = text
+        .split(',')
+        .map(|s| s.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| Fatal(format!("--{what} `{text}`: expected {n} comma-separated numbers in mm")))?;
+    if v.len() != n || v.iter().any(|x| !x.is_finite()) {
+        return Err(Fatal(format!("--{what} `{text}`: expected {n} comma-separated finite numbers in mm")));
+    }
+    Ok(v)
+}
+
+/// The `--stock` box `x0,y0,z0,x1,y1,z1` (mm) as a dexel stock of rays `pitch` mm apart.
+pub(crate) fn stock_block(text: &str, pitch: f64) -> Result<interpolab::simulate::DexelStock, Fatal> {
+    let s = numbers(text, "stock", 6)?;
+    interpolab::simulate::DexelStock::block([s[0], s[1], s[2]], [s[3], s[4], s[5]], pitch)
+        .map_err(|e| Fatal(e.to_string()))
+}
+
 /// A failure that ends the program with status 2 and one line on stderr.
 pub(crate) struct Fatal(pub(crate) String);
 
@@ -147,7 +208,7 @@ pub fn main() -> ExitCode {
         Some(Command::Check { scene }) => crease::check(&scene),
         Some(Command::Gcode(a)) => gcode::gcode(&a),
         Some(Command::Replay(a)) => gcode::replay(&a),
-        Some(Command::Canon(a)) => program::canon(&a),
+        Some(Command::Canon(a)) => userprog::canon(&a),
         Some(Command::Compare(a)) => gcode::compare_cmd(&a),
         Some(Command::Nurbs(a)) => gcode::nurbs(&a),
         Some(Command::Steps(a)) => fiveaxis::steps(&a),

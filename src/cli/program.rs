@@ -1,14 +1,12 @@
-//! `interpolab canon`: a program read as the controller reads it, one canonical call a line.
+//! Reading a program file for the commands: the reading options, the interpreter over a file
+//! with the files beside it as subroutines, and the path `replay` and `simulate` take.
 
-use std::fmt::Write as _;
-use std::io::{self, BufReader, Write};
+use std::io::BufReader;
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 
 use clap::{Args, ValueEnum};
-use interpolab::gcode::interp::{Canon, FeedMode, Interpreter, Library, Options, ReaderSource, Source};
+use interpolab::gcode::interp::{Interpreter, Library, Options, ReaderSource, Source};
 use interpolab::limits::MAX_PROGRAM_BYTES;
-use interpolab::numerics::format::push_num;
 
 use super::Fatal;
 
@@ -48,19 +46,6 @@ impl ReadArgs {
     }
 }
 
-/// `interpolab canon PROGRAM`.
-#[derive(Args, Debug)]
-pub(crate) struct CanonArgs {
-    /// The G-code program (RS274/NGC, LinuxCNC or FANUC); subroutine files are looked for
-    /// beside it (`o<name> call` → `name.ngc`, `M98 P1234` → `O1234.nc`).
-    pub program: PathBuf,
-    #[command(flatten)]
-    pub read: ReadArgs,
-    /// Tools (`--tools`, `--project`, `--tool`): G43 takes their lengths, G41/G42 their radii.
-    #[command(flatten)]
-    pub tools: super::userprog::ToolArgs,
-}
-
 /// Subroutine files in a directory.
 pub(crate) struct DirLibrary {
     dir: PathBuf,
@@ -94,99 +79,6 @@ pub(crate) fn open(path: &Path, opts: Options) -> Result<Interpreter<'static>, F
     let f = std::fs::File::open(path).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
     let src = ReaderSource::new(BufReader::new(f), MAX_PROGRAM_BYTES);
     Ok(Interpreter::new(Box::new(src), Box::new(DirLibrary::beside(path)), opts))
-}
-
-fn loc_text(it: &Interpreter<'_>, loc: interpolab::gcode::interp::Loc) -> String {
-    if loc.file == 0 { loc.line.to_string() } else { format!("{}:{}", it.file_name(loc.file), loc.line) }
-}
-
-/// Prints the program's canonical calls.
-pub(crate) fn canon(a: &CanonArgs) -> Result<ExitCode, Fatal> {
-    let table = super::userprog::setup(&a.tools)?.table;
-    let mut it = open(&a.program, Options { tools: table, ..a.read.options() })?;
-    let stdout = io::stdout();
-    let mut out = io::BufWriter::new(stdout.lock());
-    let mut line = String::new();
-    let nums = |s: &mut String, v: &[f64]| {
-        for x in v {
-            s.push(' ');
-            push_num(s, *x);
-        }
-    };
-    while let Some(c) = it.next() {
-        let c = c.map_err(|e| Fatal(format!("{}: {e}", a.program.display())))?;
-        line.clear();
-        let at = loc_text(&it, c.loc());
-        match &c {
-            Canon::Traverse { end, .. } => {
-                let _ = write!(line, "TRAVERSE {at}");
-                nums(&mut line, &[end.xyz.x, end.xyz.y, end.xyz.z, end.abc.x, end.abc.y, end.abc.z]);
-            }
-            Canon::Line { end, feed, .. } => {
-                let _ = write!(line, "LINE {at}");
-                nums(&mut line, &[end.xyz.x, end.xyz.y, end.xyz.z, end.abc.x, end.abc.y, end.abc.z]);
-                let _ = write!(line, " F{}", feed_text(feed.mode));
-                nums(&mut line, &[feed.rate]);
-            }
-            Canon::Arc { end, center, plane, turns, feed, .. } => {
-                let _ = write!(line, "ARC {at}");
-                nums(&mut line, &[end.xyz.x, end.xyz.y, end.xyz.z, end.abc.x, end.abc.y, end.abc.z]);
-                let _ = write!(line, " C");
-                nums(&mut line, &[center.x, center.y, center.z]);
-                let _ = write!(line, " {} {turns} F{}", plane.gcode(), feed_text(feed.mode));
-                nums(&mut line, &[feed.rate]);
-            }
-            Canon::Spline { curve, end, feed, .. } => {
-                let _ = write!(line, "SPLINE {at} degree {} points {}", curve.degree(), curve.len());
-                nums(&mut line, &[end.xyz.x, end.xyz.y, end.xyz.z]);
-                let _ = write!(line, " F{}", feed_text(feed.mode));
-                nums(&mut line, &[feed.rate]);
-            }
-            Canon::Dwell { seconds, .. } => {
-                let _ = write!(line, "DWELL {at}");
-                nums(&mut line, &[*seconds]);
-            }
-            Canon::ToolChange { tool, .. } => {
-                let _ = write!(line, "TOOL {at} {tool}");
-            }
-            Canon::ToolLengthOffset { offset, .. } => {
-                let _ = write!(line, "TOOL_OFFSET {at}");
-                nums(&mut line, &[offset.x, offset.y, offset.z]);
-            }
-            Canon::Spindle { rpm, .. } => {
-                let _ = write!(line, "SPINDLE {at}");
-                nums(&mut line, &[*rpm]);
-            }
-            Canon::Stop { end, .. } => {
-                let _ = write!(line, "{} {at}", if *end { "END" } else { "STOP" });
-            }
-        }
-        line.push('\n');
-        out.write_all(line.as_bytes()).map_err(|e| Fatal(e.to_string()))?;
-    }
-    out.flush().map_err(|e| Fatal(e.to_string()))?;
-    report(&it, &a.program);
-    Ok(ExitCode::SUCCESS)
-}
-
-fn feed_text(m: FeedMode) -> &'static str {
-    match m {
-        FeedMode::PerMinute => "",
-        FeedMode::InverseTime => "inverse",
-        FeedMode::PerRevolution => "rev",
-    }
-}
-
-/// The interpreter's reports and warnings, one line each, on standard error.
-pub(crate) fn report(it: &Interpreter<'_>, program: &Path) {
-    let name = program.display();
-    for w in it.warnings() {
-        eprintln!("{name}: warning: line {}: {}", loc_text(it, w.loc), w.text);
-    }
-    for r in it.reports() {
-        let times = if r.count == 1 { "once".to_owned() } else { format!("{} times", r.count) };
-        eprintln!("{name}: {} ({times}, first on line {}): {}", r.code, loc_text(it, r.first), r.what);
-    }
 }
 
 /// How many bytes of a program its dialect is guessed from.

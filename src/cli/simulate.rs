@@ -118,18 +118,6 @@ pub(crate) struct SimulateArgs {
     tolerance: Option<f64>,
 }
 
-fn numbers(text: &str, what: &str, n: usize) -> Result<Vec<f64>, Fatal> {
-    let v: Vec<f64> = text
-        .split(',')
-        .map(|s| s.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| Fatal(format!("--{what} `{text}`: expected {n} comma-separated numbers in mm")))?;
-    if v.len() != n || v.iter().any(|x| !x.is_finite()) {
-        return Err(Fatal(format!("--{what} `{text}`: expected {n} comma-separated finite numbers in mm")));
-    }
-    Ok(v)
-}
-
 /// Parses `ball:R`, `flat:R`, `fillet:R,r`, `v:R,angle`, `drill:R[,angle]`.
 fn parse_cutter(text: &str) -> Result<Cutter, Fatal> {
     let bad = || {
@@ -139,19 +127,22 @@ fn parse_cutter(text: &str) -> Result<Cutter, Fatal> {
     };
     let (kind, dims) = text.split_once(':').ok_or_else(bad)?;
     let c = match kind.trim() {
-        "ball" => Cutter::ball(numbers(dims, "cutter", 1)?[0]),
-        "flat" => Cutter::flat(numbers(dims, "cutter", 1)?[0]),
+        "ball" => Cutter::ball(super::numbers(dims, "cutter", 1)?[0]),
+        "flat" => Cutter::flat(super::numbers(dims, "cutter", 1)?[0]),
         "fillet" => {
-            let v = numbers(dims, "cutter", 2)?;
+            let v = super::numbers(dims, "cutter", 2)?;
             Cutter::fillet(v[0], v[1])
         }
         "v" => {
-            let v = numbers(dims, "cutter", 2)?;
+            let v = super::numbers(dims, "cutter", 2)?;
             Cutter::tapered(v[0], v[1], 0.0)
         }
         "drill" => {
-            let v: Vec<f64> =
-                if dims.contains(',') { numbers(dims, "cutter", 2)? } else { numbers(dims, "cutter", 1)? };
+            let v: Vec<f64> = if dims.contains(',') {
+                super::numbers(dims, "cutter", 2)?
+            } else {
+                super::numbers(dims, "cutter", 1)?
+            };
             Cutter::tapered(v[0], v.get(1).copied().unwrap_or(118.0), 0.0)
         }
         _ => return Err(bad()),
@@ -185,11 +176,6 @@ fn write(path: &Path, bytes: &[u8]) -> Result<(), Fatal> {
     fs::write(path, bytes).map_err(|e| Fatal(format!("cannot write {}: {e}", path.display())))
 }
 
-pub(super) fn stock_block(text: &str, pitch: f64) -> Result<DexelStock, Fatal> {
-    let s = numbers(text, "stock", 6)?;
-    DexelStock::block([s[0], s[1], s[2]], [s[3], s[4], s[5]], pitch).map_err(|e| Fatal(e.to_string()))
-}
-
 pub(super) fn simulate(a: &SimulateArgs) -> Result<ExitCode, Fatal> {
     if !(a.band_um > 0.0 && a.band_um.is_finite()) {
         return Err(Fatal(format!("--band-um {}: give a positive deviation in µm", a.band_um)));
@@ -219,7 +205,7 @@ pub(super) fn simulate(a: &SimulateArgs) -> Result<ExitCode, Fatal> {
     let cutter = parse_cutter(a.cutter.as_deref().ok_or_else(|| {
         Fatal("--cutter is required: give ball:R, flat:R or fillet:R,r in mm (e.g. ball:5)".to_owned())
     })?)?;
-    let stock = stock_block(
+    let stock = super::stock_block(
         a.stock.as_deref().ok_or_else(|| {
             Fatal("--stock is required: give the block as x0,y0,z0,x1,y1,z1 in mm (e.g. -10,-10,-5,10,10,0)".to_owned())
         })?,
@@ -318,7 +304,7 @@ fn simulate_finish(a: &SimulateArgs, tol: f64) -> Result<ExitCode, Fatal> {
         None => strategy.cutter_for(&job.cutter),
     };
     let stock = match &a.stock {
-        Some(s) => stock_block(s, a.pitch)?,
+        Some(s) => super::stock_block(s, a.pitch)?,
         None => {
             let s = stock_box_mm(&job.surface, &strategy.cutter_for(&job.cutter), a.margin).ok_or_else(|| {
                 Fatal(format!("{name}: the surface has no finite points to size the stock from; give --stock"))
@@ -480,49 +466,7 @@ fn finish(
         obj.insert("interior".to_owned(), interior_json(&interior_stats(&stats, &mask)));
     }
     let mut text = String::new();
-    pretty_json(&summary, 0, &mut text);
+    super::pretty_json(&summary, 0, &mut text);
     println!("{text}");
     Ok(ExitCode::SUCCESS)
-}
-
-/// Pretty-prints a JSON document (two-space indent, keys in insertion order) with every
-/// number as the shortest decimal that reads back to the same double
-/// ([`interpolab::numerics::format::push_num`], as every other command prints numbers:
-/// `4`, not `4.0`); a non-finite number prints as null.
-pub(super) fn pretty_json(v: &serde_json::Value, depth: usize, out: &mut String) {
-    use serde_json::Value;
-    let pad = |out: &mut String, d: usize| out.extend(std::iter::repeat_n("  ", d));
-    match v {
-        Value::Number(n) => match (n.as_i64(), n.as_u64(), n.as_f64()) {
-            (Some(i), _, _) => out.push_str(&i.to_string()),
-            (_, Some(u), _) => out.push_str(&u.to_string()),
-            (_, _, Some(x)) if x.is_finite() => interpolab::numerics::format::push_num(out, x),
-            _ => out.push_str("null"),
-        },
-        Value::Array(items) if !items.is_empty() => {
-            out.push('[');
-            for (k, item) in items.iter().enumerate() {
-                out.push_str(if k == 0 { "\n" } else { ",\n" });
-                pad(out, depth + 1);
-                pretty_json(item, depth + 1, out);
-            }
-            out.push('\n');
-            pad(out, depth);
-            out.push(']');
-        }
-        Value::Object(map) if !map.is_empty() => {
-            out.push('{');
-            for (k, (key, item)) in map.iter().enumerate() {
-                out.push_str(if k == 0 { "\n" } else { ",\n" });
-                pad(out, depth + 1);
-                out.push_str(&serde_json::to_string(key).unwrap_or_default());
-                out.push_str(": ");
-                pretty_json(item, depth + 1, out);
-            }
-            out.push('\n');
-            pad(out, depth);
-            out.push('}');
-        }
-        other => out.push_str(&serde_json::to_string(other).unwrap_or_default()),
-    }
 }

@@ -12,10 +12,12 @@ use std::time::Instant;
 use clap::{Args, ValueEnum};
 use glam::DVec3;
 use interpolab::gcode::interp::tools::{CamoticsProject, TableUnits, ToolTable, parse_tool_spec};
-use interpolab::gcode::interp::{Interpreter, Loc};
+use std::io::{self, Write as _};
+
+use interpolab::gcode::interp::{Canon, FeedMode, Interpreter, Loc, Options};
 use interpolab::geom::Cutter;
 use interpolab::limits::MAX_TOOL_TABLE_BYTES;
-use interpolab::numerics::format::{fmt_fixed, fmt_num};
+use interpolab::numerics::format::{fmt_fixed, fmt_num, push_num};
 use interpolab::simulate::canon::{
     BlockKind, CanonBuilder, CanonOptions, CanonProgram, KinematicsChoice, MachineSetup, RotaryMode,
 };
@@ -315,7 +317,7 @@ pub(crate) struct StockChoice<'a> {
 
 fn stock_of(c: &StockChoice<'_>, s: &Setup, p: &CanonProgram) -> Result<(DexelStock, String), Fatal> {
     if let Some(text) = c.given {
-        return Ok((super::simulate::stock_block(text, c.pitch)?, "--stock".to_owned()));
+        return Ok((super::stock_block(text, c.pitch)?, "--stock".to_owned()));
     }
     let from_project = s.project.as_ref().and_then(|(_, proj)| proj.workpiece);
     let (b, how) = match from_project {
@@ -485,7 +487,7 @@ pub(crate) fn simulate(r: &SimulateRequest<'_>) -> Result<ExitCode, Fatal> {
         "notes": p.notes.iter().map(|n| format!("line {}: {}", n.loc.line, n.text)).collect::<Vec<_>>(),
     });
     let mut text = String::new();
-    super::simulate::pretty_json(&summary, 0, &mut text);
+    super::pretty_json(&summary, 0, &mut text);
     println!("{text}");
     Ok(ExitCode::SUCCESS)
 }
@@ -614,4 +616,110 @@ pub(crate) fn replay(
     }
     print!("{out}");
     Ok(if over.is_some_and(|n| n > 0) { ExitCode::from(1) } else { ExitCode::SUCCESS })
+}
+
+/// `interpolab canon PROGRAM`.
+#[derive(Args, Debug)]
+pub(crate) struct CanonArgs {
+    /// The G-code program (RS274/NGC, LinuxCNC or FANUC); subroutine files are looked for
+    /// beside it (`o<name> call` → `name.ngc`, `M98 P1234` → `O1234.nc`).
+    pub program: PathBuf,
+    #[command(flatten)]
+    pub read: ReadArgs,
+    /// Tools (`--tools`, `--project`, `--tool`): G43 takes their lengths, G41/G42 their radii.
+    #[command(flatten)]
+    pub tools: ToolArgs,
+}
+
+fn canon_loc(it: &Interpreter<'_>, loc: interpolab::gcode::interp::Loc) -> String {
+    if loc.file == 0 { loc.line.to_string() } else { format!("{}:{}", it.file_name(loc.file), loc.line) }
+}
+
+/// Prints the program's canonical calls.
+pub(crate) fn canon(a: &CanonArgs) -> Result<ExitCode, Fatal> {
+    let table = setup(&a.tools)?.table;
+    let mut it = super::program::open(&a.program, Options { tools: table, ..a.read.options() })?;
+    let stdout = io::stdout();
+    let mut out = io::BufWriter::new(stdout.lock());
+    let mut line = String::new();
+    let nums = |s: &mut String, v: &[f64]| {
+        for x in v {
+            s.push(' ');
+            push_num(s, *x);
+        }
+    };
+    while let Some(c) = it.next() {
+        let c = c.map_err(|e| Fatal(format!("{}: {e}", a.program.display())))?;
+        line.clear();
+        let at = canon_loc(&it, c.loc());
+        match &c {
+            Canon::Traverse { end, .. } => {
+                let _ = write!(line, "TRAVERSE {at}");
+                nums(&mut line, &[end.xyz.x, end.xyz.y, end.xyz.z, end.abc.x, end.abc.y, end.abc.z]);
+            }
+            Canon::Line { end, feed, .. } => {
+                let _ = write!(line, "LINE {at}");
+                nums(&mut line, &[end.xyz.x, end.xyz.y, end.xyz.z, end.abc.x, end.abc.y, end.abc.z]);
+                let _ = write!(line, " F{}", feed_text(feed.mode));
+                nums(&mut line, &[feed.rate]);
+            }
+            Canon::Arc { end, center, plane, turns, feed, .. } => {
+                let _ = write!(line, "ARC {at}");
+                nums(&mut line, &[end.xyz.x, end.xyz.y, end.xyz.z, end.abc.x, end.abc.y, end.abc.z]);
+                let _ = write!(line, " C");
+                nums(&mut line, &[center.x, center.y, center.z]);
+                let _ = write!(line, " {} {turns} F{}", plane.gcode(), feed_text(feed.mode));
+                nums(&mut line, &[feed.rate]);
+            }
+            Canon::Spline { curve, end, feed, .. } => {
+                let _ = write!(line, "SPLINE {at} degree {} points {}", curve.degree(), curve.len());
+                nums(&mut line, &[end.xyz.x, end.xyz.y, end.xyz.z]);
+                let _ = write!(line, " F{}", feed_text(feed.mode));
+                nums(&mut line, &[feed.rate]);
+            }
+            Canon::Dwell { seconds, .. } => {
+                let _ = write!(line, "DWELL {at}");
+                nums(&mut line, &[*seconds]);
+            }
+            Canon::ToolChange { tool, .. } => {
+                let _ = write!(line, "TOOL {at} {tool}");
+            }
+            Canon::ToolLengthOffset { offset, .. } => {
+                let _ = write!(line, "TOOL_OFFSET {at}");
+                nums(&mut line, &[offset.x, offset.y, offset.z]);
+            }
+            Canon::Spindle { rpm, .. } => {
+                let _ = write!(line, "SPINDLE {at}");
+                nums(&mut line, &[*rpm]);
+            }
+            Canon::Stop { end, .. } => {
+                let _ = write!(line, "{} {at}", if *end { "END" } else { "STOP" });
+            }
+        }
+        line.push('\n');
+        out.write_all(line.as_bytes()).map_err(|e| Fatal(e.to_string()))?;
+    }
+    out.flush().map_err(|e| Fatal(e.to_string()))?;
+    report(&it, &a.program);
+    Ok(ExitCode::SUCCESS)
+}
+
+fn feed_text(m: FeedMode) -> &'static str {
+    match m {
+        FeedMode::PerMinute => "",
+        FeedMode::InverseTime => "inverse",
+        FeedMode::PerRevolution => "rev",
+    }
+}
+
+/// The interpreter's reports and warnings, one line each, on standard error.
+pub(crate) fn report(it: &Interpreter<'_>, program: &Path) {
+    let name = program.display();
+    for w in it.warnings() {
+        eprintln!("{name}: warning: line {}: {}", canon_loc(it, w.loc), w.text);
+    }
+    for r in it.reports() {
+        let times = if r.count == 1 { "once".to_owned() } else { format!("{} times", r.count) };
+        eprintln!("{name}: {} ({times}, first on line {}): {}", r.code, canon_loc(it, r.first), r.what);
+    }
 }

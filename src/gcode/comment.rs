@@ -42,35 +42,11 @@
 //! Letter case is kept: the writers of seed 004 upper-case their whole program first (as
 //! FANUC programs are written), the finishing program keeps lower case as before.
 
-use super::dialect::Dialect;
+use super::dialect::{Dialect, HeaderKey};
 use crate::limits::MAX_COMMENT_CHARS;
 
 /// What a cut text ends with.
 const CUT_MARK: &str = "...";
-
-/// A header comment the product's readers look for (see the module docs).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum HeaderKey {
-    /// `DIALECT:` — the dialect a program is written in ([`super::Dialect::guess`]).
-    Dialect,
-    /// `PROGRAMMED POINT:` — the point of the tool the coordinates carry
-    /// ([`super::ProgrammedPoint::from_comments`]).
-    ProgrammedPoint,
-}
-
-impl HeaderKey {
-    /// Both keys.
-    pub const ALL: [Self; 2] = [Self::Dialect, Self::ProgrammedPoint];
-
-    /// The key as written, colon included: `DIALECT:`, `PROGRAMMED POINT:`.
-    #[must_use]
-    pub const fn as_str(self) -> &'static str {
-        match self {
-            Self::Dialect => "DIALECT:",
-            Self::ProgrammedPoint => "PROGRAMMED POINT:",
-        }
-    }
-}
 
 /// Starts of a comment that LinuxCNC (or its AXIS screen) acts on, lower case, spaces
 /// removed (module docs).

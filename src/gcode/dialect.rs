@@ -18,9 +18,32 @@ use std::str::FromStr;
 
 use thiserror::Error;
 
-use super::comment::HeaderKey;
 use super::kind::ProgramKind;
 use crate::geom::NurbsCurve;
+
+/// A header comment the product's readers look for (written by `comment::key_comment`, defused in user text by `comment::safe_comment`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HeaderKey {
+    /// `DIALECT:` — the dialect a program is written in ([`super::Dialect::guess`]).
+    Dialect,
+    /// `PROGRAMMED POINT:` — the point of the tool the coordinates carry
+    /// ([`super::ProgrammedPoint::from_comments`]).
+    ProgrammedPoint,
+}
+
+impl HeaderKey {
+    /// Both keys.
+    pub const ALL: [Self; 2] = [Self::Dialect, Self::ProgrammedPoint];
+
+    /// The key as written, colon included: `DIALECT:`, `PROGRAMMED POINT:`.
+    #[must_use]
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Self::Dialect => "DIALECT:",
+            Self::ProgrammedPoint => "PROGRAMMED POINT:",
+        }
+    }
+}
 
 /// A controller's G-code dialect.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]

@@ -35,16 +35,16 @@ pub mod read;
 pub mod replay;
 pub mod write;
 
-pub use comment::{HeaderKey, safe_comment};
+pub use comment::safe_comment;
 pub use compare::{
     CompareOptions, CompareRow, Comparison, TableStyle, compare, compare_row, format_comparison, format_comparisons,
     realtime_stats,
 };
 pub use design::{DesignBuilder, DesignError, crease_design};
-pub use dialect::{Dialect, UnknownDialect};
+pub use dialect::{Dialect, HeaderKey, UnknownDialect};
 pub use kind::ProgramKind;
-pub use parse::{ParseError, ParsedProgram, Unsupported, parse_program, parse_program_in};
+pub use parse::{ParseError, ParsedProgram, Unsupported};
 pub use path::{ArcMove, LineMove, Motion, PathBlock, Plane, Segment, Toolpath};
-pub use read::{ProgramReader, read_from, read_program};
+pub use read::{ProgramReader, parse_program, parse_program_in, read_from, read_program};
 pub use replay::{Deviation, DeviationOptions, ProgramSummary, ReplayError, deviation, summarize};
 pub use write::{Program, ProgramError, ProgramOptions, ProgrammedPoint, write_program};

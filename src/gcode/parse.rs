@@ -520,31 +520,6 @@ fn unsupported_m(m: i64) -> Option<&'static str> {
     }
 }
 
-/// Parses a program.
-///
-/// # Errors
-/// The first malformed line, as a [`ParseError`].
-pub fn parse_program(text: &str) -> Result<ParsedProgram, ParseError> {
-    parse_program_in(text, Dialect::Fanuc)
-}
-
-/// Parses a program in a controller's dialect, strictly (a line that is not G-code or a code
-/// that is not modelled is refused): FANUC and LinuxCNC programs through the interpreter
-/// ([`crate::gcode::interp`], via [`crate::gcode::read::read_program`]), Sinumerik 840D
-/// programs (`BSPLINE`, `SD=`, `PL=`, `PW=`, `G70`/`G71`/`G700`/`G710`) by the dialect reader
-/// here; see `docs/gcode-dialects.md`. The product's writers prove their programs with it.
-/// User programs are read leniently by [`crate::gcode::read::read_program`].
-///
-/// # Errors
-/// The first malformed line, as a [`ParseError`].
-pub fn parse_program_in(text: &str, dialect: Dialect) -> Result<ParsedProgram, ParseError> {
-    if dialect == Dialect::Sinumerik {
-        return parse_dialect_reader(text, dialect);
-    }
-    let opts = crate::gcode::interp::Options { strict: true, ..crate::gcode::interp::Options::default() };
-    crate::gcode::read::read_program(text, dialect, &opts)
-}
-
 /// The reader of Sinumerik programs (and, before the interpreter, of every dialect).
 pub(crate) fn parse_dialect_reader(text: &str, dialect: Dialect) -> Result<ParsedProgram, ParseError> {
     let mut out = ParsedProgram { dialect, ..ParsedProgram::default() };

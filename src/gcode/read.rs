@@ -22,6 +22,31 @@ pub const MAX_PATH_MOVES: usize = 4_000_000;
 /// Header comments kept for [`super::write::ProgrammedPoint::from_comments`].
 const KEPT_COMMENTS: usize = 64;
 
+/// Parses a program.
+///
+/// # Errors
+/// The first malformed line, as a [`ParseError`].
+pub fn parse_program(text: &str) -> Result<ParsedProgram, ParseError> {
+    parse_program_in(text, Dialect::Fanuc)
+}
+
+/// Parses a program in a controller's dialect, strictly (a line that is not G-code or a code
+/// that is not modelled is refused): FANUC and LinuxCNC programs through the interpreter
+/// ([`crate::gcode::interp`], via [`read_program`]), Sinumerik 840D
+/// programs (`BSPLINE`, `SD=`, `PL=`, `PW=`, `G70`/`G71`/`G700`/`G710`) by the dialect reader
+/// here; see `docs/gcode-dialects.md`. The product's writers prove their programs with it.
+/// User programs are read leniently by [`read_program`].
+///
+/// # Errors
+/// The first malformed line, as a [`ParseError`].
+pub fn parse_program_in(text: &str, dialect: Dialect) -> Result<ParsedProgram, ParseError> {
+    if dialect == Dialect::Sinumerik {
+        return parse_dialect_reader(text, dialect);
+    }
+    let opts = crate::gcode::interp::Options { strict: true, ..crate::gcode::interp::Options::default() };
+    read_program(text, dialect, &opts)
+}
+
 /// Reads a program in a dialect: FANUC and LinuxCNC through the interpreter, Sinumerik by
 /// its own reader.
 ///

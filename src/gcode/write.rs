@@ -24,11 +24,13 @@ use glam::DVec3;
 use thiserror::Error;
 
 use super::arcs::{ArcFitError, ArcFitOptions, Piece, fit_arcs};
-use super::comment::{HeaderKey, key_comment, safe_comment};
+use super::comment::{key_comment, safe_comment};
 use super::dialect::Dialect;
+use super::dialect::HeaderKey;
 use super::kind::ProgramKind;
-use super::parse::{ParseError, ParsedProgram, parse_program_in};
+use super::parse::{ParseError, ParsedProgram};
 use super::path::{Plane, Segment};
+use super::read::parse_program_in;
 use super::replay::{Deviation, DeviationOptions, ReplayError, deviation};
 use crate::chords::{ChordError, equal_error_chords};
 use crate::geom::{Curve3, NurbsCurve};

@@ -328,7 +328,8 @@ impl Cutter {
             CutterKind::Fillet => format!("fillet R {} mm, r {} mm", self.radius_mm, self.corner_radius_mm),
             CutterKind::Tapered => {
                 let t = self.taper.unwrap_or(Taper { half_angle_rad: 0.0, tip_radius_mm: 0.0 });
-                let angle = crate::numerics::format::fmt_num((2e6 * t.half_angle_rad.to_degrees()).round() / 1e6);
+                // Rust prints an f64 as its shortest round-trip decimal (90 for 90.0).
+                let angle = (2e6 * t.half_angle_rad.to_degrees()).round() / 1e6;
                 if t.tip_radius_mm > 0.0 {
                     format!("tapered R {} mm, {angle}°, flat tip r {} mm", self.radius_mm, t.tip_radius_mm)
                 } else {

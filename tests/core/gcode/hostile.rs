@@ -17,7 +17,8 @@ use std::sync::OnceLock;
 use interpolab::crease::{CreaseCurve, CreaseJob};
 use interpolab::fillet::program::FinishGcode;
 use interpolab::fillet::{PartSamples, iso_scallop_from};
-use interpolab::gcode::comment::{HeaderKey, comment_text, safe_comment};
+use interpolab::gcode::HeaderKey;
+use interpolab::gcode::comment::{comment_text, safe_comment};
 use interpolab::gcode::{
     CompareOptions, Dialect, ParsedProgram, ProgramKind, ProgramOptions, ProgrammedPoint, crease_design,
     parse_program_in, write_program,
