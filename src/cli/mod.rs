@@ -15,6 +15,7 @@ mod gcode;
 mod plain_run;
 mod program;
 mod simulate;
+mod time;
 
 use std::ffi::OsString;
 use std::io::{self, Write};
@@ -98,6 +99,8 @@ enum Command {
     Finish(finish::FinishArgs),
     /// Cutting simulation: machine a G-code program into a dexel stock; height map (CSV), PNG, statistics (JSON).
     Simulate(simulate::SimulateArgs),
+    /// The time a program takes on a machine: feed planned within its limits, corners blended, look-ahead; per block and, with --periods, per period.
+    Time(time::TimeArgs),
 }
 
 /// Reads a file the command line was given, at most `cap` bytes of it
@@ -155,6 +158,7 @@ pub fn main() -> ExitCode {
         Some(Command::Chords(a)) => fiveaxis::chords(&a),
         Some(Command::Finish(a)) => finish::finish(&a),
         Some(Command::Simulate(a)) => simulate::simulate(&a),
+        Some(Command::Time(a)) => time::time(&a),
     };
     match result {
         Ok(code) => code,

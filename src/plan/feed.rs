@@ -1,0 +1,498 @@
+//! The feed plan: the tool's speed along the path, s(t), within every joint's velocity,
+//! acceleration and jerk limits, the programmed feed, and the look-ahead window.
+//!
+//! **Jerk-free settings** (no axis limits jerk): time-optimal path parameterisation by
+//! reachability on the pieces (the method of TOPP-RA, Pham & Pham, IEEE T-RO 34(3), 2018).
+//! In x = ṡ² and u = s̈ a joint's acceleration is q'(s)·u + q''(s)·x; over a piece the
+//! planner holds u constant (x linear in s) and asks, for every joint,
+//! max over the piece of |q'·u + q''·x| ≤ a_max with q', q'' replaced by their bounds on the
+//! piece ([`super::path::Bounds`]) — linear in (u, x), so holding at both ends of the piece
+//! it holds all along. A backward pass finds the largest x from which the rest can still
+//! be done (ending at rest), a forward pass takes the largest u that stays within it. The
+//! joint velocities bound x by v_max²/q'², the feed by F².
+//!
+//! **Jerk-limited settings**: each piece gets a tangential acceleration A and jerk J and a
+//! speed cap V such that any motion with ṡ ≤ V, |s̈| ≤ A, |s⃛| ≤ J on it keeps every joint
+//! within its limits: with q̇ = q'ṡ, q̈ = q''ṡ² + q's̈, q⃛ = q'''ṡ³ + 3q''ṡs̈ + q's⃛, a curved
+//! piece gives half of each joint's acceleration to the tangent (A = ½a/|q'|) and half to
+//! the normal (V² ≤ ½a/|q''|), half its jerk to the tangent (J = ½j/|q'|), a quarter to
+//! q'''V³ and a quarter to 3q''VA; a straight piece gives all to the tangent. An
+//! acceleration-limited plan over these (the passes above with constant A) gives the speed
+//! levels; its *knots* — where its acceleration is zero: plateaus, peaks, troughs, stops —
+//! become the ends of S-curve segments ([`super::scurve`]) with the least A and J of the
+//! pieces they span, their speeds lowered by passes until every segment's ramps fit. An
+//! S-curve that starts where the acceleration-limited plan starts a rise, and accelerates
+//! at most as hard, stays below it, so below every cap (docs/feed-planning.md).
+//!
+//! **Look-ahead window** of N blocks: within block b the speed must also allow a stop at the
+//! end of block b + N − 1 (a controller that sees N blocks must be able to stop where its
+//! buffer ends), computed by a backward pass per block (O(N) pieces each).
+
+use super::machine::JointLimits;
+use super::path::{Bounds, Path, piece_bounds};
+use super::scurve::{self, Phase};
+
+/// A phase of the plan placed in time and along the path.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TimedPhase {
+    /// Start time (s).
+    pub t0: f64,
+    /// Path position at the start (mm).
+    pub s0: f64,
+    /// Speed at the start (mm/s).
+    pub v0: f64,
+    /// The phase (duration, starting acceleration, jerk).
+    pub phase: Phase,
+}
+
+impl TimedPhase {
+    /// s, ṡ, s̈ at time `t` within the phase (clamped to it).
+    #[must_use]
+    pub fn at(&self, t: f64) -> (f64, f64, f64) {
+        let dt = (t - self.t0).clamp(0.0, self.phase.dur);
+        let Phase { a0, j, .. } = self.phase;
+        (
+            self.s0 + self.v0 * dt + 0.5 * a0 * dt * dt + j * dt * dt * dt / 6.0,
+            self.v0 + a0 * dt + 0.5 * j * dt * dt,
+            a0 + j * dt,
+        )
+    }
+}
+
+/// Options of the planner.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FeedOptions {
+    /// Joint limits.
+    pub limits: JointLimits,
+    /// Look-ahead window (blocks); `None` the whole program.
+    pub window: Option<usize>,
+    /// Share of a curved piece's acceleration and jerk given to the tangent (0.5).
+    pub tangent_share: f64,
+}
+
+/// Per-piece limits.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PieceLimits {
+    /// Speed cap squared (mm²/s²).
+    pub x_cap: f64,
+    /// Tangential acceleration (mm/s²).
+    pub a: f64,
+    /// Tangential jerk (mm/s³; ∞ when not limited).
+    pub j: f64,
+    /// A straight piece: q' constant, q'' = 0 (the tangential model is exact on it).
+    pub line: bool,
+}
+
+/// The planned motion.
+#[derive(Clone, Debug, Default)]
+pub struct FeedPlan {
+    /// Phases in time order; dwells are phases at rest.
+    pub phases: Vec<TimedPhase>,
+    /// Total time (s), dwells included.
+    pub duration: f64,
+    /// True when planned with jerk limits (S-curves).
+    pub jerk_limited: bool,
+    /// The acceleration-limited plan as (s, ṡ) points (the S-curves' guide in jerk mode).
+    pub guide: Vec<(f64, f64)>,
+}
+
+fn cap_of(b: &Bounds, feed: f64, lim: &JointLimits, share: f64, curved: bool) -> PieceLimits {
+    let mut v = feed;
+    let mut a = f64::INFINITY;
+    let mut j = f64::INFINITY;
+    let (ta, tj) = if curved { (share, share) } else { (1.0, 1.0) };
+    for i in 0..6 {
+        let q1 = b.lo1[i].abs().max(b.hi1[i].abs());
+        let q2 = b.lo2[i].abs().max(b.hi2[i].abs());
+        if q1 > 0.0 {
+            v = v.min(lim.v[i] / q1);
+            a = a.min(ta * lim.a[i] / q1);
+            j = j.min(tj * lim.j[i] / q1);
+        }
+        if q2 > 0.0 {
+            v = v.min(((1.0 - ta) * lim.a[i] / q2).sqrt());
+        }
+    }
+    if curved && !j.is_infinite() {
+        // A quarter of each joint's jerk for the q''' v^3 term, a quarter for 3 q'' v a:
+        // the speed takes the first, the tangential acceleration gives way for the second
+        // (corners are short; their speed matters more than how fast it changes there).
+        for i in 0..6 {
+            let rest = 0.5 * (1.0 - tj) * lim.j[i];
+            if b.m3[i] > 0.0 {
+                v = v.min((rest / b.m3[i]).cbrt());
+            }
+        }
+        for i in 0..6 {
+            let q2 = b.lo2[i].abs().max(b.hi2[i].abs());
+            let rest = 0.5 * (1.0 - tj) * lim.j[i];
+            if q2 > 0.0 && v > 0.0 {
+                a = a.min(rest / (3.0 * q2 * v));
+            }
+        }
+    }
+    PieceLimits { x_cap: v * v, a, j, line: !curved }
+}
+
+/// Plans the feed over a path.
+#[must_use]
+pub fn plan(path: &Path, opts: &FeedOptions) -> FeedPlan {
+    let n = path.pieces.len();
+    let jerk = !opts.limits.jerk_free();
+    // Stops: piece boundaries where v = 0.
+    let mut stop = vec![false; n + 1];
+    stop[0] = true;
+    stop[n] = true;
+    for k in 0..n {
+        let e = &path.elems[path.pieces[k].elem as usize];
+        let last_of_elem = k + 1 == n || path.pieces[k + 1].elem != path.pieces[k].elem;
+        if last_of_elem && e.stop_after {
+            stop[k + 1] = true;
+        }
+    }
+    let mut bounds: Vec<Bounds> = Vec::new();
+    let mut lims: Vec<PieceLimits> = Vec::with_capacity(n);
+    for p in &path.pieces {
+        let e = &path.elems[p.elem as usize];
+        let b = piece_bounds(path, p);
+        let curved = !matches!(e.shape, super::path::Shape::Line { .. });
+        lims.push(cap_of(&b, e.feed, &opts.limits, opts.tangent_share, curved));
+        if !jerk {
+            bounds.push(b);
+        }
+    }
+    let model = if jerk {
+        Model::Tangential(&lims)
+    } else {
+        Model::Coupled { bounds: &bounds, lims: &lims, a: &opts.limits.a }
+    };
+    let hs: Vec<f64> = path.pieces.iter().map(|p| p.h).collect();
+    let mut env = backward(&model, &hs, &stop, 0, n);
+    if let Some(w) = opts.window {
+        window_limit(path, &model, &hs, &stop, w, &mut env);
+    }
+    let x = forward(&model, &hs, &env);
+    let guide = guide(path, &lims, &hs, &x, jerk);
+    let mut out = FeedPlan { jerk_limited: jerk, ..FeedPlan::default() };
+    if jerk {
+        scurves(path, &lims, &guide, &stop, &mut out);
+    } else {
+        trapezoids(path, &guide, &mut out);
+    }
+    out.guide = guide.iter().map(|g| (g.s, g.x.sqrt())).collect();
+    out
+}
+
+enum Model<'a> {
+    Tangential(&'a [PieceLimits]),
+    Coupled { bounds: &'a [Bounds], lims: &'a [PieceLimits], a: &'a [f64; 6] },
+}
+
+impl Model<'_> {
+    fn lim(&self, k: usize) -> &PieceLimits {
+        match self {
+            Self::Tangential(l) | Self::Coupled { lims: l, .. } => &l[k],
+        }
+    }
+
+    /// Largest x at the start of piece k from which x1 at its end is reachable.
+    fn back(&self, k: usize, h: f64, x1: f64) -> f64 {
+        let l = self.lim(k);
+        let cap = l.x_cap;
+        let x1 = x1.min(cap);
+        match self {
+            Self::Coupled { bounds, a, .. } if !l.line => {
+                let b = &bounds[k];
+                let mut u_min = f64::NEG_INFINITY;
+                let mut lower = |c: f64, r: f64| {
+                    // c·u ≤ r with u ≤ 0: a lower bound when c < 0.
+                    if c < 0.0 {
+                        u_min = u_min.max(r / c);
+                    }
+                };
+                for i in 0..6 {
+                    if a[i].is_infinite() {
+                        continue;
+                    }
+                    let (l1, h1, l2, h2) = (b.lo1[i], b.hi1[i], b.lo2[i], b.hi2[i]);
+                    lower(l1, a[i] - h2 * x1);
+                    lower(-h1, a[i] + l2 * x1);
+                    lower(l1 - 2.0 * h * h2, a[i] - h2 * x1);
+                    lower(-h1 + 2.0 * h * l2, a[i] + l2 * x1);
+                }
+                let u = u_min.min(0.0);
+                if u.is_finite() { (x1 - 2.0 * h * u).min(cap) } else { cap }
+            }
+            _ => (x1 + 2.0 * h * l.a).min(cap),
+        }
+    }
+
+    /// x at the end of piece k from x0 at its start: as high as the piece allows, at most
+    /// `x1_max`.
+    fn fwd(&self, k: usize, h: f64, x0: f64, x1_max: f64) -> f64 {
+        let l = self.lim(k);
+        let cap = l.x_cap.min(x1_max);
+        match self {
+            Self::Coupled { bounds, a, .. } if !l.line => {
+                let b = &bounds[k];
+                let mut u_hi: f64 = (cap - x0) / (2.0 * h);
+                if u_hi > 0.0 {
+                    let mut upper = |c: f64, r: f64| {
+                        if c > 0.0 {
+                            u_hi = u_hi.min(r / c);
+                        }
+                    };
+                    for i in 0..6 {
+                        if a[i].is_infinite() {
+                            continue;
+                        }
+                        let (l1, h1, l2, h2) = (b.lo1[i], b.hi1[i], b.lo2[i], b.hi2[i]);
+                        upper(h1, a[i] - h2 * x0);
+                        upper(-l1, a[i] + l2 * x0);
+                        upper(h1 + 2.0 * h * h2, a[i] - h2 * x0);
+                        upper(-l1 - 2.0 * h * l2, a[i] + l2 * x0);
+                    }
+                    u_hi = u_hi.max(0.0);
+                }
+                x0 + 2.0 * h * u_hi
+            }
+            _ => (x0 + 2.0 * h * l.a).min(cap),
+        }
+    }
+}
+
+fn backward(model: &Model<'_>, hs: &[f64], stop: &[bool], from: usize, to: usize) -> Vec<f64> {
+    let mut k = vec![f64::INFINITY; to - from + 1];
+    k[to - from] = 0.0;
+    for p in (from..to).rev() {
+        let x1 = if stop[p + 1] { 0.0 } else { k[p + 1 - from] };
+        k[p + 1 - from] = x1;
+        k[p - from] = if stop[p] { 0.0 } else { model.back(p, hs[p], x1) };
+    }
+    k
+}
+
+fn window_limit(path: &Path, model: &Model<'_>, hs: &[f64], stop: &[bool], w: usize, env: &mut [f64]) {
+    let n = hs.len();
+    let block_of = |k: usize| path.elems[path.pieces[k].elem as usize].block;
+    // First piece of every block.
+    let mut starts: Vec<usize> = Vec::new();
+    for k in 0..n {
+        if k == 0 || block_of(k) != block_of(k - 1) {
+            starts.push(k);
+        }
+    }
+    starts.push(n);
+    for bi in 0..starts.len() - 1 {
+        let from = starts[bi];
+        let to = starts[(bi + w).min(starts.len() - 1)];
+        let this_end = starts[bi + 1];
+        let k = backward(model, hs, stop, from, to);
+        // Within block bi (its pieces' starts and its end) the speed must allow the stop.
+        for p in from..=this_end {
+            env[p] = env[p].min(k[p - from]);
+        }
+    }
+}
+
+fn forward(model: &Model<'_>, hs: &[f64], env: &[f64]) -> Vec<f64> {
+    let n = hs.len();
+    let mut x: Vec<f64> = vec![0.0; n + 1];
+    for k in 0..n {
+        let x0 = x[k].min(env[k]);
+        x[k] = x0;
+        x[k + 1] = model.fwd(k, hs[k], x0, env[k + 1]).clamp(0.0, env[k + 1]);
+    }
+    x
+}
+
+/// A point of the acceleration-limited plan: path position, ṡ², the piece it lies in.
+#[derive(Clone, Copy, Debug)]
+struct Pt {
+    s: f64,
+    x: f64,
+    piece: usize,
+}
+
+/// The acceleration-limited plan as points joined by straight lines in (s, x = ṡ²) — a
+/// constant acceleration between neighbours. On a straight piece (and every piece of the
+/// tangential model) the speed may rise and fall inside it: peak
+/// x_p = min(cap, (x₀ + x₁)/2 + A·h), reached after (x_p − x₀)/(2A).
+fn guide(path: &Path, lims: &[PieceLimits], hs: &[f64], x: &[f64], jerk: bool) -> Vec<Pt> {
+    let n = hs.len();
+    let mut out = Vec::with_capacity(2 * n + 1);
+    for k in 0..n {
+        let s0 = path.pieces[k].s0;
+        let h = hs[k];
+        let (x0, x1) = (x[k], x[k + 1]);
+        out.push(Pt { s: s0, x: x0, piece: k });
+        let l = &lims[k];
+        let coupled_curve = !jerk && !l.line;
+        if h > 0.0 && !coupled_curve && l.a.is_finite() && l.a > 0.0 {
+            let xp = (0.5 * (x0 + x1) + l.a * h).min(l.x_cap);
+            let d1 = ((xp - x0) / (2.0 * l.a)).max(0.0);
+            let d2 = ((xp - x1) / (2.0 * l.a)).max(0.0);
+            if xp > x0.max(x1) * (1.0 + 1e-12) && d1 + d2 <= h * (1.0 + 1e-12) {
+                if d1 > 0.0 {
+                    out.push(Pt { s: s0 + d1, x: xp, piece: k });
+                }
+                if h - d2 > d1 {
+                    out.push(Pt { s: s0 + h - d2, x: xp, piece: k });
+                }
+            }
+        }
+    }
+    out.push(Pt { s: path.length, x: x[n], piece: n.saturating_sub(1) });
+    out
+}
+
+fn trapezoids(path: &Path, guide: &[Pt], out: &mut FeedPlan) {
+    let mut t = 0.0;
+    out.phases.reserve(guide.len());
+    for w in guide.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        let d = b.s - a.s;
+        if d > 0.0 {
+            let (v0, v1) = (a.x.sqrt(), b.x.sqrt());
+            let dur = if v0 + v1 > 0.0 { 2.0 * d / (v0 + v1) } else { 0.0 };
+            let u = if dur > 0.0 { (v1 - v0) / dur } else { 0.0 };
+            out.phases.push(TimedPhase { t0: t, s0: a.s, v0, phase: Phase { dur, a0: u, j: 0.0 } });
+            t += dur;
+        }
+    }
+    out.duration = t;
+    insert_dwells(path, out);
+}
+
+/// Dwells (G4) as phases at rest where their block stops, later phases shifted.
+fn insert_dwells(path: &Path, out: &mut FeedPlan) {
+    let mut dwells: Vec<(f64, f64)> = Vec::new();
+    for e in &path.elems {
+        let d = path.blocks.get(e.block).map_or(0.0, |b| b.dwell_after_s);
+        if e.stop_after && d > 0.0 && dwells.last().is_none_or(|l| l.0 < e.s0 + e.len) {
+            dwells.push((e.s0 + e.len, d));
+        }
+    }
+    if dwells.is_empty() {
+        return;
+    }
+    let mut phases = Vec::with_capacity(out.phases.len() + dwells.len());
+    let mut shift = 0.0;
+    let mut next = 0;
+    for p in out.phases.drain(..) {
+        while next < dwells.len() && p.s0 >= dwells[next].0 - 1e-9 && p.v0 == 0.0 {
+            let (s, d) = dwells[next];
+            phases.push(TimedPhase {
+                t0: p.t0 + shift,
+                s0: s.min(p.s0),
+                v0: 0.0,
+                phase: Phase { dur: d, a0: 0.0, j: 0.0 },
+            });
+            shift += d;
+            next += 1;
+        }
+        phases.push(TimedPhase { t0: p.t0 + shift, ..p });
+    }
+    while next < dwells.len() {
+        let (s, d) = dwells[next];
+        phases.push(TimedPhase { t0: out.duration + shift, s0: s, v0: 0.0, phase: Phase { dur: d, a0: 0.0, j: 0.0 } });
+        shift += d;
+        next += 1;
+    }
+    out.phases = phases;
+    out.duration += shift;
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Trend {
+    Up,
+    Flat,
+    Down,
+}
+
+fn scurves(path: &Path, lims: &[PieceLimits], g: &[Pt], stop: &[bool], out: &mut FeedPlan) {
+    let m = g.len();
+    if m < 2 {
+        return;
+    }
+    let trend = |i: usize| {
+        let d = g[i + 1].x - g[i].x;
+        let tol = 1e-9 * (g[i + 1].x.max(g[i].x) + 1e-12);
+        if g[i + 1].s <= g[i].s {
+            None
+        } else if d > tol {
+            Some(Trend::Up)
+        } else if d < -tol {
+            Some(Trend::Down)
+        } else {
+            Some(Trend::Flat)
+        }
+    };
+    let is_stop = |i: usize| {
+        let p = &g[i];
+        p.x <= 0.0 && (i == 0 || i + 1 == m || (p.piece < stop.len() && (stop[p.piece] || stop[p.piece + 1])))
+    };
+    // Knots: where the acceleration-limited plan's acceleration is zero or changes sign,
+    // and the stops.
+    let mut knots: Vec<usize> = vec![0];
+    let mut last_tr: Option<Trend> = None;
+    for i in 0..m - 1 {
+        let Some(tr) = trend(i) else { continue };
+        if i > 0 && (last_tr.is_some_and(|l| l != tr) || is_stop(i)) && *knots.last().unwrap_or(&0) != i {
+            knots.push(i);
+        }
+        last_tr = Some(tr);
+    }
+    knots.push(m - 1);
+    let mut v: Vec<f64> = knots.iter().map(|&i| g[i].x.max(0.0).sqrt()).collect();
+    struct Seg {
+        d: f64,
+        a: f64,
+        j: f64,
+        cap: f64,
+        flat: bool,
+    }
+    let mut segs: Vec<Seg> = Vec::with_capacity(knots.len());
+    for w in knots.windows(2) {
+        let (i0, i1) = (w[0], w[1]);
+        let (pa, pb) = (g[i0].piece, g[i1].piece);
+        let mut a = f64::INFINITY;
+        let mut j = f64::INFINITY;
+        // The pieces the segment touches: from the one holding its start to the one holding
+        // its end (a knot on a boundary belongs to the later piece, which the segment does
+        // not enter when it ends there).
+        let last = if g[i1].s <= path.pieces.get(pb).map_or(f64::INFINITY, |p| p.s0) && pb > pa { pb - 1 } else { pb };
+        for l in &lims[pa..=last.min(lims.len() - 1)] {
+            a = a.min(l.a);
+            j = j.min(l.j);
+        }
+        let flat = (i0..i1).filter_map(trend).all(|t| t == Trend::Flat);
+        segs.push(Seg { d: g[i1].s - g[i0].s, a, j, cap: g[i0].x.max(g[i1].x).max(0.0).sqrt(), flat });
+    }
+    for i in 0..segs.len() {
+        let s = &segs[i];
+        v[i + 1] = v[i + 1].min(scurve::reach(v[i], s.d, s.a, s.j, f64::INFINITY));
+    }
+    for i in (0..segs.len()).rev() {
+        let s = &segs[i];
+        v[i] = v[i].min(scurve::reach(v[i + 1], s.d, s.a, s.j, f64::INFINITY));
+    }
+    let mut t = 0.0;
+    let mut ph: Vec<Phase> = Vec::with_capacity(8);
+    for (i, s) in segs.iter().enumerate() {
+        let (v0, v1) = (v[i], v[i + 1]);
+        let cap = if s.flat { s.cap.max(v0).max(v1) } else { v0.max(v1) };
+        ph.clear();
+        scurve::push_segment(v0, v1, s.d, cap, s.a, s.j, &mut ph);
+        let (mut ss, mut vv) = (g[knots[i]].s, v0);
+        for p in &ph {
+            out.phases.push(TimedPhase { t0: t, s0: ss, v0: vv, phase: *p });
+            let d = p.dur;
+            ss += vv * d + 0.5 * p.a0 * d * d + p.j * d * d * d / 6.0;
+            vv += p.a0 * d + 0.5 * p.j * d * d;
+            t += d;
+        }
+    }
+    out.duration = t;
+    insert_dwells(path, out);
+}
