@@ -62,6 +62,14 @@ pub(crate) struct TimeArgs {
     /// Write the time of every block as CSV.
     #[arg(long)]
     pub blocks: Option<PathBuf>,
+    /// Write the planned path's geometry as CSV: s (mm), q, q' and q'' of the six joints
+    /// (mm, rad), the feed cap (mm/s), every `--geometry-step` mm and at every piece's ends
+    /// (what scripts/plan-anchors.py hands to TOPP-RA).
+    #[arg(long)]
+    pub geometry: Option<PathBuf>,
+    /// Spacing of the `--geometry` samples (mm).
+    #[arg(long, value_parser = super::finite, default_value_t = 0.25)]
+    pub geometry_step: f64,
     /// For a scene: the program written from its crease.
     #[arg(long, value_enum, default_value = "nurbs")]
     pub kind: SceneKind,
@@ -173,6 +181,9 @@ pub(super) fn time(a: &TimeArgs) -> Result<ExitCode, Fatal> {
     if let Some(p) = &a.blocks {
         write_blocks(p, &timing)?;
     }
+    if let Some(p) = &a.geometry {
+        write_geometry(p, &timing, a.geometry_step)?;
+    }
     if let Some(p) = &a.periods {
         let rep = write_periods(p, &timing)?;
         let _ = writeln!(
@@ -223,6 +234,34 @@ fn read_canon(path: &Path, read: &super::program::ReadArgs) -> Result<Vec<Canon>
     }
     super::program::report(&it, path);
     Ok(out)
+}
+
+/// One line naming a machine and its controller settings.
+pub(crate) fn machine_note(m: &Dynamics) -> String {
+    let ax = |i: usize| {
+        let a = &m.axes[i];
+        format!(
+            "{} {} mm/min {} mm/s² {}",
+            ["X", "Y", "Z"][i],
+            fmt_num(a.velocity),
+            fmt_num(a.acceleration),
+            a.jerk.map_or("no jerk limit".to_owned(), |j| format!("{} mm/s³", fmt_num(j)))
+        )
+    };
+    format!(
+        "Times on the machine {} ({}, {}, {}; {}, look-ahead {}, Ts {} ms): the feed planned within these limits (interpolab time).",
+        m.name,
+        ax(0),
+        ax(1),
+        ax(2),
+        if m.exact_stop || m.tolerance_mm <= 0.0 {
+            "exact stop at corners".to_owned()
+        } else {
+            format!("corners blended within {} mm", fmt_num(m.tolerance_mm))
+        },
+        m.window_blocks.map_or("the whole program".to_owned(), |w| format!("{w} blocks")),
+        fmt_num(m.period_ms)
+    )
 }
 
 fn summary(title: &str, t: &Timing) -> String {
@@ -276,6 +315,53 @@ fn summary(title: &str, t: &Timing) -> String {
         let _ = writeln!(s, "feed         mean {:.1} mm/min over the feed moves", 60.0 * f_len / feed);
     }
     s
+}
+
+/// Most samples `--geometry` writes.
+const MAX_GEOMETRY_SAMPLES: usize = 2_000_000;
+
+fn write_geometry(p: &Path, t: &Timing, step: f64) -> Result<(), Fatal> {
+    if !(step > 0.0) {
+        return Err(Fatal("--geometry-step must be a positive length in mm; give e.g. 0.25".to_owned()));
+    }
+    let f = fs::File::create(p).map_err(|e| Fatal(format!("cannot create {}: {e}", p.display())))?;
+    let mut w = BufWriter::with_capacity(1 << 16, f);
+    let mut line = String::from("s,x,y,z,a,b,c,dx,dy,dz,da,db,dc,ddx,ddy,ddz,dda,ddb,ddc,feed_mm_per_s\n");
+    let mut count = 0usize;
+    for (k, piece) in t.path.pieces.iter().enumerate() {
+        let n = ((piece.h / step).ceil() as usize).max(1);
+        // A stop (v = 0) at the piece's start: the path's start, or after an element the
+        // path stops at; its row carries feed 0.
+        let stop = k == 0
+            || (t.path.pieces[k - 1].elem != piece.elem && t.path.elems[t.path.pieces[k - 1].elem as usize].stop_after);
+        for i in 0..n {
+            count += 1;
+            if count > MAX_GEOMETRY_SAMPLES {
+                return Err(Fatal(format!(
+                    "--geometry: more than {MAX_GEOMETRY_SAMPLES} samples; give a larger --geometry-step"
+                )));
+            }
+            // Just inside the piece, so that each sample reads its own piece's curvature.
+            let s = piece.s0 + piece.h * (i as f64 / n as f64);
+            geometry_row(&mut line, t, s, stop && i == 0);
+        }
+        w.write_all(line.as_bytes()).map_err(|e| Fatal(format!("cannot write {}: {e}", p.display())))?;
+        line.clear();
+    }
+    geometry_row(&mut line, t, t.path.length, true);
+    w.write_all(line.as_bytes()).and_then(|()| w.flush()).map_err(|e| Fatal(format!("cannot write {}: {e}", p.display())))
+}
+
+fn geometry_row(line: &mut String, t: &Timing, s: f64, stop: bool) {
+    let (q, q1, q2, feed) = t.path.derivatives_at(s);
+    push_num(line, s);
+    for v in q.iter().chain(&q1).chain(&q2) {
+        line.push(',');
+        push_num(line, *v);
+    }
+    line.push(',');
+    push_num(line, if stop { 0.0 } else if feed.is_finite() { feed } else { 1e9 });
+    line.push('\n');
 }
 
 fn write_blocks(p: &Path, t: &Timing) -> Result<(), Fatal> {

@@ -34,7 +34,8 @@ pub mod replay;
 pub mod write;
 
 pub use compare::{
-    CompareOptions, CompareRow, Comparison, TableStyle, compare, compare_row, format_comparison, format_comparisons,
+    CompareOptions, CompareRow, Comparison, ExtraColumns, TableStyle, compare, compare_row, format_comparison,
+    format_comparisons, format_comparisons_with,
     realtime_stats,
 };
 pub use design::{DesignBuilder, DesignError, crease_design};

@@ -432,25 +432,47 @@ fn scurves(path: &Path, lims: &[PieceLimits], g: &[Pt], stop: &[bool], out: &mut
         let p = &g[i];
         p.x <= 0.0 && (i == 0 || i + 1 == m || (p.piece < stop.len() && (stop[p.piece] || stop[p.piece + 1])))
     };
-    // Knots: where the acceleration-limited plan's acceleration is zero or changes sign,
-    // and the stops.
-    let mut knots: Vec<usize> = vec![0];
-    let mut last_tr: Option<Trend> = None;
+    // Runs of one trend along the plan, then the knots: every trough (a fall turning into a
+    // rise), both ends of every plateau that is not a peak (a shoulder, or a trough held
+    // for a while: a cap the S-curves must not cross), and the stops; a peak — a rise
+    // turning into a fall, with or without a plateau between — is not a knot: one S-curve
+    // segment runs from trough to trough through it, its peak at most the plan's.
+    let mut runs: Vec<(Trend, usize, usize)> = Vec::new();
     for i in 0..m - 1 {
         let Some(tr) = trend(i) else { continue };
-        if i > 0 && (last_tr.is_some_and(|l| l != tr) || is_stop(i)) && *knots.last().unwrap_or(&0) != i {
-            knots.push(i);
+        match runs.last_mut() {
+            Some(r) if r.0 == tr => r.2 = i + 1,
+            _ => runs.push((tr, i, i + 1)),
         }
-        last_tr = Some(tr);
     }
-    knots.push(m - 1);
+    let peak_flat = |r: usize| {
+        runs[r].0 == Trend::Flat
+            && r > 0
+            && r + 1 < runs.len()
+            && runs[r - 1].0 == Trend::Up
+            && runs[r + 1].0 == Trend::Down
+    };
+    let mut knots: Vec<usize> = vec![0];
+    for r in 0..runs.len().saturating_sub(1) {
+        let (a, b) = (runs[r].0, runs[r + 1].0);
+        let at = runs[r].2;
+        let knot = (a == Trend::Down && b == Trend::Up)
+            || (a == Trend::Flat && !peak_flat(r))
+            || (b == Trend::Flat && !peak_flat(r + 1))
+            || is_stop(at);
+        if knot && *knots.last().unwrap_or(&0) != at {
+            knots.push(at);
+        }
+    }
+    if *knots.last().unwrap_or(&0) != m - 1 {
+        knots.push(m - 1);
+    }
     let mut v: Vec<f64> = knots.iter().map(|&i| g[i].x.max(0.0).sqrt()).collect();
     struct Seg {
         d: f64,
         a: f64,
         j: f64,
         cap: f64,
-        flat: bool,
     }
     let mut segs: Vec<Seg> = Vec::with_capacity(knots.len());
     for w in knots.windows(2) {
@@ -466,8 +488,8 @@ fn scurves(path: &Path, lims: &[PieceLimits], g: &[Pt], stop: &[bool], out: &mut
             a = a.min(l.a);
             j = j.min(l.j);
         }
-        let flat = (i0..i1).filter_map(trend).all(|t| t == Trend::Flat);
-        segs.push(Seg { d: g[i1].s - g[i0].s, a, j, cap: g[i0].x.max(g[i1].x).max(0.0).sqrt(), flat });
+        let top = g[i0..=i1].iter().fold(0.0f64, |t, p| t.max(p.x));
+        segs.push(Seg { d: g[i1].s - g[i0].s, a, j, cap: top.max(0.0).sqrt() });
     }
     for i in 0..segs.len() {
         let s = &segs[i];
@@ -481,7 +503,7 @@ fn scurves(path: &Path, lims: &[PieceLimits], g: &[Pt], stop: &[bool], out: &mut
     let mut ph: Vec<Phase> = Vec::with_capacity(8);
     for (i, s) in segs.iter().enumerate() {
         let (v0, v1) = (v[i], v[i + 1]);
-        let cap = if s.flat { s.cap.max(v0).max(v1) } else { v0.max(v1) };
+        let cap = s.cap.max(v0).max(v1);
         ph.clear();
         scurve::push_segment(v0, v1, s.d, cap, s.a, s.j, &mut ph);
         let (mut ss, mut vv) = (g[knots[i]].s, v0);

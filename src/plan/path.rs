@@ -1014,3 +1014,22 @@ pub fn piece_bounds(path: &Path, p: &Piece) -> Bounds {
     }
     out
 }
+
+impl Path {
+    /// q, q', q'' (derivatives in s) and the programmed feed cap (mm/s) at path position s:
+    /// for exporting the geometry (the time-optimal anchor reads it), not per period.
+    #[must_use]
+    pub fn derivatives_at(&self, s: f64) -> (Q, Q, Q, f64) {
+        if self.pieces.is_empty() {
+            return (self.end, [0.0; 6], [0.0; 6], 0.0);
+        }
+        let k = self.pieces.partition_point(|p| p.s0 <= s).saturating_sub(1);
+        let p = &self.pieces[k];
+        let e = &self.elems[p.elem as usize];
+        let (q, q1, q2) = match &e.shape {
+            Shape::Line { .. } => e.at_tau(&self.curves, (s - e.s0).clamp(0.0, e.len)),
+            _ => e.at_tau(&self.curves, e.tau_at(&self.curves, s.min(p.s0 + p.h), p.tau.0, p.s0)),
+        };
+        (q, q1, q2, e.feed)
+    }
+}
