@@ -51,8 +51,10 @@ ss = data[:, 0]
 keep = np.concatenate([[True], np.diff(ss) > 1e-9])
 data = data[keep]; ss = data[:, 0]
 q, dq, ddq, feed = data[:, 1:7], data[:, 7:13], data[:, 13:19], data[:, 19]
-fref = max(feed.max(), 1.0)
-q7d = np.where(feed > 0, fref / np.maximum(feed, 1e-300), 1e9)
+finite = feed[(feed > 0) & (feed < 1e8)]
+fref = float(finite.max()) if len(finite) else 1.0
+q7d = np.full(len(feed), 1e9)
+np.divide(fref, feed, out=q7d, where=feed > 0)
 q7 = np.concatenate([[0.0], np.cumsum(np.diff(ss) * q7d[:-1])])
 Q = np.column_stack([q, q7]); DQ = np.column_stack([dq, q7d]); DDQ = np.column_stack([ddq, np.zeros(len(ss))])
 
@@ -75,10 +77,11 @@ vl = np.array([[-x, x] for x in v + [fref]])
 al = np.array([[-x, x] for x in a + [1e12]])
 inst = algo.TOPPRA([constraint.JointVelocityConstraint(vl), constraint.JointAccelerationConstraint(al)],
                    Table(), gridpoints=ss, parametrizer="ParametrizeConstAccel")
-sdd, sd, _, _ = inst.compute_parameterization(0, 0)
+res = inst.compute_parameterization(0, 0)
+sd = res[1]
 if sd is None:
     print("nan"); sys.exit(0)
-sd = np.sqrt(np.maximum(sd, 0))
+sd = np.maximum(np.asarray(sd, dtype=float), 0.0)  # toppra gives the speed sdot itself
 ds = np.diff(ss)
 den = sd[:-1] + sd[1:]
 print(float(np.sum(np.where(den > 0, 2 * ds / np.maximum(den, 1e-300), 0.0))))
@@ -104,15 +107,25 @@ def run(cmd):
 
 
 def planned_time(text):
+    """The planned motion time: the total less the dwells (TOPP-RA knows no dwell)."""
     for line in text.splitlines():
         if line.startswith("time"):
-            return float(line.split()[1])
+            w = line.replace("(", " ").replace(")", " ").replace(",", " ").split()
+            return float(w[1]) - float(w[w.index("dwell") + 1])
     raise SystemExit("no time line")
 
 
-def check_periods(path, machine):
+# Allowance for the positions' own rounding: an error eps in each printed position gives up
+# to 2^n eps / Ts^n in the n-th difference (eps = 1e-10 mm: 2e-7 mm/s, 4e-4 mm/s², 0.8 mm/s³).
+EPS = 1e-10
+# How far below TOPP-RA's gridded time a plan may come (relative) before it is said to beat
+# the bound: the grid's own error, measured by halving the spacing (docs/feed-planning.md).
+RTOL = 2e-4
+
+
+def check_periods(path, machine, jerk=True):
     v, a = MACHINES[machine]
-    j = JERK[machine]
+    j = JERK[machine] if jerk else [float("inf")] * 6
     ts = 0.001
     worst = 0.0
     prev = []
@@ -129,13 +142,14 @@ def check_periods(path, machine):
             n = len(prev)
             for i in range(6):
                 if n >= 2:
-                    worst = max(worst, abs(prev[-1][i] - prev[-2][i]) / ts / v[i])
+                    d1 = abs(prev[-1][i] - prev[-2][i]) / ts
+                    worst = max(worst, max(0.0, d1 - 2 * EPS / ts) / v[i])
                 if n >= 3:
-                    worst = max(worst, abs(prev[-1][i] - 2 * prev[-2][i] + prev[-3][i]) / ts**2 / a[i])
+                    d2 = abs(prev[-1][i] - 2 * prev[-2][i] + prev[-3][i]) / ts**2
+                    worst = max(worst, max(0.0, d2 - 4 * EPS / ts**2) / a[i])
                 if n >= 4:
-                    d3 = prev[-1][i] - 3 * prev[-2][i] + 3 * prev[-3][i] - prev[-4][i]
-                    # printed positions are exact f64 (shortest round trip): allowance 8 ulp-ish
-                    worst = max(worst, max(0.0, abs(d3) / ts**3 - 8 * 1e-13 / ts**3) / j[i])
+                    d3 = abs(prev[-1][i] - 3 * prev[-2][i] + 3 * prev[-3][i] - prev[-4][i]) / ts**3
+                    worst = max(worst, max(0.0, d3 - 8 * EPS / ts**3) / j[i])
     return worst
 
 
@@ -143,6 +157,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--binary", default=os.path.join(ROOT, "target", "release", "interpolab"))
     ap.add_argument("--quick", action="store_true", help="fewer examples")
+    ap.add_argument("--step", type=float, default=0.05, help="TOPP-RA grid spacing (mm)")
     args = ap.parse_args()
     py = ensure_venv()
     b = args.binary
@@ -168,18 +183,23 @@ def main():
     for label, prog in programs:
         for m in (["vmc", "hobby-router"] if "5axis" not in label else ["table-ac"]):
             g = os.path.join(tmp, "g.csv")
-            t_free = planned_time(run([b, "time", prog, "--machine", m, "--no-jerk", "--geometry", g]))
+            per_free = os.path.join(tmp, "pf.csv")
+            t_free = planned_time(run([b, "time", prog, "--machine", m, "--no-jerk", "--geometry", g,
+                                       "--geometry-step", str(args.step), "--periods", per_free]))
+            worst_free = check_periods(per_free, m, jerk=False)
             v, a = MACHINES[m]
             bound = float(subprocess.run([py, "-c", TOPP, g, ",".join(map(str, v)), ",".join(map(str, a))],
                                          capture_output=True, text=True, check=True).stdout.strip())
             per = os.path.join(tmp, "p.csv")
             t_jerk = planned_time(run([b, "time", prog, "--machine", m, "--periods", per]))
-            worst = check_periods(per, m)
+            worst = max(check_periods(per, m), worst_free)
             ratio = t_free / bound
-            ok = bound * (1 - 1e-6) <= t_free and ratio <= 1.05 and t_jerk >= bound * (1 - 1e-6) and worst <= 1 + 1e-9
+            # TOPP-RA's grid leaves it a little above the continuous optimum (its first
+            # interval from rest, its switch points on grid points); RTOL is that margin.
+            ok = bound * (1 - RTOL) <= t_free and ratio <= 1.05 and t_jerk >= bound * (1 - RTOL) and worst <= 1 + 1e-9
             failed |= not ok
             rows.append((label, m, bound))
-            print(f"| {label} | {m} | {bound:.4f} | {t_free:.4f} | {ratio:.4f} | {t_jerk:.4f} | {worst:.6f}{'' if ok else ' FAIL'} |")
+            print(f"| {label} | {m} | {bound:.4f} | {t_free:.4f} | {ratio:.5f} | {t_jerk:.4f} | {worst:.6f}{'' if ok else ' FAIL'} |")
     os.makedirs(DATA, exist_ok=True)
     with open(os.path.join(DATA, "topp_bounds.csv"), "w") as f:
         f.write("program,machine,topp_ra_s\n")

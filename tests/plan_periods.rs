@@ -17,10 +17,9 @@ fn programs() -> Vec<(String, Vec<Canon>)> {
         let p = write_program(kind, &design, 0.01, &ProgramOptions::default().with_feed(1500.0)).expect("program");
         out.push((format!("parabola {kind:?}"), canon_of_toolpath(&p.parsed.toolpath)));
     }
-    for (name, text) in [
-        ("corners", include_str!("data/plan/corners.nc")),
-        ("5axis-rotary", include_str!("data/plan/5axis-rotary.nc")),
-    ] {
+    for (name, text) in
+        [("corners", include_str!("data/plan/corners.nc")), ("5axis-rotary", include_str!("data/plan/5axis-rotary.nc"))]
+    {
         let canon: Vec<Canon> = Interpreter::from_text(text, Options::default()).map(|c| c.expect("reads")).collect();
         out.push((name.to_owned(), canon));
     }
@@ -134,7 +133,11 @@ fn every_period_is_within_the_limits_the_tolerance_and_ends_at_rest_on_the_end()
                 assert_eq!(rep.end_rates, [0.0, 0.0], "{name}: not at rest at the end");
                 assert!(t.total_s() > 0.0 && t.block_time_s.iter().all(|b| *b >= 0.0));
                 let sum: f64 = t.block_time_s.iter().sum();
-                assert!((sum - t.total_s()).abs() < 1e-9 * t.total_s(), "{name}: block times {sum} vs total {}", t.total_s());
+                assert!(
+                    (sum - t.total_s()).abs() < 1e-9 * t.total_s(),
+                    "{name}: block times {sum} vs total {}",
+                    t.total_s()
+                );
             }
         }
     }
@@ -180,10 +183,19 @@ fn bad_machines_are_refused_naming_the_key() {
     let mut m = Dynamics::preset("vmc").expect("preset");
     m.tolerance_mm = 1e6;
     assert_eq!(m.validate().expect_err("refused").path, "tolerance");
-    for bad in [r#"{"axes": {"q": {}}}"#, r#"{"axes": {"x": {"jerk": 0}}}"#, r#"{"period": 0}"#, r#"{"lookahead": 0}"#, r#"{"preset": "mill"}"#] {
+    for bad in [
+        r#"{"axes": {"q": {}}}"#,
+        r#"{"axes": {"x": {"jerk": 0}}}"#,
+        r#"{"period": 0}"#,
+        r#"{"lookahead": 0}"#,
+        r#"{"preset": "mill"}"#,
+    ] {
         let v: serde_json::Value = serde_json::from_str(bad).expect("json");
         let e = Dynamics::from_value(&v).expect_err(bad);
-        assert!(!e.to_string().contains('\n') && e.to_string().contains("give") || e.to_string().contains("use"), "{e}");
+        assert!(
+            !e.to_string().contains('\n') && e.to_string().contains("give") || e.to_string().contains("use"),
+            "{e}"
+        );
     }
     // A machine read back from its own JSON is the same machine.
     for p in interpolab::plan::PRESETS {

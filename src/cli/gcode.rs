@@ -15,8 +15,8 @@ use clap::{Args, ValueEnum};
 use super::Fatal;
 
 use interpolab::gcode::{
-    CompareOptions, DeviationOptions, Dialect, ExtraColumns, ProgramKind, ProgramOptions, ProgrammedPoint, Segment, TableStyle,
-    compare, crease_design, deviation, format_comparisons_with, summarize, write_program,
+    CompareOptions, DeviationOptions, Dialect, ExtraColumns, ProgramKind, ProgramOptions, ProgrammedPoint, Segment,
+    TableStyle, compare, crease_design, deviation, format_comparisons_with, summarize, write_program,
 };
 use interpolab::geom::Curve3;
 use interpolab::nurbs_path::measure::Translated;

@@ -148,7 +148,10 @@ pub(super) fn time(a: &TimeArgs) -> Result<ExitCode, Fatal> {
         }
         let base = match &a.machine {
             Some(m) => machine_of(m)?,
-            None => scene_dynamics(&a.input)?.unwrap_or_else(|| Dynamics::preset("vmc").unwrap_or_else(fallback)),
+            None => match scene_dynamics(&a.input)? {
+                Some(d) => d,
+                None => default_machine()?,
+            },
         };
         let machine = machine_with(base, a.tolerance, a.exact_stop, a.window, a.period, a.no_jerk)?;
         let (scene, job) = super::crease::load(&a.input)?;
@@ -170,7 +173,7 @@ pub(super) fn time(a: &TimeArgs) -> Result<ExitCode, Fatal> {
     } else {
         let base = match &a.machine {
             Some(m) => machine_of(m)?,
-            None => Dynamics::preset("vmc").unwrap_or_else(fallback),
+            None => default_machine()?,
         };
         let machine = machine_with(base, a.tolerance, a.exact_stop, a.window, a.period, a.no_jerk)?;
         (read_canon(&a.input, &a.read)?, a.input.display().to_string(), machine)
@@ -200,15 +203,8 @@ pub(super) fn time(a: &TimeArgs) -> Result<ExitCode, Fatal> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn fallback() -> Dynamics {
-    Dynamics {
-        name: String::new(),
-        axes: [interpolab::plan::AxisLimits { velocity: 1.0, acceleration: 1.0, jerk: None }; 6],
-        tolerance_mm: 0.0,
-        exact_stop: false,
-        window_blocks: None,
-        period_ms: 1.0,
-    }
+fn default_machine() -> Result<Dynamics, Fatal> {
+    Dynamics::preset("vmc").ok_or_else(|| Fatal("the vmc preset is missing (a bug; please report it)".to_owned()))
 }
 
 fn scene_dynamics(p: &Path) -> Result<Option<Dynamics>, Fatal> {
@@ -220,14 +216,16 @@ fn scene_dynamics(p: &Path) -> Result<Option<Dynamics>, Fatal> {
 
 /// A program's canonical motions: through the interpreter, or the Sinumerik reader.
 fn read_canon(path: &Path, read: &super::program::ReadArgs) -> Result<Vec<Canon>, Fatal> {
-    let mut it = super::program::open(path, read.options())?;
-    let head = super::read_capped(path, interpolab::limits::MAX_PROGRAM_BYTES, "G-code program")
+    use std::io::Read as _;
+    let mut head = Vec::new();
+    fs::File::open(path)
+        .and_then(|f| f.take(64 << 10).read_to_end(&mut head))
         .map_err(|e| Fatal(format!("cannot read program {}: {e}", path.display())))?;
-    if Dialect::guess(&head[..head.len().min(64 << 10)]) == Dialect::Sinumerik {
+    if Dialect::guess(&String::from_utf8_lossy(&head)) == Dialect::Sinumerik {
         let (parsed, _, _) = super::program::read_path(path, Some(Dialect::Sinumerik), read)?;
         return Ok(canon_of_toolpath(&parsed.toolpath));
     }
-    drop(head);
+    let mut it = super::program::open(path, read.options())?;
     let mut out = Vec::new();
     for c in it.by_ref() {
         out.push(c.map_err(|e| Fatal(format!("{}: {e}", path.display())))?);
@@ -334,22 +332,40 @@ fn write_geometry(p: &Path, t: &Timing, step: f64) -> Result<(), Fatal> {
         // path stops at; its row carries feed 0.
         let stop = k == 0
             || (t.path.pieces[k - 1].elem != piece.elem && t.path.elems[t.path.pieces[k - 1].elem as usize].stop_after);
-        for i in 0..n {
+        let end_stop = t.path.pieces.get(k + 1).is_none_or(|q| q.elem != piece.elem)
+            && t.path.elems[piece.elem as usize].stop_after;
+        // Uniform samples, and near a stop samples closing in geometrically (step/2, /4, …
+        // down to 2^-24 of the step): a grid's first interval from rest costs it
+        // √(2h/a) where the motion needs less, so the bound comes closer from above.
+        let mut at: Vec<f64> = (0..n).map(|i| piece.h * (i as f64 / n as f64)).collect();
+        let first = piece.h / n as f64;
+        for e in 1..=24 {
+            let d = first * 0.5f64.powi(e);
+            if stop {
+                at.push(d);
+            }
+            if end_stop {
+                at.push(piece.h - d);
+            }
+        }
+        at.sort_by(f64::total_cmp);
+        at.dedup();
+        for (i, off) in at.iter().enumerate() {
             count += 1;
             if count > MAX_GEOMETRY_SAMPLES {
                 return Err(Fatal(format!(
                     "--geometry: more than {MAX_GEOMETRY_SAMPLES} samples; give a larger --geometry-step"
                 )));
             }
-            // Just inside the piece, so that each sample reads its own piece's curvature.
-            let s = piece.s0 + piece.h * (i as f64 / n as f64);
-            geometry_row(&mut line, t, s, stop && i == 0);
+            geometry_row(&mut line, t, piece.s0 + off, stop && i == 0);
         }
         w.write_all(line.as_bytes()).map_err(|e| Fatal(format!("cannot write {}: {e}", p.display())))?;
         line.clear();
     }
     geometry_row(&mut line, t, t.path.length, true);
-    w.write_all(line.as_bytes()).and_then(|()| w.flush()).map_err(|e| Fatal(format!("cannot write {}: {e}", p.display())))
+    w.write_all(line.as_bytes())
+        .and_then(|()| w.flush())
+        .map_err(|e| Fatal(format!("cannot write {}: {e}", p.display())))
 }
 
 fn geometry_row(line: &mut String, t: &Timing, s: f64, stop: bool) {
@@ -360,7 +376,16 @@ fn geometry_row(line: &mut String, t: &Timing, s: f64, stop: bool) {
         push_num(line, *v);
     }
     line.push(',');
-    push_num(line, if stop { 0.0 } else if feed.is_finite() { feed } else { 1e9 });
+    push_num(
+        line,
+        if stop {
+            0.0
+        } else if feed.is_finite() {
+            feed
+        } else {
+            1e9
+        },
+    );
     line.push('\n');
 }
 

@@ -269,8 +269,7 @@ pub fn format_comparisons_with(cs: &[Comparison], extra: &ExtraColumns, style: T
         notes.extend(c.notes.iter().map(String::as_str));
         let lines_blocks = c.rows.iter().find(|r| r.kind == ProgramKind::Lines).map(|r| r.path_blocks);
         for (ri, r) in c.rows.iter().enumerate() {
-            let mut more: Vec<String> =
-                extra.cells.get(ci).and_then(|c| c.get(ri)).cloned().unwrap_or_default();
+            let mut more: Vec<String> = extra.cells.get(ci).and_then(|c| c.get(ri)).cloned().unwrap_or_default();
             more.resize(extra.heads.len(), String::new());
             let vs = match lines_blocks {
                 Some(l) if l > 0 => format!("{:+.0}%", 100.0 * (r.path_blocks as f64 - l as f64) / l as f64),

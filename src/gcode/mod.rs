@@ -35,8 +35,7 @@ pub mod write;
 
 pub use compare::{
     CompareOptions, CompareRow, Comparison, ExtraColumns, TableStyle, compare, compare_row, format_comparison,
-    format_comparisons, format_comparisons_with,
-    realtime_stats,
+    format_comparisons, format_comparisons_with, realtime_stats,
 };
 pub use design::{DesignBuilder, DesignError, crease_design};
 pub use dialect::{Dialect, UnknownDialect};

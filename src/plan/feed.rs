@@ -29,7 +29,7 @@
 //! buffer ends), computed by a backward pass per block (O(N) pieces each).
 
 use super::machine::JointLimits;
-use super::path::{Bounds, Path, piece_bounds};
+use super::path::{Bounds, Path, Piece, Shape, piece_bounds};
 use super::scurve::{self, Phase};
 
 /// A phase of the plan placed in time and along the path.
@@ -137,50 +137,89 @@ fn cap_of(b: &Bounds, feed: f64, lim: &JointLimits, share: f64, curved: bool) ->
 /// Plans the feed over a path.
 #[must_use]
 pub fn plan(path: &Path, opts: &FeedOptions) -> FeedPlan {
-    let n = path.pieces.len();
     let jerk = !opts.limits.jerk_free();
+    let (pieces, bounds, lims) = work_pieces(path, opts, jerk);
+    let n = pieces.len();
     // Stops: piece boundaries where v = 0.
     let mut stop = vec![false; n + 1];
     stop[0] = true;
     stop[n] = true;
     for k in 0..n {
-        let e = &path.elems[path.pieces[k].elem as usize];
-        let last_of_elem = k + 1 == n || path.pieces[k + 1].elem != path.pieces[k].elem;
+        let e = &path.elems[pieces[k].elem as usize];
+        let last_of_elem = k + 1 == n || pieces[k + 1].elem != pieces[k].elem;
         if last_of_elem && e.stop_after {
             stop[k + 1] = true;
         }
     }
-    let mut bounds: Vec<Bounds> = Vec::new();
-    let mut lims: Vec<PieceLimits> = Vec::with_capacity(n);
-    for p in &path.pieces {
-        let e = &path.elems[p.elem as usize];
-        let b = piece_bounds(path, p);
-        let curved = !matches!(e.shape, super::path::Shape::Line { .. });
-        lims.push(cap_of(&b, e.feed, &opts.limits, opts.tangent_share, curved));
-        if !jerk {
-            bounds.push(b);
-        }
-    }
+    let pieces = &pieces[..];
     let model = if jerk {
         Model::Tangential(&lims)
     } else {
         Model::Coupled { bounds: &bounds, lims: &lims, a: &opts.limits.a }
     };
-    let hs: Vec<f64> = path.pieces.iter().map(|p| p.h).collect();
+    let hs: Vec<f64> = pieces.iter().map(|p| p.h).collect();
     let mut env = backward(&model, &hs, &stop, 0, n);
     if let Some(w) = opts.window {
-        window_limit(path, &model, &hs, &stop, w, &mut env);
+        window_limit(path, pieces, &model, &hs, &stop, w, &mut env);
     }
     let x = forward(&model, &hs, &env);
-    let guide = guide(path, &lims, &hs, &x, jerk);
+    let guide = guide(path, pieces, &lims, &hs, &x, jerk);
     let mut out = FeedPlan { jerk_limited: jerk, ..FeedPlan::default() };
     if jerk {
-        scurves(path, &lims, &guide, &stop, &mut out);
+        scurves(path, pieces, &lims, &guide, &stop, &mut out);
     } else {
         trapezoids(path, &guide, &mut out);
     }
     out.guide = guide.iter().map(|g| (g.s, g.x.sqrt())).collect();
     out
+}
+
+/// Most planning pieces one path piece is cut into.
+const MAX_SUBPIECES: usize = 64;
+
+/// The pieces the planner works on, their bounds (jerk-free settings) and limits. Without
+/// jerk limits the speed is constant-acceleration per curved piece, so a curved piece longer
+/// than a quarter of the distance it needs to reach its cap from rest is cut into as many
+/// pieces as that takes (at most [`MAX_SUBPIECES`]); straight pieces may rise and fall
+/// inside themselves and are kept whole.
+fn work_pieces(path: &Path, opts: &FeedOptions, jerk: bool) -> (Vec<Piece>, Vec<Bounds>, Vec<PieceLimits>) {
+    let mut pieces = Vec::with_capacity(path.pieces.len());
+    let mut bounds: Vec<Bounds> = Vec::new();
+    let mut lims: Vec<PieceLimits> = Vec::with_capacity(path.pieces.len());
+    for p in &path.pieces {
+        let e = &path.elems[p.elem as usize];
+        let curved = !matches!(e.shape, Shape::Line { .. });
+        let b = piece_bounds(path, p);
+        let l = cap_of(&b, e.feed, &opts.limits, opts.tangent_share, curved);
+        let n = if !jerk && curved && l.a > 0.0 && l.x_cap.is_finite() {
+            let ramp = l.x_cap / (2.0 * l.a);
+            if ramp > 0.0 { ((4.0 * p.h / ramp).ceil() as usize).clamp(1, MAX_SUBPIECES) } else { 1 }
+        } else {
+            1
+        };
+        if n == 1 {
+            pieces.push(*p);
+            lims.push(l);
+            if !jerk {
+                bounds.push(b);
+            }
+            continue;
+        }
+        let mut s0 = p.s0;
+        let dt = (p.tau.1 - p.tau.0) / n as f64;
+        for i in 0..n {
+            let ta = p.tau.0 + dt * i as f64;
+            let tb = if i + 1 == n { p.tau.1 } else { ta + dt };
+            let h = if i + 1 == n { p.s0 + p.h - s0 } else { e.length_between(&path.curves, ta, tb, 1) };
+            let q = Piece { elem: p.elem, tau: (ta, tb), s0, h };
+            let b = piece_bounds(path, &q);
+            lims.push(cap_of(&b, e.feed, &opts.limits, opts.tangent_share, curved));
+            bounds.push(b);
+            pieces.push(q);
+            s0 += h;
+        }
+    }
+    (pieces, bounds, lims)
 }
 
 enum Model<'a> {
@@ -272,9 +311,17 @@ fn backward(model: &Model<'_>, hs: &[f64], stop: &[bool], from: usize, to: usize
     k
 }
 
-fn window_limit(path: &Path, model: &Model<'_>, hs: &[f64], stop: &[bool], w: usize, env: &mut [f64]) {
+fn window_limit(
+    path: &Path,
+    pieces: &[Piece],
+    model: &Model<'_>,
+    hs: &[f64],
+    stop: &[bool],
+    w: usize,
+    env: &mut [f64],
+) {
     let n = hs.len();
-    let block_of = |k: usize| path.elems[path.pieces[k].elem as usize].block;
+    let block_of = |k: usize| path.elems[pieces[k].elem as usize].block;
     // First piece of every block.
     let mut starts: Vec<usize> = Vec::new();
     for k in 0..n {
@@ -318,11 +365,11 @@ struct Pt {
 /// constant acceleration between neighbours. On a straight piece (and every piece of the
 /// tangential model) the speed may rise and fall inside it: peak
 /// x_p = min(cap, (x₀ + x₁)/2 + A·h), reached after (x_p − x₀)/(2A).
-fn guide(path: &Path, lims: &[PieceLimits], hs: &[f64], x: &[f64], jerk: bool) -> Vec<Pt> {
+fn guide(path: &Path, pieces: &[Piece], lims: &[PieceLimits], hs: &[f64], x: &[f64], jerk: bool) -> Vec<Pt> {
     let n = hs.len();
     let mut out = Vec::with_capacity(2 * n + 1);
     for k in 0..n {
-        let s0 = path.pieces[k].s0;
+        let s0 = pieces[k].s0;
         let h = hs[k];
         let (x0, x1) = (x[k], x[k + 1]);
         out.push(Pt { s: s0, x: x0, piece: k });
@@ -332,11 +379,15 @@ fn guide(path: &Path, lims: &[PieceLimits], hs: &[f64], x: &[f64], jerk: bool) -
             let xp = (0.5 * (x0 + x1) + l.a * h).min(l.x_cap);
             let d1 = ((xp - x0) / (2.0 * l.a)).max(0.0);
             let d2 = ((xp - x1) / (2.0 * l.a)).max(0.0);
-            if xp > x0.max(x1) * (1.0 + 1e-12) && d1 + d2 <= h * (1.0 + 1e-12) {
-                if d1 > 0.0 {
+            // A rise to the peak that ends inside the piece, and a fall from it that starts
+            // inside; the plateau between them is the straight stretch at x_p.
+            if d1 + d2 <= h * (1.0 + 1e-12) {
+                let rise = xp > x0 * (1.0 + 1e-12) && d1 < h;
+                let fall = xp > x1 * (1.0 + 1e-12) && d2 < h;
+                if rise && d1 > 0.0 {
                     out.push(Pt { s: s0 + d1, x: xp, piece: k });
                 }
-                if h - d2 > d1 {
+                if fall && h - d2 > if rise { d1 } else { 0.0 } {
                     out.push(Pt { s: s0 + h - d2, x: xp, piece: k });
                 }
             }
@@ -410,7 +461,7 @@ enum Trend {
     Down,
 }
 
-fn scurves(path: &Path, lims: &[PieceLimits], g: &[Pt], stop: &[bool], out: &mut FeedPlan) {
+fn scurves(path: &Path, pieces: &[Piece], lims: &[PieceLimits], g: &[Pt], stop: &[bool], out: &mut FeedPlan) {
     let m = g.len();
     if m < 2 {
         return;
@@ -483,7 +534,7 @@ fn scurves(path: &Path, lims: &[PieceLimits], g: &[Pt], stop: &[bool], out: &mut
         // The pieces the segment touches: from the one holding its start to the one holding
         // its end (a knot on a boundary belongs to the later piece, which the segment does
         // not enter when it ends there).
-        let last = if g[i1].s <= path.pieces.get(pb).map_or(f64::INFINITY, |p| p.s0) && pb > pa { pb - 1 } else { pb };
+        let last = if g[i1].s <= pieces.get(pb).map_or(f64::INFINITY, |p| p.s0) && pb > pa { pb - 1 } else { pb };
         for l in &lims[pa..=last.min(lims.len() - 1)] {
             a = a.min(l.a);
             j = j.min(l.j);
