@@ -167,6 +167,9 @@ def main():
         out = os.path.join(tmp, f"parabola-{kind}.nc")
         run([b, "gcode", "--profile", "parabola", "--kind", kind, "--tolerance", "0.01", "--out", out])
         programs.append((f"parabola {kind}", out))
+        fast = os.path.join(tmp, f"parabola6000-{kind}.nc")
+        run([b, "gcode", "--profile", "parabola", "--kind", kind, "--tolerance", "0.01", "--feed", "6000", "--out", fast])
+        programs.append((f"parabola6000 {kind}", fast))
     scenes = ["torus-plane", "sphere-plane"] if not args.quick else ["torus-plane"]
     for sc in scenes:
         for kind in ["g01", "arcs", "nurbs"]:

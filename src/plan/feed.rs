@@ -193,7 +193,14 @@ fn work_pieces(path: &Path, opts: &FeedOptions, jerk: bool) -> (Vec<Piece>, Vec<
         let l = cap_of(&b, e.feed, &opts.limits, opts.tangent_share, curved);
         let n = if !jerk && curved && l.a > 0.0 && l.x_cap.is_finite() {
             let ramp = l.x_cap / (2.0 * l.a);
-            if ramp > 0.0 { ((4.0 * p.h / ramp).ceil() as usize).clamp(1, MAX_SUBPIECES) } else { 1 }
+            let by_ramp = if ramp > 0.0 { (4.0 * p.h / ramp).ceil() as usize } else { 1 };
+            // The bounds hold over the whole piece: where q'' changes much along it (a
+            // blend's curvature rises from zero to its peak), cut it so each part's range
+            // is at most 5 % of the largest |q''|.
+            let top = (0..6).fold(0.0f64, |m, i| m.max(b.lo2[i].abs()).max(b.hi2[i].abs()));
+            let spread = (0..6).fold(0.0f64, |m, i| m.max(b.hi2[i] - b.lo2[i]));
+            let by_curv = if top > 0.0 { (spread / (0.05 * top)).ceil() as usize } else { 1 };
+            by_ramp.max(by_curv).clamp(1, MAX_SUBPIECES)
         } else {
             1
         };

@@ -735,14 +735,18 @@ fn push_raw(
     Ok(())
 }
 
-/// The blend between the end of `a` and the start of `b`, trimming `m` from each.
-fn hermite(pa: &Q, ta: &Q, ka: &Q, pb: &Q, tb: &Q, kb: &Q, lambda: f64) -> [Q; 6] {
+/// A quintic Bézier from `pa` to `pb` matching the tangents (dq/ds) `ta`, `tb` and second
+/// derivatives `ka`, `kb` there: control points P₀, P₀ + λT₀/5, P₀ + μT₀ + λ²K₀/20 and
+/// mirrored. B'(0) = λT₀ and B''(0) = 20(μ − 2λ/5)T₀ + λ²K₀, so d²q/ds² at the end is K₀
+/// whatever μ (a tangential second derivative only changes the speed of the parameter): the
+/// blend is curvature-continuous with both neighbours for every λ, μ > 0.
+fn hermite(pa: &Q, ta: &Q, ka: &Q, pb: &Q, tb: &Q, kb: &Q, lambda: f64, mu: f64) -> [Q; 6] {
     let l2 = lambda * lambda;
     [
         *pa,
         axpy(lambda / 5.0, ta, pa),
-        add(&axpy(2.0 * lambda / 5.0, ta, pa), &scale(ka, l2 / 20.0)),
-        add(&axpy(-2.0 * lambda / 5.0, tb, pb), &scale(kb, l2 / 20.0)),
+        add(&axpy(mu, ta, pa), &scale(ka, l2 / 20.0)),
+        add(&axpy(-mu, tb, pb), &scale(kb, l2 / 20.0)),
         axpy(-lambda / 5.0, tb, pb),
         *pb,
     ]
@@ -828,10 +832,11 @@ fn junctions(raws: &mut [Raw], path: &mut Path, rules: &JunctionRules) {
             path.corner_stops += 1;
             continue;
         }
+        let both_lines = matches!(a.shape, Shape::Line { .. }) && matches!(b.shape, Shape::Line { .. });
         let room_a = 0.5 * a.len;
         let room_b = 0.5 * b.len;
         let tol = rules.tol_mm;
-        let guess = if turn > 1e-6 { tol / (0.3 * turn.sin().max(0.05)) } else { f64::INFINITY };
+        let guess = if turn > 1e-6 { tol / (0.234 * turn.sin().max(0.05)) } else { f64::INFINITY };
         let mut m = guess.min(room_a).min(room_b);
         let mut done = None;
         for _ in 0..12 {
@@ -840,7 +845,18 @@ fn junctions(raws: &mut [Raw], path: &mut Path, rules: &JunctionRules) {
             }
             let (pa, ta, ka) = a.at_s(&path.curves, a.len - m);
             let (pb, tb, kb) = b.at_s(&path.curves, m);
-            let bez = hermite(&pa, &ta, &ka, &pb, &tb, &kb, 1.25 * m);
+            // Between two lines: control points at 0.3 m and 0.7 m from the corner on each
+            // leg (λ = 1.5 m, μ = 0.7 m), the least peak curvature for the deviation among
+            // the shapes tried (docs/feed-planning.md: 1.14 times a tangent arc's at a 3°
+            // turn, deviation 0.234·m·sin φ). Where a neighbour is curved, λ = the chord and
+            // μ = 2λ/5 make the blend follow it (near arc-length speed at both ends).
+            let (lambda, mu) = if both_lines {
+                (1.5 * m, 0.7 * m)
+            } else {
+                let c = norm3(&sub(&pb, &pa));
+                (c, 0.4 * c)
+            };
+            let bez = hermite(&pa, &ta, &ka, &pb, &tb, &kb, lambda, mu);
             let (poly, margin) = replaced(a, b, m, &path.curves);
             let dev = deviation(&bez, &poly, margin);
             if dev <= 0.95 * tol {
