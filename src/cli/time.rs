@@ -76,6 +76,10 @@ pub(crate) struct TimeArgs {
     /// For a scene: the program's tolerance (mm).
     #[arg(long, value_parser = super::finite, default_value_t = 0.01)]
     pub program_tolerance: f64,
+    /// For a scene: instead of a 3-axis program, seed 002's five-axis tool steps at this
+    /// tolerance (mm) through the scene's machine, as the joint moves the machine makes.
+    #[arg(long, value_parser = super::finite)]
+    pub steps: Option<f64>,
     #[command(flatten)]
     pub read: super::program::ReadArgs,
 }
@@ -154,6 +158,13 @@ pub(super) fn time(a: &TimeArgs) -> Result<ExitCode, Fatal> {
             },
         };
         let machine = machine_with(base, a.tolerance, a.exact_stop, a.window, a.period, a.no_jerk)?;
+        if let Some(tol) = a.steps {
+            if !(tol > 0.0) {
+                return Err(Fatal("--steps must be a positive tolerance in mm; give e.g. 0.01".to_owned()));
+            }
+            let (canon, title) = super::fiveaxis::scene_steps_program(&a.input, tol)?;
+            return finish(a, canon, &title, &machine);
+        }
         let (scene, job) = super::crease::load(&a.input)?;
         let design = crease_design(&job).map_err(|e| Fatal(format!("{}: {e}", a.input.display())))?;
         let kind = match a.kind {
@@ -178,9 +189,12 @@ pub(super) fn time(a: &TimeArgs) -> Result<ExitCode, Fatal> {
         let machine = machine_with(base, a.tolerance, a.exact_stop, a.window, a.period, a.no_jerk)?;
         (read_canon(&a.input, &a.read)?, a.input.display().to_string(), machine)
     };
-    let machine = scene_machine;
-    let timing = time_program(canon, &machine).map_err(|e| Fatal(format!("{}: {e}", a.input.display())))?;
-    let mut out = summary(&title, &timing);
+    finish(a, canon, &title, &scene_machine)
+}
+
+fn finish(a: &TimeArgs, canon: Vec<Canon>, title: &str, machine: &Dynamics) -> Result<ExitCode, Fatal> {
+    let timing = time_program(canon, machine).map_err(|e| Fatal(format!("{}: {e}", a.input.display())))?;
+    let mut out = summary(title, &timing);
     if let Some(p) = &a.blocks {
         write_blocks(p, &timing)?;
     }

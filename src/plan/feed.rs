@@ -117,11 +117,14 @@ fn cap_of(b: &Bounds, feed: f64, lim: &JointLimits, share: f64, curved: bool) ->
         // A quarter of each joint's jerk for the q''' v^3 term, a quarter for 3 q'' v a:
         // the speed takes the first, the tangential acceleration gives way for the second
         // (corners are short; their speed matters more than how fast it changes there).
+        let mut cube = f64::INFINITY;
         for i in 0..6 {
-            let rest = 0.5 * (1.0 - tj) * lim.j[i];
             if b.m3[i] > 0.0 {
-                v = v.min((rest / b.m3[i]).cbrt());
+                cube = cube.min(0.5 * (1.0 - tj) * lim.j[i] / b.m3[i]);
             }
+        }
+        if cube.is_finite() {
+            v = v.min(cube.cbrt());
         }
         for i in 0..6 {
             let q2 = b.lo2[i].abs().max(b.hi2[i].abs());
@@ -196,10 +199,10 @@ fn work_pieces(path: &Path, opts: &FeedOptions, jerk: bool) -> (Vec<Piece>, Vec<
             let by_ramp = if ramp > 0.0 { (4.0 * p.h / ramp).ceil() as usize } else { 1 };
             // The bounds hold over the whole piece: where q'' changes much along it (a
             // blend's curvature rises from zero to its peak), cut it so each part's range
-            // is at most 5 % of the largest |q''|.
+            // is at most 20 % of the largest |q''|.
             let top = (0..6).fold(0.0f64, |m, i| m.max(b.lo2[i].abs()).max(b.hi2[i].abs()));
             let spread = (0..6).fold(0.0f64, |m, i| m.max(b.hi2[i] - b.lo2[i]));
-            let by_curv = if top > 0.0 { (spread / (0.05 * top)).ceil() as usize } else { 1 };
+            let by_curv = if top > 0.0 { (spread / (0.2 * top)).ceil() as usize } else { 1 };
             by_ramp.max(by_curv).clamp(1, MAX_SUBPIECES)
         } else {
             1
@@ -558,6 +561,7 @@ fn scurves(path: &Path, pieces: &[Piece], lims: &[PieceLimits], g: &[Pt], stop: 
         v[i] = v[i].min(scurve::reach(v[i + 1], s.d, s.a, s.j, f64::INFINITY));
     }
     let mut t = 0.0;
+    out.phases.reserve(4 * segs.len());
     let mut ph: Vec<Phase> = Vec::with_capacity(8);
     for (i, s) in segs.iter().enumerate() {
         let (v0, v1) = (v[i], v[i + 1]);

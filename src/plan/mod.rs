@@ -115,37 +115,50 @@ where
     Ok(Timing { path, plan, machine: machine.clone(), block_time_s })
 }
 
-/// The time at which the plan first moves past path position `s` (s).
-fn time_at(plan: &FeedPlan, s: f64) -> f64 {
-    let ph = &plan.phases;
-    // First phase whose end lies beyond s (phases are in order of s).
-    let end_of = |p: &feed::TimedPhase| p.at(p.t0 + p.phase.dur).0;
-    let i = ph.partition_point(|p| end_of(p) <= s);
-    let Some(p) = ph.get(i) else {
-        return plan.duration;
-    };
-    if p.s0 >= s {
-        return p.t0;
-    }
+/// The time (s) within phase `p` at which the path position reaches `s` (s ≥ p.s0, within
+/// the phase): Newton on the cubic s(t), kept in a bracket.
+fn time_in(p: &feed::TimedPhase, s: f64) -> f64 {
     let (mut lo, mut hi) = (p.t0, p.t0 + p.phase.dur);
-    for _ in 0..100 {
-        let mid = 0.5 * (lo + hi);
-        if mid <= lo || mid >= hi {
-            break;
-        }
-        if p.at(mid).0 < s {
-            lo = mid;
+    let mut t = if p.v0 > 0.0 { (p.t0 + (s - p.s0) / p.v0).clamp(lo, hi) } else { 0.5 * (lo + hi) };
+    for _ in 0..60 {
+        let (st, vt, _) = p.at(t);
+        if st < s {
+            lo = t;
         } else {
-            hi = mid;
+            hi = t;
         }
+        let next = if vt > 0.0 { t - (st - s) / vt } else { f64::NAN };
+        let next = if next > lo && next < hi { next } else { 0.5 * (lo + hi) };
+        if (next - t).abs() <= 1e-15 * (1.0 + t.abs()) || hi - lo <= 1e-15 * (1.0 + t.abs()) {
+            return next;
+        }
+        t = next;
     }
-    hi
+    t
 }
 
+/// Block times by one sweep over blocks and phases (both in order of s).
 fn block_times(path: &Path, plan: &FeedPlan) -> Vec<f64> {
     let n = path.blocks.len();
-    let starts: Vec<f64> =
-        path.blocks.iter().enumerate().map(|(i, b)| if i == 0 { 0.0 } else { time_at(plan, b.s_start) }).collect();
+    let ph = &plan.phases;
+    let mut starts = Vec::with_capacity(n);
+    let mut i = 0usize;
+    for (b, blk) in path.blocks.iter().enumerate() {
+        if b == 0 {
+            starts.push(0.0);
+            continue;
+        }
+        let s = blk.s_start;
+        // The first phase whose end lies beyond s (a dwell's end does not: it stays).
+        while i < ph.len() && ph[i].at(ph[i].t0 + ph[i].phase.dur).0 <= s {
+            i += 1;
+        }
+        starts.push(match ph.get(i) {
+            None => plan.duration,
+            Some(p) if p.s0 >= s => p.t0,
+            Some(p) => time_in(p, s),
+        });
+    }
     (0..n).map(|i| if i + 1 < n { starts[i + 1] - starts[i] } else { plan.duration - starts[i] }).collect()
 }
 

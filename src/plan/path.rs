@@ -117,7 +117,8 @@ pub enum Shape {
         /// Rotary joints (rad).
         abc: [f64; 3],
     },
-    /// A quintic Bézier in joint space, τ ∈ [0, 1] (a blend).
+    /// A quintic Bézier in joint space, τ ∈ [0, 1] (a blend), held in power form:
+    /// q(τ) = Σ c_k τ^k, evaluated by Horner's rule.
     Bezier(Box<[Q; 6]>),
 }
 
@@ -271,9 +272,40 @@ impl Shape {
                     [d2.x, d2.y, d2.z, 0.0, 0.0, 0.0],
                 ]
             }
-            Self::Bezier(b) => bezier5(b, t),
+            Self::Bezier(c) => power5(c, t),
         }
     }
+}
+
+/// The power-form coefficients of a quintic Bézier from its control points.
+fn power_of(b: &[Q; 6]) -> [Q; 6] {
+    std::array::from_fn(|k| {
+        std::array::from_fn(|i| {
+            let p = |j: usize| b[j][i];
+            match k {
+                0 => p(0),
+                1 => 5.0 * (p(1) - p(0)),
+                2 => 10.0 * (p(2) - 2.0 * p(1) + p(0)),
+                3 => 10.0 * (p(3) - 3.0 * p(2) + 3.0 * p(1) - p(0)),
+                4 => 5.0 * (p(4) - 4.0 * p(3) + 6.0 * p(2) - 4.0 * p(1) + p(0)),
+                _ => p(5) - 5.0 * p(4) + 10.0 * p(3) - 10.0 * p(2) + 5.0 * p(1) - p(0),
+            }
+        })
+    })
+}
+
+/// q, q_τ, q_ττ of a quintic in power form (Horner).
+#[inline]
+fn power5(c: &[Q; 6], t: f64) -> [Q; 3] {
+    let mut p = [0.0; 6];
+    let mut d1 = [0.0; 6];
+    let mut d2 = [0.0; 6];
+    for i in 0..6 {
+        p[i] = ((((c[5][i] * t + c[4][i]) * t + c[3][i]) * t + c[2][i]) * t + c[1][i]) * t + c[0][i];
+        d1[i] = (((5.0 * c[5][i] * t + 4.0 * c[4][i]) * t + 3.0 * c[3][i]) * t + 2.0 * c[2][i]) * t + c[1][i];
+        d2[i] = ((20.0 * c[5][i] * t + 12.0 * c[4][i]) * t + 6.0 * c[3][i]) * t + 2.0 * c[2][i];
+    }
+    [p, d1, d2]
 }
 
 /// A quintic Bézier and its first two derivatives (de Casteljau on the hodographs).
@@ -347,6 +379,14 @@ impl Element {
 
     /// Speed ds/dτ at τ.
     fn sigma(&self, curves: &[NurbsCurve], t: f64) -> f64 {
+        if let Shape::Bezier(c) = &self.shape {
+            // Only the first derivative's X Y Z (Horner).
+            let mut d = [0.0; 3];
+            for i in 0..3 {
+                d[i] = (((5.0 * c[5][i] * t + 4.0 * c[4][i]) * t + 3.0 * c[3][i]) * t + 2.0 * c[2][i]) * t + c[1][i];
+            }
+            return (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        }
         let d = self.shape.eval(curves, t);
         if self.is_deg() { norm_abc(&d[1]) * 180.0 / std::f64::consts::PI } else { norm3(&d[1]) }
     }
@@ -449,24 +489,23 @@ impl Raw {
 
     /// τ at element-local arc length s, from the table.
     fn tau_at(&self, curves: &[NurbsCurve], s: f64) -> f64 {
-        let e = self.elem();
         if let Shape::Line { .. } = self.shape {
             return s.clamp(0.0, self.len);
         }
         let k =
             self.table.partition_point(|&(_, ss)| ss <= s).saturating_sub(1).min(self.table.len().saturating_sub(2));
         let (ta, sa) = self.table[k];
-        e.tau_at(curves, s, ta, sa)
+        self.elem().tau_at(curves, s, ta, sa)
     }
 
     /// q, q', q'' at element-local arc length s.
     fn at_s(&self, curves: &[NurbsCurve], s: f64) -> (Q, Q, Q) {
-        let e = self.elem();
         if let Shape::Line { a, b } = &self.shape {
             let d = scale(&sub(b, a), 1.0 / self.len);
             let p = if s >= self.len { *b } else { axpy(s, &d, a) };
             return (p, d, [0.0; 6]);
         }
+        let e = self.elem();
         e.at_tau(curves, self.tau_at(curves, s))
     }
 }
@@ -573,6 +612,9 @@ fn table_of(e: &Element, curves: &[NurbsCurve], breaks: &[f64]) -> Vec<(f64, f64
     }
     out
 }
+
+/// Deviation of a line–line blend from its legs per unit cut length m and sin φ.
+pub const LINE_BLEND_DEV: f64 = 0.234_375;
 
 /// Largest turn of an arc's or NURBS' tangent per piece (rad, 5°).
 const PIECE_TURN_RAD: f64 = 5.0 * std::f64::consts::PI / 180.0;
@@ -723,8 +765,6 @@ fn push_raw(
         if let Some(last) = raw.table.last() {
             raw.len = last.1;
         }
-    } else {
-        raw.table = vec![(0.0, 0.0), (len, len)];
     }
     if let Some(prev) = raws.last_mut() {
         if prev.rapid != rapid {
@@ -839,7 +879,18 @@ fn junctions(raws: &mut [Raw], path: &mut Path, rules: &JunctionRules) {
         let guess = if turn > 1e-6 { tol / (0.234 * turn.sin().max(0.05)) } else { f64::INFINITY };
         let mut m = guess.min(room_a).min(room_b);
         let mut done = None;
-        for _ in 0..12 {
+        if both_lines && turn <= std::f64::consts::FRAC_PI_2 {
+            // Closed form: the blend is symmetric, and its deviation from the two legs is
+            // largest at its middle, B(½) = C + (u₂ − u₁)·m·(1 + 5·0.7 + 10·0.3)/32, which
+            // lies |B(½) − C|·cos(φ/2) = 0.234375·m·sin φ from each leg (checked against a
+            // dense scan in the tests).
+            m = m.min(0.999 * tol / (LINE_BLEND_DEV * turn.sin()));
+            let (pa, ta, ka) = a.at_s(&path.curves, a.len - m);
+            let (pb, tb, kb) = b.at_s(&path.curves, m);
+            let bez = hermite(&pa, &ta, &ka, &pb, &tb, &kb, 1.5 * m, 0.7 * m);
+            done = Some((bez, m, LINE_BLEND_DEV * m * turn.sin()));
+        }
+        for _ in 0..if done.is_some() { 0 } else { 12 } {
             if m < MIN_MOVE {
                 break;
             }
@@ -939,7 +990,7 @@ fn layout(raws: &[Raw], blends: &[Option<(Box<[Q; 6]>, f64)>], path: &mut Path) 
         }
         if let Some((bez, _m)) = &blends[i] {
             let e0 = Element {
-                shape: Shape::Bezier(bez.clone()),
+                shape: Shape::Bezier(Box::new(power_of(bez))),
                 kind: ElemKind::Blend,
                 tau: (0.0, 1.0),
                 len: 0.0,
@@ -953,13 +1004,14 @@ fn layout(raws: &[Raw], blends: &[Option<(Box<[Q; 6]>, f64)>], path: &mut Path) 
                 let t1 = v3(&bez[5]) - v3(&bez[4]);
                 t0.normalize_or_zero().dot(t1.normalize_or_zero()).clamp(-1.0, 1.0).acos()
             };
-            let n = 2 + (turn / (15f64).to_radians()).ceil() as usize;
-            let breaks: Vec<f64> = (0..=n).map(|k| k as f64 / n as f64).collect();
-            let table = table_of(&e0, &path.curves, &breaks);
-            let len = table.last().map_or(0.0, |t| t.1);
+            let n = 1 + (turn / (15f64).to_radians()).ceil() as usize;
             let idx = path.elems.len() as u32;
-            for w in table.windows(2) {
-                path.pieces.push(Piece { elem: idx, tau: (w[0].0, w[1].0), s0: s + w[0].1, h: w[1].1 - w[0].1 });
+            let mut len = 0.0;
+            for k in 0..n {
+                let (ta, tb) = (k as f64 / n as f64, (k + 1) as f64 / n as f64);
+                let h = e0.length_between(&path.curves, ta, tb, 1);
+                path.pieces.push(Piece { elem: idx, tau: (ta, tb), s0: s + len, h });
+                len += h;
             }
             let mut e = e0;
             e.len = len;
@@ -982,13 +1034,15 @@ pub fn piece_bounds(path: &Path, p: &Piece) -> Bounds {
         let d = scale(&sub(b, a), 1.0 / e.len);
         return Bounds { lo1: d, hi1: d, ..Bounds::default() };
     }
-    const K: usize = 5;
-    let mut q1 = [[0.0; 6]; K];
-    let mut q2 = [[0.0; 6]; K];
-    let mut sv = [0.0; K];
-    let mut sig = [0.0; K];
-    let dt = (p.tau.1 - p.tau.0) / (K - 1) as f64;
-    for k in 0..K {
+    // Five samples over a piece (a blend's half, an arc's or NURBS' 5°).
+    const KMAX: usize = 5;
+    let kk = KMAX;
+    let mut q1 = [[0.0; 6]; KMAX];
+    let mut q2 = [[0.0; 6]; KMAX];
+    let mut sv = [0.0; KMAX];
+    let mut sig = [0.0; KMAX];
+    let dt = (p.tau.1 - p.tau.0) / (kk - 1) as f64;
+    for k in 0..kk {
         let t = p.tau.0 + dt * k as f64;
         let d = e.shape.eval(&path.curves, t);
         let (a, b, sg) = in_s(&d, false);
@@ -1007,7 +1061,7 @@ pub fn piece_bounds(path: &Path, p: &Piece) -> Bounds {
     for i in 0..6 {
         let mut d1: f64 = 0.0;
         let mut d2: f64 = 0.0;
-        for k in 0..K {
+        for k in 0..kk {
             out.lo1[i] = out.lo1[i].min(q1[k][i]);
             out.hi1[i] = out.hi1[i].max(q1[k][i]);
             out.lo2[i] = out.lo2[i].min(q2[k][i]);
@@ -1047,5 +1101,46 @@ impl Path {
             _ => e.at_tau(&self.curves, e.tau_at(&self.curves, s.min(p.s0 + p.h), p.tau.0, p.s0)),
         };
         (q, q1, q2, e.feed)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The closed form of a line–line blend's deviation equals a dense scan of its distance to
+    /// the two legs, and its ends match the legs' position, direction and zero curvature.
+    #[test]
+    fn line_blend_deviation_is_its_closed_form() {
+        for deg in [0.5f64, 3.0, 17.0, 30.0, 60.0, 90.0] {
+            let phi = deg.to_radians();
+            let m = 2.0;
+            let u1: Q = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+            let u2: Q = [phi.cos(), phi.sin(), 0.0, 0.0, 0.0, 0.0];
+            let c: Q = [10.0, -3.0, 4.0, 0.0, 0.0, 0.0];
+            let pa = axpy(-m, &u1, &c);
+            let pb = axpy(m, &u2, &c);
+            let z = [0.0; 6];
+            let bez = hermite(&pa, &u1, &z, &pb, &u2, &z, 1.5 * m, 0.7 * m);
+            let (a0, b0, a1) = (v3(&pa), v3(&c), v3(&pb));
+            let mut worst: f64 = 0.0;
+            for i in 0..=4000 {
+                let p = v3(&bezier5(&bez, f64::from(i) / 4000.0)[0]);
+                worst = worst.max(dist_to_segment(p, a0, b0).min(dist_to_segment(p, b0, a1)));
+            }
+            let closed = LINE_BLEND_DEV * m * phi.sin();
+            assert!((worst - closed).abs() <= 1e-9 * (1.0 + closed), "{deg}°: scan {worst}, closed form {closed}");
+            // Ends: on the legs, along them, curvature zero (power form as the planner holds it).
+            let pw = power_of(&bez);
+            for (t, p, u) in [(0.0, pa, u1), (1.0, pb, u2)] {
+                let [q, d1, d2] = power5(&pw, t);
+                let (q1, q2, _) = in_s(&[q, d1, d2], false);
+                for i in 0..3 {
+                    assert!((q[i] - p[i]).abs() < 1e-12);
+                    assert!((q1[i] - u[i]).abs() < 1e-12);
+                    assert!(q2[i].abs() < 1e-9, "{deg}°: q'' {q2:?} at τ = {t}");
+                }
+            }
+        }
     }
 }

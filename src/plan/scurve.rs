@@ -108,24 +108,66 @@ pub fn peak(v0: f64, v1: f64, d: f64, a: f64, j: f64, vcap: f64) -> f64 {
     if vp - lo >= k && vp <= vcap {
         return vp;
     }
-    // Otherwise f is increasing in v_p: bisection kept to a bracket, Newton's steps by
-    // secant where they stay inside; 200 halvings at most (f64 has 52 bits of mantissa).
-    let (mut lo_v, mut hi_v) = (lo, vcap);
-    if f(lo_v) > 0.0 {
+    // Otherwise Newton in w = √(v_p − lo), where f is smooth (in v_p it has a √ at lo) and
+    // grows like w³: from the right it converges monotonically; a step that leaves the
+    // bracket is replaced by a halving. At most 100 steps.
+    let g = |w: f64| -> (f64, f64) {
+        let vp = lo + w * w;
+        let mut val = -d;
+        let mut der = 0.0;
+        for v in [v0, v1] {
+            let dv = vp - v;
+            let t = ramp_time(dv, a, j);
+            // 2w·dT/dΔv, finite at w = 0.
+            let dt2w = if dv * j >= a * a {
+                2.0 * w / a
+            } else if dv > 0.0 {
+                2.0 * w / (dv * j).sqrt()
+            } else {
+                2.0 / j.sqrt()
+            };
+            val += 0.5 * (v + vp) * t;
+            der += t * w + 0.5 * (v + vp) * dt2w;
+        }
+        (val, der)
+    };
+    let (mut lo_w, mut hi_w) = (0.0, (vcap - lo).sqrt());
+    if g(0.0).0 > 0.0 {
         return lo;
     }
-    for _ in 0..200 {
-        let mid = 0.5 * (lo_v + hi_v);
-        if mid <= lo_v || mid >= hi_v {
+    // Start where both ramps would start from lo without reaching A:
+    // (2·lo + w²)·w·2/√J = d, a depressed cubic (Cardano, then the bracket).
+    let q = 0.5 * d * j.sqrt();
+    let p3 = 2.0 * lo / 3.0;
+    let big = (0.5 * q + (0.25 * q * q + p3 * p3 * p3).sqrt()).cbrt();
+    let start = if big > 0.0 { big - p3 / big } else { hi_w };
+    let mut w = if start > 0.0 && start < hi_w { start } else { hi_w };
+    for _ in 0..100 {
+        let (val, der) = g(w);
+        if val > 0.0 {
+            hi_w = w;
+        } else {
+            lo_w = w;
+        }
+        let mut next = if der > 0.0 { w - val / der } else { f64::NAN };
+        if !(next >= lo_w && next <= hi_w) {
+            next = 0.5 * (lo_w + hi_w);
+        }
+        // Rounding in g is about 1e-16 of d: closer than that the steps are noise.
+        let done = val.abs() <= 1e-14 * d || (next - w).abs() <= 1e-14 * (1.0 + w) || hi_w - lo_w <= 1e-15 * hi_w;
+        w = next;
+        if done {
             break;
         }
-        if f(mid) <= 0.0 {
-            lo_v = mid;
-        } else {
-            hi_v = mid;
-        }
     }
-    lo_v
+    // Never above the root: a peak that overshoots by an ulp would not fit in d.
+    for _ in 0..8 {
+        if g(w).0 <= 0.0 {
+            return lo + w * w;
+        }
+        w = lo_w.max(w * (1.0 - 4.0 * f64::EPSILON));
+    }
+    lo + lo_w * lo_w
 }
 
 /// Appends the phases of a ramp from v₀ to v₁.
@@ -218,6 +260,26 @@ mod tests {
             let v1 = reach(v0, d, a, j, f64::INFINITY);
             assert!((ramp_dist(v0, v1, a, j) - d).abs() < 1e-9 * d.max(1.0), "{v0} {d}");
         }
+    }
+
+    #[test]
+    fn peaks_fill_their_segment_exactly() {
+        // Every regime: both ramps reaching A, neither, one of them.
+        let mut n = 0;
+        for i in 0..3000 {
+            let (a, j) = if i % 2 == 0 { (3000.0, 50_000.0) } else { (50.0, 25_000.0) };
+            let v0 = (i % 7) as f64 * 9.0;
+            let v1 = (i % 5) as f64 * 11.0;
+            let d = 0.01 + (i % 13) as f64 * 0.37;
+            if ramp_dist(v0, v1, a, j) > d {
+                continue;
+            }
+            let vp = peak(v0, v1, d, a, j, 1e4);
+            let used = ramp_dist(v0, vp, a, j) + ramp_dist(vp, v1, a, j);
+            assert!(used <= d * (1.0 + 1e-12) && used >= d * (1.0 - 1e-12), "{v0} {v1} {d}: {used}");
+            n += 1;
+        }
+        assert!(n > 1000);
     }
 
     #[test]
