@@ -444,7 +444,7 @@ fn write_periods(p: &Path, t: &Timing) -> Result<interpolab::plan::LimitReport, 
         push_num(&mut line, per.a);
         line.push(',');
         push_num(&mut line, per.j);
-        let _ = write!(line, ",{}\n", t.path.blocks.get(per.block).map_or(0, |b| b.line));
+        let _ = writeln!(line, ",{}", t.path.blocks.get(per.block).map_or(0, |b| b.line));
         w.write_all(line.as_bytes()).map_err(|e| Fatal(format!("cannot write {}: {e}", p.display())))?;
     }
     w.flush().map_err(|e| Fatal(format!("cannot write {}: {e}", p.display())))?;

@@ -196,14 +196,14 @@ impl Dynamics {
                 "give the interpolation period in ms, e.g. 1",
             ));
         }
-        if let Some(w) = self.window_blocks {
-            if w == 0 || w > MAX_WINDOW {
-                return Err(MachineError::new(
-                    "lookahead",
-                    format!("must be from 1 to {MAX_WINDOW} blocks, got {w}"),
-                    "give the number of blocks the controller looks ahead, or null for the whole program",
-                ));
-            }
+        if let Some(w) = self.window_blocks
+            && (w == 0 || w > MAX_WINDOW)
+        {
+            return Err(MachineError::new(
+                "lookahead",
+                format!("must be from 1 to {MAX_WINDOW} blocks, got {w}"),
+                "give the number of blocks the controller looks ahead, or null for the whole program",
+            ));
         }
         Ok(())
     }
@@ -225,10 +225,10 @@ impl Dynamics {
                 return Err(MachineError::new(k, "is not a machine key", format!("use one of {}", KEYS.join(", "))));
             }
         }
-        if let Some(f) = o.get("format") {
-            if f.as_str() != Some("interpolab-machine/1") {
-                return Err(MachineError::new("format", "must be \"interpolab-machine/1\"", "give that exact text"));
-            }
+        if let Some(f) = o.get("format")
+            && f.as_str() != Some("interpolab-machine/1")
+        {
+            return Err(MachineError::new("format", "must be \"interpolab-machine/1\"", "give that exact text"));
         }
         let base = match o.get("preset") {
             None | Some(Value::Null) => "vmc",

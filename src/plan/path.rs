@@ -9,7 +9,7 @@
 //!
 //! A junction between two feed moves is passed at speed only where the path is smooth
 //! enough for the limits: where the tangent turns, it is **blended** (a quintic that
-//! matches position, tangent and curvature of both neighbours, [`blend`]) or, with exact
+//! matches position, tangent and curvature of both neighbours) or, with exact
 //! stop or no tolerance, **stopped at**; where only the curvature jumps it is blended too
 //! when jerk is limited (an acceleration jump is an infinite jerk) and passed otherwise.
 
@@ -564,8 +564,10 @@ fn arc_shape(start: &Q, end: &Q, centre: DVec3, plane: Plane, turns: i32) -> Arc
 /// piece (sampled), at least `min` pieces, NURBS knots always breakpoints.
 fn curve_breaks(shape: &Shape, curves: &[NurbsCurve], tau: (f64, f64), min: usize, max_turn: f64) -> Vec<f64> {
     let mut knots: Vec<f64> = vec![tau.0, tau.1];
-    if let Shape::Nurbs { curve, .. } = shape {
-        if let Some(c) = curves.get(*curve) {
+    if let Shape::Nurbs { curve, .. } = shape
+        && let Some(c) = curves.get(*curve)
+    {
+        {
             knots = c.knots().iter().copied().filter(|k| *k >= tau.0 && *k <= tau.1).collect();
             knots.dedup();
             if knots.first() != Some(&tau.0) {
@@ -766,10 +768,10 @@ fn push_raw(
             raw.len = last.1;
         }
     }
-    if let Some(prev) = raws.last_mut() {
-        if prev.rapid != rapid {
-            prev.stop_after = true;
-        }
+    if let Some(prev) = raws.last_mut()
+        && prev.rapid != rapid
+    {
+        prev.stop_after = true;
     }
     raws.push(raw);
     Ok(())
@@ -780,6 +782,7 @@ fn push_raw(
 /// mirrored. B'(0) = λT₀ and B''(0) = 20(μ − 2λ/5)T₀ + λ²K₀, so d²q/ds² at the end is K₀
 /// whatever μ (a tangential second derivative only changes the speed of the parameter): the
 /// blend is curvature-continuous with both neighbours for every λ, μ > 0.
+#[expect(clippy::too_many_arguments, reason = "two end states and the two shape parameters, read together")]
 fn hermite(pa: &Q, ta: &Q, ka: &Q, pb: &Q, tb: &Q, kb: &Q, lambda: f64, mu: f64) -> [Q; 6] {
     let l2 = lambda * lambda;
     [
@@ -846,7 +849,7 @@ fn deviation(bez: &[Q; 6], poly: &[DVec3], margin: f64) -> f64 {
 /// Decides and builds every junction's blend, then lays out elements, pieces and blocks.
 fn junctions(raws: &mut [Raw], path: &mut Path, rules: &JunctionRules) {
     let n = raws.len();
-    let mut blends: Vec<Option<(Box<[Q; 6]>, f64)>> = vec![None; n];
+    let mut blends: Vec<Blend> = vec![None; n];
     for i in 0..n.saturating_sub(1) {
         if raws[i].stop_after || raws[i].rapid || raws[i + 1].rapid {
             if !raws[i].stop_after {
@@ -933,7 +936,10 @@ fn junctions(raws: &mut [Raw], path: &mut Path, rules: &JunctionRules) {
     layout(raws, &blends, path);
 }
 
-fn layout(raws: &[Raw], blends: &[Option<(Box<[Q; 6]>, f64)>], path: &mut Path) {
+/// A junction's blend: its control points and the length m cut from each neighbour.
+type Blend = Option<(Box<[Q; 6]>, f64)>;
+
+fn layout(raws: &[Raw], blends: &[Blend], path: &mut Path) {
     let mut s = 0.0;
     for (i, r) in raws.iter().enumerate() {
         let keep = r.len - r.trim_start - r.trim_end;

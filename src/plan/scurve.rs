@@ -160,12 +160,20 @@ pub fn peak(v0: f64, v1: f64, d: f64, a: f64, j: f64, vcap: f64) -> f64 {
             break;
         }
     }
-    // Never above the root: a peak that overshoots by an ulp would not fit in d.
-    for _ in 0..8 {
+    // Never above the root: a peak that overshoots by an ulp would not fit in d. Step down
+    // by the Newton step (at least 4 ulp), doubling, until it fits; the last feasible iterate
+    // is the floor.
+    let (val, der) = g(w);
+    let mut step = (if der > 0.0 { val / der } else { 0.0 }).max(4.0 * f64::EPSILON * w);
+    for _ in 0..64 {
+        if w <= lo_w {
+            break;
+        }
         if g(w).0 <= 0.0 {
             return lo + w * w;
         }
-        w = lo_w.max(w * (1.0 - 4.0 * f64::EPSILON));
+        w = (w - step).max(lo_w);
+        step *= 2.0;
     }
     lo + lo_w * lo_w
 }
