@@ -203,3 +203,24 @@ fn bad_machines_are_refused_naming_the_key() {
         assert_eq!(Dynamics::from_value(&m.to_value()).expect("reads"), m);
     }
 }
+
+#[test]
+fn a_scene_carries_its_machine_dynamics_and_old_scenes_still_read() {
+    use interpolab::scene::Scene;
+    let base = include_str!("../examples/torus-plane.json");
+    let old = Scene::from_json(base).expect("an example without dynamics still reads");
+    assert_eq!(old.dynamics, None);
+    let mut v: serde_json::Value = serde_json::from_str(base).expect("json");
+    v["dynamics"] = serde_json::json!({ "preset": "hobby-router", "axes": { "x": { "jerk": null } }, "tolerance": 0.02, "lookahead": 40 });
+    let s = Scene::from_json(&v.to_string()).expect("reads");
+    let d = s.dynamics.clone().expect("dynamics");
+    assert_eq!(
+        (d.name.as_str(), d.axes[0].jerk, d.tolerance_mm, d.window_blocks),
+        ("hobby-router", None, 0.02, Some(40))
+    );
+    // Written and read back: the same scene.
+    assert_eq!(Scene::from_json(&s.to_json()).expect("round trip"), s);
+    v["dynamics"]["axes"]["y"] = serde_json::json!({ "acceleration": -3 });
+    let e = Scene::from_json(&v.to_string()).expect_err("refused");
+    assert!(e.to_string().starts_with("dynamics.axes.y.acceleration: must be > 0"), "{e}");
+}

@@ -108,8 +108,8 @@ pub enum Shape {
         /// End joints.
         b: Q,
     },
-    /// τ ∈ [0, 1].
-    Arc(ArcShape),
+    /// τ ∈ [0, 1] (boxed: the enum stays the size of a line).
+    Arc(Box<ArcShape>),
     /// A NURBS curve of the path's list (`curve`), rotary joints fixed; τ is its parameter.
     Nurbs {
         /// Index into [`Path::curves`].
@@ -663,7 +663,7 @@ where
             Canon::Arc { end, center, plane, turns, feed, .. } => {
                 let q = q_of(&end);
                 let arc = arc_shape(&pos, &q, center, plane, turns);
-                let shape = Shape::Arc(arc);
+                let shape = Shape::Arc(Box::new(arc));
                 let probe = Element {
                     shape: shape.clone(),
                     kind: ElemKind::Feed,

@@ -154,7 +154,12 @@ pub fn peak(v0: f64, v1: f64, d: f64, a: f64, j: f64, vcap: f64) -> f64 {
             next = 0.5 * (lo_w + hi_w);
         }
         // Rounding in g is about 1e-16 of d: closer than that the steps are noise.
-        let done = val.abs() <= 1e-14 * d || (next - w).abs() <= 1e-14 * (1.0 + w) || hi_w - lo_w <= 1e-15 * hi_w;
+        // Done when the step no longer moves v_p = lo + w² beyond its own rounding, or g
+        // is at its rounding (about 1e-16 of d).
+        let vp_ulp = 4.0 * f64::EPSILON * (lo + w * w);
+        let done = val.abs() <= 1e-14 * d
+            || 2.0 * w.max(next) * (next - w).abs() <= vp_ulp
+            || 2.0 * hi_w * (hi_w - lo_w) <= vp_ulp;
         w = next;
         if done {
             break;
