@@ -33,6 +33,7 @@ pub mod limits;
 pub mod linalg;
 pub mod numerics;
 pub mod nurbs_path;
+pub mod plan;
 pub mod report;
 pub mod scene;
 pub mod simulate;

@@ -118,3 +118,30 @@ fn no_heap_allocation_per_period_in_either_stepper() {
         }
     }
 }
+
+/// The planned interpolator (`plan::Sampler`) allocates nothing per period either: on the
+/// parabola's G01 (lines and blends), G02/G03 and G06.2 programs, jerk-limited and not.
+#[test]
+fn no_heap_allocation_per_period_in_the_planned_interpolator() {
+    use interpolab::gcode::{ProgramKind, ProgramOptions, write_program};
+    use interpolab::nurbs_path::Parabola;
+    use interpolab::plan::{Dynamics, Period, canon_of_toolpath, time_program};
+    for kind in ProgramKind::ALL {
+        let p = write_program(kind, &Parabola::paper_like(), 0.01, &ProgramOptions::default().with_feed(1500.0))
+            .expect("program");
+        for m in [Dynamics::preset("vmc").expect("preset"), Dynamics::preset("vmc").expect("preset").without_jerk()] {
+            let t = time_program(canon_of_toolpath(&p.parsed.toolpath), &m).expect("plans");
+            let mut s = t.sampler();
+            let mut per = Period::default();
+            let (ops, periods) = heap_ops(|| {
+                let mut n = 0u64;
+                while s.next_period(&mut per) {
+                    n += 1;
+                }
+                n
+            });
+            assert!(periods > 1000);
+            assert_eq!(ops, 0, "{kind:?}: {ops} heap operations over {periods} periods");
+        }
+    }
+}

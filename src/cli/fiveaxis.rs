@@ -783,3 +783,50 @@ pub(super) fn scene_blocks(
     let plan = plan_case(&case, tol_mm, RootMethod::Bisection, false)?;
     Ok((case.machine, plan.nodes.iter().map(|n| n.block).collect(), case.path.ball_radius_mm()))
 }
+
+/// A scene's seed-002 tool steps at tolerance `tol` as the joint program a five-axis machine
+/// runs (for `interpolab time --steps`): a traverse to the first node, then one straight
+/// joint move per segment at the scene's feed, its rotary joints named by the machine (A or
+/// B, and C). Without tool-centre-point control the feed applies to the X Y Z joints' path.
+pub(super) fn scene_steps_program(
+    path: &Path,
+    tol: f64,
+) -> Result<(Vec<interpolab::gcode::interp::Canon>, String), Fatal> {
+    use interpolab::gcode::interp::{Canon, Feed, FeedMode, Loc, Origin, Pose};
+    let case = scene_case(path)?;
+    let (scene, _) = super::crease::load(path)?;
+    let plan = plan_case(&case, tol, RootMethod::default(), false)?;
+    let names = case.machine.kind.axis_names();
+    let pose = |j: &interpolab::fiveaxis::Joints| {
+        let mut abc = glam::DVec3::ZERO;
+        for (k, name) in names.iter().enumerate() {
+            let i = match *name {
+                "A" => 0,
+                "B" => 1,
+                _ => 2,
+            };
+            abc[i] = j.rotary_rad[k].to_degrees();
+        }
+        Pose { xyz: j.xyz_mm, abc }
+    };
+    let feed = Feed { mode: FeedMode::PerMinute, rate: scene.motion.feed, spindle_rpm: 0.0 };
+    let mut out = Vec::with_capacity(plan.nodes.len() + 1);
+    for (i, n) in plan.nodes.iter().enumerate() {
+        let loc = Loc::main(u32::try_from(i + 1).unwrap_or(u32::MAX));
+        let end = pose(&n.block.joints);
+        out.push(if i == 0 {
+            Canon::Traverse { loc, end, origin: Origin::Programmed }
+        } else {
+            Canon::Line { loc, end, feed, origin: Origin::Programmed }
+        });
+    }
+    let title = format!(
+        "{}: seed 002's {} tool steps at {} mm on {} {}",
+        case.title,
+        plan.segments(),
+        fmt_num(tol),
+        case.machine.kind.as_str(),
+        case.machine_note
+    );
+    Ok((out, title))
+}

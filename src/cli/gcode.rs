@@ -15,8 +15,8 @@ use clap::{Args, ValueEnum};
 use super::Fatal;
 
 use interpolab::gcode::{
-    CompareOptions, DeviationOptions, Dialect, ProgramKind, ProgramOptions, ProgrammedPoint, Segment, TableStyle,
-    compare, crease_design, deviation, format_comparisons, summarize, write_program,
+    CompareOptions, DeviationOptions, Dialect, ExtraColumns, ProgramKind, ProgramOptions, ProgrammedPoint, Segment,
+    TableStyle, compare, crease_design, deviation, format_comparisons_with, summarize, write_program,
 };
 use interpolab::geom::Curve3;
 use interpolab::nurbs_path::measure::Translated;
@@ -152,6 +152,17 @@ pub(crate) struct CompareArgs {
     /// Table format.
     #[arg(long, value_enum, default_value = "markdown")]
     format: TableArg,
+    /// Add the time each program takes on this machine (a preset or a machine file; see
+    /// `interpolab time`): feed planned within its limits, corners blended within its
+    /// contour tolerance.
+    #[arg(long)]
+    machine: Option<String>,
+    /// With --machine: its contour tolerance P (mm) instead of the machine's.
+    #[arg(long, value_parser = super::finite)]
+    blend_tolerance: Option<f64>,
+    /// With --machine: without jerk limits.
+    #[arg(long)]
+    no_jerk: bool,
 }
 
 #[derive(Args)]
@@ -318,6 +329,21 @@ pub(super) fn gcode(a: &GcodeArgs) -> Result<ExitCode, Fatal> {
 }
 
 pub(super) fn compare_cmd(a: &CompareArgs) -> Result<ExitCode, Fatal> {
+    // The machine is checked before any program is written.
+    let machine = match &a.machine {
+        Some(m) => Some(super::time::machine_with(
+            super::time::machine_of(m)?,
+            a.blend_tolerance,
+            false,
+            None,
+            None,
+            a.no_jerk,
+        )?),
+        None if a.blend_tolerance.is_some() || a.no_jerk => {
+            return Err(Fatal("--blend-tolerance and --no-jerk need --machine; give --machine vmc".to_owned()));
+        }
+        None => None,
+    };
     let design = load_design(a.design.scene.as_deref(), a.design.profile)?;
     let mut cs = Vec::new();
     for &dialect in &a.program.dialect.0 {
@@ -334,7 +360,27 @@ pub(super) fn compare_cmd(a: &CompareArgs) -> Result<ExitCode, Fatal> {
         TableArg::Markdown => TableStyle::Markdown,
         TableArg::Csv => TableStyle::Csv,
     };
-    write_out(None, &format_comparisons(&cs, style))?;
+    let mut extra = ExtraColumns::default();
+    if let Some(m) = &machine {
+        extra.heads = vec!["time s".to_owned(), "feed time s".to_owned(), "mean feed mm/min".to_owned()];
+        for c in &cs {
+            let mut rows = Vec::new();
+            for r in &c.rows {
+                let canon = interpolab::plan::canon_of_toolpath(&r.program.parsed.toolpath);
+                let t = interpolab::plan::time_program(canon, m).map_err(|e| Fatal(e.to_string()))?;
+                let (feed_s, _) = t.feed_rapid_s();
+                let cut: f64 = t.path.blocks.iter().filter(|b| !b.rapid).map(|b| b.len).sum();
+                rows.push(vec![
+                    fmt_fixed(t.total_s(), 4),
+                    fmt_fixed(feed_s, 4),
+                    if feed_s > 0.0 { fmt_fixed(60.0 * cut / feed_s, 1) } else { String::new() },
+                ]);
+            }
+            extra.cells.push(rows);
+        }
+        extra.notes.push(super::time::machine_note(m));
+    }
+    write_out(None, &format_comparisons_with(&cs, &extra, style))?;
     Ok(ExitCode::SUCCESS)
 }
 

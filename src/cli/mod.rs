@@ -15,6 +15,7 @@ mod gcode;
 mod plain_run;
 mod program;
 mod simulate;
+mod time;
 mod userprog;
 
 use std::ffi::OsString;
@@ -99,6 +100,8 @@ enum Command {
     Finish(finish::FinishArgs),
     /// Cutting simulation: machine a G-code program into a dexel stock; height map (CSV), PNG, statistics (JSON).
     Simulate(Box<simulate::SimulateArgs>),
+    /// The time a program takes on a machine: feed planned within its limits, corners blended, look-ahead; per block and, with --periods, per period.
+    Time(time::TimeArgs),
 }
 
 /// Reads a file the command line was given, at most `cap` bytes of it
@@ -217,6 +220,7 @@ pub fn main() -> ExitCode {
         Some(Command::Chords(a)) => fiveaxis::chords(&a),
         Some(Command::Finish(a)) => finish::finish(&a),
         Some(Command::Simulate(a)) => simulate::simulate(&a),
+        Some(Command::Time(a)) => time::time(&a),
     };
     match result {
         Ok(code) => code,

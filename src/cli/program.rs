@@ -131,3 +131,20 @@ pub(crate) fn report_lines(p: &interpolab::gcode::ParsedProgram) -> Vec<String> 
     }
     lines
 }
+
+/// A location as reports print it: the line, or `file:line` in a subroutine file.
+pub(crate) fn canon_loc(it: &Interpreter<'_>, loc: interpolab::gcode::interp::Loc) -> String {
+    if loc.file == 0 { loc.line.to_string() } else { format!("{}:{}", it.file_name(loc.file), loc.line) }
+}
+
+/// The interpreter's reports and warnings, one line each, on standard error.
+pub(crate) fn report(it: &Interpreter<'_>, program: &Path) {
+    let name = program.display();
+    for w in it.warnings() {
+        eprintln!("{name}: warning: line {}: {}", canon_loc(it, w.loc), w.text);
+    }
+    for r in it.reports() {
+        let times = if r.count == 1 { "once".to_owned() } else { format!("{} times", r.count) };
+        eprintln!("{name}: {} ({times}, first on line {}): {}", r.code, canon_loc(it, r.first), r.what);
+    }
+}

@@ -631,9 +631,6 @@ pub(crate) struct CanonArgs {
     pub tools: ToolArgs,
 }
 
-fn canon_loc(it: &Interpreter<'_>, loc: interpolab::gcode::interp::Loc) -> String {
-    if loc.file == 0 { loc.line.to_string() } else { format!("{}:{}", it.file_name(loc.file), loc.line) }
-}
 
 /// Prints the program's canonical calls.
 pub(crate) fn canon(a: &CanonArgs) -> Result<ExitCode, Fatal> {
@@ -651,7 +648,7 @@ pub(crate) fn canon(a: &CanonArgs) -> Result<ExitCode, Fatal> {
     while let Some(c) = it.next() {
         let c = c.map_err(|e| Fatal(format!("{}: {e}", a.program.display())))?;
         line.clear();
-        let at = canon_loc(&it, c.loc());
+        let at = super::program::canon_loc(&it, c.loc());
         match &c {
             Canon::Traverse { end, .. } => {
                 let _ = write!(line, "TRAVERSE {at}");
@@ -700,7 +697,7 @@ pub(crate) fn canon(a: &CanonArgs) -> Result<ExitCode, Fatal> {
         out.write_all(line.as_bytes()).map_err(|e| Fatal(e.to_string()))?;
     }
     out.flush().map_err(|e| Fatal(e.to_string()))?;
-    report(&it, &a.program);
+    super::program::report(&it, &a.program);
     Ok(ExitCode::SUCCESS)
 }
 
@@ -712,14 +709,3 @@ fn feed_text(m: FeedMode) -> &'static str {
     }
 }
 
-/// The interpreter's reports and warnings, one line each, on standard error.
-pub(crate) fn report(it: &Interpreter<'_>, program: &Path) {
-    let name = program.display();
-    for w in it.warnings() {
-        eprintln!("{name}: warning: line {}: {}", canon_loc(it, w.loc), w.text);
-    }
-    for r in it.reports() {
-        let times = if r.count == 1 { "once".to_owned() } else { format!("{} times", r.count) };
-        eprintln!("{name}: {} ({times}, first on line {}): {}", r.code, canon_loc(it, r.first), r.what);
-    }
-}

@@ -227,6 +227,25 @@ pub fn format_comparison(c: &Comparison, style: TableStyle) -> String {
 /// under the programs table.
 #[must_use]
 pub fn format_comparisons(cs: &[Comparison], style: TableStyle) -> String {
+    format_comparisons_with(cs, &ExtraColumns::default(), style)
+}
+
+/// Columns a caller adds to the programs table (e.g. the time on a machine, from
+/// [`crate::plan`]): headers, then one cell per header for every row of every comparison
+/// (rows without cells get empty ones), and notes printed under the Markdown table.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ExtraColumns {
+    /// Headers, inserted before the dialect column.
+    pub heads: Vec<String>,
+    /// `cells[c][r]`: the cells of row r of comparison c.
+    pub cells: Vec<Vec<Vec<String>>>,
+    /// Lines under the Markdown table.
+    pub notes: Vec<String>,
+}
+
+/// [`format_comparisons`] with extra columns.
+#[must_use]
+pub fn format_comparisons_with(cs: &[Comparison], extra: &ExtraColumns, style: TableStyle) -> String {
     let mut head: Vec<String> = [
         "program",
         "path blocks",
@@ -238,17 +257,20 @@ pub fn format_comparisons(cs: &[Comparison], style: TableStyle) -> String {
         "velocity jump mm/min",
         "max curvature jump 1/mm",
         "accel jump mm/s2",
-        "dialect",
     ]
     .iter()
     .map(|s| (*s).to_owned())
     .collect();
+    head.extend(extra.heads.iter().cloned());
+    head.push("dialect".to_owned());
     let mut rows: Vec<Vec<String>> = Vec::new();
     let mut notes: Vec<&str> = Vec::new();
-    for c in cs {
+    for (ci, c) in cs.iter().enumerate() {
         notes.extend(c.notes.iter().map(String::as_str));
         let lines_blocks = c.rows.iter().find(|r| r.kind == ProgramKind::Lines).map(|r| r.path_blocks);
-        for r in &c.rows {
+        for (ri, r) in c.rows.iter().enumerate() {
+            let mut more: Vec<String> = extra.cells.get(ci).and_then(|c| c.get(ri)).cloned().unwrap_or_default();
+            more.resize(extra.heads.len(), String::new());
             let vs = match lines_blocks {
                 Some(l) if l > 0 => format!("{:+.0}%", 100.0 * (r.path_blocks as f64 - l as f64) / l as f64),
                 _ => String::new(),
@@ -264,13 +286,16 @@ pub fn format_comparisons(cs: &[Comparison], style: TableStyle) -> String {
                 fmt_fixed(r.junctions.velocity_jump(c.feed_mm_per_min), 1),
                 fmt_fixed(r.junctions.max_curvature_jump, 4),
                 fmt_fixed(r.junctions.acceleration_jump(c.feed_mm_per_min), 2),
-                r.program.dialect.as_str().to_owned(),
             ]);
+            if let Some(row) = rows.last_mut() {
+                row.extend(more);
+                row.push(r.program.dialect.as_str().to_owned());
+            }
         }
     }
     let mut out = table(&head, &rows, style);
     if style == TableStyle::Markdown {
-        for n in notes {
+        for n in notes.into_iter().chain(extra.notes.iter().map(String::as_str)) {
             out.push_str(&format!("\n{n}\n"));
         }
     }

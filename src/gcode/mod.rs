@@ -37,8 +37,8 @@ pub mod write;
 
 pub use comment::safe_comment;
 pub use compare::{
-    CompareOptions, CompareRow, Comparison, TableStyle, compare, compare_row, format_comparison, format_comparisons,
-    realtime_stats,
+    CompareOptions, CompareRow, Comparison, ExtraColumns, TableStyle, compare, compare_row, format_comparison,
+    format_comparisons, format_comparisons_with, realtime_stats,
 };
 pub use design::{DesignBuilder, DesignError, crease_design};
 pub use dialect::{Dialect, HeaderKey, UnknownDialect};

@@ -345,6 +345,8 @@ pub struct Scene {
     pub machine: Option<MachineSpec>,
     /// The tool-axis rule (`None`: the key is absent).
     pub tool_axis: Option<ToolAxisSpec>,
+    /// The machine's dynamics for feed planning (`None`: the key is absent).
+    pub dynamics: Option<crate::plan::Dynamics>,
 }
 
 impl Scene {

@@ -213,7 +213,7 @@ impl<'a> At<'a> {
 }
 
 const TOP_KEYS: &[&str] =
-    &["format", "name", "surfaces", "tool", "motion", "tolerance", "path", "machine", "tool_axis"];
+    &["format", "name", "surfaces", "tool", "motion", "tolerance", "path", "machine", "tool_axis", "dynamics"];
 
 /// The document as JSON (either scene kind), or where its syntax is wrong.
 fn parse_json(text: &str) -> Result<Value, SceneError> {
@@ -296,7 +296,16 @@ pub(super) fn parse(text: &str) -> Result<Scene, SceneError> {
     };
     let machine = o.opt_non_null("machine").map(|m| parse_machine(&m)).transpose()?;
     let tool_axis = o.opt_non_null("tool_axis").map(|t| parse_tool_axis(&t)).transpose()?;
-    Ok(Scene { name, surfaces: [s0, s1], tool, motion, tolerance, path, machine, tool_axis })
+    let dynamics = o
+        .opt_non_null("dynamics")
+        .map(|d| {
+            crate::plan::Dynamics::from_value(d.v).map_err(|e| {
+                let path = if e.path.is_empty() { "dynamics".to_owned() } else { format!("dynamics.{}", e.path) };
+                SceneError::new(path, e.problem, e.fix)
+            })
+        })
+        .transpose()?;
+    Ok(Scene { name, surfaces: [s0, s1], tool, motion, tolerance, path, machine, tool_axis, dynamics })
 }
 
 /// A list of lists (a NURBS net's points or weights), rows then columns, each entry read by

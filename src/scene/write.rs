@@ -88,6 +88,9 @@ pub(super) fn to_value(s: &Scene) -> Value {
     m.insert("motion".into(), json!({ "feed": s.motion.feed, "period": s.motion.period }));
     m.insert("tolerance".into(), json!({ "t1": s.tolerance.t1, "t2": s.tolerance.t2, "share": s.tolerance.share }));
     m.insert("path".into(), Value::Object(path));
+    if let Some(d) = &s.dynamics {
+        m.insert("dynamics".into(), d.to_value());
+    }
     if let Some(machine) = &s.machine {
         m.insert("machine".into(), machine_value(machine));
     }

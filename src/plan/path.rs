@@ -1,0 +1,1152 @@
+//! The path the machine follows, in joint space: a program's canonical motions (or any
+//! design curve) as elements — straight lines, circular/helical arcs, NURBS curves — with
+//! G01 corners and other junctions blended by curvature-continuous curves within the
+//! contour tolerance, cut into *pieces* whose derivative bounds the feed planner reads.
+//!
+//! Joints q = (X, Y, Z, A, B, C): mm and radians. The path parameter s is the tool-tip arc
+//! length (mm) in X Y Z; on a move of the rotary axes alone it is their angle in degrees (the
+//! unit such a move's feed is programmed in).
+//!
+//! A junction between two feed moves is passed at speed only where the path is smooth
+//! enough for the limits: where the tangent turns, it is **blended** (a quintic that
+//! matches position, tangent and curvature of both neighbours) or, with exact
+//! stop or no tolerance, **stopped at**; where only the curvature jumps it is blended too
+//! when jerk is limited (an acceleration jump is an infinite jerk) and passed otherwise.
+
+use glam::DVec3;
+
+use super::PlanError;
+use crate::gcode::interp::{Canon, FeedMode, Pose};
+use crate::gcode::path::Plane;
+use crate::geom::NurbsCurve;
+
+/// Joint values: X, Y, Z (mm), A, B, C (rad).
+pub type Q = [f64; 6];
+
+#[inline]
+pub(crate) fn add(a: &Q, b: &Q) -> Q {
+    std::array::from_fn(|i| a[i] + b[i])
+}
+#[inline]
+pub(crate) fn sub(a: &Q, b: &Q) -> Q {
+    std::array::from_fn(|i| a[i] - b[i])
+}
+#[inline]
+pub(crate) fn scale(a: &Q, k: f64) -> Q {
+    std::array::from_fn(|i| a[i] * k)
+}
+#[inline]
+pub(crate) fn axpy(k: f64, x: &Q, y: &Q) -> Q {
+    std::array::from_fn(|i| k * x[i] + y[i])
+}
+#[inline]
+pub(crate) fn norm3(a: &Q) -> f64 {
+    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
+}
+#[inline]
+fn dot3(a: &Q, b: &Q) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+#[inline]
+fn norm_abc(a: &Q) -> f64 {
+    (a[3] * a[3] + a[4] * a[4] + a[5] * a[5]).sqrt()
+}
+
+/// Joint values of a canonical pose (degrees → radians).
+#[must_use]
+pub fn q_of(p: &Pose) -> Q {
+    let r = std::f64::consts::PI / 180.0;
+    [p.xyz.x, p.xyz.y, p.xyz.z, p.abc.x * r, p.abc.y * r, p.abc.z * r]
+}
+
+/// Lengths below this (mm, or degrees on rotary-only moves) are no move at all.
+pub const MIN_MOVE: f64 = 1e-9;
+/// Turns of the tangent below this (rad) are no corner.
+pub const MIN_TURN_RAD: f64 = 1e-9;
+/// Corners turning by more than this (rad, 175°) reverse the path: stopped at, not blended.
+pub const MAX_BLEND_TURN_RAD: f64 = 175.0 * std::f64::consts::PI / 180.0;
+/// Most pieces of one curve element (arcs of many turns, long NURBS).
+pub const MAX_PIECES_PER_ELEMENT: usize = 4096;
+/// Most elements of a path (moves and blends).
+pub const MAX_ELEMENTS: usize = 8_000_000;
+
+/// A circular or helical arc (with a radius that may change linearly, as controllers allow
+/// within their arc tolerance), with the rotary axes moving linearly; τ ∈ [0, 1].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArcShape {
+    /// Centre (mm) at the start's normal coordinate.
+    pub centre: DVec3,
+    /// In-plane unit axes and the plane normal.
+    pub e1: DVec3,
+    /// Second in-plane axis (e1 turned 90° about `w`).
+    pub e2: DVec3,
+    /// Plane normal.
+    pub w: DVec3,
+    /// Start angle (rad, from e1 toward e2).
+    pub theta0: f64,
+    /// Signed sweep (rad; positive counter-clockwise about w).
+    pub sweep: f64,
+    /// Radius at the start and its change to the end (mm).
+    pub r0: f64,
+    /// Radius change over the arc (mm).
+    pub dr: f64,
+    /// Advance along w (mm).
+    pub dn: f64,
+    /// Rotary joints at the start and their change (rad).
+    pub abc0: [f64; 3],
+    /// Change of the rotary joints over the arc (rad).
+    pub dabc: [f64; 3],
+}
+
+/// The geometry of one element, evaluated in its own parameter τ.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Shape {
+    /// q = a + (s/len)(b − a); τ is s.
+    Line {
+        /// Start joints.
+        a: Q,
+        /// End joints.
+        b: Q,
+    },
+    /// τ ∈ [0, 1] (boxed: the enum stays the size of a line).
+    Arc(Box<ArcShape>),
+    /// A NURBS curve of the path's list (`curve`), rotary joints fixed; τ is its parameter.
+    Nurbs {
+        /// Index into [`Path::curves`].
+        curve: usize,
+        /// Rotary joints (rad).
+        abc: [f64; 3],
+    },
+    /// A quintic Bézier in joint space, τ ∈ [0, 1] (a blend), held in power form:
+    /// q(τ) = Σ c_k τ^k, evaluated by Horner's rule.
+    Bezier(Box<[Q; 6]>),
+}
+
+/// What an element is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ElemKind {
+    /// A rapid traverse (G0).
+    Rapid,
+    /// A programmed feed move (G1, G2/G3, a spline).
+    Feed,
+    /// A blend the planner put between two feed moves.
+    Blend,
+}
+
+/// One element of the path.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Element {
+    /// Geometry.
+    pub shape: Shape,
+    /// Kind.
+    pub kind: ElemKind,
+    /// Parameter range used (lines: [0, len]).
+    pub tau: (f64, f64),
+    /// Length (mm; degrees on rotary-only moves).
+    pub len: f64,
+    /// Path position of the start (mm).
+    pub s0: f64,
+    /// Programmed speed cap (mm/s; ∞ for rapids).
+    pub feed: f64,
+    /// Index of the block (canonical motion) it belongs to; a blend belongs to the block
+    /// it leaves.
+    pub block: usize,
+    /// The path stops (v = 0) at the end of this element.
+    pub stop_after: bool,
+}
+
+/// One planned block: a canonical motion of the program.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Block {
+    /// Source line (main program).
+    pub line: u32,
+    /// Rapid or feed.
+    pub rapid: bool,
+    /// Programmed length (mm; degrees on rotary-only moves).
+    pub len: f64,
+    /// Where the block begins on the planned path (mm): its first element's start, or the
+    /// middle of the blend it is entered through.
+    pub s_start: f64,
+    /// Seconds of dwell after it (G4).
+    pub dwell_after_s: f64,
+}
+
+/// A piece: a sub-interval of one element over which the planner holds bounds constant.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Piece {
+    /// Element index.
+    pub elem: u32,
+    /// Parameter range within the element.
+    pub tau: (f64, f64),
+    /// Path position of the start (mm).
+    pub s0: f64,
+    /// Length (mm).
+    pub h: f64,
+}
+
+/// Bounds of the path derivatives over a piece, per joint: q' = dq/ds in [lo1, hi1],
+/// q'' in [lo2, hi2], |q'''| ≤ m3.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Bounds {
+    /// Lower bound of q'.
+    pub lo1: Q,
+    /// Upper bound of q'.
+    pub hi1: Q,
+    /// Lower bound of q''.
+    pub lo2: Q,
+    /// Upper bound of q''.
+    pub hi2: Q,
+    /// Bound of |q'''|.
+    pub m3: Q,
+}
+
+/// A path ready for planning.
+#[derive(Clone, Debug, Default)]
+pub struct Path {
+    /// Elements in order.
+    pub elems: Vec<Element>,
+    /// Pieces in order (each element's pieces contiguous).
+    pub pieces: Vec<Piece>,
+    /// Arc length at the piece boundaries of curve elements: for piece k, `arc[k]` is the
+    /// element-local s at its start (lines: 0).
+    pub curves: Vec<NurbsCurve>,
+    /// The program's blocks.
+    pub blocks: Vec<Block>,
+    /// Total length (mm).
+    pub length: f64,
+    /// Dwell time (s) in the program.
+    pub dwell_s: f64,
+    /// Tool changes and program stops (stops of the path, no time added).
+    pub stops: usize,
+    /// Largest blend deviation from the programmed path measured when blending (mm).
+    pub max_blend_dev: f64,
+    /// Corners blended.
+    pub blends: usize,
+    /// The programmed end (joints): the last motion's end.
+    pub end: Q,
+    /// Junctions stopped at (corners without a blend, mode changes).
+    pub corner_stops: usize,
+}
+
+/// How junctions are treated.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JunctionRules {
+    /// Contour tolerance P (mm); 0 stops at every corner.
+    pub tol_mm: f64,
+    /// Stop at every corner (G61).
+    pub exact_stop: bool,
+    /// Jerk is limited: curvature jumps must be blended or stopped at.
+    pub jerk_limited: bool,
+}
+
+impl Shape {
+    /// q, dq/dτ, d²q/dτ² at τ.
+    #[must_use]
+    pub fn eval(&self, curves: &[NurbsCurve], t: f64) -> [Q; 3] {
+        match self {
+            Self::Line { a, b } => {
+                // τ is not s here: callers of lines use `Element::at`.
+                let d = sub(b, a);
+                [axpy(t, &d, a), d, [0.0; 6]]
+            }
+            Self::Arc(c) => {
+                let th = c.theta0 + c.sweep * t;
+                let (sn, cs) = th.sin_cos();
+                let r = c.r0 + c.dr * t;
+                let radial = c.e1 * cs + c.e2 * sn;
+                let tang = c.e2 * cs - c.e1 * sn;
+                let p = c.centre + radial * r + c.w * (c.dn * t);
+                let d1 = radial * c.dr + tang * (r * c.sweep) + c.w * c.dn;
+                let d2 = tang * (2.0 * c.dr * c.sweep) - radial * (r * c.sweep * c.sweep);
+                [
+                    [p.x, p.y, p.z, c.abc0[0] + c.dabc[0] * t, c.abc0[1] + c.dabc[1] * t, c.abc0[2] + c.dabc[2] * t],
+                    [d1.x, d1.y, d1.z, c.dabc[0], c.dabc[1], c.dabc[2]],
+                    [d2.x, d2.y, d2.z, 0.0, 0.0, 0.0],
+                ]
+            }
+            Self::Nurbs { curve, abc } => {
+                let [p, d1, d2] = curves.get(*curve).map_or([DVec3::ZERO; 3], |c| c.derivatives_at(t));
+                [
+                    [p.x, p.y, p.z, abc[0], abc[1], abc[2]],
+                    [d1.x, d1.y, d1.z, 0.0, 0.0, 0.0],
+                    [d2.x, d2.y, d2.z, 0.0, 0.0, 0.0],
+                ]
+            }
+            Self::Bezier(c) => power5(c, t),
+        }
+    }
+}
+
+/// The power-form coefficients of a quintic Bézier from its control points.
+fn power_of(b: &[Q; 6]) -> [Q; 6] {
+    std::array::from_fn(|k| {
+        std::array::from_fn(|i| {
+            let p = |j: usize| b[j][i];
+            match k {
+                0 => p(0),
+                1 => 5.0 * (p(1) - p(0)),
+                2 => 10.0 * (p(2) - 2.0 * p(1) + p(0)),
+                3 => 10.0 * (p(3) - 3.0 * p(2) + 3.0 * p(1) - p(0)),
+                4 => 5.0 * (p(4) - 4.0 * p(3) + 6.0 * p(2) - 4.0 * p(1) + p(0)),
+                _ => p(5) - 5.0 * p(4) + 10.0 * p(3) - 10.0 * p(2) + 5.0 * p(1) - p(0),
+            }
+        })
+    })
+}
+
+/// q, q_τ, q_ττ of a quintic in power form (Horner).
+#[inline]
+fn power5(c: &[Q; 6], t: f64) -> [Q; 3] {
+    let mut p = [0.0; 6];
+    let mut d1 = [0.0; 6];
+    let mut d2 = [0.0; 6];
+    for i in 0..6 {
+        p[i] = ((((c[5][i] * t + c[4][i]) * t + c[3][i]) * t + c[2][i]) * t + c[1][i]) * t + c[0][i];
+        d1[i] = (((5.0 * c[5][i] * t + 4.0 * c[4][i]) * t + 3.0 * c[3][i]) * t + 2.0 * c[2][i]) * t + c[1][i];
+        d2[i] = ((20.0 * c[5][i] * t + 12.0 * c[4][i]) * t + 6.0 * c[3][i]) * t + 2.0 * c[2][i];
+    }
+    [p, d1, d2]
+}
+
+/// A quintic Bézier and its first two derivatives (de Casteljau on the hodographs).
+fn bezier5(b: &[Q; 6], t: f64) -> [Q; 3] {
+    let u = 1.0 - t;
+    // Bernstein basis of degree 5, 4, 3.
+    let b5 = [
+        u.powi(5),
+        5.0 * t * u.powi(4),
+        10.0 * t * t * u.powi(3),
+        10.0 * t.powi(3) * u * u,
+        5.0 * t.powi(4) * u,
+        t.powi(5),
+    ];
+    let b4 = [u.powi(4), 4.0 * t * u.powi(3), 6.0 * t * t * u * u, 4.0 * t.powi(3) * u, t.powi(4)];
+    let b3 = [u.powi(3), 3.0 * t * u * u, 3.0 * t * t * u, t.powi(3)];
+    let mut p = [0.0; 6];
+    let mut d1 = [0.0; 6];
+    let mut d2 = [0.0; 6];
+    for i in 0..6 {
+        for k in 0..6 {
+            p[i] += b5[k] * b[k][i];
+        }
+        for k in 0..5 {
+            d1[i] += 5.0 * b4[k] * (b[k + 1][i] - b[k][i]);
+        }
+        for k in 0..4 {
+            d2[i] += 20.0 * b3[k] * (b[k + 2][i] - 2.0 * b[k + 1][i] + b[k][i]);
+        }
+    }
+    [p, d1, d2]
+}
+
+/// Derivatives with respect to the path parameter s from those in τ: q' = q_τ/σ,
+/// q'' = (q_ττ σ − q_τ σ_τ)/σ³ with σ = ds/dτ (the X Y Z speed, or the rotary speed in
+/// degrees on a rotary-only element).
+fn in_s(d: &[Q; 3], deg: bool) -> (Q, Q, f64) {
+    let (sigma, dsigma) = if deg {
+        let k = 180.0 / std::f64::consts::PI;
+        let s = norm_abc(&d[1]) * k;
+        let ds = if s > 0.0 { (d[1][3] * d[2][3] + d[1][4] * d[2][4] + d[1][5] * d[2][5]) * k * k / s } else { 0.0 };
+        (s, ds)
+    } else {
+        let s = norm3(&d[1]);
+        (s, if s > 0.0 { dot3(&d[1], &d[2]) / s } else { 0.0 })
+    };
+    if sigma <= 0.0 {
+        return ([0.0; 6], [0.0; 6], 0.0);
+    }
+    let q1 = scale(&d[1], 1.0 / sigma);
+    let q2: Q = std::array::from_fn(|i| (d[2][i] * sigma - d[1][i] * dsigma) / (sigma * sigma * sigma));
+    (q1, q2, sigma)
+}
+
+/// Five-point Gauss–Legendre nodes and weights on [−1, 1].
+const GL5: [(f64, f64); 5] = [
+    (0.0, 0.568_888_888_888_888_9),
+    (-0.538_469_310_105_683_1, 0.478_628_670_499_366_5),
+    (0.538_469_310_105_683_1, 0.478_628_670_499_366_5),
+    (-0.906_179_845_938_664, 0.236_926_885_056_189_1),
+    (0.906_179_845_938_664, 0.236_926_885_056_189_1),
+];
+
+impl Element {
+    fn is_deg(&self) -> bool {
+        match &self.shape {
+            Shape::Line { a, b } => norm3(&sub(b, a)) < MIN_MOVE,
+            _ => false,
+        }
+    }
+
+    /// Speed ds/dτ at τ.
+    fn sigma(&self, curves: &[NurbsCurve], t: f64) -> f64 {
+        if let Shape::Bezier(c) = &self.shape {
+            // Only the first derivative's X Y Z (Horner).
+            let mut d = [0.0; 3];
+            for i in 0..3 {
+                d[i] = (((5.0 * c[5][i] * t + 4.0 * c[4][i]) * t + 3.0 * c[3][i]) * t + 2.0 * c[2][i]) * t + c[1][i];
+            }
+            return (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        }
+        let d = self.shape.eval(curves, t);
+        if self.is_deg() { norm_abc(&d[1]) * 180.0 / std::f64::consts::PI } else { norm3(&d[1]) }
+    }
+
+    /// Arc length from τa to τb (Gauss–Legendre, 5 points; `n` equal sub-intervals).
+    #[must_use]
+    pub fn length_between(&self, curves: &[NurbsCurve], ta: f64, tb: f64, n: usize) -> f64 {
+        if let Shape::Line { .. } = self.shape {
+            return tb - ta;
+        }
+        let n = n.max(1);
+        let h = (tb - ta) / n as f64;
+        let mut sum = 0.0;
+        for k in 0..n {
+            let m = ta + h * (k as f64 + 0.5);
+            for (x, w) in GL5 {
+                sum += w * self.sigma(curves, m + 0.5 * h * x);
+            }
+        }
+        sum * 0.5 * h
+    }
+
+    /// q, q', q'' at parameter τ (derivatives in s).
+    #[must_use]
+    pub fn at_tau(&self, curves: &[NurbsCurve], t: f64) -> (Q, Q, Q) {
+        match &self.shape {
+            Shape::Line { a, b } => {
+                let d = scale(&sub(b, a), 1.0 / self.len);
+                let p = if t >= self.len { *b } else { axpy(t, &d, a) };
+                (p, d, [0.0; 6])
+            }
+            s => {
+                let d = s.eval(curves, t);
+                let (q1, q2, _) = in_s(&d, false);
+                (d[0], q1, q2)
+            }
+        }
+    }
+
+    /// τ at element-local arc length `s` from a known point (τ_ref, s_ref): Newton on
+    /// the Gauss–Legendre length.
+    #[must_use]
+    pub fn tau_at(&self, curves: &[NurbsCurve], s: f64, t_ref: f64, s_ref: f64) -> f64 {
+        if let Shape::Line { .. } = self.shape {
+            return s;
+        }
+        let (lo, hi) = (self.tau.0.min(self.tau.1), self.tau.0.max(self.tau.1));
+        let mut t = t_ref;
+        let sig = self.sigma(curves, t);
+        if sig > 0.0 {
+            t = (t + (s - s_ref) / sig).clamp(lo, hi);
+        }
+        for _ in 0..8 {
+            let err = s_ref + self.length_between(curves, t_ref, t, 1) - s;
+            let sig = self.sigma(curves, t);
+            if sig <= 0.0 {
+                break;
+            }
+            let step = err / sig;
+            t = (t - step).clamp(lo, hi);
+            if step.abs() <= 1e-15 * (1.0 + t.abs()) {
+                break;
+            }
+        }
+        t
+    }
+}
+
+/// The programmed geometry of one canonical motion.
+struct Raw {
+    shape: Shape,
+    rapid: bool,
+    len: f64,
+    feed: f64,
+    block: usize,
+    /// The path stops after it (a dwell, tool change, program stop, or the next motion is
+    /// of the other kind).
+    stop_after: bool,
+    /// Parameter range.
+    tau: (f64, f64),
+    /// Arc-length table at piece boundaries: (τ, s) from start to end.
+    table: Vec<(f64, f64)>,
+    trim_start: f64,
+    trim_end: f64,
+}
+
+impl Raw {
+    fn elem(&self) -> Element {
+        Element {
+            shape: self.shape.clone(),
+            kind: if self.rapid { ElemKind::Rapid } else { ElemKind::Feed },
+            tau: self.tau,
+            len: self.len,
+            s0: 0.0,
+            feed: self.feed,
+            block: self.block,
+            stop_after: self.stop_after,
+        }
+    }
+
+    /// τ at element-local arc length s, from the table.
+    fn tau_at(&self, curves: &[NurbsCurve], s: f64) -> f64 {
+        if let Shape::Line { .. } = self.shape {
+            return s.clamp(0.0, self.len);
+        }
+        let k =
+            self.table.partition_point(|&(_, ss)| ss <= s).saturating_sub(1).min(self.table.len().saturating_sub(2));
+        let (ta, sa) = self.table[k];
+        self.elem().tau_at(curves, s, ta, sa)
+    }
+
+    /// q, q', q'' at element-local arc length s.
+    fn at_s(&self, curves: &[NurbsCurve], s: f64) -> (Q, Q, Q) {
+        if let Shape::Line { a, b } = &self.shape {
+            let d = scale(&sub(b, a), 1.0 / self.len);
+            let p = if s >= self.len { *b } else { axpy(s, &d, a) };
+            return (p, d, [0.0; 6]);
+        }
+        let e = self.elem();
+        e.at_tau(curves, self.tau_at(curves, s))
+    }
+}
+
+/// Feed cap (mm/s) of a feed motion of length `len`.
+fn feed_cap(feed: &crate::gcode::interp::Feed, len: f64, line: u32) -> Result<f64, PlanError> {
+    let v = match feed.mode {
+        FeedMode::PerMinute => feed.rate / 60.0,
+        FeedMode::InverseTime => len * feed.rate / 60.0,
+        FeedMode::PerRevolution => feed.rate * feed.spindle_rpm.abs() / 60.0,
+    };
+    if v.is_finite() && v > 0.0 { Ok(v) } else { Err(PlanError::NoFeed { line }) }
+}
+
+/// Builds the arc and its table.
+fn arc_shape(start: &Q, end: &Q, centre: DVec3, plane: Plane, turns: i32) -> ArcShape {
+    let (ia, ib, inn) = plane.axes();
+    let mut e1 = DVec3::ZERO;
+    let mut e2 = DVec3::ZERO;
+    let mut w = DVec3::ZERO;
+    e1[ia] = 1.0;
+    e2[ib] = 1.0;
+    w[inn] = 1.0;
+    let rs = [start[ia] - centre[ia], start[ib] - centre[ib]];
+    let re = [end[ia] - centre[ia], end[ib] - centre[ib]];
+    let th0 = rs[1].atan2(rs[0]);
+    let th1 = re[1].atan2(re[0]);
+    let tau = std::f64::consts::TAU;
+    let ccw = turns > 0;
+    let mut sweep = if ccw { (th1 - th0).rem_euclid(tau) } else { -(th0 - th1).rem_euclid(tau) };
+    if sweep.abs() < 1e-12 {
+        sweep = if ccw { tau } else { -tau };
+    }
+    let extra = f64::from(turns.unsigned_abs().saturating_sub(1));
+    sweep += if ccw { tau * extra } else { -tau * extra };
+    let r0 = (rs[0] * rs[0] + rs[1] * rs[1]).sqrt();
+    let r1 = (re[0] * re[0] + re[1] * re[1]).sqrt();
+    let mut c = centre;
+    c[inn] = start[inn];
+    ArcShape {
+        centre: c,
+        e1,
+        e2,
+        w,
+        theta0: th0,
+        sweep,
+        r0,
+        dr: r1 - r0,
+        dn: end[inn] - start[inn],
+        abc0: [start[3], start[4], start[5]],
+        dabc: [end[3] - start[3], end[4] - start[4], end[5] - start[5]],
+    }
+}
+
+/// Pieces of a curve: breakpoints in τ so that the tangent turns by at most `max_turn` per
+/// piece (sampled), at least `min` pieces, NURBS knots always breakpoints.
+fn curve_breaks(shape: &Shape, curves: &[NurbsCurve], tau: (f64, f64), min: usize, max_turn: f64) -> Vec<f64> {
+    let mut knots: Vec<f64> = vec![tau.0, tau.1];
+    if let Shape::Nurbs { curve, .. } = shape
+        && let Some(c) = curves.get(*curve)
+    {
+        {
+            knots = c.knots().iter().copied().filter(|k| *k >= tau.0 && *k <= tau.1).collect();
+            knots.dedup();
+            if knots.first() != Some(&tau.0) {
+                knots.insert(0, tau.0);
+            }
+            if knots.last() != Some(&tau.1) {
+                knots.push(tau.1);
+            }
+        }
+    }
+    let mut out = vec![tau.0];
+    let per_span_min = min.div_ceil(knots.len().saturating_sub(1).max(1)).max(1);
+    for w in knots.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        if b <= a {
+            continue;
+        }
+        // Turn over the span from 8 samples.
+        let mut turn = 0.0;
+        let mut prev: Option<DVec3> = None;
+        for i in 0..=8 {
+            let d = shape.eval(curves, a + (b - a) * f64::from(i) / 8.0);
+            let t = DVec3::new(d[1][0], d[1][1], d[1][2]).normalize_or_zero();
+            if let Some(p) = prev {
+                turn += p.dot(t).clamp(-1.0, 1.0).acos();
+            }
+            prev = Some(t);
+        }
+        let n = ((turn / max_turn).ceil() as usize).max(per_span_min).min(MAX_PIECES_PER_ELEMENT);
+        for i in 1..=n {
+            out.push(if i == n { b } else { a + (b - a) * i as f64 / n as f64 });
+        }
+    }
+    out
+}
+
+fn table_of(e: &Element, curves: &[NurbsCurve], breaks: &[f64]) -> Vec<(f64, f64)> {
+    let mut s = 0.0;
+    let mut out = Vec::with_capacity(breaks.len());
+    out.push((breaks[0], 0.0));
+    for w in breaks.windows(2) {
+        s += e.length_between(curves, w[0], w[1], 2);
+        out.push((w[1], s));
+    }
+    out
+}
+
+/// Deviation of a line–line blend from its legs per unit cut length m and sin φ.
+pub const LINE_BLEND_DEV: f64 = 0.234_375;
+
+/// Largest turn of an arc's or NURBS' tangent per piece (rad, 5°).
+const PIECE_TURN_RAD: f64 = 5.0 * std::f64::consts::PI / 180.0;
+
+/// Reads canonical motions into a path: elements, blends, pieces, blocks.
+///
+/// # Errors
+/// [`PlanError`] for a feed move without a feed, or a path beyond the caps.
+pub fn build<I>(canon: I, rules: &JunctionRules) -> Result<Path, PlanError>
+where
+    I: IntoIterator<Item = Canon>,
+{
+    let mut path = Path::default();
+    let mut raws: Vec<Raw> = Vec::new();
+    let mut pos: Q = [0.0; 6];
+    for c in canon {
+        let line = c.loc().line;
+        match c {
+            Canon::Traverse { end, .. } | Canon::Line { end, .. } => {
+                let q = q_of(&end);
+                let d = sub(&q, &pos);
+                let lxyz = norm3(&d);
+                let len = if lxyz >= MIN_MOVE { lxyz } else { norm_abc(&d) * 180.0 / std::f64::consts::PI };
+                if len >= MIN_MOVE {
+                    let rapid = matches!(c, Canon::Traverse { .. });
+                    let feed = match &c {
+                        Canon::Line { feed, .. } => feed_cap(feed, len, line)?,
+                        _ => f64::INFINITY,
+                    };
+                    push_raw(
+                        &mut raws,
+                        &mut path,
+                        Shape::Line { a: pos, b: q },
+                        rapid,
+                        len,
+                        feed,
+                        line,
+                        (0.0, len),
+                        None,
+                    )?;
+                }
+                pos = q;
+            }
+            Canon::Arc { end, center, plane, turns, feed, .. } => {
+                let q = q_of(&end);
+                let arc = arc_shape(&pos, &q, center, plane, turns);
+                let shape = Shape::Arc(Box::new(arc));
+                let probe = Element {
+                    shape: shape.clone(),
+                    kind: ElemKind::Feed,
+                    tau: (0.0, 1.0),
+                    len: 0.0,
+                    s0: 0.0,
+                    feed: 0.0,
+                    block: 0,
+                    stop_after: false,
+                };
+                let len = probe.length_between(&path.curves, 0.0, 1.0, 16);
+                if len >= MIN_MOVE {
+                    let f = feed_cap(&feed, len, line)?;
+                    push_raw(&mut raws, &mut path, shape, false, len, f, line, (0.0, 1.0), Some(4))?;
+                }
+                pos = q;
+            }
+            Canon::Spline { curve, end, feed, .. } => {
+                let q = q_of(&end);
+                let (u0, u1) = curve.range();
+                path.curves.push(*curve);
+                let idx = path.curves.len() - 1;
+                let shape = Shape::Nurbs { curve: idx, abc: [pos[3], pos[4], pos[5]] };
+                let probe = Element {
+                    shape: shape.clone(),
+                    kind: ElemKind::Feed,
+                    tau: (u0, u1),
+                    len: 0.0,
+                    s0: 0.0,
+                    feed: 0.0,
+                    block: 0,
+                    stop_after: false,
+                };
+                let breaks = curve_breaks(&shape, &path.curves, (u0, u1), 1, PIECE_TURN_RAD);
+                let len = table_of(&probe, &path.curves, &breaks).last().map_or(0.0, |t| t.1);
+                if len >= MIN_MOVE {
+                    let f = feed_cap(&feed, len, line)?;
+                    push_raw(&mut raws, &mut path, shape, false, len, f, line, (u0, u1), Some(1))?;
+                }
+                pos = q;
+            }
+            Canon::Dwell { seconds, .. } => {
+                if let Some(r) = raws.last_mut() {
+                    r.stop_after = true;
+                }
+                if let Some(b) = path.blocks.last_mut() {
+                    b.dwell_after_s += seconds.max(0.0);
+                }
+                path.dwell_s += seconds.max(0.0);
+            }
+            Canon::ToolChange { .. } | Canon::Stop { .. } => {
+                if let Some(r) = raws.last_mut() {
+                    r.stop_after = true;
+                }
+                path.stops += 1;
+            }
+            Canon::Spindle { .. } | Canon::ToolLengthOffset { .. } => {}
+        }
+    }
+    if let Some(r) = raws.last_mut() {
+        r.stop_after = true;
+    }
+    path.end = pos;
+    junctions(&mut raws, &mut path, rules);
+    Ok(path)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn push_raw(
+    raws: &mut Vec<Raw>,
+    path: &mut Path,
+    shape: Shape,
+    rapid: bool,
+    len: f64,
+    feed: f64,
+    line: u32,
+    tau: (f64, f64),
+    min_pieces: Option<usize>,
+) -> Result<(), PlanError> {
+    if raws.len() >= MAX_ELEMENTS / 2 {
+        return Err(PlanError::TooLarge { max: MAX_ELEMENTS / 2 });
+    }
+    let block = path.blocks.len();
+    path.blocks.push(Block { line, rapid, len, s_start: 0.0, dwell_after_s: 0.0 });
+    let mut raw = Raw {
+        shape,
+        rapid,
+        len,
+        feed,
+        block,
+        stop_after: false,
+        tau,
+        table: Vec::new(),
+        trim_start: 0.0,
+        trim_end: 0.0,
+    };
+    if let Some(min) = min_pieces {
+        let breaks = curve_breaks(&raw.shape, &path.curves, tau, min, PIECE_TURN_RAD);
+        let e = raw.elem();
+        raw.table = table_of(&e, &path.curves, &breaks);
+        if let Some(last) = raw.table.last() {
+            raw.len = last.1;
+        }
+    }
+    if let Some(prev) = raws.last_mut()
+        && prev.rapid != rapid
+    {
+        prev.stop_after = true;
+    }
+    raws.push(raw);
+    Ok(())
+}
+
+/// A quintic Bézier from `pa` to `pb` matching the tangents (dq/ds) `ta`, `tb` and second
+/// derivatives `ka`, `kb` there: control points P₀, P₀ + λT₀/5, P₀ + μT₀ + λ²K₀/20 and
+/// mirrored. B'(0) = λT₀ and B''(0) = 20(μ − 2λ/5)T₀ + λ²K₀, so d²q/ds² at the end is K₀
+/// whatever μ (a tangential second derivative only changes the speed of the parameter): the
+/// blend is curvature-continuous with both neighbours for every λ, μ > 0.
+#[expect(clippy::too_many_arguments, reason = "two end states and the two shape parameters, read together")]
+fn hermite(pa: &Q, ta: &Q, ka: &Q, pb: &Q, tb: &Q, kb: &Q, lambda: f64, mu: f64) -> [Q; 6] {
+    let l2 = lambda * lambda;
+    [
+        *pa,
+        axpy(lambda / 5.0, ta, pa),
+        add(&axpy(mu, ta, pa), &scale(ka, l2 / 20.0)),
+        add(&axpy(-mu, tb, pb), &scale(kb, l2 / 20.0)),
+        axpy(-lambda / 5.0, tb, pb),
+        *pb,
+    ]
+}
+
+fn dist_to_segment(p: DVec3, a: DVec3, b: DVec3) -> f64 {
+    let ab = b - a;
+    let l2 = ab.length_squared();
+    let t = if l2 > 0.0 { ((p - a).dot(ab) / l2).clamp(0.0, 1.0) } else { 0.0 };
+    (a + ab * t - p).length()
+}
+
+fn v3(q: &Q) -> DVec3 {
+    DVec3::new(q[0], q[1], q[2])
+}
+
+/// Samples of the programmed geometry a blend replaces: polylines of the end of `a` and the
+/// start of `b` (lines exactly; curves by 16 chords, their sagitta added as a margin).
+fn replaced(a: &Raw, b: &Raw, m: f64, curves: &[NurbsCurve]) -> (Vec<DVec3>, f64) {
+    let mut pts = Vec::with_capacity(34);
+    let mut margin: f64 = 0.0;
+    for (r, from, to) in [(a, a.len - m, a.len), (b, 0.0, m)] {
+        let n = if let Shape::Line { .. } = r.shape { 1 } else { 16 };
+        let start = pts.len();
+        for i in 0..=n {
+            let s = from + (to - from) * i as f64 / n as f64;
+            let (p, _, k) = r.at_s(curves, s);
+            pts.push(v3(&p));
+            let h = (to - from) / n as f64;
+            margin = margin.max(norm3(&k) * h * h / 8.0);
+        }
+        if start > 0 {
+            // Keep the two polylines apart: a NaN marks the break.
+            pts.insert(start, DVec3::NAN);
+        }
+    }
+    (pts, margin)
+}
+
+/// Largest distance from the blend to the polylines (mm), over 33 samples.
+fn deviation(bez: &[Q; 6], poly: &[DVec3], margin: f64) -> f64 {
+    let mut worst: f64 = 0.0;
+    for i in 0..=32 {
+        let p = v3(&bezier5(bez, f64::from(i) / 32.0)[0]);
+        let mut best = f64::INFINITY;
+        for w in poly.windows(2) {
+            if w[0].is_nan() || w[1].is_nan() {
+                continue;
+            }
+            best = best.min(dist_to_segment(p, w[0], w[1]));
+        }
+        worst = worst.max(best);
+    }
+    worst + margin
+}
+
+/// Decides and builds every junction's blend, then lays out elements, pieces and blocks.
+fn junctions(raws: &mut [Raw], path: &mut Path, rules: &JunctionRules) {
+    let n = raws.len();
+    let mut blends: Vec<Blend> = vec![None; n];
+    for i in 0..n.saturating_sub(1) {
+        if raws[i].stop_after || raws[i].rapid || raws[i + 1].rapid {
+            if !raws[i].stop_after {
+                raws[i].stop_after = true;
+            }
+            continue;
+        }
+        let (a, b) = (&raws[i], &raws[i + 1]);
+        let (_, ta, ka) = a.at_s(&path.curves, a.len);
+        let (_, tb, kb) = b.at_s(&path.curves, 0.0);
+        let rot_only = norm3(&ta) < 0.5 || norm3(&tb) < 0.5;
+        let cos = (dot3(&ta, &tb) / (norm3(&ta) * norm3(&tb))).clamp(-1.0, 1.0);
+        let turn = if rot_only { 0.0 } else { cos.acos() };
+        let rate_jump = (3..6).any(|k| (ta[k] - tb[k]).abs() > 1e-12 * (1.0 + ta[k].abs()));
+        let curv_jump = (0..6).any(|k| (ka[k] - kb[k]).abs() > 1e-9 * (1.0 + ka[k].abs().max(kb[k].abs())));
+        let corner = turn > MIN_TURN_RAD || rate_jump || (rot_only && sub(&ta, &tb).iter().any(|x| x.abs() > 1e-12));
+        let needs = corner || (rules.jerk_limited && curv_jump);
+        if !needs {
+            continue;
+        }
+        if rot_only || rules.exact_stop || rules.tol_mm <= 0.0 || turn > MAX_BLEND_TURN_RAD {
+            raws[i].stop_after = true;
+            path.corner_stops += 1;
+            continue;
+        }
+        let both_lines = matches!(a.shape, Shape::Line { .. }) && matches!(b.shape, Shape::Line { .. });
+        let room_a = 0.5 * a.len;
+        let room_b = 0.5 * b.len;
+        let tol = rules.tol_mm;
+        let guess = if turn > 1e-6 { tol / (0.234 * turn.sin().max(0.05)) } else { f64::INFINITY };
+        let mut m = guess.min(room_a).min(room_b);
+        let mut done = None;
+        if both_lines && turn <= std::f64::consts::FRAC_PI_2 {
+            // Closed form: the blend is symmetric, and its deviation from the two legs is
+            // largest at its middle, B(½) = C + (u₂ − u₁)·m·(1 + 5·0.7 + 10·0.3)/32, which
+            // lies |B(½) − C|·cos(φ/2) = 0.234375·m·sin φ from each leg (checked against a
+            // dense scan in the tests).
+            m = m.min(0.999 * tol / (LINE_BLEND_DEV * turn.sin()));
+            let (pa, ta, ka) = a.at_s(&path.curves, a.len - m);
+            let (pb, tb, kb) = b.at_s(&path.curves, m);
+            let bez = hermite(&pa, &ta, &ka, &pb, &tb, &kb, 1.5 * m, 0.7 * m);
+            done = Some((bez, m, LINE_BLEND_DEV * m * turn.sin()));
+        }
+        for _ in 0..if done.is_some() { 0 } else { 12 } {
+            if m < MIN_MOVE {
+                break;
+            }
+            let (pa, ta, ka) = a.at_s(&path.curves, a.len - m);
+            let (pb, tb, kb) = b.at_s(&path.curves, m);
+            // Between two lines: control points at 0.3 m and 0.7 m from the corner on each
+            // leg (λ = 1.5 m, μ = 0.7 m), the least peak curvature for the deviation among
+            // the shapes tried (docs/feed-planning.md: 1.14 times a tangent arc's at a 3°
+            // turn, deviation 0.234·m·sin φ). Where a neighbour is curved, λ = the chord and
+            // μ = 2λ/5 make the blend follow it (near arc-length speed at both ends).
+            let (lambda, mu) = if both_lines {
+                (1.5 * m, 0.7 * m)
+            } else {
+                let c = norm3(&sub(&pb, &pa));
+                (c, 0.4 * c)
+            };
+            let bez = hermite(&pa, &ta, &ka, &pb, &tb, &kb, lambda, mu);
+            let (poly, margin) = replaced(a, b, m, &path.curves);
+            let dev = deviation(&bez, &poly, margin);
+            if dev <= 0.95 * tol {
+                done = Some((bez, m, dev));
+                break;
+            }
+            m *= (0.9 * tol / dev).min(0.9);
+        }
+        match done {
+            Some((bez, m, dev)) => {
+                raws[i].trim_end = m;
+                raws[i + 1].trim_start = m;
+                path.max_blend_dev = path.max_blend_dev.max(dev);
+                path.blends += 1;
+                blends[i] = Some((Box::new(bez), m));
+            }
+            None => {
+                raws[i].stop_after = true;
+                path.corner_stops += 1;
+            }
+        }
+    }
+    layout(raws, &blends, path);
+}
+
+/// A junction's blend: its control points and the length m cut from each neighbour.
+type Blend = Option<(Box<[Q; 6]>, f64)>;
+
+fn layout(raws: &[Raw], blends: &[Blend], path: &mut Path) {
+    let mut s = 0.0;
+    for (i, r) in raws.iter().enumerate() {
+        let keep = r.len - r.trim_start - r.trim_end;
+        // The block starts where its trimmed move starts, or in the middle of the blend
+        // entering it.
+        if i == 0 || blends[i - 1].is_none() {
+            path.blocks[r.block].s_start = s;
+        }
+        if keep > MIN_MOVE {
+            let mut e = r.elem();
+            e.s0 = s;
+            e.len = keep;
+            e.stop_after = r.stop_after && blends[i].is_none();
+            let idx = path.elems.len() as u32;
+            match &r.shape {
+                Shape::Line { a, b } => {
+                    let d = scale(&sub(b, a), 1.0 / r.len);
+                    let pa = if r.trim_start > 0.0 { axpy(r.trim_start, &d, a) } else { *a };
+                    let pb = if r.trim_end > 0.0 { axpy(r.len - r.trim_end, &d, a) } else { *b };
+                    e.shape = Shape::Line { a: pa, b: pb };
+                    e.tau = (0.0, keep);
+                    path.pieces.push(Piece { elem: idx, tau: (0.0, keep), s0: s, h: keep });
+                }
+                _ => {
+                    let t0 = if r.trim_start > 0.0 { r.tau_at(&path.curves, r.trim_start) } else { r.tau.0 };
+                    let t1 = if r.trim_end > 0.0 { r.tau_at(&path.curves, r.len - r.trim_end) } else { r.tau.1 };
+                    e.tau = (t0, t1);
+                    // Pieces: the table's intervals inside [t0, t1].
+                    let mut prev_t = t0;
+                    let mut prev_s = r.trim_start;
+                    for &(tk, sk) in &r.table {
+                        if tk <= t0 {
+                            continue;
+                        }
+                        let (tk, sk) = if tk >= t1 { (t1, r.len - r.trim_end) } else { (tk, sk) };
+                        if sk - prev_s > 0.0 {
+                            path.pieces.push(Piece {
+                                elem: idx,
+                                tau: (prev_t, tk),
+                                s0: s + prev_s - r.trim_start,
+                                h: sk - prev_s,
+                            });
+                        }
+                        prev_t = tk;
+                        prev_s = sk;
+                        if tk >= t1 {
+                            break;
+                        }
+                    }
+                }
+            }
+            path.elems.push(e);
+            s += keep;
+        }
+        if let Some((bez, _m)) = &blends[i] {
+            let e0 = Element {
+                shape: Shape::Bezier(Box::new(power_of(bez))),
+                kind: ElemKind::Blend,
+                tau: (0.0, 1.0),
+                len: 0.0,
+                s0: s,
+                feed: r.feed.min(raws[i + 1].feed),
+                block: r.block,
+                stop_after: false,
+            };
+            let turn = {
+                let t0 = v3(&bez[1]) - v3(&bez[0]);
+                let t1 = v3(&bez[5]) - v3(&bez[4]);
+                t0.normalize_or_zero().dot(t1.normalize_or_zero()).clamp(-1.0, 1.0).acos()
+            };
+            let n = 1 + (turn / (15f64).to_radians()).ceil() as usize;
+            let idx = path.elems.len() as u32;
+            let mut len = 0.0;
+            for k in 0..n {
+                let (ta, tb) = (k as f64 / n as f64, (k + 1) as f64 / n as f64);
+                let h = e0.length_between(&path.curves, ta, tb, 1);
+                path.pieces.push(Piece { elem: idx, tau: (ta, tb), s0: s + len, h });
+                len += h;
+            }
+            let mut e = e0;
+            e.len = len;
+            path.elems.push(e);
+            path.blocks[raws[i + 1].block].s_start = s + 0.5 * len;
+            s += len;
+        }
+    }
+    path.length = s;
+}
+
+/// Bounds of q', q'', q''' over a piece, from 5 samples with a margin of half the largest
+/// change between neighbouring samples.
+#[must_use]
+pub fn piece_bounds(path: &Path, p: &Piece) -> Bounds {
+    let Some(e) = path.elems.get(p.elem as usize) else {
+        return Bounds::default();
+    };
+    if let Shape::Line { a, b } = &e.shape {
+        let d = scale(&sub(b, a), 1.0 / e.len);
+        return Bounds { lo1: d, hi1: d, ..Bounds::default() };
+    }
+    // Five samples over a piece (a blend's half, an arc's or NURBS' 5°).
+    const KMAX: usize = 5;
+    let kk = KMAX;
+    let mut q1 = [[0.0; 6]; KMAX];
+    let mut q2 = [[0.0; 6]; KMAX];
+    let mut sv = [0.0; KMAX];
+    let mut sig = [0.0; KMAX];
+    let dt = (p.tau.1 - p.tau.0) / (kk - 1) as f64;
+    for k in 0..kk {
+        let t = p.tau.0 + dt * k as f64;
+        let d = e.shape.eval(&path.curves, t);
+        let (a, b, sg) = in_s(&d, false);
+        q1[k] = a;
+        q2[k] = b;
+        sig[k] = sg;
+        sv[k] = if k == 0 { 0.0 } else { sv[k - 1] + 0.5 * (sig[k] + sig[k - 1]) * dt };
+    }
+    let mut out = Bounds {
+        lo1: [f64::INFINITY; 6],
+        hi1: [f64::NEG_INFINITY; 6],
+        lo2: [f64::INFINITY; 6],
+        hi2: [f64::NEG_INFINITY; 6],
+        m3: [0.0; 6],
+    };
+    for i in 0..6 {
+        let mut d1: f64 = 0.0;
+        let mut d2: f64 = 0.0;
+        for k in 0..kk {
+            out.lo1[i] = out.lo1[i].min(q1[k][i]);
+            out.hi1[i] = out.hi1[i].max(q1[k][i]);
+            out.lo2[i] = out.lo2[i].min(q2[k][i]);
+            out.hi2[i] = out.hi2[i].max(q2[k][i]);
+            if k > 0 {
+                d1 = d1.max((q1[k][i] - q1[k - 1][i]).abs());
+                let dd = (q2[k][i] - q2[k - 1][i]).abs();
+                d2 = d2.max(dd);
+                let ds = sv[k] - sv[k - 1];
+                if ds > 0.0 {
+                    out.m3[i] = out.m3[i].max(dd / ds);
+                }
+            }
+        }
+        out.lo1[i] -= 0.5 * d1;
+        out.hi1[i] += 0.5 * d1;
+        out.lo2[i] -= 0.5 * d2;
+        out.hi2[i] += 0.5 * d2;
+        out.m3[i] *= 1.5;
+    }
+    out
+}
+
+impl Path {
+    /// q, q', q'' (derivatives in s) and the programmed feed cap (mm/s) at path position s:
+    /// for exporting the geometry (the time-optimal anchor reads it), not per period.
+    #[must_use]
+    pub fn derivatives_at(&self, s: f64) -> (Q, Q, Q, f64) {
+        if self.pieces.is_empty() {
+            return (self.end, [0.0; 6], [0.0; 6], 0.0);
+        }
+        let k = self.pieces.partition_point(|p| p.s0 <= s).saturating_sub(1);
+        let p = &self.pieces[k];
+        let e = &self.elems[p.elem as usize];
+        let (q, q1, q2) = match &e.shape {
+            Shape::Line { .. } => e.at_tau(&self.curves, (s - e.s0).clamp(0.0, e.len)),
+            _ => e.at_tau(&self.curves, e.tau_at(&self.curves, s.min(p.s0 + p.h), p.tau.0, p.s0)),
+        };
+        (q, q1, q2, e.feed)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The closed form of a line–line blend's deviation equals a dense scan of its distance to
+    /// the two legs, and its ends match the legs' position, direction and zero curvature.
+    #[test]
+    fn line_blend_deviation_is_its_closed_form() {
+        for deg in [0.5f64, 3.0, 17.0, 30.0, 60.0, 90.0] {
+            let phi = deg.to_radians();
+            let m = 2.0;
+            let u1: Q = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+            let u2: Q = [phi.cos(), phi.sin(), 0.0, 0.0, 0.0, 0.0];
+            let c: Q = [10.0, -3.0, 4.0, 0.0, 0.0, 0.0];
+            let pa = axpy(-m, &u1, &c);
+            let pb = axpy(m, &u2, &c);
+            let z = [0.0; 6];
+            let bez = hermite(&pa, &u1, &z, &pb, &u2, &z, 1.5 * m, 0.7 * m);
+            let (a0, b0, a1) = (v3(&pa), v3(&c), v3(&pb));
+            let mut worst: f64 = 0.0;
+            for i in 0..=4000 {
+                let p = v3(&bezier5(&bez, f64::from(i) / 4000.0)[0]);
+                worst = worst.max(dist_to_segment(p, a0, b0).min(dist_to_segment(p, b0, a1)));
+            }
+            let closed = LINE_BLEND_DEV * m * phi.sin();
+            assert!((worst - closed).abs() <= 1e-9 * (1.0 + closed), "{deg}°: scan {worst}, closed form {closed}");
+            // Ends: on the legs, along them, curvature zero (power form as the planner holds it).
+            let pw = power_of(&bez);
+            for (t, p, u) in [(0.0, pa, u1), (1.0, pb, u2)] {
+                let [q, d1, d2] = power5(&pw, t);
+                let (q1, q2, _) = in_s(&[q, d1, d2], false);
+                for i in 0..3 {
+                    assert!((q[i] - p[i]).abs() < 1e-12);
+                    assert!((q1[i] - u[i]).abs() < 1e-12);
+                    assert!(q2[i].abs() < 1e-9, "{deg}°: q'' {q2:?} at τ = {t}");
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,226 @@
+//! The planned interpolator checked from its periods alone, with code that shares nothing
+//! with the planner but the canonical motions: every joint's velocity, acceleration and jerk
+//! by differences of the positions (`plan::check`, which reads only positions and limits),
+//! every period within the contour tolerance of the *programmed* path (distances computed
+//! here from the canonical motions), and the end at rest exactly on the programmed end.
+
+use glam::DVec3;
+use interpolab::gcode::interp::{Canon, Interpreter, Options};
+use interpolab::gcode::{ProgramKind, ProgramOptions, write_program};
+use interpolab::nurbs_path::Parabola;
+use interpolab::plan::{Dynamics, LimitChecker, Period, canon_of_toolpath, time_program};
+
+fn programs() -> Vec<(String, Vec<Canon>)> {
+    let mut out = Vec::new();
+    let design = Parabola::paper_like();
+    for kind in ProgramKind::ALL {
+        let p = write_program(kind, &design, 0.01, &ProgramOptions::default().with_feed(1500.0)).expect("program");
+        out.push((format!("parabola {kind:?}"), canon_of_toolpath(&p.parsed.toolpath)));
+    }
+    for (name, text) in
+        [("corners", include_str!("data/plan/corners.nc")), ("5axis-rotary", include_str!("data/plan/5axis-rotary.nc"))]
+    {
+        let canon: Vec<Canon> = Interpreter::from_text(text, Options::default()).map(|c| c.expect("reads")).collect();
+        out.push((name.to_owned(), canon));
+    }
+    out
+}
+
+/// The programmed path as a dense polyline per motion (lines exact; arcs and splines with
+/// chords below 1e-5 mm of sagitta), to measure distances from.
+fn programmed(canon: &[Canon]) -> Vec<Vec<DVec3>> {
+    let mut pos = DVec3::ZERO;
+    let mut out = Vec::new();
+    for c in canon {
+        match c {
+            Canon::Traverse { end, .. } | Canon::Line { end, .. } => {
+                out.push(vec![pos, end.xyz]);
+                pos = end.xyz;
+            }
+            Canon::Arc { end, center, plane, turns, .. } => {
+                let (ia, ib, inn) = plane.axes();
+                let a0 = (pos[ib] - center[ib]).atan2(pos[ia] - center[ia]);
+                let a1 = (end.xyz[ib] - center[ib]).atan2(end.xyz[ia] - center[ia]);
+                let tau = std::f64::consts::TAU;
+                let mut sweep = if *turns > 0 { (a1 - a0).rem_euclid(tau) } else { -(a0 - a1).rem_euclid(tau) };
+                if sweep.abs() < 1e-12 {
+                    sweep = tau * f64::from(turns.signum());
+                }
+                sweep += f64::from(turns.unsigned_abs() - 1) * tau * f64::from(turns.signum());
+                let r0 = ((pos[ia] - center[ia]).powi(2) + (pos[ib] - center[ib]).powi(2)).sqrt();
+                let r1 = ((end.xyz[ia] - center[ia]).powi(2) + (end.xyz[ib] - center[ib]).powi(2)).sqrt();
+                let n = ((sweep.abs() * r0.max(r1)) / 0.05).ceil().max(4.0) as usize;
+                let mut pts = Vec::with_capacity(n + 1);
+                for k in 0..=n {
+                    let t = k as f64 / n as f64;
+                    let th = a0 + sweep * t;
+                    let r = r0 + (r1 - r0) * t;
+                    let mut p = DVec3::ZERO;
+                    p[ia] = center[ia] + r * th.cos();
+                    p[ib] = center[ib] + r * th.sin();
+                    p[inn] = pos[inn] + (end.xyz[inn] - pos[inn]) * t;
+                    pts.push(p);
+                }
+                out.push(pts);
+                pos = end.xyz;
+            }
+            Canon::Spline { curve, end, .. } => {
+                let (u0, u1) = curve.range();
+                let n = 20_000;
+                out.push((0..=n).map(|k| curve.point_at(u0 + (u1 - u0) * k as f64 / n as f64)).collect());
+                pos = end.xyz;
+            }
+            _ => {}
+        }
+    }
+    out
+}
+
+fn dist_seg(p: DVec3, a: DVec3, b: DVec3) -> f64 {
+    let ab = b - a;
+    let l2 = ab.length_squared();
+    let t = if l2 > 0.0 { ((p - a).dot(ab) / l2).clamp(0.0, 1.0) } else { 0.0 };
+    (a + ab * t - p).length()
+}
+
+#[test]
+fn every_period_is_within_the_limits_the_tolerance_and_ends_at_rest_on_the_end() {
+    for (name, canon) in programs() {
+        let moves = programmed(&canon);
+        let end = canon.iter().rev().find_map(Canon::end).expect("moves");
+        for mname in ["hobby-router", "vmc", "table-ac"] {
+            for jerk in [true, false] {
+                let mut m = Dynamics::preset(mname).expect("preset");
+                if !jerk {
+                    m = m.without_jerk();
+                }
+                let t = time_program(canon.iter().cloned(), &m).expect("plans");
+                let lim = m.joint_limits();
+                let mut check = LimitChecker::new(lim, m.period_s(), 1e-10);
+                let mut s = t.sampler();
+                let mut p = Period::default();
+                let mut worst_dev: f64 = 0.0;
+                let mut near = 0usize;
+                let mut last = p;
+                while s.next_period(&mut p) {
+                    check.push(&p.q);
+                    // Distance to the programmed path: the nearest of the motions around the
+                    // last nearest one (the tool moves forward along the program).
+                    let x = DVec3::new(p.q[0], p.q[1], p.q[2]);
+                    let mut best = (f64::INFINITY, near);
+                    for (i, mv) in moves.iter().enumerate().skip(near.saturating_sub(2)).take(6) {
+                        for w in mv.windows(2) {
+                            let d = dist_seg(x, w[0], w[1]);
+                            if d < best.0 {
+                                best = (d, i);
+                            }
+                        }
+                    }
+                    near = best.1;
+                    worst_dev = worst_dev.max(best.0);
+                    last = p;
+                }
+                let rep = check.finish();
+                assert!(rep.within(), "{name} on {mname} (jerk {jerk}): a joint limit broken: {rep:?}");
+                assert!(
+                    worst_dev <= m.tolerance_mm + 2e-5,
+                    "{name} on {mname}: a period {worst_dev} mm from the programmed path (P = {})",
+                    m.tolerance_mm
+                );
+                let r = std::f64::consts::PI / 180.0;
+                let want = [end.xyz.x, end.xyz.y, end.xyz.z, end.abc.x * r, end.abc.y * r, end.abc.z * r];
+                assert_eq!(last.q, want, "{name} on {mname}: the last period is not on the programmed end");
+                assert_eq!(rep.end_rates, [0.0, 0.0], "{name}: not at rest at the end");
+                assert!(t.total_s() > 0.0 && t.block_time_s.iter().all(|b| *b >= 0.0));
+                let sum: f64 = t.block_time_s.iter().sum();
+                assert!(
+                    (sum - t.total_s()).abs() < 1e-9 * t.total_s(),
+                    "{name}: block times {sum} vs total {}",
+                    t.total_s()
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn a_short_window_is_never_faster_and_the_whole_program_is_the_fastest() {
+    let (_, canon) = programs().swap_remove(0);
+    let base = Dynamics::preset("hobby-router").expect("preset");
+    let whole = time_program(canon.iter().cloned(), &base).expect("plans").total_s();
+    let mut prev = f64::INFINITY;
+    for w in [1usize, 2, 5, 20, 200] {
+        let mut m = base.clone();
+        m.window_blocks = Some(w);
+        let t = time_program(canon.iter().cloned(), &m).expect("plans").total_s();
+        assert!(t >= whole - 1e-9, "window {w}: {t} s faster than the whole program's {whole} s");
+        assert!(t <= prev + 1e-9, "window {w}: {t} s slower than a shorter window's {prev} s");
+        prev = t;
+    }
+}
+
+#[test]
+fn exact_stop_is_slower_than_blending_and_stops_at_every_corner() {
+    let (_, canon) = programs().swap_remove(0);
+    let m = Dynamics::preset("vmc").expect("preset");
+    let blended = time_program(canon.iter().cloned(), &m).expect("plans");
+    let mut stop = m.clone();
+    stop.exact_stop = true;
+    let stopped = time_program(canon.iter().cloned(), &stop).expect("plans");
+    assert!(stopped.total_s() > blended.total_s());
+    assert_eq!(stopped.path.blends, 0);
+    assert!(stopped.path.corner_stops >= blended.path.blends);
+}
+
+#[test]
+fn bad_machines_are_refused_naming_the_key() {
+    let mut m = Dynamics::preset("vmc").expect("preset");
+    m.axes[1].acceleration = -3.0;
+    let e = m.validate().expect_err("refused");
+    assert_eq!(e.path, "axes.y.acceleration");
+    m.axes[1].acceleration = f64::NAN;
+    assert!(m.validate().is_err());
+    let mut m = Dynamics::preset("vmc").expect("preset");
+    m.tolerance_mm = 1e6;
+    assert_eq!(m.validate().expect_err("refused").path, "tolerance");
+    for bad in [
+        r#"{"axes": {"q": {}}}"#,
+        r#"{"axes": {"x": {"jerk": 0}}}"#,
+        r#"{"period": 0}"#,
+        r#"{"lookahead": 0}"#,
+        r#"{"preset": "mill"}"#,
+    ] {
+        let v: serde_json::Value = serde_json::from_str(bad).expect("json");
+        let e = Dynamics::from_value(&v).expect_err(bad);
+        assert!(
+            !e.to_string().contains('\n') && e.to_string().contains("give") || e.to_string().contains("use"),
+            "{e}"
+        );
+    }
+    // A machine read back from its own JSON is the same machine.
+    for p in interpolab::plan::PRESETS {
+        let m = Dynamics::preset(p).expect("preset");
+        assert_eq!(Dynamics::from_value(&m.to_value()).expect("reads"), m);
+    }
+}
+
+#[test]
+fn a_scene_carries_its_machine_dynamics_and_old_scenes_still_read() {
+    use interpolab::scene::Scene;
+    let base = include_str!("../examples/torus-plane.json");
+    let old = Scene::from_json(base).expect("an example without dynamics still reads");
+    assert_eq!(old.dynamics, None);
+    let mut v: serde_json::Value = serde_json::from_str(base).expect("json");
+    v["dynamics"] = serde_json::json!({ "preset": "hobby-router", "axes": { "x": { "jerk": null } }, "tolerance": 0.02, "lookahead": 40 });
+    let s = Scene::from_json(&v.to_string()).expect("reads");
+    let d = s.dynamics.clone().expect("dynamics");
+    assert_eq!(
+        (d.name.as_str(), d.axes[0].jerk, d.tolerance_mm, d.window_blocks),
+        ("hobby-router", None, 0.02, Some(40))
+    );
+    // Written and read back: the same scene.
+    assert_eq!(Scene::from_json(&s.to_json()).expect("round trip"), s);
+    v["dynamics"]["axes"]["y"] = serde_json::json!({ "acceleration": -3 });
+    let e = Scene::from_json(&v.to_string()).expect_err("refused");
+    assert!(e.to_string().starts_with("dynamics.axes.y.acceleration: must be > 0"), "{e}");
+}
