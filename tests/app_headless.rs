@@ -1378,3 +1378,7 @@ fn a_curve_picked_in_the_fillet_view_is_the_cores_start_and_a_click_selects_a_cc
         "{s}"
     );
 }
+
+// The Your program tab.
+#[path = "app/userprog.rs"]
+mod userprog;

@@ -15,6 +15,8 @@ mod fiveaxis;
 mod gcode;
 // User text through every writer of the command line.
 mod hostile;
+// A user's program with its tools and machine: simulate, replay, canon.
+mod userprog;
 // `interpolab run` and `check` (seed 000).
 mod run;
 // `interpolab simulate`.

@@ -74,4 +74,11 @@ mod scene {
 mod simulate {
     mod dexel;
     mod finish;
+    // A user's program: joint and TCP programs through the machines, nonlinear error per block.
+    mod rotary;
+    // A user's program: its tools, tool lengths, times and volumes.
+    mod tools;
 }
+
+// `src/plan/`: feed planning — every period within the limits and the tolerance.
+mod plan;

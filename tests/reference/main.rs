@@ -15,3 +15,7 @@ mod rs274;
 mod interp;
 // Canned cycles, splines and tool tables against rs274.
 mod cycles;
+// The feed planner's single moves against Ruckig's S-curves (the `ruckig` crate).
+mod plan_ruckig;
+// The feed planner against TOPP-RA's time-optimal bound (tests/data/plan/topp_bounds.csv).
+mod plan_topp;

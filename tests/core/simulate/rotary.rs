@@ -12,7 +12,6 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-mod support;
 
 use glam::DVec3;
 use interpolab::fiveaxis::{Joints, Machine, MachineKind};
@@ -24,7 +23,7 @@ use interpolab::simulate::canon::{
     CanonBuilder, CanonOptions, CanonProgram, KinematicsChoice, MachineSetup, RotaryMode,
 };
 use interpolab::simulate::{MoveKind, SimMove};
-use support::Rng;
+use crate::support::Rng;
 
 // Rotations written out, right-handed, angle in radians.
 fn rx(t: f64, v: DVec3) -> DVec3 {

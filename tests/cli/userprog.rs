@@ -2,7 +2,6 @@
 //! user would: a CAMotics project (its tools, its workpiece, its files), a LinuxCNC tool
 //! table with shapes in the remarks, the tool map, the automatic stock, the per-block
 //! nonlinear error table and its exit status, one-line refusals.
-#![cfg(not(target_arch = "wasm32"))]
 #![allow(
     clippy::unwrap_used,
     clippy::expect_used,

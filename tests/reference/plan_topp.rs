@@ -24,8 +24,8 @@ fn program(label: &str) -> Option<Vec<Canon>> {
         return Some(canon_of_toolpath(&p.parsed.toolpath));
     }
     let text = match a {
-        "corners" => include_str!("data/plan/corners.nc"),
-        "5axis-rotary" => include_str!("data/plan/5axis-rotary.nc"),
+        "corners" => include_str!("../data/plan/corners.nc"),
+        "5axis-rotary" => include_str!("../data/plan/5axis-rotary.nc"),
         _ => return None,
     };
     Some(Interpreter::from_text(text, Options::default()).map_while(Result::ok).collect())
@@ -38,7 +38,7 @@ const RTOL: f64 = 2e-4;
 
 #[test]
 fn no_plan_beats_topp_ra_and_jerk_free_plans_are_within_five_percent() {
-    let data = include_str!("data/plan/topp_bounds.csv");
+    let data = include_str!("../data/plan/topp_bounds.csv");
     let mut checked = 0;
     for line in data.lines().skip(1) {
         let f: Vec<&str> = line.split(',').collect();

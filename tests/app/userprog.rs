@@ -2,7 +2,6 @@
 //! table and a subroutine file is read and drawn, its reports listed by line, a message picks
 //! its line, and Simulate machines the same stock as the core's job for the same request.
 //! Native only; needs the `app` feature.
-#![cfg(all(feature = "app", not(target_arch = "wasm32")))]
 #![allow(clippy::unwrap_used, clippy::expect_used, reason = "tests: a failure should fail the test")]
 
 use eframe::egui;

@@ -4,6 +4,9 @@
 //! every period within the contour tolerance of the *programmed* path (distances computed
 //! here from the canonical motions), and the end at rest exactly on the programmed end.
 
+#[cfg(target_arch = "wasm32")]
+use wasm_bindgen_test::wasm_bindgen_test as test;
+
 use glam::DVec3;
 use interpolab::gcode::interp::{Canon, Interpreter, Options};
 use interpolab::gcode::{ProgramKind, ProgramOptions, write_program};
@@ -18,7 +21,7 @@ fn programs() -> Vec<(String, Vec<Canon>)> {
         out.push((format!("parabola {kind:?}"), canon_of_toolpath(&p.parsed.toolpath)));
     }
     for (name, text) in
-        [("corners", include_str!("data/plan/corners.nc")), ("5axis-rotary", include_str!("data/plan/5axis-rotary.nc"))]
+        [("corners", include_str!("../data/plan/corners.nc")), ("5axis-rotary", include_str!("../data/plan/5axis-rotary.nc"))]
     {
         let canon: Vec<Canon> = Interpreter::from_text(text, Options::default()).map(|c| c.expect("reads")).collect();
         out.push((name.to_owned(), canon));
@@ -207,7 +210,7 @@ fn bad_machines_are_refused_naming_the_key() {
 #[test]
 fn a_scene_carries_its_machine_dynamics_and_old_scenes_still_read() {
     use interpolab::scene::Scene;
-    let base = include_str!("../examples/torus-plane.json");
+    let base = include_str!("../../examples/torus-plane.json");
     let old = Scene::from_json(base).expect("an example without dynamics still reads");
     assert_eq!(old.dynamics, None);
     let mut v: serde_json::Value = serde_json::from_str(base).expect("json");
