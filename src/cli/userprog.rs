@@ -631,7 +631,6 @@ pub(crate) struct CanonArgs {
     pub tools: ToolArgs,
 }
 
-
 /// Prints the program's canonical calls.
 pub(crate) fn canon(a: &CanonArgs) -> Result<ExitCode, Fatal> {
     let table = setup(&a.tools)?.table;
@@ -708,4 +707,3 @@ fn feed_text(m: FeedMode) -> &'static str {
         FeedMode::PerRevolution => "rev",
     }
 }
-

@@ -20,9 +20,10 @@ fn programs() -> Vec<(String, Vec<Canon>)> {
         let p = write_program(kind, &design, 0.01, &ProgramOptions::default().with_feed(1500.0)).expect("program");
         out.push((format!("parabola {kind:?}"), canon_of_toolpath(&p.parsed.toolpath)));
     }
-    for (name, text) in
-        [("corners", include_str!("../data/plan/corners.nc")), ("5axis-rotary", include_str!("../data/plan/5axis-rotary.nc"))]
-    {
+    for (name, text) in [
+        ("corners", include_str!("../data/plan/corners.nc")),
+        ("5axis-rotary", include_str!("../data/plan/5axis-rotary.nc")),
+    ] {
         let canon: Vec<Canon> = Interpreter::from_text(text, Options::default()).map(|c| c.expect("reads")).collect();
         out.push((name.to_owned(), canon));
     }

@@ -5,7 +5,6 @@
 //! problem along the line, with the line's limits (the least over the joints of the joint's
 //! limit over its share of the direction): our duration must equal Ruckig's to 1e-9 s.
 
-
 use interpolab::gcode::interp::Interpreter;
 use interpolab::plan::scurve::rest_to_rest_time;
 use interpolab::plan::{AxisLimits, Dynamics, time_program};

@@ -12,7 +12,7 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-
+use crate::support::Rng;
 use glam::DVec3;
 use interpolab::fiveaxis::{Joints, Machine, MachineKind};
 use interpolab::gcode::interp::tools::{ToolEntry, ToolShape as TableShape, ToolTable};
@@ -23,7 +23,6 @@ use interpolab::simulate::canon::{
     CanonBuilder, CanonOptions, CanonProgram, KinematicsChoice, MachineSetup, RotaryMode,
 };
 use interpolab::simulate::{MoveKind, SimMove};
-use crate::support::Rng;
 
 // Rotations written out, right-handed, angle in radians.
 fn rx(t: f64, v: DVec3) -> DVec3 {

@@ -10,7 +10,7 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-
+use crate::support::Rng;
 use glam::DVec3;
 use interpolab::gcode::interp::tools::{ToolEntry, ToolShape as TableShape, ToolTable};
 use interpolab::gcode::interp::{Interpreter, Options};
@@ -20,7 +20,6 @@ use interpolab::simulate::canon::{CanonBuilder, CanonOptions, CanonProgram, Kine
 use interpolab::simulate::{
     DexelStock, HeightMap, Interval, MoveKind, NO_TOOL, Program, SimMove, Simulation, ToolShape, tilted_span,
 };
-use crate::support::Rng;
 
 fn read(text: &str, tools: &ToolTable, default: Option<Cutter>) -> CanonProgram {
     let mut it = Interpreter::from_text(text, Options { tools: tools.clone(), ..Options::default() });
