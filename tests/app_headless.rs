@@ -575,15 +575,16 @@ mod nurbs_panel {
         assert!(loaded["error"].is_null(), "{loaded}");
         let d = loaded["deviation_mm"].as_f64().expect("a deviation");
         assert!((d - program.deviation.max_mm()).abs() < 1e-9, "{d} vs {}", program.deviation.max_mm());
-        // A malformed program: the error names its line and what to change, nothing panics.
-        let bad = "%\nG21 G90\nG00 X0 Y0 Z5\nG01 X10 Y#1 F500\nM30\n%\n";
+        // A malformed program (an arc with neither centre nor radius; parameters such as `#1`
+        // are read now): the error names its line and what to change, nothing panics.
+        let bad = "%\nG21 G90\nG00 X0 Y0 Z5\nG02 X10 Y0 F500\nM30\n%\n";
         let file: egui::DroppedFileHandle = Arc::new(Dropped(PathBuf::from("bad.ngc"), bad.as_bytes().to_vec()));
         frame_with(&mut h, Vec::new(), vec![file]);
         let s = frame_with(&mut h, Vec::new(), Vec::new());
         let loaded = &s["panel"]["status"]["loaded"];
         assert_eq!(loaded["name"], "bad.ngc");
         let err = loaded["error"].as_str().expect("an error");
-        assert!(err.contains("line 4") && err.contains("plain numbers"), "{err}");
+        assert!(err.contains("line 4") && err.contains("radius R"), "{err}");
         let banner = s["error"].as_str().expect("text");
         assert!(banner.contains("bad.ngc") && banner.contains("line 4"), "{banner}");
     }
