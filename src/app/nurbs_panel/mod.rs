@@ -105,6 +105,8 @@ pub struct NurbsPanel {
     wanted: Option<Wanted>,
     /// Loaded-file deviation already announced in the banner (file generation).
     announced: u64,
+    /// Loaded file whose reading's end was announced (file generation).
+    read_announced: u64,
     /// Rectangles of key widgets this frame (points), published in the status.
     rects: Vec<(&'static str, egui::Rect)>,
     /// Longest single step of the work so far (ms): what one frame may cost at most.
@@ -129,6 +131,7 @@ impl Default for NurbsPanel {
             waiting: None,
             wanted: None,
             announced: 0,
+            read_announced: 0,
             rects: Vec::new(),
             slowest_step_ms: 0.0,
             series: plots::Series::default(),
@@ -196,21 +199,31 @@ impl NurbsPanel {
                 Ok(text) => {
                     self.work.load(&f.name, text);
                     self.shown = Shown::Loaded;
-                    self.scroll_to = Some(self.work.loaded.as_ref().and_then(|l| l.error_line).unwrap_or(1));
-                    if let Some(l) = &self.work.loaded {
-                        match &l.parsed {
-                            Err(e) => {
-                                cx.error(format!("{} is not a program this reader can follow — {e}", l.name));
-                            }
-                            Ok(p) if p.toolpath.cuts().next().is_none() => cx.error(format!(
-                                "{} has no cutting moves (G01, G02, G03 or G06.2) to draw or compare with the design path.",
-                                l.name
-                            )),
-                            Ok(_) => {}
-                        }
-                    }
+                    self.scroll_to = Some(1);
                 }
             }
+        }
+    }
+
+    /// Once a loaded program is read to its end (over frames): its error, or that it has
+    /// nothing to compare, in the banner, and the code view at the error's line. (Judged at
+    /// the load itself, before any slice was read, every program looked empty.)
+    fn announce_read(&mut self, cx: &mut PanelContext<'_>) {
+        let Some(l) = &self.work.loaded else { return };
+        if l.reader.is_some() || self.read_announced == l.generation {
+            return;
+        }
+        self.read_announced = l.generation;
+        match &l.parsed {
+            Err(e) => {
+                cx.error(format!("{} is not a program this reader can follow — {e}", l.name));
+                self.scroll_to = l.error_line.or(self.scroll_to);
+            }
+            Ok(p) if p.toolpath.cuts().next().is_none() => cx.error(format!(
+                "{} has no cutting moves (G01, G02, G03 or G06.2) to draw or compare with the design path.",
+                l.name
+            )),
+            Ok(_) => {}
         }
     }
 
@@ -447,6 +460,7 @@ impl Panel for NurbsPanel {
                 ui.ctx().request_repaint_after(web_time::Duration::from_millis(100));
             }
         }
+        self.announce_read(cx);
         self.announce(cx);
 
         let feed = self.wanted.as_ref().map_or(0.0, |w| w.program.feed_mm_per_min);
