@@ -156,7 +156,8 @@ impl<K: JobKind> Job<K> {
 
     /// Takes what arrived since the last poll. After [`Poll::Done`] the job is spent: poll
     /// it no more. Partial outputs that arrived are kept for [`Job::take_partials`] (all of
-    /// them before the output).
+    /// them before the output); a poll decodes them until the frame budget is spent, at least
+    /// one, and leaves the rest for the next poll, asking for that frame at once.
     pub fn poll(&mut self) -> Poll<K::Output> {
         match self.inner.poll(&mut self.progress, &mut self.partials) {
             Some(out) => {
@@ -192,6 +193,14 @@ impl<K: JobKind> Job<K> {
     pub fn in_background(&self) -> bool {
         self.inner.in_background()
     }
+}
+
+/// Whether decoding partial outputs since `t0` used this frame's share
+/// ([`super::budget::FRAME_BUDGET`]): a poll decodes at least one waiting partial output and
+/// leaves the rest for the next frames, so a job that hands back much (a long program's
+/// pieces) never makes one long frame.
+fn over_budget(t0: Instant) -> bool {
+    t0.elapsed() >= super::budget::FRAME_BUDGET
 }
 
 /// Decodes a partial output into `partials` (one that does not decode is logged and left out:
@@ -286,10 +295,20 @@ mod imp {
                 self.ran_here = true;
                 return Some(super::run_here::<K>(&request, partials));
             }
-            while let Ok(m) = self.rx.try_recv() {
+            let t0 = web_time::Instant::now();
+            let mut decoded = false;
+            loop {
+                if decoded && super::over_budget(t0) {
+                    super::wake();
+                    return None;
+                }
+                let Ok(m) = self.rx.try_recv() else { break };
                 match m {
                     Msg::Progress(f) => *progress = Some(f),
-                    Msg::Partial(text) => super::push_partial::<K>(&text, partials),
+                    Msg::Partial(text) => {
+                        super::push_partial::<K>(&text, partials);
+                        decoded = true;
+                    }
                     Msg::Done(out) => return Some(out),
                 }
             }
@@ -514,7 +533,14 @@ mod imp {
             let Some(r) = self.running.as_mut() else {
                 return self.here("no worker", partials);
             };
+            let t0 = web_time::Instant::now();
+            let mut decoded = false;
             loop {
+                if decoded && super::over_budget(t0) {
+                    // The rest waits for the next frame, which comes at once.
+                    super::wake();
+                    return None;
+                }
                 let msg = r.inbox.borrow_mut().pop_front()?;
                 let (tag, body) = msg.split_once('\n').unwrap_or((msg.as_str(), ""));
                 if r.skip > 0 && tag != "failed" {
@@ -526,7 +552,10 @@ mod imp {
                 }
                 match tag {
                     "progress" => *progress = body.parse().ok(),
-                    "partial" => super::push_partial::<K>(body, partials),
+                    "partial" => {
+                        super::push_partial::<K>(body, partials);
+                        decoded = true;
+                    }
                     "ok" => {
                         return match K::decode_output(body) {
                             Ok(out) => {

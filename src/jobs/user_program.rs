@@ -128,8 +128,8 @@ pub struct Finished {
     pub removed_mm3: Vec<f64>,
 }
 
-/// A partial output: the program read.
-pub type Partial = Box<ReadSummary>;
+/// A partial output: a piece of the program read ([`encode_pieces`]).
+pub type Partial = Box<SummaryPiece>;
 
 /// The job kind.
 #[derive(Clone, Copy, Debug)]
@@ -327,7 +327,9 @@ fn summarize(
 pub fn run(req: &Request, progress: &mut dyn Progress) -> Result<Option<Finished>, String> {
     let (mut p, summary) = read(req, progress)?;
     let (stock_mm, pitch) = (summary.stock_mm, summary.pitch_mm);
-    progress.partial(encode_partial(&summary));
+    for piece in encode_pieces(&summary) {
+        progress.partial(piece);
+    }
     if !req.simulate {
         progress.progress(1.0);
         return Ok(None);
@@ -370,55 +372,186 @@ fn f32s_of(xs: impl IntoIterator<Item = f32>) -> Value {
     f32s_packed(&xs.into_iter().collect::<Vec<_>>())
 }
 
-/// The partial output as text.
-#[must_use]
-pub fn encode_partial(s: &ReadSummary) -> String {
-    json!({
-        "lines": s.lines,
-        "points": s.point_block.len(),
-        "xyz": f32s_packed(&s.points),
-        "point_block": f32s_of(s.point_block.iter().map(|&b| b as f32)),
-        "blocks": s.block_line.len(),
-        // Lines and files as f32: exact below 2^24 (the interpreter's files and a program's
-        // lines stay far below it).
-        "block_line": f32s_of(s.block_line.iter().map(|&l| l as f32)),
-        "block_file": f32s_of(s.block_file.iter().map(|&f| f32::from(f))),
-        "block_kind": f32s_of(s.block_kind.iter().map(|&k| f32::from(k))),
-        "block_slot": f32s_of(s.block_slot.iter().map(|&k| f32::from(k))),
-        "block_feed": f32s_packed(&s.block_feed),
-        "block_error": f32s_packed(&s.block_error),
-        "tools": s.tools.iter().map(|t| json!({
-            "number": t.number, "cutter": t.cutter, "source": t.source,
-            "feed_blocks": t.feed_blocks, "feed_min": super::num(t.feed_min),
-        })).collect::<Vec<_>>(),
-        "messages": s.messages.iter().map(|(l, t)| json!([l, t])).collect::<Vec<_>>(),
-        "machine": s.machine,
-        "stock_mm": super::nums(s.stock_mm),
-        "stock_from": s.stock_from,
-        "pitch_mm": super::num(s.pitch_mm),
-        "moves": s.moves,
-        "feed_min": super::num(s.feed_min),
-    })
-    .to_string()
+/// Blocks per partial output. A program's summary crosses to the page in pieces of this many
+/// blocks (with their points), so the page decodes a piece at a time within its frame budget
+/// and the path grows while it arrives: a 180 000-line raster crossed as one 9.6 MB text
+/// whose decoding alone was one frame of half a second in the browser.
+pub const PIECE_BLOCKS: usize = 8192;
+
+/// A partial output: a piece of the program read. Its `summary` holds the blocks from
+/// `first_block` on and their points; the first piece (`first_block` 0) also carries the
+/// rest of the summary (lines, tools, messages, machine, stock, pitch, moves, time), the
+/// others leave those empty.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SummaryPiece {
+    /// Index of the piece's first block in the whole program.
+    pub first_block: usize,
+    /// Blocks of the whole program.
+    pub total_blocks: usize,
+    /// The whole path's box (mm, workpiece): min x, y, z, max x, y, z; in the first piece
+    /// (the view frames the whole path from its first piece on).
+    pub bounds_mm: [f32; 6],
+    /// The piece.
+    pub summary: ReadSummary,
 }
 
-fn decode_summary(text: &str) -> Result<ReadSummary, String> {
+impl SummaryPiece {
+    /// Whether this is the program's last piece.
+    #[must_use]
+    pub fn is_last(&self) -> bool {
+        self.first_block + self.summary.block_line.len() >= self.total_blocks
+    }
+}
+
+impl ReadSummary {
+    /// Takes the next piece: the first replaces the summary, each later one appends its
+    /// blocks and points. Returns false (and changes nothing) for a piece that does not
+    /// follow on from the blocks held.
+    pub fn take_piece(&mut self, piece: SummaryPiece) -> bool {
+        if piece.first_block == 0 {
+            *self = piece.summary;
+            return true;
+        }
+        if piece.first_block != self.block_line.len() {
+            return false;
+        }
+        let p = piece.summary;
+        self.points.extend_from_slice(&p.points);
+        self.point_block.extend_from_slice(&p.point_block);
+        self.block_line.extend_from_slice(&p.block_line);
+        self.block_file.extend_from_slice(&p.block_file);
+        self.block_kind.extend_from_slice(&p.block_kind);
+        self.block_slot.extend_from_slice(&p.block_slot);
+        self.block_feed.extend_from_slice(&p.block_feed);
+        self.block_error.extend_from_slice(&p.block_error);
+        true
+    }
+}
+
+/// The path's box (mm): min x, y, z, max x, y, z over its finite points (zeros for none).
+fn bounds_of(points: &[f32]) -> [f32; 6] {
+    let mut b = [f32::INFINITY, f32::INFINITY, f32::INFINITY, f32::NEG_INFINITY, f32::NEG_INFINITY, f32::NEG_INFINITY];
+    for p in points.chunks_exact(3).filter(|p| p.iter().all(|c| c.is_finite())) {
+        for i in 0..3 {
+            b[i] = b[i].min(p[i]);
+            b[i + 3] = b[i + 3].max(p[i]);
+        }
+    }
+    if b[0] > b[3] { [0.0; 6] } else { b }
+}
+
+/// The summary as partial outputs: pieces of [`PIECE_BLOCKS`] blocks ([`SummaryPiece`]), in
+/// order; at least one (a program without blocks is one empty piece).
+#[must_use]
+pub fn encode_pieces(s: &ReadSummary) -> Vec<String> {
+    let nb = s.block_line.len();
+    let bounds = bounds_of(&s.points);
+    let mut out = Vec::with_capacity(nb.div_ceil(PIECE_BLOCKS).max(1));
+    let (mut b0, mut p0) = (0, 0);
+    loop {
+        let b1 = (b0 + PIECE_BLOCKS).min(nb);
+        // Points are in block order: this piece's are those of blocks below b1 (the last
+        // piece takes any left).
+        let p1 = if b1 == nb {
+            s.point_block.len()
+        } else {
+            p0 + s.point_block[p0..].partition_point(|&b| (b as usize) < b1)
+        };
+        out.push(encode_piece(s, b0..b1, p0..p1, bounds));
+        if b1 == nb {
+            return out;
+        }
+        (b0, p0) = (b1, p1);
+    }
+}
+
+/// One piece: blocks `blocks` and points `points` of `s`, its header when it is the first.
+fn encode_piece(
+    s: &ReadSummary,
+    blocks: std::ops::Range<usize>,
+    points: std::ops::Range<usize>,
+    bounds: [f32; 6],
+) -> String {
+    let (b, p) = (blocks.clone(), points.clone());
+    let mut v = json!({
+        "first_block": blocks.start,
+        "total_blocks": s.block_line.len(),
+        "points": p.len(),
+        "xyz": f32s_packed(&s.points[3 * p.start..3 * p.end]),
+        "point_block": f32s_of(s.point_block[p].iter().map(|&b| b as f32)),
+        "blocks": b.len(),
+        // Lines and files as f32: exact below 2^24 (the interpreter's files and a program's
+        // lines stay far below it).
+        "block_line": f32s_of(s.block_line[b.clone()].iter().map(|&l| l as f32)),
+        "block_file": f32s_of(s.block_file[b.clone()].iter().map(|&f| f32::from(f))),
+        "block_kind": f32s_of(s.block_kind[b.clone()].iter().map(|&k| f32::from(k))),
+        "block_slot": f32s_of(s.block_slot[b.clone()].iter().map(|&k| f32::from(k))),
+        "block_feed": f32s_packed(&s.block_feed[b.clone()]),
+        "block_error": f32s_packed(&s.block_error[b]),
+    });
+    if blocks.start == 0 {
+        v["bounds_mm"] = f32s_packed(&bounds);
+        v["header"] = json!({
+            "lines": s.lines,
+            "tools": s.tools.iter().map(|t| json!({
+                "number": t.number, "cutter": t.cutter, "source": t.source,
+                "feed_blocks": t.feed_blocks, "feed_min": super::num(t.feed_min),
+            })).collect::<Vec<_>>(),
+            "messages": s.messages.iter().map(|(l, t)| json!([l, t])).collect::<Vec<_>>(),
+            "machine": s.machine,
+            "stock_mm": super::nums(s.stock_mm),
+            "stock_from": s.stock_from,
+            "pitch_mm": super::num(s.pitch_mm),
+            "moves": s.moves,
+            "feed_min": super::num(s.feed_min),
+        });
+    }
+    v.to_string()
+}
+
+fn decode_piece(text: &str) -> Result<SummaryPiece, String> {
     const W: &str = "user-program partial";
     let v = parse(text, W)?;
     let r = Reader::new(&v, W)?;
     let n = r.usize("points")?;
     let nb = r.usize("blocks")?;
-    if n > MAX_PATH_POINTS + crate::simulate::canon::MAX_BLOCKS || nb > crate::simulate::canon::MAX_BLOCKS {
-        return Err(format!("{W}: too many points or blocks"));
+    let first_block = r.usize("first_block")?;
+    let total_blocks = r.usize("total_blocks")?;
+    let max_blocks = crate::simulate::canon::MAX_BLOCKS;
+    if n > MAX_PATH_POINTS + max_blocks || total_blocks > max_blocks || first_block + nb > total_blocks {
+        return Err(format!("{W}: too many points or blocks, or a piece past the program's end"));
     }
     let as_u = |xs: Vec<f32>| -> Vec<u32> { xs.into_iter().map(|x| x as u32).collect() };
-    let tools = r
+    let mut s = ReadSummary {
+        points: r.f32s_packed("xyz", 3 * n)?,
+        point_block: as_u(r.f32s_packed("point_block", n)?),
+        block_line: as_u(r.f32s_packed("block_line", nb)?),
+        block_file: r.f32s_packed("block_file", nb)?.into_iter().map(|x| x as u16).collect(),
+        block_kind: r.f32s_packed("block_kind", nb)?.into_iter().map(|x| x as u8).collect(),
+        block_slot: r.f32s_packed("block_slot", nb)?.into_iter().map(|x| x as u16).collect(),
+        block_feed: r.f32s_packed("block_feed", nb)?,
+        block_error: r.f32s_packed("block_error", nb)?,
+        ..ReadSummary::default()
+    };
+    let mut bounds_mm = [0.0; 6];
+    if first_block == 0 {
+        bounds_mm = r.f32s_packed("bounds_mm", 6)?.try_into().map_err(|_| format!("{W}.bounds_mm: not six numbers"))?;
+        let h = Reader::new(r.value("header")?, "user-program partial.header")?;
+        decode_header(&h, &mut s)?;
+    }
+    Ok(SummaryPiece { first_block, total_blocks, bounds_mm, summary: s })
+}
+
+/// The first piece's header into `s`.
+fn decode_header(h: &Reader<'_>, s: &mut ReadSummary) -> Result<(), String> {
+    const W: &str = "user-program partial.header";
+    s.tools = h
         .value("tools")?
         .as_array()
         .ok_or(format!("{W}.tools: not a list"))?
         .iter()
         .map(|t| {
-            let t = Reader::new(t, "user-program partial.tools[]")?;
+            let t = Reader::new(t, "user-program partial.header.tools[]")?;
             Ok(ToolRow {
                 number: i32::try_from(t.value("number")?.as_i64().ok_or("a tool number")?)
                     .map_err(|e| e.to_string())?,
@@ -429,7 +562,7 @@ fn decode_summary(text: &str) -> Result<ReadSummary, String> {
             })
         })
         .collect::<Result<Vec<_>, String>>()?;
-    let messages = r
+    s.messages = h
         .value("messages")?
         .as_array()
         .ok_or(format!("{W}.messages: not a list"))?
@@ -440,28 +573,17 @@ fn decode_summary(text: &str) -> Result<ReadSummary, String> {
             line.zip(text).map(|(l, t)| (l, t.to_owned())).ok_or(format!("{W}.messages: not [line, text]"))
         })
         .collect::<Result<Vec<_>, String>>()?;
-    Ok(ReadSummary {
-        lines: u32::try_from(r.usize("lines")?).unwrap_or(u32::MAX),
-        points: r.f32s_packed("xyz", 3 * n)?,
-        point_block: as_u(r.f32s_packed("point_block", n)?),
-        block_line: as_u(r.f32s_packed("block_line", nb)?),
-        block_file: r.f32s_packed("block_file", nb)?.into_iter().map(|x| x as u16).collect(),
-        block_kind: r.f32s_packed("block_kind", nb)?.into_iter().map(|x| x as u8).collect(),
-        block_slot: r.f32s_packed("block_slot", nb)?.into_iter().map(|x| x as u16).collect(),
-        block_feed: r.f32s_packed("block_feed", nb)?,
-        block_error: r.f32s_packed("block_error", nb)?,
-        tools,
-        messages,
-        machine: match r.value("machine")? {
-            Value::Null => None,
-            v => Some(v.as_str().ok_or(format!("{W}.machine: not text"))?.to_owned()),
-        },
-        stock_mm: r.f64s("stock_mm")?.try_into().map_err(|_| format!("{W}.stock_mm: not six numbers"))?,
-        stock_from: r.str("stock_from")?.to_owned(),
-        pitch_mm: r.f64("pitch_mm")?,
-        moves: r.usize("moves")?,
-        feed_min: r.f64("feed_min")?,
-    })
+    s.lines = u32::try_from(h.usize("lines")?).unwrap_or(u32::MAX);
+    s.machine = match h.value("machine")? {
+        Value::Null => None,
+        v => Some(v.as_str().ok_or(format!("{W}.machine: not text"))?.to_owned()),
+    };
+    s.stock_mm = h.f64s("stock_mm")?.try_into().map_err(|_| format!("{W}.stock_mm: not six numbers"))?;
+    s.stock_from = h.str("stock_from")?.to_owned();
+    s.pitch_mm = h.f64("pitch_mm")?;
+    s.moves = h.usize("moves")?;
+    s.feed_min = h.f64("feed_min")?;
+    Ok(())
 }
 
 fn cutter_numbers(c: &Cutter) -> Vec<f64> {
@@ -612,7 +734,7 @@ impl JobKind for UserProgram {
     }
 
     fn decode_partial(text: &str) -> Result<Partial, String> {
-        decode_summary(text).map(Box::new)
+        decode_piece(text).map(Box::new)
     }
 }
 
@@ -679,12 +801,66 @@ mod tests {
         assert!((f.map.top_mm[k] - (-2.0 + (y - 8.0).abs())).abs() < 1e-9, "{}", f.map.top_mm[k]);
         let again = UserProgram::decode_output(&UserProgram::encode_output(&out)).unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(again, out);
-        let s = UserProgram::decode_partial(&keep.0[0]).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(keep.0.len(), 1, "a small program crosses in one piece");
+        let piece = UserProgram::decode_partial(&keep.0[0]).unwrap_or_else(|e| panic!("{e}"));
+        assert!(piece.is_last());
+        let s = piece.summary;
         assert_eq!(s.block_line.len(), 8);
         assert_eq!(s.tools.iter().map(|t| t.number).collect::<Vec<_>>(), [1, 2]);
         // Blocks of the subroutine carry their file's lines.
         assert_eq!((s.block_file[4], s.block_line[4]), (1, 2));
         let read_only = UserProgram::run(&request(false), &mut NoProgress);
         assert_eq!(read_only, Ok(None));
+    }
+
+    /// A program of several pieces crosses whole: the pieces taken in order give the summary
+    /// read (bit for bit, NaN errors included); one out of order is refused and changes
+    /// nothing.
+    #[test]
+    fn a_long_program_crosses_in_pieces_that_add_up_to_its_summary() {
+        let mut text = String::from("G21 G90\nG0 X0 Y0 Z5\nG1 Z-1 F300\n");
+        let n = 2 * PIECE_BLOCKS + 123;
+        for k in 0..n {
+            // Arcs among the lines: blocks of several points.
+            if k % 7 == 0 {
+                let (x, y) = (k % 40, (k / 40) % 30);
+                text.push_str(&format!("G1 X{x} Y{y}\nG2 X{} Y{y} R1.5\n", x + 2));
+            } else {
+                text.push_str(&format!("G1 X{} Y{}\n", k % 40, (k / 40) % 30));
+            }
+        }
+        let mut req = request(false);
+        req.text = text;
+        req.files.clear();
+        req.tool_table = None;
+        let (_, whole) = read(&req, &mut NoProgress).unwrap_or_else(|e| panic!("{e}"));
+        assert!(whole.block_line.len() > 2 * PIECE_BLOCKS && whole.points.len() / 3 > whole.block_line.len());
+        let texts = encode_pieces(&whole);
+        assert_eq!(texts.len(), whole.block_line.len().div_ceil(PIECE_BLOCKS));
+        let pieces: Vec<SummaryPiece> =
+            texts.iter().map(|t| *UserProgram::decode_partial(t).unwrap_or_else(|e| panic!("{e}"))).collect();
+        let mut got = ReadSummary::default();
+        assert!(!got.take_piece(pieces[1].clone()), "the second piece cannot come first");
+        assert_eq!(got, ReadSummary::default());
+        for (i, p) in pieces.iter().enumerate() {
+            assert_eq!(p.is_last(), i + 1 == pieces.len());
+            assert!(got.take_piece(p.clone()));
+        }
+        let bits = |xs: &[f32]| xs.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&got.points), bits(&whole.points));
+        assert_eq!(bits(&got.block_error), bits(&whole.block_error));
+        assert_eq!(bits(&got.block_feed), bits(&whole.block_feed));
+        let strip = |s: &ReadSummary| ReadSummary {
+            points: Vec::new(),
+            block_error: Vec::new(),
+            block_feed: Vec::new(),
+            ..s.clone()
+        };
+        assert_eq!(strip(&got), strip(&whole));
+        // The first piece's box holds every point of the path.
+        let b = pieces[0].bounds_mm;
+        assert!(whole.points.chunks_exact(3).all(|p| (0..3).all(|i| b[i] <= p[i] && p[i] <= b[i + 3])));
+        assert!((0..3).all(|i| whole.points.chunks_exact(3).any(|p| p[i] == b[i])
+            && whole.points.chunks_exact(3).any(|p| p[i] == b[i + 3])));
     }
 }

@@ -186,13 +186,22 @@ impl UserProgramPanel {
         };
         super::jobs::set_waker(ctx);
         let polled = job.poll();
-        for s in job.take_partials() {
-            let fresh = self.summary.as_ref().is_none_or(|old| old.block_line.len() != s.block_line.len());
-            self.summary = Some(Rc::from(s));
-            if fresh {
-                self.view.refit();
-                self.selected = None;
-                self.shown = None;
+        // The summary arrives in pieces (a few per frame, `Job::poll`): the path grows as
+        // they come, framed as a whole from the first on.
+        for piece in job.take_partials() {
+            if piece.first_block == 0 {
+                let fresh = self.summary.as_ref().is_none_or(|old| old.block_line.len() != piece.total_blocks);
+                if fresh {
+                    self.view.fit_box(piece.bounds_mm);
+                    self.selected = None;
+                    self.shown = None;
+                }
+                self.summary = Some(Rc::new(piece.summary));
+            } else if let Some(s) = self.summary.as_mut() {
+                let first = piece.first_block;
+                if !Rc::make_mut(s).take_piece(*piece) {
+                    log::warn!("a piece of the program read (block {first} on) came out of order: left out");
+                }
             }
             self.view.invalidate();
         }
@@ -361,18 +370,25 @@ impl UserProgramPanel {
         }
         ui.strong(format!("Reports and notes ({})", s.messages.len()));
         let mut picked = None;
-        egui::ScrollArea::vertical().id_salt("userprog_messages").max_height(160.0).show(ui, |ui| {
-            for (k, (line, text)) in s.messages.iter().enumerate() {
-                let label = if *line > 0 { format!("line {line}: {text}") } else { text.clone() };
-                let r = ui.selectable_label(false, label);
-                if k == 0 {
-                    self.rects.push(("first_message", r.rect));
+        // Only the rows in sight are laid out (a program may bring thousands of notes).
+        let row = ui.spacing().interact_size.y;
+        egui::ScrollArea::vertical().id_salt("userprog_messages").max_height(160.0).show_rows(
+            ui,
+            row,
+            s.messages.len(),
+            |ui, rows| {
+                for (k, (line, text)) in s.messages.iter().enumerate().skip(rows.start).take(rows.len()) {
+                    let label = if *line > 0 { format!("line {line}: {text}") } else { text.clone() };
+                    let r = ui.selectable_label(false, label);
+                    if k == 0 {
+                        self.rects.push(("first_message", r.rect));
+                    }
+                    if r.clicked() && *line > 0 {
+                        picked = Some(*line);
+                    }
                 }
-                if r.clicked() && *line > 0 {
-                    picked = Some(*line);
-                }
-            }
-        });
+            },
+        );
         if let Some(line) = picked {
             self.select_line(line);
         }

@@ -130,6 +130,20 @@ impl PathView {
         self.segments
     }
 
+    /// Frames the box `b` (mm: min x, y, z, max x, y, z) at the next draw: the whole path's,
+    /// known from its first piece.
+    pub fn fit_box(&mut self, b: [f32; 6]) {
+        let (lo, hi) = (Vec3::new(b[0], b[1], b[2]), Vec3::new(b[3], b[4], b[5]));
+        if lo.is_finite() && hi.is_finite() && lo.cmple(hi).all() {
+            self.origin = 0.5 * (lo + hi);
+            self.camera.fit(Vec3::ZERO, (0.5 * (hi - lo).length()).max(1.0));
+            self.fitted = true;
+        } else {
+            self.fitted = false;
+        }
+        self.invalidate();
+    }
+
     fn fit(&mut self, s: &ReadSummary) {
         let mut lo = Vec3::splat(f32::INFINITY);
         let mut hi = Vec3::splat(f32::NEG_INFINITY);
