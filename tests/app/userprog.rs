@@ -103,4 +103,32 @@ fn a_two_tool_program_is_read_listed_and_machined_as_the_core_does() {
     assert_eq!(removed, f.removed_mm3);
     assert!(removed[0] > 100.0 && removed[1] > 20.0, "{removed:?}");
     assert_eq!(p["stock_rays"].as_u64().unwrap() as usize, f.map.grid.len());
+
+    // A stock set in the tab: a bad block is refused with what to change and nothing lost;
+    // a good one is what Simulate machines (the core's job with that stock), without reading
+    // the program again.
+    let err = h.app.set_panel_option(TAB, "stock", "-5,-5,-5,25,15").unwrap_err();
+    assert!(err.contains("six lengths in mm"), "{err}");
+    let err = h.app.set_panel_option(TAB, "stock", "-5,-5,0,25,15,-5").unwrap_err();
+    assert!(err.contains("z from 0 mm is not below z to -5 mm"), "{err}");
+    assert_eq!(h.panel()["stock_from"], p["stock_from"], "a refused stock changes nothing");
+    h.app.set_panel_option(TAB, "stock", "-2,-3,-1.5,22,12,0").unwrap();
+    h.frame();
+    let q = h.panel();
+    assert_eq!(q["stock_mm"], serde_json::json!([-2.0, -3.0, -1.5, 22.0, 12.0, 0.0]), "{q}");
+    assert_eq!(q["stock_from"], "set here");
+    assert_eq!(q["computing"], false, "setting the stock does not read again");
+    h.app.set_panel_option(TAB, "simulate", "").unwrap();
+    // (Simulate drops the last result at once: the next one is the set stock's.)
+    let p = h.until("the set stock machined", |p| p["removed_mm3"].is_array());
+    let f =
+        run(&Request { stock_mm: Some([-2.0, -3.0, -1.5, 22.0, 12.0, 0.0]), ..req }, &mut NoProgress).unwrap().unwrap();
+    let got: Vec<f64> = p["removed_mm3"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    assert_eq!(got, f.removed_mm3);
+    assert_eq!(p["stock_rays"].as_u64().unwrap() as usize, f.map.grid.len());
+    // Back to the automatic stock: read again, the reading's own block.
+    h.app.set_panel_option(TAB, "stock", "auto").unwrap();
+    let p =
+        h.until("the automatic stock back", |p| p["stock_from"].as_str().is_some_and(|s| s.starts_with("automatic")));
+    assert_eq!(p["blocks"], 8);
 }

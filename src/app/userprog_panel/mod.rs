@@ -24,6 +24,9 @@ use view::PathView;
 /// Title of the tab.
 pub const TITLE: &str = "Your program";
 
+/// Where a stock set in the tab comes from (shown beside it).
+const STOCK_SET_HERE: &str = "set here";
+
 /// Range of the nonlinear-error tolerance slider (mm).
 pub const TOL_RANGE_MM: std::ops::RangeInclusive<f64> = 0.0005..=1.0;
 
@@ -127,6 +130,9 @@ pub struct UserProgramPanel {
     selected: Option<usize>,
     /// Blocks drawn: the first `shown` (the slider).
     shown: Option<usize>,
+    /// The stock block set here (mm: min x, y, z, max x, y, z); `None`: the project's
+    /// workpiece or the automatic one. Used by Simulate; changing it does not read again.
+    stock_set: Option<[f64; 6]>,
     view: PathView,
     rects: Vec<(&'static str, egui::Rect)>,
 }
@@ -137,9 +143,10 @@ impl UserProgramPanel {
     }
 
     fn start(&mut self, simulate: bool) {
-        let Some(req) = self.inputs.request(simulate) else {
+        let Some(mut req) = self.inputs.request(simulate) else {
             return;
         };
+        req.stock_mm = self.stock_set;
         self.error = None;
         if simulate {
             self.result = None;
@@ -196,7 +203,12 @@ impl UserProgramPanel {
                     self.selected = None;
                     self.shown = None;
                 }
-                self.summary = Some(Rc::new(piece.summary));
+                let mut summary = piece.summary;
+                if let Some(b) = self.stock_set {
+                    summary.stock_mm = b;
+                    summary.stock_from = STOCK_SET_HERE.to_owned();
+                }
+                self.summary = Some(Rc::new(summary));
             } else if let Some(s) = self.summary.as_mut() {
                 let first = piece.first_block;
                 if !Rc::make_mut(s).take_piece(*piece) {
@@ -222,6 +234,88 @@ impl UserProgramPanel {
                 self.view.invalidate();
             }
         }
+    }
+
+    /// The stock: shown, and set here when "set the stock" is ticked (six lengths, mm).
+    fn stock_controls(&mut self, ui: &mut egui::Ui) {
+        let Some(s) = self.summary.clone() else { return };
+        let mut set = self.stock_set.is_some();
+        let r = ui.checkbox(&mut set, "set the stock");
+        self.rects.push(("stock_set", r.rect));
+        if set != self.stock_set.is_some() {
+            let _ = self.set_stock(set.then_some(s.stock_mm));
+        }
+        if let Some(mut b) = self.stock_set {
+            let mut changed = false;
+            egui::Grid::new("userprog_stock").num_columns(3).show(ui, |ui| {
+                ui.label("");
+                ui.label("from");
+                ui.label("to");
+                ui.end_row();
+                for (i, axis) in ["x", "y", "z"].into_iter().enumerate() {
+                    ui.label(axis);
+                    for k in [i, i + 3] {
+                        let r = ui.add(egui::DragValue::new(&mut b[k]).speed(0.5).suffix(" mm").max_decimals(3));
+                        changed |= r.changed();
+                    }
+                    ui.end_row();
+                }
+            });
+            if changed && let Err(e) = self.set_stock(Some(b)) {
+                self.error = Some(e);
+            }
+        }
+        let b = self.summary.as_ref().map_or(s.stock_mm, |s| s.stock_mm);
+        ui.label(format!(
+            "stock {:.1} … {:.1} × {:.1} … {:.1} × {:.1} … {:.1} mm ({}), pitch {} mm",
+            b[0],
+            b[3],
+            b[1],
+            b[4],
+            b[2],
+            b[5],
+            self.summary.as_ref().map_or("", |s| s.stock_from.as_str()),
+            s.pitch_mm
+        ));
+    }
+
+    /// Sets the stock block (`None`: the project's or the automatic one again). A block with
+    /// a side of no length or a number not finite is refused with what to change; the last
+    /// simulated stock stays until Simulate runs again.
+    fn set_stock(&mut self, b: Option<[f64; 6]>) -> Result<(), String> {
+        if let Some(b) = b {
+            if let Some(bad) = b.iter().position(|v| !v.is_finite()) {
+                return Err(format!(
+                    "stock: the {} value is not a number; give lengths in mm",
+                    ["x from", "y from", "z from", "x to", "y to", "z to"][bad]
+                ));
+            }
+            if let Some(i) = (0..3).find(|&i| b[i] >= b[i + 3]) {
+                let axis = ["x", "y", "z"][i];
+                return Err(format!(
+                    "stock: {axis} from {} mm is not below {axis} to {} mm; make \"to\" the larger",
+                    b[i],
+                    b[i + 3]
+                ));
+            }
+        }
+        let was_set = self.stock_set.is_some();
+        self.stock_set = b;
+        self.error = None;
+        if let Some(s) = self.summary.as_mut() {
+            let s = Rc::make_mut(s);
+            match b {
+                Some(b) => {
+                    s.stock_mm = b;
+                    s.stock_from = STOCK_SET_HERE.to_owned();
+                }
+                // Back to the reading's own stock: read again.
+                None if was_set => self.run = None,
+                None => {}
+            }
+        }
+        self.view.invalidate();
+        Ok(())
     }
 
     fn running(&self) -> bool {
@@ -501,13 +595,7 @@ impl Panel for UserProgramPanel {
                     self.inputs.pitch_mm = None;
                 }
             });
-            if let Some(s) = &self.summary {
-                let b = s.stock_mm;
-                ui.label(format!(
-                    "stock {:.1} … {:.1} × {:.1} … {:.1} × {:.1} … {:.1} mm ({}), pitch {} mm",
-                    b[0], b[3], b[1], b[4], b[2], b[5], s.stock_from, s.pitch_mm
-                ));
-            }
+            self.stock_controls(ui);
         });
         if let Some(e) = &self.error {
             super::widgets::error_text(ui, e.clone());
@@ -625,6 +713,8 @@ impl Panel for UserProgramPanel {
             "shown": self.shown,
             "drawn_segments": self.view.drawn_segments(),
             "removed_mm3": self.result.as_ref().map(|r| r.removed_mm3.clone()),
+            "stock_mm": s.map(|s| s.stock_mm),
+            "stock_from": s.map(|s| s.stock_from.clone()),
             "stock_rays": self.result.as_ref().map(|r| r.map.grid.len()),
             "rapid_cuts": self.result.as_ref().map(|r| r.counters.rapid_cuts),
             "first_rapid_cut_line": self.result.as_ref().and_then(|r| r.counters.first_rapid_cut_line),
@@ -673,6 +763,20 @@ impl Panel for UserProgramPanel {
                 let line: u32 = value.parse().map_err(|_| format!("line \"{value}\": give a line number"))?;
                 self.select_line(line);
             }
+            "stock" => {
+                let b = if value == "auto" {
+                    None
+                } else {
+                    let v: Vec<f64> =
+                        value.split(',').map(|x| x.trim().parse::<f64>()).collect::<Result<_, _>>().map_err(|_| {
+                            format!("stock \"{value}\": give six lengths in mm (x0,y0,z0,x1,y1,z1) or auto")
+                        })?;
+                    Some(<[f64; 6]>::try_from(v).map_err(|_| {
+                        format!("stock \"{value}\": give six lengths in mm (x0,y0,z0,x1,y1,z1) or auto")
+                    })?)
+                };
+                self.set_stock(b)?;
+            }
             "pitch" => {
                 self.inputs.pitch_mm = if value == "auto" {
                     None
@@ -688,7 +792,7 @@ impl Panel for UserProgramPanel {
             }
             _ => {
                 return Err(format!(
-                    "this view has no option \"{key}\" (file:NAME, colour, tolerance, machine, kinematics, simulate, line, pitch)"
+                    "this view has no option \"{key}\" (file:NAME, colour, tolerance, machine, kinematics, simulate, line, pitch, stock)"
                 ));
             }
         }
