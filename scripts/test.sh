@@ -60,5 +60,8 @@ node e2e/e2e.mjs "http://127.0.0.1:$port/"
 # A share link with a hostile scene name: every program the app offers downloaded and its
 # blocks checked, the page's title and markup unchanged (issue 29).
 node e2e/hostile.mjs "http://127.0.0.1:$port/"
+# The "Your program" tab: a multi-tool program with its tool table and subroutine file,
+# simulated; LinuxCNC's impeller through its machine; a 180 000-line program (issues 21, 22).
+node e2e/userprog.mjs "http://127.0.0.1:$port/"
 
 say "all checks passed"

@@ -376,7 +376,7 @@ fn f32s_of(xs: impl IntoIterator<Item = f32>) -> Value {
 /// blocks (with their points), so the page decodes a piece at a time within its frame budget
 /// and the path grows while it arrives: a 180 000-line raster crossed as one 9.6 MB text
 /// whose decoding alone was one frame of half a second in the browser.
-pub const PIECE_BLOCKS: usize = 8192;
+pub const PIECE_BLOCKS: usize = 4096;
 
 /// A partial output: a piece of the program read. Its `summary` holds the blocks from
 /// `first_block` on and their points; the first piece (`first_block` 0) also carries the
@@ -630,10 +630,12 @@ impl JobKind for UserProgram {
         run(req, progress)
     }
 
+    /// The request's fields as one line of JSON, then the program's text as it is: a big
+    /// program crosses without JSON's escaping, once (the page's thread writes it while a
+    /// frame waits).
     fn encode_request(r: &Request) -> String {
-        json!({
+        let head = json!({
             "name": r.name,
-            "text": r.text,
             "files": r.files.iter().map(|(n, t)| json!([n, t])).collect::<Vec<_>>(),
             "tool_table": r.tool_table,
             "project": r.project,
@@ -644,12 +646,19 @@ impl JobKind for UserProgram {
             "stock_mm": r.stock_mm.map_or(Value::Null, super::nums),
             "simulate": r.simulate,
         })
-        .to_string()
+        .to_string();
+        let mut out = String::with_capacity(head.len() + 1 + r.text.len());
+        out.push_str(&head);
+        out.push('\n');
+        out.push_str(&r.text);
+        out
     }
 
     fn decode_request(text: &str) -> Result<Request, String> {
         const W: &str = "user-program request";
-        let v = parse(text, W)?;
+        // JSON text holds no raw line break: the first one ends the fields.
+        let (head, program) = text.split_once('\n').ok_or(format!("{W}: no program text after the fields"))?;
+        let v = parse(head, W)?;
         let r = Reader::new(&v, W)?;
         let opt_text = |k: &str| -> Result<Option<String>, String> {
             match r.value(k)? {
@@ -670,7 +679,7 @@ impl JobKind for UserProgram {
             .collect::<Result<Vec<_>, String>>()?;
         Ok(Request {
             name: r.str("name")?.to_owned(),
-            text: r.str("text")?.to_owned(),
+            text: program.to_owned(),
             files,
             tool_table: opt_text("tool_table")?,
             project: opt_text("project")?,
