@@ -62,7 +62,8 @@ pub(crate) struct ToolArgs {
     #[arg(long)]
     pub project: Option<PathBuf>,
     /// A tool `N:shape:diameter[:corner|angle]` (mm, degrees), e.g. 1:ball:6, 2:bull:10:1,
-    /// 3:v:6:90, 4:drill:8; repeat for more; replaces a table's tool of that number.
+    /// 3:v:6:90, 4:drill:8; repeat for more; gives a table's tool of that number this
+    /// cutter, keeping its length offset.
     #[arg(long = "tool")]
     pub tool_specs: Vec<String>,
     /// Machine of the rotary axes: table-ac, table-bc, head-bc, head-a-table-c, or wrap-a (a
@@ -129,7 +130,7 @@ pub(crate) fn setup(a: &ToolArgs) -> Result<Setup, Fatal> {
     }
     for s in &a.tool_specs {
         let e = parse_tool_spec(s).map_err(|e| Fatal(format!("--tool {e}")))?;
-        table.set(e).map_err(|e| Fatal(format!("--tool {s}: {e}")))?;
+        table.set_cutter(e).map_err(|e| Fatal(format!("--tool {s}: {e}")))?;
     }
     let machine = match &a.machine {
         None => None,

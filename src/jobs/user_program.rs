@@ -10,7 +10,7 @@ use serde_json::{Value, json};
 
 use super::simulate_run::{counters_of, counters_value, grid_of, grid_value};
 use super::{JobKind, Progress, Reader, f32s_packed, f64s_packed, parse};
-use crate::gcode::interp::tools::{TableUnits, ToolTable};
+use crate::gcode::interp::tools::{TableUnits, ToolTable, parse_tool_spec};
 use crate::gcode::interp::{Interpreter, NoLibrary, Options, TextLibrary, TextSource};
 use crate::geom::Cutter;
 use crate::simulate::canon::{
@@ -42,6 +42,9 @@ pub struct Request {
     pub tool_table: Option<String>,
     /// A CAMotics project (`.camotics` JSON): its tools and workpiece.
     pub project: Option<String>,
+    /// Cutters set by the user (`N:shape:diameter[:corner or angle]`, as `--tool`), over the
+    /// project's and the table's: each keeps the table's offsets of its number.
+    pub tool_specs: Vec<String>,
     /// The cutter of moves before any tool change and of tools no table has.
     pub default_cutter: Cutter,
     /// The machine's name ([`MachineSetup::NAMES`]); `None`: as the program's comments name
@@ -113,6 +116,10 @@ pub struct ToolRow {
     pub feed_blocks: usize,
     /// Time of its feed blocks (min).
     pub feed_min: f64,
+    /// Its cutter as the tables give it, as a spec `N:shape:diameter[:corner or angle]`
+    /// (what the app's tool editor starts from); empty when none names it (the default
+    /// cutter, a snub or unknown shape).
+    pub spec: String,
 }
 
 /// The machined stock.
@@ -135,7 +142,8 @@ pub type Partial = Box<SummaryPiece>;
 #[derive(Clone, Copy, Debug)]
 pub struct UserProgram;
 
-/// The tools of a request: the project's, then the table's (a number in both: the table's).
+/// The tools of a request: the project's, then the table's (a number in both: the table's),
+/// then the cutters set by the user.
 fn tools_of(req: &Request) -> Result<(ToolTable, Option<crate::gcode::interp::tools::CamoticsProject>), String> {
     let mut table = ToolTable::new();
     let mut project = None;
@@ -149,6 +157,10 @@ fn tools_of(req: &Request) -> Result<(ToolTable, Option<crate::gcode::interp::to
         for e in t.iter() {
             table.set(e.clone()).map_err(|e| format!("the tool table: {e}"))?;
         }
+    }
+    for s in &req.tool_specs {
+        let e = parse_tool_spec(s).map_err(|e| format!("tool {e}"))?;
+        table.set_cutter(e).map_err(|e| format!("tool {s}: {e}"))?;
     }
     Ok((table, project))
 }
@@ -190,6 +202,8 @@ pub fn read(req: &Request, progress: &mut dyn Progress) -> Result<(CanonProgram,
         lib.add(name, text);
     }
     let mut it = Interpreter::new(Box::new(TextSource::new(&req.text)), Box::new(lib), opts);
+    let specs: std::collections::BTreeMap<i32, String> =
+        table.iter().filter_map(|e| Some((e.number, e.spec()?))).collect();
     let mut b = CanonBuilder::new(CanonOptions {
         machine,
         kinematics: req.kinematics,
@@ -248,7 +262,10 @@ pub fn read(req: &Request, progress: &mut dyn Progress) -> Result<(CanonProgram,
             ((p / scale).ceil() * scale).clamp(0.02, 2.0)
         }
     };
-    let summary = summarize(&p, main_lines, messages, stock_mm, stock_from, pitch_mm);
+    let mut summary = summarize(&p, main_lines, messages, stock_mm, stock_from, pitch_mm);
+    for t in &mut summary.tools {
+        t.spec = specs.get(&t.number).cloned().unwrap_or_default();
+    }
     Ok((p, summary))
 }
 
@@ -315,6 +332,7 @@ fn summarize(
             source: t.source.clone(),
             feed_blocks: t.feed_blocks,
             feed_min: t.feed_min,
+            spec: String::new(),
         })
         .collect();
     s
@@ -495,7 +513,7 @@ fn encode_piece(
             "lines": s.lines,
             "tools": s.tools.iter().map(|t| json!({
                 "number": t.number, "cutter": t.cutter, "source": t.source,
-                "feed_blocks": t.feed_blocks, "feed_min": super::num(t.feed_min),
+                "feed_blocks": t.feed_blocks, "feed_min": super::num(t.feed_min), "spec": t.spec,
             })).collect::<Vec<_>>(),
             "messages": s.messages.iter().map(|(l, t)| json!([l, t])).collect::<Vec<_>>(),
             "machine": s.machine,
@@ -559,6 +577,7 @@ fn decode_header(h: &Reader<'_>, s: &mut ReadSummary) -> Result<(), String> {
                 source: t.str("source")?.to_owned(),
                 feed_blocks: t.usize("feed_blocks")?,
                 feed_min: t.f64("feed_min")?,
+                spec: t.str("spec")?.to_owned(),
             })
         })
         .collect::<Result<Vec<_>, String>>()?;
@@ -639,6 +658,7 @@ impl JobKind for UserProgram {
             "files": r.files.iter().map(|(n, t)| json!([n, t])).collect::<Vec<_>>(),
             "tool_table": r.tool_table,
             "project": r.project,
+            "tool_specs": r.tool_specs,
             "default_cutter": super::nums(cutter_numbers(&r.default_cutter)),
             "machine": r.machine,
             "kinematics": kinematics_index(r.kinematics),
@@ -683,6 +703,13 @@ impl JobKind for UserProgram {
             files,
             tool_table: opt_text("tool_table")?,
             project: opt_text("project")?,
+            tool_specs: r
+                .value("tool_specs")?
+                .as_array()
+                .ok_or(format!("{W}.tool_specs: not a list"))?
+                .iter()
+                .map(|v| v.as_str().map(str::to_owned).ok_or(format!("{W}.tool_specs: not text")))
+                .collect::<Result<_, _>>()?,
             default_cutter: cutter_from(&r.f64s("default_cutter")?)?,
             machine: opt_text("machine")?,
             kinematics: match r.usize("kinematics")? {
@@ -780,6 +807,7 @@ mod tests {
             )],
             tool_table: Some("T1 P1 D6 ;flat\nT2 P2 D4 ;v90\n".to_owned()),
             project: None,
+            tool_specs: Vec::new(),
             default_cutter: Cutter::ball(1.0).unwrap_or_else(|_| unreachable!()),
             machine: None,
             kinematics: KinematicsChoice::Auto,

@@ -92,6 +92,7 @@ fn a_two_tool_program_is_read_listed_and_machined_as_the_core_does() {
         files: vec![("groove.ngc".to_owned(), SUB.to_owned())],
         tool_table: Some(TABLE.to_owned()),
         project: None,
+        tool_specs: Vec::new(),
         default_cutter: Cutter::flat(1.5).unwrap(),
         machine: None,
         kinematics: KinematicsChoice::Auto,
@@ -121,8 +122,9 @@ fn a_two_tool_program_is_read_listed_and_machined_as_the_core_does() {
     h.app.set_panel_option(TAB, "simulate", "").unwrap();
     // (Simulate drops the last result at once: the next one is the set stock's.)
     let p = h.until("the set stock machined", |p| p["removed_mm3"].is_array());
-    let f =
-        run(&Request { stock_mm: Some([-2.0, -3.0, -1.5, 22.0, 12.0, 0.0]), ..req }, &mut NoProgress).unwrap().unwrap();
+    let f = run(&Request { stock_mm: Some([-2.0, -3.0, -1.5, 22.0, 12.0, 0.0]), ..req.clone() }, &mut NoProgress)
+        .unwrap()
+        .unwrap();
     let got: Vec<f64> = p["removed_mm3"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
     assert_eq!(got, f.removed_mm3);
     assert_eq!(p["stock_rays"].as_u64().unwrap() as usize, f.map.grid.len());
@@ -131,4 +133,26 @@ fn a_two_tool_program_is_read_listed_and_machined_as_the_core_does() {
     let p =
         h.until("the automatic stock back", |p| p["stock_from"].as_str().is_some_and(|s| s.starts_with("automatic")));
     assert_eq!(p["blocks"], 8);
+    // The tool editor: each tool starts as its table gives it; a cutter set there (the
+    // option is the editor's Apply) reads the program again with it, and Simulate machines
+    // what the core's job does with the same spec. A bad spec is refused, nothing changed.
+    assert_eq!(p["tools"][0]["spec"], "1:flat:6", "{p}");
+    assert_eq!(p["tools"][1]["spec"], "2:v:4:90", "{p}");
+    let err = h.app.set_panel_option(TAB, "tool", "2:ball:-4").unwrap_err();
+    assert!(err.contains("diameter"), "{err}");
+    assert_eq!(h.panel()["tool_specs"], serde_json::json!([]));
+    h.app.set_panel_option(TAB, "tool", "2:ball:4").unwrap();
+    let p = h.until("read with the ball", |p| p["tools"][1]["spec"] == "2:ball:4");
+    assert!(p["tools"][1]["cutter"].as_str().unwrap().starts_with("ball"), "{p}");
+    h.app.set_panel_option(TAB, "simulate", "").unwrap();
+    let p = h.until("machined with the ball", |p| p["removed_mm3"].is_array());
+    let f = run(&Request { tool_specs: vec!["2:ball:4".to_owned()], ..req }, &mut NoProgress).unwrap().unwrap();
+    let got: Vec<f64> = p["removed_mm3"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    assert_eq!(got, f.removed_mm3);
+    // A 4 mm ball 2 mm deep cuts a half disc (2π mm²) along the groove where the 90° V cut
+    // a triangle (4 mm²): the groove tool's volume grows.
+    assert!(got[1] > removed[1] * 1.2, "{got:?} vs {removed:?}");
+    h.app.set_panel_option(TAB, "tool", "reset").unwrap();
+    let p = h.until("the tables' tools back", |p| p["tools"][1]["spec"] == "2:v:4:90");
+    assert_eq!(p["tool_specs"], serde_json::json!([]));
 }

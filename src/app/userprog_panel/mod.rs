@@ -7,6 +7,7 @@
 //! cancel, the stock shown coloured by which tool cut it last. The same pipeline as
 //! `interpolab simulate --tools/--project/--machine` (docs/user-programs.md).
 
+mod tools;
 mod view;
 
 use std::rc::Rc;
@@ -79,6 +80,8 @@ struct Inputs {
     machine: usize,
     kinematics: usize,
     pitch_mm: Option<f64>,
+    /// Cutters set in the tool editor (`N:shape:diameter[:x]`).
+    tool_specs: Vec<String>,
 }
 
 impl Inputs {
@@ -91,6 +94,7 @@ impl Inputs {
             files: self.subs.clone(),
             tool_table: self.table.as_ref().map(|t| t.1.clone()),
             project: self.project.as_ref().map(|p| p.1.clone()),
+            tool_specs: self.tool_specs.clone(),
             default_cutter: Cutter::flat(1.5).ok()?,
             machine: (self.machine > 0).then(|| names.get(self.machine).map(|s| (*s).to_owned())).flatten(),
             kinematics: [KinematicsChoice::Auto, KinematicsChoice::Joints, KinematicsChoice::Tcp]
@@ -133,6 +137,7 @@ pub struct UserProgramPanel {
     /// The stock block set here (mm: min x, y, z, max x, y, z); `None`: the project's
     /// workpiece or the automatic one. Used by Simulate; changing it does not read again.
     stock_set: Option<[f64; 6]>,
+    tool_editor: tools::ToolEditor,
     view: PathView,
     rects: Vec<(&'static str, egui::Rect)>,
 }
@@ -315,6 +320,17 @@ impl UserProgramPanel {
             }
         }
         self.view.invalidate();
+        Ok(())
+    }
+
+    /// Uses these cutters (the program is read again); each spec is checked first, a bad one
+    /// refused with what to write and nothing changed.
+    fn set_tool_specs(&mut self, specs: Vec<String>) -> Result<(), String> {
+        for s in &specs {
+            crate::gcode::interp::tools::parse_tool_spec(s).map_err(|e| format!("tool {e}"))?;
+        }
+        self.error = None;
+        self.inputs.tool_specs = specs;
         Ok(())
     }
 
@@ -537,6 +553,22 @@ impl Panel for UserProgramPanel {
     fn controls(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
         self.rects.clear();
         super::widgets::section(ui, "Program and tools", true, |ui| self.files_controls(ui, cx));
+        if let Some(s) = self.summary.clone() {
+            super::widgets::section(ui, "Tools", true, |ui| {
+                match self.tool_editor.ui(ui, &s.tools, &self.inputs.tool_specs) {
+                    tools::Edit::None => {}
+                    tools::Edit::Apply(specs) => {
+                        if let Err(e) = self.set_tool_specs(specs) {
+                            self.error = Some(e);
+                        }
+                    }
+                    tools::Edit::Reset => {
+                        self.inputs.tool_specs.clear();
+                        self.tool_editor.clear();
+                    }
+                }
+            });
+        }
         super::widgets::section(ui, "Machine", true, |ui| self.machine_controls(ui));
         super::widgets::section(ui, "View", true, |ui| {
             egui::ComboBox::from_label("colour by").selected_text(self.colour.label()).show_ui(ui, |ui| {
@@ -703,7 +735,8 @@ impl Panel for UserProgramPanel {
             "moves": s.map(|s| s.moves),
             "machine": s.and_then(|s| s.machine.clone()),
             "feed_min": s.map(|s| s.feed_min),
-            "tools": s.map(|s| s.tools.iter().map(|t| serde_json::json!({"number": t.number, "cutter": t.cutter})).collect::<Vec<_>>()),
+            "tools": s.map(|s| s.tools.iter().map(|t| serde_json::json!({"number": t.number, "cutter": t.cutter, "spec": t.spec})).collect::<Vec<_>>()),
+            "tool_specs": self.inputs.tool_specs,
             "messages": s.map(|s| s.messages.iter().map(|(l, t)| format!("{l}: {t}")).collect::<Vec<_>>()),
             "colour": self.colour.key(),
             "tol_mm": self.tol(),
@@ -763,6 +796,21 @@ impl Panel for UserProgramPanel {
                 let line: u32 = value.parse().map_err(|_| format!("line \"{value}\": give a line number"))?;
                 self.select_line(line);
             }
+            "tool" => {
+                // `N:shape:diameter[:x]` sets tool N's cutter; `reset`: the tables' tools.
+                if value == "reset" {
+                    self.inputs.tool_specs.clear();
+                    self.tool_editor.clear();
+                } else {
+                    let e = crate::gcode::interp::tools::parse_tool_spec(value).map_err(|e| format!("tool {e}"))?;
+                    let mut specs = self.inputs.tool_specs.clone();
+                    let n = e.number;
+                    specs.retain(|s| crate::gcode::interp::tools::parse_tool_spec(s).map_or(true, |o| o.number != n));
+                    specs.push(value.to_owned());
+                    self.set_tool_specs(specs)?;
+                    self.tool_editor.take_spec(n, value);
+                }
+            }
             "stock" => {
                 let b = if value == "auto" {
                     None
@@ -792,7 +840,7 @@ impl Panel for UserProgramPanel {
             }
             _ => {
                 return Err(format!(
-                    "this view has no option \"{key}\" (file:NAME, colour, tolerance, machine, kinematics, simulate, line, pitch, stock)"
+                    "this view has no option \"{key}\" (file:NAME, colour, tolerance, machine, kinematics, simulate, line, pitch, stock, tool)"
                 ));
             }
         }

@@ -173,6 +173,24 @@ impl ToolEntry {
         Self { number, shape, diameter_mm, ..Self::default() }
     }
 
+    /// The tool as a spec `N:shape:diameter[:corner or angle]` ([`parse_tool_spec`] reads it
+    /// back to the same shape and diameter); `None` for a shape a spec cannot name (snub,
+    /// unknown) or no diameter.
+    #[must_use]
+    pub fn spec(&self) -> Option<String> {
+        let (n, d) = (self.number, self.diameter_mm);
+        if !(d > 0.0 && d.is_finite()) {
+            return None;
+        }
+        Some(match self.shape {
+            ToolShape::Flat | ToolShape::Ball => format!("{n}:{}:{d}", self.shape.name()),
+            ToolShape::Bull { corner_radius_mm } => format!("{n}:bull:{d}:{corner_radius_mm}"),
+            ToolShape::V { tip_angle_deg } => format!("{n}:v:{d}:{tip_angle_deg}"),
+            ToolShape::Drill { point_angle_deg } => format!("{n}:drill:{d}:{point_angle_deg}"),
+            ToolShape::Snub { .. } | ToolShape::Unknown => return None,
+        })
+    }
+
     /// The corner radius (mm): D/2 for a ball, r for a bull nose, 0 for a flat end mill;
     /// `None` for the other shapes.
     #[must_use]
@@ -375,6 +393,27 @@ impl ToolTable {
         }
         self.tools.insert(tool.number, tool);
         Ok(())
+    }
+
+    /// Gives a tool the shape and diameter of `spec` (a [`parse_tool_spec`] entry), keeping
+    /// what the table already says of that number besides (its length and other offsets,
+    /// pocket, cutting length): `--tool` and the app's tool editor change the cutter, not where
+    /// `G43` puts it. A number the table lacks is added.
+    ///
+    /// # Errors
+    /// [`ToolError::TooMany`] when a new number would pass [`MAX_TOOLS`].
+    pub fn set_cutter(&mut self, spec: ToolEntry) -> Result<(), ToolError> {
+        let tool = match self.tools.get(&spec.number) {
+            Some(old) => ToolEntry {
+                shape: spec.shape,
+                diameter_mm: spec.diameter_mm,
+                shape_assumed: false,
+                comment: spec.comment,
+                ..old.clone()
+            },
+            None => spec,
+        };
+        self.set(tool)
     }
 
     /// Reads a LinuxCNC `.tbl` written in `units`.

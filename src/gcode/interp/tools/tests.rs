@@ -202,3 +202,32 @@ fn a_camotics_project_gives_its_tools_workpiece_and_files() {
         assert!(e.contains(want), "{text}: {e:?} lacks {want:?}");
     }
 }
+
+/// A spec written from a tool reads back to its shape and diameter; a cutter set over a
+/// table keeps the table's offsets of that number (G43 still lifts it as the table says).
+#[test]
+fn a_tool_writes_its_spec_and_a_cutter_set_over_it_keeps_its_offsets() {
+    let t = ToolTable::from_linuxcnc(TABLE, TableUnits::Mm).unwrap_or_else(|e| panic!("{e}"));
+    let mut named = 0;
+    for e in t.iter() {
+        match e.spec() {
+            Some(s) => {
+                let back = parse_tool_spec(&s).unwrap_or_else(|err| panic!("{s}: {err}"));
+                assert_eq!((back.number, back.shape, back.diameter_mm), (e.number, e.shape, e.diameter_mm), "{s}");
+                named += 1;
+            }
+            None => assert!(matches!(e.shape, ToolShape::Snub { .. } | ToolShape::Unknown) || e.diameter_mm == 0.0),
+        }
+    }
+    assert_eq!(named, t.len(), "every tool of this table has a shape a spec names");
+    let mut t2 = t.clone();
+    t2.set_cutter(parse_tool_spec("2:ball:4").unwrap_or_else(|e| panic!("{e}"))).unwrap_or_else(|e| panic!("{e}"));
+    let (old, new) = (t.get(2).unwrap_or_else(|| panic!("T2")), t2.get(2).unwrap_or_else(|| panic!("T2")));
+    assert_eq!((new.shape, new.diameter_mm), (ToolShape::Ball, 4.0));
+    assert_eq!((new.offset_mm, new.pocket, new.uvw_offset_mm), (old.offset_mm, old.pocket, old.uvw_offset_mm));
+    assert_eq!(new.offset_mm, DVec3::new(1.0, -2.0, 30.25));
+    // A number the table lacks is added as the spec gives it.
+    t2.set_cutter(parse_tool_spec("40:v:6:60").unwrap_or_else(|e| panic!("{e}"))).unwrap_or_else(|e| panic!("{e}"));
+    let v = t2.get(40).unwrap_or_else(|| panic!("T40"));
+    assert_eq!((v.shape, v.offset_mm), (ToolShape::V { tip_angle_deg: 60.0 }, DVec3::ZERO));
+}

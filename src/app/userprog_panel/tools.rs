@@ -1,0 +1,157 @@
+//! The tab's tool editor: each tool the program uses, its shape and size as the tables give
+//! them, changed here and applied as cutter specs (`N:shape:diameter[:corner or angle]`, the
+//! command line's `--tool`) over the tool table and project. A tool keeps its table's length
+//! offset (`ToolTable::set_cutter`).
+
+use std::collections::BTreeMap;
+
+use eframe::egui;
+
+use crate::gcode::interp::tools::{DEFAULT_DRILL_POINT_DEG, ToolShape, parse_tool_spec};
+use crate::jobs::user_program::ToolRow;
+
+/// Shapes a spec can name, in the combo box's order.
+const SHAPES: [&str; 5] = ["flat", "ball", "bull", "v", "drill"];
+
+/// One tool as edited (mm and degrees).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ToolDraft {
+    /// Index in [`SHAPES`].
+    shape: usize,
+    /// Cutting diameter (mm).
+    diameter_mm: f64,
+    /// Bull nose corner radius (mm), V tip angle or drill point angle (degrees).
+    extra: f64,
+}
+
+impl ToolDraft {
+    /// From a spec; a flat 3 mm end mill when the spec is empty or unreadable.
+    fn from_spec(spec: &str) -> Self {
+        let Ok(e) = parse_tool_spec(spec) else {
+            return Self { shape: 0, diameter_mm: 3.0, extra: 0.0 };
+        };
+        let (shape, extra) = match e.shape {
+            ToolShape::Ball => (1, 0.0),
+            ToolShape::Bull { corner_radius_mm } => (2, corner_radius_mm),
+            ToolShape::V { tip_angle_deg } => (3, tip_angle_deg),
+            ToolShape::Drill { point_angle_deg } => (4, point_angle_deg),
+            _ => (0, 0.0),
+        };
+        Self { shape, diameter_mm: e.diameter_mm, extra }
+    }
+
+    /// As a spec for tool `number`.
+    fn spec(&self, number: i32) -> String {
+        let (s, d) = (SHAPES[self.shape.min(SHAPES.len() - 1)], self.diameter_mm);
+        match self.shape {
+            0 | 1 => format!("{number}:{s}:{d}"),
+            _ => format!("{number}:{s}:{d}:{}", self.extra),
+        }
+    }
+
+    /// What the extra number is, with its unit, for shapes that have one.
+    fn extra_label(&self) -> Option<(&'static str, &'static str)> {
+        match self.shape {
+            2 => Some(("corner", " mm")),
+            3 => Some(("tip", "°")),
+            4 => Some(("point", "°")),
+            _ => None,
+        }
+    }
+}
+
+/// The editor's state: a draft per tool number, kept while programs are read again.
+#[derive(Debug, Default)]
+pub struct ToolEditor {
+    drafts: BTreeMap<i32, ToolDraft>,
+}
+
+/// What the user asked of the editor this frame.
+pub enum Edit {
+    /// Nothing.
+    None,
+    /// Use these specs (checked).
+    Apply(Vec<String>),
+    /// Back to the tables' tools.
+    Reset,
+}
+
+impl ToolEditor {
+    /// Forgets the drafts (the tables' tools again).
+    pub fn clear(&mut self) {
+        self.drafts.clear();
+    }
+
+    /// Takes a spec given by name (automation): its tool's draft follows it.
+    pub fn take_spec(&mut self, number: i32, spec: &str) {
+        self.drafts.insert(number, ToolDraft::from_spec(spec));
+    }
+
+    /// The editor for `tools` (the program's, the default cutter left out); `applied`: the
+    /// specs in use, to tell whether the drafts differ from them.
+    pub fn ui(&mut self, ui: &mut egui::Ui, tools: &[ToolRow], applied: &[String]) -> Edit {
+        let tools: Vec<&ToolRow> = tools.iter().filter(|t| t.number >= 0).collect();
+        if tools.is_empty() {
+            ui.label("The program changes no tool: its moves use the default cutter.");
+            return Edit::None;
+        }
+        let mut specs = Vec::new();
+        egui::Grid::new("userprog_tool_editor").num_columns(4).show(ui, |ui| {
+            for t in &tools {
+                let d = self.drafts.entry(t.number).or_insert_with(|| ToolDraft::from_spec(&t.spec));
+                ui.label(format!("T{}", t.number));
+                egui::ComboBox::from_id_salt(("tool_shape", t.number))
+                    .width(60.0)
+                    .selected_text(SHAPES[d.shape])
+                    .show_ui(ui, |ui| {
+                        for (i, s) in SHAPES.iter().enumerate() {
+                            if ui.selectable_value(&mut d.shape, i, *s).changed() {
+                                d.extra = match i {
+                                    2 => (0.1 * d.diameter_mm).max(0.1),
+                                    3 => 90.0,
+                                    4 => DEFAULT_DRILL_POINT_DEG,
+                                    _ => 0.0,
+                                };
+                            }
+                        }
+                    });
+                ui.add(
+                    egui::DragValue::new(&mut d.diameter_mm).speed(0.1).range(0.01..=200.0).prefix("⌀ ").suffix(" mm"),
+                );
+                match d.extra_label() {
+                    Some((what, unit)) => {
+                        let range = if d.shape == 2 { 0.001..=100.0 } else { 1.0..=179.0 };
+                        ui.add(
+                            egui::DragValue::new(&mut d.extra)
+                                .speed(0.1)
+                                .range(range)
+                                .prefix(format!("{what} "))
+                                .suffix(unit),
+                        );
+                    }
+                    None => {
+                        ui.label("");
+                    }
+                }
+                ui.end_row();
+                specs.push(d.spec(t.number));
+            }
+        });
+        let mut edit = Edit::None;
+        ui.horizontal(|ui| {
+            // The program read gives each tool as its tables and the applied specs make it.
+            let changed = specs.iter().zip(&tools).any(|(s, t)| *s != t.spec);
+            if ui
+                .add_enabled(changed, egui::Button::new("Apply"))
+                .on_hover_text("read the program again with these cutters")
+                .clicked()
+            {
+                edit = Edit::Apply(specs.clone());
+            }
+            if ui.add_enabled(!applied.is_empty(), egui::Button::new("Tables' tools")).clicked() {
+                edit = Edit::Reset;
+            }
+        });
+        edit
+    }
+}
