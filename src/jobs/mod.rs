@@ -17,10 +17,12 @@
 //! [`fillet_row::FilletRow`] (one row of the fillet tab's comparison table),
 //! [`simulate_run::SimulateRun`] (a cutting simulation: the program written, machined and
 //! measured, with keyframes of the stock on the way), [`user_program::UserProgram`] (a user's
-//! program with its tools and machine: read, drawn, machined).
+//! program with its tools and machine: read, drawn, machined), [`program_time::ProgramTime`]
+//! (that program's feed planned and timed on a machine's dynamics).
 
 pub mod fillet_row;
 pub mod program_row;
+pub mod program_time;
 pub mod simulate_run;
 pub mod user_program;
 
@@ -85,6 +87,7 @@ pub fn run_encoded(name: &str, request: &str, progress: &mut dyn Progress) -> Re
         fillet_row::FilletRow::NAME => go::<fillet_row::FilletRow>(request, progress),
         simulate_run::SimulateRun::NAME => go::<simulate_run::SimulateRun>(request, progress),
         user_program::UserProgram::NAME => go::<user_program::UserProgram>(request, progress),
+        program_time::ProgramTime::NAME => go::<program_time::ProgramTime>(request, progress),
         _ => Err(format!("the worker knows no job \"{name}\"")),
     }
 }

@@ -144,7 +144,9 @@ pub struct UserProgram;
 
 /// The tools of a request: the project's, then the table's (a number in both: the table's),
 /// then the cutters set by the user.
-fn tools_of(req: &Request) -> Result<(ToolTable, Option<crate::gcode::interp::tools::CamoticsProject>), String> {
+pub(crate) fn tools_of(
+    req: &Request,
+) -> Result<(ToolTable, Option<crate::gcode::interp::tools::CamoticsProject>), String> {
     let mut table = ToolTable::new();
     let mut project = None;
     if let Some(p) = &req.project {

@@ -156,3 +156,54 @@ fn a_two_tool_program_is_read_listed_and_machined_as_the_core_does() {
     let p = h.until("the tables' tools back", |p| p["tools"][1]["spec"] == "2:v:4:90");
     assert_eq!(p["tool_specs"], serde_json::json!([]));
 }
+
+/// The program timed on a machine in the tab: the cycle time is the planner's on the same
+/// request, a tolerance of 0 (stop at every corner) takes at least as long, a change of
+/// setting plans again by itself, and a bad tolerance is refused with what to give.
+#[test]
+fn the_program_is_timed_on_a_machine_as_the_planner_times_it() {
+    use interpolab::jobs::JobKind;
+    use interpolab::jobs::program_time::{ProgramTime, Request as TimeRequest};
+    use interpolab::plan::Dynamics;
+    let mut h = Harness::new();
+    h.app.set_panel_option(TAB, "file:tools.tbl", TABLE).unwrap();
+    h.app.set_panel_option(TAB, "file:groove.ngc", SUB).unwrap();
+    h.app.set_panel_option(TAB, "file:two.ngc", PROGRAM).unwrap();
+    h.until("the program read", |p| p["blocks"] == 8);
+    h.app.set_panel_option(TAB, "time_machine", "hobby-router").unwrap();
+    h.app.set_panel_option(TAB, "time", "").unwrap();
+    let p = h.until("the program timed", |p| p["time"]["total_s"].is_number() && p["time"]["running"] == false);
+    let program = Request {
+        name: "two.ngc".to_owned(),
+        text: PROGRAM.to_owned(),
+        files: vec![("groove.ngc".to_owned(), SUB.to_owned())],
+        tool_table: Some(TABLE.to_owned()),
+        project: None,
+        tool_specs: Vec::new(),
+        default_cutter: Cutter::flat(1.5).unwrap(),
+        machine: None,
+        kinematics: KinematicsChoice::Auto,
+        pitch_mm: None,
+        stock_mm: None,
+        simulate: false,
+    };
+    let router = Dynamics::preset("hobby-router").unwrap();
+    let core =
+        ProgramTime::run(&TimeRequest { program: program.clone(), machine: router.clone() }, &mut NoProgress).unwrap();
+    let total = p["time"]["total_s"].as_f64().unwrap();
+    assert_eq!(total, core.total_s);
+    assert_eq!(p["time"]["machine"], "hobby-router");
+    assert_eq!(p["time"]["samples"], core.t_s.len());
+    // The feed never passes F200 in this program's feed moves, nor the router's rapid speed.
+    assert!(p["time"]["max_feed_mm_min"].as_f64().unwrap() <= router.axes[0].velocity * 1.000_001, "{p}");
+    // Stopping at every corner: planned again by itself, never faster.
+    let err = h.app.set_panel_option(TAB, "time_tolerance", "-1").unwrap_err();
+    assert!(err.contains("from 0 to"), "{err}");
+    h.app.set_panel_option(TAB, "time_tolerance", "0").unwrap();
+    let p = h.until("timed again", |p| p["time"]["for_tolerance_mm"] == 0.0 && p["time"]["running"] == false);
+    let stopped = p["time"]["total_s"].as_f64().unwrap();
+    assert!(stopped >= total * (1.0 - 1e-12), "{stopped} s stopping at corners, {total} s blended");
+    let mut m = router;
+    m.tolerance_mm = 0.0;
+    assert_eq!(stopped, ProgramTime::run(&TimeRequest { program, machine: m }, &mut NoProgress).unwrap().total_s);
+}

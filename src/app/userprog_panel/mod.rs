@@ -7,6 +7,7 @@
 //! cancel, the stock shown coloured by which tool cut it last. The same pipeline as
 //! `interpolab simulate --tools/--project/--machine` (docs/user-programs.md).
 
+mod timing;
 mod tools;
 mod view;
 
@@ -138,6 +139,10 @@ pub struct UserProgramPanel {
     /// workpiece or the automatic one. Used by Simulate; changing it does not read again.
     stock_set: Option<[f64; 6]>,
     tool_editor: tools::ToolEditor,
+    /// The program timed on a machine.
+    timing: timing::Timing,
+    /// Readings started with new inputs (what a plan is for).
+    reading: u64,
     view: PathView,
     rects: Vec<(&'static str, egui::Rect)>,
 }
@@ -152,6 +157,9 @@ impl UserProgramPanel {
             return;
         };
         req.stock_mm = self.stock_set;
+        if self.run.as_ref().is_none_or(|r| r.inputs != self.inputs) {
+            self.reading += 1;
+        }
         self.error = None;
         if simulate {
             self.result = None;
@@ -629,6 +637,15 @@ impl Panel for UserProgramPanel {
             });
             self.stock_controls(ui);
         });
+        if self.summary.is_some() {
+            let reading = (!self.running() && self.error.is_none()).then_some(self.reading);
+            let programmed = self.summary.as_ref().map(|s| s.feed_min);
+            let (timing, inputs, rects) = (&mut self.timing, &self.inputs, &mut self.rects);
+            super::widgets::section(ui, "Time on a machine", true, |ui| {
+                let r = timing.ui(ui, reading, || inputs.request(false), programmed);
+                rects.push(("time_it", r));
+            });
+        }
         if let Some(e) = &self.error {
             super::widgets::error_text(ui, e.clone());
         }
@@ -737,6 +754,7 @@ impl Panel for UserProgramPanel {
             "feed_min": s.map(|s| s.feed_min),
             "tools": s.map(|s| s.tools.iter().map(|t| serde_json::json!({"number": t.number, "cutter": t.cutter, "spec": t.spec})).collect::<Vec<_>>()),
             "tool_specs": self.inputs.tool_specs,
+            "time": self.timing.status(),
             "messages": s.map(|s| s.messages.iter().map(|(l, t)| format!("{l}: {t}")).collect::<Vec<_>>()),
             "colour": self.colour.key(),
             "tol_mm": self.tol(),
@@ -811,6 +829,9 @@ impl Panel for UserProgramPanel {
                     self.tool_editor.take_spec(n, value);
                 }
             }
+            "time_machine" => self.timing.set_machine(value)?,
+            "time_tolerance" => self.timing.set_tolerance(value)?,
+            "time" => self.timing.want(),
             "stock" => {
                 let b = if value == "auto" {
                     None
@@ -840,7 +861,7 @@ impl Panel for UserProgramPanel {
             }
             _ => {
                 return Err(format!(
-                    "this view has no option \"{key}\" (file:NAME, colour, tolerance, machine, kinematics, simulate, line, pitch, stock, tool)"
+                    "this view has no option \"{key}\" (file:NAME, colour, tolerance, machine, kinematics, simulate, line, pitch, stock, tool, time, time_machine, time_tolerance)"
                 ));
             }
         }

@@ -1,0 +1,249 @@
+//! A user's program timed on a machine, as a background job: read by the interpreter with its
+//! tool table, project and subroutine files (as [`super::user_program`] reads it), its feed
+//! planned within the machine's joint limits and contour tolerance ([`crate::plan::time_program`],
+//! the pipeline of `interpolab time`), handed back as the cycle time and the planned feed,
+//! acceleration and jerk along the path against time, sampled for a plot.
+
+use serde_json::json;
+
+use super::user_program::{self, UserProgram};
+use super::{JobKind, Progress, Reader, f32s_packed, parse};
+use crate::gcode::interp::tools::TableUnits;
+use crate::gcode::interp::{Interpreter, Options, TextLibrary, TextSource};
+use crate::plan::{Dynamics, Timing, time_program};
+
+/// Samples of the feed, acceleration and jerk handed back for the plot (evenly in time).
+pub const PLOT_SAMPLES: usize = 2000;
+
+/// A run: the program as the tab reads it, and the machine.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Request {
+    /// The program, its files and tools (its `simulate`, stock and pitch are not used).
+    pub program: user_program::Request,
+    /// The machine's dynamics and its controller's settings.
+    pub machine: Dynamics,
+}
+
+/// A program timed.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Timed {
+    /// The machine's name.
+    pub machine: String,
+    /// Contour tolerance used (mm).
+    pub tolerance_mm: f64,
+    /// Cycle time (s), dwells included.
+    pub total_s: f64,
+    /// Time in feed moves (s).
+    pub feed_s: f64,
+    /// Time in rapids (s).
+    pub rapid_s: f64,
+    /// Blocks planned.
+    pub blocks: usize,
+    /// Sample times (s), evenly from 0 to the end, at most [`PLOT_SAMPLES`].
+    pub t_s: Vec<f32>,
+    /// Planned feed along the path at each sample (mm/min).
+    pub feed_mm_min: Vec<f32>,
+    /// Acceleration along the path (mm/s²).
+    pub acc_mm_s2: Vec<f32>,
+    /// Jerk along the path (mm/s³).
+    pub jerk_mm_s3: Vec<f32>,
+}
+
+/// The job kind.
+#[derive(Clone, Copy, Debug)]
+pub struct ProgramTime;
+
+/// Reads the program into canonical motions and plans it on the machine.
+///
+/// # Errors
+/// A bad table or project, the interpreter's error with its line, the planner's (a feed move
+/// without a feed, a bad machine, a program beyond its caps), or cancelled.
+pub fn time(req: &Request, progress: &mut dyn Progress) -> Result<Timing, String> {
+    let p = &req.program;
+    let (table, project) = user_program::tools_of(p)?;
+    let inch = project.as_ref().is_some_and(|p| p.units == TableUnits::Inch);
+    let opts = Options { tools: table, inch, ..Options::default() };
+    let mut lib = TextLibrary::new();
+    for (name, text) in &p.files {
+        lib.add(name, text);
+    }
+    let mut it = Interpreter::new(Box::new(TextSource::new(&p.text)), Box::new(lib), opts);
+    let size = p.text.len().max(1) as f64;
+    let mut canon = Vec::new();
+    while let Some(c) = it.next() {
+        canon.push(c.map_err(|e| format!("{}: {e}", p.name))?);
+        if canon.len().is_multiple_of(4096) {
+            progress.progress(0.5 * it.main_offset() as f64 / size);
+            if progress.cancelled() {
+                return Err("cancelled".to_owned());
+            }
+        }
+    }
+    let t = time_program(canon, &req.machine).map_err(|e| format!("{}: {e}", p.name))?;
+    progress.progress(1.0);
+    Ok(t)
+}
+
+/// The cycle time and the plot's samples of a timing.
+#[must_use]
+pub fn timed(t: &Timing) -> Timed {
+    let (feed_s, rapid_s) = t.feed_rapid_s();
+    let mut out = Timed {
+        machine: t.machine.name.clone(),
+        tolerance_mm: t.machine.tolerance_mm,
+        total_s: t.total_s(),
+        feed_s,
+        rapid_s,
+        blocks: t.path.blocks.len(),
+        ..Timed::default()
+    };
+    let phases = &t.plan.phases;
+    let n = if out.total_s > 0.0 && !phases.is_empty() { PLOT_SAMPLES } else { 0 };
+    let mut k = 0usize;
+    for i in 0..n {
+        let time = out.total_s * i as f64 / (n - 1) as f64;
+        // Phases are in time order: walk forward to the one holding `time`.
+        while k + 1 < phases.len() && phases[k + 1].t0 <= time {
+            k += 1;
+        }
+        let p = &phases[k];
+        let (_, v, a) = p.at(time);
+        out.t_s.push(time as f32);
+        out.feed_mm_min.push((60.0 * v) as f32);
+        out.acc_mm_s2.push(a as f32);
+        out.jerk_mm_s3.push(p.phase.j as f32);
+    }
+    out
+}
+
+impl JobKind for ProgramTime {
+    const NAME: &'static str = "program-time";
+    type Request = Request;
+    type Output = Result<Timed, String>;
+    type Partial = ();
+
+    fn run(req: &Request, progress: &mut dyn Progress) -> Self::Output {
+        time(req, progress).map(|t| timed(&t))
+    }
+
+    /// The machine as one line of JSON, then the program's request as the user-program job
+    /// writes it.
+    fn encode_request(r: &Request) -> String {
+        format!("{}\n{}", r.machine.to_value(), UserProgram::encode_request(&r.program))
+    }
+
+    fn decode_request(text: &str) -> Result<Request, String> {
+        let (machine, program) = text.split_once('\n').ok_or("program-time request: no program after the machine")?;
+        let machine =
+            Dynamics::from_value(&parse(machine, "program-time request.machine")?).map_err(|e| e.to_string())?;
+        Ok(Request { program: UserProgram::decode_request(program)?, machine })
+    }
+
+    fn encode_output(out: &Self::Output) -> String {
+        match out {
+            Err(e) => json!({ "error": e }).to_string(),
+            Ok(t) => json!({
+                "machine": t.machine,
+                "tolerance_mm": super::num(t.tolerance_mm),
+                "total_s": super::num(t.total_s),
+                "feed_s": super::num(t.feed_s),
+                "rapid_s": super::num(t.rapid_s),
+                "blocks": t.blocks,
+                "samples": t.t_s.len(),
+                "t_s": f32s_packed(&t.t_s),
+                "feed_mm_min": f32s_packed(&t.feed_mm_min),
+                "acc_mm_s2": f32s_packed(&t.acc_mm_s2),
+                "jerk_mm_s3": f32s_packed(&t.jerk_mm_s3),
+            })
+            .to_string(),
+        }
+    }
+
+    fn decode_output(text: &str) -> Result<Self::Output, String> {
+        const W: &str = "program-time output";
+        let v = parse(text, W)?;
+        if let Some(e) = v.get("error") {
+            return Ok(Err(e.as_str().ok_or(format!("{W}.error: not text"))?.to_owned()));
+        }
+        let r = Reader::new(&v, W)?;
+        let n = r.usize("samples")?;
+        if n > PLOT_SAMPLES {
+            return Err(format!("{W}: more than {PLOT_SAMPLES} samples"));
+        }
+        Ok(Ok(Timed {
+            machine: r.str("machine")?.to_owned(),
+            tolerance_mm: r.f64("tolerance_mm")?,
+            total_s: r.f64("total_s")?,
+            feed_s: r.f64("feed_s")?,
+            rapid_s: r.f64("rapid_s")?,
+            blocks: r.usize("blocks")?,
+            t_s: r.f32s_packed("t_s", n)?,
+            feed_mm_min: r.f32s_packed("feed_mm_min", n)?,
+            acc_mm_s2: r.f32s_packed("acc_mm_s2", n)?,
+            jerk_mm_s3: r.f32s_packed("jerk_mm_s3", n)?,
+        }))
+    }
+
+    fn decode_partial(_text: &str) -> Result<(), String> {
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::Cutter;
+    use crate::jobs::NoProgress;
+    use crate::simulate::canon::KinematicsChoice;
+
+    fn request(machine: &str) -> Request {
+        Request {
+            program: user_program::Request {
+                name: "corner.ngc".to_owned(),
+                text: "G21 G90\nT1 M6\nG0 X0 Y0 Z5\nG1 Z-1 F600\nG1 X40 F3000\nG1 Y30\nG2 X10 Y30 R15\nG0 Z5\nM30\n"
+                    .to_owned(),
+                files: Vec::new(),
+                tool_table: Some("T1 P1 Z40 D6 ;flat\n".to_owned()),
+                project: None,
+                tool_specs: Vec::new(),
+                default_cutter: Cutter::flat(1.5).unwrap_or_else(|_| unreachable!()),
+                machine: None,
+                kinematics: KinematicsChoice::Auto,
+                pitch_mm: None,
+                stock_mm: None,
+                simulate: false,
+            },
+            machine: Dynamics::preset(machine).unwrap_or_else(|| panic!("{machine}")),
+        }
+    }
+
+    /// The request and the output cross as text unchanged; the time is the planner's on the
+    /// same motions, the samples start and end at rest and never pass the programmed feed.
+    #[test]
+    fn a_program_is_timed_as_the_planner_times_it_and_crosses_unchanged() {
+        let req = request("hobby-router");
+        let back = ProgramTime::decode_request(&ProgramTime::encode_request(&req)).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(back, req);
+        let out = ProgramTime::run(&req, &mut NoProgress);
+        let again = ProgramTime::decode_output(&ProgramTime::encode_output(&out)).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(again, out);
+        let t = out.unwrap_or_else(|e| panic!("{e}"));
+        let direct = time(&req, &mut NoProgress).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(t.total_s.to_bits(), direct.plan.duration.to_bits());
+        assert!((t.feed_s + t.rapid_s - t.total_s).abs() <= 1e-9 * t.total_s, "{t:?}");
+        assert_eq!(t.t_s.len(), PLOT_SAMPLES);
+        assert!(t.feed_mm_min[0].abs() < 1e-3 && t.feed_mm_min[PLOT_SAMPLES - 1].abs() < 1e-3);
+        // Feed moves at most F3000; rapids at the machine's rapid speed: none above the
+        // fastest axis's velocity.
+        let vmax = req.machine.axes.iter().map(|a| a.velocity).fold(0.0, f64::max);
+        assert!(t.feed_mm_min.iter().all(|&f| f >= -1e-3 && f64::from(f) <= vmax * (1.0 + 1e-6)));
+        // A lighter machine takes longer on the same program.
+        let vmc = ProgramTime::run(&request("vmc"), &mut NoProgress).unwrap_or_else(|e| panic!("{e}"));
+        assert!(vmc.total_s < t.total_s, "vmc {} s, hobby router {} s", vmc.total_s, t.total_s);
+        // A program without a feed on a feed move is refused naming its line.
+        let mut bad = request("vmc");
+        bad.program.text = "G21 G90\nG1 X10\n".to_owned();
+        let e = ProgramTime::run(&bad, &mut NoProgress).unwrap_err();
+        assert!(e.contains("line 2"), "{e}");
+    }
+}
