@@ -116,7 +116,7 @@ impl ToolEditor {
                         }
                     });
                 ui.add(
-                    egui::DragValue::new(&mut d.diameter_mm).speed(0.1).range(0.01..=200.0).prefix("⌀ ").suffix(" mm"),
+                    egui::DragValue::new(&mut d.diameter_mm).speed(0.1).range(0.01..=200.0).prefix("Ø ").suffix(" mm"),
                 );
                 match d.extra_label() {
                     Some((what, unit)) => {
