@@ -1,4 +1,4 @@
-//! The cycles against closed forms; `tests/interp_rs274.rs` checks them against LinuxCNC's
+//! The cycles against closed forms; `tests/reference/cycles.rs` checks them against LinuxCNC's
 //! `rs274` move for move.
 
 use glam::DVec3;

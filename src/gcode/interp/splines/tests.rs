@@ -1,6 +1,6 @@
 //! The spline builder against our reader (the dialect reader `parse::parse_dialect_reader`: the same curves and errors on
 //! the programs the writers make and the reader's own tests use), G5/G5.1 against the Bézier
-//! closed forms (`tests/interp_rs274.rs` checks them against LinuxCNC's `rs274`).
+//! closed forms (`tests/reference/cycles.rs` checks them against LinuxCNC's `rs274`).
 
 use glam::DVec3;
 

@@ -1,5 +1,5 @@
 //! Tool tables: every field and unit, the remark convention, round trips, CAMotics projects
-//! and specs against closed forms (`tests/interp_rs274.rs` checks the length offsets
+//! and specs against closed forms (`tests/reference/cycles.rs` checks the length offsets
 //! against `rs274 -t`).
 
 use glam::DVec3;
