@@ -47,6 +47,41 @@ pub struct Timed {
     pub acc_mm_s2: Vec<f32>,
     /// Jerk along the path (mm/s³).
     pub jerk_mm_s3: Vec<f32>,
+    /// Per block planned, the feed it achieves on average (mm/min): its stretch of the
+    /// planned path over its time (dwell left out); NaN for a block of no time.
+    pub block_feed_mm_min: Vec<f32>,
+    /// Per block planned, its line in the main program.
+    pub block_line: Vec<u32>,
+}
+
+/// How far ahead [`feeds_by_block`] looks for a drawn block's line among the planned blocks.
+const MATCH_AHEAD: usize = 64;
+
+/// The achieved feeds of the planned blocks given to the blocks a view draws (`lines`,
+/// `files`: each drawn block's line and file, 0 the main program): the two lists are in
+/// program order, but the planner leaves out moves of no length and a drawn block of a
+/// subroutine file has that file's line, so each drawn block of the main program takes the
+/// next planned block of its line within [`MATCH_AHEAD`]; the others get NaN.
+#[must_use]
+pub fn feeds_by_block(lines: &[u32], files: &[u16], t: &Timed) -> Vec<f32> {
+    let mut j = 0usize;
+    lines
+        .iter()
+        .zip(files)
+        .map(|(&line, &file)| {
+            if file != 0 {
+                return f32::NAN;
+            }
+            let mut ahead = t.block_line.get(j..).unwrap_or(&[]).iter().take(MATCH_AHEAD);
+            match ahead.position(|&l| l == line) {
+                Some(k) => {
+                    j += k + 1;
+                    t.block_feed_mm_min[j - 1]
+                }
+                None => f32::NAN,
+            }
+        })
+        .collect()
 }
 
 /// The job kind.
@@ -97,6 +132,18 @@ pub fn timed(t: &Timing) -> Timed {
         blocks: t.path.blocks.len(),
         ..Timed::default()
     };
+    let blocks = &t.path.blocks;
+    let end_s = t.plan.phases.last().map_or(0.0, |p| p.at(p.t0 + p.phase.dur).0);
+    out.block_feed_mm_min = blocks
+        .iter()
+        .enumerate()
+        .map(|(i, b)| {
+            let next = blocks.get(i + 1).map_or(end_s, |n| n.s_start);
+            let dt = t.block_time_s.get(i).copied().unwrap_or(0.0) - b.dwell_after_s;
+            if dt > 0.0 { (60.0 * (next - b.s_start).max(0.0) / dt) as f32 } else { f32::NAN }
+        })
+        .collect();
+    out.block_line = blocks.iter().map(|b| b.line).collect();
     let phases = &t.plan.phases;
     let n = if out.total_s > 0.0 && !phases.is_empty() { PLOT_SAMPLES } else { 0 };
     let mut k = 0usize;
@@ -154,6 +201,9 @@ impl JobKind for ProgramTime {
                 "feed_mm_min": f32s_packed(&t.feed_mm_min),
                 "acc_mm_s2": f32s_packed(&t.acc_mm_s2),
                 "jerk_mm_s3": f32s_packed(&t.jerk_mm_s3),
+                "block_feed_mm_min": f32s_packed(&t.block_feed_mm_min),
+                // Lines as f32: exact below 2^24.
+                "block_line": f32s_packed(&t.block_line.iter().map(|&l| l as f32).collect::<Vec<_>>()),
             })
             .to_string(),
         }
@@ -167,8 +217,8 @@ impl JobKind for ProgramTime {
         }
         let r = Reader::new(&v, W)?;
         let n = r.usize("samples")?;
-        if n > PLOT_SAMPLES {
-            return Err(format!("{W}: more than {PLOT_SAMPLES} samples"));
+        if n > PLOT_SAMPLES || r.usize("blocks")? > crate::simulate::canon::MAX_BLOCKS {
+            return Err(format!("{W}: more than {PLOT_SAMPLES} samples or too many blocks"));
         }
         Ok(Ok(Timed {
             machine: r.str("machine")?.to_owned(),
@@ -181,6 +231,8 @@ impl JobKind for ProgramTime {
             feed_mm_min: r.f32s_packed("feed_mm_min", n)?,
             acc_mm_s2: r.f32s_packed("acc_mm_s2", n)?,
             jerk_mm_s3: r.f32s_packed("jerk_mm_s3", n)?,
+            block_feed_mm_min: r.f32s_packed("block_feed_mm_min", r.usize("blocks")?)?,
+            block_line: r.f32s_packed("block_line", r.usize("blocks")?)?.into_iter().map(|l| l as u32).collect(),
         }))
     }
 
@@ -237,6 +289,26 @@ mod tests {
         // fastest axis's velocity.
         let vmax = req.machine.axes.iter().map(|a| a.velocity).fold(0.0, f64::max);
         assert!(t.feed_mm_min.iter().all(|&f| f >= -1e-3 && f64::from(f) <= vmax * (1.0 + 1e-6)));
+        // Every block's average achieved feed is at most its programmed one (F600, F3000)
+        // or the rapid speed, and the first cut starts from rest: below its feed.
+        assert_eq!(t.block_feed_mm_min.len(), t.blocks);
+        let fed: Vec<(f32, bool)> =
+            t.block_feed_mm_min.iter().zip(&direct.path.blocks).map(|(f, b)| (*f, b.rapid)).collect();
+        assert!(fed.iter().all(|(f, rapid)| f.is_nan() || *rapid || *f <= 3000.0 * (1.0 + 1e-5)), "{fed:?}");
+        assert!(fed.iter().any(|(f, rapid)| !rapid && *f < 0.999 * 600.0), "{fed:?}");
+        // Given to drawn blocks by line: a drawn block the planner left out (no length) and
+        // one of a subroutine file get none, the rest their planned block's feed.
+        let mut lines: Vec<u32> = t.block_line.clone();
+        lines.insert(2, t.block_line[1]);
+        let mut files = vec![0u16; lines.len()];
+        files.push(1);
+        lines.push(3);
+        let by = feeds_by_block(&lines, &files, &t);
+        assert_eq!(by.len(), lines.len());
+        assert_eq!(by[0].to_bits(), t.block_feed_mm_min[0].to_bits());
+        assert_eq!(by[1].to_bits(), t.block_feed_mm_min[1].to_bits());
+        assert!(by[2].is_nan() && by[by.len() - 1].is_nan());
+        assert_eq!(by[3].to_bits(), t.block_feed_mm_min[2].to_bits());
         // A lighter machine takes longer on the same program.
         let vmc = ProgramTime::run(&request("vmc"), &mut NoProgress).unwrap_or_else(|e| panic!("{e}"));
         assert!(vmc.total_s < t.total_s, "vmc {} s, hobby router {} s", vmc.total_s, t.total_s);

@@ -196,6 +196,15 @@ fn the_program_is_timed_on_a_machine_as_the_planner_times_it() {
     assert_eq!(p["time"]["samples"], core.t_s.len());
     // The feed never passes F200 in this program's feed moves, nor the router's rapid speed.
     assert!(p["time"]["max_feed_mm_min"].as_f64().unwrap() <= router.axes[0].velocity * 1.000_001, "{p}");
+    // The path coloured by the feed achieved: every feed block's average at most its
+    // programmed feed, and the blocks that start from rest below it. (The main program's
+    // two feed blocks; the subroutine file's blocks are not matched to the plan's.)
+    h.app.set_panel_option(TAB, "colour", "achieved").unwrap();
+    h.frame();
+    let a = h.panel()["achieved"].clone();
+    assert_eq!(a["blocks"], 2, "{a}");
+    assert!(a["max_ratio"].as_f64().unwrap() <= 1.0 + 1e-5, "{a}");
+    assert!(a["min_ratio"].as_f64().unwrap() < 0.999, "{a}");
     // Stopping at every corner: planned again by itself, never faster.
     let err = h.app.set_panel_option(TAB, "time_tolerance", "-1").unwrap_err();
     assert!(err.contains("from 0 to"), "{err}");

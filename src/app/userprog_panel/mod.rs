@@ -44,16 +44,20 @@ pub enum ColourBy {
     Tool,
     /// The five-axis nonlinear error against the tolerance.
     Error,
+    /// The feed each block achieves on the machine it was timed on, against its programmed
+    /// feed (after *Time it*).
+    Achieved,
 }
 
 impl ColourBy {
-    const ALL: [Self; 4] = [Self::Kind, Self::Feed, Self::Tool, Self::Error];
+    const ALL: [Self; 5] = [Self::Kind, Self::Feed, Self::Tool, Self::Error, Self::Achieved];
     fn key(self) -> &'static str {
         match self {
             Self::Kind => "kind",
             Self::Feed => "feed",
             Self::Tool => "tool",
             Self::Error => "error",
+            Self::Achieved => "achieved",
         }
     }
     fn label(self) -> &'static str {
@@ -62,6 +66,7 @@ impl ColourBy {
             Self::Feed => "feed",
             Self::Tool => "tool",
             Self::Error => "nonlinear error",
+            Self::Achieved => "achieved feed",
         }
     }
 }
@@ -143,6 +148,9 @@ pub struct UserProgramPanel {
     timing: timing::Timing,
     /// Readings started with new inputs (what a plan is for).
     reading: u64,
+    /// The achieved feed of each block drawn (mm/min; NaN: none) and the plan
+    /// ([`timing::Timing::serial`]) and block count it was made for.
+    achieved: ((u64, usize), Vec<f32>),
     view: PathView,
     rects: Vec<(&'static str, egui::Rect)>,
 }
@@ -340,6 +348,29 @@ impl UserProgramPanel {
         self.error = None;
         self.inputs.tool_specs = specs;
         Ok(())
+    }
+
+    /// The achieved feeds against the programmed ones, for the status: blocks compared, the
+    /// lowest and highest ratio over feed blocks (`null` until timed).
+    fn achieved_status(&self) -> serde_json::Value {
+        let Some(s) = self.summary.as_ref() else { return serde_json::Value::Null };
+        if self.achieved.1.len() != s.block_kind.len() {
+            return serde_json::Value::Null;
+        }
+        let ratios: Vec<f64> = self
+            .achieved
+            .1
+            .iter()
+            .zip(&s.block_feed)
+            .zip(&s.block_kind)
+            .filter(|((f, p), k)| **k != 0 && f.is_finite() && **p > 0.0)
+            .map(|((f, p), _)| f64::from(*f) / f64::from(*p))
+            .collect();
+        serde_json::json!({
+            "blocks": ratios.len(),
+            "min_ratio": ratios.iter().copied().fold(f64::INFINITY, f64::min),
+            "max_ratio": ratios.iter().copied().fold(0.0, f64::max),
+        })
     }
 
     fn running(&self) -> bool {
@@ -711,7 +742,19 @@ impl Panel for UserProgramPanel {
         } else {
             (None, rect)
         };
-        let picked = self.view.ui(ui, path_rect, &s, self.colour, self.tol(), self.selected, self.shown);
+        // The feeds achieved on the machine, given to the blocks drawn by their lines (once
+        // per plan and reading).
+        if self.achieved.0 != (self.timing.serial(), n) {
+            self.achieved = (
+                (self.timing.serial(), n),
+                self.timing.timed().map_or_else(Vec::new, |t| {
+                    crate::jobs::program_time::feeds_by_block(&s.block_line, &s.block_file, t)
+                }),
+            );
+            self.view.invalidate();
+        }
+        let achieved = (!self.achieved.1.is_empty()).then_some(self.achieved.1.as_slice());
+        let picked = self.view.ui(ui, path_rect, &s, self.colour, self.tol(), self.selected, self.shown, achieved);
         if let Some(b) = picked {
             self.selected = Some(b);
             self.view.invalidate();
@@ -754,6 +797,7 @@ impl Panel for UserProgramPanel {
             "feed_min": s.map(|s| s.feed_min),
             "tools": s.map(|s| s.tools.iter().map(|t| serde_json::json!({"number": t.number, "cutter": t.cutter, "spec": t.spec})).collect::<Vec<_>>()),
             "tool_specs": self.inputs.tool_specs,
+            "achieved": self.achieved_status(),
             "time": self.timing.status(),
             "messages": s.map(|s| s.messages.iter().map(|(l, t)| format!("{l}: {t}")).collect::<Vec<_>>()),
             "colour": self.colour.key(),

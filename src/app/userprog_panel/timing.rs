@@ -33,6 +33,8 @@ pub struct Timing {
     plot: usize,
     /// Planning was asked for (the button, or a setting changed after a plan).
     wanted: bool,
+    /// Plans finished so far (a view drawn from the last one compares it).
+    serial: u64,
 }
 
 impl Timing {
@@ -79,6 +81,16 @@ impl Timing {
     /// Asks for a plan (run as soon as the program is read).
     pub fn want(&mut self) {
         self.wanted = true;
+    }
+
+    /// Plans finished so far.
+    pub fn serial(&self) -> u64 {
+        self.serial
+    }
+
+    /// The last plan, if it succeeded.
+    pub fn timed(&self) -> Option<&Timed> {
+        self.done.as_ref().and_then(|d| d.1.as_ref().ok())
     }
 
     /// Whether a plan runs.
@@ -155,6 +167,7 @@ impl Timing {
                 Poll::Done(out) => {
                     self.done = Some((key.clone(), out));
                     self.job = None;
+                    self.serial += 1;
                 }
             }
         }

@@ -51,7 +51,14 @@ fn feed_ramp(t: f32) -> egui::Color32 {
 }
 
 /// The colour of a block.
-fn block_colour(s: &ReadSummary, b: usize, by: ColourBy, tol: f64, feed_range: (f32, f32)) -> egui::Color32 {
+fn block_colour(
+    s: &ReadSummary,
+    b: usize,
+    by: ColourBy,
+    tol: f64,
+    feed_range: (f32, f32),
+    achieved: Option<&[f32]>,
+) -> egui::Color32 {
     let kind = s.block_kind.get(b).copied().unwrap_or(0);
     match by {
         ColourBy::Kind => match kind {
@@ -71,6 +78,14 @@ fn block_colour(s: &ReadSummary, b: usize, by: ColourBy, tol: f64, feed_range: (
         ColourBy::Tool => {
             let slot = s.block_slot.get(b).copied().unwrap_or(NO_SLOT);
             if kind == 0 || slot == NO_SLOT { RAPID } else { tool_colour(usize::from(slot)) }
+        }
+        ColourBy::Achieved => {
+            if kind == 0 {
+                return RAPID;
+            }
+            let f = achieved.and_then(|a| a.get(b)).copied().unwrap_or(f32::NAN);
+            let p = s.block_feed.get(b).copied().unwrap_or(0.0);
+            if f.is_finite() && p > 0.0 { ramp(1.0 - f / p) } else { UNMEASURED }
         }
         ColourBy::Error => {
             let e = s.block_error.get(b).copied().unwrap_or(f32::NAN);
@@ -173,6 +188,7 @@ impl PathView {
         tol: f64,
         selected: Option<usize>,
         shown: Option<usize>,
+        achieved: Option<&[f32]>,
     ) -> Option<usize> {
         if !self.fitted {
             self.fit(s);
@@ -198,7 +214,8 @@ impl PathView {
         let moving = resp.dragged() || ui.input(|i| i.smooth_scroll_delta.y.abs() > 0.0);
         let key = Key { rect, camera: self.camera, serial: self.serial, moving };
         if self.key != Some(key) {
-            self.build(rect, s, by, tol, selected, shown, if moving { MAX_DRAWN / 4 } else { MAX_DRAWN });
+            let max = if moving { MAX_DRAWN / 4 } else { MAX_DRAWN };
+            self.build(rect, s, by, tol, selected, shown, max, achieved);
             self.key = Some(key);
         }
         if moving {
@@ -227,6 +244,7 @@ impl PathView {
         selected: Option<usize>,
         shown: Option<usize>,
         max_points: usize,
+        achieved: Option<&[f32]>,
     ) {
         self.shapes.clear();
         self.picks.clear();
@@ -266,7 +284,7 @@ impl PathView {
             }
         }
         if self.colours.0 != self.serial || self.colours.1.len() != s.block_kind.len() {
-            let colours = (0..s.block_kind.len()).map(|b| block_colour(s, b, by, tol, feed_range)).collect();
+            let colours = (0..s.block_kind.len()).map(|b| block_colour(s, b, by, tol, feed_range, achieved)).collect();
             self.colours = (self.serial, colours);
         }
         let colours = &self.colours.1;
@@ -366,6 +384,13 @@ impl PathView {
                     let name = if t.number < 0 { "default".to_owned() } else { format!("T{}", t.number) };
                     entry(&mut y, tool_colour(k), format!("{name}: {}", t.cutter));
                 }
+            }
+            ColourBy::Achieved => {
+                entry(&mut y, ramp(0.0), "at the programmed feed".to_owned());
+                entry(&mut y, ramp(0.5), "half of it, on average over the block".to_owned());
+                entry(&mut y, ramp(1.0), "near rest".to_owned());
+                entry(&mut y, UNMEASURED, "not timed: Time on a machine → Time it".to_owned());
+                entry(&mut y, RAPID, "rapid".to_owned());
             }
             ColourBy::Error => {
                 entry(&mut y, ramp(0.0), "nonlinear error 0".to_owned());
