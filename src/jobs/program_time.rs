@@ -55,7 +55,7 @@ pub struct Timed {
 }
 
 /// How far ahead [`feeds_by_block`] looks for a drawn block's line among the planned blocks.
-const MATCH_AHEAD: usize = 64;
+pub const MATCH_AHEAD: usize = 64;
 
 /// The achieved feeds of the planned blocks given to the blocks a view draws (`lines`,
 /// `files`: each drawn block's line and file, 0 the main program): the two lists are in
