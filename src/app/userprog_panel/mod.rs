@@ -804,7 +804,7 @@ impl Panel for UserProgramPanel {
             "tol_mm": self.tol(),
             "over_tolerance": over,
             "worst_error": worst,
-            "selected_line": self.selected.and_then(|b| s.map(|s| s.block_line[b])),
+            "selected_line": self.selected.and_then(|b| s.and_then(|s| s.block_line.get(b).copied())),
             "shown": self.shown,
             "drawn_segments": self.view.drawn_segments(),
             "removed_mm3": self.result.as_ref().map(|r| r.removed_mm3.clone()),
