@@ -155,6 +155,14 @@ fn a_two_tool_program_is_read_listed_and_machined_as_the_core_does() {
     h.app.set_panel_option(TAB, "tool", "reset").unwrap();
     let p = h.until("the tables' tools back", |p| p["tools"][1]["spec"] == "2:v:4:90");
     assert_eq!(p["tool_specs"], serde_json::json!([]));
+    // An edit stays with a new program, and goes with a new tool table (it decides again).
+    h.app.set_panel_option(TAB, "tool", "2:ball:4").unwrap();
+    h.app.set_panel_option(TAB, "file:two.ngc", PROGRAM).unwrap();
+    let p = h.until("the program again, edited", |p| p["tools"][1]["spec"] == "2:ball:4");
+    assert_eq!(p["tool_specs"], serde_json::json!(["2:ball:4"]));
+    h.app.set_panel_option(TAB, "file:tools.tbl", TABLE).unwrap();
+    let p = h.until("the new table's tools", |p| p["tools"][1]["spec"] == "2:v:4:90");
+    assert_eq!(p["tool_specs"], serde_json::json!([]));
 }
 
 /// The program timed on a machine in the tab: the cycle time is the planner's on the same

@@ -185,8 +185,17 @@ impl UserProgramPanel {
     /// A file given to the view.
     fn take_file(&mut self, kind: FileKind, name: String, text: String) {
         match kind {
-            FileKind::ToolTable => self.inputs.table = Some((name, text)),
-            FileKind::Project => self.inputs.project = Some((name, text)),
+            // A new table or project decides the tools again: the tab's edits go.
+            FileKind::ToolTable => {
+                self.inputs.table = Some((name, text));
+                self.inputs.tool_specs.clear();
+                self.tool_editor.clear();
+            }
+            FileKind::Project => {
+                self.inputs.project = Some((name, text));
+                self.inputs.tool_specs.clear();
+                self.tool_editor.clear();
+            }
             FileKind::GCode => {
                 if self.expect_sub || is_subroutine_file(&text) {
                     self.inputs.subs.retain(|(n, _)| *n != name);
