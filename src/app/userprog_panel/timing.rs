@@ -98,9 +98,10 @@ impl Timing {
         self.job.is_some()
     }
 
-    /// Starts, polls and shows; returns the "Time it" button's rectangle. `reading`: the generation of the tab's reading of the
-    /// program (`None` while none is read); `request`: the program's request (asked for only
-    /// when a plan starts); `programmed_min`: its time at the programmed feed.
+    /// Starts, polls and shows; returns the "Time it" button's rectangle. `reading`: the
+    /// generation of the tab's reading of the program (`None` while none is read);
+    /// `request`: the program's request (asked for only when a plan starts);
+    /// `programmed_min`: its time at the programmed feed.
     pub fn ui(
         &mut self,
         ui: &mut egui::Ui,
@@ -145,13 +146,13 @@ impl Timing {
             }
             r.rect
         });
-        // Plan when asked, and again when the settings or the reading change after a plan
-        // (a newer plan replaces one under way: dropping a job cancels it).
+        // Plan when asked, and again when the settings or the reading change after a plan:
+        // once the plan under way is done (a drag of the tolerance plans its latest value
+        // next, instead of ending the worker at every step).
         if let Some(key) = key {
             let done_for = |k: &Key| self.done.as_ref().is_some_and(|(d, _)| d == k);
             let stale = self.done.is_some() && !done_for(&key);
-            let running_this = self.job.as_ref().is_some_and(|(k, _)| *k == key);
-            if (self.wanted || stale) && !running_this && !done_for(&key) {
+            if self.job.is_none() && (self.wanted || stale) && !done_for(&key) {
                 if let Some(mut program) = request() {
                     program.simulate = false;
                     let req = Request { program, machine: key.1.clone() };
