@@ -4,39 +4,17 @@
 //! Native only; needs the `app` feature.
 #![allow(clippy::unwrap_used, clippy::expect_used, reason = "tests: a failure should fail the test")]
 
-use eframe::egui;
-use interpolab::app::InterpolabApp;
 use interpolab::geom::Cutter;
 use interpolab::jobs::NoProgress;
 use interpolab::jobs::user_program::{Request, run};
 use interpolab::simulate::canon::KinematicsChoice;
 
+use super::Harness;
+
 const TAB: &str = "Your program";
 
-struct Harness {
-    ctx: egui::Context,
-    app: InterpolabApp,
-    frame: eframe::Frame,
-}
-
+/// The tab's status on `app_headless`'s harness.
 impl Harness {
-    fn new() -> Self {
-        let ctx = egui::Context::default();
-        let cc = eframe::CreationContext::_new_kittest(ctx.clone());
-        let app = InterpolabApp::new(&cc);
-        Self { ctx, app, frame: eframe::Frame::_new_kittest() }
-    }
-
-    fn frame(&mut self) {
-        let input = egui::RawInput {
-            screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(1400.0, 900.0))),
-            ..Default::default()
-        };
-        let (app, frame) = (&mut self.app, &mut self.frame);
-        let out = self.ctx.run_ui(input, |ui| eframe::App::ui(app, ui, frame));
-        out.drop_without_applying_deltas();
-    }
-
     fn panel(&self) -> serde_json::Value {
         let s: serde_json::Value = serde_json::from_str(&self.app.status()).expect("status is JSON");
         s["panel"]["status"].clone()
@@ -44,7 +22,8 @@ impl Harness {
 
     /// Frames until the tab's job is done and `ready` holds.
     fn until(&mut self, what: &str, ready: impl Fn(&serde_json::Value) -> bool) -> serde_json::Value {
-        for _ in 0..20_000 {
+        let t0 = std::time::Instant::now();
+        while t0.elapsed() < super::HANG_GUARD {
             self.frame();
             let p = self.panel();
             if p["computing"] == false && ready(&p) {
@@ -59,6 +38,25 @@ impl Harness {
 const PROGRAM: &str = "G21 G90\nT1 M6\nG0 X0 Y0 Z5\nG1 Z-1 F200\nG1 X20\nG0 Z5\nT2 M6\no<groove> call\nM123\nM30\n";
 const SUB: &str = "o<groove> sub\nG0 X0 Y8\nG1 Z-2 F100\nG1 X20\nG0 Z5\no<groove> endsub\n";
 const TABLE: &str = "T1 P1 D6 ;flat\nT2 P2 D4 ;v90\n";
+
+/// The core's request for what the tests open in the tab (the tab's default cutter, its
+/// automatic stock and pitch; read only).
+fn request() -> Request {
+    Request {
+        name: "two.ngc".to_owned(),
+        text: PROGRAM.to_owned(),
+        files: vec![("groove.ngc".to_owned(), SUB.to_owned())],
+        tool_table: Some(TABLE.to_owned()),
+        project: None,
+        tool_specs: Vec::new(),
+        default_cutter: Cutter::flat(1.5).unwrap(),
+        machine: None,
+        kinematics: KinematicsChoice::Auto,
+        pitch_mm: None,
+        stock_mm: None,
+        simulate: false,
+    }
+}
 
 #[test]
 fn a_two_tool_program_is_read_listed_and_machined_as_the_core_does() {
@@ -86,20 +84,7 @@ fn a_two_tool_program_is_read_listed_and_machined_as_the_core_does() {
     let p = h.until("the stock machined", |p| p["removed_mm3"].is_array());
     let removed: Vec<f64> = p["removed_mm3"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
     // The core's job for the same request (its automatic stock and the pitch).
-    let req = Request {
-        name: "two.ngc".to_owned(),
-        text: PROGRAM.to_owned(),
-        files: vec![("groove.ngc".to_owned(), SUB.to_owned())],
-        tool_table: Some(TABLE.to_owned()),
-        project: None,
-        tool_specs: Vec::new(),
-        default_cutter: Cutter::flat(1.5).unwrap(),
-        machine: None,
-        kinematics: KinematicsChoice::Auto,
-        pitch_mm: Some(0.25),
-        stock_mm: None,
-        simulate: true,
-    };
+    let req = Request { pitch_mm: Some(0.25), simulate: true, ..request() };
     let f = run(&req, &mut NoProgress).unwrap().unwrap();
     assert_eq!(removed, f.removed_mm3);
     assert!(removed[0] > 100.0 && removed[1] > 20.0, "{removed:?}");
@@ -181,20 +166,7 @@ fn the_program_is_timed_on_a_machine_as_the_planner_times_it() {
     h.app.set_panel_option(TAB, "time_machine", "hobby-router").unwrap();
     h.app.set_panel_option(TAB, "time", "").unwrap();
     let p = h.until("the program timed", |p| p["time"]["total_s"].is_number() && p["time"]["running"] == false);
-    let program = Request {
-        name: "two.ngc".to_owned(),
-        text: PROGRAM.to_owned(),
-        files: vec![("groove.ngc".to_owned(), SUB.to_owned())],
-        tool_table: Some(TABLE.to_owned()),
-        project: None,
-        tool_specs: Vec::new(),
-        default_cutter: Cutter::flat(1.5).unwrap(),
-        machine: None,
-        kinematics: KinematicsChoice::Auto,
-        pitch_mm: None,
-        stock_mm: None,
-        simulate: false,
-    };
+    let program = request();
     let router = Dynamics::preset("hobby-router").unwrap();
     let core =
         ProgramTime::run(&TimeRequest { program: program.clone(), machine: router.clone() }, &mut NoProgress).unwrap();
