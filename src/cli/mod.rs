@@ -295,3 +295,15 @@ fn open_app() -> Result<ExitCode, Fatal> {
     let _ = Cli::command().print_help();
     Ok(ExitCode::SUCCESS)
 }
+
+/// The warning `simulate` prints when rapid (G00) moves cut material: how many, and the
+/// first one's line.
+pub(crate) fn warn_rapid_cuts(c: &interpolab::simulate::Counters) {
+    if c.rapid_cuts > 0 {
+        eprintln!(
+            "interpolab: warning: {} rapid (G00) move(s) cut material, the first at line {}",
+            c.rapid_cuts,
+            c.first_rapid_cut_line.unwrap_or(0)
+        );
+    }
+}

@@ -418,13 +418,7 @@ fn finish(
         write(png, &png_rgb(&map, has_design.then_some(&stats), sim.stock().z_range_mm(), a.band_um * 1e-3))?;
     }
     let c = sim.counters();
-    if c.rapid_cuts > 0 {
-        eprintln!(
-            "interpolab: warning: {} rapid (G00) move(s) cut material, the first at line {}",
-            c.rapid_cuts,
-            c.first_rapid_cut_line.unwrap_or(0)
-        );
-    }
+    super::warn_rapid_cuts(c);
     let g = map.grid;
     let um = |mm: f64| (mm * 1e6).round() / 1e3;
     // Lengths to the CSV's resolution (1e-6 mm), so a ray's x0 + (i + ½)·p prints as 45.75.

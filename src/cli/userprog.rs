@@ -441,13 +441,7 @@ pub(crate) fn simulate(r: &SimulateRequest<'_>) -> Result<ExitCode, Fatal> {
         write(path, &tool_map_bytes(path, &map, slots, &p))?;
     }
     let c = sim.counters();
-    if c.rapid_cuts > 0 {
-        eprintln!(
-            "interpolab: warning: {} rapid (G00) move(s) cut material, the first at line {}",
-            c.rapid_cuts,
-            c.first_rapid_cut_line.unwrap_or(0)
-        );
-    }
+    super::warn_rapid_cuts(c);
     let g = map.grid;
     let um = |mm: f64| (mm * 1e6).round() / 1e3;
     let nm = |mm: f64| (mm * 1e6).round() / 1e6;
