@@ -296,14 +296,40 @@ fn open_app() -> Result<ExitCode, Fatal> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// The warning `simulate` prints when rapid (G00) moves cut material: how many, and the
-/// first one's line.
-pub(crate) fn warn_rapid_cuts(c: &interpolab::simulate::Counters) {
-    if c.rapid_cuts > 0 {
-        eprintln!(
-            "interpolab: warning: {} rapid (G00) move(s) cut material, the first at line {}",
-            c.rapid_cuts,
-            c.first_rapid_cut_line.unwrap_or(0)
-        );
+/// The crashes of a `simulate` run: one line on standard error (counts per kind and the
+/// first), the CSV list written to `path` when given, and the JSON `crashes` object.
+/// `tool_number` names a tool slot's tool (`None`: the one cutter of a plain run).
+pub(crate) fn crash_report(
+    log: &interpolab::simulate::CrashLog,
+    path: Option<&std::path::Path>,
+    tool_number: impl Fn(u16) -> Option<i32>,
+) -> Result<serde_json::Value, Fatal> {
+    use interpolab::simulate::CrashKind;
+    if let Some(line) = log.summary() {
+        let more = if path.is_some() { "" } else { "; --crashes FILE lists them" };
+        eprintln!("interpolab: {line}{more}");
     }
+    if let Some(path) = path {
+        std::fs::write(path, log.csv(&tool_number))
+            .map_err(|e| Fatal(format!("cannot write {}: {e}", path.display())))?;
+    }
+    let nm = |mm: f64| (mm * 1e6).round() / 1e6 + 0.0;
+    let mut counts = serde_json::Map::new();
+    for k in CrashKind::ALL {
+        counts.insert(k.name().to_owned(), log.count(k).into());
+    }
+    let first = log.list().first().map(|c| {
+        serde_json::json!({
+            "line": c.line, "kind": c.kind.name(), "tool": tool_number(c.slot),
+            "depth_mm": nm(c.depth_mm), "x_mm": nm(c.at_mm.x), "y_mm": nm(c.at_mm.y), "z_mm": nm(c.at_mm.z),
+        })
+    });
+    let deepest = log.list().iter().map(|c| c.depth_mm).fold(0.0_f64, f64::max);
+    Ok(serde_json::json!({
+        "total": log.total(),
+        "by_kind": counts,
+        "deepest_mm": nm(deepest),
+        "first": first,
+        "touch_mm": interpolab::simulate::TOUCH_MM,
+    }))
 }

@@ -113,19 +113,33 @@ pub(crate) struct SimulateArgs {
     /// `.png`: a colour per tool, grey where none cut).
     #[arg(long)]
     tool_map: Option<PathBuf>,
+    /// Write the crashes (shank, holder, rapid through stock, plunge of a tool that does not
+    /// cut at its centre), one a block, as CSV to this file (docs/simulation.md, "Crashes").
+    #[arg(long)]
+    crashes: Option<PathBuf>,
     /// With a machine: count the blocks whose nonlinear error exceeds this (mm), in the JSON.
     #[arg(value_parser = super::finite, long)]
     tolerance: Option<f64>,
 }
 
-/// Parses `ball:R`, `flat:R`, `fillet:R,r`, `v:R,angle`, `drill:R[,angle]`.
-fn parse_cutter(text: &str) -> Result<Cutter, Fatal> {
+/// Parses `ball:R`, `flat:R`, `fillet:R,r`, `v:R,angle`, `drill:R[,angle]`, each followed
+/// by optional body words (`,flute=25,shank=3:40,holder=16:60,nocentre`, mm).
+pub(crate) fn parse_cutter(text: &str) -> Result<Cutter, Fatal> {
     let bad = || {
         Fatal(format!(
-            "--cutter `{text}`: give ball:R, flat:R or fillet:R,r in mm, or a tapered v:R,angle or drill:R[,angle] (included angle in degrees), e.g. ball:5, fillet:5,1, v:3,90"
+            "--cutter `{text}`: give ball:R, flat:R or fillet:R,r in mm, or a tapered v:R,angle or drill:R[,angle] (included angle in degrees), e.g. ball:5, fillet:5,1, v:3,90, then optional ,flute=L ,shank=radius:length ,holder=radius:length ,nocentre (mm)"
         ))
     };
-    let (kind, dims) = text.split_once(':').ok_or_else(bad)?;
+    let (kind, rest) = text.split_once(':').ok_or_else(bad)?;
+    let mut body = interpolab::geom::BodySpec::default();
+    let mut numbers = Vec::new();
+    for piece in rest.split(',') {
+        if !body.word(piece, 1.0).map_err(|e| Fatal(format!("--cutter: {e}")))? {
+            numbers.push(piece);
+        }
+    }
+    let dims = numbers.join(",");
+    let dims = dims.as_str();
     let c = match kind.trim() {
         "ball" => Cutter::ball(super::numbers(dims, "cutter", 1)?[0]),
         "flat" => Cutter::flat(super::numbers(dims, "cutter", 1)?[0]),
@@ -147,7 +161,7 @@ fn parse_cutter(text: &str) -> Result<Cutter, Fatal> {
         }
         _ => return Err(bad()),
     };
-    c.map_err(|e| Fatal(format!("--cutter `{text}`: {e}")))
+    c.and_then(|c| c.with_body(&body)).map_err(|e| Fatal(format!("--cutter `{text}`: {e}")))
 }
 
 /// Where the design comes from.
@@ -284,6 +298,7 @@ fn simulate_user(a: &SimulateArgs) -> Result<ExitCode, Fatal> {
         out: a.out.as_deref(),
         png: a.png.as_deref(),
         tool_map: a.tool_map.as_deref(),
+        crashes: a.crashes.as_deref(),
         band_um: a.band_um,
         tolerance: a.tolerance,
     })
@@ -418,7 +433,7 @@ fn finish(
         write(png, &png_rgb(&map, has_design.then_some(&stats), sim.stock().z_range_mm(), a.band_um * 1e-3))?;
     }
     let c = sim.counters();
-    super::warn_rapid_cuts(c);
+    let crashes = super::crash_report(sim.crashes(), a.crashes.as_deref(), |_| None)?;
     let g = map.grid;
     let um = |mm: f64| (mm * 1e6).round() / 1e3;
     // Lengths to the CSV's resolution (1e-6 mm), so a ray's x0 + (i + ½)·p prints as 45.75.
@@ -427,6 +442,7 @@ fn finish(
         "format": "interpolab-simulate/1",
         "program": program_name(a),
         "cutter": cutter.describe(),
+        "tool_body": cutter.describe_body(),
         "programmed_point": if centre { "ball centre" } else { "tool tip" },
         "grid": { "nx": g.nx, "ny": g.ny, "pitch_mm": nm(g.pitch_mm), "x0_mm": nm(g.x0_mm), "y0_mm": nm(g.y0_mm) },
         "moves": c.moves,
@@ -441,6 +457,7 @@ fn finish(
         "through_rays": stats.through_rays,
         "split_rays": stats.split_rays,
         "rapid_cuts": c.rapid_cuts,
+        "crashes": crashes,
         "memory_bytes": sim.stock().memory_bytes(),
         "design": design.name(),
         "scallop_um": has_design.then(|| json!({

@@ -275,6 +275,7 @@ fn tools_json(p: &CanonProgram) -> serde_json::Value {
             .map(|t| json!({
                 "tool": t.number,
                 "cutter": t.cutter.describe(),
+                "body": t.cutter.describe_body(),
                 "length_mm": r6(t.length_mm),
                 "source": t.source,
                 "first_line": t.first.line,
@@ -395,6 +396,7 @@ pub(crate) struct SimulateRequest<'a> {
     pub out: Option<&'a Path>,
     pub png: Option<&'a Path>,
     pub tool_map: Option<&'a Path>,
+    pub crashes: Option<&'a Path>,
     pub band_um: f64,
     pub tolerance: Option<f64>,
 }
@@ -441,7 +443,7 @@ pub(crate) fn simulate(r: &SimulateRequest<'_>) -> Result<ExitCode, Fatal> {
         write(path, &tool_map_bytes(path, &map, slots, &p))?;
     }
     let c = sim.counters();
-    super::warn_rapid_cuts(c);
+    let crashes = super::crash_report(sim.crashes(), r.crashes, |slot| p.tools.get(usize::from(slot)).map(|t| t.number))?;
     let g = map.grid;
     let um = |mm: f64| (mm * 1e6).round() / 1e3;
     let nm = |mm: f64| (mm * 1e6).round() / 1e6;
@@ -470,6 +472,7 @@ pub(crate) fn simulate(r: &SimulateRequest<'_>) -> Result<ExitCode, Fatal> {
         "through_rays": stats.through_rays,
         "split_rays": stats.split_rays,
         "rapid_cuts": c.rapid_cuts,
+        "crashes": crashes,
         "memory_bytes": sim.stock().memory_bytes(),
         "design": r.design.name(),
         "scallop_um": has_design.then(|| json!({

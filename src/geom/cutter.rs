@@ -31,6 +31,20 @@
 
 use thiserror::Error;
 
+/// Default flute length per unit of the cutter radius R (a cutter built without lengths).
+pub const DEFAULT_FLUTE_PER_R: f64 = 3.0;
+/// Default shank length above the flutes per unit of R (its radius: R).
+pub const DEFAULT_SHANK_PER_R: f64 = 3.0;
+/// Default holder radius per unit of R.
+pub const DEFAULT_HOLDER_RADIUS_PER_R: f64 = 2.5;
+/// Default holder length per unit of R.
+pub const DEFAULT_HOLDER_LENGTH_PER_R: f64 = 6.0;
+
+/// A length (mm) rounded to the micrometre for a message.
+fn round_um(mm: f64) -> f64 {
+    (mm * 1e3).round() / 1e3
+}
+
 /// The three shapes the cutter can take, by its corner radius.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CutterKind {
@@ -138,17 +152,226 @@ pub struct Cutter {
     /// A conical tip instead of the corner (then `corner_radius_mm` is 0); `None` for the
     /// ball, fillet and flat end mills.
     pub taper: Option<Taper>,
+    /// Whether the end cuts at its centre (it can plunge); an end mill whose teeth stop short
+    /// of the axis cannot, and a plunge with it is a crash of the simulation.
+    pub centre_cutting: bool,
+    /// Whether the body's lengths (flutes, shank, holder) were given by the user's source;
+    /// false: they are the defaults of [`Cutter::fillet`], and a report says so.
+    pub body_given: bool,
+}
+
+/// The body lengths a tool's source gives (mm), each optional: the flute length, the
+/// shank's radius and length, the holder's radius and length, and whether the end cuts at
+/// its centre. Written as words `flute=25`, `shank=3:40` (radius:length), `holder=16:60`,
+/// `nocentre` (or `centre=no`) — on the command line after a cutter or tool spec, in a
+/// LinuxCNC table's remark — see [`BodySpec::word`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BodySpec {
+    /// Flute (cutting) length from the tip (mm).
+    pub flute_mm: Option<f64>,
+    /// Shank radius and length above the flutes (mm).
+    pub shank_mm: Option<(f64, f64)>,
+    /// Holder radius and length above the shank (mm).
+    pub holder_mm: Option<(f64, f64)>,
+    /// Whether the end cuts at its centre.
+    pub centre_cutting: Option<bool>,
+}
+
+/// Most characters of a body word echoed in a message.
+const ECHO_CHARS: usize = 40;
+
+impl BodySpec {
+    /// Whether nothing is given.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        *self == Self::default()
+    }
+
+    /// Reads one word (`flute=25`, `shank=3:40`, `holder=16:60`, `nocentre`, `centre=no|yes`;
+    /// keys in any case, lengths times `scale` to mm). `Ok(false)`: not a body word (the
+    /// caller decides); `Err`: a body word with a bad value, what to write instead.
+    ///
+    /// # Errors
+    /// A key this reader knows with a value that is not a positive length (or pair of them).
+    pub fn word(&mut self, word: &str, scale: f64) -> Result<bool, String> {
+        let lower = word.trim().to_ascii_lowercase();
+        let echo: String = word.chars().take(ECHO_CHARS).collect();
+        if matches!(lower.as_str(), "nocentre" | "nocenter" | "centre=no" | "center=no") {
+            self.centre_cutting = Some(false);
+            return Ok(true);
+        }
+        if matches!(lower.as_str(), "centre" | "center" | "centre=yes" | "center=yes") {
+            self.centre_cutting = Some(true);
+            return Ok(true);
+        }
+        let Some((key, value)) = lower.split_once('=') else {
+            return Ok(false);
+        };
+        let length = |t: &str| t.trim().parse::<f64>().ok().filter(|v| *v > 0.0 && v.is_finite()).map(|v| v * scale);
+        let pair = |t: &str| {
+            let (a, b) = t.split_once(':')?;
+            Some((length(a)?, length(b)?))
+        };
+        match key.trim() {
+            "flute" | "flutes" => {
+                self.flute_mm =
+                    Some(length(value).ok_or_else(|| format!("'{echo}': give the flute length above 0, e.g. flute=25"))?);
+            }
+            "shank" => {
+                self.shank_mm = Some(pair(value).ok_or_else(|| {
+                    format!("'{echo}': give the shank as radius:length above 0, e.g. shank=3:40")
+                })?);
+            }
+            "holder" => {
+                self.holder_mm = Some(pair(value).ok_or_else(|| {
+                    format!("'{echo}': give the holder as radius:length above 0, e.g. holder=16:60")
+                })?);
+            }
+            _ => return Ok(false),
+        }
+        Ok(true)
+    }
+
+    /// The words [`Self::word`] reads back to this spec (lengths in mm), joined by `sep`;
+    /// empty when nothing is given.
+    #[must_use]
+    pub fn words(&self, sep: &str) -> String {
+        let mut w = Vec::new();
+        if let Some(f) = self.flute_mm {
+            w.push(format!("flute={f}"));
+        }
+        if let Some((r, l)) = self.shank_mm {
+            w.push(format!("shank={r}:{l}"));
+        }
+        if let Some((r, l)) = self.holder_mm {
+            w.push(format!("holder={r}:{l}"));
+        }
+        if self.centre_cutting == Some(false) {
+            w.push("nocentre".to_owned());
+        }
+        w.join(sep)
+    }
 }
 
 impl Cutter {
     /// A cutter of radius R and corner radius r with default proportions: flutes 3·R long,
-    /// shank radius R, gauge length 6·R, holder radius 2.5·R and length 6·R.
+    /// shank radius R, gauge length 6·R, holder radius 2.5·R and length 6·R
+    /// ([`DEFAULT_FLUTE_PER_R`] and the others); its [`Cutter::body_given`] is false.
     ///
     /// # Errors
     /// When R is not a positive length or r lies outside [0, R].
     pub fn fillet(radius_mm: f64, corner_radius_mm: f64) -> Result<Self, CutterError> {
         let r = radius_mm;
-        Self::try_new(radius_mm, corner_radius_mm, 3.0 * r, r, 6.0 * r, 2.5 * r, 6.0 * r)
+        let mut c = Self::try_new(
+            radius_mm,
+            corner_radius_mm,
+            DEFAULT_FLUTE_PER_R * r,
+            r,
+            (DEFAULT_FLUTE_PER_R + DEFAULT_SHANK_PER_R) * r,
+            DEFAULT_HOLDER_RADIUS_PER_R * r,
+            DEFAULT_HOLDER_LENGTH_PER_R * r,
+        )?;
+        c.body_given = false;
+        Ok(c)
+    }
+
+    /// The same cutter with the body lengths `body` gives (the others kept): the flutes
+    /// raised to at least the corner radius and the cone, a shank not given keeps its radius
+    /// and is [`DEFAULT_SHANK_PER_R`]·R long above the flutes, a holder not given keeps its
+    /// size. [`Cutter::body_given`] is set when `body` gives any length.
+    ///
+    /// # Errors
+    /// A length that is not positive (the spec's reader refuses those first).
+    pub fn with_body(&self, body: &BodySpec) -> Result<Self, CutterError> {
+        let flute = body.flute_mm.unwrap_or(self.flute_length_mm).max(self.corner_radius_mm).max(self.cone_height_mm());
+        let (shank_r, shank_l) = body.shank_mm.unwrap_or((
+            self.shank_radius_mm,
+            if body.flute_mm.is_some() {
+                DEFAULT_SHANK_PER_R * self.radius_mm
+            } else {
+                (self.gauge_length_mm - self.flute_length_mm).max(0.0)
+            },
+        ));
+        let (holder_r, holder_l) = body.holder_mm.unwrap_or((self.holder_radius_mm, self.holder_length_mm));
+        let mut c = Self::try_new(
+            self.radius_mm,
+            self.corner_radius_mm,
+            flute,
+            shank_r,
+            flute + shank_l,
+            holder_r,
+            holder_l,
+        )?;
+        c.taper = self.taper;
+        c.centre_cutting = body.centre_cutting.unwrap_or(self.centre_cutting);
+        c.body_given = self.body_given || body.flute_mm.is_some() || body.shank_mm.is_some() || body.holder_mm.is_some();
+        Ok(c)
+    }
+
+    /// The body as a line with units, e.g. `flutes 25 mm, shank R 3 × 15 mm, holder R 16 ×
+    /// 60 mm`, with `(assumed: …)` when the source gave no lengths and `, no centre cutting`.
+    #[must_use]
+    pub fn describe_body(&self) -> String {
+        let shank = (self.gauge_length_mm - self.flute_length_mm).max(0.0);
+        let mut s = format!(
+            "flutes {} mm, shank R {} × {} mm, holder R {} × {} mm",
+            round_um(self.flute_length_mm),
+            round_um(self.shank_radius_mm),
+            round_um(shank),
+            round_um(self.holder_radius_mm),
+            round_um(self.holder_length_mm)
+        );
+        if !self.centre_cutting {
+            s.push_str(", no centre cutting");
+        }
+        if !self.body_given {
+            s.push_str(" (assumed: flutes 3·R, shank R × 3·R, holder 2.5·R × 6·R; give flute=, shank=, holder=)");
+        }
+        s
+    }
+
+    /// The cutter as numbers for a message between threads: R, r, flute length, shank
+    /// radius, gauge length, holder radius, holder length, taper half angle (rad, 0 for
+    /// none), tip flat, centre cutting (1/0), body given (1/0). [`Cutter::from_numbers`]
+    /// reads them back.
+    #[must_use]
+    pub fn numbers(&self) -> [f64; 11] {
+        let taper = self.taper.map_or([0.0, 0.0], |t| [t.half_angle_rad, t.tip_radius_mm]);
+        [
+            self.radius_mm,
+            self.corner_radius_mm,
+            self.flute_length_mm,
+            self.shank_radius_mm,
+            self.gauge_length_mm,
+            self.holder_radius_mm,
+            self.holder_length_mm,
+            taper[0],
+            taper[1],
+            f64::from(u8::from(self.centre_cutting)),
+            f64::from(u8::from(self.body_given)),
+        ]
+    }
+
+    /// A cutter from [`Cutter::numbers`] (seven numbers: no taper, centre cutting, body
+    /// given; nine: with the taper).
+    ///
+    /// # Errors
+    /// Another count of numbers, or dimensions [`Cutter::try_new`] refuses.
+    pub fn from_numbers(v: &[f64]) -> Result<Self, String> {
+        if !matches!(v.len(), 7 | 9 | 11) {
+            return Err(format!("the cutter: {} numbers, expected 7, 9 or 11", v.len()));
+        }
+        let mut c = Self::try_new(v[0], v[1], v[2], v[3], v[4], v[5], v[6]).map_err(|e| e.to_string())?;
+        if let (Some(&half), Some(&tip)) = (v.get(7), v.get(8))
+            && half > 0.0
+        {
+            c.taper = Some(Taper { half_angle_rad: half, tip_radius_mm: tip });
+        }
+        if let (Some(&centre), Some(&given)) = (v.get(9), v.get(10)) {
+            c.centre_cutting = centre != 0.0;
+            c.body_given = given != 0.0;
+        }
+        Ok(c)
     }
 
     /// A ball end mill of radius R (r = R), default proportions as [`Cutter::fillet`].
@@ -209,6 +432,8 @@ impl Cutter {
             holder_radius_mm,
             holder_length_mm,
             taper: None,
+            centre_cutting: true,
+            body_given: true,
         })
     }
 
@@ -222,7 +447,7 @@ impl Cutter {
     /// negative or not smaller than R.
     pub fn tapered(radius_mm: f64, tip_angle_deg: f64, tip_radius_mm: f64) -> Result<Self, CutterError> {
         let r = radius_mm;
-        let base = Self::try_new(r, 0.0, 3.0 * r, r, 6.0 * r, 2.5 * r, 6.0 * r)?;
+        let base = Self::flat(r)?;
         if !(tip_angle_deg > 0.0 && tip_angle_deg < 180.0) {
             return Err(CutterError::TipAngle { angle_deg: tip_angle_deg });
         }

@@ -26,7 +26,7 @@ mod ray;
 mod surface;
 
 pub use curve::{Curve3, HermitePath};
-pub use cutter::{Cutter, CutterError, CutterKind, Taper};
+pub use cutter::{BodySpec, Cutter, CutterError, CutterKind, Taper};
 pub(crate) use diffgeo::solve_tangent;
 pub use diffgeo::{LocalGeometry, Principal};
 pub use domain::{Domain, ParamRange, ParamUnit};

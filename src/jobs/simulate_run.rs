@@ -463,7 +463,7 @@ impl SessionKey {
         key.push(program.moves.len() as u64);
         key.extend(stock_mm.iter().map(|x| x.to_bits()));
         key.push(pitch_mm.to_bits());
-        key.extend(cutter_numbers(cutter).map(f64::to_bits));
+        key.extend(cutter.numbers().map(f64::to_bits));
         key.push(sample_step.map_or(u64::MAX, f64::to_bits));
         Self(key)
     }
@@ -918,28 +918,12 @@ pub fn encode_partial(p: &Partial) -> String {
     .to_string()
 }
 
-/// The cutter's seven dimensions (mm), in [`cutter_of`]'s order.
-fn cutter_numbers(c: &Cutter) -> [f64; 7] {
-    [
-        c.radius_mm,
-        c.corner_radius_mm,
-        c.flute_length_mm,
-        c.shank_radius_mm,
-        c.gauge_length_mm,
-        c.holder_radius_mm,
-        c.holder_length_mm,
-    ]
-}
-
 fn cutter_value(c: &Cutter) -> Value {
-    super::nums(cutter_numbers(c))
+    super::nums(c.numbers())
 }
 
 fn cutter_of(c: &[f64]) -> Result<Cutter, String> {
-    let [radius, corner, flute, shank, gauge, holder_r, holder_l] = c[..] else {
-        return Err("not seven numbers".to_owned());
-    };
-    Cutter::try_new(radius, corner, flute, shank, gauge, holder_r, holder_l).map_err(|e| e.to_string())
+    Cutter::from_numbers(c)
 }
 
 /// The finishing program of a [`ProgramSource::Finish`]: the scene's surface and machine,

@@ -607,32 +607,6 @@ fn decode_header(h: &Reader<'_>, s: &mut ReadSummary) -> Result<(), String> {
     Ok(())
 }
 
-fn cutter_numbers(c: &Cutter) -> Vec<f64> {
-    let taper = c.taper.map_or([0.0, 0.0], |t| [t.half_angle_rad, t.tip_radius_mm]);
-    vec![
-        c.radius_mm,
-        c.corner_radius_mm,
-        c.flute_length_mm,
-        c.shank_radius_mm,
-        c.gauge_length_mm,
-        c.holder_radius_mm,
-        c.holder_length_mm,
-        taper[0],
-        taper[1],
-    ]
-}
-
-fn cutter_from(v: &[f64]) -> Result<Cutter, String> {
-    let [r, corner, flute, shank, gauge, hr, hl, half, tip] = v[..] else {
-        return Err("the cutter: not nine numbers".to_owned());
-    };
-    let mut c = Cutter::try_new(r, corner, flute, shank, gauge, hr, hl).map_err(|e| e.to_string())?;
-    if half > 0.0 {
-        c.taper = Some(crate::geom::Taper { half_angle_rad: half, tip_radius_mm: tip });
-    }
-    Ok(c)
-}
-
 fn kinematics_index(k: KinematicsChoice) -> u64 {
     match k {
         KinematicsChoice::Auto => 0,
@@ -661,7 +635,7 @@ impl JobKind for UserProgram {
             "tool_table": r.tool_table,
             "project": r.project,
             "tool_specs": r.tool_specs,
-            "default_cutter": super::nums(cutter_numbers(&r.default_cutter)),
+            "default_cutter": super::nums(r.default_cutter.numbers()),
             "machine": r.machine,
             "kinematics": kinematics_index(r.kinematics),
             "pitch_mm": r.pitch_mm.map_or(Value::Null, super::num),
@@ -712,7 +686,7 @@ impl JobKind for UserProgram {
                 .iter()
                 .map(|v| v.as_str().map(str::to_owned).ok_or(format!("{W}.tool_specs: not text")))
                 .collect::<Result<_, _>>()?,
-            default_cutter: cutter_from(&r.f64s("default_cutter")?)?,
+            default_cutter: Cutter::from_numbers(&r.f64s("default_cutter")?)?,
             machine: opt_text("machine")?,
             kinematics: match r.usize("kinematics")? {
                 0 => KinematicsChoice::Auto,

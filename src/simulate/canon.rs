@@ -418,11 +418,11 @@ pub fn cutter_of(t: &ToolEntry) -> Result<Cutter, String> {
             ));
         }
     };
-    if let Some(len) = t.length_mm.filter(|l| *l > 0.0 && l.is_finite()) {
-        let flute = len.max(c.corner_radius_mm).max(c.cone_height_mm());
-        c.flute_length_mm = flute;
-        c.gauge_length_mm = c.gauge_length_mm.max(flute);
+    let mut body = t.body;
+    if body.flute_mm.is_none() {
+        body.flute_mm = t.length_mm.filter(|l| *l > 0.0 && l.is_finite());
     }
+    c = c.with_body(&body).map_err(bad)?;
     Ok(c)
 }
 

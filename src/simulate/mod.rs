@@ -27,6 +27,7 @@
 
 pub mod bench;
 pub mod canon;
+pub mod crash;
 pub mod finish;
 pub mod interior;
 pub mod measure;
@@ -37,6 +38,7 @@ pub mod sweep;
 use glam::DVec3;
 use thiserror::Error;
 
+pub use crash::{Crash, CrashKind, CrashLog, TOUCH_MM};
 pub use finish::{FinishProgram, stock_box_mm};
 pub use interior::{INTERIOR_END_MM, INTERIOR_SIDE_MM, InteriorStats, interior_mask, interior_stats};
 pub use measure::{
@@ -176,6 +178,22 @@ pub struct Simulation {
     /// ([`NO_TOOL`] where none did).
     slot: u16,
     tool_map: Option<Vec<u16>>,
+    /// The crashes so far ([`crash`]).
+    crashes: CrashLog,
+    /// The move being applied: its line, whether it is a rapid, its index in the run.
+    now: MoveNow,
+}
+
+/// The move [`Simulation::apply`] is applying.
+#[derive(Clone, Copy, Debug, Default)]
+struct MoveNow {
+    line: usize,
+    rapid: bool,
+    index: usize,
+    /// The tip at the end of the move (mm).
+    end: DVec3,
+    /// Whether a move was applied before (the first one starts a block).
+    started: bool,
 }
 
 /// A ray of the tool map no tool cut.
@@ -200,7 +218,15 @@ impl Simulation {
             sampled: false,
             slot: 0,
             tool_map: None,
+            crashes: CrashLog::default(),
+            now: MoveNow::default(),
         }
+    }
+
+    /// The crashes found so far ([`crash`]).
+    #[must_use]
+    pub fn crashes(&self) -> &CrashLog {
+        &self.crashes
     }
 
     /// Changes the cutter from the next move on (a program's tool change): `slot` numbers
@@ -477,6 +503,20 @@ impl Simulation {
     /// worker's loop, `jobs::simulate_run`, calls it through an opaque pointer.)
     #[inline(never)]
     pub fn apply(&mut self, m: &SimMove) -> f64 {
+        // A block: consecutive moves of one line (every move of an in-memory program).
+        if !self.now.started || m.line == 0 || m.line != self.now.line {
+            self.crashes.begin_block();
+        }
+        let end = match m.kind {
+            MoveKind::Line { to, .. } => to,
+            MoveKind::Joints { machine, to, .. } => machine.pose_from_joints(&to).tip_in_workpiece,
+        };
+        self.now = MoveNow { line: m.line, rapid: m.rapid, index: self.counters.moves, end, started: true };
+        if let MoveKind::Joints { machine, from, to } = m.kind
+            && m.rapid
+        {
+            self.check_joint_poses(&machine, &from, &to, true);
+        }
         let removed = match m.kind {
             MoveKind::Line { from, to } => self.cut_line(from, to),
             MoveKind::Joints { machine, from, to } if self.sweep_tol_mm.is_some() => {
@@ -506,6 +546,9 @@ impl Simulation {
                 removed
             }
         };
+        if let MoveKind::Joints { machine, from, to } = m.kind {
+            self.check_joint_poses(&machine, &from, &to, false);
+        }
         self.counters.moves += 1;
         self.counters.removed_mm3 += removed;
         let pitch = self.stock.grid().pitch_mm;
@@ -521,8 +564,19 @@ impl Simulation {
     /// A straight 3-axis move of the tip from `a` to `b`; the material removed (mm³).
     fn cut_line(&mut self, a: DVec3, b: DVec3) -> f64 {
         let (_, z1) = self.stock.z_range_mm();
-        if a.z.min(b.z) >= z1 {
+        let low = a.z.min(b.z);
+        if low >= z1 {
             return 0.0;
+        }
+        let tool = self.tool;
+        if !tool.centre_cutting && !self.now.rapid {
+            self.check_plunge(a, b);
+        }
+        // The parts that can reach below the stock's top on this move.
+        let reaches = |p: Option<crash::Part>| p.and_then(|p| p.checked()).filter(|p| low + p.from_mm < z1);
+        let (shank, holder) = (reaches(tool.shank), reaches(tool.holder));
+        if shank.is_some() || holder.is_some() || self.now.rapid {
+            return self.cut_line_checked(a, b, [shank, holder]);
         }
         let g = *self.stock.grid();
         let r = self.tool.radius_mm;
@@ -533,6 +587,230 @@ impl Simulation {
         };
         let sweep = LineSweep::new(&self.tool, a, b);
         self.subtract_spans((i0, i1), (j0, j1), |x, y| sweep.span(x, y))
+    }
+
+    /// A straight 3-axis move whose shank or holder can reach the stock, or a rapid: the cut
+    /// with the crash checks of [`crash`], ray by ray; the material removed (mm³).
+    fn cut_line_checked(&mut self, a: DVec3, b: DVec3, parts: [Option<crash::Part>; 2]) -> f64 {
+        let g = *self.stock.grid();
+        let tool = self.tool;
+        let w = parts.iter().flatten().fold(tool.radius_mm, |w, p| w.max(p.radius_mm));
+        let (Some((i0, i1)), Some((j0, j1))) =
+            (g.columns(a.x.min(b.x) - w, a.x.max(b.x) + w), g.rows(a.y.min(b.y) - w, a.y.max(b.y) + w))
+        else {
+            return 0.0;
+        };
+        let sweep = LineSweep::new(&tool, a, b);
+        // Each check: the solid shrunk by the touch (does it meet stock?) and the whole one
+        // (how deep?).
+        let part_sweeps = parts.map(|p| {
+            p.map(|p| {
+                let lift = DVec3::Z * p.from_mm;
+                let whole = crash::Part { radius_mm: p.radius_mm + TOUCH_MM, from_mm: p.from_mm - TOUCH_MM, to_mm: p.to_mm + TOUCH_MM };
+                let whole_lift = DVec3::Z * whole.from_mm;
+                (
+                    LineSweep::new(&ToolShape::of_part(&p), a + lift, b + lift),
+                    LineSweep::new(&ToolShape::of_part(&whole), a + whole_lift, b + whole_lift),
+                )
+            })
+        });
+        let rapid = self.now.rapid.then(|| {
+            let lift = DVec3::Z * TOUCH_MM;
+            (LineSweep::new(&tool.shrunk(TOUCH_MM), a + lift, b + lift), sweep)
+        });
+        // The parts meet the stock after the flutes' cut unless the move climbs (crash docs).
+        let climbing = b.z > a.z;
+        // Deepest (depth, place) per kind: shank, holder, rapid.
+        let mut worst: [Option<(f64, DVec3)>; 3] = [None; 3];
+        let check = |stock: &DexelStock,
+                     slot: &mut Option<(f64, DVec3)>,
+                     (touch, whole): &(LineSweep, LineSweep),
+                     k: usize,
+                     x: f64,
+                     y: f64| {
+            let found = touch.span(x, y).and_then(|(lo, hi)| stock.material_in(k, lo, hi));
+            if found.is_some()
+                && let Some((depth, top)) = whole.span(x, y).and_then(|(lo, hi)| stock.material_in(k, lo, hi))
+                && slot.is_none_or(|(d, _)| depth > d)
+            {
+                *slot = Some((depth, DVec3::new(x, y, top)));
+            }
+        };
+        let mut removed = 0.0;
+        for j in j0..=j1 {
+            let y = g.y_mm(j);
+            for i in i0..=i1 {
+                let x = g.x_mm(i);
+                let k = j * g.nx + i;
+                self.counters.rays_visited += 1;
+                if let Some(r) = &rapid {
+                    check(&self.stock, &mut worst[2], r, k, x, y);
+                }
+                if climbing {
+                    for (slot, s) in worst.iter_mut().zip(&part_sweeps) {
+                        if let Some(s) = s {
+                            check(&self.stock, slot, s, k, x, y);
+                        }
+                    }
+                }
+                if let Some((lo, hi)) = sweep.span(x, y) {
+                    self.counters.ray_updates += 1;
+                    removed += self.take(k, lo, hi);
+                }
+                if !climbing {
+                    for (slot, s) in worst.iter_mut().zip(&part_sweeps) {
+                        if let Some(s) = s {
+                            check(&self.stock, slot, s, k, x, y);
+                        }
+                    }
+                }
+            }
+        }
+        for (kind, w) in [CrashKind::Shank, CrashKind::Holder, CrashKind::Rapid].into_iter().zip(worst) {
+            if let Some((depth, at)) = w {
+                self.record_crash(kind, depth, at);
+            }
+        }
+        removed * g.pitch_mm * g.pitch_mm
+    }
+
+    /// A feed move of a tool that does not cut at its centre: a plunge ([`crash`]) when it
+    /// descends more steeply than [`crash::PLUNGE_MIN_DEG`] into stock.
+    fn check_plunge(&mut self, a: DVec3, b: DVec3) {
+        let d = b - a;
+        let drop = -d.z;
+        let run = d.x.hypot(d.y);
+        if !(drop > TOUCH_MM && drop > run * crash::PLUNGE_MIN_DEG.to_radians().tan()) {
+            return;
+        }
+        let g = *self.stock.grid();
+        let half = 0.5 * g.pitch_mm;
+        let (Some((i, _)), Some((j, _))) = (g.columns(b.x - half, b.x + half), g.rows(b.y - half, b.y + half)) else {
+            return;
+        };
+        if let Some((depth, top)) = self.stock.material_in(j * g.nx + i, b.z + TOUCH_MM, a.z) {
+            self.record_crash(CrashKind::Plunge, depth, DVec3::new(g.x_mm(i), g.y_mm(j), top));
+        }
+    }
+
+    /// The shank and holder (and, for a rapid, the flutes) of a 5-axis move at the poses it
+    /// is sampled at: `before` the move's cut for the flutes of a rapid, after it for the
+    /// parts ([`crash`]). Nothing more is done when, on a 32-chord estimate of the move, no
+    /// part comes within a chord's travel of the stock's top.
+    fn check_joint_poses(
+        &mut self,
+        machine: &crate::fiveaxis::Machine,
+        from: &crate::fiveaxis::Joints,
+        to: &crate::fiveaxis::Joints,
+        before: bool,
+    ) {
+        let tool = self.tool;
+        let touch = tool.shrunk(TOUCH_MM);
+        // The solids checked: the flutes shrunk by the touch (their box as a part), or the parts.
+        let flutes = crash::Part { radius_mm: touch.radius_mm, from_mm: TOUCH_MM, to_mm: TOUCH_MM + touch.top_mm };
+        let parts: Vec<(CrashKind, crash::Part)> = if before {
+            vec![(CrashKind::Rapid, flutes)]
+        } else {
+            [(CrashKind::Shank, tool.shank), (CrashKind::Holder, tool.holder)]
+                .into_iter()
+                .filter_map(|(k, p)| Some((k, p?.checked()?)))
+                .collect()
+        };
+        let (_, z1) = self.stock.z_range_mm();
+        let pose = |tau: f64| {
+            let p = machine.pose_from_joints(&from.lerp(to, tau));
+            (p.tip_in_workpiece, p.axis_in_workpiece.normalize_or_zero())
+        };
+        let pre: [(DVec3, DVec3); PRE_SAMPLES + 1] = std::array::from_fn(|k| pose(k as f64 / PRE_SAMPLES as f64));
+        let near = |part: &crash::Part| {
+            let mut low = f64::INFINITY;
+            let mut chord: f64 = 0.0;
+            for (k, (tip, axis)) in pre.iter().enumerate() {
+                low = low.min(sweep::part_box(part, *tip, *axis).0.z);
+                if k > 0 {
+                    let (t0, a0) = pre[k - 1];
+                    chord = chord.max((*tip - t0).length() + (*axis - a0).length() * part.to_mm);
+                }
+            }
+            low - 1.25 * chord < z1
+        };
+        let parts: Vec<(CrashKind, crash::Part)> = parts.into_iter().filter(|(_, p)| near(p)).collect();
+        if parts.is_empty() {
+            return;
+        }
+        let n = self.samples_of(machine, from, to);
+        let g = *self.stock.grid();
+        let mut worst: Vec<Option<(f64, DVec3)>> = vec![None; parts.len()];
+        for s in 0..n {
+            let (tip, axis) = pose(s as f64 / (n - 1).max(1) as f64);
+            for ((kind, part), slot) in parts.iter().zip(worst.iter_mut()) {
+                let (lo, hi) = sweep::part_box(part, tip, axis);
+                if lo.z >= z1 {
+                    continue;
+                }
+                let (Some((i0, i1)), Some((j0, j1))) = (g.columns(lo.x, hi.x), g.rows(lo.y, hi.y)) else {
+                    continue;
+                };
+                for j in j0..=j1 {
+                    let y = g.y_mm(j);
+                    for i in i0..=i1 {
+                        let x = g.x_mm(i);
+                        self.counters.rays_visited += 1;
+                        let k = j * g.nx + i;
+                        let (touched, whole) = if *kind == CrashKind::Rapid {
+                            (tilted_span(&touch, tip + TOUCH_MM * axis, axis, x, y), tilted_span(&tool, tip, axis, x, y))
+                        } else {
+                            let whole = crash::Part {
+                                radius_mm: part.radius_mm + TOUCH_MM,
+                                from_mm: part.from_mm - TOUCH_MM,
+                                to_mm: part.to_mm + TOUCH_MM,
+                            };
+                            (sweep::part_span(part, tip, axis, x, y), sweep::part_span(&whole, tip, axis, x, y))
+                        };
+                        if touched.and_then(|(lo, hi)| self.stock.material_in(k, lo, hi)).is_none() {
+                            continue;
+                        }
+                        let found = whole.and_then(|(lo, hi)| self.stock.material_in(k, lo, hi));
+                        if let Some((depth, top)) = found
+                            && slot.is_none_or(|(d, _)| depth > d)
+                        {
+                            *slot = Some((depth, DVec3::new(x, y, top)));
+                        }
+                    }
+                }
+            }
+        }
+        for ((kind, _), w) in parts.iter().zip(worst) {
+            if let Some((depth, at)) = w {
+                self.record_crash(*kind, depth, at);
+            }
+        }
+    }
+
+    /// Records a crash of the move being applied.
+    fn record_crash(&mut self, kind: CrashKind, depth_mm: f64, at_mm: DVec3) {
+        self.crashes.record(Crash {
+            kind,
+            line: self.now.line,
+            move_index: self.now.index,
+            slot: self.slot,
+            depth_mm,
+            at_mm,
+            tip_mm: self.now.end,
+        });
+    }
+
+    /// Subtracts `lo < z < hi` from ray `k`, marking the tool map; the length removed (mm).
+    #[inline]
+    fn take(&mut self, k: usize, lo: f64, hi: f64) -> f64 {
+        let cut = self.stock.subtract(k, lo, hi);
+        if cut > 0.0
+            && let Some(map) = self.tool_map.as_mut()
+            && let Some(t) = map.get_mut(k)
+        {
+            *t = self.slot;
+        }
+        cut
     }
 
     /// Subtracts from every ray of columns i0..=i1 and rows j0..=j1 the span `span(x, y)`
@@ -552,15 +830,7 @@ impl Simulation {
                 self.counters.rays_visited += 1;
                 if let Some((lo, hi)) = span(g.x_mm(i), y) {
                     self.counters.ray_updates += 1;
-                    let k = j * g.nx + i;
-                    let cut = self.stock.subtract(k, lo, hi);
-                    if cut > 0.0
-                        && let Some(map) = self.tool_map.as_mut()
-                        && let Some(t) = map.get_mut(k)
-                    {
-                        *t = self.slot;
-                    }
-                    removed += cut;
+                    removed += self.take(j * g.nx + i, lo, hi);
                 }
             }
         }

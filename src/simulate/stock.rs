@@ -193,6 +193,22 @@ impl DexelStock {
         self.intervals(index).iter().map(|iv| iv.hi_mm - iv.lo_mm).sum()
     }
 
+    /// The material of ray `index` inside `lo_mm < z < hi_mm`: its length (mm) and the top of
+    /// the highest piece of it (mm); `None` when there is none.
+    #[must_use]
+    pub fn material_in(&self, index: usize, lo_mm: f64, hi_mm: f64) -> Option<(f64, f64)> {
+        let mut length = 0.0;
+        let mut top = f64::NEG_INFINITY;
+        for iv in self.intervals(index) {
+            let (a, b) = (iv.lo_mm.max(lo_mm), iv.hi_mm.min(hi_mm));
+            if b > a {
+                length += b - a;
+                top = b;
+            }
+        }
+        (length > 0.0).then_some((length, top))
+    }
+
     /// Rays holding more than one interval.
     #[must_use]
     pub fn split_rays(&self) -> usize {

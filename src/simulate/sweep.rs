@@ -1,11 +1,10 @@
 //! Where a cutter, or the envelope it sweeps along a move, crosses one vertical ray.
 //!
-//! The simulated tool is the cutter's solid of revolution up to its *body top* H, the gauge
-//! length: the bottom (flat, corner torus) and the flank of radius R continued up to H. The
-//! shank is taken as part of that cylinder (a shank narrower than R lies inside it; a wider
-//! one is not modelled) and the holder is not subtracted — a holder touching the stock is a
-//! collision, not a cut. Tilted tool (tip T, unit axis a), in the tool frame of
-//! [`crate::geom::cutter`]:
+//! The cutting tool is the cutter's solid of revolution up to its *flute top* H, the flute
+//! length (at least 2r and the cone height): the bottom (flat, corner torus) and the flank of
+//! radius R up to H. The shank and the holder above never cut: they are checked against the
+//! stock for crashes ([`super::crash`]). Tilted tool (tip T, unit axis a), in the tool frame
+//! of [`crate::geom::cutter`]:
 //!
 //! - ball: the sphere of radius R centred at T + R·a, and the cylinder of radius R from
 //!   that centre up to T + H·a;
@@ -24,6 +23,7 @@
 
 use glam::DVec3;
 
+use super::crash::Part;
 use super::{MAX_SOLVE_ITERATIONS, ROOT_TOL_MM};
 use crate::geom::{Cutter, CutterKind};
 use crate::numerics::maximise::golden_bracket;
@@ -37,8 +37,14 @@ pub struct ToolShape {
     pub radius_mm: f64,
     /// Corner radius r (mm).
     pub corner_mm: f64,
-    /// Body top H above the tip (mm): the gauge length, at least 2r and the cone height.
+    /// Flute top H above the tip (mm): the flute length, at least 2r and the cone height.
     pub top_mm: f64,
+    /// The shank above the flutes, `None` when it has no length.
+    pub shank: Option<Part>,
+    /// The holder above the shank.
+    pub holder: Option<Part>,
+    /// Whether the end cuts at its centre.
+    pub centre_cutting: bool,
     /// Tapered cutters: the radius of the flat at the tip, r_t (mm); 0 for the others.
     pub tip_flat_mm: f64,
     /// Tapered cutters: cot α, the cone's rise per mm of radius; 0 for the others.
@@ -59,15 +65,68 @@ impl ToolShape {
         };
         let (tip_flat_mm, cot) = cutter.taper.map_or((0.0, 0.0), |t| (t.tip_radius_mm, 1.0 / t.half_angle_rad.tan()));
         let cone_mm = cutter.cone_height_mm();
+        let top_mm = cutter.flute_length_mm.max(2.0 * corner_mm).max(cone_mm);
+        let gauge = cutter.gauge_length_mm.max(top_mm);
+        let part = |radius_mm: f64, from_mm: f64, to_mm: f64| {
+            (to_mm > from_mm && radius_mm > 0.0).then_some(Part { radius_mm, from_mm, to_mm })
+        };
         Self {
             kind,
             radius_mm: cutter.radius_mm,
             corner_mm,
-            top_mm: cutter.gauge_length_mm.max(2.0 * corner_mm).max(cutter.flute_length_mm).max(cone_mm),
+            top_mm,
+            shank: part(cutter.shank_radius_mm, top_mm, gauge),
+            holder: part(cutter.holder_radius_mm, gauge, gauge + cutter.holder_length_mm),
+            centre_cutting: cutter.centre_cutting,
             tip_flat_mm,
             cot,
             cone_mm,
         }
+    }
+
+    /// A flat end mill of the part's radius and length, to sweep the part as a cutter whose
+    /// tip is the part's bottom.
+    #[must_use]
+    pub fn of_part(part: &Part) -> Self {
+        Self {
+            kind: CutterKind::Flat,
+            radius_mm: part.radius_mm,
+            corner_mm: 0.0,
+            top_mm: part.to_mm - part.from_mm,
+            shank: None,
+            holder: None,
+            centre_cutting: true,
+            tip_flat_mm: 0.0,
+            cot: 0.0,
+            cone_mm: 0.0,
+        }
+    }
+
+    /// The flutes shrunk by `d_mm` in radius (and corner) and top, to be placed `d_mm` higher:
+    /// a solid at least about `d_mm` inside the flutes, for a touch tolerance.
+    #[must_use]
+    pub fn shrunk(&self, d_mm: f64) -> Self {
+        let radius_mm = (self.radius_mm - d_mm).max(d_mm);
+        let corner_mm = if self.kind == CutterKind::Ball { radius_mm } else { (self.corner_mm - d_mm).max(0.0) };
+        let tip_flat_mm = (self.tip_flat_mm - d_mm).max(0.0);
+        let cone_mm = if self.kind == CutterKind::Tapered { (radius_mm - tip_flat_mm).max(0.0) * self.cot } else { 0.0 };
+        Self {
+            radius_mm,
+            corner_mm,
+            tip_flat_mm,
+            cone_mm,
+            top_mm: (self.top_mm - 2.0 * d_mm).max(2.0 * corner_mm).max(cone_mm),
+            shank: None,
+            holder: None,
+            ..*self
+        }
+    }
+
+    /// The widest radius of the flutes, the shank and the holder (mm).
+    #[must_use]
+    pub fn widest_mm(&self) -> f64 {
+        let p = |p: Option<Part>| p.map_or(0.0, |p| p.radius_mm);
+        self.radius_mm.max(p(self.shank)).max(p(self.holder))
     }
 
     /// R0 = R − r (mm).
@@ -448,6 +507,26 @@ fn bisect_root(excess: &impl Fn(f64) -> f64, outside: f64, inside: f64) -> f64 {
         }
     }
     i
+}
+
+/// The ray at (x, y) against a part of a tilted tool (tip, unit axis): the interval of z
+/// inside it (mm), `None` when it misses.
+#[must_use]
+pub fn part_span(part: &Part, tip: DVec3, axis: DVec3, x: f64, y: f64) -> Option<(f64, f64)> {
+    ray_cylinder(tip + part.from_mm * axis, axis, part.to_mm - part.from_mm, part.radius_mm, x, y)
+}
+
+/// The box (mm) around a part of a tilted tool.
+#[must_use]
+pub fn part_box(part: &Part, tip: DVec3, axis: DVec3) -> (DVec3, DVec3) {
+    let r = part.radius_mm;
+    let ext = DVec3::new(
+        r * (1.0 - axis.x * axis.x).max(0.0).sqrt(),
+        r * (1.0 - axis.y * axis.y).max(0.0).sqrt(),
+        r * (1.0 - axis.z * axis.z).max(0.0).sqrt(),
+    );
+    let (a, b) = (tip + part.from_mm * axis, tip + part.to_mm * axis);
+    (a.min(b) - ext, a.max(b) + ext)
 }
 
 /// The axis-aligned box (min, max) (mm) of a tilted cutter's body up to `h_mm` above the

@@ -45,7 +45,7 @@ use std::collections::BTreeMap;
 use glam::DVec3;
 use thiserror::Error;
 
-use crate::geom::{Cutter, CutterError};
+use crate::geom::{BodySpec, Cutter, CutterError};
 pub use crate::limits::{MAX_TOOL_TABLE_BYTES, MAX_TOOLS};
 
 #[cfg(test)]
@@ -149,6 +149,9 @@ pub struct ToolEntry {
     pub shape: ToolShape,
     /// The shape was not given and is assumed flat.
     pub shape_assumed: bool,
+    /// The body lengths the source gives (flutes, shank, holder, centre cutting): a `.tbl`
+    /// remark's words, a CAMotics tool's `length` as its flutes, a spec's words.
+    pub body: BodySpec,
     /// Lathe front angle I (degrees), back angle J (degrees) and orientation Q, when given.
     pub lathe: Option<LatheTool>,
     /// The remark (`.tbl`), description (CAMotics) or spec, trimmed.
@@ -182,13 +185,18 @@ impl ToolEntry {
         if !(d > 0.0 && d.is_finite()) {
             return None;
         }
-        Some(match self.shape {
+        let mut spec = match self.shape {
             ToolShape::Flat | ToolShape::Ball => format!("{n}:{}:{d}", self.shape.name()),
             ToolShape::Bull { corner_radius_mm } => format!("{n}:bull:{d}:{corner_radius_mm}"),
             ToolShape::V { tip_angle_deg } => format!("{n}:v:{d}:{tip_angle_deg}"),
             ToolShape::Drill { point_angle_deg } => format!("{n}:drill:{d}:{point_angle_deg}"),
             ToolShape::Snub { .. } | ToolShape::Unknown => return None,
-        })
+        };
+        if !self.body.is_empty() {
+            spec.push(',');
+            spec.push_str(&self.body.words(","));
+        }
+        Some(spec)
     }
 
     /// The corner radius (mm): D/2 for a ball, r for a bull nose, 0 for a flat end mill;
@@ -203,19 +211,21 @@ impl ToolEntry {
         }
     }
 
-    /// The tool as the simulation's [`Cutter`] (with its default shank and holder), for the
-    /// shapes it models: flat, ball and bull nose. `None` for the others.
+    /// The tool as the simulation's [`Cutter`] (its body from [`Self::body`], defaults for
+    /// what that leaves out), for the shapes it models: flat, ball and bull nose. `None` for
+    /// the others.
     ///
     /// # Errors
     /// When the diameter is zero or the corner does not fit.
     pub fn cutter(&self) -> Option<Result<Cutter, CutterError>> {
         let r = 0.5 * self.diameter_mm;
-        match self.shape {
-            ToolShape::Flat => Some(Cutter::flat(r)),
-            ToolShape::Ball => Some(Cutter::ball(r)),
-            ToolShape::Bull { corner_radius_mm } => Some(Cutter::fillet(r, corner_radius_mm)),
-            _ => None,
-        }
+        let c = match self.shape {
+            ToolShape::Flat => Cutter::flat(r),
+            ToolShape::Ball => Cutter::ball(r),
+            ToolShape::Bull { corner_radius_mm } => Cutter::fillet(r, corner_radius_mm),
+            _ => return None,
+        };
+        Some(c.and_then(|c| c.with_body(&self.body)))
     }
 }
 
@@ -577,7 +587,18 @@ impl ToolTable {
 /// A spec that is not of that form, with what to write.
 pub fn parse_tool_spec(spec: &str) -> Result<ToolEntry, ToolError> {
     let fail = |what: String| ToolError::Spec { spec: spec.to_owned(), what };
-    let parts: Vec<&str> = spec.split(':').map(str::trim).collect();
+    let mut pieces = spec.split(',');
+    let head = pieces.next().unwrap_or_default();
+    let mut body = BodySpec::default();
+    for w in pieces {
+        if !body.word(w, 1.0).map_err(fail)? {
+            return Err(fail(format!(
+                "'{}' is not a body word; write flute=25, shank=3:40 (radius:length), holder=16:60 or nocentre, e.g. 1:ball:6,flute=20",
+                w.chars().take(40).collect::<String>()
+            )));
+        }
+    }
+    let parts: Vec<&str> = head.split(':').map(str::trim).collect();
     if parts.len() < 3 || parts.len() > 4 {
         return Err(fail("write N:shape:diameter[:corner], e.g. 1:ball:6, 2:bull:10:1, 3:v:6:90, 4:flat:3".to_owned()));
     }
@@ -618,7 +639,7 @@ pub fn parse_tool_spec(spec: &str) -> Result<ToolEntry, ToolError> {
             parts[2]
         )));
     }
-    Ok(ToolEntry { number, shape, diameter_mm: diameter, comment: spec.to_owned(), ..ToolEntry::default() })
+    Ok(ToolEntry { number, shape, diameter_mm: diameter, body, comment: spec.to_owned(), ..ToolEntry::default() })
 }
 
 fn parse_number(s: &str) -> Option<i32> {
@@ -695,6 +716,9 @@ fn tbl_line(line: usize, data: &str, remark: &str, units: TableUnits) -> Result<
     t.number = number.ok_or(ToolError::NoNumber { line })?;
     t.lathe = has_lathe.then_some(lathe);
     let place = format!("line {line}");
+    for w in remark.split_whitespace() {
+        t.body.word(w, s).map_err(|what| ToolError::Shape { place: place.clone(), what })?;
+    }
     match remark_shape(remark, s).map_err(|what| ToolError::Shape { place: place.clone(), what })? {
         Some(shape) => {
             if let ToolShape::Bull { corner_radius_mm } = shape {
@@ -831,7 +855,8 @@ fn camotics_tool(path: &str, key: &str, value: &serde_json::Value) -> Result<Too
             .map(|s| s.trim().to_owned())
             .ok_or_else(|| bad(&format!("{path}.description"), "must be text".to_owned()))?,
     };
-    Ok(ToolEntry { number, diameter_mm: diameter, length_mm: Some(length), shape, comment, ..ToolEntry::default() })
+    let body = BodySpec { flute_mm: (length > 0.0).then_some(length), ..BodySpec::default() };
+    Ok(ToolEntry { number, diameter_mm: diameter, length_mm: Some(length), shape, body, comment, ..ToolEntry::default() })
 }
 
 fn camotics_workpiece(w: &serde_json::Value) -> Result<CamoticsWorkpiece, ToolError> {
