@@ -14,7 +14,7 @@ use std::time::{Duration, Instant};
 use criterion::{Criterion, criterion_group, criterion_main};
 use glam::DVec3;
 use interpolab::geom::Cutter;
-use interpolab::simulate::{DexelStock, Program, Simulation};
+use interpolab::simulate::{DexelStock, MoveKind, Program, Simulation};
 use sim_programs::{SIDE_MM, five_axis, raster_points, three_axis, tilt_rad};
 
 /// The programs, shared with `benches/native_and_wasm/simulate.rs` (which runs them natively and in wasm).
@@ -38,11 +38,78 @@ fn ball() -> Cutter {
 }
 
 fn simulate(program: &Program) -> Simulation {
+    simulate_checked(program, true)
+}
+
+/// With or without the crash checks (`simulate::crash`), to measure what they cost.
+fn simulate_checked(program: &Program, checks: bool) -> Simulation {
     let mut sim = Simulation::new(stock(), &ball());
+    if !checks {
+        sim = sim.without_crash_checks();
+    }
     if let Err(e) = sim.run(program) {
         panic!("run: {e}");
     }
     sim
+}
+
+/// The program lowered by `dz_mm` (tips, or the joints' Z): 10 mm down, the ball's shank
+/// (from 9 mm above the tip) reaches 6 mm into the 20 mm block on every move, so every move
+/// checks it — the crash checks' worst case.
+fn lowered(mut p: Program, dz_mm: f64) -> Program {
+    for m in &mut p.moves {
+        match &mut m.kind {
+            MoveKind::Line { from, to } => {
+                from.z -= dz_mm;
+                to.z -= dz_mm;
+            }
+            MoveKind::Joints { from, to, .. } => {
+                from.xyz_mm.z -= dz_mm;
+                to.xyz_mm.z -= dz_mm;
+            }
+        }
+    }
+    p
+}
+
+/// CPU seconds of `f` on this thread (wall seconds where the CPU clock is not readable).
+fn cpu_time(f: impl FnOnce()) -> f64 {
+    let (t, cpu0) = (Instant::now(), thread_cpu_s());
+    f();
+    thread_cpu_s().zip(cpu0).map_or_else(|| t.elapsed().as_secs_f64(), |(b, a)| b - a)
+}
+
+/// A deep pocket as it is cut: the raster 5 mm down, then 10 mm down — the shank's face
+/// (9 mm above the tip) below the block's top on the second pass, in stock the first pass
+/// cleared: checked on every move, no crash.
+fn stepped(n: usize) -> Program {
+    let mut p = lowered(three_axis(n), 5.0);
+    p.moves.extend(lowered(three_axis(n), 10.0).moves);
+    p
+}
+
+/// What the crash checks cost, with and without them, best of three each (CPU time), and
+/// the crashes they find: the deep pocket cut in steps (clean), and the programs 10 mm deeper
+/// at once (the shank buried on every move: the checks' worst case).
+fn report_crash_checks() {
+    let cases = [
+        ("3-axis 2 × 2 500 moves in two steps (clean)", stepped(2_500)),
+        ("3-axis 5 000 moves 10 mm deeper (the shank buried on every move)", lowered(three_axis(5_000), 10.0)),
+        ("5-axis 1 000 moves 10 mm deeper (the shank buried on every move)", lowered(five_axis(1_000), 10.0)),
+    ];
+    for (name, p) in cases {
+        let best = |checks: bool| {
+            (0..3).map(|_| cpu_time(|| drop(black_box(simulate_checked(&p, checks))))).fold(f64::INFINITY, f64::min)
+        };
+        let (with, without) = (best(true), best(false));
+        let crashes = simulate_checked(&p, true).crashes().total();
+        eprintln!(
+            "crash checks, {name}: {:.3} s with, {:.3} s without (CPU): +{:.1} %, {crashes} crash reports",
+            with,
+            without,
+            (with / without - 1.0) * 100.0
+        );
+    }
 }
 
 /// CPU time of this thread (s) from /proc/thread-self/schedstat (ns), `None` elsewhere: on
@@ -119,6 +186,7 @@ fn cutrail_per_segment(n: usize, tilted: bool) -> f64 {
 
 fn benches(c: &mut Criterion) {
     report_once();
+    report_crash_checks();
     let n_peer = 500;
     let ours3 = {
         let p = three_axis(n_peer);
@@ -152,6 +220,10 @@ fn benches(c: &mut Criterion) {
     // criterion repeats its first 1 000 moves.
     let p5 = five_axis(1_000);
     g.bench_function("five_axis_1000_moves", |b| b.iter(|| black_box(simulate(&p5))));
+    // The crash checks' worst case: the shank in the stock on every move, with and without.
+    let deep3 = lowered(three_axis(5_000), 10.0);
+    g.bench_function("three_axis_5000_deep_checked", |b| b.iter(|| black_box(simulate_checked(&deep3, true))));
+    g.bench_function("three_axis_5000_deep_unchecked", |b| b.iter(|| black_box(simulate_checked(&deep3, false))));
     g.finish();
 }
 

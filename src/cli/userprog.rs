@@ -62,8 +62,9 @@ pub(crate) struct ToolArgs {
     #[arg(long)]
     pub project: Option<PathBuf>,
     /// A tool `N:shape:diameter[:corner|angle]` (mm, degrees), e.g. 1:ball:6, 2:bull:10:1,
-    /// 3:v:6:90, 4:drill:8; repeat for more; gives a table's tool of that number this
-    /// cutter, keeping its length offset.
+    /// 3:v:6:90, 4:drill:8, then optional body words `,flute=L,shank=R:L,holder=R:L,nocentre`
+    /// (mm); repeat for more; gives a table's tool of that number this cutter, keeping its
+    /// length offset.
     #[arg(long = "tool")]
     pub tool_specs: Vec<String>,
     /// Machine of the rotary axes: table-ac, table-bc, head-bc, head-a-table-c, or wrap-a (a
@@ -443,7 +444,8 @@ pub(crate) fn simulate(r: &SimulateRequest<'_>) -> Result<ExitCode, Fatal> {
         write(path, &tool_map_bytes(path, &map, slots, &p))?;
     }
     let c = sim.counters();
-    let crashes = super::crash_report(sim.crashes(), r.crashes, |slot| p.tools.get(usize::from(slot)).map(|t| t.number))?;
+    let crashes =
+        super::crash_report(sim.crashes(), r.crashes, |slot| p.tools.get(usize::from(slot)).map(|t| t.number))?;
     let g = map.grid;
     let um = |mm: f64| (mm * 1e6).round() / 1e3;
     let nm = |mm: f64| (mm * 1e6).round() / 1e6;

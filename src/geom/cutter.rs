@@ -214,18 +214,21 @@ impl BodySpec {
         };
         match key.trim() {
             "flute" | "flutes" => {
-                self.flute_mm =
-                    Some(length(value).ok_or_else(|| format!("'{echo}': give the flute length above 0, e.g. flute=25"))?);
+                self.flute_mm = Some(
+                    length(value).ok_or_else(|| format!("'{echo}': give the flute length above 0, e.g. flute=25"))?,
+                );
             }
             "shank" => {
-                self.shank_mm = Some(pair(value).ok_or_else(|| {
-                    format!("'{echo}': give the shank as radius:length above 0, e.g. shank=3:40")
-                })?);
+                self.shank_mm =
+                    Some(pair(value).ok_or_else(|| {
+                        format!("'{echo}': give the shank as radius:length above 0, e.g. shank=3:40")
+                    })?);
             }
             "holder" => {
-                self.holder_mm = Some(pair(value).ok_or_else(|| {
-                    format!("'{echo}': give the holder as radius:length above 0, e.g. holder=16:60")
-                })?);
+                self.holder_mm =
+                    Some(pair(value).ok_or_else(|| {
+                        format!("'{echo}': give the holder as radius:length above 0, e.g. holder=16:60")
+                    })?);
             }
             _ => return Ok(false),
         }
@@ -293,18 +296,12 @@ impl Cutter {
             },
         ));
         let (holder_r, holder_l) = body.holder_mm.unwrap_or((self.holder_radius_mm, self.holder_length_mm));
-        let mut c = Self::try_new(
-            self.radius_mm,
-            self.corner_radius_mm,
-            flute,
-            shank_r,
-            flute + shank_l,
-            holder_r,
-            holder_l,
-        )?;
+        let mut c =
+            Self::try_new(self.radius_mm, self.corner_radius_mm, flute, shank_r, flute + shank_l, holder_r, holder_l)?;
         c.taper = self.taper;
         c.centre_cutting = body.centre_cutting.unwrap_or(self.centre_cutting);
-        c.body_given = self.body_given || body.flute_mm.is_some() || body.shank_mm.is_some() || body.holder_mm.is_some();
+        c.body_given =
+            self.body_given || body.flute_mm.is_some() || body.shank_mm.is_some() || body.holder_mm.is_some();
         Ok(c)
     }
 

@@ -14,7 +14,8 @@
 //!   first: a plunge deeper than F into a hole the flutes cut is not a crash of a shank no
 //!   wider than they), and *before* it when it climbs (the flutes at a later instant are
 //!   higher, and would otherwise hide material the part met earlier). 5-axis moves check the
-//!   part at the poses the move is sampled at, after the move's cut.
+//!   part at poses no point of it moves more than [`POSE_STEP_PITCHES`] pitches between,
+//!   after the move's cut.
 //! - **rapid**: any part of the flutes entering stock in a rapid (G0): the flutes' swept
 //!   solid against the stock before the move.
 //! - **plunge**: a feed move descending more steeply than [`PLUNGE_MIN_DEG`] into stock with
@@ -37,6 +38,11 @@ pub const TOUCH_MM: f64 = 1e-3;
 
 /// Most crash reports kept (later ones are counted only).
 pub const MAX_CRASHES: usize = 10_000;
+
+/// The shank and holder of a 5-axis move are checked at poses no point of them moves more
+/// than this many pitches between: an interference narrower than that between two poses
+/// can be missed (the flutes' cut is sampled at one pitch).
+pub const POSE_STEP_PITCHES: f64 = 4.0;
 
 /// Descent angle (degrees from the horizontal) above which a feed move into stock is a
 /// plunge: a tool that does not cut at its centre can ramp in below it.
@@ -249,8 +255,11 @@ impl Part {
     /// The part shrunk by [`TOUCH_MM`] (radius, bottom and top), `None` when nothing is left.
     #[must_use]
     pub fn checked(&self) -> Option<Self> {
-        let p =
-            Self { radius_mm: self.radius_mm - TOUCH_MM, from_mm: self.from_mm + TOUCH_MM, to_mm: self.to_mm - TOUCH_MM };
+        let p = Self {
+            radius_mm: self.radius_mm - TOUCH_MM,
+            from_mm: self.from_mm + TOUCH_MM,
+            to_mm: self.to_mm - TOUCH_MM,
+        };
         (p.radius_mm > 0.0 && p.to_mm > p.from_mm).then_some(p)
     }
 }

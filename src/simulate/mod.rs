@@ -180,6 +180,9 @@ pub struct Simulation {
     tool_map: Option<Vec<u16>>,
     /// The crashes so far ([`crash`]).
     crashes: CrashLog,
+    /// Whether moves are checked for crashes (default; off only to measure what the checks
+    /// cost, [`Self::without_crash_checks`]).
+    crash_checks: bool,
     /// The move being applied: its line, whether it is a rapid, its index in the run.
     now: MoveNow,
 }
@@ -219,8 +222,17 @@ impl Simulation {
             slot: 0,
             tool_map: None,
             crashes: CrashLog::default(),
+            crash_checks: true,
             now: MoveNow::default(),
         }
+    }
+
+    /// The same simulation without crash checks: the flutes cut as with them, no crash is
+    /// looked for (the benchmarks measure what the checks cost with it).
+    #[must_use]
+    pub fn without_crash_checks(mut self) -> Self {
+        self.crash_checks = false;
+        self
     }
 
     /// The crashes found so far ([`crash`]).
@@ -336,6 +348,17 @@ impl Simulation {
         from: &crate::fiveaxis::Joints,
         to: &crate::fiveaxis::Joints,
     ) -> usize {
+        self.samples_with_step(machine, from, to, self.sample_step_mm)
+    }
+
+    /// [`Self::samples_of`] for another step (mm).
+    fn samples_with_step(
+        &self,
+        machine: &crate::fiveaxis::Machine,
+        from: &crate::fiveaxis::Joints,
+        to: &crate::fiveaxis::Joints,
+        step_mm: f64,
+    ) -> usize {
         const PRE: usize = PRE_SAMPLES;
         let pose = |k: usize| machine.pose_from_joints(&from.lerp(to, k as f64 / PRE as f64));
         let reach = |p: &crate::fiveaxis::ToolPose| self.reach_mm(p.tip_in_workpiece, p.axis_in_workpiece).max(0.0);
@@ -348,7 +371,7 @@ impl Simulation {
             travel += (p.tip_in_workpiece - prev.tip_in_workpiece).length() + turn * arm;
             prev = p;
         }
-        let n = (1.25 * travel / self.sample_step_mm).ceil();
+        let n = (1.25 * travel / step_mm).ceil();
         if n.is_finite() { (n as usize).clamp(1, MAX_SAMPLES_PER_MOVE - 1) + 1 } else { MAX_SAMPLES_PER_MOVE }
     }
 
@@ -514,6 +537,7 @@ impl Simulation {
         self.now = MoveNow { line: m.line, rapid: m.rapid, index: self.counters.moves, end, started: true };
         if let MoveKind::Joints { machine, from, to } = m.kind
             && m.rapid
+            && self.crash_checks
         {
             self.check_joint_poses(&machine, &from, &to, true);
         }
@@ -546,7 +570,9 @@ impl Simulation {
                 removed
             }
         };
-        if let MoveKind::Joints { machine, from, to } = m.kind {
+        if let MoveKind::Joints { machine, from, to } = m.kind
+            && self.crash_checks
+        {
             self.check_joint_poses(&machine, &from, &to, false);
         }
         self.counters.moves += 1;
@@ -569,13 +595,14 @@ impl Simulation {
             return 0.0;
         }
         let tool = self.tool;
-        if !tool.centre_cutting && !self.now.rapid {
+        let checks = self.crash_checks;
+        if checks && !tool.centre_cutting && !self.now.rapid {
             self.check_plunge(a, b);
         }
         // The parts that can reach below the stock's top on this move.
-        let reaches = |p: Option<crash::Part>| p.and_then(|p| p.checked()).filter(|p| low + p.from_mm < z1);
+        let reaches = |p: Option<crash::Part>| p.and_then(|p| p.checked()).filter(|p| checks && low + p.from_mm < z1);
         let (shank, holder) = (reaches(tool.shank), reaches(tool.holder));
-        if shank.is_some() || holder.is_some() || self.now.rapid {
+        if shank.is_some() || holder.is_some() || (checks && self.now.rapid) {
             return self.cut_line_checked(a, b, [shank, holder]);
         }
         let g = *self.stock.grid();
@@ -606,7 +633,11 @@ impl Simulation {
         let part_sweeps = parts.map(|p| {
             p.map(|p| {
                 let lift = DVec3::Z * p.from_mm;
-                let whole = crash::Part { radius_mm: p.radius_mm + TOUCH_MM, from_mm: p.from_mm - TOUCH_MM, to_mm: p.to_mm + TOUCH_MM };
+                let whole = crash::Part {
+                    radius_mm: p.radius_mm + TOUCH_MM,
+                    from_mm: p.from_mm - TOUCH_MM,
+                    to_mm: p.to_mm + TOUCH_MM,
+                };
                 let whole_lift = DVec3::Z * whole.from_mm;
                 (
                     LineSweep::new(&ToolShape::of_part(&p), a + lift, b + lift),
@@ -620,17 +651,31 @@ impl Simulation {
         });
         // The parts meet the stock after the flutes' cut unless the move climbs (crash docs).
         let climbing = b.z > a.z;
+        // Below these heights (the checked solids' lowest points on the move) a ray's stock
+        // cannot meet them: shank, holder, the flutes of a rapid.
+        let low = a.z.min(b.z);
+        let floor = [parts[0], parts[1]].map(|p| p.map_or(f64::INFINITY, |p| low + p.from_mm));
+        let rapid_floor = low + TOUCH_MM;
         // Deepest (depth, place) per kind: shank, holder, rapid.
         let mut worst: [Option<(f64, DVec3)>; 3] = [None; 3];
         let check = |stock: &DexelStock,
                      slot: &mut Option<(f64, DVec3)>,
                      (touch, whole): &(LineSweep, LineSweep),
+                     floor: f64,
                      k: usize,
                      x: f64,
                      y: f64| {
-            let found = touch.span(x, y).and_then(|(lo, hi)| stock.material_in(k, lo, hi));
-            if found.is_some()
-                && let Some((depth, top)) = whole.span(x, y).and_then(|(lo, hi)| stock.material_in(k, lo, hi))
+            if stock.top_mm(k).is_none_or(|t| t <= floor) {
+                return;
+            }
+            let Some((touched, _)) = touch.span(x, y).and_then(|(lo, hi)| stock.material_in(k, lo, hi)) else {
+                return;
+            };
+            // The whole part holds at most 2 µm more of a ray the shrunk one meets.
+            if slot.is_some_and(|(d, _)| touched + 2.0 * TOUCH_MM <= d) {
+                return;
+            }
+            if let Some((depth, top)) = whole.span(x, y).and_then(|(lo, hi)| stock.material_in(k, lo, hi))
                 && slot.is_none_or(|(d, _)| depth > d)
             {
                 *slot = Some((depth, DVec3::new(x, y, top)));
@@ -644,12 +689,12 @@ impl Simulation {
                 let k = j * g.nx + i;
                 self.counters.rays_visited += 1;
                 if let Some(r) = &rapid {
-                    check(&self.stock, &mut worst[2], r, k, x, y);
+                    check(&self.stock, &mut worst[2], r, rapid_floor, k, x, y);
                 }
                 if climbing {
-                    for (slot, s) in worst.iter_mut().zip(&part_sweeps) {
+                    for ((slot, s), f) in worst.iter_mut().zip(&part_sweeps).zip(floor) {
                         if let Some(s) = s {
-                            check(&self.stock, slot, s, k, x, y);
+                            check(&self.stock, slot, s, f, k, x, y);
                         }
                     }
                 }
@@ -658,9 +703,9 @@ impl Simulation {
                     removed += self.take(k, lo, hi);
                 }
                 if !climbing {
-                    for (slot, s) in worst.iter_mut().zip(&part_sweeps) {
+                    for ((slot, s), f) in worst.iter_mut().zip(&part_sweeps).zip(floor) {
                         if let Some(s) = s {
-                            check(&self.stock, slot, s, k, x, y);
+                            check(&self.stock, slot, s, f, k, x, y);
                         }
                     }
                 }
@@ -688,7 +733,10 @@ impl Simulation {
         let (Some((i, _)), Some((j, _))) = (g.columns(b.x - half, b.x + half), g.rows(b.y - half, b.y + half)) else {
             return;
         };
-        if let Some((depth, top)) = self.stock.material_in(j * g.nx + i, b.z + TOUCH_MM, a.z) {
+        let k = j * g.nx + i;
+        if self.stock.material_in(k, b.z + TOUCH_MM, a.z).is_some()
+            && let Some((depth, top)) = self.stock.material_in(k, b.z, a.z)
+        {
             self.record_crash(CrashKind::Plunge, depth, DVec3::new(g.x_mm(i), g.y_mm(j), top));
         }
     }
@@ -738,7 +786,7 @@ impl Simulation {
         if parts.is_empty() {
             return;
         }
-        let n = self.samples_of(machine, from, to);
+        let n = self.samples_with_step(machine, from, to, crash::POSE_STEP_PITCHES * self.stock.grid().pitch_mm);
         let g = *self.stock.grid();
         let mut worst: Vec<Option<(f64, DVec3)>> = vec![None; parts.len()];
         for s in 0..n {
@@ -757,8 +805,15 @@ impl Simulation {
                         let x = g.x_mm(i);
                         self.counters.rays_visited += 1;
                         let k = j * g.nx + i;
+                        // A ray whose stock is all below the part's lowest point cannot meet it.
+                        if self.stock.top_mm(k).is_none_or(|t| t <= lo.z) {
+                            continue;
+                        }
                         let (touched, whole) = if *kind == CrashKind::Rapid {
-                            (tilted_span(&touch, tip + TOUCH_MM * axis, axis, x, y), tilted_span(&tool, tip, axis, x, y))
+                            (
+                                tilted_span(&touch, tip + TOUCH_MM * axis, axis, x, y),
+                                tilted_span(&tool, tip, axis, x, y),
+                            )
                         } else {
                             let whole = crash::Part {
                                 radius_mm: part.radius_mm + TOUCH_MM,

@@ -109,7 +109,8 @@ impl ToolShape {
         let radius_mm = (self.radius_mm - d_mm).max(d_mm);
         let corner_mm = if self.kind == CutterKind::Ball { radius_mm } else { (self.corner_mm - d_mm).max(0.0) };
         let tip_flat_mm = (self.tip_flat_mm - d_mm).max(0.0);
-        let cone_mm = if self.kind == CutterKind::Tapered { (radius_mm - tip_flat_mm).max(0.0) * self.cot } else { 0.0 };
+        let cone_mm =
+            if self.kind == CutterKind::Tapered { (radius_mm - tip_flat_mm).max(0.0) * self.cot } else { 0.0 };
         Self {
             radius_mm,
             corner_mm,

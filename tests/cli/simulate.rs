@@ -206,8 +206,12 @@ fn the_crease_programs_of_a_scene_gouge_no_deeper_than_their_tolerance() {
         assert!(s["chord_error_mm"].as_f64().unwrap() <= 0.02 + 1e-12, "{kind}: {s}");
         let worst = s["gouge"]["worst_um"].as_f64().unwrap_or(0.0);
         assert!(worst >= -10.0, "{kind}: gouge {worst} µm");
-        // The programs rapid down to the cutting depth inside the block: reported.
-        assert!(s["rapid_cuts"].as_u64().unwrap() >= 1 && err.contains("rapid (G00)"), "{kind}: {err}");
+        // The programs rapid down to the cutting depth inside the block: a rapid crash, on
+        // stderr and in the JSON, with the line it happens on.
+        assert!(s["rapid_cuts"].as_u64().unwrap() >= 1, "{kind}: {s}");
+        assert!(s["crashes"]["by_kind"]["rapid"].as_u64().unwrap() >= 1, "{kind}: {s}");
+        assert!(s["crashes"]["first"]["line"].as_u64().unwrap() >= 1, "{kind}: {s}");
+        assert!(err.contains("crash(es)") && err.contains("rapid (G0)"), "{kind}: {err}");
         // The floor ring the ball's bottom sweeps is machined to z = 0 (radius 45 around Z).
         assert!(s["machined_rays"].as_u64().unwrap() > 10_000, "{kind}");
     }
@@ -337,4 +341,48 @@ fn finish_refusals_are_one_line_messages() {
         assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
         assert!(err.contains(want), "{args:?}: {err}");
     }
+}
+
+#[test]
+fn crashes_are_listed_by_line_with_the_tool_body_from_the_cutter_or_a_tool_table() {
+    // A flat 6 mm tool with 10 mm flutes: line 6 drags the shank 5 mm deep through the
+    // block (15 mm below the top), line 9 rapids 2 mm into it; the same through a LinuxCNC
+    // table whose remark gives the body.
+    let prog = "G21 G90\nT1 M6 G0 Z5\nG0 X20 Y20\nG1 Z-8 F100\nG1 Z-15\nG1 X30\nG0 Z5\nG0 X5 Y5\nG0 Z-2\nG0 Z5\nM2\n";
+    let p = temp("crash.nc", prog);
+    let csv = p.with_extension("csv");
+    let table = temp("crash.tbl", "T1 P1 D6 Z0 ;flat flute=10 shank=3:20 holder=10:40\n");
+    let runs = [vec!["--cutter", "flat:3,flute=10,shank=3:20,holder=10:40"], vec!["--tools", table.to_str().unwrap()]];
+    for extra in runs {
+        let mut args = vec!["simulate", p.to_str().unwrap(), "--stock", "0,0,-30,40,40,0", "--pitch", "0.25"];
+        args.extend(extra.iter().copied());
+        args.extend(["--crashes", csv.to_str().unwrap()]);
+        let (code, out, err) = run(&args);
+        assert_eq!(code, 0, "{err}");
+        let s: serde_json::Value = serde_json::from_str(&out).unwrap();
+        let c = &s["crashes"];
+        assert_eq!(c["first"]["line"], 6, "{c}");
+        assert_eq!(c["first"]["kind"], "shank");
+        assert!((c["first"]["depth_mm"].as_f64().unwrap() - 5.0).abs() < 1e-6, "{c}");
+        assert!(c["by_kind"]["rapid"].as_u64().unwrap() >= 1 && c["by_kind"]["holder"] == 0, "{c}");
+        assert_eq!(err.lines().filter(|l| l.contains("crash(es)")).count(), 1, "one summary line: {err}");
+        assert!(err.contains("the first at line 6: the shank 5.000 mm"), "{err}");
+        let text = std::fs::read_to_string(&csv).unwrap();
+        let rows: Vec<Vec<&str>> = text.lines().skip(1).map(|l| l.split(',').collect()).collect();
+        assert_eq!(rows.len() as u64, c["total"].as_u64().unwrap());
+        assert_eq!((rows[0][0], rows[0][1]), ("6", "shank"));
+        let rapid = rows.iter().find(|r| r[0] == "9").unwrap();
+        assert_eq!(rapid[1], "rapid");
+        assert!((rapid[4].parse::<f64>().unwrap() - 2.0).abs() < 1e-6, "{rapid:?}");
+        assert!(s.to_string().contains("flutes 10 mm, shank R 3 × 20 mm, holder R 10 × 40 mm"), "{s}");
+    }
+    // Without lengths the body is the default, said to be assumed; a bad word is refused.
+    let (code, out, _) = run(&["simulate", p.to_str().unwrap(), "--stock", "0,0,-30,40,40,0", "--cutter", "flat:3"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("assumed"), "{out}");
+    let (code, _, err) =
+        run(&["simulate", p.to_str().unwrap(), "--stock", "0,0,-30,40,40,0", "--cutter", "flat:3,shank=3"]);
+    assert_ne!(code, 0);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("radius:length"), "{err}");
 }

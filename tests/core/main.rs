@@ -72,6 +72,8 @@ mod scene {
 
 /// `src/simulate/`: the dexel cutting simulation, and finishing programs through it.
 mod simulate {
+    // The whole tool: crashes of the shank, holder, rapids and plunges; flutes to their length.
+    mod crash;
     mod dexel;
     mod finish;
     // A user's program: joint and TCP programs through the machines, nonlinear error per block.

@@ -29,6 +29,12 @@
 //! Without one of these words the tool is taken as a **flat end mill of diameter D** and
 //! [`ToolEntry::shape_assumed`] says so, for a viewer to mention.
 //!
+//! **The body from the remark**, also our convention: words anywhere in it, in the table's
+//! units — `flute=20` (flute length), `shank=3:30` (radius:length above the flutes),
+//! `holder=10:40` (radius:length above the shank), `nocentre` (the end does not cut at its
+//! centre) — fill [`ToolEntry::body`] ([`BodySpec::word`]); what is not given keeps the
+//! defaults of [`Cutter::fillet`].
+//!
 //! **CAMotics** (`src/gcode/Tool.cpp`, `ToolTable.cpp`, `src/camotics/project/Project.cpp`,
 //! `Workpiece.cpp` of CAMotics): a JSON project whose `tools` object maps tool numbers to
 //! `{units: "metric"|"imperial", shape: "cylindrical"|"ballnose"|"conical"|"snubnose"|
@@ -38,7 +44,8 @@
 //! `files`. A conical tool's included angle is 2·atan(R / length), as CAMotics computes it.
 //!
 //! **Command line** `N:shape:diameter[:corner]`, diameter in mm: `1:ball:6`, `2:bull:10:1`
-//! (corner radius 1 mm), `3:v:6:90` (90° tip), `4:flat:3`, `5:drill:8[:118]`.
+//! (corner radius 1 mm), `3:v:6:90` (90° tip), `4:flat:3`, `5:drill:8[:118]`, each with
+//! optional body words after commas, in mm: `1:ball:6,flute=20,shank=3:30,holder=10:40`.
 
 use std::collections::BTreeMap;
 
@@ -856,7 +863,15 @@ fn camotics_tool(path: &str, key: &str, value: &serde_json::Value) -> Result<Too
             .ok_or_else(|| bad(&format!("{path}.description"), "must be text".to_owned()))?,
     };
     let body = BodySpec { flute_mm: (length > 0.0).then_some(length), ..BodySpec::default() };
-    Ok(ToolEntry { number, diameter_mm: diameter, length_mm: Some(length), shape, body, comment, ..ToolEntry::default() })
+    Ok(ToolEntry {
+        number,
+        diameter_mm: diameter,
+        length_mm: Some(length),
+        shape,
+        body,
+        comment,
+        ..ToolEntry::default()
+    })
 }
 
 fn camotics_workpiece(w: &serde_json::Value) -> Result<CamoticsWorkpiece, ToolError> {
