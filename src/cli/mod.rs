@@ -299,15 +299,22 @@ fn open_app() -> Result<ExitCode, Fatal> {
 /// The crashes of a `simulate` run: one line on standard error (counts per kind and the
 /// first), the CSV list written to `path` when given, and the JSON `crashes` object.
 /// `tool_number` names a tool slot's tool (`None`: the one cutter of a plain run).
+/// `assumed`: a tool's lengths are the defaults (the line says how to give them).
 pub(crate) fn crash_report(
     log: &interpolab::simulate::CrashLog,
     path: Option<&std::path::Path>,
+    assumed: bool,
     tool_number: impl Fn(u16) -> Option<i32>,
 ) -> Result<serde_json::Value, Fatal> {
     use interpolab::simulate::CrashKind;
     if let Some(line) = log.summary() {
         let more = if path.is_some() { "" } else { "; --crashes FILE lists them" };
-        eprintln!("interpolab: {line}{more}");
+        let lengths = if assumed && (log.count(CrashKind::Shank) > 0 || log.count(CrashKind::Holder) > 0) {
+            " (the tool's flute, shank and holder lengths are assumed: give them, e.g. --cutter ball:3,flute=25,shank=3:40,holder=16:60)"
+        } else {
+            ""
+        };
+        eprintln!("interpolab: {line}{lengths}{more}");
     }
     if let Some(path) = path {
         std::fs::write(path, log.csv(&tool_number))

@@ -433,7 +433,7 @@ fn finish(
         write(png, &png_rgb(&map, has_design.then_some(&stats), sim.stock().z_range_mm(), a.band_um * 1e-3))?;
     }
     let c = sim.counters();
-    let crashes = super::crash_report(sim.crashes(), a.crashes.as_deref(), |_| None)?;
+    let crashes = super::crash_report(sim.crashes(), a.crashes.as_deref(), !cutter.body_given, |_| None)?;
     let g = map.grid;
     let um = |mm: f64| (mm * 1e6).round() / 1e3;
     // Lengths to the CSV's resolution (1e-6 mm), so a ray's x0 + (i + ½)·p prints as 45.75.

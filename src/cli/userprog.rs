@@ -444,8 +444,10 @@ pub(crate) fn simulate(r: &SimulateRequest<'_>) -> Result<ExitCode, Fatal> {
         write(path, &tool_map_bytes(path, &map, slots, &p))?;
     }
     let c = sim.counters();
-    let crashes =
-        super::crash_report(sim.crashes(), r.crashes, |slot| p.tools.get(usize::from(slot)).map(|t| t.number))?;
+    let assumed = p.tools.iter().any(|t| !t.cutter.body_given);
+    let crashes = super::crash_report(sim.crashes(), r.crashes, assumed, |slot| {
+        p.tools.get(usize::from(slot)).map(|t| t.number)
+    })?;
     let g = map.grid;
     let um = |mm: f64| (mm * 1e6).round() / 1e3;
     let nm = |mm: f64| (mm * 1e6).round() / 1e6;
