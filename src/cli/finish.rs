@@ -209,6 +209,13 @@ fn start_json(job: &FinishJob, set: &PathSet) -> Option<Value> {
 }
 
 pub(super) fn finish(a: &FinishArgs) -> Result<ExitCode, Fatal> {
+    // Options first: a refusal comes before any path is computed or any output written.
+    if a.gcode.is_some() && !(a.gcode_tolerance > 0.0 && a.gcode_tolerance.is_finite()) {
+        return Err(Fatal(format!(
+            "--gcode-tolerance {} is not a positive length; give it in mm, e.g. 0.01",
+            a.gcode_tolerance
+        )));
+    }
     let job = load(&a.scene)?;
     let name = a.scene.display().to_string();
     let part = PartSamples::new(&job.surface, job.options.part_grid);
@@ -253,6 +260,12 @@ pub(super) fn finish(a: &FinishArgs) -> Result<ExitCode, Fatal> {
         }
     }
     .map_err(|e| Fatal(format!("{name}: {e}")))?;
+    // The 5-axis program is planned before the CL data is written: a tolerance it cannot
+    // meet within its bounds is refused with nothing written.
+    let gcode = match &a.gcode {
+        Some(g) => Some((g, plan_gcode(&job, &set, &name, a.gcode_tolerance)?)),
+        None => None,
+    };
     let data = rows(&job, &set);
     let mut w = sink(a.out.as_deref())?;
     match a.format {
@@ -305,14 +318,9 @@ pub(super) fn finish(a: &FinishArgs) -> Result<ExitCode, Fatal> {
         }
     }
     w.flush().map_err(|e| fatal_io(&e))?;
-    if let Some(g) = &a.gcode {
-        if !(a.gcode_tolerance > 0.0 && a.gcode_tolerance.is_finite()) {
-            return Err(Fatal(format!(
-                "--gcode-tolerance {} is not a positive length; give it in mm, e.g. 0.01",
-                a.gcode_tolerance
-            )));
-        }
-        write_gcode(&job, &set, g, &name, a.gcode_tolerance)?;
+    if let Some((path, program)) = gcode {
+        let text = program.text(if job.name.is_empty() { &name } else { &job.name });
+        fs::write(path, text).map_err(|e| Fatal(format!("cannot write {}: {e}", path.display())))?;
     }
     let mut err = io::stderr().lock();
     for r in &set.refused {
@@ -325,9 +333,7 @@ pub(super) fn finish(a: &FinishArgs) -> Result<ExitCode, Fatal> {
     Ok(if set.refused.is_empty() { ExitCode::SUCCESS } else { ExitCode::from(1) })
 }
 
-fn write_gcode(job: &FinishJob, set: &PathSet, path: &Path, name: &str, tol_mm: f64) -> Result<(), Fatal> {
-    let program = FinishGcode::plan(&job.machine, &job.surface, &job.cutter, set, job.options.feed_mm_per_min, tol_mm)
-        .map_err(|e| Fatal(format!("{name}: {e}")))?;
-    let text = program.text(if job.name.is_empty() { name } else { &job.name });
-    fs::write(path, text).map_err(|e| Fatal(format!("cannot write {}: {e}", path.display())))
+fn plan_gcode(job: &FinishJob, set: &PathSet, name: &str, tol_mm: f64) -> Result<FinishGcode, Fatal> {
+    FinishGcode::plan(&job.machine, &job.surface, &job.cutter, set, job.options.feed_mm_per_min, tol_mm)
+        .map_err(|e| Fatal(format!("{name}: {e}")))
 }

@@ -152,6 +152,66 @@ pub fn plan_path(
     }
 }
 
+/// Most blocks a finishing program may have over all its paths.
+pub const MAX_PROGRAM_BLOCKS: usize = 400_000;
+
+/// Blocks planned before the program's size is estimated from them.
+const ESTIMATE_AFTER_BLOCKS: usize = 2_000;
+
+/// The program's block budget as its paths are planned: the design length (mm) of all
+/// paths, the length and the blocks planned so far.
+struct Budget {
+    total_mm: f64,
+    done_mm: f64,
+    blocks: usize,
+}
+
+impl Budget {
+    /// Whether, `blocks` more on `done_mm` more of the design, the program is on course to
+    /// exceed [`MAX_PROGRAM_BLOCKS`] (estimated in proportion to the length planned, once
+    /// [`ESTIMATE_AFTER_BLOCKS`] are).
+    fn over(&self, blocks: usize, done_mm: f64) -> bool {
+        let (b, d) = (self.blocks + blocks, self.done_mm + done_mm);
+        b >= MAX_PROGRAM_BLOCKS
+            || (b >= ESTIMATE_AFTER_BLOCKS && d > 0.0 && b as f64 * self.total_mm / d > MAX_PROGRAM_BLOCKS as f64)
+    }
+}
+
+/// [`plan_path`] within the program's block budget: refused as soon as the blocks planned
+/// so far, in proportion to the design length they cover, say the whole program would need
+/// more than [`MAX_PROGRAM_BLOCKS`].
+fn plan_path_within(
+    machine: &Machine,
+    path: &FilletDesignPath<'_>,
+    tol_mm: f64,
+    budget: &mut Budget,
+) -> Result<StepPlan, FiveAxisError> {
+    let mut opts = StepOptions::new(tol_mm);
+    opts.reports = false;
+    let (start, end) = path.range();
+    let run = |opts: &StepOptions| -> Result<StepPlan, FiveAxisError> {
+        let mut planner = crate::fiveaxis::StepPlanner::new(machine, path, opts)?;
+        while !planner.is_done() {
+            let node = planner.next_node(machine, path)?;
+            let s = node.block.location.s;
+            if planner.nodes().len() % 256 == 0 && budget.over(planner.nodes().len(), s - start) {
+                return Err(FiveAxisError::TooManyNodes { tol_mm, max_nodes: MAX_PROGRAM_BLOCKS, s });
+            }
+        }
+        Ok(planner.into_plan())
+    };
+    let plan = match run(&opts) {
+        // As plan_path: bisection where the secant stalls at a kink.
+        Err(FiveAxisError::NoConvergence { .. }) => {
+            run(&opts.with_method(crate::numerics::roots::RootMethod::Bisection))
+        }
+        other => other,
+    }?;
+    budget.blocks += plan.nodes.len();
+    budget.done_mm += end - start;
+    Ok(plan)
+}
+
 /// Why a finishing program could not be planned.
 #[derive(Clone, Debug, Error, PartialEq)]
 pub enum FinishProgramError {
@@ -202,14 +262,31 @@ impl FinishGcode {
         tol_mm: f64,
     ) -> Result<Self, FinishProgramError> {
         let tool = set.strategy.cutter_for(cutter);
+        let paths = set
+            .paths
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.nodes.len() >= 2)
+            .map(|(pi, p)| {
+                FilletDesignPath::new(surface, tool, &p.nodes).map(|d| (pi, d)).ok_or(FinishProgramError::Plan {
+                    path: pi,
+                    source: FiveAxisError::EmptyPath { start: 0.0, end: 0.0 },
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let total_mm = paths
+            .iter()
+            .map(|(_, p)| {
+                let (a, b) = p.range();
+                b - a
+            })
+            .sum();
+        let mut budget = Budget { total_mm, done_mm: 0.0, blocks: 0 };
         let mut passes = Vec::new();
-        for (pi, p) in set.paths.iter().enumerate() {
-            if p.nodes.len() < 2 {
-                continue;
-            }
-            let plan = plan_path(machine, surface, &tool, &p.nodes, tol_mm)
-                .map_err(|source| FinishProgramError::Plan { path: pi, source })?;
-            passes.push((pi, plan.nodes.iter().map(|n| n.block.joints).collect()));
+        for (pi, path) in &paths {
+            let plan = plan_path_within(machine, path, tol_mm, &mut budget)
+                .map_err(|source| FinishProgramError::Plan { path: *pi, source })?;
+            passes.push((*pi, plan.nodes.iter().map(|n| n.block.joints).collect()));
         }
         Ok(Self {
             machine: *machine,
