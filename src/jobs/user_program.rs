@@ -912,15 +912,14 @@ fn crashes_of(xs: &[f64]) -> Result<Vec<CrashRow>, String> {
     const W: &str = "user-program output.crash_list";
     xs.chunks_exact(CRASH_NUMBERS)
         .map(|c| {
-            let kind = CrashKind::ALL
-                .into_iter()
-                .find(|k| k.index() as f64 == c[0])
-                .ok_or(format!("{W}: {} is not a kind of crash", c[0]))?;
             let whole = |x: f64| (x >= 0.0 && x <= f64::from(u32::MAX) && x.fract() == 0.0).then_some(x as u32);
+            let kind = whole(c[0])
+                .and_then(|k| CrashKind::ALL.get(k as usize).copied())
+                .ok_or(format!("{W}: {} is not a kind of crash", c[0]))?;
             Ok(CrashRow {
                 kind,
                 line: whole(c[1]).ok_or(format!("{W}: {} is not a line", c[1]))?,
-                block: if c[2] == -1.0 {
+                block: if c[2] < 0.0 {
                     None
                 } else {
                     Some(whole(c[2]).ok_or(format!("{W}: {} is not a block", c[2]))?)
@@ -1033,11 +1032,9 @@ mod tests {
         let (_, summary) = read(&req, &mut NoProgress).unwrap_or_else(|e| panic!("{e}"));
         let t = &summary.tools[0];
         assert_eq!(t.spec, "1:flat:6,flute=10");
-        assert_eq!(
-            t.body_mm,
-            [10.0, 3.0, 9.0, 7.5, 18.0],
-            "flutes given; the shank 3·R above them, the holder assumed"
-        );
+        // Flutes given; the shank 3·R above them, the holder assumed (2.5·R × 6·R).
+        let body: Vec<String> = t.body_mm.iter().map(|v| format!("{v}")).collect();
+        assert_eq!(body, ["10", "3", "9", "7.5", "18"]);
         assert!(t.body.starts_with("flutes 10 mm, shank R 3 × 9 mm") && !t.body.contains("assumed"), "{}", t.body);
         assert!(t.centre_cutting);
         let out = UserProgram::run(&req, &mut NoProgress);
