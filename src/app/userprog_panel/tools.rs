@@ -221,3 +221,31 @@ impl ToolEditor {
         edit
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A draft made from a tool's spec writes that spec back, body words included, so an
+    /// unedited tool is not "changed"; an edited length is written to the micrometre and
+    /// never as 0 (which the spec's reader refuses).
+    #[test]
+    fn a_draft_writes_its_specs_body_words_back() {
+        for spec in
+            ["1:flat:6", "1:flat:6,flute=10", "2:ball:4,flute=12,shank=2:30,holder=10:40,nocentre", "3:v:6:90,flute=5"]
+        {
+            let d = ToolDraft::from_spec(spec);
+            let n = spec.split(':').next().and_then(|n| n.parse().ok()).unwrap_or(0);
+            assert_eq!(d.spec(n), spec);
+            let e = parse_tool_spec(spec).unwrap_or_else(|e| panic!("{e}"));
+            assert_eq!(e.spec().as_deref(), Some(spec));
+        }
+        let mut d = ToolDraft::from_spec("1:flat:6");
+        d.body.flute_mm = Some(body_mm(10.100_000_000_000_001));
+        d.body.shank_mm = Some((body_mm(0.0), body_mm(40.0)));
+        d.body.centre_cutting = Some(false);
+        let spec = d.spec(1);
+        assert_eq!(spec, "1:flat:6,flute=10.1,shank=0.01:40,nocentre");
+        assert!(parse_tool_spec(&spec).is_ok(), "{spec}");
+    }
+}
