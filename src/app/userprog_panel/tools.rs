@@ -78,39 +78,41 @@ impl ToolDraft {
     /// it cuts at its centre, each showing the length the simulation takes (`now`: the tool
     /// as read) until it is edited; an edit gives that length in the spec.
     fn body_ui(&mut self, ui: &mut egui::Ui, now: &ToolRow) {
-        ui.horizontal_wrapped(|ui| {
+        egui::Grid::new(("tool_body", now.number)).num_columns(2).show(ui, |ui| {
             ui.label("flutes");
             let mut f = self.body.flute_mm.unwrap_or(now.body_mm[0]);
             if ui.add(length(&mut f)).on_hover_text("flute (cutting) length from the tip").changed() {
                 self.body.flute_mm = Some(body_mm(f));
             }
+            ui.end_row();
+            let pair = |ui: &mut egui::Ui, given: &mut Option<(f64, f64)>, now: (f64, f64), what: &str| {
+                let (mut r, mut l) = given.unwrap_or(now);
+                ui.horizontal(|ui| {
+                    let a = ui.add(length(&mut r)).on_hover_text(format!("{what} radius"));
+                    ui.label("×");
+                    let b = ui.add(length(&mut l)).on_hover_text(format!("{what} length"));
+                    if a.changed() || b.changed() {
+                        *given = Some((body_mm(r), body_mm(l)));
+                    }
+                });
+            };
             ui.label("shank R");
-            let (mut r, mut l) = self.body.shank_mm.unwrap_or((now.body_mm[1], now.body_mm[2]));
-            let a = ui.add(length(&mut r)).on_hover_text("shank radius");
-            ui.label("×");
-            let b = ui.add(length(&mut l)).on_hover_text("shank length above the flutes");
-            if a.changed() || b.changed() {
-                self.body.shank_mm = Some((body_mm(r), body_mm(l)));
-            }
+            pair(ui, &mut self.body.shank_mm, (now.body_mm[1], now.body_mm[2]), "shank (above the flutes)");
+            ui.end_row();
             ui.label("holder R");
-            let (mut r, mut l) = self.body.holder_mm.unwrap_or((now.body_mm[3], now.body_mm[4]));
-            let a = ui.add(length(&mut r)).on_hover_text("holder radius");
-            ui.label("×");
-            let b = ui.add(length(&mut l)).on_hover_text("holder length above the shank");
-            if a.changed() || b.changed() {
-                self.body.holder_mm = Some((body_mm(r), body_mm(l)));
-            }
-            let mut centre = self.body.centre_cutting.unwrap_or(now.centre_cutting);
-            if ui
-                .checkbox(&mut centre, "cuts at its centre")
-                .on_hover_text(
-                    "an end mill whose teeth stop short of the axis cannot plunge: untick it to have plunges reported",
-                )
-                .changed()
-            {
-                self.body.centre_cutting = Some(centre);
-            }
+            pair(ui, &mut self.body.holder_mm, (now.body_mm[3], now.body_mm[4]), "holder (above the shank)");
+            ui.end_row();
         });
+        let mut centre = self.body.centre_cutting.unwrap_or(now.centre_cutting);
+        if ui
+            .checkbox(&mut centre, "cuts at its centre")
+            .on_hover_text(
+                "an end mill whose teeth stop short of the axis cannot plunge: untick it to have plunges reported",
+            )
+            .changed()
+        {
+            self.body.centre_cutting = Some(centre);
+        }
     }
 
     /// What the extra number is, with its unit, for shapes that have one.
@@ -197,9 +199,7 @@ impl ToolEditor {
             ui.indent(("tool_body", t.number), |ui| {
                 d.body_ui(ui, t);
                 // The body as read (the simulation's): "assumed" until a source gives it.
-                ui.add(
-                    egui::Label::new(egui::RichText::new(format!("as simulated: {}", t.body)).weak().small()).wrap(),
-                );
+                ui.add(egui::Label::new(egui::RichText::new(format!("as simulated: {}", t.body)).weak()).wrap());
             });
             specs.push(d.spec(t.number));
         }
