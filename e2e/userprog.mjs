@@ -1,7 +1,8 @@
 // The "Your program" tab in the release web app, in Debian's headless Chromium, as a user meets
 // it: a real multi-tool program opened with its tool table (and its subroutine file), the path
 // drawn, its reports listed, colours by tool and by nonlinear error, Simulate with progress in
-// the worker, the stock drawn; then LinuxCNC's impeller demo (5-axis, TCP) and a generated
+// the worker, the stock drawn; a program whose shank and rapids meet the stock, its crashes
+// listed and marked in red; then LinuxCNC's impeller demo (5-axis, TCP) and a generated
 // 180 000-line program with the page's frame gaps recorded while it is read and shown.
 // Usage: node e2e/userprog.mjs http://127.0.0.1:PORT/   (screenshots in e2e/artifacts/)
 import fs from "node:fs";
@@ -76,6 +77,14 @@ const PROGRAM = [
 ].join("\n") + "\n";
 const SUB = ["o<engrave> sub", "G0 X0 Y#1", "G0 Z2", "G1 Z-1.2 F400", "G1 X40", "G0 Z5", "o<engrave> endsub"].join("\n") + "\n";
 const TABLE = "T1 P1 Z40 D6 ;flat 6 mm end mill\nT2 P2 Z52.5 D6 ;v90 engraver\n";
+// A slot cut 15 mm deep in one pass with a 6 mm end mill of 10 mm flutes (its table remark
+// gives them): the shank rubs 5 mm of stock on lines 6 and 7, the G0s of lines 8 and 10 go
+// through stock.
+const DEEP = [
+  "(a slot 15 mm deep in one pass: too deep for 10 mm flutes)", "G21 G90", "T1 M6", "G0 X0 Y0 Z5",
+  "G1 Z-15 F300", "G1 X40", "G1 Y20", "G0 Z5", "G0 X20 Y10", "G0 Z-2", "G1 X30 F300", "G0 Z5", "M30",
+].join("\n") + "\n";
+const DEEP_TABLE = "T1 P1 D6 ;flat flute=10 6 mm end mill, 10 mm flutes\n";
 
 const { browser, context } = await openBrowser();
 const consoleErrors = [];
@@ -112,6 +121,41 @@ try {
   await page.waitForTimeout(300);
   shot = await page.screenshot({ path: path.join(artifacts, "userprog-2-simulated.png") });
   check("the stock is drawn by tool", colourVariety(shot, st.ui.stock_map) > 8, `${colourVariety(shot, st.ui.stock_map)} colours`);
+
+  // Crashes: the shank below its flutes' reach and rapids through the stock, listed by line
+  // and marked in red; a click on the first row picks its line.
+  await openFile(page, "deep.tbl", DEEP_TABLE);
+  await openFile(page, "deep-slot.ngc", DEEP);
+  s = await waitFor(page, "the deep slot read", (s) => read(s) && s.panel.status.program === "deep-slot.ngc");
+  check("the table's remark gives the tool's flutes", s.panel.status.tools[0].body.startsWith("flutes 10 mm"),
+    s.panel.status.tools[0].body);
+  await clickKey(page, "simulate");
+  s = await waitFor(page, "the deep slot machined", (s) => tabReady(s) && s.panel.status.crashes && !s.panel.status.computing);
+  st = s.panel.status;
+  const c = st.crashes;
+  check("its crashes are found at their lines, the shank's 5 mm deep",
+    c.first && c.first.line === 6 && c.first.kind === "shank" && Math.abs(c.first.depth_mm - 5) < 0.05 && c.by_kind.rapid >= 1
+      && st.drawn_crash_marks === c.listed,
+    c.summary);
+  await clickKey(page, "first_crash");
+  s = await waitFor(page, "a crash picked", (s) => tabReady(s) && s.panel.status.crashes?.picked, 10000);
+  check("a click on a crash's row picks its line", s.panel.status.selected_line === 6, `line ${s.panel.status.selected_line}`);
+  await page.waitForTimeout(300);
+  shot = await page.screenshot({ path: path.join(artifacts, "userprog-4-crashes.png") });
+  // Red marks in the 3D view: pixels of the crash colour (255, 40, 40) where the path is drawn.
+  const red = (() => {
+    const png = PNG.sync.read(shot);
+    const [x0, y0, w, h] = st.ui.path_view.map(Math.round);
+    let n = 0;
+    for (let y = Math.max(0, y0); y < Math.min(png.height, y0 + h); y++) {
+      for (let x = Math.max(0, x0); x < Math.min(png.width, x0 + w); x++) {
+        const i = (png.width * y + x) << 2;
+        if (png.data[i] > 230 && png.data[i + 1] < 70 && png.data[i + 2] < 70) n++;
+      }
+    }
+    return n;
+  })();
+  check("the crashes are marked in red in the view", red > 20 * c.listed, `${red} red pixels for ${c.listed} crash(es)`);
 
   // LinuxCNC's impeller: 5-axis under TCP, named by its own comment; coloured by nonlinear error.
   if (fs.existsSync(path.join(DEMOS, "demos/impeller-7bl-xyzac.ngc"))) {

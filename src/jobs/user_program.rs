@@ -2,7 +2,8 @@
 //! project and subroutine files ([`crate::simulate::canon`]), handed back at once as what a
 //! view draws and lists ([`ReadSummary`]: the path, each block's line, kind, tool, feed and
 //! nonlinear error, the reports), then — when asked — machined into its stock with each of its
-//! tools ([`Finished`]: the height map, which tool last cut each ray, each tool's volume).
+//! tools ([`Finished`]: the height map, which tool last cut each ray, each tool's volume,
+//! the crashes of its shanks and holders, rapids and plunges, [`crate::simulate::crash`]).
 //! The same pipeline as `interpolab simulate --tools/--project/--machine`.
 
 use glam::DVec3;
@@ -17,7 +18,7 @@ use crate::simulate::canon::{
     BlockKind, CanonBuilder, CanonOptions, CanonProgram, KinematicsChoice, MachineSetup, NO_SLOT,
 };
 use crate::simulate::stock::Grid;
-use crate::simulate::{Counters, DexelStock, HeightMap, NO_TOOL, Simulation};
+use crate::simulate::{Counters, CrashKind, CrashLog, DexelStock, HeightMap, NO_TOOL, Simulation};
 
 /// Most points of the path handed back for drawing; a longer program's path is thinned
 /// evenly (every block keeps its end).
@@ -26,6 +27,9 @@ pub const MAX_PATH_POINTS: usize = 400_000;
 pub const MAX_RAYS: usize = 1024 * 1024;
 /// Longest side of an automatic grid (rays).
 pub const AUTO_GRID_SIDE: f64 = 256.0;
+/// Most crash reports handed back to the view (the first ones, in the order the program
+/// runs); the counts per kind count them all ([`Finished::crash_counts`]).
+pub const MAX_CRASHES_SENT: usize = 1000;
 /// Share of the progress bar the reading takes.
 const READ_SHARE: f64 = 0.3;
 
@@ -42,8 +46,9 @@ pub struct Request {
     pub tool_table: Option<String>,
     /// A CAMotics project (`.camotics` JSON): its tools and workpiece.
     pub project: Option<String>,
-    /// Cutters set by the user (`N:shape:diameter[:corner or angle]`, as `--tool`), over the
-    /// project's and the table's: each keeps the table's offsets of its number.
+    /// Cutters set by the user (`N:shape:diameter[:corner or angle][,body words]`, as
+    /// `--tool`: `flute=`, `shank=r:l`, `holder=r:l`, `nocentre`), over the project's and the
+    /// table's: each keeps the table's offsets of its number.
     pub tool_specs: Vec<String>,
     /// The cutter of moves before any tool change and of tools no table has.
     pub default_cutter: Cutter,
@@ -116,10 +121,50 @@ pub struct ToolRow {
     pub feed_blocks: usize,
     /// Time of its feed blocks (min).
     pub feed_min: f64,
-    /// Its cutter as the tables give it, as a spec `N:shape:diameter[:corner or angle]`
-    /// (what the app's tool editor starts from); empty when none names it (the default
+    /// Its cutter as the tables give it, as a spec `N:shape:diameter[:corner or angle]` with
+    /// the body words the source gives (what the app's tool editor starts from); empty when none names it (the default
     /// cutter, a snub or unknown shape).
     pub spec: String,
+    /// The body as the simulation takes it, in words with units (`Cutter::describe_body`:
+    /// "(assumed: …)" when no source gave its lengths).
+    pub body: String,
+    /// The body's lengths as the simulation takes them (mm): flute length, shank radius,
+    /// shank length (above the flutes), holder radius, holder length.
+    pub body_mm: [f64; 5],
+    /// Whether the end cuts at its centre.
+    pub centre_cutting: bool,
+}
+
+impl ToolRow {
+    /// The body lengths of `c` as [`ToolRow::body_mm`] has them (mm).
+    #[must_use]
+    pub fn body_of(c: &Cutter) -> [f64; 5] {
+        [
+            c.flute_length_mm,
+            c.shank_radius_mm,
+            (c.gauge_length_mm - c.flute_length_mm).max(0.0),
+            c.holder_radius_mm,
+            c.holder_length_mm,
+        ]
+    }
+}
+
+/// One crash as the view lists it ([`crate::simulate::Crash`] with its block and tool).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CrashRow {
+    /// What met the stock.
+    pub kind: CrashKind,
+    /// Line of the block (in its file, from 1).
+    pub line: u32,
+    /// The block (index in [`ReadSummary::block_line`]) whose move met the stock; `None`
+    /// when it cannot be told.
+    pub block: Option<u32>,
+    /// The tool's number (T; −1: the default cutter); `None` when unknown.
+    pub tool: Option<i32>,
+    /// The most stock along one vertical ray inside the offending part (mm).
+    pub depth_mm: f64,
+    /// That ray at the top of that stock (mm, workpiece).
+    pub at_mm: DVec3,
 }
 
 /// The machined stock.
@@ -133,6 +178,26 @@ pub struct Finished {
     pub tool_map: Vec<u16>,
     /// Volume each tool removed (mm³), by slot.
     pub removed_mm3: Vec<f64>,
+    /// Blocks with a crash of each kind, in [`CrashKind::ALL`]'s order (shank, holder,
+    /// rapid, plunge), every one counted.
+    pub crash_counts: [usize; 4],
+    /// The first [`MAX_CRASHES_SENT`] crash reports, in the order the program ran; the
+    /// counts minus these are the ones left out ([`Finished::crashes_left_out`]).
+    pub crashes: Vec<CrashRow>,
+}
+
+impl Finished {
+    /// All crash reports (blocks with a crash of some kind).
+    #[must_use]
+    pub fn crash_total(&self) -> usize {
+        self.crash_counts.iter().sum()
+    }
+
+    /// Crash reports counted but not listed (past [`MAX_CRASHES_SENT`] or the core's cap).
+    #[must_use]
+    pub fn crashes_left_out(&self) -> usize {
+        self.crash_total().saturating_sub(self.crashes.len())
+    }
 }
 
 /// A partial output: a piece of the program read ([`encode_pieces`]).
@@ -335,9 +400,47 @@ fn summarize(
             feed_blocks: t.feed_blocks,
             feed_min: t.feed_min,
             spec: String::new(),
+            body: t.cutter.describe_body(),
+            body_mm: ToolRow::body_of(&t.cutter),
+            centre_cutting: t.cutter.centre_cutting,
         })
         .collect();
     s
+}
+
+/// The crashes of a run as the view lists them: the first [`MAX_CRASHES_SENT`], each with
+/// its block (the simulation counts the moves it applies; blocks without a tool are not
+/// applied) and its tool's number.
+fn crash_rows(p: &CanonProgram, log: &CrashLog) -> Vec<CrashRow> {
+    // (first applied move, block) of each block the run applies, in order.
+    let mut starts = Vec::with_capacity(p.blocks.len());
+    let mut applied = 0usize;
+    for (k, b) in p.blocks.iter().enumerate() {
+        if b.slot == NO_SLOT {
+            continue;
+        }
+        let n = (b.moves.1.saturating_sub(b.moves.0)) as usize;
+        if n > 0 {
+            starts.push((applied, k));
+        }
+        applied += n;
+    }
+    log.list()
+        .iter()
+        .take(MAX_CRASHES_SENT)
+        .map(|c| {
+            let at = starts.partition_point(|s| s.0 <= c.move_index);
+            let block = at.checked_sub(1).and_then(|i| starts.get(i)).map(|s| s.1);
+            CrashRow {
+                kind: c.kind,
+                line: u32::try_from(c.line).unwrap_or(u32::MAX),
+                block: block.and_then(|b| u32::try_from(b).ok()),
+                tool: p.tools.get(usize::from(c.slot)).map(|t| t.number),
+                depth_mm: c.depth_mm,
+                at_mm: c.at_mm,
+            }
+        })
+        .collect()
 }
 
 /// Reads and, when asked, machines the program.
@@ -385,6 +488,8 @@ pub fn run(req: &Request, progress: &mut dyn Progress) -> Result<Option<Finished
         map,
         tool_map,
         removed_mm3: p.tools.iter().map(|t| t.removed_mm3).collect(),
+        crash_counts: sim.crashes().counts(),
+        crashes: crash_rows(&p, sim.crashes()),
     }))
 }
 
@@ -516,6 +621,7 @@ fn encode_piece(
             "tools": s.tools.iter().map(|t| json!({
                 "number": t.number, "cutter": t.cutter, "source": t.source,
                 "feed_blocks": t.feed_blocks, "feed_min": super::num(t.feed_min), "spec": t.spec,
+                "body": t.body, "body_mm": super::nums(t.body_mm), "centre_cutting": t.centre_cutting,
             })).collect::<Vec<_>>(),
             "messages": s.messages.iter().map(|(l, t)| json!([l, t])).collect::<Vec<_>>(),
             "machine": s.machine,
@@ -580,6 +686,15 @@ fn decode_header(h: &Reader<'_>, s: &mut ReadSummary) -> Result<(), String> {
                 feed_blocks: t.usize("feed_blocks")?,
                 feed_min: t.f64("feed_min")?,
                 spec: t.str("spec")?.to_owned(),
+                body: t.str("body")?.to_owned(),
+                body_mm: t
+                    .f64s("body_mm")?
+                    .try_into()
+                    .map_err(|_| "user-program partial.header.tools[].body_mm: not five numbers".to_owned())?,
+                centre_cutting: t
+                    .value("centre_cutting")?
+                    .as_bool()
+                    .ok_or("user-program partial.header.tools[].centre_cutting: not true or false")?,
             })
         })
         .collect::<Result<Vec<_>, String>>()?;
@@ -715,6 +830,9 @@ impl JobKind for UserProgram {
                 "through": f.map.through,
                 "tool_map": f32s_of(f.tool_map.iter().map(|&t| f32::from(t))),
                 "removed_mm3": super::nums(f.removed_mm3.iter().copied()),
+                "crash_counts": f.crash_counts,
+                "crashes": f.crashes.len(),
+                "crash_list": f64s_packed(&crash_numbers(&f.crashes)),
             }),
         }
         .to_string()
@@ -742,12 +860,76 @@ impl JobKind for UserProgram {
             },
             tool_map: r.f32s_packed("tool_map", n)?.into_iter().map(|t| t as u16).collect(),
             removed_mm3: r.f64s("removed_mm3")?,
+            crash_counts: {
+                let c = r.value("crash_counts")?.as_array().filter(|c| c.len() == 4);
+                let c = c.ok_or(format!("{W}.crash_counts: not four counts"))?;
+                let mut counts = [0usize; 4];
+                for (n, v) in counts.iter_mut().zip(c) {
+                    *n = v
+                        .as_u64()
+                        .and_then(|v| usize::try_from(v).ok())
+                        .ok_or(format!("{W}.crash_counts: not a count"))?;
+                }
+                counts
+            },
+            crashes: {
+                let n = r.usize("crashes")?;
+                if n > MAX_CRASHES_SENT {
+                    return Err(format!("{W}.crashes: {n} reports, more than the {MAX_CRASHES_SENT} sent"));
+                }
+                crashes_of(&r.f64s_packed("crash_list", CRASH_NUMBERS * n)?)?
+            },
         })))
     }
 
     fn decode_partial(text: &str) -> Result<Partial, String> {
         decode_piece(text).map(Box::new)
     }
+}
+
+/// Numbers per crash report crossing to the page: kind, line, block (−1: none), tool (NaN:
+/// none), depth, x, y, z.
+const CRASH_NUMBERS: usize = 8;
+
+fn crash_numbers(rows: &[CrashRow]) -> Vec<f64> {
+    rows.iter()
+        .flat_map(|c| {
+            [
+                c.kind.index() as f64,
+                f64::from(c.line),
+                c.block.map_or(-1.0, f64::from),
+                c.tool.map_or(f64::NAN, f64::from),
+                c.depth_mm,
+                c.at_mm.x,
+                c.at_mm.y,
+                c.at_mm.z,
+            ]
+        })
+        .collect()
+}
+
+fn crashes_of(xs: &[f64]) -> Result<Vec<CrashRow>, String> {
+    const W: &str = "user-program output.crash_list";
+    xs.chunks_exact(CRASH_NUMBERS)
+        .map(|c| {
+            let whole = |x: f64| (x >= 0.0 && x <= f64::from(u32::MAX) && x.fract() == 0.0).then_some(x as u32);
+            let kind = whole(c[0])
+                .and_then(|k| CrashKind::ALL.get(k as usize).copied())
+                .ok_or(format!("{W}: {} is not a kind of crash", c[0]))?;
+            Ok(CrashRow {
+                kind,
+                line: whole(c[1]).ok_or(format!("{W}: {} is not a line", c[1]))?,
+                block: if c[2] < 0.0 {
+                    None
+                } else {
+                    Some(whole(c[2]).ok_or(format!("{W}: {} is not a block", c[2]))?)
+                },
+                tool: if c[3].is_nan() { None } else { Some(c[3] as i32) },
+                depth_mm: c[4],
+                at_mm: DVec3::new(c[5], c[6], c[7]),
+            })
+        })
+        .collect()
 }
 
 /// Whether a slot is a tool ([`NO_SLOT`] is none).
@@ -824,6 +1006,104 @@ mod tests {
         assert_eq!((s.block_file[4], s.block_line[4]), (1, 2));
         let read_only = UserProgram::run(&request(false), &mut NoProgress);
         assert_eq!(read_only, Ok(None));
+    }
+
+    /// A flat 6 mm end mill with 10 mm flutes fed across a 30 mm deep block at Z−15: its
+    /// shank (radius 3 mm, from 10 mm above the tip) rubs the 5 mm of stock above the flutes
+    /// on that line; the G0 up out of the slot is a rapid through the stock the shank left.
+    /// The crashes cross with their lines, blocks, tools and depths; the tool rows with their
+    /// body.
+    #[test]
+    fn a_shank_crash_crosses_with_its_line_block_and_depth() {
+        let req = Request {
+            name: "deep.ngc".to_owned(),
+            text: "G21 G90\nT1 M6\nG0 X-10 Y10 Z5\nG0 Z-15\nG1 X30 F300\nG0 Z5\nM30\n".to_owned(),
+            files: Vec::new(),
+            tool_table: None,
+            project: None,
+            tool_specs: vec!["1:flat:6,flute=10".to_owned()],
+            default_cutter: Cutter::flat(1.5).unwrap_or_else(|_| unreachable!()),
+            machine: None,
+            kinematics: KinematicsChoice::Auto,
+            pitch_mm: Some(0.5),
+            stock_mm: Some([0.0, 0.0, -30.0, 40.0, 20.0, 0.0]),
+            simulate: true,
+        };
+        let (_, summary) = read(&req, &mut NoProgress).unwrap_or_else(|e| panic!("{e}"));
+        let t = &summary.tools[0];
+        assert_eq!(t.spec, "1:flat:6,flute=10");
+        // Flutes given; the shank 3·R above them, the holder assumed (2.5·R × 6·R).
+        let body: Vec<String> = t.body_mm.iter().map(|v| format!("{v}")).collect();
+        assert_eq!(body, ["10", "3", "9", "7.5", "18"]);
+        assert!(t.body.starts_with("flutes 10 mm, shank R 3 × 9 mm") && !t.body.contains("assumed"), "{}", t.body);
+        assert!(t.centre_cutting);
+        let out = UserProgram::run(&req, &mut NoProgress);
+        let f = out.clone().unwrap_or_else(|e| panic!("{e}")).unwrap_or_else(|| panic!("no stock"));
+        let first = f.crashes.first().unwrap_or_else(|| panic!("no crash: {f:?}"));
+        assert_eq!((first.kind, first.line, first.tool), (CrashKind::Shank, 5, Some(1)));
+        assert!((first.depth_mm - 5.0).abs() < 0.01, "{first:?}");
+        assert!(first.at_mm.x > 0.0 && first.at_mm.x < 33.0 && (first.at_mm.z - 0.0).abs() < 1e-9, "{first:?}");
+        let b = first.block.unwrap_or_else(|| panic!("no block")) as usize;
+        assert_eq!((summary.block_line[b], summary.block_kind[b]), (5, 1), "the G1 of line 5");
+        // Climbing out, the shank and the flutes (in a G0) meet the stock the shank left.
+        let kinds: Vec<(CrashKind, u32)> = f.crashes.iter().map(|c| (c.kind, c.line)).collect();
+        assert_eq!(kinds, [(CrashKind::Shank, 5), (CrashKind::Shank, 6), (CrashKind::Rapid, 6)]);
+        assert_eq!(f.crash_counts, [2, 0, 1, 0]);
+        assert_eq!(f.crash_total(), f.crashes.len());
+        assert_eq!(f.crashes_left_out(), 0);
+        let again = UserProgram::decode_output(&UserProgram::encode_output(&out)).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(again, out);
+        // The tool rows cross with their body.
+        let texts = encode_pieces(&summary);
+        let piece = UserProgram::decode_partial(&texts[0]).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(piece.summary.tools, summary.tools);
+        // A clean program: no crash at all.
+        let clean =
+            Request { text: "G21 G90\nT1 M6\nG0 X-10 Y10 Z5\nG1 Z-8 F300\nG1 X30\nG0 Z5\nM30\n".to_owned(), ..req };
+        let f = UserProgram::run(&clean, &mut NoProgress)
+            .unwrap_or_else(|e| panic!("{e}"))
+            .unwrap_or_else(|| panic!("no stock"));
+        assert_eq!((f.crash_counts, f.crashes.len()), ([0; 4], 0), "{:?}", f.crashes);
+    }
+
+    /// Past [`MAX_CRASHES_SENT`] reports only the first cross, the counts keep them all, and
+    /// a list longer than the cap is refused when read.
+    #[test]
+    fn crash_reports_past_the_cap_are_counted_not_sent() {
+        let mut text = String::from("G21 G90\nT1 M6\nG0 X0 Y0 Z5\nG0 Z-1\n");
+        // A raster in rapids at Z−1: each block meets fresh stock.
+        for y in 0..30 {
+            for x in 0..40 {
+                let x = if y % 2 == 0 { x } else { 39 - x };
+                text.push_str(&format!("G0 X{x} Y{y}\n"));
+            }
+        }
+        let req = Request {
+            name: "rapids.ngc".to_owned(),
+            text,
+            files: Vec::new(),
+            tool_table: None,
+            project: None,
+            tool_specs: vec!["1:flat:1".to_owned()],
+            default_cutter: Cutter::flat(1.5).unwrap_or_else(|_| unreachable!()),
+            machine: None,
+            kinematics: KinematicsChoice::Auto,
+            pitch_mm: Some(0.25),
+            stock_mm: Some([-1.0, -1.0, -2.0, 41.0, 31.0, 0.0]),
+            simulate: true,
+        };
+        let out = UserProgram::run(&req, &mut NoProgress);
+        let f = out.clone().unwrap_or_else(|e| panic!("{e}")).unwrap_or_else(|| panic!("no stock"));
+        assert!(f.crash_counts[CrashKind::Rapid.index()] > 1100, "{:?}", f.crash_counts);
+        assert_eq!(f.crashes.len(), MAX_CRASHES_SENT);
+        assert_eq!(f.crashes_left_out(), f.crash_total() - MAX_CRASHES_SENT);
+        // In the order the program ran: lines rise.
+        assert!(f.crashes.windows(2).all(|w| w[0].line < w[1].line));
+        let text = UserProgram::encode_output(&out);
+        assert_eq!(UserProgram::decode_output(&text), Ok(out));
+        let too_many = text.replacen(&format!("\"crashes\":{MAX_CRASHES_SENT}"), "\"crashes\":1001", 1);
+        assert_ne!(too_many, text);
+        assert!(UserProgram::decode_output(&too_many).is_err_and(|e| e.contains("more than")));
     }
 
     /// A program of several pieces crosses whole: the pieces taken in order give the summary

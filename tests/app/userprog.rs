@@ -196,3 +196,113 @@ fn the_program_is_timed_on_a_machine_as_the_planner_times_it() {
     m.tolerance_mm = 0.0;
     assert_eq!(stopped, ProgramTime::run(&TimeRequest { program, machine: m }, &mut NoProgress).unwrap().total_s);
 }
+
+/// A flat 6 mm end mill with 10 mm flutes fed at Z−15 across a 30 mm deep block (line 5):
+/// its shank meets the 5 mm of stock above the flutes there, and the G0 out of the slot
+/// (line 6) goes through the stock the shank left.
+const DEEP: &str = "G21 G90\nT1 M6\nG0 X-10 Y10 Z5\nG0 Z-15\nG1 X30 F300\nG0 Z5\nM30\n";
+/// The same tool plunged 8 mm (line 4) and fed across: within its flutes.
+const SHALLOW: &str = "G21 G90\nT1 M6\nG0 X10 Y10 Z5\nG1 Z-8 F300\nG1 X30\nG0 Z5\nM30\n";
+const BLOCK: &str = "0,0,-30,40,20,0";
+
+/// The crashes of a simulation in the tab: the core's, listed by line with the part, tool
+/// and depth (mm), counted per kind in the status, marked in the view, and a row's click
+/// shows its line; longer flutes set in the tool editor (its body words) clear them; a tool
+/// that does not cut at its centre is reported where it plunges; a clean program has none.
+#[test]
+fn crashes_are_listed_by_line_and_depth_and_a_longer_tool_clears_them() {
+    let mut h = Harness::new();
+    h.app.set_panel_option(TAB, "tool", "1:flat:6,flute=10").unwrap();
+    h.app.set_panel_option(TAB, "file:deep.ngc", DEEP).unwrap();
+    h.app.set_panel_option(TAB, "stock", BLOCK).unwrap();
+    h.app.set_panel_option(TAB, "pitch", "0.5").unwrap();
+    let p = h.until("the deep program read", |p| p["blocks"].is_number() && p["tools"][0]["spec"].is_string());
+    assert_eq!(p["crashes"], serde_json::Value::Null, "no crash before a simulation: {p}");
+    let t = &p["tools"][0];
+    assert_eq!(t["spec"], "1:flat:6,flute=10", "{p}");
+    assert_eq!(t["body_mm"], serde_json::json!([10.0, 3.0, 9.0, 7.5, 18.0]), "{p}");
+    let body = t["body"].as_str().unwrap();
+    assert!(body.starts_with("flutes 10 mm, shank R 3 × 9 mm") && !body.contains("assumed"), "{body}");
+    let err = h.app.set_panel_option(TAB, "crash", "0").unwrap_err();
+    assert!(err.contains("Simulate first"), "{err}");
+    h.app.set_panel_option(TAB, "simulate", "").unwrap();
+    let p = h.until("the deep program machined", |p| p["crashes"].is_object());
+    let c = &p["crashes"];
+    assert_eq!(c["by_kind"], serde_json::json!({"shank": 2, "holder": 0, "rapid": 1, "plunge": 0}), "{c}");
+    assert_eq!((c["total"].as_u64(), c["listed"].as_u64(), c["left_out"].as_u64()), (Some(3), Some(3), Some(0)));
+    assert_eq!(p["first_crash_line"], 5, "{p}");
+    let first = &c["first"];
+    assert_eq!(
+        (first["line"].as_u64(), first["kind"].as_str(), first["tool"].as_i64()),
+        (Some(5), Some("shank"), Some(1))
+    );
+    let depth = first["depth_mm"].as_f64().unwrap();
+    assert!((depth - 5.0).abs() < 0.05, "5 mm of stock above the 10 mm flutes at Z-15: {depth} mm");
+    // Where the shank first entered the block: its top face, at the slot's start.
+    assert!(first["z_mm"].as_f64().unwrap().abs() < 1e-9 && first["x_mm"].as_f64().unwrap() < 3.5, "{first}");
+    assert!(c["summary"].as_str().unwrap().starts_with("3 crashes (2 shank, 1 rapid), the deepest 5.0"), "{c}");
+    // As the core's job for the same request.
+    let req = Request {
+        name: "deep.ngc".to_owned(),
+        text: DEEP.to_owned(),
+        files: Vec::new(),
+        tool_table: None,
+        tool_specs: vec!["1:flat:6,flute=10".to_owned()],
+        pitch_mm: Some(0.5),
+        stock_mm: Some([0.0, 0.0, -30.0, 40.0, 20.0, 0.0]),
+        simulate: true,
+        ..request()
+    };
+    let f = run(&req, &mut NoProgress).unwrap().unwrap();
+    assert_eq!(f.crashes.len(), 3);
+    assert_eq!(first["depth_mm"].as_f64(), Some(f.crashes[0].depth_mm));
+    // Each crash marked in the 3D view.
+    h.frame();
+    assert_eq!(h.panel()["drawn_crash_marks"], 3, "{}", h.panel());
+    // A click on the first row shows its line and circles its mark.
+    assert_ne!(h.panel()["selected_line"], 5);
+    super::click_panel_widget(&mut h, "first_crash");
+    let p = h.panel();
+    assert_eq!(p["selected_line"], 5, "{p}");
+    assert_eq!(p["crashes"]["picked"]["line"], 5, "{p}");
+    // Another row by the option; a row past the list is refused with the list's length.
+    h.app.set_panel_option(TAB, "crash", "2").unwrap();
+    h.frame();
+    let p = h.panel();
+    assert_eq!((p["selected_line"].as_u64(), p["crashes"]["picked"]["kind"].as_str()), (Some(6), Some("rapid")));
+    let err = h.app.set_panel_option(TAB, "crash", "3").unwrap_err();
+    assert!(err.contains("3 row(s)"), "{err}");
+
+    // Flutes longer than the cut is deep: the tool's body in its spec (the editor's Apply),
+    // read again and machined without a crash.
+    h.app.set_panel_option(TAB, "tool", "1:flat:6,flute=20").unwrap();
+    let p = h.until("read with 20 mm flutes", |p| p["tools"][0]["spec"] == "1:flat:6,flute=20");
+    assert!(p["tools"][0]["body"].as_str().unwrap().starts_with("flutes 20 mm"), "{p}");
+    h.app.set_panel_option(TAB, "simulate", "").unwrap();
+    let p = h.until("machined with 20 mm flutes", |p| p["crashes"].is_object());
+    assert_eq!(p["crashes"]["total"], 0, "{p}");
+    assert_eq!(p["first_crash_line"], serde_json::Value::Null);
+    assert!(p["crashes"]["summary"].as_str().unwrap().starts_with("no crash"), "{p}");
+    assert_eq!(p["drawn_crash_marks"], 0);
+
+    // A shallow program with a tool that cannot plunge: the plunge at line 4 is its crash;
+    // with a centre-cutting tool the same program is clean.
+    h.app.set_panel_option(TAB, "tool", "1:flat:6,flute=20,nocentre").unwrap();
+    h.app.set_panel_option(TAB, "file:shallow.ngc", SHALLOW).unwrap();
+    let p = h.until("the shallow program read", |p| {
+        p["program"] == "shallow.ngc" && p["tools"][0]["spec"] == "1:flat:6,flute=20,nocentre"
+    });
+    assert_eq!(p["tools"][0]["centre_cutting"], false, "{p}");
+    assert!(p["tools"][0]["body"].as_str().unwrap().contains("no centre cutting"), "{p}");
+    h.app.set_panel_option(TAB, "simulate", "").unwrap();
+    let p = h.until("the plunge machined", |p| p["crashes"].is_object());
+    assert_eq!(p["crashes"]["by_kind"]["plunge"], 1, "{p}");
+    assert_eq!(p["crashes"]["total"], 1, "{p}");
+    assert_eq!(p["first_crash_line"], 4, "{p}");
+    h.app.set_panel_option(TAB, "tool", "1:flat:6,flute=20").unwrap();
+    h.until("read with a centre-cutting tool", |p| p["tools"][0]["spec"] == "1:flat:6,flute=20");
+    h.app.set_panel_option(TAB, "simulate", "").unwrap();
+    let p = h.until("the clean program machined", |p| p["crashes"].is_object());
+    assert_eq!(p["crashes"]["total"], 0, "{p}");
+    assert_eq!(p["crashes"]["by_kind"], serde_json::json!({"shank": 0, "holder": 0, "rapid": 0, "plunge": 0}));
+}

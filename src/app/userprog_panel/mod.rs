@@ -4,7 +4,9 @@
 //! the reading's notes listed by line (a click shows the line and its block), a slider over
 //! its blocks, and *Simulate*: the program machined with its own tools, in the background
 //! (`jobs::user_program`: a thread natively, a Web Worker in the browser) with progress and
-//! cancel, the stock shown coloured by which tool cut it last. The same pipeline as
+//! cancel, the stock shown coloured by which tool cut it last, and the crashes it found — the
+//! shank or holder in the stock, a rapid through it, a plunge with a tool that cannot — listed
+//! (a click shows the line and its block) and marked in red in both views. The same pipeline as
 //! `interpolab simulate --tools/--project/--machine` (docs/user-programs.md).
 
 mod timing;
@@ -19,7 +21,8 @@ use super::jobs::{Job, Poll};
 use super::panel::{Panel, PanelContext};
 use super::platform::FileKind;
 use crate::geom::Cutter;
-use crate::jobs::user_program::{Finished, ReadSummary, Request, UserProgram};
+use crate::jobs::user_program::{CrashRow, Finished, ReadSummary, Request, UserProgram};
+use crate::simulate::CrashKind;
 use crate::simulate::canon::{KinematicsChoice, MachineSetup};
 use view::PathView;
 
@@ -86,7 +89,7 @@ struct Inputs {
     machine: usize,
     kinematics: usize,
     pitch_mm: Option<f64>,
-    /// Cutters set in the tool editor (`N:shape:diameter[:x]`).
+    /// Cutters set in the tool editor (`N:shape:diameter[:x][,body words]`).
     tool_specs: Vec<String>,
 }
 
@@ -136,8 +139,11 @@ pub struct UserProgramPanel {
     error: Option<String>,
     colour: ColourBy,
     tol_mm: f64,
-    /// The block picked (a message, a click in the view, the slider).
+    /// The block picked (a message, a crash, a click in the view, the slider).
     selected: Option<usize>,
+    /// The crash picked in the list (index in the result's), circled in the views while its
+    /// block is the one picked.
+    selected_crash: Option<usize>,
     /// Blocks drawn: the first `shown` (the slider).
     shown: Option<usize>,
     /// The stock block set here (mm: min x, y, z, max x, y, z); `None`: the project's
@@ -171,6 +177,7 @@ impl UserProgramPanel {
         self.error = None;
         if simulate {
             self.result = None;
+            self.selected_crash = None;
         }
         self.run = Some(Run {
             job: Some(Job::start(req)),
@@ -257,7 +264,10 @@ impl UserProgramPanel {
                 run.progress = 1.0;
                 run.done_ms = Some(super::platform::Platform::now_ms());
                 match out {
-                    Ok(Some(f)) => self.result = Some(Rc::new(f)),
+                    Ok(Some(f)) => {
+                        self.result = Some(Rc::new(f));
+                        self.selected_crash = None;
+                    }
                     Ok(None) => {}
                     Err(e) => self.error = Some(e),
                 }
@@ -552,6 +562,106 @@ impl UserProgramPanel {
         }
     }
 
+    /// The crashes of the last simulation: one line of counts (or that there was none) and
+    /// the list, a row per crash; a click shows its block as a report's does and circles its
+    /// mark.
+    fn crashes(&mut self, ui: &mut egui::Ui) {
+        let Some(f) = self.result.clone() else {
+            return;
+        };
+        ui.strong(format!("Crashes ({})", f.crash_total()));
+        if f.crash_total() == 0 {
+            ui.colored_label(egui::Color32::from_rgb(120, 210, 120), crash_summary(&f));
+            return;
+        }
+        super::widgets::error_text(ui, crash_summary(&f));
+        let picked = self.picked_crash().and_then(|k| f.crashes.get(k).map(|c| (k, c)));
+        if let Some((_, c)) = picked.or(f.crashes.first().map(|c| (0, c))) {
+            ui.weak(format!("line {}: {}", c.line, crash_advice(c.kind)));
+        }
+        let mut clicked = None;
+        let row = ui.spacing().interact_size.y;
+        let s = self.summary.clone();
+        egui::ScrollArea::vertical().id_salt("userprog_crashes").max_height(140.0).show_rows(
+            ui,
+            row,
+            f.crashes.len(),
+            |ui, rows| {
+                for (k, c) in f.crashes.iter().enumerate().skip(rows.start).take(rows.len()) {
+                    let in_sub =
+                        c.block.and_then(|b| s.as_ref()?.block_file.get(b as usize).copied()).is_some_and(|f| f != 0);
+                    let r = ui
+                        .selectable_label(picked.is_some_and(|p| p.0 == k), crash_row_text(c, in_sub))
+                        .on_hover_text(format!("{}: {}", c.kind.part(), crash_advice(c.kind)));
+                    if k == 0 {
+                        self.rects.push(("first_crash", r.rect));
+                    }
+                    if r.clicked() {
+                        clicked = Some(k);
+                    }
+                }
+            },
+        );
+        if let Some(k) = clicked {
+            self.select_crash(k);
+        }
+    }
+
+    /// Picks crash `k` of the last simulation: its block is selected (as a report's line is)
+    /// and its mark circled.
+    fn select_crash(&mut self, k: usize) -> bool {
+        let Some(c) = self.result.as_ref().and_then(|f| f.crashes.get(k).copied()) else {
+            return false;
+        };
+        let n = self.summary.as_ref().map_or(0, |s| s.block_line.len());
+        match c.block.map(|b| b as usize).filter(|b| *b < n) {
+            Some(b) => {
+                self.selected = Some(b);
+                self.view.invalidate();
+            }
+            None => self.select_line(c.line),
+        }
+        self.selected_crash = Some(k);
+        true
+    }
+
+    /// The crash picked, while its block is the one selected (another pick leaves it).
+    fn picked_crash(&self) -> Option<usize> {
+        let k = self.selected_crash?;
+        let c = self.result.as_ref()?.crashes.get(k)?;
+        match c.block {
+            Some(b) => (self.selected == Some(b as usize)).then_some(k),
+            None => Some(k),
+        }
+    }
+
+    /// The crashes for the status: counts per kind, the first (line, kind, tool, depth and
+    /// place in mm), the deepest listed (mm), how many are listed and left out; `null` before
+    /// a simulation.
+    fn crash_status(&self) -> serde_json::Value {
+        let Some(f) = self.result.as_ref() else { return serde_json::Value::Null };
+        let mut by_kind = serde_json::Map::new();
+        for k in CrashKind::ALL {
+            by_kind.insert(k.name().to_owned(), f.crash_counts[k.index()].into());
+        }
+        let row = |c: &CrashRow| {
+            serde_json::json!({
+                "line": c.line, "kind": c.kind.name(), "tool": c.tool, "block": c.block,
+                "depth_mm": c.depth_mm, "x_mm": c.at_mm.x, "y_mm": c.at_mm.y, "z_mm": c.at_mm.z,
+            })
+        };
+        serde_json::json!({
+            "total": f.crash_total(),
+            "by_kind": by_kind,
+            "listed": f.crashes.len(),
+            "left_out": f.crashes_left_out(),
+            "first": f.crashes.first().map(row),
+            "deepest_mm": f.crashes.iter().map(|c| c.depth_mm).fold(0.0, f64::max),
+            "summary": crash_summary(f),
+            "picked": self.picked_crash().and_then(|k| f.crashes.get(k)).map(row),
+        })
+    }
+
     fn select_line(&mut self, line: u32) {
         // A line without a motion shows the next block after it.
         let Some(s) = &self.summary else {
@@ -568,6 +678,66 @@ impl UserProgramPanel {
     fn line_text(&self, line: u32) -> Option<&str> {
         let (_, text) = self.inputs.program.as_ref()?;
         text.lines().nth(line.checked_sub(1)? as usize)
+    }
+}
+
+/// The crashes in one line: the count per kind and the deepest, or that there was none.
+fn crash_summary(f: &Finished) -> String {
+    let total = f.crash_total();
+    if total == 0 {
+        return "no crash: the shank and holder never met the stock, no rapid cut".to_owned();
+    }
+    let kinds: Vec<String> = CrashKind::ALL
+        .iter()
+        .filter(|k| f.crash_counts[k.index()] > 0)
+        .map(|k| format!("{} {}", f.crash_counts[k.index()], k.name()))
+        .collect();
+    let deepest = f.crashes.iter().map(|c| c.depth_mm).fold(0.0, f64::max);
+    let mut s = format!(
+        "{total} {} ({}), the deepest {deepest:.3} mm into the stock",
+        if total == 1 { "crash" } else { "crashes" },
+        kinds.join(", ")
+    );
+    if f.crashes_left_out() > 0 {
+        s.push_str(&format!("; the first {} listed, {} more counted", f.crashes.len(), f.crashes_left_out()));
+    }
+    s
+}
+
+/// A row of the crash list: line, kind, tool, depth and place, with units.
+fn crash_row_text(c: &CrashRow, in_subroutine: bool) -> String {
+    let tool = match c.tool {
+        Some(t) if t >= 0 => format!("T{t}"),
+        Some(_) => "default tool".to_owned(),
+        None => "tool ?".to_owned(),
+    };
+    let file = if in_subroutine { " (subroutine file)" } else { "" };
+    format!(
+        "line {}{file}: {}, {tool}, {:.3} mm deep at ({:.3}, {:.3}, {:.3}) mm",
+        c.line,
+        c.kind.name(),
+        c.depth_mm,
+        c.at_mm.x,
+        c.at_mm.y,
+        c.at_mm.z
+    )
+}
+
+/// What to change about a crash of this kind.
+fn crash_advice(kind: CrashKind) -> &'static str {
+    match kind {
+        CrashKind::Shank => {
+            "the shank met stock above the flutes: cut in shallower steps, or use a tool with longer flutes (its flute length in the tool editor)"
+        }
+        CrashKind::Holder => {
+            "the holder met the stock: use a longer tool (the shank's length in the tool editor) or a slimmer holder, or stay out of deep pockets"
+        }
+        CrashKind::Rapid => {
+            "a rapid (G0) went through stock: raise the rapid's Z above the stock, or make that move a feed (G1)"
+        }
+        CrashKind::Plunge => {
+            "a tool that does not cut at its centre plunged: ramp or helix in below 5 degrees, pre-drill, or use a centre-cutting tool"
+        }
     }
 }
 
@@ -741,6 +911,7 @@ impl Panel for UserProgramPanel {
             ui.monospace(format!("line {line}: {text}{extra}"));
         }
         self.messages(ui);
+        self.crashes(ui);
         let rect = ui.available_rect_before_wrap();
         let (map_rect, path_rect) = if self.result.is_some() && rect.width() > 500.0 {
             let w = (rect.width() * 0.38).min(rect.height());
@@ -763,14 +934,21 @@ impl Panel for UserProgramPanel {
             self.view.invalidate();
         }
         let achieved = (!self.achieved.1.is_empty()).then_some(self.achieved.1.as_slice());
-        let picked = self.view.ui(ui, path_rect, &s, self.colour, self.tol(), self.selected, self.shown, achieved);
+        let result = self.result.clone();
+        let marks = view::CrashMarks {
+            list: result.as_ref().map_or(&[][..], |f| f.crashes.as_slice()),
+            selected: self.picked_crash(),
+        };
+        let picked =
+            self.view.ui(ui, path_rect, &s, self.colour, self.tol(), self.selected, self.shown, achieved, marks);
         if let Some(b) = picked {
             self.selected = Some(b);
             self.view.invalidate();
         }
         self.rects.push(("path_view", path_rect));
         if let (Some(r), Some(f)) = (map_rect, self.result.clone()) {
-            self.view.map(ui, r, &f);
+            let picked = self.picked_crash();
+            self.view.map(ui, r, &f, picked);
             self.rects.push(("stock_map", r));
         }
     }
@@ -804,7 +982,10 @@ impl Panel for UserProgramPanel {
             "moves": s.map(|s| s.moves),
             "machine": s.and_then(|s| s.machine.clone()),
             "feed_min": s.map(|s| s.feed_min),
-            "tools": s.map(|s| s.tools.iter().map(|t| serde_json::json!({"number": t.number, "cutter": t.cutter, "spec": t.spec})).collect::<Vec<_>>()),
+            "tools": s.map(|s| s.tools.iter().map(|t| serde_json::json!({
+                "number": t.number, "cutter": t.cutter, "spec": t.spec, "body": t.body,
+                "body_mm": t.body_mm, "centre_cutting": t.centre_cutting,
+            })).collect::<Vec<_>>()),
             "tool_specs": self.inputs.tool_specs,
             "achieved": self.achieved_status(),
             "time": self.timing.status(),
@@ -816,12 +997,15 @@ impl Panel for UserProgramPanel {
             "selected_line": self.selected.and_then(|b| s.and_then(|s| s.block_line.get(b).copied())),
             "shown": self.shown,
             "drawn_segments": self.view.drawn_segments(),
+            "drawn_crash_marks": self.view.drawn_crash_marks(),
             "removed_mm3": self.result.as_ref().map(|r| r.removed_mm3.clone()),
             "stock_mm": s.map(|s| s.stock_mm),
             "stock_from": s.map(|s| s.stock_from.clone()),
             "stock_rays": self.result.as_ref().map(|r| r.map.grid.len()),
             "rapid_cuts": self.result.as_ref().map(|r| r.counters.rapid_cuts),
             "first_rapid_cut_line": self.result.as_ref().and_then(|r| r.counters.first_rapid_cut_line),
+            "crashes": self.crash_status(),
+            "first_crash_line": self.result.as_ref().and_then(|r| r.crashes.first()).map(|c| c.line),
         })
     }
 
@@ -867,8 +1051,22 @@ impl Panel for UserProgramPanel {
                 let line: u32 = value.parse().map_err(|_| format!("line \"{value}\": give a line number"))?;
                 self.select_line(line);
             }
+            "crash" => {
+                // The k-th crash listed (from 0), as a click on its row.
+                let n = self.result.as_ref().map_or(0, |f| f.crashes.len());
+                let k: usize =
+                    value.parse().map_err(|_| format!("crash \"{value}\": give a row of the list, from 0"))?;
+                if !self.select_crash(k) {
+                    return Err(if self.result.is_none() {
+                        "crash: no simulation yet; Simulate first".to_owned()
+                    } else {
+                        format!("crash {k}: the list has {n} row(s), from 0")
+                    });
+                }
+            }
             "tool" => {
-                // `N:shape:diameter[:x]` sets tool N's cutter; `reset`: the tables' tools.
+                // `N:shape:diameter[:x][,flute=…,shank=r:l,holder=r:l,nocentre]` sets tool N's
+                // cutter and body; `reset`: the tables' tools.
                 if value == "reset" {
                     self.inputs.tool_specs.clear();
                     self.tool_editor.clear();
@@ -914,7 +1112,7 @@ impl Panel for UserProgramPanel {
             }
             _ => {
                 return Err(format!(
-                    "this view has no option \"{key}\" (file:NAME, colour, tolerance, machine, kinematics, simulate, line, pitch, stock, tool, time, time_machine, time_tolerance)"
+                    "this view has no option \"{key}\" (file:NAME, colour, tolerance, machine, kinematics, simulate, line, crash, pitch, stock, tool, time, time_machine, time_tolerance)"
                 ));
             }
         }

@@ -1,13 +1,14 @@
 //! The user program's path in 3D (egui shapes through the orbit camera's projection,
 //! thinned to what the screen can show: consecutive points closer than a pixel within one
 //! colour are merged, so a 180 000-block program draws as a few tens of thousands of
-//! segments) and its machined stock as a picture coloured by the tool that cut each ray last.
+//! segments) and its machined stock as a picture coloured by the tool that cut each ray last,
+//! both with a red cross at each crash the simulation found (the one picked circled).
 
 use eframe::egui;
 use glam::Vec3;
 
 use super::ColourBy;
-use crate::jobs::user_program::{Finished, ReadSummary};
+use crate::jobs::user_program::{CrashRow, Finished, ReadSummary};
 use crate::render::OrbitCamera;
 use crate::simulate::NO_TOOL;
 use crate::simulate::canon::NO_SLOT;
@@ -34,6 +35,32 @@ pub fn tool_colour(slot: usize) -> egui::Color32 {
 pub const MAX_DRAWN: usize = 40_000;
 
 const RAPID: egui::Color32 = egui::Color32::from_rgb(120, 120, 120);
+/// The colour of a crash's mark.
+pub const CRASH: egui::Color32 = egui::Color32::from_rgb(255, 40, 40);
+
+/// The crashes marked in a view: the list and the one picked (index in it).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct CrashMarks<'a> {
+    /// The crashes (their places, mm).
+    pub list: &'a [CrashRow],
+    /// The crash picked in the list, circled.
+    pub selected: Option<usize>,
+}
+
+/// A crash's mark at `at` (screen): a red cross with a dark outline (it shows over a red
+/// path too), circled in white when picked.
+fn crash_mark(shapes: &mut Vec<egui::Shape>, at: egui::Pos2, picked: bool) {
+    let h = if picked { 7.0 } else { 4.5 };
+    for (w, c) in [(4.0, egui::Color32::from_black_alpha(200)), (2.0, CRASH)] {
+        shapes
+            .push(egui::Shape::line_segment([at + egui::vec2(-h, -h), at + egui::vec2(h, h)], egui::Stroke::new(w, c)));
+        shapes
+            .push(egui::Shape::line_segment([at + egui::vec2(-h, h), at + egui::vec2(h, -h)], egui::Stroke::new(w, c)));
+    }
+    if picked {
+        shapes.push(egui::Shape::circle_stroke(at, 11.0, egui::Stroke::new(2.5, egui::Color32::WHITE)));
+    }
+}
 const UNMEASURED: egui::Color32 = egui::Color32::from_rgb(95, 105, 115);
 const OVER: egui::Color32 = egui::Color32::from_rgb(255, 0, 220);
 
@@ -119,6 +146,8 @@ pub struct PathView {
     key: Option<Key>,
     shapes: Vec<egui::Shape>,
     segments: usize,
+    /// Crash marks drawn inside the view in the last build.
+    marks: usize,
     /// Projected points kept for picking: (screen position, block).
     picks: Vec<(egui::Pos2, u32)>,
     /// Each block's colour, for the serial they were made for.
@@ -143,6 +172,12 @@ impl PathView {
     #[must_use]
     pub fn drawn_segments(&self) -> usize {
         self.segments
+    }
+
+    /// Crash marks drawn inside the path view in the last frame.
+    #[must_use]
+    pub fn drawn_crash_marks(&self) -> usize {
+        self.marks
     }
 
     /// Frames the box `b` (mm: min x, y, z, max x, y, z) at the next draw: the whole path's,
@@ -189,6 +224,7 @@ impl PathView {
         selected: Option<usize>,
         shown: Option<usize>,
         achieved: Option<&[f32]>,
+        crashes: CrashMarks<'_>,
     ) -> Option<usize> {
         if !self.fitted {
             self.fit(s);
@@ -215,14 +251,14 @@ impl PathView {
         let key = Key { rect, camera: self.camera, serial: self.serial, moving };
         if self.key != Some(key) {
             let max = if moving { MAX_DRAWN / 4 } else { MAX_DRAWN };
-            self.build(rect, s, by, tol, selected, shown, max, achieved);
+            self.build(rect, s, by, tol, selected, shown, max, achieved, crashes);
             self.key = Some(key);
         }
         if moving {
             ui.ctx().request_repaint();
         }
         painter.extend(self.shapes.iter().cloned());
-        self.legend(&painter, rect, s, by, tol);
+        self.legend(&painter, rect, s, by, tol, crashes.list.len());
         let clicked = resp.clicked().then(|| resp.interact_pointer_pos()).flatten();
         clicked.and_then(|at| {
             self.picks
@@ -245,6 +281,7 @@ impl PathView {
         shown: Option<usize>,
         max_points: usize,
         achieved: Option<&[f32]>,
+        crashes: CrashMarks<'_>,
     ) {
         self.shapes.clear();
         self.picks.clear();
@@ -361,9 +398,32 @@ impl PathView {
         {
             self.shapes.push(egui::Shape::circle_filled(m, 5.0, egui::Color32::WHITE));
         }
+        // The crashes over the path, the picked one last (on top).
+        let at = |c: &CrashRow| to_screen(c.at_mm.as_vec3()).filter(|q| q.is_finite());
+        self.marks = 0;
+        for (k, c) in crashes.list.iter().enumerate() {
+            if Some(k) != crashes.selected
+                && let Some(q) = at(c)
+            {
+                crash_mark(&mut self.shapes, q, false);
+                self.marks += usize::from(rect.contains(q));
+            }
+        }
+        if let Some(q) = crashes.selected.and_then(|k| crashes.list.get(k)).and_then(at) {
+            crash_mark(&mut self.shapes, q, true);
+            self.marks += usize::from(rect.contains(q));
+        }
     }
 
-    fn legend(&self, painter: &egui::Painter, rect: egui::Rect, s: &ReadSummary, by: ColourBy, tol: f64) {
+    fn legend(
+        &self,
+        painter: &egui::Painter,
+        rect: egui::Rect,
+        s: &ReadSummary,
+        by: ColourBy,
+        tol: f64,
+        crashes: usize,
+    ) {
         let x = rect.left() + 10.0;
         let mut y = rect.top() + 8.0;
         let entry = |y: &mut f32, c: egui::Color32, t: String| super::super::widgets::legend_entry(painter, x, y, c, t);
@@ -399,6 +459,9 @@ impl PathView {
                 entry(&mut y, UNMEASURED, "not measured (no rotary motion)".to_owned());
             }
         }
+        if crashes > 0 {
+            entry(&mut y, CRASH, format!("crash (red cross): {crashes} listed under Crashes"));
+        }
         painter.text(
             egui::pos2(rect.right() - 10.0, rect.bottom() - 8.0),
             egui::Align2::RIGHT_BOTTOM,
@@ -409,7 +472,7 @@ impl PathView {
     }
 
     /// The machined stock, top view: each ray in its last tool's colour, shaded by height.
-    pub fn map(&mut self, ui: &mut egui::Ui, rect: egui::Rect, f: &Finished) {
+    pub fn map(&mut self, ui: &mut egui::Ui, rect: egui::Rect, f: &Finished, selected_crash: Option<usize>) {
         let g = f.map.grid;
         let serial = f.map.top_mm.len() ^ (f.map.top_mm.first().map_or(0, |z| z.to_bits() as usize));
         if self.map_texture.as_ref().is_none_or(|(s, _)| *s != serial) {
@@ -457,6 +520,28 @@ impl PathView {
                 egui::FontId::proportional(12.0),
                 egui::Color32::from_gray(190),
             );
+            // The crashes where they are seen from above (x right, y up).
+            let (sx, sy) = (g.nx as f64 * g.pitch_mm, g.ny as f64 * g.pitch_mm);
+            if sx > 0.0 && sy > 0.0 {
+                let to_screen = |c: &CrashRow| {
+                    let u = ((c.at_mm.x - g.x0_mm) / sx) as f32;
+                    let v = 1.0 - ((c.at_mm.y - g.y0_mm) / sy) as f32;
+                    let q = egui::pos2(r.left() + u * r.width(), r.top() + v * r.height());
+                    q.is_finite().then_some(q)
+                };
+                let mut shapes = Vec::new();
+                for (k, c) in f.crashes.iter().enumerate() {
+                    if Some(k) != selected_crash
+                        && let Some(q) = to_screen(c)
+                    {
+                        crash_mark(&mut shapes, q, false);
+                    }
+                }
+                if let Some(q) = selected_crash.and_then(|k| f.crashes.get(k)).and_then(to_screen) {
+                    crash_mark(&mut shapes, q, true);
+                }
+                ui.painter().with_clip_rect(rect).extend(shapes);
+            }
         }
     }
 }
