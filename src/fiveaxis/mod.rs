@@ -28,6 +28,8 @@ pub mod toolaxis;
 
 use thiserror::Error;
 
+use crate::numerics::format::fmt_num;
+
 pub use blade::NacaProfile;
 pub use machine::{Joints, KinematicsError, Machine, MachineKind, ToolPose};
 pub use path::{CreasePath, CutterLocation, DesignPath, ProfileBall, ProfilePath, ToolSide};
@@ -44,7 +46,7 @@ pub use toolaxis::{AxisFrame, ToolAxisRule};
 #[derive(Clone, Debug, Error, PartialEq)]
 pub enum FiveAxisError {
     /// The tolerance is not a positive length.
-    #[error("the tolerance must be a positive length in mm, got {tol_mm}; give e.g. 0.01")]
+    #[error("the tolerance must be a positive length in mm, got {}; give e.g. 0.01", fmt_num(*tol_mm))]
     BadTolerance {
         /// The value given.
         tol_mm: f64,
@@ -91,7 +93,8 @@ pub enum FiveAxisError {
     },
     /// Even the shortest step exceeds the tolerance.
     #[error(
-        "at s = {s:.6} even the shortest segment has an error of {error_mm:.3e} mm, more than the tolerance {tol_mm} mm: the steps underflow; raise the tolerance, or change the tool-axis rule if a rotary axis flips there"
+        "at s = {s:.6} even the shortest segment has an error of {error_mm:.3e} mm, more than the tolerance {} mm: the steps underflow; raise the tolerance, or change the tool-axis rule if a rotary axis flips there",
+        fmt_num(*tol_mm)
     )]
     Underflow {
         /// Path parameter of the current node.
@@ -111,7 +114,8 @@ pub enum FiveAxisError {
     },
     /// Too many nodes.
     #[error(
-        "a tolerance of {tol_mm} mm needs more than {max_nodes} nodes (stopped at s = {s:.4}); raise the tolerance"
+        "a tolerance of {} mm needs more than {max_nodes} nodes (stopped at s = {s:.4}); raise the tolerance",
+        fmt_num(*tol_mm)
     )]
     TooManyNodes {
         /// The tolerance (mm).
