@@ -84,6 +84,21 @@ pub enum FinishError {
         /// The cap.
         max_nodes: usize,
     },
+    /// The paths or their CC points would pass their caps: estimated before they are built
+    /// (by more than `paths::ESTIMATE_MARGIN`), or from the share of the surface covered.
+    #[error(
+        "the paths would number about {paths:.0} with about {nodes:.2e} CC points (estimated before the paths are built, or from the share of the surface they covered), more than the {max_paths} paths or {max_nodes} CC points allowed; raise the scallop height, the chord tolerance or the max step, or use a larger cutter"
+    )]
+    Oversized {
+        /// Estimated paths.
+        paths: f64,
+        /// Estimated CC points.
+        nodes: f64,
+        /// The cap on paths.
+        max_paths: usize,
+        /// The cap on CC points.
+        max_nodes: usize,
+    },
     /// The certified gouge checks cost far more than on any usable part
     /// (`paths::MAX_CHECK_CELLS_PER_NODE`, `paths::MAX_CHECK_CELLS`).
     #[error(

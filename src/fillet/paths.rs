@@ -442,6 +442,23 @@ pub const CHECK_COST_SAMPLE: u64 = 32;
 /// million), some 30 s of checking.
 pub const MAX_CHECK_CELLS: u64 = 200_000_000;
 
+/// A job whose paths or CC points, estimated before they are built
+/// ([`Ctx::refuse_oversized`]), exceed their caps by this factor is refused at once; below
+/// it the caps themselves stop the work as it goes.
+pub const ESTIMATE_MARGIN: f64 = 1.25;
+
+/// Share of the surface covered after which the iso-scallop paths' CC points are estimated
+/// from the share, and the job refused when the estimate passes the cap.
+pub const ESTIMATE_AFTER_SHARE: f64 = 0.05;
+
+/// Points of the first path whose side steps the estimate solves.
+const PILOT_POINTS: usize = 16;
+
+/// Iso-curves across (at the start, the middle and the end of the along parameter) whose
+/// length gives the width the paths must cover, and the points each is measured at.
+const WIDTH_CURVES: usize = 3;
+const WIDTH_POINTS: usize = 64;
+
 fn a_of(uv: DVec2, along: usize) -> f64 {
     if along == 0 { uv.x } else { uv.y }
 }
@@ -502,6 +519,71 @@ impl<'a> Ctx<'a> {
         Ok(())
     }
 
+    /// Refuses a job whose paths would pass their caps by more than [`ESTIMATE_MARGIN`],
+    /// before they are built: the first path's forward steps counted (no orientation or
+    /// check), the side step solved at [`PILOT_POINTS`] of them, and the paths across as the
+    /// surface's width across times the mean of 1/side step; each path as many CC points as
+    /// the first.
+    fn refuse_oversized(&self, poly: &[DVec2]) -> Result<(), FinishError> {
+        let mut budget = self.opts.max_nodes;
+        let samples = self.forward_samples(poly, None, &mut budget)?;
+        let every = (samples.len() / PILOT_POINTS).max(1);
+        let pilot_samples: Vec<Sample> = samples
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| k % every == 0 || *k + 1 == samples.len())
+            .map(|(_, s)| *s)
+            .collect();
+        let mut scratch = Vec::new();
+        let pilot = self.path_from_samples(pilot_samples, &mut scratch)?;
+        let Some(n0) = pilot.nodes.iter().find(|n| !n.lead_out) else {
+            return Ok(());
+        };
+        let g = LocalGeometry::try_new(self.surface.derivatives_at(n0.frame.uv));
+        let tc = g.map_or(DVec2::ZERO, |g| g.tangent_coords(n0.frame.cross));
+        let c_sign = if b_of(tc, self.along) >= 0.0 { 1.0 } else { -1.0 };
+        let ctx =
+            Ctx { side: c_sign * self.toward, nodes_checked: std::cell::Cell::new(self.nodes_checked.get()), ..*self };
+        let inverse: Vec<f64> = pilot
+            .nodes
+            .iter()
+            .filter(|n| !n.lead_out)
+            .map(|n| ctx.side_step(n).2)
+            .filter(|w| *w > 0.0 && w.is_finite())
+            .map(|w| 1.0 / w)
+            .collect();
+        self.nodes_checked.set(ctx.nodes_checked.get());
+        if inverse.is_empty() {
+            return Ok(());
+        }
+        let per_mm = inverse.iter().sum::<f64>() / inverse.len() as f64;
+        let ((a0, a1), (b0, b1)) = self.ranges();
+        let mut width = 0.0;
+        for i in 0..WIDTH_CURVES {
+            let a = a0 + (a1 - a0) * i as f64 / (WIDTH_CURVES - 1) as f64;
+            let mut prev: Option<DVec3> = None;
+            for j in 0..=WIDTH_POINTS {
+                let p = self.surface.point_at(make_uv(a, b0 + (b1 - b0) * j as f64 / WIDTH_POINTS as f64, self.along));
+                if let Some(q) = prev {
+                    width += (p - q).length() / WIDTH_CURVES as f64;
+                }
+                prev = Some(p);
+            }
+        }
+        let paths = (width * per_mm).max(1.0);
+        let nodes = paths * samples.len() as f64;
+        if paths > ESTIMATE_MARGIN * self.opts.max_paths as f64 || nodes > ESTIMATE_MARGIN * self.opts.max_nodes as f64
+        {
+            return Err(FinishError::Oversized {
+                paths,
+                nodes,
+                max_paths: self.opts.max_paths,
+                max_nodes: self.opts.max_nodes,
+            });
+        }
+        Ok(())
+    }
+
     fn ranges(&self) -> ((f64, f64), (f64, f64)) {
         let d = self.surface.domain();
         let (ra, rb) = if self.along == 0 { (d.u, d.v) } else { (d.v, d.u) };
@@ -519,6 +601,18 @@ impl<'a> Ctx<'a> {
         refused: &mut Vec<Refusal>,
         budget: &mut usize,
     ) -> Result<ToolPath, FinishError> {
+        let samples = self.forward_samples(poly, psi_ref, budget)?;
+        self.path_from_samples(samples, refused)
+    }
+
+    /// The points of a path along a uv polyline by the forward step (each counted against
+    /// `budget`): the cheap part of [`Self::build_path`], before any orientation or check.
+    fn forward_samples(
+        &self,
+        poly: &[DVec2],
+        psi_ref: Option<&[(f64, f64)]>,
+        budget: &mut usize,
+    ) -> Result<Vec<Sample>, FinishError> {
         let pts: Vec<DVec3> = poly.iter().map(|&uv| self.surface.point_at(uv)).collect();
         let mut cum = vec![0.0];
         for w in pts.windows(2) {
@@ -575,6 +669,11 @@ impl<'a> Ctx<'a> {
             let step = step.min(self.opts.max_step_mm).max(1e-3 * self.opts.max_step_mm);
             s = if s + step >= total - 1e-9 * total.max(1.0) { total } else { s + step };
         }
+        Ok(samples)
+    }
+
+    /// The path of [`Self::forward_samples`]'s points: oriented, smoothed, checked.
+    fn path_from_samples(&self, samples: Vec<Sample>, refused: &mut Vec<Refusal>) -> Result<ToolPath, FinishError> {
         // Frames and poses, ψ warm-started from the previous node.
         let mut frames = Vec::with_capacity(samples.len());
         let mut poses: Vec<Pose> = Vec::with_capacity(samples.len());
@@ -1237,6 +1336,7 @@ impl IsoScallopSteps {
             PathStart::Curve(_) => poly.iter().map(|&p| b_of(p, along)).fold(b1, f64::min),
             _ => b0,
         };
+        ctx.refuse_oversized(&poly)?;
         let mut refused = Vec::new();
         let mut budget = opts.max_nodes;
         let first = ctx.build_path(&poly, None, &mut refused, &mut budget)?;
@@ -1383,6 +1483,20 @@ impl IsoScallopSteps {
         }
         self.paths.push(next);
         self.frontier = self.paths.len() - 1;
+        // Refused as soon as the share covered says the whole would pass the cap (one side
+        // from an edge; a start curve's two sides are left to the cap itself).
+        if !self.second_side && !self.in_second_side {
+            let share = self.progress(surface);
+            let used = (opts.max_nodes - self.budget) as f64;
+            if share >= ESTIMATE_AFTER_SHARE && used / share > opts.max_nodes as f64 {
+                return Err(FinishError::Oversized {
+                    paths: self.paths.len() as f64 / share,
+                    nodes: used / share,
+                    max_paths: opts.max_paths,
+                    max_nodes: opts.max_nodes,
+                });
+            }
+        }
         if self.in_second_side && self.second_side_at.is_none() {
             self.second_side_at = Some(self.frontier);
         }
@@ -1483,6 +1597,7 @@ pub fn iso_parametric_from(
     let ((a0, a1), (b0, b1)) = ctx.ranges();
     let tool = strategy.cutter_for(cutter);
     let h = opts.scallop_mm;
+    ctx.refuse_oversized(&iso_curve((a0, a1), b0, along))?;
     let mut refused = Vec::new();
     let mut budget = opts.max_nodes;
     // The first guess of the spacing: the narrowest strip over 9 trial curves, in b.

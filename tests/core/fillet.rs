@@ -1320,3 +1320,38 @@ fn the_lead_out_frame_is_the_surface_continued() {
         (lead.point - (plane.point + 3.0 * DVec3::X)).length() < 1e-12 && (lead.normal - plane.normal).length() < 1e-15
     );
 }
+
+#[test]
+fn a_job_far_over_its_caps_is_refused_before_its_paths_are_built() {
+    // The patch with a scallop of 1 nm (thousands of paths), a max step of 1 µm or a chord
+    // tolerance of 1e-9 mm (millions of CC points): refused from the estimate, after the
+    // checks of a 16-point pilot at most — not after building paths up to the cap.
+    let base = job("finish-bicubic-patch");
+    let tweaks: [(&str, fn(&mut FinishOptions)); 3] = [
+        ("scallop", |o| o.scallop_mm = 1e-6),
+        ("max step", |o| o.max_step_mm = 1e-3),
+        ("chord tolerance", |o| o.chord_tol_mm = 1e-9),
+    ];
+    for (what, tweak) in tweaks {
+        let mut opts = base.options;
+        tweak(&mut opts);
+        let part = PartSamples::new(&base.surface, opts.part_grid);
+        let before = part.cells_checked();
+        let r = iso_scallop_from(&base.surface, &base.cutter, base.strategy, &opts, &part, &PathStart::FirstBoundary);
+        match r {
+            Err(FinishError::Oversized { paths, nodes, max_paths, max_nodes }) => {
+                assert!(paths > 1.25 * max_paths as f64 || nodes > 1.25 * max_nodes as f64, "{what}: {paths} {nodes}");
+            }
+            Err(FinishError::TooManyNodes { .. }) => {} // the pilot's own forward steps passed the cap
+            other => panic!("{what}: {:?}", other.map(|s| s.paths.len())),
+        }
+        let spent = part.cells_checked() - before;
+        assert!(spent < 40_000 * 20, "{what}: the refusal came after {spent} cells of checks");
+    }
+    // The job itself is not refused, and its estimate does not stand in its way.
+    let part = PartSamples::new(&base.surface, base.options.part_grid);
+    let set =
+        iso_scallop_from(&base.surface, &base.cutter, base.strategy, &base.options, &part, &PathStart::FirstBoundary)
+            .unwrap();
+    assert!(set.paths.len() > 10);
+}
