@@ -16,8 +16,9 @@
 //!   higher, and would otherwise hide material the part met earlier). 5-axis moves check the
 //!   part at poses no point of it moves more than [`POSE_STEP_PITCHES`] pitches between,
 //!   after the move's cut.
-//! - **rapid**: any part of the flutes entering stock in a rapid (G0): the flutes' swept
-//!   solid against the stock before the move.
+//! - **rapid**: any part of the tool entering stock in a rapid (G0): the flutes' swept solid
+//!   against the stock before the move, and the shank and holder as above (a rapid whose
+//!   shank meets stock is both a shank and a rapid crash).
 //! - **plunge**: a feed move descending more steeply than [`PLUNGE_MIN_DEG`] into stock with
 //!   a tool that does not cut at its centre ([`crate::geom::Cutter::centre_cutting`]): the
 //!   stock before the move on the ray nearest the end of the tip's path, between the two tip
@@ -82,7 +83,7 @@ impl CrashKind {
         match self {
             Self::Shank => "the shank",
             Self::Holder => "the holder",
-            Self::Rapid => "the flutes in a rapid (G0)",
+            Self::Rapid => "the tool in a rapid (G0)",
             Self::Plunge => "the centre of an end that does not cut there",
         }
     }

@@ -842,9 +842,10 @@ impl Simulation {
         }
     }
 
-    /// Records a crash of the move being applied.
+    /// Records a crash of the move being applied; in a rapid, the shank or holder meeting
+    /// stock is a rapid crash too (any part of the tool entering stock in a G0).
     fn record_crash(&mut self, kind: CrashKind, depth_mm: f64, at_mm: DVec3) {
-        self.crashes.record(Crash {
+        let c = Crash {
             kind,
             line: self.now.line,
             move_index: self.now.index,
@@ -852,7 +853,11 @@ impl Simulation {
             depth_mm,
             at_mm,
             tip_mm: self.now.end,
-        });
+        };
+        self.crashes.record(c);
+        if self.now.rapid && matches!(kind, CrashKind::Shank | CrashKind::Holder) {
+            self.crashes.record(Crash { kind: CrashKind::Rapid, ..c });
+        }
     }
 
     /// Subtracts `lo < z < hi` from ray `k`, marking the tool map; the length removed (mm).

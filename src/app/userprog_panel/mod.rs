@@ -493,18 +493,7 @@ impl UserProgramPanel {
             let over = s.block_error.iter().filter(|e| f64::from(**e) > self.tol()).count();
             ui.label(format!("machine {m}: {measured} blocks measured, {over} over {} mm", self.tol()));
         }
-        if let Some(r) = &self.result
-            && r.counters.rapid_cuts > 0
-        {
-            super::widgets::error_text(
-                ui,
-                format!(
-                    "{} rapid move(s) (G0) cut material, the first at line {}",
-                    r.counters.rapid_cuts,
-                    r.counters.first_rapid_cut_line.unwrap_or(0)
-                ),
-            );
-        }
+        // Rapids through stock are crashes: the Crashes section lists them by line.
         egui::Grid::new("userprog_tools").striped(true).show(ui, |ui| {
             ui.strong("tool");
             ui.strong("cutter");
