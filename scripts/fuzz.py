@@ -4,8 +4,11 @@
 Mutates the example scenes and finishing scenes (numbers replaced by extreme values, keys
 dropped or repeated, bytes flipped) and small G-code programs, runs `run`, `check`, `gcode`,
 `steps`, `nurbs`, `finish`, `replay` and `simulate` on them with a time and memory limit, and keeps every case that breaks a promise:
-a panic, an exit status other than 0/1/2, a refusal longer than one line, NaN/inf/runaway
-digits in a message, a hang (time limit) or a memory blow-up (address-space limit).
+a panic or abort, an exit status other than 0/1/2, a refusal longer than one line or after more
+than a second of CPU, NaN/inf/runaway digits in a message, a run past the time limit (30 s), a
+memory blow-up (address-space limit, 2 GB), or a program the product wrote that `replay` and
+`simulate` refuse. Besides mutated scenes and small programs it generates huge programs
+(millions of lines, one line of tens of MB) and cutters with extreme body words.
 
     python3 scripts/fuzz.py --minutes 60 --seed 7 [--bin target/release/interpolab]
 
@@ -43,23 +46,54 @@ def gcode(rng):
     return ("\n".join(lines) + "\nM30\n").encode()
 
 
+def huge_gcode(rng, out):
+    """A big program written to a file in the campaign's folder: alternating lines, or one
+    enormous line; returns its path."""
+    path = os.path.join(out, "huge.nc")
+    kind = rng.choice(["lines", "line", "arcs"])
+    with open(path, "w") as fh:
+        fh.write("G21 G90\nG0 X0 Y0 Z1\nG1 F100\n")
+        if kind == "lines":
+            fh.write("X1\nX2\n" * rng.choice([100_000, 1_000_000, 2_500_000, 10_000_000]))
+        elif kind == "line":
+            fh.write("X1 " * rng.choice([1_000_000, 13_000_000]) + "\n")
+        else:
+            fh.write("G2 X0 Y0 I5 J0\n" * rng.choice([1_000, 100_000, 1_000_000]))
+        fh.write("M30\n")
+    return path
+
+
+CUTTERS = ["ball:3", "flat:2", "fillet:5,1", "ball:0", "fillet:1,5", "ball:1e9", "flat:3,flute=10,shank=3:20,holder=10:40",
+           "ball:3,flute=1e300", "flat:2,shank=0:5", "flat:2,holder=1e9:1e9", "ball:3,flute=1e-9", "flat:3,nocentre",
+           "ball:3,flute=nan", "flat:3,shank=3", "ball:3,lenght=2", "v:3,90,flute=1"]
+
+
 def limits(mem_mb):
     def apply():
         resource.setrlimit(resource.RLIMIT_AS, (mem_mb << 20, mem_mb << 20))
     return apply
 
 
+def child_cpu_s():
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
 def check(bin_, args, timeout_s, mem_mb):
-    t0 = time.time()
+    cpu0 = child_cpu_s()
     try:
         p = subprocess.run([bin_] + args, capture_output=True, timeout=timeout_s, preexec_fn=limits(mem_mb))
     except subprocess.TimeoutExpired:
         return f"hang: more than {timeout_s} s"
+    cpu = child_cpu_s() - cpu0
     err = p.stderr.decode("utf-8", "replace")
     if "panicked" in err or p.returncode not in (0, 1, 2):
         return f"exit {p.returncode}: {err[-500:]}"
     if p.returncode == 2 and len(err.strip().splitlines()) != 1:
         return f"refusal not one line: {err[-500:]}"
+    # CPU time, not the wall clock: the campaign may share the machine.
+    if p.returncode == 2 and cpu > 1.0:
+        return f"refusal after {cpu:.1f} s of CPU: {err[-300:]}"
     if re.search(r"NaN|\binf\b|\d{40}|-0\.0000\b|\x00", err):
         return f"bad value in message: {err[-500:]}"
     return None
@@ -83,11 +117,29 @@ def main():
     end, runs, fails = time.time() + 60 * a.minutes, 0, 0
     while time.time() < end:
         roll = rng.random()
-        if roll < 0.15:
+        readback = None
+        if roll < 0.05:
+            # A huge generated program: bounded memory and time, or one line.
+            path = huge_gcode(rng, out)
+            args = rng.choice([["replay", path], ["simulate", path, "--cutter", "ball:1", "--stock", "-5,-5,-2,10,10,1", "--pitch", "0.2"],
+                               ["replay", path, "--scene", os.path.join(ex, "floor-round-wall.json")]])
+            runs += 1
+            why = check(a.bin, args, a.timeout, a.mem_mb)
+            if why:
+                fails += 1
+                d = os.path.join(out, str(fails))
+                os.makedirs(d, exist_ok=True)
+                with open(os.path.join(d, "why.txt"), "w") as fh:
+                    fh.write(" ".join(args) + "\n" + why + "\n")
+                print(f"FAIL {fails}: {' '.join(args)[:200]}: {why.splitlines()[0][:200]}", flush=True)
+            os.remove(path)
+            continue
+        if roll < 0.2:
             # Seed 001's finishing scenes: the CL data, the comparison table, the program, and
             # the program through the cutting simulation on a coarse grid.
             data, name = mutate_scene(rng, rng.choice(finishes)), "case.json"
-            cmds = [["finish", "{f}"], ["finish", "{f}", "--table"], ["finish", "{f}", "--gcode", os.path.join(out, "case.nc.out")],
+            readback = os.path.join(out, "case.nc.out")
+            cmds = [["finish", "{f}"], ["finish", "{f}", "--table"], ["finish", "{f}", "--gcode", readback],
                     ["simulate", "{f}", "--finish", "0.005", "--pitch=" + rng.choice(["0.5", "1", "1e-9", "-1", "1e9"])]]
         elif roll < 0.7:
             data, name = mutate_scene(rng, rng.choice(scenes)), "case.json"
@@ -97,7 +149,7 @@ def main():
         else:
             data, name = gcode(rng), "case.nc"
             cmds = [["replay", "{f}"], ["replay", "{f}", "--scene", os.path.join(ex, "floor-round-wall.json")],
-                    ["simulate", "{f}", "--cutter", rng.choice(["ball:3", "flat:2", "fillet:5,1", "ball:0", "fillet:1,5", "ball:1e9"]),
+                    ["simulate", "{f}", "--cutter", rng.choice(CUTTERS), "--crashes", os.path.join(out, "crashes.csv"),
                      "--stock", rng.choice(["-60,-60,-10,60,60,10", "0,0,0,0,0,0", "-1e9,-1e9,0,1e9,1e9,1"]),
                      "--pitch=" + rng.choice(["0.5", "0.05", "0", "nan", "-2"])]]
         path = os.path.join(out, name)
@@ -105,9 +157,16 @@ def main():
             fh.write(data if isinstance(data, bytes) else data.encode())
         args = [x.replace("{f}", path) for x in rng.choice(cmds)]
         runs += 1
-        # A comparison table is ten plans and a simulation plans and machines: more time.
-        slow = "--table" in args or args[0] == "simulate"
-        why = check(a.bin, args, a.timeout * (4 if slow else 1), a.mem_mb)
+        if readback and os.path.exists(readback):
+            os.remove(readback)
+        why = check(a.bin, args, a.timeout, a.mem_mb)
+        # A program the product wrote is read back by replay and simulate.
+        if not why and readback and "--gcode" in args and os.path.exists(readback):
+            for back in (["replay", readback], ["simulate", readback, "--cutter", "ball:3", "--stock", "-100,-100,-100,100,100,100", "--pitch", "2"]):
+                p = subprocess.run([a.bin] + back, capture_output=True, timeout=a.timeout, preexec_fn=limits(a.mem_mb))
+                if p.returncode not in (0, 1):
+                    why = f"the written program is refused by {back[0]}: {p.stderr.decode('utf-8', 'replace')[-300:]}"
+                    break
         if why:
             fails += 1
             d = os.path.join(out, str(fails))

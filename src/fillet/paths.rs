@@ -451,8 +451,18 @@ pub const ESTIMATE_MARGIN: f64 = 1.25;
 /// from the share, and the job refused when the estimate passes the cap.
 pub const ESTIMATE_AFTER_SHARE: f64 = 0.05;
 
-/// Points of the first path whose side steps the estimate solves.
+/// Share of the surface, and cells checked, after which the checks' total cost is
+/// estimated from the share (refused above twice [`MAX_CHECK_CELLS`] below
+/// [`ESTIMATE_AFTER_SHARE`], above it from there).
+pub const CELLS_ESTIMATE_AFTER_SHARE: f64 = 0.01;
+/// See [`CELLS_ESTIMATE_AFTER_SHARE`].
+pub const CELLS_ESTIMATE_AFTER: f64 = 1e6;
+
+/// Points of each pilot line whose side steps the estimate solves.
 const PILOT_POINTS: usize = 16;
+
+/// Lines of the pilot: the first path's and iso-curves spread across the surface.
+const PILOT_LINES: usize = 4;
 
 /// Iso-curves across (at the start, the middle and the end of the along parameter) whose
 /// length gives the width the paths must cover, and the points each is measured at.
@@ -519,45 +529,64 @@ impl<'a> Ctx<'a> {
         Ok(())
     }
 
-    /// Refuses a job whose paths would pass their caps by more than [`ESTIMATE_MARGIN`],
-    /// before they are built: the first path's forward steps counted (no orientation or
-    /// check), the side step solved at [`PILOT_POINTS`] of them, and the paths across as the
-    /// surface's width across times the mean of 1/side step; each path as many CC points as
-    /// the first.
+    /// Refuses a job whose paths would pass their caps by more than [`ESTIMATE_MARGIN`], or
+    /// whose checks would pass [`MAX_CHECK_CELLS`], before they are built. A pilot on the
+    /// first path's polyline and on [`PILOT_LINES`] − 1 iso-curves across the surface: each
+    /// line's forward steps counted (no orientation or check), [`PILOT_POINTS`] of them
+    /// oriented and checked and their side steps solved. The paths across are the surface's
+    /// width across times the mean of 1/side step, each with the lines' mean CC points, each
+    /// point checked at the pilot's mean cost.
     fn refuse_oversized(&self, poly: &[DVec2]) -> Result<(), FinishError> {
-        let mut budget = self.opts.max_nodes;
-        let samples = self.forward_samples(poly, None, &mut budget)?;
-        let every = (samples.len() / PILOT_POINTS).max(1);
-        let pilot_samples: Vec<Sample> = samples
-            .iter()
-            .enumerate()
-            .filter(|(k, _)| k % every == 0 || *k + 1 == samples.len())
-            .map(|(_, s)| *s)
-            .collect();
-        let mut scratch = Vec::new();
-        let pilot = self.path_from_samples(pilot_samples, &mut scratch)?;
-        let Some(n0) = pilot.nodes.iter().find(|n| !n.lead_out) else {
-            return Ok(());
-        };
-        let g = LocalGeometry::try_new(self.surface.derivatives_at(n0.frame.uv));
-        let tc = g.map_or(DVec2::ZERO, |g| g.tangent_coords(n0.frame.cross));
-        let c_sign = if b_of(tc, self.along) >= 0.0 { 1.0 } else { -1.0 };
-        let ctx =
-            Ctx { side: c_sign * self.toward, nodes_checked: std::cell::Cell::new(self.nodes_checked.get()), ..*self };
-        let inverse: Vec<f64> = pilot
-            .nodes
-            .iter()
-            .filter(|n| !n.lead_out)
-            .map(|n| ctx.side_step(n).2)
-            .filter(|w| *w > 0.0 && w.is_finite())
-            .map(|w| 1.0 / w)
-            .collect();
-        self.nodes_checked.set(ctx.nodes_checked.get());
+        let ((a0, a1), (b0, b1)) = self.ranges();
+        let mut lines = vec![poly.to_vec()];
+        for k in 1..PILOT_LINES {
+            lines.push(iso_curve((a0, a1), b0 + (b1 - b0) * k as f64 / (PILOT_LINES - 1) as f64, self.along));
+        }
+        let mut side = None;
+        let (mut inverse, mut samples_sum, mut pilot_nodes) = (Vec::new(), 0usize, 0usize);
+        let cells_before = self.part.cells_checked();
+        for line in &lines {
+            let mut budget = self.opts.max_nodes;
+            let samples = self.forward_samples(line, None, &mut budget)?;
+            samples_sum += samples.len();
+            let every = (samples.len() / PILOT_POINTS).max(1);
+            let pilot_samples: Vec<Sample> = samples
+                .iter()
+                .enumerate()
+                .filter(|(k, _)| k % every == 0 || *k + 1 == samples.len())
+                .map(|(_, s)| *s)
+                .collect();
+            let mut scratch = Vec::new();
+            let pilot = self.path_from_samples(pilot_samples, &mut scratch)?;
+            pilot_nodes += pilot.nodes.len();
+            // The side toward the far edge, from the first line's first node (as the job's).
+            if side.is_none()
+                && let Some(n0) = pilot.nodes.iter().find(|n| !n.lead_out)
+            {
+                let g = LocalGeometry::try_new(self.surface.derivatives_at(n0.frame.uv));
+                let tc = g.map_or(DVec2::ZERO, |g| g.tangent_coords(n0.frame.cross));
+                side = Some(if b_of(tc, self.along) >= 0.0 { 1.0 } else { -1.0 } * self.toward);
+            }
+            let Some(side) = side else { continue };
+            let ctx = Ctx { side, nodes_checked: std::cell::Cell::new(self.nodes_checked.get()), ..*self };
+            inverse.extend(
+                pilot
+                    .nodes
+                    .iter()
+                    .filter(|n| !n.lead_out)
+                    .map(|n| ctx.side_step(n).2)
+                    .filter(|w| *w > 0.0 && w.is_finite())
+                    .map(|w| 1.0 / w),
+            );
+            self.nodes_checked.set(ctx.nodes_checked.get());
+        }
+        // The checks' cost per CC point on the pilot (its paths and side steps, as a job's).
+        let cells_per_node = self.part.cells_checked().saturating_sub(cells_before) as f64 / pilot_nodes.max(1) as f64;
+        let samples_per_path = samples_sum as f64 / lines.len() as f64;
         if inverse.is_empty() {
             return Ok(());
         }
         let per_mm = inverse.iter().sum::<f64>() / inverse.len() as f64;
-        let ((a0, a1), (b0, b1)) = self.ranges();
         let mut width = 0.0;
         for i in 0..WIDTH_CURVES {
             let a = a0 + (a1 - a0) * i as f64 / (WIDTH_CURVES - 1) as f64;
@@ -571,7 +600,7 @@ impl<'a> Ctx<'a> {
             }
         }
         let paths = (width * per_mm).max(1.0);
-        let nodes = paths * samples.len() as f64;
+        let nodes = paths * samples_per_path;
         if paths > ESTIMATE_MARGIN * self.opts.max_paths as f64 || nodes > ESTIMATE_MARGIN * self.opts.max_nodes as f64
         {
             return Err(FinishError::Oversized {
@@ -579,6 +608,14 @@ impl<'a> Ctx<'a> {
                 nodes,
                 max_paths: self.opts.max_paths,
                 max_nodes: self.opts.max_nodes,
+            });
+        }
+        let cells = nodes * cells_per_node;
+        if cells > MAX_CHECK_CELLS as f64 {
+            return Err(FinishError::TooMuchChecking {
+                detail: format!(
+                    "would pass {MAX_CHECK_CELLS} cells: about {cells:.2e} over about {nodes:.0} CC points (estimated before the paths are built, {cells_per_node:.0} cells a point on a pilot)"
+                ),
             });
         }
         Ok(())
@@ -1494,6 +1531,22 @@ impl IsoScallopSteps {
                     nodes: used / share,
                     max_paths: opts.max_paths,
                     max_nodes: opts.max_nodes,
+                });
+            }
+            // The checks' cost from an earlier share (they are what takes the time), with
+            // room for a costly start below 5 %.
+            let cells = part.cells_checked().saturating_sub(self.cells_at_start) as f64;
+            let room = if share < ESTIMATE_AFTER_SHARE { 2.0 } else { 1.0 };
+            if share >= CELLS_ESTIMATE_AFTER_SHARE
+                && cells >= CELLS_ESTIMATE_AFTER
+                && cells / share > room * MAX_CHECK_CELLS as f64
+            {
+                return Err(FinishError::TooMuchChecking {
+                    detail: format!(
+                        "would pass {MAX_CHECK_CELLS} cells: about {:.2e} (estimated from the {:.0} % of the surface covered)",
+                        cells / share,
+                        share * 100.0
+                    ),
                 });
             }
         }
