@@ -397,7 +397,8 @@ pub(super) fn replay(a: &ReplayArgs) -> Result<ExitCode, Fatal> {
         }
         return super::userprog::replay(&a.program, &a.read, &a.tools, a.tolerance, a.all);
     }
-    let (parsed, dialect, how) = super::program::read_path(&a.program, a.dialect, &a.read)?;
+    let (parsed, dialect, how) =
+        super::program::read_path(&a.program, a.dialect, &a.read, interpolab::gcode::read::MAX_PATH_MOVES)?;
     let s = summarize(&parsed.toolpath);
     let mut lines = vec![
         format!("program      {} ({} lines, {} blocks)", a.program.display(), parsed.lines, parsed.blocks),

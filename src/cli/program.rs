@@ -86,15 +86,18 @@ const GUESS_BYTES: u64 = 64 << 10;
 
 /// Reads a program file into a path: FANUC and LinuxCNC programs through the interpreter,
 /// streamed from the file (with the files beside it as subroutines), Sinumerik by its reader.
-/// Returns the program, its dialect and whether that was given or guessed.
+/// Returns the program, its dialect and whether that was given or guessed. Reading stops
+/// with a refusal past `max_moves` moves (the command's own cap, at most
+/// [`interpolab::gcode::read::MAX_PATH_MOVES`]).
 pub(crate) fn read_path(
     path: &Path,
     dialect: Option<interpolab::gcode::Dialect>,
     read: &ReadArgs,
+    max_moves: usize,
 ) -> Result<(interpolab::gcode::ParsedProgram, interpolab::gcode::Dialect, &'static str), Fatal> {
     use std::io::Read;
 
-    use interpolab::gcode::{Dialect, parse_program_in, read_from};
+    use interpolab::gcode::{Dialect, parse_program_in, read_from_capped};
     let (dialect, how) = match dialect {
         Some(d) => (d, "given"),
         None => {
@@ -113,7 +116,7 @@ pub(crate) fn read_path(
         parse_program_in(&text, dialect)
     } else {
         let opts = Options { keep_comments: 64, fanuc: dialect == Dialect::Fanuc, ..read.options() };
-        read_from(open(path, opts)?, dialect)
+        read_from_capped(open(path, opts)?, dialect, max_moves)
     };
     let parsed = parsed.map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
     Ok((parsed, dialect, how))

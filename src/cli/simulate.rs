@@ -241,7 +241,7 @@ pub(super) fn simulate(a: &SimulateArgs) -> Result<ExitCode, Fatal> {
         return finish(a, &cutter, stock, &program, &design, how);
     }
     let design = load_design(&SimulateDesign { design_z: a.design_z, scene: a.scene.as_deref() })?;
-    let (parsed, _, _) = super::program::read_path(path, None, &a.read)?;
+    let (parsed, _, _) = super::program::read_path(path, None, &a.read, interpolab::simulate::program::MAX_MOVES)?;
     for l in super::program::report_lines(&parsed) {
         eprintln!("interpolab: {l}");
     }

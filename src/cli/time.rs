@@ -236,7 +236,8 @@ fn read_canon(path: &Path, read: &super::program::ReadArgs) -> Result<Vec<Canon>
         .and_then(|f| f.take(64 << 10).read_to_end(&mut head))
         .map_err(|e| Fatal(format!("cannot read program {}: {e}", path.display())))?;
     if Dialect::guess(&String::from_utf8_lossy(&head)) == Dialect::Sinumerik {
-        let (parsed, _, _) = super::program::read_path(path, Some(Dialect::Sinumerik), read)?;
+        let (parsed, _, _) =
+            super::program::read_path(path, Some(Dialect::Sinumerik), read, interpolab::gcode::read::MAX_PATH_MOVES)?;
         return Ok(canon_of_toolpath(&parsed.toolpath));
     }
     let mut it = super::program::open(path, read.options())?;

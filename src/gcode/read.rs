@@ -14,10 +14,10 @@ use super::interp::{Canon, InterpError, Interpreter, Options};
 use super::parse::{ParseError, ParsedProgram, Unsupported, parse_dialect_reader};
 use super::path::{ArcMove, LineMove, Motion, PathBlock, Segment};
 
-/// Most moves of a program held as a path (each about 112 bytes: 450 MB at the cap);
-/// commands that need every move at once refuse a program with more. A million-line
-/// program is a quarter of it.
-pub const MAX_PATH_MOVES: usize = 4_000_000;
+/// Most moves of a program held as a path (each about 112 bytes: 340 MB at the cap);
+/// commands that need every move at once refuse a program with more, after reading that
+/// many (about 0.9 s). A million-line program is a third of it.
+pub const MAX_PATH_MOVES: usize = 3_000_000;
 
 /// Header comments kept for [`super::write::ProgrammedPoint::from_comments`].
 const KEPT_COMMENTS: usize = 64;
@@ -71,14 +71,28 @@ pub fn read_program(text: &str, dialect: Dialect, opts: &Options) -> Result<Pars
 /// # Errors
 /// The line that cannot be read, or [`ParseError::TooManyMoves`] past
 /// [`MAX_PATH_MOVES`].
-pub fn read_from(mut it: Interpreter<'_>, dialect: Dialect) -> Result<ParsedProgram, ParseError> {
+pub fn read_from(it: Interpreter<'_>, dialect: Dialect) -> Result<ParsedProgram, ParseError> {
+    read_from_capped(it, dialect, MAX_PATH_MOVES)
+}
+
+/// [`read_from`] refusing past `max_moves` (at most [`MAX_PATH_MOVES`]): a command whose own
+/// cap is lower stops reading there, not after the whole program.
+///
+/// # Errors
+/// As [`read_from`], with the lower cap.
+pub fn read_from_capped(
+    mut it: Interpreter<'_>,
+    dialect: Dialect,
+    max_moves: usize,
+) -> Result<ParsedProgram, ParseError> {
+    let max = max_moves.min(MAX_PATH_MOVES);
     let mut out = ParsedProgram { dialect, ..ParsedProgram::default() };
     let mut pos = DVec3::ZERO;
     let mut tlo = DVec3::ZERO;
     for c in it.by_ref() {
         let c = c.map_err(ParseError::Interp)?;
-        if out.toolpath.blocks.len() >= MAX_PATH_MOVES {
-            return Err(ParseError::TooManyMoves { line: c.loc().line as usize, max: MAX_PATH_MOVES });
+        if out.toolpath.blocks.len() >= max {
+            return Err(ParseError::TooManyMoves { line: c.loc().line as usize, max });
         }
         push(&mut out, &mut pos, &mut tlo, c);
     }
