@@ -19,6 +19,11 @@ pub const MAX_PROGRAM_BYTES: u64 = 256 << 20;
 /// then accurate to the Gauss rule on the cell, still far below any output resolution).
 pub const MAX_ARC_TABLE_NODES: usize = 1 << 20;
 
+/// Most moves `replay --scene`/`--profile` measures against a design (each move's pieces
+/// are sampled and searched: about 12 s for a million on the development machine); the
+/// program is refused after reading that many.
+pub const MAX_DEVIATION_MOVES: usize = 1_000_000;
+
 /// Most samples a G-code check (`gcode::replay::deviation`) takes of the program and the
 /// design together (about 50 MB of samples and their grid): past it the sample spacing
 /// grows, and the spacing used is reported with the result.

@@ -397,8 +397,13 @@ pub(super) fn replay(a: &ReplayArgs) -> Result<ExitCode, Fatal> {
         }
         return super::userprog::replay(&a.program, &a.read, &a.tools, a.tolerance, a.all);
     }
-    let (parsed, dialect, how) =
-        super::program::read_path(&a.program, a.dialect, &a.read, interpolab::gcode::read::MAX_PATH_MOVES)?;
+    // Measured against a design, a program is held to fewer moves (each is searched).
+    let cap = if a.scene.is_some() || a.profile.is_some() {
+        interpolab::limits::MAX_DEVIATION_MOVES
+    } else {
+        interpolab::gcode::read::MAX_PATH_MOVES
+    };
+    let (parsed, dialect, how) = super::program::read_path(&a.program, a.dialect, &a.read, cap)?;
     let s = summarize(&parsed.toolpath);
     let mut lines = vec![
         format!("program      {} ({} lines, {} blocks)", a.program.display(), parsed.lines, parsed.blocks),

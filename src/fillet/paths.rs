@@ -437,7 +437,7 @@ struct Ctx<'a> {
 /// every point). Stopping there takes a few seconds instead.
 pub const MAX_CHECK_CELLS_PER_NODE: u64 = 20_000;
 /// CC points checked before [`MAX_CHECK_CELLS_PER_NODE`] applies.
-pub const CHECK_COST_SAMPLE: u64 = 32;
+pub const CHECK_COST_SAMPLE: u64 = 8;
 /// Most cells of the certified bottom checks a whole job may spend (the examples: 0.9–12
 /// million), some 30 s of checking.
 pub const MAX_CHECK_CELLS: u64 = 200_000_000;
@@ -518,7 +518,11 @@ impl<'a> Ctx<'a> {
                 detail: format!("passed {MAX_CHECK_CELLS} cells after {nodes} CC points"),
             });
         }
-        if nodes >= CHECK_COST_SAMPLE && cells / nodes > MAX_CHECK_CELLS_PER_NODE {
+        // After CHECK_COST_SAMPLE points, or sooner once the cells spent would already put
+        // that many points over the average (a first point costing a million cells).
+        if (nodes >= CHECK_COST_SAMPLE || cells > CHECK_COST_SAMPLE * MAX_CHECK_CELLS_PER_NODE)
+            && cells / nodes > MAX_CHECK_CELLS_PER_NODE
+        {
             return Err(FinishError::TooMuchChecking {
                 detail: format!(
                     "cost {} cells a CC point over the first {nodes} (more than {MAX_CHECK_CELLS_PER_NODE})",
@@ -559,6 +563,11 @@ impl<'a> Ctx<'a> {
             let mut scratch = Vec::new();
             let pilot = self.path_from_samples(pilot_samples, &mut scratch)?;
             pilot_nodes += pilot.nodes.len();
+            // Not one of PILOT_POINTS points spread along the first path can be cut: the job
+            // stops here, as it would after trying every point of that path.
+            if side.is_none() && samples.len() > PILOT_POINTS && pilot.nodes.iter().all(|n| n.lead_out) {
+                return Err(FinishError::NoPath { reason: scratch.first().map_or("no CC point", |r| r.reason) });
+            }
             // The side toward the far edge, from the first line's first node (as the job's).
             if side.is_none()
                 && let Some(n0) = pilot.nodes.iter().find(|n| !n.lead_out)
