@@ -1327,7 +1327,8 @@ fn a_job_far_over_its_caps_is_refused_before_its_paths_are_built() {
     // tolerance of 1e-9 mm (millions of CC points): refused from the estimate, after the
     // checks of a 16-point pilot at most — not after building paths up to the cap.
     let base = job("finish-bicubic-patch");
-    let tweaks: [(&str, fn(&mut FinishOptions)); 3] = [
+    type Tweak = fn(&mut FinishOptions);
+    let tweaks: [(&str, Tweak); 3] = [
         ("scallop", |o| o.scallop_mm = 1e-6),
         ("max step", |o| o.max_step_mm = 1e-3),
         ("chord tolerance", |o| o.chord_tol_mm = 1e-9),
