@@ -155,10 +155,17 @@ pub fn compare_from(
         Strategy::Ball,
     ];
     let mut rows = Vec::new();
+    // The table's ten plans share one budget of check cells: each may spend what the ones
+    // before left.
+    let start_cells = part.cells_checked();
+    let left = |part: &PartSamples| FinishOptions {
+        max_check_cells: opts.max_check_cells.saturating_sub(part.cells_checked().saturating_sub(start_cells)),
+        ..*opts
+    };
     for s in strategies {
-        let iso = iso_scallop_from(surface, cutter, s, opts, part, start)?;
+        let iso = iso_scallop_from(surface, cutter, s, &left(part), part, start)?;
         rows.push(Comparison { strategy: s, layout: Layout::IsoScallop, stats: iso.stats(opts.feed_mm_per_min) });
-        let par = iso_parametric_from(surface, cutter, s, opts, part, start)?;
+        let par = iso_parametric_from(surface, cutter, s, &left(part), part, start)?;
         rows.push(Comparison { strategy: s, layout: Layout::IsoParametric, stats: par.stats(opts.feed_mm_per_min) });
     }
     Ok(rows)

@@ -264,6 +264,9 @@ pub struct FinishOptions {
     pub max_paths: usize,
     /// Most CC points over all paths.
     pub max_nodes: usize,
+    /// Most cells the job's certified bottom checks may spend (default [`MAX_CHECK_CELLS`];
+    /// a comparison table shares it among its plans).
+    pub max_check_cells: u64,
 }
 
 impl FinishOptions {
@@ -282,6 +285,7 @@ impl FinishOptions {
             part_grid: 48,
             max_paths: 2000,
             max_nodes: 400_000,
+            max_check_cells: MAX_CHECK_CELLS,
         }
     }
 }
@@ -439,11 +443,11 @@ pub const MAX_CHECK_CELLS_PER_NODE: u64 = 20_000;
 /// CC points checked before [`MAX_CHECK_CELLS_PER_NODE`] applies.
 pub const CHECK_COST_SAMPLE: u64 = 8;
 /// Most cells of the certified bottom checks a whole job may spend (the examples: 0.9–12
-/// million), some 30 s of checking.
-pub const MAX_CHECK_CELLS: u64 = 200_000_000;
+/// million a job, a comparison table of ten plans shares it), some 15 s of checking.
+pub const MAX_CHECK_CELLS: u64 = 100_000_000;
 
 /// A job whose paths or CC points, estimated before they are built
-/// ([`Ctx::refuse_oversized`]), exceed their caps by this factor is refused at once; below
+/// (`Ctx::refuse_oversized`), exceed their caps by this factor is refused at once; below
 /// it the caps themselves stop the work as it goes.
 pub const ESTIMATE_MARGIN: f64 = 1.25;
 
@@ -513,10 +517,9 @@ impl<'a> Ctx<'a> {
         let nodes = self.nodes_checked.get() + 1;
         self.nodes_checked.set(nodes);
         let cells = self.part.cells_checked().saturating_sub(self.cells_at_start);
-        if cells > MAX_CHECK_CELLS {
-            return Err(FinishError::TooMuchChecking {
-                detail: format!("passed {MAX_CHECK_CELLS} cells after {nodes} CC points"),
-            });
+        let max = self.opts.max_check_cells;
+        if cells > max {
+            return Err(FinishError::TooMuchChecking { detail: format!("passed {max} cells after {nodes} CC points") });
         }
         // After CHECK_COST_SAMPLE points, or sooner once the cells spent would already put
         // that many points over the average (a first point costing a million cells).
@@ -620,10 +623,11 @@ impl<'a> Ctx<'a> {
             });
         }
         let cells = nodes * cells_per_node;
-        if cells > MAX_CHECK_CELLS as f64 {
+        let max = self.opts.max_check_cells;
+        if cells > max as f64 {
             return Err(FinishError::TooMuchChecking {
                 detail: format!(
-                    "would pass {MAX_CHECK_CELLS} cells: about {cells:.2e} over about {nodes:.0} CC points (estimated before the paths are built, {cells_per_node:.0} cells a point on a pilot)"
+                    "would pass {max} cells: about {cells:.2e} over about {nodes:.0} CC points (estimated before the paths are built, {cells_per_node:.0} cells a point on a pilot)"
                 ),
             });
         }
@@ -1548,11 +1552,12 @@ impl IsoScallopSteps {
             let room = if share < ESTIMATE_AFTER_SHARE { 2.0 } else { 1.0 };
             if share >= CELLS_ESTIMATE_AFTER_SHARE
                 && cells >= CELLS_ESTIMATE_AFTER
-                && cells / share > room * MAX_CHECK_CELLS as f64
+                && cells / share > room * opts.max_check_cells as f64
             {
                 return Err(FinishError::TooMuchChecking {
                     detail: format!(
-                        "would pass {MAX_CHECK_CELLS} cells: about {:.2e} (estimated from the {:.0} % of the surface covered)",
+                        "would pass {} cells: about {:.2e} (estimated from the {:.0} % of the surface covered)",
+                        opts.max_check_cells,
                         cells / share,
                         share * 100.0
                     ),
