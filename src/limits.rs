@@ -20,9 +20,14 @@ pub const MAX_PROGRAM_BYTES: u64 = 256 << 20;
 pub const MAX_ARC_TABLE_NODES: usize = 1 << 20;
 
 /// Most moves `replay --scene`/`--profile` measures against a design (each move's pieces
-/// are sampled and searched: about 12 s for a million on the development machine); the
-/// program is refused after reading that many.
-pub const MAX_DEVIATION_MOVES: usize = 1_000_000;
+/// are sampled and searched: about 12 s for a million lines on the development machine,
+/// 22 s for 100 000 full circles); the program is refused after reading that many, or
+/// when its weighted count ([`DEVIATION_CURVE_WEIGHT`]) passes it, before measuring.
+pub const MAX_DEVIATION_MOVES: usize = 1_200_000;
+
+/// What one arc or curve (G02, G03, G06.2) costs `replay --scene` in straight moves (a
+/// full circle measured against a design: about 20× a line's work).
+pub const DEVIATION_CURVE_WEIGHT: usize = 20;
 
 /// Most samples a G-code check (`gcode::replay::deviation`) takes of the program and the
 /// design together (about 50 MB of samples and their grid): past it the sample spacing

@@ -437,6 +437,22 @@ pub(super) fn replay(a: &ReplayArgs) -> Result<ExitCode, Fatal> {
     lines.extend(super::program::report_lines(&parsed));
     let mut failed = !parsed.unsupported.is_empty();
     if a.scene.is_some() || a.profile.is_some() {
+        // The measuring's work before it starts: a line counts one, a curve more.
+        use interpolab::gcode::Motion;
+        use interpolab::limits::{DEVIATION_CURVE_WEIGHT, MAX_DEVIATION_MOVES};
+        let work: usize = parsed
+            .toolpath
+            .blocks
+            .iter()
+            .map(|b| if matches!(b.motion, Motion::Rapid | Motion::Linear) { 1 } else { DEVIATION_CURVE_WEIGHT })
+            .sum();
+        if work > MAX_DEVIATION_MOVES {
+            return Err(Fatal(format!(
+                "{}: measuring {} moves against a design is {work} line-equivalents of work (an arc or curve counts {DEVIATION_CURVE_WEIGHT}), more than {MAX_DEVIATION_MOVES}; split the program or replay it without --scene",
+                a.program.display(),
+                parsed.toolpath.blocks.len()
+            )));
+        }
         let design = load_design(a.scene.as_deref(), a.profile)?;
         let point = match a.point {
             Some(p) => point_of(p, a.tool_radius, &design)?,
