@@ -194,7 +194,30 @@ fn the_program_is_timed_on_a_machine_as_the_planner_times_it() {
     assert!(stopped >= total * (1.0 - 1e-12), "{stopped} s stopping at corners, {total} s blended");
     let mut m = router;
     m.tolerance_mm = 0.0;
-    assert_eq!(stopped, ProgramTime::run(&TimeRequest { program, machine: m }, &mut NoProgress).unwrap().total_s);
+    assert_eq!(
+        stopped,
+        ProgramTime::run(&TimeRequest { program: program.clone(), machine: m.clone() }, &mut NoProgress)
+            .unwrap()
+            .total_s
+    );
+    // The limits scaled (every axis: velocity × 0.25, acceleration × 0.5): planned again by
+    // itself, the core's time on the scaled machine, and slower.
+    let err = h.app.set_panel_option(TAB, "time_limits", "1,1").unwrap_err();
+    assert!(err.contains("three factors"), "{err}");
+    assert!(h.app.set_panel_option(TAB, "time_limits", "0,1,1").is_err());
+    h.app.set_panel_option(TAB, "time_limits", "0.25,0.5,1").unwrap();
+    let p = h.until("timed on the slower machine", |p| {
+        p["time"]["for_x_velocity_mm_min"] == m.axes[0].velocity * 0.25 && p["time"]["running"] == false
+    });
+    assert_eq!(p["time"]["x_limits"]["acceleration_mm_s2"], m.axes[0].acceleration * 0.5);
+    let slow = p["time"]["total_s"].as_f64().unwrap();
+    for a in &mut m.axes {
+        a.velocity *= 0.25;
+        a.acceleration *= 0.5;
+    }
+    m.name = "hobby-router (limits × 0.25, 0.5, 1)".to_owned();
+    assert_eq!(slow, ProgramTime::run(&TimeRequest { program, machine: m }, &mut NoProgress).unwrap().total_s);
+    assert!(slow > stopped, "{slow} s on the slower machine, {stopped} s before");
 }
 
 /// A flat 6 mm end mill with 10 mm flutes fed at Z−15 across a 30 mm deep block (line 5):

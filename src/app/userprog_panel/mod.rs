@@ -1071,6 +1071,7 @@ impl Panel for UserProgramPanel {
             }
             "time_machine" => self.timing.set_machine(value)?,
             "time_tolerance" => self.timing.set_tolerance(value)?,
+            "time_limits" => self.timing.set_limits(value)?,
             "time" => self.timing.want(),
             "stock" => {
                 let b = if value == "auto" {
@@ -1101,7 +1102,7 @@ impl Panel for UserProgramPanel {
             }
             _ => {
                 return Err(format!(
-                    "this view has no option \"{key}\" (file:NAME, colour, tolerance, machine, kinematics, simulate, line, crash, pitch, stock, tool, time, time_machine, time_tolerance)"
+                    "this view has no option \"{key}\" (file:NAME, colour, tolerance, machine, kinematics, simulate, line, crash, pitch, stock, tool, time, time_machine, time_tolerance, time_limits)"
                 ));
             }
         }

@@ -1,7 +1,9 @@
 //! The tab's "Time on a machine" section: the program's feed planned on a machine's dynamics
 //! (a preset, its contour tolerance) in the background ([`ProgramTime`]), the cycle time
 //! beside the time at the programmed feed, and the planned feed, acceleration or jerk along
-//! the path against time. A change of machine or tolerance plans again at once.
+//! the path against time. The preset's velocity, acceleration and jerk limits can be scaled
+//! (every axis by the same factor, shown as the X axis' values). A change of machine,
+//! limits or tolerance plans again at once.
 
 use eframe::egui;
 use egui_plot::{Line, Plot, PlotPoints};
@@ -15,6 +17,12 @@ use crate::plan::{Dynamics, PRESETS};
 /// What the plot shows.
 const PLOTS: [(&str, &str); 3] = [("feed", "mm/min"), ("acceleration", "mm/s²"), ("jerk", "mm/s³")];
 
+/// The range of the limits' factors (× the preset's).
+const SCALE_RANGE: std::ops::RangeInclusive<f64> = 0.1..=4.0;
+
+/// The limits' names and the X axis' units, in [`Timing::scale`]'s order.
+const LIMITS: [(&str, &str); 3] = [("velocity", "mm/min"), ("acceleration", "mm/s²"), ("jerk", "mm/s³")];
+
 /// What a plan is for: the tab's reading of the program (its generation) and the machine.
 type Key = (u64, Dynamics);
 
@@ -25,6 +33,9 @@ pub struct Timing {
     preset: Option<usize>,
     /// Contour tolerance (mm); `None`: the preset's.
     tol_mm: Option<f64>,
+    /// Factors on the preset's velocity, acceleration and jerk limits (every axis); `None`:
+    /// 1, 1, 1.
+    scale: Option<[f64; 3]>,
     /// The plan under way and what it is for (the program's reading, the machine).
     job: Option<(Key, Job<ProgramTime>)>,
     /// The last plan and what it was for.
@@ -42,13 +53,49 @@ impl Timing {
         self.preset.unwrap_or(1)
     }
 
-    /// The machine the settings give (the preset with the tolerance set here).
+    fn scale(&self) -> [f64; 3] {
+        self.scale.unwrap_or([1.0; 3])
+    }
+
+    /// The machine the settings give (the preset, its limits scaled, the tolerance set here).
     fn machine(&self) -> Option<Dynamics> {
         let mut m = Dynamics::preset(PRESETS[self.preset().min(PRESETS.len() - 1)])?;
         if let Some(t) = self.tol_mm {
             m.tolerance_mm = t;
         }
+        let [v, a, j] = self.scale();
+        if [v, a, j] != [1.0; 3] {
+            for axis in &mut m.axes {
+                axis.velocity *= v;
+                axis.acceleration *= a;
+                axis.jerk = axis.jerk.map(|x| x * j);
+            }
+            m.name = format!("{} (limits × {v}, {a}, {j})", m.name);
+        }
         Some(m)
+    }
+
+    /// Scales the preset's limits: `v,a,j` factors (0.1 to 4) on every axis's velocity,
+    /// acceleration and jerk.
+    ///
+    /// # Errors
+    /// Not three factors in the range, with what to give.
+    pub fn set_limits(&mut self, value: &str) -> Result<(), String> {
+        let bad = || {
+            format!(
+                "time limits \"{value}\": give three factors v,a,j from {} to {} on the preset's velocity, acceleration and jerk, e.g. 1,0.5,1",
+                SCALE_RANGE.start(),
+                SCALE_RANGE.end()
+            )
+        };
+        let v: Vec<f64> =
+            value.split(',').map(|x| x.trim().parse::<f64>()).collect::<Result<_, _>>().map_err(|_| bad())?;
+        let [a, b, c] = v[..] else { return Err(bad()) };
+        if ![a, b, c].iter().all(|x| SCALE_RANGE.contains(x)) {
+            return Err(bad());
+        }
+        self.scale = Some([a, b, c]);
+        Ok(())
     }
 
     /// Sets the machine by preset name.
@@ -134,6 +181,29 @@ impl Timing {
             }
             ui.label("P");
         });
+        // The limits, as factors on the preset's, with the X axis' value they give.
+        let mut scale = self.scale();
+        let base = Dynamics::preset(PRESETS[self.preset().min(PRESETS.len() - 1)]);
+        for (k, (name, unit)) in LIMITS.iter().enumerate() {
+            ui.horizontal(|ui| {
+                let r = ui
+                    .add(egui::Slider::new(&mut scale[k], SCALE_RANGE).logarithmic(true).max_decimals(2).prefix("× "))
+                    .on_hover_text(format!("the preset's {name} limit of every axis times this"));
+                if r.changed() {
+                    self.scale = Some(scale);
+                }
+                let x = base.as_ref().map(|m| &m.axes[0]);
+                let value = match k {
+                    0 => x.map(|a| a.velocity),
+                    1 => x.map(|a| a.acceleration),
+                    _ => x.and_then(|a| a.jerk),
+                };
+                match value {
+                    Some(v) => ui.label(format!("{name}: X {:.0} {unit}", v * scale[k])),
+                    None => ui.label(format!("{name}: not limited")),
+                };
+            });
+        }
         let key = reading.zip(self.machine());
         let button = ui.horizontal(|ui| {
             let r = ui.add_enabled(key.is_some() && self.job.is_none(), egui::Button::new("Time it"));
@@ -221,6 +291,13 @@ impl Timing {
         serde_json::json!({
             "machine": m.as_ref().map(|m| m.name.clone()),
             "tolerance_mm": m.as_ref().map(|m| m.tolerance_mm),
+            "limits_scale": self.scale(),
+            "x_limits": m.as_ref().map(|m| serde_json::json!({
+                "velocity_mm_min": m.axes[0].velocity,
+                "acceleration_mm_s2": m.axes[0].acceleration,
+                "jerk_mm_s3": m.axes[0].jerk,
+            })),
+            "for_x_velocity_mm_min": self.done.as_ref().map(|d| d.0.1.axes[0].velocity),
             "running": self.running(),
             "error": self.done.as_ref().and_then(|d| d.1.as_ref().err().cloned()),
             "total_s": self.done.as_ref().and_then(|d| d.1.as_ref().ok().map(|t| t.total_s)),
