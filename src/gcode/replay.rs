@@ -102,6 +102,9 @@ struct Cloud {
     /// Largest distance between consecutive samples (mm).
     spacing: f64,
     grid: Grid,
+    /// The nearest sample of the last whole-cloud search: the next one (a query near the
+    /// last) starts from it, so the blocks farther than it are skipped at once.
+    hint: std::cell::Cell<usize>,
 }
 
 /// Points bucketed in cubic cells: the point indices sorted by cell, and a map from a cell to
@@ -113,7 +116,20 @@ struct Grid {
     /// Cell key (the three cell indices mixed into one word; two cells sharing a key only
     /// merge their candidates, which are then measured anyway) → run in `order`.
     runs: HashMap<u64, (usize, usize), BuildHasherDefault<CellHasher>>,
+    /// Every run of `order` (one cell, in key order) with the box of its points, grouped in
+    /// blocks of [`BOX_GROUP`] runs with the box of the block: a scan of the whole cloud
+    /// skips the blocks and cells whose box is farther than the best point found.
+    boxes: Vec<(usize, usize, DVec3, DVec3)>,
+    groups: Vec<(usize, usize, DVec3, DVec3)>,
+    /// The groups, grouped again the same way.
+    tops: Vec<(usize, usize, DVec3, DVec3)>,
 }
+
+/// Program samples past which coincident ones are merged ([`deviation`]).
+const DEDUPE_AFTER: usize = 65_536;
+
+/// Cells per block of the whole-cloud scan ([`Grid::within`]).
+const BOX_GROUP: usize = 32;
 
 /// A small multiplicative hasher for cell keys (deterministic, no random seed).
 #[derive(Default)]
@@ -152,7 +168,14 @@ impl Grid {
     }
 
     fn new(pts: &[DVec3], cell: f64) -> Self {
-        let mut g = Self { cell, order: Vec::with_capacity(pts.len()), runs: HashMap::default() };
+        let mut g = Self {
+            cell,
+            order: Vec::with_capacity(pts.len()),
+            runs: HashMap::default(),
+            boxes: Vec::new(),
+            groups: Vec::new(),
+            tops: Vec::new(),
+        };
         let mut keyed: Vec<(u64, usize)> = pts.iter().enumerate().map(|(i, p)| (Self::word(g.key(*p)), i)).collect();
         keyed.sort_unstable();
         let mut start = 0;
@@ -160,10 +183,55 @@ impl Grid {
             g.order.push(*i);
             if n + 1 == keyed.len() || keyed[n + 1].0 != *k {
                 g.runs.insert(*k, (start, n + 1));
+                let (lo, hi) = g.order[start..=n]
+                    .iter()
+                    .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &i| (lo.min(pts[i]), hi.max(pts[i])));
+                g.boxes.push((start, n + 1, lo, hi));
                 start = n + 1;
             }
         }
+        g.groups = Self::group(&g.boxes);
+        g.tops = Self::group(&g.groups);
         g
+    }
+
+    /// Calls `f` for every point of the cells whose box lies within `reach()` of `x` (asked
+    /// again before each block and cell: it may shrink as `f` finds nearer points). Boxes
+    /// strictly farther are skipped, so a search for the nearest point finds the one a scan
+    /// of every point would.
+    fn within(&self, x: DVec3, reach: &dyn Fn() -> f64, f: &mut dyn FnMut(usize)) {
+        let gap = |lo: DVec3, hi: DVec3| (lo - x).max(x - hi).max(DVec3::ZERO).length();
+        for &(ta, tb, tlo, thi) in &self.tops {
+            if gap(tlo, thi) > reach() {
+                continue;
+            }
+            for &(ga, gb, glo, ghi) in &self.groups[ta..tb] {
+                if gap(glo, ghi) > reach() {
+                    continue;
+                }
+                for &(a, b, lo, hi) in &self.boxes[ga..gb] {
+                    if gap(lo, hi) > reach() {
+                        continue;
+                    }
+                    for &i in &self.order[a..b] {
+                        f(i);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Runs of [`BOX_GROUP`] boxes with the box around each run.
+    fn group(boxes: &[(usize, usize, DVec3, DVec3)]) -> Vec<(usize, usize, DVec3, DVec3)> {
+        boxes
+            .chunks(BOX_GROUP)
+            .enumerate()
+            .map(|(k, chunk)| {
+                let (lo, hi) =
+                    chunk.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), b| (lo.min(b.2), hi.max(b.3)));
+                (k * BOX_GROUP, k * BOX_GROUP + chunk.len(), lo, hi)
+            })
+            .collect()
     }
 
     /// Indices of the points in one cell.
@@ -210,7 +278,7 @@ impl Cloud {
         }
         let cell = (2.0 * spacing).max(crate::tolerance::REPLAY_MIN_SPACING_MM);
         let grid = Grid::new(&pts, cell);
-        Self { pts, at, spacing, grid }
+        Self { pts, at, spacing, grid, hint: std::cell::Cell::new(0) }
     }
 
     /// The nearest sample, and the nearest one more than `sep` samples away from it (another
@@ -226,42 +294,60 @@ impl Cloud {
         };
         let mut best = (f64::INFINITY, usize::MAX);
         let mut rings = 0i64;
-        loop {
-            self.grid.ring(c, rings, &mut |i| {
-                let d = (self.pts[i] - x).length();
-                if better(d, i, best) {
-                    best = (d, i);
+        // Far from the last search's nearest sample, the rings (hundreds of cells) are
+        // likely empty: the whole-cloud search below, pruned by its boxes, is exact and
+        // cheaper. Near it, the rings as usual.
+        let far =
+            self.pts.get(self.hint.get()).is_some_and(|p| (*p - x).length() > (MAX_RINGS as f64) * self.grid.cell);
+        if far {
+            rings = MAX_RINGS + 1;
+        } else {
+            loop {
+                self.grid.ring(c, rings, &mut |i| {
+                    let d = (self.pts[i] - x).length();
+                    if better(d, i, best) {
+                        best = (d, i);
+                    }
+                });
+                // Unscanned cells are at least rings·cell away.
+                if best.1 != usize::MAX && (rings as f64) * self.grid.cell > best.0 + self.spacing {
+                    break;
                 }
-            });
-            // Unscanned cells are at least rings·cell away.
-            if best.1 != usize::MAX && (rings as f64) * self.grid.cell > best.0 + self.spacing {
-                break;
-            }
-            rings += 1;
-            if rings > MAX_RINGS {
-                break;
+                rings += 1;
+                if rings > MAX_RINGS {
+                    break;
+                }
             }
         }
-        let scan_all =
-            best.1 == usize::MAX || (rings > MAX_RINGS && (MAX_RINGS as f64) * self.grid.cell <= best.0 + self.spacing);
+        let scan_all = far
+            || best.1 == usize::MAX
+            || (rings > MAX_RINGS && (MAX_RINGS as f64) * self.grid.cell <= best.0 + self.spacing);
         let limit;
         let mut second = (f64::INFINITY, usize::MAX);
         if scan_all {
-            // Far from the cloud: every sample.
-            best = (f64::INFINITY, usize::MAX);
-            for (i, p) in self.pts.iter().enumerate() {
-                let d = (*p - x).length();
-                if better(d, i, best) {
-                    best = (d, i);
+            // Far from the cloud: the cells whose box can hold a sample no farther than the
+            // best so far (starting from the last search's nearest) — the samples a scan of
+            // every one would pick.
+            let h = self.hint.get().min(self.pts.len().saturating_sub(1));
+            let found =
+                std::cell::Cell::new(self.pts.get(h).map_or((f64::INFINITY, usize::MAX), |p| ((*p - x).length(), h)));
+            self.grid.within(x, &|| found.get().0, &mut |i| {
+                let d = (self.pts[i] - x).length();
+                if better(d, i, found.get()) {
+                    found.set((d, i));
                 }
-            }
+            });
+            best = found.get();
+            self.hint.set(best.1);
             limit = best.0 + self.spacing;
-            for (i, p) in self.pts.iter().enumerate() {
-                let d = (*p - x).length();
-                if i.abs_diff(best.1) > sep && d <= limit && better(d, i, second) {
-                    second = (d, i);
+            let near = std::cell::Cell::new(second);
+            self.grid.within(x, &|| limit, &mut |i| {
+                let d = (self.pts[i] - x).length();
+                if i.abs_diff(best.1) > sep && d <= limit && better(d, i, near.get()) {
+                    near.set((d, i));
                 }
-            }
+            });
+            second = near.get();
         } else {
             limit = best.0 + self.spacing;
             for r in 0..=rings.min(MAX_RINGS) {
@@ -272,6 +358,9 @@ impl Cloud {
                     }
                 });
             }
+        }
+        if best.1 != usize::MAX {
+            self.hint.set(best.1);
         }
         (best.1, (second.1 != usize::MAX).then_some(second.1))
     }
@@ -378,6 +467,17 @@ pub fn deviation(path: &Toolpath, design: &dyn Curve3, opts: &DeviationOptions) 
                 samples.push((b, t, c.point_at(t)));
             }
         }
+    }
+    // A program that retraces itself (a back-and-forth of a million moves) puts its samples
+    // on the same points, which every search near them would scan: past DEDUPE_AFTER samples
+    // one is kept per position (to a thousandth of the spacing). Smaller clouds stay whole.
+    if samples.len() > DEDUPE_AFTER {
+        let q = (spacing * 1e-3).max(1e-9);
+        let mut seen = std::collections::HashSet::with_capacity(samples.len());
+        samples.retain(|(_, _, p)| {
+            let k = (*p / q).round();
+            seen.insert([k.x as i64, k.y as i64, k.z as i64])
+        });
     }
     let pcloud = Cloud::from_samples(samples);
     let design_of = |_: usize| -> &dyn Curve3 { design };
