@@ -64,7 +64,7 @@ impl Timing {
             m.tolerance_mm = t;
         }
         let [v, a, j] = self.scale();
-        if [v, a, j] != [1.0; 3] {
+        if [v, a, j].iter().any(|f| (f - 1.0).abs() > 1e-12) {
             for axis in &mut m.axes {
                 axis.velocity *= v;
                 axis.acceleration *= a;
