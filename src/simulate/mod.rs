@@ -193,8 +193,8 @@ struct MoveNow {
     line: usize,
     rapid: bool,
     index: usize,
-    /// The tip at the end of the move (mm).
-    end: DVec3,
+    /// The move's geometry: its end tip is computed only for a crash report.
+    kind: Option<MoveKind>,
     /// Whether a move was applied before (the first one starts a block).
     started: bool,
 }
@@ -530,11 +530,8 @@ impl Simulation {
         if !self.now.started || m.line == 0 || m.line != self.now.line {
             self.crashes.begin_block();
         }
-        let end = match m.kind {
-            MoveKind::Line { to, .. } => to,
-            MoveKind::Joints { machine, to, .. } => machine.pose_from_joints(&to).tip_in_workpiece,
-        };
-        self.now = MoveNow { line: m.line, rapid: m.rapid, index: self.counters.moves, end, started: true };
+        self.now =
+            MoveNow { line: m.line, rapid: m.rapid, index: self.counters.moves, kind: Some(m.kind), started: true };
         if let MoveKind::Joints { machine, from, to } = m.kind
             && m.rapid
             && self.crash_checks
@@ -600,7 +597,8 @@ impl Simulation {
             self.check_plunge(a, b);
         }
         // The parts that can reach below the stock's top on this move.
-        let reaches = |p: Option<crash::Part>| p.and_then(|p| p.checked()).filter(|p| checks && low + p.from_mm < z1);
+        let reaches =
+            |p: Option<crash::Part>| p.filter(|p| checks && p.checked().is_some_and(|t| low + t.from_mm < z1));
         let (shank, holder) = (reaches(tool.shank), reaches(tool.holder));
         if shank.is_some() || holder.is_some() || (checks && self.now.rapid) {
             return self.cut_line_checked(a, b, [shank, holder]);
@@ -630,21 +628,11 @@ impl Simulation {
         let sweep = LineSweep::new(&tool, a, b);
         // Each check: the solid shrunk by the touch (does it meet stock?) and the whole one
         // (how deep?).
-        let part_sweeps = parts.map(|p| {
-            p.map(|p| {
-                let lift = DVec3::Z * p.from_mm;
-                let whole = crash::Part {
-                    radius_mm: p.radius_mm + TOUCH_MM,
-                    from_mm: p.from_mm - TOUCH_MM,
-                    to_mm: p.to_mm + TOUCH_MM,
-                };
-                let whole_lift = DVec3::Z * whole.from_mm;
-                (
-                    LineSweep::new(&ToolShape::of_part(&p), a + lift, b + lift),
-                    LineSweep::new(&ToolShape::of_part(&whole), a + whole_lift, b + whole_lift),
-                )
-            })
-        });
+        let swept = |p: &crash::Part| {
+            let lift = DVec3::Z * p.from_mm;
+            LineSweep::new(&ToolShape::of_part(p), a + lift, b + lift)
+        };
+        let part_sweeps = parts.map(|p| p.and_then(|whole| Some((swept(&whole.checked()?), swept(&whole)))));
         let rapid = self.now.rapid.then(|| {
             let lift = DVec3::Z * TOUCH_MM;
             (LineSweep::new(&tool.shrunk(TOUCH_MM), a + lift, b + lift), sweep)
@@ -654,7 +642,7 @@ impl Simulation {
         // Below these heights (the checked solids' lowest points on the move) a ray's stock
         // cannot meet them: shank, holder, the flutes of a rapid.
         let low = a.z.min(b.z);
-        let floor = [parts[0], parts[1]].map(|p| p.map_or(f64::INFINITY, |p| low + p.from_mm));
+        let floor = parts.map(|p| p.and_then(|p| p.checked()).map_or(f64::INFINITY, |t| low + t.from_mm));
         let rapid_floor = low + TOUCH_MM;
         // Deepest (depth, place) per kind: shank, holder, rapid.
         let mut worst: [Option<(f64, DVec3)>; 3] = [None; 3];
@@ -755,13 +743,15 @@ impl Simulation {
         let tool = self.tool;
         let touch = tool.shrunk(TOUCH_MM);
         // The solids checked: the flutes shrunk by the touch (their box as a part), or the parts.
-        let flutes = crash::Part { radius_mm: touch.radius_mm, from_mm: TOUCH_MM, to_mm: TOUCH_MM + touch.top_mm };
-        let parts: Vec<(CrashKind, crash::Part)> = if before {
-            vec![(CrashKind::Rapid, flutes)]
+        // Each solid whole (its box, how deep) and shrunk by the touch (does it meet stock?).
+        let flutes = crash::Part { radius_mm: tool.radius_mm, from_mm: 0.0, to_mm: tool.top_mm };
+        let parts: Vec<(CrashKind, crash::Part, crash::Part)> = if before {
+            let shrunk = crash::Part { radius_mm: touch.radius_mm, from_mm: TOUCH_MM, to_mm: TOUCH_MM + touch.top_mm };
+            vec![(CrashKind::Rapid, flutes, shrunk)]
         } else {
             [(CrashKind::Shank, tool.shank), (CrashKind::Holder, tool.holder)]
                 .into_iter()
-                .filter_map(|(k, p)| Some((k, p?.checked()?)))
+                .filter_map(|(k, p)| Some((k, p?, p?.checked()?)))
                 .collect()
         };
         let (_, z1) = self.stock.z_range_mm();
@@ -782,7 +772,7 @@ impl Simulation {
             }
             low - 1.25 * chord < z1
         };
-        let parts: Vec<(CrashKind, crash::Part)> = parts.into_iter().filter(|(_, p)| near(p)).collect();
+        let parts: Vec<_> = parts.into_iter().filter(|(_, _, t)| near(t)).collect();
         if parts.is_empty() {
             return;
         }
@@ -791,7 +781,7 @@ impl Simulation {
         let mut worst: Vec<Option<(f64, DVec3)>> = vec![None; parts.len()];
         for s in 0..n {
             let (tip, axis) = pose(s as f64 / (n - 1).max(1) as f64);
-            for ((kind, part), slot) in parts.iter().zip(worst.iter_mut()) {
+            for ((kind, whole, part), slot) in parts.iter().zip(worst.iter_mut()) {
                 let (lo, hi) = sweep::part_box(part, tip, axis);
                 if lo.z >= z1 {
                     continue;
@@ -815,12 +805,7 @@ impl Simulation {
                                 tilted_span(&tool, tip, axis, x, y),
                             )
                         } else {
-                            let whole = crash::Part {
-                                radius_mm: part.radius_mm + TOUCH_MM,
-                                from_mm: part.from_mm - TOUCH_MM,
-                                to_mm: part.to_mm + TOUCH_MM,
-                            };
-                            (sweep::part_span(part, tip, axis, x, y), sweep::part_span(&whole, tip, axis, x, y))
+                            (sweep::part_span(part, tip, axis, x, y), sweep::part_span(whole, tip, axis, x, y))
                         };
                         if touched.and_then(|(lo, hi)| self.stock.material_in(k, lo, hi)).is_none() {
                             continue;
@@ -835,7 +820,7 @@ impl Simulation {
                 }
             }
         }
-        for ((kind, _), w) in parts.iter().zip(worst) {
+        for ((kind, _, _), w) in parts.iter().zip(worst) {
             if let Some((depth, at)) = w {
                 self.record_crash(*kind, depth, at);
             }
@@ -852,7 +837,11 @@ impl Simulation {
             slot: self.slot,
             depth_mm,
             at_mm,
-            tip_mm: self.now.end,
+            tip_mm: match self.now.kind {
+                Some(MoveKind::Line { to, .. }) => to,
+                Some(MoveKind::Joints { machine, to, .. }) => machine.pose_from_joints(&to).tip_in_workpiece,
+                None => DVec3::ZERO,
+            },
         };
         self.crashes.record(c);
         if self.now.rapid && matches!(kind, CrashKind::Shank | CrashKind::Holder) {
