@@ -308,6 +308,20 @@ pub(super) fn finish(a: &FinishArgs) -> Result<ExitCode, Fatal> {
                     "reason": r.reason, "depth_mm": r.depth_mm,
                 })).collect::<Vec<_>>(),
             });
+            // Only where the corrector left a cusp above FLAG_ABOVE·h, so other output is as before.
+            if !set.scallop_flags.is_empty() {
+                doc["scallop_flags"] = set
+                    .scallop_flags
+                    .iter()
+                    .map(|f| {
+                        json!({
+                            "u": f.uv.x, "v": f.uv.y, "x": f.point.x, "y": f.point.y, "z": f.point.z,
+                            "path": f.path, "scallop_mm": f.scallop_mm,
+                        })
+                    })
+                    .collect::<Vec<_>>()
+                    .into();
+            }
             // Only when the scene has `finish.start`, so the output of other scenes is as before.
             if let Some(start) = start_json(&job, &set) {
                 doc["start"] = start;
@@ -328,6 +342,20 @@ pub(super) fn finish(a: &FinishArgs) -> Result<ExitCode, Fatal> {
             err,
             "interpolab: {name}: refused the CC point ({:.3}, {:.3}, {:.3}) mm: {}; use a smaller cutter, a larger finish.max_inclination or a shorter gauge length",
             r.point.x, r.point.y, r.point.z, r.reason
+        );
+    }
+    if let Some(worst) = set.scallop_flags.iter().max_by(|a, b| a.scallop_mm.total_cmp(&b.scallop_mm)) {
+        let h = job.options.scallop_mm;
+        let _ = writeln!(
+            err,
+            "interpolab: {name}: the scallop stays above {:.2}·h at {} place(s) (measured between neighbouring paths after the side steps' correction; the worst {:.2}·h at ({:.3}, {:.3}, {:.3}) mm, after path {}); use a smaller max step or scallop height, or a cutter with a larger corner radius",
+            interpolab::fillet::paths::FLAG_ABOVE,
+            set.scallop_flags.len(),
+            worst.scallop_mm / h,
+            worst.point.x,
+            worst.point.y,
+            worst.point.z,
+            worst.path
         );
     }
     Ok(if set.refused.is_empty() { ExitCode::SUCCESS } else { ExitCode::from(1) })

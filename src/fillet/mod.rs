@@ -32,6 +32,7 @@ pub mod gouge;
 pub mod orient;
 pub mod paths;
 pub mod program;
+pub mod sweep;
 
 use thiserror::Error;
 
@@ -39,8 +40,8 @@ pub use contact::{ContactFrame, CrossProfile, Form2, Pose, effective_curvature, 
 pub use gouge::{Adjustment, Clash, ClashPart, PartSamples};
 pub use orient::{OrientOptions, Strategy};
 pub use paths::{
-    CcNode, Edge, FeedDirection, FinishOptions, IsoScallopSteps, Layout, PathSet, PathStart, Refusal, Stats, ToolPath,
-    iso_parametric, iso_parametric_from, iso_scallop, iso_scallop_from,
+    CcNode, Edge, FeedDirection, FinishOptions, IsoScallopSteps, Layout, PathSet, PathStart, Refusal, ScallopFlag,
+    Stats, ToolPath, iso_parametric, iso_parametric_from, iso_scallop, iso_scallop_from,
 };
 
 /// Why a finishing job failed. Each message says what to change.

@@ -40,6 +40,7 @@ use super::FinishError;
 use super::contact::{ContactFrame, CrossProfile, Pose, place, scallop_between};
 use super::gouge::{Adjustment, PartSamples, adjust, check};
 use super::orient::{OrientOptions, Strategy, pose_at, smooth_inclinations};
+use super::sweep::{cusp_between, pose_between, surface_depth_near};
 use crate::geom::{Cutter, LocalGeometry, ParametricSurface, Surface};
 use crate::limits::MAX_START_CURVE_POINTS;
 use crate::tolerance::DOMAIN_SLACK;
@@ -361,6 +362,23 @@ pub struct PathSet {
     /// decreasing b; the paths before it are the curve and its first side), if that side
     /// has paths. The path before it is not its neighbour: a linking move comes between.
     pub second_side: Option<usize>,
+    /// Places where the cusp measured between two neighbouring paths stayed above
+    /// [`FLAG_ABOVE`]·h after the side steps' correction (iso-scallop paths only).
+    pub scallop_flags: Vec<ScallopFlag>,
+}
+
+/// A place where the scallop could not be held at h: the cusp measured between a path's node
+/// and the next path, from their swept cutters, after the corrector's rounds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ScallopFlag {
+    /// The node's surface parameters (internal units).
+    pub uv: DVec2,
+    /// The node's CC point (mm).
+    pub point: DVec3,
+    /// The node's path; the cusp lies between it and the next path of its side.
+    pub path: usize,
+    /// The cusp measured there (mm).
+    pub scallop_mm: f64,
 }
 
 /// Numbers comparing path sets.
@@ -795,28 +813,12 @@ impl<'a> Ctx<'a> {
         let mut poses: Vec<Pose> = checked.iter().map(|c| c.1).collect();
         let ds: Vec<f64> = checked.windows(2).map(|w| (w[1].0.point - w[0].0.point).length()).collect();
         smooth_inclinations(&mut poses, &ds, oo.max_turn_rad_per_mm);
-        let mut nodes = Vec::with_capacity(checked.len());
-        for ((frame, _, adjusted), pose) in checked.into_iter().zip(poses) {
-            {
-                {
-                    let (tip, axis) = place(&tool, &frame, &pose);
-                    let prof = CrossProfile::new(&tool, self.surface, frame, &pose);
-                    let h = self.opts.scallop_mm;
-                    let strip_mm = prof.reach(h, 1.0) + prof.reach(h, -1.0);
-                    nodes.push(CcNode {
-                        frame,
-                        pose,
-                        tip,
-                        axis,
-                        strip_mm,
-                        side_step_mm: None,
-                        scallop_mm: None,
-                        adjusted,
-                        lead_out: false,
-                    });
-                }
-            }
-        }
+        let nodes: Vec<CcNode> = checked
+            .into_iter()
+            .zip(poses)
+            .map(|((frame, _, adjusted), pose)| self.node(&tool, frame, pose, adjusted))
+            .collect();
+        let mut nodes = self.certify_chords(&tool, nodes, refused)?;
         if let Some(lead) = nodes.last().and_then(|last| self.lead_out(&tool, last, true)) {
             nodes.push(lead);
         }
@@ -824,6 +826,98 @@ impl<'a> Ctx<'a> {
             nodes.insert(0, lead);
         }
         Ok(ToolPath { nodes })
+    }
+
+    /// The CC node of `frame` with the cutter at `pose`: placed, with its strip width.
+    fn node(&self, tool: &Cutter, frame: ContactFrame, pose: Pose, adjusted: Option<Adjustment>) -> CcNode {
+        let (tip, axis) = place(tool, &frame, &pose);
+        let prof = CrossProfile::new(tool, self.surface, frame, &pose);
+        let h = self.opts.scallop_mm;
+        CcNode {
+            frame,
+            pose,
+            tip,
+            axis,
+            strip_mm: prof.reach(h, 1.0) + prof.reach(h, -1.0),
+            side_step_mm: None,
+            scallop_mm: None,
+            adjusted,
+            lead_out: false,
+        }
+    }
+
+    /// The path's chords certified between their poses: where the design surface reaches
+    /// deeper than [`BETWEEN_CHECK_SHARE`] × the gouge tolerance into the cutter swept to the
+    /// middle of a chord (tip and axis interpolated, as the controller moves them), or the
+    /// swept cutter stands clear of it there by more than the chord tolerance E and
+    /// [`LIFT_SHARE_OF_H`]·h (material left on the path itself, which the scallop between
+    /// the paths stands on), a CC
+    /// node is put at the middle of the chord's CC points (its pose the mean of the two,
+    /// gouge-checked as every pose), and each half checked again, at most [`CHORD_SPLITS`]
+    /// times. A chord whose middle node cannot be placed clear is left and its middle
+    /// refused (named, with its depth).
+    fn certify_chords(
+        &self,
+        tool: &Cutter,
+        nodes: Vec<CcNode>,
+        refused: &mut Vec<Refusal>,
+    ) -> Result<Vec<CcNode>, FinishError> {
+        let tol = BETWEEN_CHECK_SHARE * self.opts.gouge_tol_mm;
+        let mut out: Vec<CcNode> = Vec::with_capacity(nodes.len());
+        for target in nodes {
+            let mut pending = vec![(target, 0usize)];
+            while let Some((b, depth)) = pending.pop() {
+                let Some(a) = out.last().copied() else {
+                    out.push(b);
+                    continue;
+                };
+                let (tip, axis) = pose_between(&a, &b, 0.5);
+                let uv = a.frame.uv.lerp(b.frame.uv, 0.5);
+                let deep = surface_depth_near(tool, self.surface, tip, axis, uv);
+                let lifted = -deep > self.opts.chord_tol_mm.max(LIFT_SHARE_OF_H * self.opts.scallop_mm);
+                if (deep > tol || lifted) && !a.lead_out && !b.lead_out {
+                    let placed = if depth < CHORD_SPLITS { self.node_between(tool, &a, &b)? } else { None };
+                    if let Some(mid) = placed {
+                        pending.push((b, depth + 1));
+                        pending.push((mid, depth + 1));
+                        continue;
+                    }
+                }
+                if deep > tol && !a.lead_out && !b.lead_out {
+                    refused.push(Refusal {
+                        uv,
+                        point: self.surface.point_at(uv),
+                        reason: "the cutter swept between two poses reaches below the surface and no pose between them clears it",
+                        depth_mm: deep,
+                    });
+                }
+                out.push(b);
+            }
+        }
+        Ok(out)
+    }
+
+    /// A CC node at the middle of the CC points of `a` and `b` (in u, v), its feed along the
+    /// chord, its pose the mean of theirs after the gouge checks; `None` where the surface
+    /// has no frame there or the checks find no clear pose.
+    fn node_between(&self, tool: &Cutter, a: &CcNode, b: &CcNode) -> Result<Option<CcNode>, FinishError> {
+        let uv = a.frame.uv.lerp(b.frame.uv, 0.5);
+        let Some(frame) = ContactFrame::new(self.surface, uv, b.frame.point - a.frame.point) else {
+            return Ok(None);
+        };
+        // The strategy's pose within the two azimuths (its own rules, such as the matched
+        // cutter's cross-curvature floor, hold there too), else the mean of the two.
+        let (p0, p1) = (a.pose.azimuth_rad.min(b.pose.azimuth_rad), a.pose.azimuth_rad.max(b.pose.azimuth_rad));
+        let pose = pose_at(&self.strategy, &self.cutter, &frame, &self.opts.orient, (p0, p1)).map_or(
+            Pose {
+                inclination_rad: 0.5 * (a.pose.inclination_rad + b.pose.inclination_rad),
+                azimuth_rad: 0.5 * (a.pose.azimuth_rad + b.pose.azimuth_rad),
+            },
+            |p| p.0,
+        );
+        let verdict = adjust(tool, self.surface, self.part, &frame, pose, &self.opts.orient, self.opts.gouge_tol_mm);
+        self.count_check()?;
+        Ok(verdict.ok().map(|(pose, adjusted)| self.node(tool, frame, pose, adjusted)))
     }
 
     /// The lead-out after `last` when it lies on the along parameter's far end (`far`), or
@@ -877,6 +971,74 @@ impl<'a> Ctx<'a> {
             d *= 0.5;
         }
         None
+    }
+
+    /// The next path's uv polyline from the side steps `steps` of `nodes` (node index, step
+    /// mm, reached the far edge, scallop solved): each node walked its step across, the curve
+    /// cut at its self-intersections (swallowtails) and at the a-edges, what is left of a cusp
+    /// (a vertex or two back along a without a crossing: where the offset's radius is just
+    /// that of the stretch it offsets) dropped, so that no node's feed, and with it the next
+    /// side step's direction, turns back; the ends extended to the a-boundaries along its end
+    /// segments (a step along b = const would kink the path there, and the kink would grow
+    /// path by path through the end nodes' cross directions), b kept inside its range. With
+    /// each vertex its azimuth window. `None` when nothing is left.
+    fn offset_curve(&self, nodes: &[CcNode], steps: &[(usize, f64, bool, f64)]) -> Option<OffsetCurve> {
+        let along = self.along;
+        let ((a0, a1), (b0, b1)) = self.ranges();
+        let rate = self.opts.orient.max_turn_rad_per_mm;
+        let mut offset: Vec<Vertex> = Vec::with_capacity(steps.len());
+        for &(i, w, _, _) in steps {
+            let node = nodes.get(i)?;
+            let (uv, _) = self.walk(&node.frame, w);
+            // The vertex with a as walked (the walk's own uv is clamped to the domain).
+            let vertex =
+                if a_of(uv, along) > a0 && a_of(uv, along) < a1 { uv } else { self.offset_vertex(&node.frame, w) };
+            offset.push((vertex, (node.pose.azimuth_rad, rate * w)));
+        }
+        let mut offset = clip_along(&trim_swallowtails(&offset), (a0, a1), along);
+        let mut a_last = f64::NEG_INFINITY;
+        offset.retain(|v| {
+            let keep = a_of(v.0, along) > a_last;
+            if keep {
+                a_last = a_of(v.0, along);
+            }
+            keep
+        });
+        let mut poly: Vec<DVec2> = offset.iter().map(|v| v.0).collect();
+        let mut refs: Vec<(f64, f64)> = offset.iter().map(|v| v.1).collect();
+        let (&f, &l) = (poly.first()?, poly.last()?);
+        if a_of(f, along) > a0 {
+            let b = extend_b(poly.get(1).copied(), f, a0, along).clamp(b0, b1);
+            poly.insert(0, make_uv(a0, b, along));
+            refs.insert(0, refs[0]);
+        }
+        if a_of(l, along) < a1 {
+            let b = extend_b(poly.len().checked_sub(2).and_then(|i| poly.get(i)).copied(), l, a1, along).clamp(b0, b1);
+            poly.push(make_uv(a1, b, along));
+            refs.push(refs[refs.len() - 1]);
+        }
+        (poly.len() >= 2).then_some((poly, refs))
+    }
+
+    /// The cusp measured between each node of `steps` (on `nodes`) and the path `next`
+    /// built from them ([`cusp_between`]), `None` where it reached the far edge or `next`
+    /// does not pass beside it.
+    fn measure_cusps(
+        &self,
+        tool: &Cutter,
+        nodes: &[CcNode],
+        next: &[CcNode],
+        steps: &[(usize, f64, bool, f64)],
+    ) -> Vec<Option<f64>> {
+        steps
+            .iter()
+            .map(|&(i, w, beyond, _)| {
+                if beyond {
+                    return None;
+                }
+                cusp_between(tool, self.surface, nodes, i, next, 2.0 * w + tool.radius_mm).map(|c| c.0)
+            })
+            .collect()
     }
 
     /// Walks `w_mm` across the surface from `frame` along ±c; returns the uv (clamped to the
@@ -1079,6 +1241,10 @@ const LEAD_OUT_CHECK_SHARE: f64 = 0.9;
 /// the along range.
 const LEAD_OUT_EDGE_REL: f64 = 1e-9;
 
+/// An offset curve ready to be built: its uv polyline and, per vertex, the azimuth window
+/// (centre, half width; rad) the side step assumed there.
+type OffsetCurve = (Vec<DVec2>, Vec<(f64, f64)>);
+
 /// A vertex of an offset curve: uv and the azimuth window (centre, half width; rad) the
 /// side step assumed there.
 type Vertex = (DVec2, (f64, f64));
@@ -1167,6 +1333,38 @@ fn clip_along(pts: &[Vertex], (a0, a1): (f64, f64), along: usize) -> Vec<Vertex>
 /// forward step.
 const FEED_CHORD: f64 = 0.5;
 
+/// Share of the gouge tolerance the surface may reach into the cutter swept to a chord's
+/// middle before the chord certification (`docs/fillet.md`, "Between the poses") puts a node there (the poses are checked to
+/// `gouge::CHECK_SHARE` = 0.9 of it too).
+pub const BETWEEN_CHECK_SHARE: f64 = 0.9;
+
+/// Share of h the cutter swept to a chord's middle may stand clear of the surface (when
+/// above the chord tolerance) before the chord certification (`docs/fillet.md`, "Between the poses") puts a node there.
+pub const LIFT_SHARE_OF_H: f64 = 0.1;
+
+/// Most halvings of one chord by the chord certification (`docs/fillet.md`, "Between the poses") (up to 2⁴ − 1 nodes put into it).
+pub const CHORD_SPLITS: usize = 4;
+
+/// The measured cusp's band (× h) outside which the corrector builds a path again, the
+/// cusp it aims at (× h), the most it scales a side step by in one round, and its rounds.
+const CUSP_BAND: (f64, f64) = (0.0, 1.05);
+const CUSP_TARGET: f64 = 0.995;
+const CUSP_SCALE: (f64, f64) = (0.6, 1.0);
+const CUSP_CORRECTIONS: usize = 4;
+
+/// A measured cusp above this many h after the corrector is named in
+/// [`PathSet::scallop_flags`].
+pub const FLAG_ABOVE: f64 = 1.10;
+
+/// Half the span (mm along the path) over which [`smooth_factors`] takes the smallest
+/// factor, and the most the factor changes per mm of path.
+const FACTOR_SPAN_MM: f64 = 3.0;
+const FACTOR_SLOPE: f64 = 0.02;
+
+/// Most change of the side step along a path (mm per mm of path): the offset curve turns by
+/// at most about this many radians from the path it offsets ([`limit_step_slope`]).
+const SIDE_STEP_SLOPE: f64 = 0.5;
+
 /// Most rounds of the side-step correction, and its acceptance (relative to h).
 const SIDE_STEP_ROUNDS: usize = 12;
 const SIDE_STEP_REL: f64 = 0.005;
@@ -1183,6 +1381,62 @@ fn check_options(opts: &FinishOptions) -> Result<(), FinishError> {
         }
     }
     Ok(())
+}
+
+/// The side steps lowered until they change along the path by at most [`SIDE_STEP_SLOPE`]
+/// mm per mm between neighbouring nodes (the lower Lipschitz envelope, one pass each way):
+/// a step far above its neighbours' (a side-step solution that jumped, a cusp correction at
+/// one node) would bend the offset curve into a kink that the next path's feed, and with it
+/// its side steps, turns with; lowering never widens a scallop.
+fn limit_step_slope(nodes: &[CcNode], steps: &mut [(usize, f64, bool, f64)]) {
+    let gap = |i: usize, j: usize| match (nodes.get(i), nodes.get(j)) {
+        (Some(a), Some(b)) => (b.frame.point - a.frame.point).length(),
+        _ => 0.0,
+    };
+    for k in 1..steps.len() {
+        let cap = steps[k - 1].1 + SIDE_STEP_SLOPE * gap(steps[k - 1].0, steps[k].0);
+        steps[k].1 = steps[k].1.min(cap);
+    }
+    for k in (0..steps.len().saturating_sub(1)).rev() {
+        let cap = steps[k + 1].1 + SIDE_STEP_SLOPE * gap(steps[k].0, steps[k + 1].0);
+        steps[k].1 = steps[k].1.min(cap);
+    }
+}
+
+/// The corrector's factors made smooth along the path: each the smallest within
+/// [`FACTOR_SPAN_MM`] of its node, then lowered until it changes by at most
+/// [`FACTOR_SLOPE`] per mm (a step scaled at one node and not at the next would put a kink
+/// into the offset curve, which the paths after it inherit).
+fn smooth_factors(nodes: &[CcNode], steps: &[(usize, f64, bool, f64)], factors: &[f64]) -> Vec<f64> {
+    let at: Vec<f64> = {
+        let mut s = 0.0;
+        let mut prev: Option<DVec3> = None;
+        steps
+            .iter()
+            .map(|st| {
+                let p = nodes.get(st.0).map_or(DVec3::ZERO, |n| n.frame.point);
+                if let Some(q) = prev {
+                    s += (p - q).length();
+                }
+                prev = Some(p);
+                s
+            })
+            .collect()
+    };
+    let mut out: Vec<f64> = (0..factors.len())
+        .map(|k| {
+            let lo = at.partition_point(|&x| x < at[k] - FACTOR_SPAN_MM);
+            let hi = at.partition_point(|&x| x <= at[k] + FACTOR_SPAN_MM);
+            factors[lo..hi.max(lo + 1).min(factors.len())].iter().copied().fold(factors[k], f64::min)
+        })
+        .collect();
+    for k in 1..out.len() {
+        out[k] = out[k].min(out[k - 1] + FACTOR_SLOPE * (at[k] - at[k - 1]));
+    }
+    for k in (0..out.len().saturating_sub(1)).rev() {
+        out[k] = out[k].min(out[k + 1] + FACTOR_SLOPE * (at[k + 1] - at[k]));
+    }
+    out
 }
 
 /// The b at which the line from `other` through the end point `end` (uv) reaches the along
@@ -1335,6 +1589,7 @@ pub struct IsoScallopSteps {
     /// The index of the second side's first path, once built.
     second_side_at: Option<usize>,
     refused: Vec<Refusal>,
+    flags: Vec<ScallopFlag>,
     budget: usize,
     /// The checking work so far (see [`Ctx::count_check`]): the part's cell count when the
     /// job started and the CC points checked.
@@ -1408,6 +1663,7 @@ impl IsoScallopSteps {
             start_b,
             second_side_at: None,
             refused,
+            flags: Vec::new(),
             budget,
             cells_at_start: ctx.cells_at_start,
             nodes_checked: ctx.nodes_checked.get(),
@@ -1460,7 +1716,7 @@ impl IsoScallopSteps {
             cells_at_start: self.cells_at_start,
             nodes_checked: std::cell::Cell::new(self.nodes_checked),
         };
-        let ((a0, a1), (b0, b1)) = ctx.ranges();
+        let (_, (b0, b1)) = ctx.ranges();
         if self.paths.len() >= opts.max_paths {
             return Err(FinishError::TooManyPaths { max_paths: opts.max_paths });
         }
@@ -1479,54 +1735,84 @@ impl IsoScallopSteps {
         if last.nodes.iter().all(|n| on_far_edge(n.frame.uv)) {
             return Ok(self.end_side());
         }
-        let mut offset: Vec<Vertex> = Vec::with_capacity(last.nodes.len());
-        let rate = opts.orient.max_turn_rad_per_mm;
-        for node in last.nodes.iter_mut().filter(|n| !n.lead_out) {
-            let (uv, _beyond, w, s) = ctx.side_step(node);
-            if keep {
-                node.side_step_mm = Some(w);
-                node.scallop_mm = Some(s);
-            }
-            // The vertex with a as walked (the side step's own uv is clamped to the domain).
-            let vertex =
-                if a_of(uv, along) > a0 && a_of(uv, along) < a1 { uv } else { ctx.offset_vertex(&node.frame, w) };
-            offset.push((vertex, (node.pose.azimuth_rad, rate * w)));
+        // The side steps predicted from each node's cross profile (one per node, with whether
+        // it reached the far edge).
+        let mut steps: Vec<(usize, f64, bool, f64)> = Vec::with_capacity(last.nodes.len());
+        for (i, node) in last.nodes.iter().enumerate().filter(|(_, n)| !n.lead_out) {
+            let (_, beyond, w, s) = ctx.side_step(node);
+            steps.push((i, w, beyond, s));
         }
-        // The offset curve cut at its self-intersections (swallowtails) and at the a-edges;
-        // then what is left of a cusp (a vertex or two back along a without a crossing:
-        // where the offset's radius is just that of the stretch it offsets) is dropped, so
-        // that no node's feed, and with it the next side step's direction, turns back.
-        let mut offset = clip_along(&trim_swallowtails(&offset), (a0, a1), along);
-        let mut a_last = f64::NEG_INFINITY;
-        offset.retain(|v| {
-            let keep = a_of(v.0, along) > a_last;
-            if keep {
-                a_last = a_of(v.0, along);
-            }
-            keep
-        });
-        let mut poly: Vec<DVec2> = offset.iter().map(|v| v.0).collect();
-        let mut refs: Vec<(f64, f64)> = offset.iter().map(|v| v.1).collect();
-        let (Some(&f), Some(&l)) = (poly.first(), poly.last()) else {
+        limit_step_slope(&last.nodes, &mut steps);
+        let Some((poly, refs)) = ctx.offset_curve(&last.nodes, &steps) else {
             return Ok(self.end_side());
         };
-        // The ends extended to the a-boundaries along the offset curve's end segments (a
-        // step along b = const would kink the path there, and the kink would grow path by
-        // path through the end nodes' cross directions), b kept inside its range.
-        if a_of(f, along) > a0 {
-            let b = extend_b(poly.get(1).copied(), f, a0, along).clamp(b0, b1);
-            poly.insert(0, make_uv(a0, b, along));
-            refs.insert(0, refs[0]);
+        let (refused_before, budget_before) = (self.refused.len(), self.budget);
+        let mut next = ctx.build_path(&poly, Some(&refs), &mut self.refused, &mut self.budget)?;
+        // The corrector: the cusp measured between the path just built and this one, from
+        // their swept cutters; where it leaves the band, the side steps there are scaled by
+        // √(h / cusp) (the cusp grows with the square of the step) and the path built again.
+        let tool = self.strategy.cutter_for(cutter);
+        let h = opts.scallop_mm;
+        let mut measured = ctx.measure_cusps(&tool, &last.nodes, &next.nodes, &steps);
+        let off = |m: &Option<f64>| m.is_some_and(|c| c > CUSP_BAND.1 * h || c < CUSP_BAND.0 * h);
+        // The rounds go on from the last trial; the one kept leaves the least cusp over the
+        // band, summed over the nodes.
+        let excess = |ms: &[Option<f64>]| ms.iter().flatten().map(|c| (c - CUSP_BAND.1 * h).max(0.0)).sum::<f64>();
+        let mut best_excess = excess(&measured);
+        let mut current = (steps.clone(), measured.clone());
+        for _ in 0..CUSP_CORRECTIONS {
+            if !current.1.iter().any(off) {
+                break;
+            }
+            let factors: Vec<f64> = current
+                .1
+                .iter()
+                .map(|m| match *m {
+                    Some(c) if off(m) => (CUSP_TARGET * h / c.max(1e-3 * h)).sqrt().clamp(CUSP_SCALE.0, CUSP_SCALE.1),
+                    _ => 1.0,
+                })
+                .collect();
+            let factors = smooth_factors(&last.nodes, &current.0, &factors);
+            let mut trial = current.0.clone();
+            for (st, f) in trial.iter_mut().zip(&factors) {
+                st.1 *= f;
+            }
+            limit_step_slope(&last.nodes, &mut trial);
+            let Some((poly, refs)) = ctx.offset_curve(&last.nodes, &trial) else { break };
+            let mut refused = self.refused[..refused_before].to_vec();
+            let mut budget = budget_before;
+            let again = ctx.build_path(&poly, Some(&refs), &mut refused, &mut budget)?;
+            let again_measured = ctx.measure_cusps(&tool, &last.nodes, &again.nodes, &trial);
+            let e = excess(&again_measured);
+            if e < best_excess {
+                best_excess = e;
+                (steps, next, measured) = (trial.clone(), again, again_measured.clone());
+                self.refused = refused;
+                self.budget = budget;
+            }
+            current = (trial, again_measured);
         }
-        if a_of(l, along) < a1 {
-            let b = extend_b(poly.len().checked_sub(2).and_then(|i| poly.get(i)).copied(), l, a1, along).clamp(b0, b1);
-            poly.push(make_uv(a1, b, along));
-            refs.push(refs[refs.len() - 1]);
+        // Where no round brought the cusp within FLAG_ABOVE·h, the place is named.
+        for (&(i, ..), m) in steps.iter().zip(&measured) {
+            if let (Some(c), Some(node)) = (*m, last.nodes.get(i))
+                && c > FLAG_ABOVE * h
+            {
+                self.flags.push(ScallopFlag {
+                    uv: node.frame.uv,
+                    point: node.frame.point,
+                    path: self.frontier,
+                    scallop_mm: c,
+                });
+            }
         }
-        if poly.len() < 2 {
-            return Ok(self.end_side());
+        if keep {
+            for ((i, w, _, predicted), m) in steps.iter().zip(&measured) {
+                if let Some(node) = last.nodes.get_mut(*i) {
+                    node.side_step_mm = Some(*w);
+                    node.scallop_mm = Some(m.unwrap_or(*predicted));
+                }
+            }
         }
-        let next = ctx.build_path(&poly, Some(&refs), &mut self.refused, &mut self.budget)?;
         self.nodes_checked = ctx.nodes_checked.get();
         if next.nodes.is_empty() {
             return Ok(self.end_side());
@@ -1625,6 +1911,7 @@ impl IsoScallopSteps {
             along: self.along,
             refused: self.refused,
             second_side: self.second_side_at,
+            scallop_flags: self.flags,
         }
     }
 }
@@ -1725,7 +2012,15 @@ pub fn iso_parametric_from(
             }
         }
         if worst <= h * 1.0001 {
-            return Ok(PathSet { paths, layout: Layout::IsoParametric, strategy, along, refused, second_side: None });
+            return Ok(PathSet {
+                paths,
+                layout: Layout::IsoParametric,
+                strategy,
+                along,
+                refused,
+                second_side: None,
+                scallop_flags: Vec::new(),
+            });
         }
         db = spacing * (h / worst).sqrt() * 0.999;
     }

@@ -1177,11 +1177,12 @@ fn a_boundary_start_gives_todays_paths_and_the_upper_edge_runs_back() {
     for i in 1..count {
         assert!(b_range(&set, i).1 < b_range(&set, i - 1).1, "path {i} does not move toward the lower edge");
     }
-    // The scallop to the next path, as solved, is h at every node but the last path's.
+    // The scallop to the next path, as measured between the paths built (the corrector's
+    // band: at most 1.05·h), at every node but the last path's.
     for p in &set.paths[..count - 1] {
         for n in p.nodes.iter().filter(|n| !n.lead_out) {
             let s = n.scallop_mm.unwrap();
-            assert!(s <= 0.04 * 1.006, "solved scallop {s}");
+            assert!(s <= 0.04 * 1.05, "measured scallop {s}");
         }
     }
 }

@@ -25,6 +25,10 @@ mod crease {
 
 // `src/fillet/`: seed 001's fillet-end finishing.
 mod fillet;
+// Seed 001 on random surfaces, cutters and heights it has never seen, judged by an independent
+// swept-cutter height map (natively: its jobs take seconds each in a debug build).
+#[cfg(not(target_arch = "wasm32"))]
+mod fillet_unseen;
 
 /// `src/fiveaxis/`: machines, the swept tool, step selection (seed 002).
 mod fiveaxis {
