@@ -1,7 +1,7 @@
 //! A cutting simulation as a background job: the program written (the scene's crease as
 //! G01, G02/G03 or G06.2, the scene's seed-002 tool steps) or read (a G-code text) or given
 //! (moves made by an earlier run), machined into a dexel stock up to a target move by
-//! [`Simulation`], and measured against the design ([`DeviationScan`]). A long program takes
+//! [`Simulation`], and measured against the design ([`DeviationScan`](crate::simulate::DeviationScan)). A long program takes
 //! seconds in a browser; in a Web Worker the page stays responsive.
 //!
 //! While it runs the job hands back, as partial outputs ([`Partial`]): the program once it
@@ -28,18 +28,16 @@ use crate::fillet::CcNode;
 use crate::fillet::contact::{ContactFrame, Form2, Pose};
 use crate::fiveaxis::{CreasePath, Joints, Machine, MachineKind, StepOptions, StepPlanner, ToolAxisRule};
 use crate::gcode::interp::Options as ReadOptions;
-use crate::gcode::{DesignBuilder, Dialect, ProgramKind, ProgramOptions, ProgrammedPoint, read_program, write_program};
+use crate::gcode::{DesignBuilder, ProgramKind, ProgramOptions, ProgrammedPoint, write_program};
 use crate::geom::Cutter;
 use crate::scene::finish::FinishScene;
 use crate::scene::{Scene, build_machine, build_tool_axis};
 use crate::simulate::FinishProgram;
 use crate::simulate::bench::BenchKind;
 use crate::simulate::measure::Summary;
+use crate::simulate::pipeline::{self, Measures, SampleStep, ToolPoint};
 use crate::simulate::stock::Grid;
-use crate::simulate::{
-    Counters, Design, DeviationScan, DexelStock, HeightMap, MAX_RAY_VISITS, MoveKind, Program, SimError, SimMove,
-    SimStats, Simulation,
-};
+use crate::simulate::{Counters, Design, DexelStock, HeightMap, MoveKind, Program, SimMove, SimStats, Simulation};
 
 /// Periods of the crease run between two looks at the cancel flag.
 const PERIODS_PER_CALL: usize = 200;
@@ -306,8 +304,7 @@ fn crease_curve(job: &CreaseJob, rep: &Reporter<'_>) -> Result<crate::crease::Cr
 
 /// The program of a request's source, in tool-tip moves.
 fn make_program(req: &Request, rep: &mut Reporter<'_>) -> Result<Program, String> {
-    let chord = |pitch: f64| pitch / 10.0;
-    let (toolpath, centre) = match &req.source {
+    let (toolpath, point) = match &req.source {
         ProgramSource::Moves(p) => return Ok(p.clone()),
         ProgramSource::Finish { scene, cutter, passes, step_tol_mm } => {
             let fp = finish_program(scene, *cutter, passes, *step_tol_mm)?;
@@ -347,24 +344,25 @@ fn make_program(req: &Request, rep: &mut Reporter<'_>) -> Result<Program, String
             let opts = ProgramOptions::default().with_title(&title).with_point(ProgrammedPoint::BallCentre);
             let p = write_program(*kind, &curve, PROGRAM_TOL_MM, &opts)
                 .map_err(|e| format!("the {} program cannot be written — {e}", kind.label()))?;
-            (p.parsed.toolpath, true)
+            (p.parsed.toolpath, ToolPoint::BallCentre)
         }
         ProgramSource::Text { name, text } => {
-            let parsed = read_program(text, Dialect::guess(text), &ReadOptions::default())
+            let dialect = pipeline::guess_dialect(text.as_bytes());
+            let parsed = pipeline::read_text(text, dialect, &ReadOptions::default())
                 .map_err(|e| format!("{name} is not a program this reader can follow — {e}"))?;
-            let centre = matches!(ProgrammedPoint::from_comments(&parsed.comments), Some(ProgrammedPoint::BallCentre));
-            (parsed.toolpath, centre)
+            let point = ToolPoint::of_comments(&parsed.comments);
+            (parsed.toolpath, point)
         }
     };
-    let offset = if centre { DVec3::new(0.0, 0.0, -req.cutter.radius_mm) } else { DVec3::ZERO };
+    let chord = pipeline::default_chord_tol_mm;
     // The chord tolerance follows the pitch, which may follow the program's box: chord at
     // the smallest pitch offered first when automatic, then again at the one chosen.
     let pitch0 = req.pitch_mm.unwrap_or(PITCH_RANGE_MM.0);
-    let program = Program::from_toolpath(&toolpath, offset, chord(pitch0)).map_err(|e| e.to_string())?;
+    let program = pipeline::program_of(&toolpath, point, &req.cutter, chord(pitch0)).map_err(|e| e.to_string())?;
     if req.pitch_mm.is_none() {
         let (_, pitch) = stock_and_pitch(req, &program)?;
         if (pitch - pitch0).abs() > 0.0 {
-            return Program::from_toolpath(&toolpath, offset, chord(pitch)).map_err(|e| e.to_string());
+            return pipeline::program_of(&toolpath, point, &req.cutter, chord(pitch)).map_err(|e| e.to_string());
         }
     }
     Ok(program)
@@ -571,26 +569,20 @@ pub fn run_in_session(
     let stock =
         DexelStock::block([stock_mm[0], stock_mm[1], stock_mm[2]], [stock_mm[3], stock_mm[4], stock_mm[5]], pitch)
             .map_err(|e| e.to_string())?;
-    let mut sim = Simulation::new(stock, &req.cutter);
     let sample_step =
-        req.max_sample_step_mm.filter(|&step| step < pitch && req.cutter.kind() != crate::geom::CutterKind::Ball);
-    if let Some(step) = sample_step {
-        sim = sim.with_sample_step(step);
-    }
-    let visits = sim.estimate_visits(&program);
-    if !(visits <= MAX_RAY_VISITS) {
-        return Err(SimError::TooMuchWork { visits, max: MAX_RAY_VISITS }.to_string());
-    }
-    let (design, design_name) = match &req.design {
-        DesignSpec::None => (Design::None, "none"),
-        DesignSpec::PlaneZ(z) => (Design::PlaneZ(*z), "plane"),
-        DesignSpec::Scene(text) => (Design::Surfaces(scene_of(text)?.1.surfaces.to_vec()), "scene surfaces"),
+        req.max_sample_step_mm.map_or(SampleStep::Default, SampleStep::BelowPitch).resolve(pitch, &req.cutter);
+    let mut sim = pipeline::start(stock, &req.cutter, sample_step, &program).map_err(|e| e.to_string())?;
+    let design = match &req.design {
+        DesignSpec::None => Design::None,
+        DesignSpec::PlaneZ(z) => Design::PlaneZ(*z),
+        DesignSpec::Scene(text) => Design::Surfaces(scene_of(text)?.1.surfaces.to_vec()),
         DesignSpec::Finish(text) => {
             let job =
                 FinishScene::from_json(text).and_then(|f| f.job()).map_err(|e| format!("the finishing scene: {e}"))?;
-            (Design::Surface(job.surface), "finish surface")
+            Design::Surface(job.surface)
         }
     };
+    let design_name = design.name();
     let grid = *sim.stock().grid();
     let target = req.target.unwrap_or(usize::MAX).min(program.moves.len());
     let every = keyframe_every(target, grid.len(), req.keyframes);
@@ -611,32 +603,26 @@ pub fn run_in_session(
     rep.progress.partial(encode_partial(&Partial::Prepared(Box::new(prepared))));
     rep.at(PROGRAM_SHARE);
     let todo = (target - resumed_from).max(1) as f64;
-    // Each move is a call V8 can run in optimised code (`Simulation::apply`): through a
-    // pointer no optimiser sees through, since `wasm-opt -O3` inlines a function called from
-    // one place whatever Rust asked (with it the worker's job was back to 2.4–2.9 s).
-    let apply: fn(&mut Simulation, &SimMove) -> f64 = std::hint::black_box(Simulation::apply);
-    for (k, m) in program.moves[..target].iter().enumerate().skip(resumed_from) {
-        rep.cancelled()?;
-        apply(&mut sim, m);
+    rep.cancelled()?;
+    pipeline::machine(&mut sim, &program.moves[resumed_from..target], |sim| {
+        // Moves applied: the kept stock's and this run's, one counter.
+        let done = sim.counters().moves;
         if let Ok(mut s) = session.lock()
             && let Some(s) = s.as_mut()
         {
-            s.offer(generation, &sim);
+            s.offer(generation, sim);
         }
-        if every > 0 && (k + 1) % every == 0 && k + 1 < target {
-            rep.progress.partial(encode_partial(&Partial::Keyframe(keyframe(&sim))));
+        if every > 0 && done.is_multiple_of(every) && done < target {
+            rep.progress.partial(encode_partial(&Partial::Keyframe(keyframe(sim))));
         }
-        rep.at(PROGRAM_SHARE + RUN_SHARE * (k + 1 - resumed_from) as f64 / todo);
-    }
-    let map = HeightMap::of(sim.stock());
-    let mut scan = DeviationScan::new(&map, &design);
-    let ny = map.grid.ny.max(1);
-    while scan.rows_done() < map.grid.ny {
-        rep.cancelled()?;
-        scan.rows(&map, &design, ROWS_PER_CALL);
-        rep.at(PROGRAM_SHARE + RUN_SHARE + (1.0 - PROGRAM_SHARE - RUN_SHARE) * scan.rows_done() as f64 / ny as f64);
-    }
-    let stats = scan.finish(&map, sim.stock());
+        rep.at(PROGRAM_SHARE + RUN_SHARE * (done - resumed_from) as f64 / todo);
+        rep.cancelled()
+    })?;
+    let ny = grid.ny.max(1);
+    let Measures { map, stats } = pipeline::measure(sim.stock(), &design, ROWS_PER_CALL, |rows_done| {
+        rep.at(PROGRAM_SHARE + RUN_SHARE + (1.0 - PROGRAM_SHARE - RUN_SHARE) * rows_done as f64 / ny as f64);
+        rep.cancelled()
+    })?;
     Ok(Finished { counters: *sim.counters(), resumed_from, map, stats })
 }
 
