@@ -396,7 +396,8 @@ fn the_command_line_and_the_app_s_job_simulate_a_program_of_every_dialect_alike(
     // the same, byte for byte in the CSV.
     use interpolab::gcode::Dialect;
     use interpolab::geom::Cutter;
-    use interpolab::jobs::simulate_run::{DesignSpec, ProgramSource, Request, SimulateRun};
+    use interpolab::jobs::simulate_run::SimulateRun;
+    use interpolab::jobs::simulate_run::request::{DesignSpec, ProgramSource, Request};
     use interpolab::jobs::{JobKind, NoProgress};
     use interpolab::simulate::heights_csv;
     use interpolab::simulate::pipeline::guess_dialect;
