@@ -25,13 +25,15 @@
 //! stock, the design), [`program`] (the program made from its source, the stock and pitch
 //! chosen for it), [`run`] (the run: machining, keyframes, measures), [`session`] (the
 //! stocks kept between runs of one program), [`output`] (what a run hands back), [`codec`]
-//! (all of it as text), and the job's progress reports (`progress.rs`).
+//! (all of it as text), [`error`] (why a run stops), and the job's progress reports
+//! (`progress.rs`).
 
 use super::{JobKind, Progress};
 use output::{Finished, Partial};
 use request::Request;
 
 pub mod codec;
+pub mod error;
 pub mod output;
 pub mod program;
 mod progress;
@@ -50,7 +52,7 @@ impl JobKind for SimulateRun {
     type Partial = Partial;
 
     fn run(req: &Request, progress: &mut dyn Progress) -> Self::Output {
-        run::run_in_session(req, progress, &session::SESSION)
+        run::run_in_session(req, progress, &session::SESSION).map_err(|e| e.to_string())
     }
 
     fn encode_request(r: &Request) -> String {

@@ -4,6 +4,7 @@
 
 use glam::DVec3;
 
+use super::error::SimulateError;
 use super::progress::{PROGRAM_SHARE, Reporter};
 use super::request::{AUTO_GRID_SIDE, PITCH_RANGE_MM, ProgramSource, Request};
 use crate::chords::RootMethod;
@@ -42,25 +43,25 @@ pub struct StockAndPitch {
 }
 
 /// The scene in JSON `text` with its crease.
-pub(super) fn scene_of(text: &str) -> Result<CreaseScene, String> {
-    let scene = Scene::from_json(text).map_err(|e| format!("the scene: {e}"))?;
-    let job = CreaseJob::from_scene(&scene).map_err(|e| format!("the scene: {e}"))?;
+pub(super) fn scene_of(text: &str) -> Result<CreaseScene, SimulateError> {
+    let scene = Scene::from_json(text).map_err(SimulateError::Scene)?;
+    let job = CreaseJob::from_scene(&scene).map_err(SimulateError::Scene)?;
     Ok(CreaseScene { scene, job })
 }
 
 /// The scene's crease as a design curve, checking the cancel flag between slices.
-fn crease_curve(job: &CreaseJob, rep: &Reporter<'_>) -> Result<CreaseCurve, String> {
-    let mut b = DesignBuilder::new(job).map_err(|e| format!("the scene's crease cannot be run — {e}"))?;
+fn crease_curve(job: &CreaseJob, rep: &Reporter<'_>) -> Result<CreaseCurve, SimulateError> {
+    let mut b = DesignBuilder::new(job).map_err(SimulateError::CreaseStart)?;
     loop {
         rep.cancelled()?;
         if let Some(done) = b.advance(PERIODS_PER_CALL) {
-            return done.map_err(|e| format!("the scene's crease gives no design curve — {e}"));
+            return done.map_err(SimulateError::CreaseCurve);
         }
     }
 }
 
 /// The program of a request's source, in tool-tip moves.
-pub(super) fn make_program(req: &Request, rep: &mut Reporter<'_>) -> Result<Program, String> {
+pub(super) fn make_program(req: &Request, rep: &mut Reporter<'_>) -> Result<Program, SimulateError> {
     let (toolpath, point) = match &req.source {
         ProgramSource::Moves(p) => return Ok(p.clone()),
         ProgramSource::Finish { scene, cutter, passes, step_tol_mm } => {
@@ -68,31 +69,30 @@ pub(super) fn make_program(req: &Request, rep: &mut Reporter<'_>) -> Result<Prog
             let mut program = Program::default();
             for k in 0..fp.passes.len() {
                 rep.cancelled()?;
-                fp.plan_pass(k, &mut program).map_err(|e| e.to_string())?;
+                fp.plan_pass(k, &mut program)?;
                 rep.at(PROGRAM_SHARE * (k + 1) as f64 / fp.passes.len() as f64);
             }
             return Ok(program);
         }
-        ProgramSource::Benchmark { kind, moves } => return kind.program(*moves).map_err(|e| e.to_string()),
+        ProgramSource::Benchmark { kind, moves } => return Ok(kind.program(*moves)?),
         ProgramSource::Steps { scene } => {
             let CreaseScene { scene, job } = scene_of(scene)?;
             let curve = crease_curve(&job, rep)?;
             let machine = scene.machine.as_ref().map(build_machine).unwrap_or_default();
             let rule = match &scene.tool_axis {
-                Some(t) => build_tool_axis(t).map_err(|e| e.to_string())?,
+                Some(t) => build_tool_axis(t).map_err(SimulateError::ToolAxis)?,
                 None => ToolAxisRule::Bisector,
             };
             let path = CreasePath::new(curve, rule);
             let opts = StepOptions::new(PROGRAM_TOL_MM).with_method(RootMethod::Bisection);
-            let mut planner = StepPlanner::new(&machine, &path, &opts)
-                .map_err(|e| format!("the 5-axis steps cannot be planned — {e}"))?;
+            let mut planner = StepPlanner::new(&machine, &path, &opts).map_err(SimulateError::Steps)?;
             // The planner's own caps bound the nodes; the flag is looked at per node.
             while !planner.is_done() {
                 rep.cancelled()?;
-                planner.next_node(&machine, &path).map_err(|e| format!("the 5-axis steps cannot be planned — {e}"))?;
+                planner.next_node(&machine, &path).map_err(SimulateError::Steps)?;
             }
             let blocks: Vec<_> = planner.nodes().iter().map(|n| n.block).collect();
-            return Program::from_blocks(&machine, &blocks).map_err(|e| e.to_string());
+            return Ok(Program::from_blocks(&machine, &blocks)?);
         }
         ProgramSource::Crease { scene, kind } => {
             let CreaseScene { scene, job } = scene_of(scene)?;
@@ -100,13 +100,13 @@ pub(super) fn make_program(req: &Request, rep: &mut Reporter<'_>) -> Result<Prog
             let title = if scene.name.is_empty() { "scene".to_owned() } else { scene.name.clone() };
             let opts = ProgramOptions::default().with_title(&title).with_point(ProgrammedPoint::BallCentre);
             let p = write_program(*kind, &curve, PROGRAM_TOL_MM, &opts)
-                .map_err(|e| format!("the {} program cannot be written — {e}", kind.label()))?;
+                .map_err(|source| SimulateError::Write { kind: kind.label(), source })?;
             (p.parsed.toolpath, ToolPoint::BallCentre)
         }
         ProgramSource::Text { name, text } => {
             let dialect = pipeline::guess_dialect(text.as_bytes());
             let parsed = pipeline::read_text(text, dialect, &ReadOptions::default())
-                .map_err(|e| format!("{name} is not a program this reader can follow — {e}"))?;
+                .map_err(|source| SimulateError::Read { name: name.clone(), source })?;
             let point = ToolPoint::of_comments(&parsed.comments);
             (parsed.toolpath, point)
         }
@@ -115,11 +115,11 @@ pub(super) fn make_program(req: &Request, rep: &mut Reporter<'_>) -> Result<Prog
     // The chord tolerance follows the pitch, which may follow the program's box: chord at
     // the smallest pitch offered first when automatic, then again at the one chosen.
     let pitch0 = req.pitch_mm.unwrap_or(PITCH_RANGE_MM.0);
-    let program = pipeline::program_of(&toolpath, point, &req.cutter, chord(pitch0)).map_err(|e| e.to_string())?;
+    let program = pipeline::program_of(&toolpath, point, &req.cutter, chord(pitch0))?;
     if req.pitch_mm.is_none() {
         let pitch = stock_and_pitch(req, &program)?.pitch_mm;
         if (pitch - pitch0).abs() > 0.0 {
-            return pipeline::program_of(&toolpath, point, &req.cutter, chord(pitch)).map_err(|e| e.to_string());
+            return Ok(pipeline::program_of(&toolpath, point, &req.cutter, chord(pitch))?);
         }
     }
     Ok(program)
@@ -129,11 +129,10 @@ pub(super) fn make_program(req: &Request, rep: &mut Reporter<'_>) -> Result<Prog
 ///
 /// # Errors
 /// A program without a cutting move and no stock given.
-pub fn stock_and_pitch(req: &Request, program: &Program) -> Result<StockAndPitch, String> {
+pub fn stock_and_pitch(req: &Request, program: &Program) -> Result<StockAndPitch, SimulateError> {
     let stock = match req.stock_mm {
         Some(s) => s,
-        None => auto_stock(program, &req.cutter, req.margin_mm)
-            .ok_or("the program has no cutting move to size the stock from; give the stock block")?,
+        None => auto_stock(program, &req.cutter, req.margin_mm).ok_or(SimulateError::NoCuttingMove)?,
     };
     let pitch = match req.pitch_mm {
         Some(p) => p,
@@ -190,10 +189,10 @@ pub fn finish_program(
     cutter: Cutter,
     passes: &[Vec<CcNode>],
     step_tol_mm: f64,
-) -> Result<FinishProgram, String> {
-    let job = FinishScene::from_json(scene).and_then(|f| f.job()).map_err(|e| format!("the finishing scene: {e}"))?;
+) -> Result<FinishProgram, SimulateError> {
+    let job = FinishScene::from_json(scene).and_then(|f| f.job()).map_err(SimulateError::FinishScene)?;
     if !(step_tol_mm > 0.0 && step_tol_mm.is_finite()) {
-        return Err(format!("the step tolerance must be a positive length in mm, got {step_tol_mm}; give e.g. 0.01"));
+        return Err(SimulateError::StepTolerance(step_tol_mm));
     }
     Ok(FinishProgram {
         surface: job.surface,

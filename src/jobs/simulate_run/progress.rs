@@ -1,6 +1,7 @@
 //! The simulation job's progress: the overall fraction done, reported when it moved enough,
 //! and the cancel flag.
 
+use super::error::SimulateError;
 use crate::jobs::Progress;
 
 /// Smallest change of the fraction done worth a progress report.
@@ -31,8 +32,8 @@ impl<'a> Reporter<'a> {
             self.progress.progress(fraction.min(1.0));
         }
     }
-    /// `Err("cancelled")` once the job was cancelled.
-    pub(super) fn cancelled(&self) -> Result<(), String> {
-        if self.progress.cancelled() { Err("cancelled".to_owned()) } else { Ok(()) }
+    /// [`SimulateError::Cancelled`] once the job was cancelled.
+    pub(super) fn cancelled(&self) -> Result<(), SimulateError> {
+        if self.progress.cancelled() { Err(SimulateError::Cancelled) } else { Ok(()) }
     }
 }

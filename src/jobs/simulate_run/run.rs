@@ -4,6 +4,7 @@
 use std::sync::Mutex;
 
 use super::codec::encode_partial;
+use super::error::SimulateError;
 use super::output::{Finished, Keyframe, Partial, Prepared};
 use super::program::{StockAndPitch, make_program, scene_of, stock_and_pitch};
 use super::progress::{PROGRAM_SHARE, RUN_SHARE, Reporter};
@@ -51,12 +52,12 @@ fn keyframe(sim: &Simulation) -> Keyframe {
 /// uses the process's own; a test gives its own).
 ///
 /// # Errors
-/// The run's message (a bad program, grid or design, or cancelled).
+/// [`SimulateError`]: a bad program, grid or design, or cancelled.
 pub fn run_in_session(
     req: &Request,
     progress: &mut dyn Progress,
     session: &Mutex<Option<Session>>,
-) -> Result<Finished, String> {
+) -> Result<Finished, SimulateError> {
     let mut rep = Reporter::new(progress);
     rep.at(0.0);
     let program = make_program(req, &mut rep)?;
@@ -65,25 +66,23 @@ pub fn run_in_session(
     let nx = ((stock_mm[3] - stock_mm[0]) / pitch).ceil();
     let ny = ((stock_mm[4] - stock_mm[1]) / pitch).ceil();
     if !(nx * ny <= MAX_RAYS as f64) {
-        return Err(format!(
-            "a pitch of {pitch} mm on this stock gives {} × {} rays, more than the {MAX_RAYS} this view simulates; raise the pitch or shrink the stock",
-            crate::simulate::ray_count(nx),
-            crate::simulate::ray_count(ny)
-        ));
+        return Err(SimulateError::TooManyRays {
+            pitch_mm: pitch,
+            nx: crate::simulate::ray_count(nx),
+            ny: crate::simulate::ray_count(ny),
+        });
     }
     let stock =
-        DexelStock::block([stock_mm[0], stock_mm[1], stock_mm[2]], [stock_mm[3], stock_mm[4], stock_mm[5]], pitch)
-            .map_err(|e| e.to_string())?;
+        DexelStock::block([stock_mm[0], stock_mm[1], stock_mm[2]], [stock_mm[3], stock_mm[4], stock_mm[5]], pitch)?;
     let sample_step =
         req.max_sample_step_mm.map_or(SampleStep::Default, SampleStep::BelowPitch).resolve(pitch, &req.cutter);
-    let mut sim = pipeline::start(stock, &req.cutter, sample_step, &program).map_err(|e| e.to_string())?;
+    let mut sim = pipeline::start(stock, &req.cutter, sample_step, &program)?;
     let design = match &req.design {
         DesignSpec::None => Design::None,
         DesignSpec::PlaneZ(z) => Design::PlaneZ(*z),
         DesignSpec::Scene(text) => Design::Surfaces(scene_of(text)?.job.surfaces.to_vec()),
         DesignSpec::Finish(text) => {
-            let job =
-                FinishScene::from_json(text).and_then(|f| f.job()).map_err(|e| format!("the finishing scene: {e}"))?;
+            let job = FinishScene::from_json(text).and_then(|f| f.job()).map_err(SimulateError::FinishScene)?;
             Design::Surface(job.surface)
         }
     };
