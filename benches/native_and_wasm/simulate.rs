@@ -48,7 +48,8 @@ fn ray_updates_per_second() {
 #[test]
 #[ignore = "benchmark; run with --ignored --nocapture"]
 fn the_simulation_job_as_the_worker_runs_it() {
-    use interpolab::jobs::simulate_run::{ProgramSource, Request, SimulateRun};
+    use interpolab::jobs::simulate_run::SimulateRun;
+    use interpolab::jobs::simulate_run::request::{ProgramSource, Request};
     use interpolab::jobs::{JobKind, NoProgress, run_encoded};
     use interpolab::simulate::bench::BenchKind;
     let platform = if cfg!(target_arch = "wasm32") { "wasm32 (Node)" } else { "native" };

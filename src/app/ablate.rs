@@ -131,9 +131,10 @@ pub fn parse(query: &str) -> u32 {
 }
 
 /// Sets the hidden parts for the rest of the session (the browser entry point, once),
-/// including the 3D views' layers (`render::gpu::set_skipped_layers`).
+/// including the 3D views' layers (`render::gpu::marks::set_skipped_layers`).
 pub fn set(bits: u32) {
-    use crate::render::gpu::{Layer, SKIP_SCENE_PASS, set_skipped_layers};
+    use crate::render::gpu::Layer;
+    use crate::render::gpu::marks::{SKIP_SCENE_PASS, set_skipped_layers};
     HIDDEN.store(bits, Ordering::Relaxed);
     let has = |p: Part| bits & p as u32 != 0;
     let layer = |l: Layer| 1u32 << l as u32;
@@ -157,7 +158,7 @@ pub fn set(bits: u32) {
     set_skipped_layers(layers);
     crate::render::flat_fill::set_disabled(has(Part::FlatFill));
     crate::render::egui_pass::set_disabled(has(Part::EguiPass));
-    crate::render::gpu::set_marks(has(Part::Marks));
+    crate::render::gpu::marks::set_marks(has(Part::Marks));
 }
 
 /// Whether `part` is left out of every frame.

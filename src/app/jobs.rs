@@ -145,7 +145,7 @@ impl<K: JobKind> Job<K> {
     /// supersedes it) lets a browser's worker finish the job, its output thrown away, and
     /// keeps the worker for the next job, which is posted to it at once and runs right after
     /// (the worker keeps state between jobs: the simulation's kept stocks,
-    /// `jobs::simulate_run::Session`). For short jobs (a replay from a kept stock: a tenth of
+    /// `jobs::simulate_run::session::Session`). For short jobs (a replay from a kept stock: a tenth of
     /// the program at most); a long one delays the next by what it has left. Natively the
     /// same as [`Job::start`] (the thread stops at its next look at the cancel flag; the
     /// state lives in the process).

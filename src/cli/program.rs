@@ -81,9 +81,6 @@ pub(crate) fn open(path: &Path, opts: Options) -> Result<Interpreter<'static>, F
     Ok(Interpreter::new(Box::new(src), Box::new(DirLibrary::beside(path)), opts))
 }
 
-/// How many bytes of a program its dialect is guessed from.
-const GUESS_BYTES: u64 = 64 << 10;
-
 /// Reads a program file into a path: FANUC and LinuxCNC programs through the interpreter,
 /// streamed from the file (with the files beside it as subroutines), Sinumerik by its reader.
 /// Returns the program, its dialect and whether that was given or guessed. Reading stops
@@ -97,26 +94,28 @@ pub(crate) fn read_path(
 ) -> Result<(interpolab::gcode::ParsedProgram, interpolab::gcode::Dialect, &'static str), Fatal> {
     use std::io::Read;
 
-    use interpolab::gcode::{Dialect, parse_program_in, read_from_capped};
+    use interpolab::gcode::{Dialect, read_from_capped};
+    use interpolab::simulate::pipeline::{DIALECT_GUESS_BYTES, guess_dialect, read_options, read_text};
     let (dialect, how) = match dialect {
         Some(d) => (d, "given"),
         None => {
             let f =
                 std::fs::File::open(path).map_err(|e| Fatal(format!("cannot read program {}: {e}", path.display())))?;
             let mut head = Vec::new();
-            f.take(GUESS_BYTES)
+            f.take(DIALECT_GUESS_BYTES as u64)
                 .read_to_end(&mut head)
                 .map_err(|e| Fatal(format!("cannot read program {}: {e}", path.display())))?;
-            (Dialect::guess(&String::from_utf8_lossy(&head)), "guessed from the text")
+            (guess_dialect(&head), "guessed from the text")
         }
     };
+    // The simulation's pipeline, but streamed from the file with the files beside it as
+    // subroutines (a Sinumerik program is read whole by its own reader).
     let parsed = if dialect == Dialect::Sinumerik {
         let text = super::read_capped(path, MAX_PROGRAM_BYTES, "G-code program")
             .map_err(|e| Fatal(format!("cannot read program {}: {e}", path.display())))?;
-        parse_program_in(&text, dialect)
+        read_text(&text, dialect, &read.options())
     } else {
-        let opts = Options { keep_comments: 64, fanuc: dialect == Dialect::Fanuc, ..read.options() };
-        read_from_capped(open(path, opts)?, dialect, max_moves)
+        read_from_capped(open(path, read_options(dialect, &read.options()))?, dialect, max_moves)
     };
     let parsed = parsed.map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
     Ok((parsed, dialect, how))

@@ -1,6 +1,7 @@
 //! `interpolab simulate`: machine a G-code program into a dexel stock and write its height
 //! map (CSV), a PNG, and the statistics (JSON on standard output). Format: docs/simulation.md.
 
+use std::convert::Infallible;
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -10,13 +11,11 @@ use clap::Args;
 use glam::DVec3;
 use interpolab::crease::CreaseJob;
 use interpolab::fillet::{PartSamples, iso_parametric_from, iso_scallop_from};
-use interpolab::gcode::ProgrammedPoint;
 use interpolab::geom::Cutter;
 use interpolab::scene::Scene;
 use interpolab::simulate::bench::BenchKind;
-use interpolab::simulate::{
-    Design, DexelStock, FinishProgram, HeightMap, Program, SimStats, Simulation, heights_csv, png_rgb, stock_box_mm,
-};
+use interpolab::simulate::pipeline::{self, Measures, SampleStep, ToolPoint};
+use interpolab::simulate::{Design, DexelStock, FinishProgram, Program, heights_csv, png_rgb, stock_box_mm};
 use interpolab::simulate::{INTERIOR_END_MM, INTERIOR_SIDE_MM, InteriorStats, interior_mask, interior_stats};
 use serde_json::json;
 
@@ -229,41 +228,28 @@ pub(super) fn simulate(a: &SimulateArgs) -> Result<ExitCode, Fatal> {
         let (kind, n) = BenchKind::parse(b).map_err(|e| Fatal(format!("--{e}")))?;
         let program = kind.program(n).map_err(|e| Fatal(format!("--benchmark {b}: {e}")))?;
         let design = load_design(&SimulateDesign { design_z: a.design_z, scene: None })?;
-        let how = RunHow { sample_step: a.sample_step, centre: false, finish_info: None, interior_passes: None };
-        return finish(a, &cutter, stock, &program, &design, how);
+        return finish(a, &cutter, stock, &program, &design, RunHow::given(a));
     }
     let path = program_path(a)?;
     if let Some(tol) = a.steps {
         let (machine, blocks, _) = super::fiveaxis::scene_blocks(path, tol)?;
         let program = Program::from_blocks(&machine, &blocks).map_err(|e| Fatal(e.to_string()))?;
         let design = load_design(&SimulateDesign { design_z: None, scene: Some(path) })?;
-        let how = RunHow { sample_step: a.sample_step, centre: false, finish_info: None, interior_passes: None };
-        return finish(a, &cutter, stock, &program, &design, how);
+        return finish(a, &cutter, stock, &program, &design, RunHow::given(a));
     }
     let design = load_design(&SimulateDesign { design_z: a.design_z, scene: a.scene.as_deref() })?;
     let (parsed, _, _) = super::program::read_path(path, None, &a.read, interpolab::simulate::program::MAX_MOVES)?;
     for l in super::program::report_lines(&parsed) {
         eprintln!("interpolab: {l}");
     }
-    let centre = match a.point {
-        PointArg::Tip => false,
-        PointArg::Centre => true,
-        PointArg::Auto => {
-            matches!(ProgrammedPoint::from_comments(&parsed.comments), Some(ProgrammedPoint::BallCentre))
-        }
+    let point = match a.point {
+        PointArg::Tip => ToolPoint::Tip,
+        PointArg::Centre => ToolPoint::BallCentre,
+        PointArg::Auto => ToolPoint::of_comments(&parsed.comments),
     };
-    let offset = if centre { DVec3::new(0.0, 0.0, -cutter.radius_mm) } else { DVec3::ZERO };
-    let chord_tol = a.chord_tol.unwrap_or(a.pitch / 10.0);
-    let program = Program::from_toolpath(&parsed.toolpath, offset, chord_tol)
+    let program = pipeline::program_of(&parsed.toolpath, point, &cutter, chord_tol_mm(a))
         .map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
-    finish(
-        a,
-        &cutter,
-        stock,
-        &program,
-        &design,
-        RunHow { sample_step: a.sample_step, centre, finish_info: None, interior_passes: None },
-    )
+    finish(a, &cutter, stock, &program, &design, RunHow { point, ..RunHow::given(a) })
 }
 
 /// With tools or a machine: the program read through the interpreter into the moves of its
@@ -282,7 +268,7 @@ fn simulate_user(a: &SimulateArgs) -> Result<ExitCode, Fatal> {
     }
     let cutter = a.cutter.as_deref().map(parse_cutter).transpose()?;
     let design = load_design(&SimulateDesign { design_z: a.design_z, scene: a.scene.as_deref() })?;
-    let chord_tol = a.chord_tol.unwrap_or(a.pitch / 10.0);
+    let chord_tol = chord_tol_mm(a);
     if !(chord_tol > 0.0) {
         return Err(Fatal(format!("--chord-tol {chord_tol}: give a positive length in mm")));
     }
@@ -359,8 +345,8 @@ fn simulate_finish(a: &SimulateArgs, tol: f64) -> Result<ExitCode, Fatal> {
         "refused": set.refused.len(),
     });
     let how = RunHow {
-        sample_step: pose_step,
-        centre: false,
+        sample_step: pose_step.map_or(SampleStep::Default, SampleStep::Given),
+        point: ToolPoint::Tip,
         finish_info: Some(extra),
         interior_passes: Some(fp.cc_points()),
     };
@@ -393,17 +379,35 @@ fn program_name(a: &SimulateArgs) -> String {
     }
 }
 
+/// The chord tolerance (mm): `--chord-tol`, else the pipeline's default for the pitch.
+fn chord_tol_mm(a: &SimulateArgs) -> f64 {
+    a.chord_tol.unwrap_or_else(|| pipeline::default_chord_tol_mm(a.pitch))
+}
+
 /// How a program is run and reported besides its arguments.
 struct RunHow {
-    /// Largest step (mm) between sampled poses of 5-axis moves (`None`: one pitch).
-    sample_step: Option<f64>,
-    /// Whether the program's points are ball centres (else tool tips).
-    centre: bool,
+    /// How 5-axis moves are sampled.
+    sample_step: SampleStep,
+    /// The point of the tool the program's coordinates give.
+    point: ToolPoint,
     /// The finishing program's facts for the JSON output.
     finish_info: Option<serde_json::Value>,
     /// The finishing program's contact points per pass: its interior band's statistics
     /// are added to the JSON (`interior`).
     interior_passes: Option<Vec<Vec<DVec3>>>,
+}
+
+impl RunHow {
+    /// A program of tool tips, sampled as `--sample-step` says, with nothing to add to the
+    /// JSON.
+    fn given(a: &SimulateArgs) -> Self {
+        Self {
+            sample_step: a.sample_step.map_or(SampleStep::Default, SampleStep::Given),
+            point: ToolPoint::Tip,
+            finish_info: None,
+            interior_passes: None,
+        }
+    }
 }
 
 fn finish(
@@ -414,17 +418,15 @@ fn finish(
     design: &Design,
     how: RunHow,
 ) -> Result<ExitCode, Fatal> {
-    let RunHow { sample_step, centre, finish_info, interior_passes } = how;
-    let chord_tol = a.chord_tol.unwrap_or(a.pitch / 10.0);
-    let mut sim = Simulation::new(stock, cutter);
-    if let Some(step) = sample_step {
-        sim = sim.with_sample_step(step);
-    }
+    let RunHow { sample_step, point, finish_info, interior_passes } = how;
+    let chord_tol = chord_tol_mm(a);
+    let sample_step = sample_step.resolve(stock.grid().pitch_mm, cutter);
     let t0 = Instant::now();
-    sim.run(program).map_err(|e| Fatal(format!("{}: {e}", program_name(a))))?;
+    let mut sim =
+        pipeline::start(stock, cutter, sample_step, program).map_err(|e| Fatal(format!("{}: {e}", program_name(a))))?;
+    let Ok(()) = pipeline::machine(&mut sim, &program.moves, |_| Ok::<(), Infallible>(()));
     let run_ms = t0.elapsed().as_secs_f64() * 1e3;
-    let map = HeightMap::of(sim.stock());
-    let stats = SimStats::of(&map, sim.stock(), design);
+    let Ok(Measures { map, stats }) = pipeline::measure(sim.stock(), design, usize::MAX, |_| Ok::<(), Infallible>(()));
     let has_design = !matches!(design, Design::None);
     if let Some(out) = &a.out {
         write(out, heights_csv(&map, has_design.then_some(&stats)).as_bytes())?;
@@ -443,7 +445,7 @@ fn finish(
         "program": program_name(a),
         "cutter": cutter.describe(),
         "tool_body": cutter.describe_body(),
-        "programmed_point": if centre { "ball centre" } else { "tool tip" },
+        "programmed_point": point.label(),
         "grid": { "nx": g.nx, "ny": g.ny, "pitch_mm": nm(g.pitch_mm), "x0_mm": nm(g.x0_mm), "y0_mm": nm(g.y0_mm) },
         "moves": c.moves,
         "chord_tol_mm": chord_tol,

@@ -9,7 +9,7 @@
 use glam::DVec3;
 use serde_json::{Value, json};
 
-use super::simulate_run::{counters_of, counters_value, grid_of, grid_value};
+use super::simulate_run::codec::{counters_of, counters_value, grid_of, grid_value};
 use super::{JobKind, Progress, Reader, f32s_packed, f64s_packed, parse};
 use crate::gcode::interp::tools::{TableUnits, ToolTable, parse_tool_spec};
 use crate::gcode::interp::{Interpreter, NoLibrary, Options, TextLibrary, TextSource};

@@ -22,7 +22,8 @@
 //! Modules: [`stock`] (rays, interval subtraction), [`sweep`] (cutter and envelope against
 //! a ray), [`program`] (moves from G-code and 5-axis plans), [`measure`] (maps and
 //! statistics, CSV and PNG output), [`interior`] (a finishing program's interior band and
-//! its scallop statistics), [`finish`] (seed 001's finishing programs), [`bench`](mod@bench) (the
+//! its scallop statistics), [`finish`] (seed 001's finishing programs), [`pipeline`] (make the
+//! program, then simulate it: the steps the command line and the app's job share), [`bench`](mod@bench) (the
 //! benchmark programs). Layout and error bounds: `docs/simulation.md`.
 
 pub mod bench;
@@ -31,6 +32,7 @@ pub mod crash;
 pub mod finish;
 pub mod interior;
 pub mod measure;
+pub mod pipeline;
 pub mod program;
 pub mod stock;
 pub mod sweep;

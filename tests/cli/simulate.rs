@@ -386,3 +386,86 @@ fn crashes_are_listed_by_line_with_the_tool_body_from_the_cutter_or_a_tool_table
     assert_eq!(err.lines().count(), 1, "{err}");
     assert!(err.contains("radius:length"), "{err}");
 }
+
+#[test]
+fn the_command_line_and_the_app_s_job_simulate_a_program_of_every_dialect_alike() {
+    // One pipeline (`simulate::pipeline`): the same program text read in the dialect guessed
+    // from its head, its points moved to the tip, chorded at a tenth of the pitch, machined
+    // and measured — by `interpolab simulate` from a file and by the app's job
+    // (`jobs::simulate_run`) from the text it is handed. Their height maps and measures are
+    // the same, byte for byte in the CSV.
+    use interpolab::gcode::Dialect;
+    use interpolab::geom::Cutter;
+    use interpolab::jobs::simulate_run::SimulateRun;
+    use interpolab::jobs::simulate_run::request::{DesignSpec, ProgramSource, Request};
+    use interpolab::jobs::{JobKind, NoProgress};
+    use interpolab::simulate::heights_csv;
+    use interpolab::simulate::pipeline::guess_dialect;
+
+    let scene = format!("{}/examples/floor-round-wall.json", env!("CARGO_MANIFEST_DIR"));
+    let scene_text = std::fs::read_to_string(&scene).unwrap();
+    let hand = format!("{}/tests/data/gcode/hand_written/program.nc", env!("CARGO_MANIFEST_DIR"));
+    let mut programs = vec![("hand-written".to_owned(), std::fs::read_to_string(&hand).unwrap(), false)];
+    for d in Dialect::ALL {
+        for kind in ["g01", "arcs", "nurbs"] {
+            let (code, program, err) =
+                run(&["gcode", &scene, "--kind", kind, "--tolerance", "0.01", "--dialect", d.as_str()]);
+            assert_eq!(code, 0, "{d:?} {kind}: {err}");
+            assert_eq!(guess_dialect(program.as_bytes()), d, "{kind}: the header names the dialect");
+            programs.push((format!("{}-{kind}", d.as_str()), program, true));
+        }
+    }
+    let (cutter, stock, pitch) = ("ball:5", [-52.0, -52.0, -2.0, 52.0, 52.0, 8.0], 0.4);
+    for (name, text, with_design) in programs {
+        let p = temp(&format!("alike-{name}.nc"), &text);
+        let csv = p.with_extension("csv");
+        let stock_arg = stock.map(|x: f64| x.to_string()).join(",");
+        let mut args = vec![
+            "simulate",
+            p.to_str().unwrap(),
+            "--cutter",
+            cutter,
+            "--stock",
+            &stock_arg,
+            "--pitch",
+            "0.4",
+            "--out",
+            csv.to_str().unwrap(),
+        ];
+        if with_design {
+            args.extend(["--scene", &scene]);
+        }
+        let (code, out, err) = run(&args);
+        assert_eq!(code, 0, "{name}: {err}");
+        let s: serde_json::Value = serde_json::from_str(&out).unwrap();
+        let req = Request {
+            source: ProgramSource::Text { name: name.clone(), text },
+            cutter: Cutter::ball(5.0).unwrap(),
+            pitch_mm: Some(pitch),
+            stock_mm: Some(stock),
+            margin_mm: 0.0,
+            max_sample_step_mm: None,
+            design: if with_design { DesignSpec::Scene(scene_text.clone()) } else { DesignSpec::None },
+            target: None,
+            keyframes: 0,
+            resume: false,
+        };
+        let f = SimulateRun::run(&req, &mut NoProgress).unwrap();
+        let job_csv = heights_csv(&f.map, with_design.then_some(&f.stats));
+        assert!(job_csv == std::fs::read_to_string(&csv).unwrap(), "{name}: the height maps differ");
+        assert_eq!(s["moves"].as_u64().unwrap(), f.counters.moves as u64, "{name}");
+        assert_eq!(s["ray_updates"].as_u64().unwrap(), f.counters.ray_updates, "{name}");
+        assert_eq!(s["removed_volume_mm3"].as_f64().unwrap(), (f.counters.removed_mm3 * 1e6).round() / 1e6, "{name}");
+        assert_eq!(s["machined_rays"].as_u64().unwrap(), f.stats.machined_rays as u64, "{name}");
+        assert_eq!(s["rapid_cuts"].as_u64().unwrap(), f.counters.rapid_cuts as u64, "{name}");
+        assert_eq!(s["design"], if with_design { "scene surfaces" } else { "none" }, "{name}");
+        if with_design {
+            assert_eq!(s["programmed_point"], "ball centre", "{name}");
+            let um = |mm: f64| (mm * 1e6).round() / 1e3;
+            assert_eq!(s["scallop_um"]["rays"].as_u64().unwrap(), f.stats.scallop.count as u64, "{name}");
+            assert_eq!(s["scallop_um"]["max"].as_f64().unwrap(), um(f.stats.scallop.max_mm), "{name}");
+            assert_eq!(s["scallop_um"]["p95"].as_f64().unwrap(), um(f.stats.scallop.p95_mm), "{name}");
+            assert!(f.stats.machined_rays > 10_000, "{name}: the floor ring is machined");
+        }
+    }
+}

@@ -80,6 +80,8 @@ mod simulate {
     mod crash;
     mod dexel;
     mod finish;
+    // The pipeline the command line and the app's job share: dialect, reading, point, sampling.
+    mod pipeline;
     // A user's program: joint and TCP programs through the machines, nonlinear error per block.
     mod rotary;
     // A user's program: its tools, tool lengths, times and volumes.

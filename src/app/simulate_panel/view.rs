@@ -181,7 +181,7 @@ impl SimView {
             };
             // From where move k starts: a program whose passes are not linked (a finishing
             // program leaves out the rapids between them) draws no line across the gap.
-            let from = p.program.moves.get(k).map_or(p.tips[k], |m| crate::jobs::simulate_run::ends(m)[0]);
+            let from = p.program.moves.get(k).map_or(p.tips[k], |m| crate::jobs::simulate_run::program::ends(m)[0]);
             lines.push(LineSegment::new(o.local(from), o.local(p.tips[next]), 1.5, color).with_depth_bias(0.002));
             k = next;
         }

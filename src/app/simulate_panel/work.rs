@@ -21,8 +21,11 @@ use crate::app::jobs::{Job as BackgroundJob, Poll};
 use crate::app::panel::FinishHandoff;
 use crate::gcode::ProgramKind;
 use crate::geom::Cutter;
-use crate::jobs::simulate_run::{self, DesignSpec, Keyframe, Partial, ProgramSource, Request, SimulateRun};
-pub use crate::jobs::simulate_run::{AUTO_GRID_SIDE, PITCH_RANGE_MM};
+use crate::jobs::simulate_run::SimulateRun;
+use crate::jobs::simulate_run::output::{Keyframe, Partial};
+use crate::jobs::simulate_run::program::ends;
+use crate::jobs::simulate_run::request::{self, DesignSpec, ProgramSource, Request};
+pub use crate::jobs::simulate_run::request::{AUTO_GRID_SIDE, PITCH_RANGE_MM};
 use crate::scene::Scene;
 use crate::simulate::bench::BenchKind;
 use crate::simulate::{Counters, Grid, HeightMap, InteriorStats, Program, SimStats, interior_stats};
@@ -32,7 +35,7 @@ use crate::simulate::{Counters, Grid, HeightMap, InteriorStats, Program, SimStat
 /// a run; the progress bar moves between them, `app::jobs::PROGRESS_POLL`).
 const MAP_REFRESH: Duration = Duration::from_millis(1500);
 /// Most rays the tab simulates (a 1024 × 1024 grid, 24 MiB); above it the run is refused.
-pub const MAX_APP_RAYS: usize = simulate_run::MAX_RAYS;
+pub const MAX_APP_RAYS: usize = request::MAX_RAYS;
 /// Keyframes asked of a program's first run (the slider's instant positions).
 pub const KEYFRAMES: usize = 40;
 /// Keyframes asked of a replay to one move (the view follows the stock while it runs).
@@ -217,7 +220,7 @@ pub struct Results {
     /// The run's counts.
     pub counters: Counters,
     /// The move of the kept stock the run started from (0: the block; see
-    /// `jobs::simulate_run::Session`).
+    /// `jobs::simulate_run::session::Session`).
     pub resumed_from: usize,
     /// A finishing program's scallops over its interior band (`simulate::interior`), when
     /// measured against its finish surface.
@@ -675,7 +678,7 @@ fn block_map(p: &Prepared) -> HeightMap {
 fn tips_of(program: &Program) -> Vec<DVec3> {
     let mut out = Vec::with_capacity(program.moves.len() + 1);
     for (k, m) in program.moves.iter().enumerate() {
-        let [a, b] = simulate_run::ends(m);
+        let [a, b] = ends(m);
         if k == 0 {
             out.push(a);
         }

@@ -1,5 +1,16 @@
+use glam::{DVec2, DVec3};
+use serde_json::Value;
+
+use super::output::{Finished, Keyframe, Partial, Prepared};
+use super::request::{DesignSpec, ProgramSource, Request};
+use super::run::{KEYFRAME_BYTES, keyframe_every, run_in_session};
+use super::session::{KEPT_STOCK_BYTES, MAX_KEPT_STOCKS, Session};
 use super::*;
-use crate::jobs::NoProgress;
+use crate::fillet::CcNode;
+use crate::gcode::ProgramKind;
+use crate::geom::Cutter;
+use crate::jobs::{JobKind, NoProgress, Progress};
+use crate::simulate::{Design, DexelStock, HeightMap, MoveKind, Program, SimMove, SimStats, Simulation};
 
 /// Collects what a job hands back, and cancels after a number of cancel checks when asked.
 #[derive(Default)]

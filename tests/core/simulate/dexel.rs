@@ -610,13 +610,14 @@ fn the_deviation_is_the_signed_distance_to_the_union_of_the_torus_and_the_plate(
     assert!(switched[0] && switched[1], "the walk meets both surfaces nearest");
 }
 
-/// A replay of the move slider from a stock the worker kept (`jobs::simulate_run::Session`)
-/// gives the stock of a fresh run to the same move bit for bit — natively and in the wasm32
-/// build the browser's worker runs.
+/// A replay of the move slider from a stock the worker kept
+/// (`jobs::simulate_run::session::Session`) gives the stock of a fresh run to the same move bit
+/// for bit — natively and in the wasm32 build the browser's worker runs.
 #[test]
 fn a_replay_from_a_kept_stock_is_the_fresh_run_bit_for_bit() {
     use interpolab::jobs::NoProgress;
-    use interpolab::jobs::simulate_run::{Request, run_in_session};
+    use interpolab::jobs::simulate_run::request::Request;
+    use interpolab::jobs::simulate_run::run::run_in_session;
     use interpolab::simulate::bench::BenchKind;
     let first = Request::benchmark(BenchKind::FiveAxis, 200, 0.8).unwrap();
     let session = std::sync::Mutex::new(None);

@@ -1,0 +1,230 @@
+//! Make the program, then simulate it: the one pipeline of the command line's
+//! `interpolab simulate` and the app's simulation job (`jobs::simulate_run`). A G-code text
+//! is read in its dialect ([`guess_dialect`] from its head unless given, [`read_options`],
+//! [`read_text`] or [`read_interpreted`] at most [`MAX_MOVES`] moves), its points moved to
+//! the tool tip ([`ToolPoint`]) and cut into chords ([`program_of`], by default at
+//! [`default_chord_tol_mm`]); a simulation is started on a stock with the cutter and its
+//! sampling ([`SampleStep`], [`start`]: refused above [`MAX_RAY_VISITS`]), machines the
+//! moves ([`machine`]) and its stock is measured against a design ([`measure`]).
+//!
+//! Each caller keeps only what is its own: the command line streams a file with the files
+//! beside it as subroutines and prints JSON; the job reads the text it was handed, reports
+//! progress, looks at its cancel flag, keeps stocks and sends keyframes.
+
+use std::hint::black_box;
+
+use glam::DVec3;
+
+use super::program::MAX_MOVES;
+use super::{
+    Design, DeviationScan, DexelStock, HeightMap, MAX_RAY_VISITS, Program, SimError, SimMove, SimStats, Simulation,
+};
+use crate::gcode::interp::{Interpreter, Options};
+use crate::gcode::{Dialect, ParseError, ParsedProgram, ProgrammedPoint, Toolpath, parse_program_in, read_from_capped};
+use crate::geom::{Cutter, CutterKind};
+
+/// Bytes of a program's head its dialect is guessed from (a file is not read whole for it).
+pub const DIALECT_GUESS_BYTES: usize = 64 << 10;
+
+/// Comments a program is read with (its header among them: the programmed point).
+pub const KEPT_COMMENTS: usize = 64;
+
+/// The dialect of a program, guessed from its first [`DIALECT_GUESS_BYTES`] bytes (read as
+/// UTF-8, a malformed sequence replaced).
+#[must_use]
+pub fn guess_dialect(text: &[u8]) -> Dialect {
+    let head = &text[..text.len().min(DIALECT_GUESS_BYTES)];
+    Dialect::guess(&String::from_utf8_lossy(head))
+}
+
+/// The interpreter's options to read a program of `dialect` with: `base` (units, strictness,
+/// block delete, tools) with [`KEPT_COMMENTS`] comments kept and FANUC's meanings for a
+/// FANUC program.
+#[must_use]
+pub fn read_options(dialect: Dialect, base: &Options) -> Options {
+    Options { keep_comments: KEPT_COMMENTS, fanuc: dialect == Dialect::Fanuc, ..base.clone() }
+}
+
+/// Reads the moves of a FANUC or LinuxCNC program from an interpreter over it (opened with
+/// [`read_options`]), refusing past [`MAX_MOVES`] moves.
+///
+/// # Errors
+/// The line that cannot be read, or [`ParseError::TooManyMoves`].
+pub fn read_interpreted(it: Interpreter<'_>, dialect: Dialect) -> Result<ParsedProgram, ParseError> {
+    read_from_capped(it, dialect, MAX_MOVES)
+}
+
+/// Reads a whole program text in `dialect`: Sinumerik by its own reader, FANUC and LinuxCNC
+/// through the interpreter ([`read_options`] of `base`, no subroutine files,
+/// [`read_interpreted`]).
+///
+/// # Errors
+/// The line that cannot be read, or [`ParseError::TooManyMoves`].
+pub fn read_text(text: &str, dialect: Dialect, base: &Options) -> Result<ParsedProgram, ParseError> {
+    if dialect == Dialect::Sinumerik {
+        return parse_program_in(text, dialect);
+    }
+    read_interpreted(Interpreter::from_text(text, read_options(dialect, base)), dialect)
+}
+
+/// The point of the tool a program's coordinates give.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ToolPoint {
+    /// The tool tip (bottom centre of the cutter).
+    Tip,
+    /// The ball centre: the tip is one cutter radius below it.
+    BallCentre,
+}
+
+impl ToolPoint {
+    /// What a program's header comments say (`PROGRAMMED POINT: BALL CENTRE`, as
+    /// `interpolab gcode` writes it); the tip otherwise.
+    #[must_use]
+    pub fn of_comments(comments: &[(usize, String)]) -> Self {
+        match ProgrammedPoint::from_comments(comments) {
+            Some(ProgrammedPoint::BallCentre) => Self::BallCentre,
+            _ => Self::Tip,
+        }
+    }
+
+    /// Translation (mm) from the programmed point to the tip of `cutter`.
+    #[must_use]
+    pub fn tip_offset(self, cutter: &Cutter) -> DVec3 {
+        match self {
+            Self::Tip => DVec3::ZERO,
+            Self::BallCentre => DVec3::new(0.0, 0.0, -cutter.radius_mm),
+        }
+    }
+
+    /// Its name in reports: `tool tip` or `ball centre`.
+    #[must_use]
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::Tip => "tool tip",
+            Self::BallCentre => "ball centre",
+        }
+    }
+}
+
+/// The chord tolerance (mm) arcs and NURBS are cut at when none is given: a tenth of the
+/// pitch `pitch_mm` (mm).
+#[must_use]
+pub fn default_chord_tol_mm(pitch_mm: f64) -> f64 {
+    pitch_mm / 10.0
+}
+
+/// A program read into a path as tool-tip moves of `cutter`: its points given as `point`,
+/// arcs and NURBS cut into chords within `chord_tol_mm` (mm).
+///
+/// # Errors
+/// [`SimError::Program`] (a chord tolerance that is not a positive length, too many chords
+/// or moves).
+pub fn program_of(
+    toolpath: &Toolpath,
+    point: ToolPoint,
+    cutter: &Cutter,
+    chord_tol_mm: f64,
+) -> Result<Program, SimError> {
+    Program::from_toolpath(toolpath, point.tip_offset(cutter), chord_tol_mm)
+}
+
+/// How 5-axis moves are sampled between poses.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SampleStep {
+    /// The simulation's own choice: closed-form swept segments for a ball, poses one pitch
+    /// apart for flat and fillet end mills.
+    Default,
+    /// Pose by pose at most this far apart (mm), every cutter, the ball included (the
+    /// command line's `--sample-step`).
+    Given(f64),
+    /// At most this far apart (mm) where that is finer than the default: below the pitch,
+    /// for a cutter that is not a ball (the app's slider); else [`SampleStep::Default`].
+    BelowPitch(f64),
+}
+
+impl SampleStep {
+    /// The step (mm) the simulation samples at on a grid of pitch `pitch_mm` (mm) with
+    /// `cutter` (`None`: the default).
+    #[must_use]
+    pub fn resolve(self, pitch_mm: f64, cutter: &Cutter) -> Option<f64> {
+        match self {
+            Self::Default => None,
+            Self::Given(step) => Some(step),
+            Self::BelowPitch(step) => (step < pitch_mm && cutter.kind() != CutterKind::Ball).then_some(step),
+        }
+    }
+}
+
+/// A simulation of `cutter` on `stock`, 5-axis moves sampled every `sample_step_mm` (mm;
+/// `None`: the default, [`SampleStep::resolve`]), ready to machine `program`.
+///
+/// # Errors
+/// [`SimError::TooMuchWork`] when the program would visit more than [`MAX_RAY_VISITS`] rays.
+pub fn start(
+    stock: DexelStock,
+    cutter: &Cutter,
+    sample_step_mm: Option<f64>,
+    program: &Program,
+) -> Result<Simulation, SimError> {
+    let mut sim = Simulation::new(stock, cutter);
+    if let Some(step) = sample_step_mm {
+        sim = sim.with_sample_step(step);
+    }
+    let visits = sim.estimate_visits(program);
+    if !(visits <= MAX_RAY_VISITS) {
+        return Err(SimError::TooMuchWork { visits, max: MAX_RAY_VISITS });
+    }
+    Ok(sim)
+}
+
+/// Machines `moves` one after the other, calling `after` with the simulation after each
+/// (a job's progress, cancel flag, kept stocks and keyframes); stops at its first error.
+///
+/// # Errors
+/// The first error of `after`.
+pub fn machine<E>(
+    sim: &mut Simulation,
+    moves: &[SimMove],
+    mut after: impl FnMut(&Simulation) -> Result<(), E>,
+) -> Result<(), E> {
+    // Each move is a call V8 can run in optimised code (`Simulation::apply`): through a
+    // pointer no optimiser sees through, since `wasm-opt -O3` inlines a function called from
+    // one place whatever Rust asked (with it the worker's job was back to 2.4–2.9 s).
+    let apply: fn(&mut Simulation, &SimMove) -> f64 = black_box(Simulation::apply);
+    for m in moves {
+        apply(sim, m);
+        after(sim)?;
+    }
+    Ok(())
+}
+
+/// A machined stock's height map and its measures against a design.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Measures {
+    /// The height map.
+    pub map: HeightMap,
+    /// Its measures.
+    pub stats: SimStats,
+}
+
+/// Measures `stock` against `design`, `rows_per_call` grid rows at a time, calling `after`
+/// with the rows done after each call (a job's progress and cancel flag; [`SimStats::of`]
+/// in one call when `rows_per_call` is at least the grid's rows).
+///
+/// # Errors
+/// The first error of `after`.
+pub fn measure<E>(
+    stock: &DexelStock,
+    design: &Design,
+    rows_per_call: usize,
+    mut after: impl FnMut(usize) -> Result<(), E>,
+) -> Result<Measures, E> {
+    let map = HeightMap::of(stock);
+    let mut scan = DeviationScan::new(&map, design);
+    while scan.rows_done() < map.grid.ny {
+        scan.rows(&map, design, rows_per_call.max(1));
+        after(scan.rows_done())?;
+    }
+    let stats = scan.finish(&map, stock);
+    Ok(Measures { map, stats })
+}
