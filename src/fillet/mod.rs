@@ -29,6 +29,7 @@
 
 pub mod contact;
 pub mod gouge;
+pub mod node;
 pub mod orient;
 pub mod paths;
 pub mod program;
@@ -38,10 +39,11 @@ use thiserror::Error;
 
 pub use contact::{ContactFrame, CrossProfile, Form2, Pose, effective_curvature, place, scallop_between};
 pub use gouge::{Adjustment, Clash, ClashPart, PartSamples};
+pub use node::CcNode;
 pub use orient::{OrientOptions, Strategy};
 pub use paths::{
-    CcNode, Edge, FeedDirection, FinishOptions, IsoScallopSteps, Layout, PathSet, PathStart, Refusal, ScallopFlag,
-    Stats, ToolPath, iso_parametric, iso_parametric_from, iso_scallop, iso_scallop_from,
+    Edge, FeedDirection, FinishOptions, IsoScallopSteps, Layout, PathSet, PathStart, Refusal, ScallopFlag, Stats,
+    ToolPath, iso_parametric, iso_parametric_from, iso_scallop, iso_scallop_from,
 };
 
 /// Why a finishing job failed. Each message says what to change.

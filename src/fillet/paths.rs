@@ -39,6 +39,7 @@ use glam::{DVec2, DVec3};
 use super::FinishError;
 use super::contact::{ContactFrame, CrossProfile, Pose, place, scallop_between};
 use super::gouge::{Adjustment, PartSamples, adjust, check};
+use super::node::CcNode;
 use super::orient::{OrientOptions, Strategy, pose_at, smooth_inclinations};
 use super::sweep::{cusp_between, pose_between, surface_depth_near};
 use crate::geom::{Cutter, LocalGeometry, ParametricSurface, Surface};
@@ -289,32 +290,6 @@ impl FinishOptions {
             max_check_cells: MAX_CHECK_CELLS,
         }
     }
-}
-
-/// One CC point of a path with its cutter location.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CcNode {
-    /// The local frame (CC point, normal, feed).
-    pub frame: ContactFrame,
-    /// The orientation.
-    pub pose: Pose,
-    /// Tool tip (mm, workpiece coordinates).
-    pub tip: DVec3,
-    /// Unit tool axis.
-    pub axis: DVec3,
-    /// Width of the strip within the scallop height h (mm).
-    pub strip_mm: f64,
-    /// Side step to the next path from this node (mm), if solved here.
-    pub side_step_mm: Option<f64>,
-    /// Scallop to the next path at this node as solved (mm).
-    pub scallop_mm: Option<f64>,
-    /// What the gouge checks changed, if anything.
-    pub adjusted: Option<Adjustment>,
-    /// A lead-out past the path's end or a lead-in before its start, not a CC point: the
-    /// last (first) node's cutter moved on (back) along its feed with the surface's
-    /// continuation (`frame` moved and turned with it by [`lead_out_frame`], off the surface,
-    /// `frame.uv` the edge's). See [`lead_out_mm`].
-    pub lead_out: bool,
 }
 
 /// One path: its nodes in the order of travel.
@@ -1347,7 +1322,7 @@ pub const CHORD_SPLITS: usize = 4;
 
 /// The measured cusp's band (× h) outside which the corrector builds a path again, the
 /// cusp it aims at (× h), the most it scales a side step by in one round, and its rounds.
-const CUSP_BAND: (f64, f64) = (0.0, 1.05);
+const CUSP_BAND: (f64, f64) = (0.0, 1.04);
 const CUSP_TARGET: f64 = 0.995;
 const CUSP_SCALE: (f64, f64) = (0.6, 1.0);
 const CUSP_CORRECTIONS: usize = 4;

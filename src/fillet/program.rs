@@ -22,8 +22,9 @@ use glam::{DVec2, DVec3};
 use thiserror::Error;
 
 use super::contact::{ContactFrame, Pose, place};
+use super::node::CcNode;
 use super::orient::Strategy;
-use super::paths::{CcNode, PathSet};
+use super::paths::PathSet;
 use crate::fiveaxis::{CutterLocation, DesignPath, FiveAxisError, Joints, Machine, StepOptions, StepPlan, plan_steps};
 use crate::gcode::{Dialect, safe_comment};
 use crate::geom::{Cutter, Surface};

@@ -10,7 +10,7 @@
 
 use glam::{DVec2, DVec3};
 
-use super::paths::CcNode;
+use super::node::CcNode;
 use crate::geom::{Cutter, ParametricSurface, Surface};
 
 /// Signed depth (mm) of `p` inside the cutter at (`tip`, unit `axis`): positive inside,
@@ -166,10 +166,9 @@ pub fn surface_depth_near(cutter: &Cutter, surface: &Surface, tip: DVec3, axis: 
 const CUSP_ROUNDS: usize = 30;
 
 /// The cusp between path `a`'s row `j` and path `b`: on the surface curve from `a`'s CC
-/// point straight (in u, v) to where `b`'s CC polyline crosses the plane through that point
-/// normal to its feed, the point where the material left by the two swept cutters is equal —
+/// point straight (in u, v) to the point of `b`'s CC polyline nearest to it, the point where the material left by the two swept cutters is equal —
 /// the top of the ridge between them. Returns its height (mm) and the index of `b`'s row
-/// before the crossing; `None` when `b` does not cross that plane within `reach_mm`, or the
+/// before that point; `None` when `b` does not come within `reach_mm`, or the
 /// ridge is not between the two (the paths overlap there).
 #[must_use]
 pub fn cusp_between(
@@ -181,25 +180,32 @@ pub fn cusp_between(
     reach_mm: f64,
 ) -> Option<(f64, usize)> {
     let node = a.get(j)?;
-    let (q, f) = (node.frame.point, node.frame.feed);
-    // b's crossing of the plane nearest to q.
+    let q = node.frame.point;
+    // The point of b's CC polyline nearest to q (robust where a path turns: the plane normal
+    // to a turned feed would meet b far off).
     let mut cross: Option<(f64, usize, DVec2)> = None;
     for (k, w) in b.windows(2).enumerate() {
         if w[0].lead_out || w[1].lead_out {
             continue;
         }
-        let (s0, s1) = ((w[0].frame.point - q).dot(f), (w[1].frame.point - q).dot(f));
-        if s0 * s1 > 0.0 || (s0 - s1).abs() < f64::MIN_POSITIVE {
-            continue;
-        }
-        let t = s0 / (s0 - s1);
-        let p = w[0].frame.point.lerp(w[1].frame.point, t);
-        let dist = (p - q).length();
+        let (p0, p1) = (w[0].frame.point, w[1].frame.point);
+        let d = p1 - p0;
+        let len2 = d.length_squared();
+        let t = if len2 > 0.0 { ((q - p0).dot(d) / len2).clamp(0.0, 1.0) } else { 0.0 };
+        let dist = (p0 + t * d - q).length();
         if dist <= reach_mm && cross.is_none_or(|c| dist < c.0) {
             cross = Some((dist, k, w[0].frame.uv.lerp(w[1].frame.uv, t)));
         }
     }
     let (_, k, uv_b) = cross?;
+    // Nearest at b's first or last CC point: b does not pass beside this node (it ends
+    // before it, at an edge of the domain); there is no cusp between the two to measure.
+    let cc: Vec<usize> = (0..b.len()).filter(|&i| !b[i].lead_out).collect();
+    if let (Some(&first), Some(&last)) = (cc.first(), cc.last())
+        && (uv_b == b[first].frame.uv || uv_b == b[last].frame.uv)
+    {
+        return None;
+    }
     let uv_a = node.frame.uv;
     let gap = |s: f64| -> (f64, f64) {
         let p = surface.point_at(uv_a.lerp(uv_b, s));

@@ -345,6 +345,8 @@ fn measure(job: &FinishJob, set: &PathSet, cells: usize) -> Measured {
     let mut deepest = 0.0f64;
     let (mut deep_at, mut worst_at) = ((DVec2::ZERO, 0, 0, 0.0), (0, 0.0));
     let flag = 2.0 * job.cutter.radius_mm;
+    // `UNSEEN_FLAGGED=1`: the flagged places judged too (how far over h they really are).
+    let count_flagged = std::env::var("UNSEEN_FLAGGED").is_ok();
     for i in 0..=cells {
         for j in 0..=cells {
             let fu = 0.2 + 0.6 * i as f64 / cells as f64;
@@ -352,7 +354,7 @@ fn measure(job: &FinishJob, set: &PathSet, cells: usize) -> Measured {
             let uv = DVec2::new(d.u.min + fu * d.u.width(), d.v.min + fv * d.v.width());
             let p = job.surface.point_at(uv);
             if set.refused.iter().any(|r| (r.point - p).length() < flag)
-                || set.scallop_flags.iter().any(|r| (r.point - p).length() < flag)
+                || (!count_flagged && set.scallop_flags.iter().any(|r| (r.point - p).length() < flag))
             {
                 near_refused += 1;
                 continue;
@@ -410,9 +412,11 @@ fn unseen_surfaces_keep_h_and_e() {
     // CI's sample: the jobs of family 24 that build in well under a second in release (the
     // sphere, torus and cylinder patches and two B-splines); the B-splines with 2–8 µm
     // scallops take 2–4 s each, too long for a debug build: the long run draws them.
-    let jobs: Vec<u64> = match std::env::var("UNSEEN_JOBS").ok().and_then(|s| s.parse().ok()) {
-        Some(n) => (0..n).collect(),
-        None => vec![1, 3, 5, 6, 7, 8, 9],
+    // `UNSEEN_JOBS=40`: jobs 0–39; `UNSEEN_JOBS=4,35`: those two.
+    let jobs: Vec<u64> = match std::env::var("UNSEEN_JOBS") {
+        Ok(s) if s.contains(',') => s.split(',').filter_map(|x| x.trim().parse().ok()).collect(),
+        Ok(s) => (0..s.parse().unwrap_or(0)).collect(),
+        Err(_) => vec![1, 3, 5, 6, 7, 8, 9],
     };
     let cells = env("UNSEEN_CELLS", 40) as usize;
     let mut failures = Vec::new();
@@ -458,6 +462,11 @@ fn unseen_surfaces_keep_h_and_e() {
             m.worst_at,
             m.deep_at
         );
+        if std::env::var("UNSEEN_DIAG").is_ok() {
+            for f in set.scallop_flags.iter().take(8) {
+                eprintln!("  flag after path {} at uv {:.3}: {:.2}·h", f.path, f.uv, f.scallop_mm / h);
+            }
+        }
         if std::env::var("UNSEEN_DIAG").is_ok()
             && (m.max_left > 1.10 * h || std::env::var("UNSEEN_DIAG").as_deref() == Ok("all"))
         {
