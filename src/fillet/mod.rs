@@ -157,19 +157,49 @@ pub fn compare_from(
         Strategy::PrincipalAxis,
         Strategy::Ball,
     ];
+    // The table's ten plans share one budget of check cells. Refused before any is built
+    // when the plans together would pass it: each strategy's pilot (as its own job's start
+    // runs it) estimates its iso-scallop plan; its iso-parametric plan, at the same worst
+    // scallop, takes at least as many paths, so twice that is the least the pair costs.
+    let mut each = Vec::with_capacity(strategies.len());
+    for s in strategies {
+        each.push(2.0 * paths::estimate_check_cells(surface, cutter, s, opts, part, start)?);
+    }
+    let estimated: f64 = each.iter().sum();
+    if estimated > opts.max_check_cells as f64 {
+        return Err(FinishError::TooMuchChecking {
+            detail: format!(
+                "of the table's ten plans would pass {} cells: about {estimated:.2e} (estimated before any is built, from each strategy's pilot)",
+                opts.max_check_cells
+            ),
+        });
+    }
     let mut rows = Vec::new();
-    // The table's ten plans share one budget of check cells: each may spend what the ones
-    // before left.
+    // Then each plan may spend what the ones before left.
     let start_cells = part.cells_checked();
     let left = |part: &PartSamples| FinishOptions {
         max_check_cells: opts.max_check_cells.saturating_sub(part.cells_checked().saturating_sub(start_cells)),
         ..*opts
     };
-    for s in strategies {
+    for (k, s) in strategies.into_iter().enumerate() {
         let iso = iso_scallop_from(surface, cutter, s, &left(part), part, start)?;
         rows.push(Comparison { strategy: s, layout: Layout::IsoScallop, stats: iso.stats(opts.feed_mm_per_min) });
         let par = iso_parametric_from(surface, cutter, s, &left(part), part, start)?;
         rows.push(Comparison { strategy: s, layout: Layout::IsoParametric, stats: par.stats(opts.feed_mm_per_min) });
+        // The pilots' estimates of the plans still to come, scaled by how far the plans built
+        // so far outran theirs: refused as soon as the whole table would pass the budget.
+        let spent = part.cells_checked().saturating_sub(start_cells) as f64;
+        let (done, rest): (f64, f64) = (each[..=k].iter().sum(), each[k + 1..].iter().sum());
+        let projected = spent + rest * if done > 0.0 { (spent / done).max(1.0) } else { 1.0 };
+        if projected > opts.max_check_cells as f64 {
+            return Err(FinishError::TooMuchChecking {
+                detail: format!(
+                    "of the table's ten plans would pass {} cells: about {projected:.2e} (projected after {} of them, which spent {spent:.2e})",
+                    opts.max_check_cells,
+                    2 * (k + 1)
+                ),
+            });
+        }
     }
     Ok(rows)
 }

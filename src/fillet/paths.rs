@@ -408,6 +408,36 @@ impl PathSet {
 /// A forward-step sample: uv, the polyline's direction there (mm), the azimuth window.
 type Sample = (DVec2, DVec3, Option<(f64, f64)>);
 
+/// What a pilot says a job will take: paths, CC points, certified check cells (and the
+/// cells a point it measured).
+#[derive(Clone, Copy, Debug)]
+struct Estimate {
+    paths: f64,
+    nodes: f64,
+    cells: f64,
+    cells_per_node: f64,
+}
+
+/// The certified check cells an iso-scallop job from `start` would spend, estimated by the
+/// pilot its own start runs ([`MAX_CHECK_CELLS`]): for a comparison table, which refuses
+/// before any plan when its plans together would pass the budget they share. 0 when the
+/// pilot solved no side step.
+///
+/// # Errors
+/// A bad option or start, no path at the start, or a job refused by its own pilot.
+pub fn estimate_check_cells(
+    surface: &Surface,
+    cutter: &Cutter,
+    strategy: Strategy,
+    opts: &FinishOptions,
+    part: &PartSamples,
+    start: &PathStart,
+) -> Result<f64, FinishError> {
+    let ctx = Ctx::start(surface, cutter, strategy, opts, part, start)?;
+    let poly = ctx.first_polyline(start)?;
+    Ok(ctx.refuse_oversized(&poly)?.map_or(0.0, |e| e.cells))
+}
+
 /// Everything a job needs, borrowed.
 struct Ctx<'a> {
     surface: &'a Surface,
@@ -536,7 +566,33 @@ impl<'a> Ctx<'a> {
     /// oriented and checked and their side steps solved. The paths across are the surface's
     /// width across times the mean of 1/side step, each with the lines' mean CC points, each
     /// point checked at the pilot's mean cost.
-    fn refuse_oversized(&self, poly: &[DVec2]) -> Result<(), FinishError> {
+    fn refuse_oversized(&self, poly: &[DVec2]) -> Result<Option<Estimate>, FinishError> {
+        let Some(est) = self.pilot(poly)? else { return Ok(None) };
+        let (paths, nodes) = (est.paths, est.nodes);
+        if paths > ESTIMATE_MARGIN * self.opts.max_paths as f64 || nodes > ESTIMATE_MARGIN * self.opts.max_nodes as f64
+        {
+            return Err(FinishError::Oversized {
+                paths,
+                nodes,
+                max_paths: self.opts.max_paths,
+                max_nodes: self.opts.max_nodes,
+            });
+        }
+        let (cells, cells_per_node) = (est.cells, est.cells_per_node);
+        let max = self.opts.max_check_cells;
+        if cells > max as f64 {
+            return Err(FinishError::TooMuchChecking {
+                detail: format!(
+                    "would pass {max} cells: about {cells:.2e} over about {nodes:.0} CC points (estimated before the paths are built, {cells_per_node:.0} cells a point on a pilot)"
+                ),
+            });
+        }
+        Ok(Some(est))
+    }
+
+    /// The pilot of [`Self::refuse_oversized`]: the job's paths, CC points and check cells
+    /// estimated from it; `None` when no side step could be solved on it.
+    fn pilot(&self, poly: &[DVec2]) -> Result<Option<Estimate>, FinishError> {
         let ((a0, a1), (b0, b1)) = self.ranges();
         let mut lines = vec![poly.to_vec()];
         for k in 1..PILOT_LINES {
@@ -589,7 +645,7 @@ impl<'a> Ctx<'a> {
         let cells_per_node = self.part.cells_checked().saturating_sub(cells_before) as f64 / pilot_nodes.max(1) as f64;
         let samples_per_path = samples_sum as f64 / lines.len() as f64;
         if inverse.is_empty() {
-            return Ok(());
+            return Ok(None);
         }
         let per_mm = inverse.iter().sum::<f64>() / inverse.len() as f64;
         let mut width = 0.0;
@@ -606,25 +662,17 @@ impl<'a> Ctx<'a> {
         }
         let paths = (width * per_mm).max(1.0);
         let nodes = paths * samples_per_path;
-        if paths > ESTIMATE_MARGIN * self.opts.max_paths as f64 || nodes > ESTIMATE_MARGIN * self.opts.max_nodes as f64
-        {
-            return Err(FinishError::Oversized {
-                paths,
-                nodes,
-                max_paths: self.opts.max_paths,
-                max_nodes: self.opts.max_nodes,
-            });
-        }
-        let cells = nodes * cells_per_node;
-        let max = self.opts.max_check_cells;
-        if cells > max as f64 {
-            return Err(FinishError::TooMuchChecking {
-                detail: format!(
-                    "would pass {max} cells: about {cells:.2e} over about {nodes:.0} CC points (estimated before the paths are built, {cells_per_node:.0} cells a point on a pilot)"
-                ),
-            });
-        }
-        Ok(())
+        Ok(Some(Estimate { paths, nodes, cells: nodes * cells_per_node, cells_per_node }))
+    }
+
+    /// The first path's uv polyline for `start`: an edge's iso-curve or the start curve.
+    fn first_polyline(&self, start: &PathStart) -> Result<Vec<DVec2>, FinishError> {
+        let ((a0, a1), (b0, b1)) = self.ranges();
+        Ok(match start {
+            PathStart::FirstBoundary => iso_curve((a0, a1), b0, self.along),
+            PathStart::Boundary(e) => iso_curve((a0, a1), if e.at_max() { b1 } else { b0 }, self.along),
+            PathStart::Curve(pts) => start_polyline(self.surface, pts, self.along)?,
+        })
     }
 
     fn ranges(&self) -> ((f64, f64), (f64, f64)) {
@@ -840,8 +888,9 @@ impl<'a> Ctx<'a> {
         let tol = BETWEEN_CHECK_SHARE * self.opts.gouge_tol_mm;
         let mut out: Vec<CcNode> = Vec::with_capacity(nodes.len());
         for target in nodes {
-            let mut pending = vec![(target, 0usize)];
-            while let Some((b, depth)) = pending.pop() {
+            // Each chord to check with its halvings so far and the lift of the chord it halves.
+            let mut pending = vec![(target, 0usize, f64::INFINITY)];
+            while let Some((b, depth, parent_lift)) = pending.pop() {
                 let Some(a) = out.last().copied() else {
                     out.push(b);
                     continue;
@@ -849,12 +898,16 @@ impl<'a> Ctx<'a> {
                 let (tip, axis) = pose_between(&a, &b, 0.5);
                 let uv = a.frame.uv.lerp(b.frame.uv, 0.5);
                 let deep = surface_depth_near(tool, self.surface, tip, axis, uv);
-                let lifted = -deep > self.opts.chord_tol_mm.max(LIFT_SHARE_OF_H * self.opts.scallop_mm);
+                // A lift is halved only while halving helps (a chord's sag falls fourfold with
+                // its length; a lift that does not fall to half its parent's is the strategy's
+                // own stand-off, which more nodes would not lower, only check).
+                let lifted = -deep > self.opts.chord_tol_mm.max(LIFT_SHARE_OF_H * self.opts.scallop_mm)
+                    && -deep < LIFT_HALVING_GAIN * parent_lift;
                 if (deep > tol || lifted) && !a.lead_out && !b.lead_out {
                     let placed = if depth < CHORD_SPLITS { self.node_between(tool, &a, &b)? } else { None };
                     if let Some(mid) = placed {
-                        pending.push((b, depth + 1));
-                        pending.push((mid, depth + 1));
+                        pending.push((b, depth + 1, -deep));
+                        pending.push((mid, depth + 1, -deep));
                         continue;
                     }
                 }
@@ -1317,6 +1370,10 @@ pub const BETWEEN_CHECK_SHARE: f64 = 0.9;
 /// above the chord tolerance) before the chord certification (`docs/fillet.md`, "Between the poses") puts a node there.
 pub const LIFT_SHARE_OF_H: f64 = 0.1;
 
+/// The share of its parent's lift a halved chord's lift must fall below for the chord
+/// certification to halve it again.
+pub const LIFT_HALVING_GAIN: f64 = 0.5;
+
 /// Most halvings of one chord by the chord certification (`docs/fillet.md`, "Between the poses") (up to 2⁴ − 1 nodes put into it).
 pub const CHORD_SPLITS: usize = 4;
 
@@ -1730,12 +1787,17 @@ impl IsoScallopSteps {
         let h = opts.scallop_mm;
         let mut measured = ctx.measure_cusps(&tool, &last.nodes, &next.nodes, &steps);
         let off = |m: &Option<f64>| m.is_some_and(|c| c > CUSP_BAND.1 * h || c < CUSP_BAND.0 * h);
-        // The rounds go on from the last trial; the one kept leaves the least cusp over the
-        // band, summed over the nodes.
+        // Each round goes on from the last; it is kept when it leaves less cusp over the band,
+        // summed over the nodes.
         let excess = |ms: &[Option<f64>]| ms.iter().flatten().map(|c| (c - CUSP_BAND.1 * h).max(0.0)).sum::<f64>();
         let mut best_excess = excess(&measured);
         let mut current = (steps.clone(), measured.clone());
-        for _ in 0..CUSP_CORRECTIONS {
+        // Corrected only for the strategies whose paths are meant to leave h (matched, ball);
+        // the fixed-lead and principal-axis cutters cannot match a concave surface's
+        // curvature by their definition, and correcting them only spends checks (on the
+        // mould, past the job's budget): their cusps are measured and named.
+        let rounds = if matches!(self.strategy, Strategy::Matched | Strategy::Ball) { CUSP_CORRECTIONS } else { 0 };
+        for _ in 0..rounds {
             if !current.1.iter().any(off) {
                 break;
             }
@@ -1759,12 +1821,16 @@ impl IsoScallopSteps {
             let again = ctx.build_path(&poly, Some(&refs), &mut refused, &mut budget)?;
             let again_measured = ctx.measure_cusps(&tool, &last.nodes, &again.nodes, &trial);
             let e = excess(&again_measured);
-            if e < best_excess {
-                best_excess = e;
-                (steps, next, measured) = (trial.clone(), again, again_measured.clone());
-                self.refused = refused;
-                self.budget = budget;
+            // A round that does not lower the excess ends the correction: where the next path
+            // cannot be brought to h (a strategy whose cutter cannot match the surface there),
+            // further rounds only spend gouge checks.
+            if e >= best_excess {
+                break;
             }
+            best_excess = e;
+            (steps, next, measured) = (trial.clone(), again, again_measured.clone());
+            self.refused = refused;
+            self.budget = budget;
             current = (trial, again_measured);
         }
         // Where no round brought the cusp within FLAG_ABOVE·h, the place is named.

@@ -1357,3 +1357,37 @@ fn a_job_far_over_its_caps_is_refused_before_its_paths_are_built() {
             .unwrap();
     assert!(set.paths.len() > 10);
 }
+
+/// A comparison table whose ten plans together would pass the check budget they share is
+/// refused before any plan is built (it used to build plans for up to 26 s, then stop in the
+/// middle of one): with a budget three times one matched plan's estimate, the five pilots are
+/// all that is checked.
+#[test]
+fn a_table_over_its_shared_budget_is_refused_before_any_plan() {
+    let jb = job("finish-bicubic-patch");
+    let part = PartSamples::new(&jb.surface, jb.options.part_grid);
+    let one = interpolab::fillet::paths::estimate_check_cells(
+        &jb.surface,
+        &jb.cutter,
+        Strategy::Matched,
+        &jb.options,
+        &part,
+        &PathStart::FirstBoundary,
+    )
+    .unwrap();
+    let pilot_cells = part.cells_checked();
+    assert!(one > 0.0 && pilot_cells > 0, "estimate {one}, pilot {pilot_cells} cells");
+    let opts = FinishOptions { max_check_cells: (3.0 * one) as u64, ..jb.options };
+    let fresh = PartSamples::new(&jb.surface, jb.options.part_grid);
+    match interpolab::fillet::compare(&jb.surface, &jb.cutter, &opts, &fresh) {
+        Err(FinishError::TooMuchChecking { detail }) => {
+            assert!(detail.contains("before any is built"), "{detail}");
+        }
+        other => panic!("expected the table refused before any plan: {other:?}"),
+    }
+    assert!(
+        fresh.cells_checked() <= 8 * pilot_cells,
+        "{} cells checked, one pilot {pilot_cells}: more than the five pilots",
+        fresh.cells_checked()
+    );
+}
