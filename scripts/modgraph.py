@@ -2,9 +2,14 @@
 """Print the module-level import graph of src/ and any cycle in it.
 
 A "module" is the first path segment under src/ (src/chords/maximise.rs and
-src/chords/mod.rs are both `chords`; src/tolerance.rs is `tolerance`).
-Edges come from `use crate::X...`, `crate::X::` paths in code, and
-`super::` paths that climb out of the top-level module.  Usage:
+src/chords/mod.rs are both `chords`; src/report.rs is `report`), except in the
+directories of SPLIT, shelves of independent helpers whose files are modules of
+their own: src/numerics/tolerance.rs is `numerics::tolerance` (geom uses it, and
+numerics::measure uses geom: one directory, two floors), src/numerics/mod.rs is
+`numerics`.  Edges come from `use crate::X...`, `crate::X::` paths in code
+(`crate::numerics::Y::` for a split directory), and `super::` paths that climb
+out of the top-level module (or name a sibling file of a split directory).
+Usage:
 
     python3 scripts/modgraph.py [src_dir]
 
@@ -21,16 +26,29 @@ import os
 import re
 import sys
 
-CRATE_RE = re.compile(r"\bcrate::([a-z_][a-z0-9_]*)")
+CRATE_RE = re.compile(r"\bcrate::([a-z_][a-z0-9_]*)(?:::([a-z_][a-z0-9_]*))?")
 USE_GROUP_RE = re.compile(r"\buse\s+crate::\{([^;]*)\}", re.S)
-SUPER_RE = re.compile(r"\b((?:super::)+)([a-z_][a-z0-9_]*)")
+SUPER_RE = re.compile(r"\b((?:super::)+)([a-z_][a-z0-9_]*)(?:::([a-z_][a-z0-9_]*))?")
+
+# Directories under src/ whose files are graph nodes of their own (`numerics::tolerance`):
+# shelves of helpers that stand on different floors (see src/numerics/mod.rs).
+SPLIT = {"numerics"}
 
 
 def top_module(rel):
     parts = rel.split(os.sep)
     if len(parts) == 1:
         return parts[0][:-3]  # foo.rs -> foo (lib, main included)
+    if parts[0] in SPLIT and parts[1] != "mod.rs":
+        return parts[0] + "::" + (parts[1][:-3] if parts[1].endswith(".rs") else parts[1])
     return parts[0]
+
+
+def node(first, second):
+    """The graph node a path `crate::first::second` names."""
+    if first in SPLIT and second:
+        return first + "::" + second
+    return first
 
 
 def depth_in_module(rel):
@@ -149,6 +167,9 @@ def main():
         for e in os.listdir(src)
         if e.endswith(".rs") or os.path.isdir(os.path.join(src, e))
     }
+    for d in SPLIT:
+        if os.path.isdir(os.path.join(src, d)):
+            known |= {top_module(os.path.join(d, e)) for e in os.listdir(os.path.join(src, d)) if e != "mod.rs"}
     for root, _, files in os.walk(src):
         for f in files:
             if not f.endswith(".rs"):
@@ -158,17 +179,21 @@ def main():
             me = top_module(rel)
             with open(path, encoding="utf-8") as fh:
                 text = strip_comments(fh.read())
-            targets = set(CRATE_RE.findall(text))
+            targets = {node(a, b) for a, b in CRATE_RE.findall(text)}
             for group in USE_GROUP_RE.findall(text):
                 for item in re.split(r",(?![^{]*\})", group):
                     item = item.strip()
-                    m = re.match(r"([a-z_][a-z0-9_]*)", item)
+                    m = re.match(r"([a-z_][a-z0-9_]*)(?:::([a-z_][a-z0-9_]*))?", item)
                     if m:
-                        targets.add(m.group(1))
+                        targets.add(node(m.group(1), m.group(2)))
             depth = depth_in_module(rel)
-            for supers, name in SUPER_RE.findall(text):
-                if supers.count("super::") == depth:
-                    targets.add(name)
+            split_file = "::" in me
+            for supers, name, after in SUPER_RE.findall(text):
+                hops = supers.count("super::")
+                if hops == depth:
+                    targets.add(node(name, after))
+                elif split_file and hops == depth - 1:
+                    targets.add(node(me.split("::")[0], name))  # a sibling file of the shelf
             edges.setdefault(me, set())
             for t in targets:
                 if t != me and t in known:

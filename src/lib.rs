@@ -6,7 +6,7 @@
 //! the core's results with egui/eframe and wgpu.
 //!
 //! Layers, bottom up:
-//! - [`linalg`], [`tolerance`]: small solves and named tolerances;
+//! - [`numerics::linalg`], [`numerics::tolerance`]: small solves and named tolerances;
 //! - [`geom`]: surfaces, NURBS, differential geometry, projection;
 //! - [`scene`]: the `interpolab-scene/1` JSON format (parse, validate, write);
 //! - [`crease`]: seed 000 — interpolation along the crease of two surfaces, the exact
@@ -29,15 +29,12 @@ pub mod fiveaxis;
 pub mod gcode;
 pub mod geom;
 pub mod jobs;
-pub mod limits;
-pub mod linalg;
 pub mod numerics;
 pub mod nurbs_path;
 pub mod plan;
 pub mod report;
 pub mod scene;
 pub mod simulate;
-pub mod tolerance;
 
 #[cfg(feature = "app")]
 pub mod app;

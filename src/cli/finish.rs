@@ -80,7 +80,7 @@ pub(crate) struct FinishArgs {
 }
 
 pub(super) fn load(path: &Path) -> Result<FinishJob, Fatal> {
-    let text = super::read_capped(path, interpolab::limits::MAX_SCENE_BYTES, "scene")
+    let text = super::read_capped(path, interpolab::numerics::limits::MAX_SCENE_BYTES, "scene")
         .map_err(|e| Fatal(format!("cannot read scene file {}: {e}", path.display())))?;
     let scene = FinishScene::from_json(&text).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
     scene.job().map_err(|e| Fatal(format!("{}: {e}", path.display())))

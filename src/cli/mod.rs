@@ -105,10 +105,10 @@ enum Command {
 }
 
 /// Reads a file the command line was given, at most `cap` bytes of it
-/// ([`interpolab::limits`]): a wrong path (`/dev/zero`) is refused, not read forever.
+/// ([`interpolab::numerics::limits`]): a wrong path (`/dev/zero`) is refused, not read forever.
 pub(crate) fn read_capped(path: &std::path::Path, cap: u64, what: &'static str) -> Result<String, String> {
     let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
-    interpolab::limits::read_text(file, cap, what)
+    interpolab::numerics::limits::read_text(file, cap, what)
 }
 
 /// The parser of every numeric option: a decimal number that is finite. `nan`, `inf` and

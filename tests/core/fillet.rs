@@ -535,7 +535,7 @@ fn the_matched_cutter_keeps_the_cross_curvature_floor() {
     use interpolab::fillet::contact::cross_curvature;
     let jb = job("finish-concave-mould");
     let floor = jb.options.orient.min_cross_curvature_per_mm;
-    assert_eq!(floor, interpolab::tolerance::FILLET_MIN_CROSS_CURVATURE_PER_MM);
+    assert_eq!(floor, interpolab::numerics::tolerance::FILLET_MIN_CROSS_CURVATURE_PER_MM);
     let set = paths(&jb, Strategy::Matched);
     let off = OrientOptions { min_cross_curvature_per_mm: 0.0, ..jb.options.orient };
     let (mut lowest, mut below_without) = (f64::INFINITY, 0usize);
