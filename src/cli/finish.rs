@@ -18,10 +18,10 @@ use super::{Fatal, OutFormat};
 
 use interpolab::fillet::program::FinishGcode;
 use interpolab::fillet::{
-    PartSamples, PathSet, PathStart, Strategy, compare_from, iso_parametric_from, iso_scallop_from,
+    FinishJob, PartSamples, PathSet, PathStart, Strategy, compare_from, iso_parametric_from, iso_scallop_from,
 };
 use interpolab::report::{fmt_num, one_line};
-use interpolab::scene::finish::{FinishJob, FinishScene};
+use interpolab::scene::finish::FinishScene;
 
 /// Orientation strategies by their command-line names.
 #[derive(Clone, Copy, ValueEnum)]
