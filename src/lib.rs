@@ -5,7 +5,8 @@
 //! natively with `--no-default-features`. The **app** (feature `app`, on by default) draws
 //! the core's results with egui/eframe and wgpu.
 //!
-//! Layers, bottom up; a module imports only modules of its own layer or below:
+//! Layers, bottom up; a module imports only modules of its own layer or below
+//! (`python3 scripts/modgraph.py` checks it: its `LAYERS` are these floors):
 //! - [`numerics::tolerance`], [`numerics::limits`], [`numerics::linalg`]: named tolerances,
 //!   caps on input sizes and loops, small solves;
 //! - [`geom`]: surfaces, NURBS, cutters, differential geometry, projection;
