@@ -10,9 +10,9 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use glam::DVec2;
 use interpolab::fillet::contact::{ContactFrame, CrossProfile, scallop_between};
 use interpolab::fillet::orient::{Strategy, pose_at};
-use interpolab::fillet::{PartSamples, iso_scallop};
+use interpolab::fillet::{FinishJob, PartSamples, iso_scallop};
 use interpolab::geom::ParametricSurface;
-use interpolab::scene::finish::{FINISH_PRESETS, FinishJob, FinishScene};
+use interpolab::scene::finish::{FINISH_PRESETS, FinishScene};
 
 fn job(id: &str) -> FinishJob {
     let Some(p) = FINISH_PRESETS.iter().find(|p| p.id == id) else { panic!("no preset {id}") };

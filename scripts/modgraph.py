@@ -2,13 +2,24 @@
 """Print the module-level import graph of src/ and any cycle in it.
 
 A "module" is the first path segment under src/ (src/chords/maximise.rs and
-src/chords/mod.rs are both `chords`; src/tolerance.rs is `tolerance`).
-Edges come from `use crate::X...`, `crate::X::` paths in code, and
-`super::` paths that climb out of the top-level module.  Usage:
+src/chords/mod.rs are both `chords`; src/report.rs is `report`), except in the
+directories of SPLIT, shelves of independent helpers whose files are modules of
+their own: src/numerics/tolerance.rs is `numerics::tolerance` (geom uses it, and
+numerics::measure uses geom: one directory, two floors), src/numerics/mod.rs is
+`numerics`.  Edges come from `use crate::X...`, `crate::X::` paths in code
+(`crate::numerics::Y::` for a split directory), and `super::` paths that climb
+out of the top-level module (or name a sibling file of a split directory).
+Usage:
 
     python3 scripts/modgraph.py [src_dir]
 
-Exit status 1 when a cycle exists between top-level modules.
+Exit status 1 when a cycle exists between top-level modules, or when an arrow
+points up a floor: a module imports one on a higher floor of LAYERS (below), the
+floors of src/lib.rs's layer list.  Modules of one floor may import each other (the
+papers stand side by side and import another only where its method builds on it);
+the cycle check keeps those arrows one-way.  Each offending import is named with the
+first file and line where it occurs.  A module on no floor fails too (add it to
+LAYERS), and so does an entry of UPWARD_EXCEPTIONS that is no longer needed.
 
     python3 scripts/modgraph.py --files [src_dir]
 
@@ -21,16 +32,86 @@ import os
 import re
 import sys
 
-CRATE_RE = re.compile(r"\bcrate::([a-z_][a-z0-9_]*)")
+CRATE_RE = re.compile(r"\bcrate::([a-z_][a-z0-9_]*)(?:::([a-z_][a-z0-9_]*))?")
 USE_GROUP_RE = re.compile(r"\buse\s+crate::\{([^;]*)\}", re.S)
-SUPER_RE = re.compile(r"\b((?:super::)+)([a-z_][a-z0-9_]*)")
+SUPER_RE = re.compile(r"\b((?:super::)+)([a-z_][a-z0-9_]*)(?:::([a-z_][a-z0-9_]*))?")
+
+# Directories under src/ whose files are graph nodes of their own (`numerics::tolerance`):
+# shelves of helpers that stand on different floors (see src/numerics/mod.rs).
+SPLIT = {"numerics"}
+
+
+# The floors, bottom up, each a list of modules that may import only modules of its own or a
+# lower floor. Keep in step with the layer list of src/lib.rs's `//!`. A file of a SPLIT
+# directory not named here (numerics::format) is on the floor of its directory's entry
+# (`numerics`).
+LAYERS = [
+    ("below geom", ["numerics::tolerance", "numerics::limits", "numerics::linalg"]),
+    ("geometry", ["geom"]),
+    ("numerics helpers", ["numerics"]),
+    ("the papers", ["crease", "chords", "nurbs_path", "fiveaxis", "gcode", "fillet", "plan", "simulate"]),
+    ("assembly and output", ["scene", "report"]),
+    ("background jobs", ["jobs"]),
+    ("the app", ["render", "app"]),
+    ("crate root and binaries", ["lib", "main", "cli", "worker_main"]),
+]
+
+# Arrows up a floor tolerated for now: {(importer, imported): "why, and the issue to remove
+# it"}. Empty since issue 25 (simulate imported scene for FinishJob, now in fillet).
+UPWARD_EXCEPTIONS = {}
+
+
+def floor_of(module):
+    """Index of the module's floor in LAYERS, or None."""
+    for i, (_, members) in enumerate(LAYERS):
+        if module in members:
+            return i
+    if "::" in module:
+        return floor_of(module.split("::")[0])
+    return None
+
+
+def upward_arrows(edges, sites):
+    """Problems of the layering: arrows up a floor, modules on no floor, stale exceptions."""
+    problems = []
+    for m in sorted(edges):
+        if floor_of(m) is None:
+            problems.append(f"NO FLOOR: module {m} is on none of the floors; add it to LAYERS in scripts/modgraph.py")
+    used = set()
+    for m in sorted(edges):
+        fm = floor_of(m)
+        for t in sorted(edges[m]):
+            ft = floor_of(t)
+            if fm is None or ft is None or ft <= fm:
+                continue
+            if (m, t) in UPWARD_EXCEPTIONS:
+                used.add((m, t))
+                continue
+            where = ", ".join(f"{f}:{line}" for f, line in sorted(sites.get((m, t), []))[:3])
+            problems.append(
+                f"ARROW UP A FLOOR: {m} ({LAYERS[fm][0]}) imports {t} ({LAYERS[ft][0]})"
+                + (f" at {where}" if where else "")
+                + "; move what it needs down a floor, or the importer up"
+            )
+    for e in sorted(set(UPWARD_EXCEPTIONS) - used):
+        problems.append(f"STALE EXCEPTION: {e[0]} -> {e[1]} no longer points up a floor; remove it from UPWARD_EXCEPTIONS")
+    return problems
 
 
 def top_module(rel):
     parts = rel.split(os.sep)
     if len(parts) == 1:
         return parts[0][:-3]  # foo.rs -> foo (lib, main included)
+    if parts[0] in SPLIT and parts[1] != "mod.rs":
+        return parts[0] + "::" + (parts[1][:-3] if parts[1].endswith(".rs") else parts[1])
     return parts[0]
+
+
+def node(first, second):
+    """The graph node a path `crate::first::second` names."""
+    if first in SPLIT and second:
+        return first + "::" + second
+    return first
 
 
 def depth_in_module(rel):
@@ -49,7 +130,8 @@ def depth_in_module(rel):
 
 
 def strip_comments(text):
-    text = re.sub(r"/\*.*?\*/", "", text, flags=re.S)
+    """The text without comments; line breaks kept, so lines keep their numbers."""
+    text = re.sub(r"/\*.*?\*/", lambda m: "\n" * m.group(0).count("\n"), text, flags=re.S)
     return re.sub(r"//[^\n]*", "", text)
 
 
@@ -144,11 +226,15 @@ def main():
     check_files = "--files" in sys.argv[1:]
     src = args[0] if args else "src"
     edges = {}
+    sites = {}  # (module, module) -> [(file, line), ...] of the imports
     known = {
         (e[:-3] if e.endswith(".rs") else e)
         for e in os.listdir(src)
         if e.endswith(".rs") or os.path.isdir(os.path.join(src, e))
     }
+    for d in SPLIT:
+        if os.path.isdir(os.path.join(src, d)):
+            known |= {top_module(os.path.join(d, e)) for e in os.listdir(os.path.join(src, d)) if e != "mod.rs"}
     for root, _, files in os.walk(src):
         for f in files:
             if not f.endswith(".rs"):
@@ -158,21 +244,28 @@ def main():
             me = top_module(rel)
             with open(path, encoding="utf-8") as fh:
                 text = strip_comments(fh.read())
-            targets = set(CRATE_RE.findall(text))
-            for group in USE_GROUP_RE.findall(text):
-                for item in re.split(r",(?![^{]*\})", group):
+            found = []  # (target, offset in text)
+            for m in CRATE_RE.finditer(text):
+                found.append((node(m.group(1), m.group(2)), m.start()))
+            for g in USE_GROUP_RE.finditer(text):
+                for item in re.split(r",(?![^{]*\})", g.group(1)):
                     item = item.strip()
-                    m = re.match(r"([a-z_][a-z0-9_]*)", item)
+                    m = re.match(r"([a-z_][a-z0-9_]*)(?:::([a-z_][a-z0-9_]*))?", item)
                     if m:
-                        targets.add(m.group(1))
+                        found.append((node(m.group(1), m.group(2)), g.start()))
             depth = depth_in_module(rel)
-            for supers, name in SUPER_RE.findall(text):
-                if supers.count("super::") == depth:
-                    targets.add(name)
+            split_file = "::" in me
+            for m in SUPER_RE.finditer(text):
+                hops = m.group(1).count("super::")
+                if hops == depth:
+                    found.append((node(m.group(2), m.group(3)), m.start()))
+                elif split_file and hops == depth - 1:
+                    found.append((node(me.split("::")[0], m.group(2)), m.start()))  # a sibling file of the shelf
             edges.setdefault(me, set())
-            for t in targets:
+            for t, at in found:
                 if t != me and t in known:
                     edges[me].add(t)
+                    sites.setdefault((me, t), []).append((os.path.join(src, rel), text.count("\n", 0, at) + 1))
     for m in sorted(edges):
         print(f"{m} -> {', '.join(sorted(edges[m])) or '(nothing)'}")
     sccs = strongly_connected(edges)
@@ -180,13 +273,17 @@ def main():
     for d, edges_d in sorted(file_edges(src).items() if check_files else []):
         for c in strongly_connected(edges_d):
             file_cycles.append(d + "/{" + ", ".join(f + ".rs" for f in c) + "}")
-    if sccs or file_cycles:
+    layering = upward_arrows(edges, sites)
+    if sccs or file_cycles or layering:
         for c in sccs:
             print("CYCLE among: " + ", ".join(c))
         for c in file_cycles:
             print("FILE CYCLE among: " + c)
+        for p in layering:
+            print(p)
         return 1
     print("no cycle" + (" (between modules, nor between the files of a directory)" if check_files else ""))
+    print(f"no arrow up a floor ({len(LAYERS)} floors, {len(UPWARD_EXCEPTIONS)} known exceptions)")
     return 0
 
 

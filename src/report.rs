@@ -281,11 +281,11 @@ fn line_char(c: char) -> char {
 /// heading or table line, a summary line: every line break (LF, CR, VT, FF, NEL, U+2028,
 /// U+2029) and white space a space, every control character (C0, DEL, C1) and invisible one
 /// (bidirectional overrides, zero widths) `_`; everything else, non-ASCII too, kept.
-/// At most [`crate::limits::MAX_COMMENT_CHARS`] characters (`...` at the end when cut). A
+/// At most [`crate::numerics::limits::MAX_COMMENT_CHARS`] characters (`...` at the end when cut). A
 /// text without those characters, of at most that length, is returned as it is.
 #[must_use]
 pub fn one_line(text: &str) -> String {
-    let cap = crate::limits::MAX_COMMENT_CHARS;
+    let cap = crate::numerics::limits::MAX_COMMENT_CHARS;
     let mut out = String::new();
     for (n, c) in text.chars().enumerate() {
         if n == cap {
@@ -358,7 +358,7 @@ mod text_tests {
         assert_eq!(one_line("a\nb\r\u{2028}c\u{85}d\u{0}e\u{202e}"), "a b  c d_e_");
         assert_eq!(csv_comment_text("x,=1+1; @A1,  -2,\"q\""), "x,'=1+1; '@A1,  '-2,'q'");
         let long = one_line(&"y".repeat(1000));
-        assert_eq!(long.chars().count(), crate::limits::MAX_COMMENT_CHARS);
+        assert_eq!(long.chars().count(), crate::numerics::limits::MAX_COMMENT_CHARS);
         assert!(long.ends_with("..."));
     }
 }

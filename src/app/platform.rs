@@ -34,10 +34,10 @@ impl FileKind {
     #[must_use]
     pub fn size_cap(self) -> (u64, &'static str) {
         match self {
-            Self::Scene => (crate::limits::MAX_SCENE_BYTES, "scene"),
-            Self::GCode => (crate::limits::MAX_PROGRAM_BYTES, "G-code program"),
-            Self::ToolTable => (crate::limits::MAX_TOOL_TABLE_BYTES, "tool table"),
-            Self::Project => (crate::limits::MAX_TOOL_TABLE_BYTES, "CAMotics project"),
+            Self::Scene => (crate::numerics::limits::MAX_SCENE_BYTES, "scene"),
+            Self::GCode => (crate::numerics::limits::MAX_PROGRAM_BYTES, "G-code program"),
+            Self::ToolTable => (crate::numerics::limits::MAX_TOOL_TABLE_BYTES, "tool table"),
+            Self::Project => (crate::numerics::limits::MAX_TOOL_TABLE_BYTES, "CAMotics project"),
         }
     }
 
@@ -119,7 +119,8 @@ mod imp {
                     let input3 = input2.clone();
                     let (cap, what) = kind.size_cap();
                     if file.size() > cap as f64 {
-                        let text = Err(crate::limits::TextError::TooLarge { cap_mib: cap >> 20, what }.to_string());
+                        let text =
+                            Err(crate::numerics::limits::TextError::TooLarge { cap_mib: cap >> 20, what }.to_string());
                         inbox2.borrow_mut().push(Incoming { name, text, kind });
                         input2.set_value("");
                         ctx2.request_repaint();
@@ -311,7 +312,7 @@ mod imp {
                 let (cap, what) = kind.size_cap();
                 let text = std::fs::File::open(&p)
                     .map_err(|e| e.to_string())
-                    .and_then(|f| crate::limits::read_text(f, cap, what))
+                    .and_then(|f| crate::numerics::limits::read_text(f, cap, what))
                     .map_err(|e| format!("cannot read {p}: {e}"));
                 self.inbox.push(Incoming { name: p, text, kind });
                 self.open_dialog = None;
@@ -337,8 +338,8 @@ pub use imp::Platform;
 fn decode(name: String, bytes: Result<Vec<u8>, String>, kind: FileKind) -> Incoming {
     let (cap, what) = kind.size_cap();
     let text = bytes.and_then(|b| {
-        crate::limits::check_size(b.len(), cap, what).map_err(|e| e.to_string())?;
-        crate::limits::text_from_bytes(b).map_err(|e| e.to_string())
+        crate::numerics::limits::check_size(b.len(), cap, what).map_err(|e| e.to_string())?;
+        crate::numerics::limits::text_from_bytes(b).map_err(|e| e.to_string())
     });
     Incoming { name, text, kind }
 }

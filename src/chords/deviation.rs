@@ -22,7 +22,7 @@ use glam::DVec3;
 use crate::geom::Curve3;
 use crate::numerics::maximise::brent_max;
 use crate::numerics::measure::distance_to_segment;
-use crate::tolerance;
+use crate::numerics::tolerance;
 
 /// Settings of [`chord_deviation`].
 #[derive(Clone, Copy, Debug, PartialEq)]

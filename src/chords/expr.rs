@@ -214,7 +214,7 @@ pub fn parametric_curve(x: &str, y: &str, t0: f64, t1: f64) -> Result<FnCurve, C
         }
         extent = extent.max((DVec2::new(ex.eval(t), ey.eval(t)) - first).length());
     }
-    if extent <= crate::tolerance::MIN_CURVE_EXTENT_MM {
+    if extent <= crate::numerics::tolerance::MIN_CURVE_EXTENT_MM {
         return Err(CurveExprError::Degenerate { t0, t1 });
     }
     Ok(FnCurve::new(move |t| DVec2::new(ex.eval(t), ey.eval(t)), (t0, t1)))

@@ -113,7 +113,7 @@ impl Default for ChordOptions {
         Self {
             search: SearchOptions::default().with_method(RootMethod::AndersonBjorck),
             deviation: DeviationOptions::default(),
-            deviation_floor_rel: crate::tolerance::CHORD_DEVIATION_FLOOR_REL,
+            deviation_floor_rel: crate::numerics::tolerance::CHORD_DEVIATION_FLOOR_REL,
             max_nodes: 1_000_000,
         }
     }

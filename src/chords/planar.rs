@@ -99,7 +99,7 @@ impl FnCurve {
     /// The curve `f` over `range`; derivatives use the step 1e-5 of the range width.
     #[must_use]
     pub fn new(f: impl Fn(f64) -> DVec2 + Send + Sync + 'static, range: (f64, f64)) -> Self {
-        Self { f: Box::new(f), range, h: crate::tolerance::FD_STEP_REL * (range.1 - range.0).abs() }
+        Self { f: Box::new(f), range, h: crate::numerics::tolerance::FD_STEP_REL * (range.1 - range.0).abs() }
     }
 }
 
@@ -151,7 +151,7 @@ pub fn parabola_paper_nodes(a: f64, x_start: f64, x_end: f64, d: f64) -> Result<
             } else {
                 hi = mid;
             }
-            if hi - lo <= crate::tolerance::BISECTION_REL * hi.abs().max(1.0) {
+            if hi - lo <= crate::numerics::tolerance::BISECTION_REL * hi.abs().max(1.0) {
                 break;
             }
         }
@@ -185,7 +185,7 @@ pub fn min_radius(curve: &dyn Curve3) -> (f64, f64) {
     let f = |s: f64| -> Result<f64, std::convert::Infallible> { Ok(curve.curvature_at(s)) };
     let (a, b) = ((best.0 - h).max(lo), (best.0 + h).min(hi));
     let Ok((s, k, _)) =
-        crate::numerics::maximise::brent_max(f, a, b, crate::tolerance::PARAM_SEARCH_REL * (hi - lo), best);
+        crate::numerics::maximise::brent_max(f, a, b, crate::numerics::tolerance::PARAM_SEARCH_REL * (hi - lo), best);
     if k > best.1 {
         best = (s, k);
     }

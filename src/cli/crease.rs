@@ -12,7 +12,7 @@ use interpolab::report::{Format, RowWriter, fmt_num, one_line};
 use interpolab::scene::Scene;
 
 pub(super) fn load(path: &Path) -> Result<(Scene, CreaseJob), Fatal> {
-    let text = super::read_capped(path, interpolab::limits::MAX_SCENE_BYTES, "scene")
+    let text = super::read_capped(path, interpolab::numerics::limits::MAX_SCENE_BYTES, "scene")
         .map_err(|e| Fatal(format!("cannot read scene file {}: {e}", path.display())))?;
     let scene = Scene::from_json(&text).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
     let job = CreaseJob::from_scene(&scene).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;

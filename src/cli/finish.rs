@@ -18,10 +18,10 @@ use super::{Fatal, OutFormat};
 
 use interpolab::fillet::program::FinishGcode;
 use interpolab::fillet::{
-    PartSamples, PathSet, PathStart, Strategy, compare_from, iso_parametric_from, iso_scallop_from,
+    FinishJob, PartSamples, PathSet, PathStart, Strategy, compare_from, iso_parametric_from, iso_scallop_from,
 };
 use interpolab::report::{fmt_num, one_line};
-use interpolab::scene::finish::{FinishJob, FinishScene};
+use interpolab::scene::finish::FinishScene;
 
 /// Orientation strategies by their command-line names.
 #[derive(Clone, Copy, ValueEnum)]
@@ -80,7 +80,7 @@ pub(crate) struct FinishArgs {
 }
 
 pub(super) fn load(path: &Path) -> Result<FinishJob, Fatal> {
-    let text = super::read_capped(path, interpolab::limits::MAX_SCENE_BYTES, "scene")
+    let text = super::read_capped(path, interpolab::numerics::limits::MAX_SCENE_BYTES, "scene")
         .map_err(|e| Fatal(format!("cannot read scene file {}: {e}", path.display())))?;
     let scene = FinishScene::from_json(&text).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
     scene.job().map_err(|e| Fatal(format!("{}: {e}", path.display())))

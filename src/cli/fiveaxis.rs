@@ -756,8 +756,11 @@ fn chords_table(a: &ChordsArgs, opts: &ChordOptions) -> Result<ExitCode, Fatal> 
             for sp in Spacing::ALL {
                 let row = spacing_nodes(curve.as_ref(), d, sp, opts).map_err(|e| Fatal(format!("{title}: {e}")))?;
                 let step = if sp == Spacing::EqualError { "—".to_owned() } else { format!("{:.5}", row.step) };
-                let flag =
-                    if row.worst_mm() > d * (1.0 + interpolab::tolerance::ROUNDING_REL) { " (exceeds d)" } else { "" };
+                let flag = if row.worst_mm() > d * (1.0 + interpolab::numerics::tolerance::ROUNDING_REL) {
+                    " (exceeds d)"
+                } else {
+                    ""
+                };
                 w(format!(
                     "| {} | {} | {} | {:.6}{flag} | {step} |",
                     fmt_num(d),

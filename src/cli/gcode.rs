@@ -399,7 +399,7 @@ pub(super) fn replay(a: &ReplayArgs) -> Result<ExitCode, Fatal> {
     }
     // Measured against a design, a program is held to fewer moves (each is searched).
     let cap = if a.scene.is_some() || a.profile.is_some() {
-        interpolab::limits::MAX_DEVIATION_MOVES
+        interpolab::numerics::limits::MAX_DEVIATION_MOVES
     } else {
         interpolab::gcode::read::MAX_PATH_MOVES
     };
@@ -439,7 +439,7 @@ pub(super) fn replay(a: &ReplayArgs) -> Result<ExitCode, Fatal> {
     if a.scene.is_some() || a.profile.is_some() {
         // The measuring's work before it starts: a line counts one, a curve more.
         use interpolab::gcode::Motion;
-        use interpolab::limits::{DEVIATION_CURVE_WEIGHT, MAX_DEVIATION_MOVES};
+        use interpolab::numerics::limits::{DEVIATION_CURVE_WEIGHT, MAX_DEVIATION_MOVES};
         let work: usize = parsed
             .toolpath
             .blocks

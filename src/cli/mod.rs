@@ -6,7 +6,10 @@
 //! standard error naming the problem, where, and what to change; rows computed before are
 //! still written).
 //!
-//! One file per area: [`crease`] (`run`, `check`).
+//! One file per area: [`crease`] (`run`, `check`), [`gcode`] (`gcode`, `replay`, `compare`,
+//! `nurbs`), [`userprog`] (`canon`, and `replay` and `simulate` of a user's program),
+//! [`fiveaxis`] (`steps`, `example1`, `table1`, `chords`), [`finish`], [`simulate`], [`time`];
+//! [`program`] reads program files for them, [`plain_run`] reads a plain `run` without clap.
 
 mod crease;
 mod finish;
@@ -29,8 +32,8 @@ use clap::{Parser, Subcommand, ValueEnum};
 #[command(
     name = "interpolab",
     version,
-    about = "CNC tool-path interpolation lab: crease interpolation of two surfaces (seed 000)",
-    long_about = "CNC tool-path interpolation lab.\n\nWithout a subcommand (and built with the `app` feature) it opens the app in a window."
+    about = "CNC tool-path interpolation lab: tool paths by the papers' methods, G-code written and read, cutting simulation, machining time",
+    long_about = "CNC tool-path interpolation lab: tool paths by the papers' methods (crease interpolation, seed 000; fillet-end finishing, 001; five-axis tool steps, 002; equal-error chords, 003; NURBS fitting and G-code, 004), G-code programs written and read, cutting simulation on a dexel stock, and the time a program takes on a machine.\n\nWithout a subcommand (and built with the `app` feature) it opens the app in a window."
 )]
 struct Cli {
     #[command(subcommand)]
@@ -105,10 +108,10 @@ enum Command {
 }
 
 /// Reads a file the command line was given, at most `cap` bytes of it
-/// ([`interpolab::limits`]): a wrong path (`/dev/zero`) is refused, not read forever.
+/// ([`interpolab::numerics::limits`]): a wrong path (`/dev/zero`) is refused, not read forever.
 pub(crate) fn read_capped(path: &std::path::Path, cap: u64, what: &'static str) -> Result<String, String> {
     let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
-    interpolab::limits::read_text(file, cap, what)
+    interpolab::numerics::limits::read_text(file, cap, what)
 }
 
 /// The parser of every numeric option: a decimal number that is finite. `nan`, `inf` and

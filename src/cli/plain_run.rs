@@ -1,6 +1,6 @@
 //! `interpolab run`'s arguments read without clap, when they are plain.
 //!
-//! clap builds the whole command tree (twelve subcommands and their options, a few hundred
+//! clap builds the whole command tree (fourteen subcommands and their options, a few hundred
 //! allocations) before it looks at the first argument: about 0.3 M instructions and the
 //! page faults of its code, a tenth of what the cheapest runs spend beyond the process
 //! itself (docs/speed.md). A plain `run` — the subcommand, one scene path and options of

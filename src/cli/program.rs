@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 use interpolab::gcode::interp::{Interpreter, Library, Options, ReaderSource, Source};
-use interpolab::limits::MAX_PROGRAM_BYTES;
+use interpolab::numerics::limits::MAX_PROGRAM_BYTES;
 
 use super::Fatal;
 

@@ -96,7 +96,7 @@ pub(crate) fn machine_of(arg: &str) -> Result<Dynamics, Fatal> {
             PRESETS.join(", ")
         )));
     }
-    let text = super::read_capped(p, interpolab::limits::MAX_SCENE_BYTES, "machine file")
+    let text = super::read_capped(p, interpolab::numerics::limits::MAX_SCENE_BYTES, "machine file")
         .map_err(|e| Fatal(format!("cannot read machine file {arg}: {e}")))?;
     let v: serde_json::Value =
         serde_json::from_str(&text).map_err(|e| Fatal(format!("{arg}: not JSON: {e}; give a machine object")))?;
@@ -222,7 +222,7 @@ fn default_machine() -> Result<Dynamics, Fatal> {
 }
 
 fn scene_dynamics(p: &Path) -> Result<Option<Dynamics>, Fatal> {
-    let text = super::read_capped(p, interpolab::limits::MAX_SCENE_BYTES, "scene")
+    let text = super::read_capped(p, interpolab::numerics::limits::MAX_SCENE_BYTES, "scene")
         .map_err(|e| Fatal(format!("cannot read scene file {}: {e}", p.display())))?;
     let scene = interpolab::scene::Scene::from_json(&text).map_err(|e| Fatal(format!("{}: {e}", p.display())))?;
     Ok(scene.dynamics)

@@ -16,8 +16,8 @@ use std::io::{self, Write as _};
 
 use interpolab::gcode::interp::{Canon, FeedMode, Interpreter, Loc, Options};
 use interpolab::geom::Cutter;
-use interpolab::limits::MAX_TOOL_TABLE_BYTES;
 use interpolab::numerics::format::{fmt_fixed, fmt_num, push_num};
+use interpolab::numerics::limits::MAX_TOOL_TABLE_BYTES;
 use interpolab::simulate::canon::{
     BlockKind, CanonBuilder, CanonOptions, CanonProgram, KinematicsChoice, MachineSetup, RotaryMode,
 };

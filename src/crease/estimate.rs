@@ -31,7 +31,7 @@ use glam::DVec3;
 use super::{CreaseJob, Row};
 use crate::geom::{LocalGeometry, ParametricSurface, ProjectOptions, SurfaceDerivs, project_point, project_point_from};
 use crate::numerics::sign;
-use crate::tolerance;
+use crate::numerics::tolerance;
 
 /// Errors and estimates at one row. Lengths in mm, curvatures in 1/mm.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -183,7 +183,7 @@ fn model_distance(p: DVec3, d: &SurfaceDerivs) -> Result<f64, Option<glam::DVec2
     if !(huu > 0.0 && huu * hvv - huv * huv > 0.0) {
         return Err(None);
     }
-    let step = crate::linalg::solve2(huu, huv, huv, hvv, -grad).ok_or(None)?;
+    let step = crate::numerics::linalg::solve2(huu, huv, huv, hvv, -grad).ok_or(None)?;
     let moved = (d.du * step.x + d.dv * step.y).length();
     if !(moved < tolerance::SCREEN_MODEL_STEP_MM) {
         return Err(moved.is_finite().then_some(step));
@@ -257,7 +257,7 @@ pub fn diagnose(job: &CreaseJob, row: &Row) -> Option<Diagnostics> {
 mod tests {
     use super::model_distance;
     use crate::geom::{Domain, Frame, ParamRange, ParamUnit, ParametricSurface, Sphere, Surface};
-    use crate::tolerance;
+    use crate::numerics::tolerance;
     use glam::{DVec2, DVec3};
 
     /// On a sphere the distance from p is |p − c| − ρ in closed form: the model's distance,

@@ -35,7 +35,7 @@ use glam::{DVec2, DVec3};
 use super::newton::{self, Constraint, CreasePoint, NewtonOptions, locate_crease_point};
 use super::{CreaseError, CreaseJob, EndNotReached, Location, Row, StopReason};
 use crate::geom::{Domain, LocalGeometry, ParametricSurface, SurfaceDerivs};
-use crate::tolerance;
+use crate::numerics::tolerance;
 
 /// Which stepper runs each period.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]

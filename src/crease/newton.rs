@@ -17,8 +17,8 @@ use glam::{DVec2, DVec3};
 
 use super::{CreaseError, CreaseJob, Location};
 use crate::geom::{LocalGeometry, ParametricSurface, project_point_global};
-use crate::linalg;
-use crate::tolerance;
+use crate::numerics::linalg;
+use crate::numerics::tolerance;
 
 /// Settings of the crease Newton solver.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -48,7 +48,7 @@
 use glam::{DVec2, DVec3};
 
 use crate::geom::{Cutter, LocalGeometry, ParametricSurface, Surface};
-use crate::tolerance;
+use crate::numerics::tolerance;
 
 /// A symmetric 2×2 form in the basis (f, c) of the tangent plane (1/mm).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -352,7 +352,7 @@ fn section_height_from(surface: &Surface, frame: &ContactFrame, cross_uv: DVec2,
         if r1.abs().max(r2.abs()) < tolerance::FILLET_HEIGHT_MM {
             return Some(w.dot(frame.normal));
         }
-        let step = crate::linalg::solve2(
+        let step = crate::numerics::linalg::solve2(
             du.dot(frame.feed),
             dv.dot(frame.feed),
             du.dot(frame.cross),

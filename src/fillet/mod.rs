@@ -37,6 +37,9 @@ pub mod sweep;
 
 use thiserror::Error;
 
+use crate::fiveaxis::Machine;
+use crate::geom::{Cutter, Surface};
+
 pub use contact::{ContactFrame, CrossProfile, Form2, Pose, effective_curvature, place, scallop_between};
 pub use gouge::{Adjustment, Clash, ClashPart, PartSamples};
 pub use node::CcNode;
@@ -45,6 +48,27 @@ pub use paths::{
     Edge, FeedDirection, FinishOptions, IsoScallopSteps, Layout, PathSet, PathStart, Refusal, ScallopFlag, Stats,
     ToolPath, iso_parametric, iso_parametric_from, iso_scallop, iso_scallop_from,
 };
+
+/// A finishing scene in core units, ready to compute (what `scene::finish` builds from a
+/// finishing scene; here, below `scene`, so that `simulate` can take one without importing
+/// `scene`).
+#[derive(Clone, Debug)]
+pub struct FinishJob {
+    /// Display name.
+    pub name: String,
+    /// The surface.
+    pub surface: Surface,
+    /// The cutter.
+    pub cutter: Cutter,
+    /// The strategy.
+    pub strategy: Strategy,
+    /// Path options.
+    pub options: FinishOptions,
+    /// The machine (the default table A/C when the scene has none).
+    pub machine: Machine,
+    /// Where the iso-scallop paths start (`finish.start`; parameters in internal units).
+    pub start: PathStart,
+}
 
 /// Why a finishing job failed. Each message says what to change.
 #[derive(Clone, Debug, Error, PartialEq)]

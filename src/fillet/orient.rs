@@ -20,7 +20,7 @@
 
 use super::contact::{ContactFrame, Pose, cutter_form_of, cutter_principal, gouge_margin, inclination_for};
 use crate::geom::{Cutter, CutterKind};
-use crate::tolerance;
+use crate::numerics::tolerance;
 
 /// How the tool is oriented at each CC point (module docs).
 #[derive(Clone, Copy, Debug, PartialEq)]

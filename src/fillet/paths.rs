@@ -43,8 +43,8 @@ use super::node::CcNode;
 use super::orient::{OrientOptions, Strategy, pose_at, smooth_inclinations};
 use super::sweep::{cusp_between, pose_between, surface_depth_near};
 use crate::geom::{Cutter, LocalGeometry, ParametricSurface, Surface};
-use crate::limits::MAX_START_CURVE_POINTS;
-use crate::tolerance::DOMAIN_SLACK;
+use crate::numerics::limits::MAX_START_CURVE_POINTS;
+use crate::numerics::tolerance::DOMAIN_SLACK;
 
 /// Which parameter the paths run along.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -32,7 +32,7 @@
 use glam::{DMat3, DVec3};
 use thiserror::Error;
 
-use crate::tolerance;
+use crate::numerics::tolerance;
 
 /// The four machine structures.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]

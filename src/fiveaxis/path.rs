@@ -136,7 +136,8 @@ impl DesignPath for CreasePath {
         let job = self.curve.job();
         // The signed distance is stationary in the foot point, so a foot to 1e-9 mm gives it
         // to far below that; one Newton iteration fewer than the default 1e-11 mm.
-        let opts = ProjectOptions { step_tol_mm: crate::tolerance::NEWTON_LENGTH_MM, ..ProjectOptions::default() };
+        let opts =
+            ProjectOptions { step_tol_mm: crate::numerics::tolerance::NEWTON_LENGTH_MM, ..ProjectOptions::default() };
         let e = |i: usize| {
             let foot = project_point(&job.surfaces[i], p, mix_hint(a.hints[i], b.hints[i], tau), opts);
             sign::overcut_mm(foot.signed_distance, r_eff)
@@ -231,7 +232,7 @@ impl ProfilePath {
             let next = (t - g / h).clamp(lo, hi);
             let moved = ((next - t) * d1.length()).abs();
             t = next;
-            if moved < crate::tolerance::NEWTON_LENGTH_FLOOR_MM {
+            if moved < crate::numerics::tolerance::NEWTON_LENGTH_FLOOR_MM {
                 break;
             }
         }

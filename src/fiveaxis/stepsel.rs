@@ -17,7 +17,7 @@ use super::path::DesignPath;
 use super::swept::{Block, SegmentReport, block_at, segment_report, segment_total, tip_design_deviation};
 use crate::numerics::maximise::MaxOptions;
 use crate::numerics::roots::{RootMethod, SearchFailure, SearchOptions, next_node};
-use crate::tolerance;
+use crate::numerics::tolerance;
 
 /// Settings of [`plan_steps`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -78,7 +78,7 @@ impl StepOptions {
     }
 
     fn swept_for_tol(&self) -> MaxOptions {
-        MaxOptions { floor: crate::tolerance::SWEPT_FLOOR_REL_TOL * self.tol_mm, ..self.swept }
+        MaxOptions { floor: crate::numerics::tolerance::SWEPT_FLOOR_REL_TOL * self.tol_mm, ..self.swept }
     }
 }
 

@@ -328,7 +328,7 @@ pub fn design_deviation(
         let s = if i == SAMPLES { hi } else { lo + (hi - lo) * i as f64 / SAMPLES as f64 };
         samples.push((s, design_at(s)?));
     }
-    let tol_s = crate::tolerance::PARAM_SEARCH_REL * (hi - lo).max(f64::MIN_POSITIVE);
+    let tol_s = crate::numerics::tolerance::PARAM_SEARCH_REL * (hi - lo).max(f64::MIN_POSITIVE);
     let distance = |p: DVec3| -> Result<f64, FiveAxisError> {
         let (i, _) = samples
             .iter()

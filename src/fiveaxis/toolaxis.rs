@@ -15,7 +15,7 @@
 
 use glam::DVec3;
 
-use crate::tolerance;
+use crate::numerics::tolerance;
 
 /// A tool-axis rule (internal units: radians, unit vectors).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
@@ -63,7 +63,7 @@ pub fn slerp(a: DVec3, b: DVec3, x: f64) -> DVec3 {
     let c = a.dot(b).clamp(-1.0, 1.0);
     let theta = c.acos();
     let s = theta.sin();
-    if s < crate::tolerance::PARALLEL_SIN {
+    if s < crate::numerics::tolerance::PARALLEL_SIN {
         return a.lerp(b, x).normalize_or_zero();
     }
     (a * ((1.0 - x) * theta).sin() + b * (x * theta).sin()) / s

@@ -24,7 +24,7 @@ use super::path::{ArcMove, LineMove, Plane};
 use crate::geom::Curve3;
 use crate::numerics::maximise::max_on_interval;
 use crate::numerics::measure::{ArcLengthTable, distance_to_segment};
-use crate::tolerance;
+use crate::numerics::tolerance;
 
 /// Options of [`fit_arcs`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -243,7 +243,7 @@ pub fn fit_arcs(design: &dyn Curve3, tol_mm: f64, opts: &ArcFitOptions) -> Resul
         let remaining = total - s0;
         let mut ok: Option<(f64, f64, Piece, f64)> = None; // (len, t1, piece, dev)
         let mut fail_len = f64::INFINITY;
-        let mut len = trial.min(remaining).max(crate::tolerance::ARC_MIN_TRIAL_MM);
+        let mut len = trial.min(remaining).max(crate::numerics::tolerance::ARC_MIN_TRIAL_MM);
         // Grow while it fits (or shrink until it does).
         loop {
             let t1 = if len >= remaining { tb } else { table.t_at(design, s0 + len) };
@@ -262,7 +262,7 @@ pub fn fit_arcs(design: &dyn Curve3, tol_mm: f64, opts: &ArcFitOptions) -> Resul
                         break;
                     }
                     len *= 0.5;
-                    if len < crate::tolerance::ARC_MIN_PIECE_REL * total.max(1.0) {
+                    if len < crate::numerics::tolerance::ARC_MIN_PIECE_REL * total.max(1.0) {
                         return Err(ArcFitError::Stuck { t: t0 });
                     }
                 }

@@ -34,7 +34,7 @@
 //!   [`key_comment`]'s key their colon becomes `=` (`DIALECT= SINUMERIK`), so a name cannot
 //!   change the dialect a program is read in or the point it is said to carry.
 //!
-//! Last, the text is capped at [`crate::limits::MAX_COMMENT_CHARS`] characters (the last
+//! Last, the text is capped at [`crate::numerics::limits::MAX_COMMENT_CHARS`] characters (the last
 //! three `...` when cut): a comment line is then at most that plus its delimiters, well under
 //! LinuxCNC's 256-character line and Sinumerik's 512. The work is bounded by the cap too:
 //! at most that many characters of a text are looked at.
@@ -43,7 +43,7 @@
 //! FANUC programs are written), the finishing program keeps lower case as before.
 
 use super::dialect::{Dialect, HeaderKey};
-use crate::limits::MAX_COMMENT_CHARS;
+use crate::numerics::limits::MAX_COMMENT_CHARS;
 
 /// What a cut text ends with.
 const CUT_MARK: &str = "...";

@@ -38,7 +38,7 @@ use super::dialect::Dialect;
 use super::path::{ArcMove, LineMove, Motion, PathBlock, Plane, Segment, Toolpath};
 use crate::geom::nurbs::MAX_DEGREE;
 use crate::geom::{NurbsCurve, NurbsError};
-use crate::tolerance;
+use crate::numerics::tolerance;
 
 /// A malformed program. Lines are 1-based.
 #[derive(Clone, Debug, Error, PartialEq)]
@@ -762,7 +762,7 @@ fn arc(
             });
         }
         let half = 0.5 * chord;
-        if r.abs() < half * (1.0 - crate::tolerance::ROUNDING_REL) {
+        if r.abs() < half * (1.0 - crate::numerics::tolerance::ROUNDING_REL) {
             return Err(ParseError::ArcRadiusTooSmall { line, r: r / scale, half_chord: half / scale });
         }
         let h = (r * r - half * half).max(0.0).sqrt();
@@ -814,7 +814,7 @@ fn start_nurbs(line: usize, st: &mut State, get: &dyn Fn(char) -> Option<f64>) -
         }
     }
     let first = p0;
-    let tol = crate::tolerance::NURBS_START_MATCH_MM * scale.max(1.0);
+    let tol = crate::numerics::tolerance::NURBS_START_MATCH_MM * scale.max(1.0);
     if (first - st.pos).abs().max_element() > tol {
         return Err(ParseError::NurbsStartMismatch { line, first: first.to_array(), position: st.pos.to_array() });
     }

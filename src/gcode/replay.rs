@@ -80,7 +80,7 @@ pub struct Deviation {
     /// Length of the design curve (mm).
     pub design_length_mm: f64,
     /// Spacing of the samples actually taken (mm): the requested one, or coarser when the
-    /// program and design are too long for [`crate::limits::MAX_REPLAY_SAMPLES`]; a peak
+    /// program and design are too long for [`crate::numerics::limits::MAX_REPLAY_SAMPLES`]; a peak
     /// between samples is then missed by at most half of it before refinement.
     pub sample_spacing_mm: f64,
 }
@@ -276,7 +276,7 @@ impl Cloud {
             pts.push(p);
             at.push((b, t, lo, hi));
         }
-        let cell = (2.0 * spacing).max(crate::tolerance::REPLAY_MIN_SPACING_MM);
+        let cell = (2.0 * spacing).max(crate::numerics::tolerance::REPLAY_MIN_SPACING_MM);
         let grid = Grid::new(&pts, cell);
         Self { pts, at, spacing, grid, hint: std::cell::Cell::new(0) }
     }
@@ -442,11 +442,13 @@ pub fn deviation(path: &Toolpath, design: &dyn Curve3, opts: &DeviationOptions) 
     // piece: as many as its length needs at the spacing, at least its two ends, and no
     // golden-section refinement inside a piece shorter than the spacing (the distance along
     // it then differs from its sampled maximum by at most a quarter of the spacing).
-    let dense = pieces.saturating_mul(opts.samples_per_piece + 1) <= crate::limits::MAX_REPLAY_SAMPLES / 2;
+    let dense = pieces.saturating_mul(opts.samples_per_piece + 1) <= crate::numerics::limits::MAX_REPLAY_SAMPLES / 2;
     let per_piece = if dense { opts.samples_per_piece } else { 1 };
-    let budget = crate::limits::MAX_REPLAY_SAMPLES.saturating_sub(pieces * (per_piece + 1)).max(1 << 16);
-    let spacing =
-        opts.design_spacing_mm.max(crate::tolerance::REPLAY_MIN_SPACING_MM).max((program_len + length) / budget as f64);
+    let budget = crate::numerics::limits::MAX_REPLAY_SAMPLES.saturating_sub(pieces * (per_piece + 1)).max(1 << 16);
+    let spacing = opts
+        .design_spacing_mm
+        .max(crate::numerics::tolerance::REPLAY_MIN_SPACING_MM)
+        .max((program_len + length) / budget as f64);
     if !spacing.is_finite() {
         return Err(ReplayError::EmptyDesign);
     }

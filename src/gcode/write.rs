@@ -36,8 +36,8 @@ use crate::chords::{ChordError, equal_error_chords};
 use crate::geom::{Curve3, NurbsCurve};
 use crate::numerics::format::fmt_fixed;
 use crate::numerics::measure::Translated;
+use crate::numerics::tolerance;
 use crate::nurbs_path::{ApproxOptions, FitError, approximate_curve};
-use crate::tolerance;
 
 /// Which point of the tool the program carries.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -341,7 +341,10 @@ fn decimals(res: f64) -> Option<usize> {
     }
     let d = -res.log10();
     let di = d.round();
-    if !(0.0..=6.0).contains(&di) || (10f64.powf(-di) - res).abs() > crate::tolerance::ROUNDING_REL * res || di < 1.0 {
+    if !(0.0..=6.0).contains(&di)
+        || (10f64.powf(-di) - res).abs() > crate::numerics::tolerance::ROUNDING_REL * res
+        || di < 1.0
+    {
         return None;
     }
     Some(di as usize)
@@ -434,18 +437,18 @@ pub fn write_program(
     }
     let res = opts.resolution_mm;
     let d = decimals(res).ok_or(ProgramError::BadResolution(res))?;
-    if tol_mm < 2.0 * res * (1.0 - crate::tolerance::ROUNDING_REL) {
+    if tol_mm < 2.0 * res * (1.0 - crate::numerics::tolerance::ROUNDING_REL) {
         return Err(ProgramError::BelowResolution { tol_mm, resolution_mm: res });
     }
     // The feed as written (rounded to the resolution's decimals) must still be positive, or
     // the program would not read back.
     let feed = opts.feed_mm_per_min;
     let written: f64 = crate::numerics::format::fmt_fixed(feed, d).parse().unwrap_or(0.0);
-    if !(feed.is_finite() && feed > 0.0 && written > 0.0 && feed <= crate::limits::MAX_FEED_MM_PER_MIN) {
+    if !(feed.is_finite() && feed > 0.0 && written > 0.0 && feed <= crate::numerics::limits::MAX_FEED_MM_PER_MIN) {
         return Err(ProgramError::BadFeed { min_mm_per_min: 10f64.powi(-(d as i32)) });
     }
     if let Some(z) = opts.safe_z_mm
-        && !(z.is_finite() && z.abs() <= crate::limits::MAX_COORDINATE_MM)
+        && !(z.is_finite() && z.abs() <= crate::numerics::limits::MAX_COORDINATE_MM)
     {
         return Err(ProgramError::BadSafeZ);
     }

@@ -476,7 +476,7 @@ impl Cutter {
             CutterKind::Tapered
         } else if self.corner_radius_mm <= 0.0 {
             CutterKind::Flat
-        } else if self.corner_radius_mm >= self.radius_mm * (1.0 - crate::tolerance::CORNER_IS_RADIUS_REL) {
+        } else if self.corner_radius_mm >= self.radius_mm * (1.0 - crate::numerics::tolerance::CORNER_IS_RADIUS_REL) {
             CutterKind::Ball
         } else {
             CutterKind::Fillet

@@ -15,8 +15,8 @@
 use glam::{DVec2, DVec3};
 
 use super::parametric::SurfaceDerivs;
-use crate::linalg;
-use crate::tolerance;
+use crate::numerics::linalg;
+use crate::numerics::tolerance;
 
 /// Principal curvatures (1/mm, signed as in the module docs) and unit principal directions.
 #[derive(Clone, Copy, Debug, PartialEq)]

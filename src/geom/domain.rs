@@ -2,7 +2,7 @@
 
 use std::f64::consts::TAU;
 
-use crate::tolerance;
+use crate::numerics::tolerance;
 
 /// What a surface parameter measures; decides how it is written in scene and output files.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -62,7 +62,8 @@ impl ParamRange {
     /// A range; an angular range of one full turn (to 1e-9 rad) is made periodic.
     #[must_use]
     pub fn new(min: f64, max: f64, unit: ParamUnit) -> Self {
-        let periodic = unit == ParamUnit::Angle && ((max - min) - TAU).abs() < crate::tolerance::FULL_TURN_SLACK_RAD;
+        let periodic =
+            unit == ParamUnit::Angle && ((max - min) - TAU).abs() < crate::numerics::tolerance::FULL_TURN_SLACK_RAD;
         Self { min, max, periodic, unit }
     }
 

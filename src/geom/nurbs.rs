@@ -18,7 +18,7 @@ use thiserror::Error;
 
 use super::domain::{Domain, ParamRange, ParamUnit};
 use super::parametric::{ParametricSurface, SurfaceDerivs};
-use crate::tolerance;
+use crate::numerics::tolerance;
 
 /// Highest supported degree. Basis tables live on the stack in fixed arrays of this order.
 pub const MAX_DEGREE: usize = 9;

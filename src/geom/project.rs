@@ -9,7 +9,7 @@ use glam::{DVec2, DVec3};
 
 use super::parametric::{ParametricSurface, SurfaceDerivs};
 use super::surface::Surface;
-use crate::linalg;
+use crate::numerics::linalg;
 
 /// Settings of [`project_point`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -22,7 +22,7 @@ pub struct ProjectOptions {
 
 impl Default for ProjectOptions {
     fn default() -> Self {
-        Self { max_iterations: 40, step_tol_mm: crate::tolerance::FOOT_STEP_MM }
+        Self { max_iterations: 40, step_tol_mm: crate::numerics::tolerance::FOOT_STEP_MM }
     }
 }
 
@@ -77,7 +77,10 @@ pub fn project_point_from(surface: &Surface, p: DVec3, uv: DVec2, d: SurfaceDeri
             let cand = domain.clamp(uv + step);
             let dc = surface.derivatives_at(cand);
             let dist2c = (dc.point - p).length_squared();
-            if dist2c <= dist2 * (1.0 + crate::tolerance::DESCENT_SLACK_REL) + crate::tolerance::DESCENT_SLACK_MM2 {
+            if dist2c
+                <= dist2 * (1.0 + crate::numerics::tolerance::DESCENT_SLACK_REL)
+                    + crate::numerics::tolerance::DESCENT_SLACK_MM2
+            {
                 let moved = (dc.point - d.point).length();
                 uv = cand;
                 d = dc;

@@ -7,8 +7,8 @@
 use glam::{DVec2, DVec3};
 
 use super::{ParametricSurface, Surface};
-use crate::linalg::solve3_rows;
-use crate::tolerance::{NEWTON_LENGTH_MM, RAY_TRIANGLE_SLACK};
+use crate::numerics::linalg::solve3_rows;
+use crate::numerics::tolerance::{NEWTON_LENGTH_MM, RAY_TRIANGLE_SLACK};
 
 /// Most cells of the grid a side.
 pub const RAY_GRID_MAX: usize = 512;

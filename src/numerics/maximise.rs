@@ -25,9 +25,9 @@ impl Default for MaxOptions {
         Self {
             initial_intervals: 8,
             coverage_rel: 0.05,
-            floor: crate::tolerance::MAX_FLOOR,
+            floor: crate::numerics::tolerance::MAX_FLOOR,
             max_depth: 12,
-            peak_rel: crate::tolerance::PEAK_PARAM_REL,
+            peak_rel: crate::numerics::tolerance::PEAK_PARAM_REL,
         }
     }
 }

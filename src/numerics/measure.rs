@@ -13,7 +13,7 @@
 use glam::DVec3;
 
 use crate::geom::Curve3;
-use crate::tolerance;
+use crate::numerics::tolerance;
 
 /// The nearest point of a curve to a given point, found by [`nearest_on_curve`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -163,7 +163,10 @@ impl ArcLengthTable {
         // otherwise), and the table stops growing at its node budget: the work is bounded by
         // the budget whatever the curve.
         let noise = ARC_NOISE_ULPS * f64::EPSILON * (l.abs() + r.abs() + whole.abs());
-        if depth >= 30 || (l + r - whole).abs() <= eps.max(noise) || t.len() >= crate::limits::MAX_ARC_TABLE_NODES {
+        if depth >= 30
+            || (l + r - whole).abs() <= eps.max(noise)
+            || t.len() >= crate::numerics::limits::MAX_ARC_TABLE_NODES
+        {
             let base = s[s.len() - 1];
             t.push(m);
             s.push(base + l);

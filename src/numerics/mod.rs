@@ -3,9 +3,14 @@
 //! it builds on that paper's method (5-axis steps along a crease), never for a helper; the
 //! helpers live here.
 //!
-//! Also part of the floor, kept at their old paths: [`crate::tolerance`] (every named small
-//! number) and [`crate::limits`] (caps on input sizes and loops), and [`crate::linalg`].
+//! Three of them sit below [`crate::geom`] (which uses them) and import nothing outside this
+//! directory: [`tolerance`] (every named small number), [`limits`] (caps on input sizes and
+//! loops) and [`linalg`] (small solves). `scripts/modgraph.py` therefore counts each file here
+//! as a module of its own.
 //!
+//! - [`tolerance`]: the named tolerances, one per kind of quantity;
+//! - [`limits`]: size caps on what is read and how much work one request may ask for;
+//! - [`linalg`]: small dense linear solves (2×2, 3×3, 4×4) without allocation;
 //! - [`mod@format`]: number text (shortest round-trip decimals, fixed decimals);
 //! - [`measure`]: distances to segments and curves (foot points), arc-length tables;
 //! - [`knots`]: span breaks (distinct knots) of a clamped knot vector;
@@ -17,9 +22,12 @@
 
 pub mod format;
 pub mod knots;
+pub mod limits;
+pub mod linalg;
 pub mod maximise;
 pub mod measure;
 pub mod planefit;
 pub mod roots;
 pub mod sign;
+pub mod tolerance;
 pub mod units;

@@ -16,7 +16,7 @@
 //! node is the end of the range, with δ ≤ E. Every call of δ counts as one *evaluation*
 //! (the paper's "iterations").
 
-use crate::tolerance;
+use crate::numerics::tolerance;
 
 /// How the root of δ(s) = E is found once it is bracketed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]

@@ -362,7 +362,7 @@ fn validate_degree(p: usize) -> Result<(), FitError> {
 /// The error-density shares e_i^{1/(p+1)} of the spans.
 fn error_shares(errs: &[f64], p: usize, tol_mm: f64) -> Vec<f64> {
     let ex = 1.0 / (p as f64 + 1.0);
-    errs.iter().map(|&e| e.max(crate::tolerance::ERROR_SHARE_FLOOR_REL * tol_mm).powf(ex)).collect()
+    errs.iter().map(|&e| e.max(crate::numerics::tolerance::ERROR_SHARE_FLOOR_REL * tol_mm).powf(ex)).collect()
 }
 
 /// The fewest spans whose equidistributed errors would stay at 0.85·E by the h^{p+1} model,
@@ -415,7 +415,7 @@ pub fn approximate_curve(design: &dyn Curve3, tol_mm: f64, opts: &ApproxOptions)
     }
     let table = ArcLengthTable::new(design, 64);
     let length = table.length();
-    if !(length.is_finite() && length > crate::tolerance::FIT_DUPLICATE_MM) {
+    if !(length.is_finite() && length > crate::numerics::tolerance::FIT_DUPLICATE_MM) {
         return Err(FitError::EmptyCurve);
     }
     let quantum = if opts.uniform { None } else { opts.knot_quantum_mm };
@@ -435,7 +435,8 @@ pub fn approximate_curve(design: &dyn Curve3, tol_mm: f64, opts: &ApproxOptions)
     };
     let ends = ends(&());
     let min_spans = if opts.end_tangents { 4usize.saturating_sub(p).max(1) } else { 1 };
-    let spans = ((length / opts.initial_span_mm.max(crate::tolerance::MIN_SPAN_MM)).ceil() as usize).max(min_spans);
+    let spans =
+        ((length / opts.initial_span_mm.max(crate::numerics::tolerance::MIN_SPAN_MM)).ceil() as usize).max(min_spans);
     let mut knots = uniform_knots(p, end, spans, quantum);
     let fit_with = |knots: &[f64]| -> Result<(NurbsCurve, Vec<f64>), FitError> {
         let bps = span_breaks(knots, p);

@@ -14,7 +14,7 @@
 
 use glam::DVec3;
 
-use crate::tolerance;
+use crate::numerics::tolerance;
 
 /// One matrix row: the entries of columns `start .. start + vals.len()`; all others are zero.
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -33,7 +33,7 @@ use super::FitError;
 use super::band::{self, BandRow};
 use crate::geom::NurbsCurve;
 use crate::geom::nurbs::{MAX_DEGREE, basis_derivatives, find_span};
-use crate::tolerance;
+use crate::numerics::tolerance;
 
 /// How points are given parameter values.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -245,7 +245,8 @@ pub fn chord_error(curve: &dyn Curve3, u0: f64, u1: f64, a: DVec3, b: DVec3) -> 
             break;
         }
         let tn = (t - g / gp).clamp(u0, u1);
-        let done = (tn - t).abs() <= crate::tolerance::PARAM_NEWTON_REL * (u1 - u0).abs().max(f64::MIN_POSITIVE);
+        let done =
+            (tn - t).abs() <= crate::numerics::tolerance::PARAM_NEWTON_REL * (u1 - u0).abs().max(f64::MIN_POSITIVE);
         t = tn;
         if done {
             break;

@@ -8,7 +8,7 @@ use crate::fiveaxis::{Machine, ToolAxisRule};
 use crate::geom::{
     Cylinder, Domain, Frame, NurbsSurface, ParamRange, ParamUnit, Plane, Sphere, Surface, Torus, nurbs::NurbsError,
 };
-use crate::tolerance;
+use crate::numerics::tolerance;
 
 fn v3(a: [f64; 3]) -> DVec3 {
     DVec3::from_array(a)
@@ -55,7 +55,7 @@ fn range(path: &str, r: [f64; 2], unit: &str, max_width: Option<f64>) -> Result<
         ));
     }
     if let Some(w) = max_width
-        && r[1] - r[0] > w + crate::tolerance::FILE_DEGREE_SLACK_DEG
+        && r[1] - r[0] > w + crate::numerics::tolerance::FILE_DEGREE_SLACK_DEG
     {
         return Err(SceneError::new(
             path,
@@ -88,12 +88,12 @@ pub(super) fn validate(s: &Scene) -> Result<(), SceneError> {
     positive("motion.feed", s.motion.feed, "the feed in mm/min")?;
     positive("motion.period", s.motion.period, "the interpolation period in ms")?;
     let f = s.feed_per_period_mm();
-    if !(f >= crate::tolerance::NEWTON_LENGTH_MM) {
+    if !(f >= crate::numerics::tolerance::NEWTON_LENGTH_MM) {
         return Err(SceneError::new(
             "motion",
             format!(
                 "the feed per period F·Ts = {f:.3e} mm is below {:e} mm, the accuracy of a crease point: the cutter centre could not advance",
-                crate::tolerance::NEWTON_LENGTH_MM
+                crate::numerics::tolerance::NEWTON_LENGTH_MM
             ),
             "raise motion.feed (mm/min) or motion.period (ms)",
         ));
@@ -116,11 +116,11 @@ pub(super) fn validate(s: &Scene) -> Result<(), SceneError> {
         }
         if let Some(v) = v
             && key != "path.direction"
-            && v.iter().any(|x| x.abs() > crate::limits::MAX_COORDINATE_MM)
+            && v.iter().any(|x| x.abs() > crate::numerics::limits::MAX_COORDINATE_MM)
         {
             return Err(SceneError::new(
                 key,
-                format!("lies beyond ±{:e} mm (1 km) of the origin", crate::limits::MAX_COORDINATE_MM),
+                format!("lies beyond ±{:e} mm (1 km) of the origin", crate::numerics::limits::MAX_COORDINATE_MM),
                 "give the point in mm near the surfaces",
             ));
         }
@@ -322,8 +322,8 @@ pub fn build_surface(spec: &SurfaceSpec, path: &str) -> Result<Surface, SceneErr
             }
             let d = domain.unwrap_or(DomainSpec { u: [-180.0, 180.0], v: [-90.0, 90.0] });
             angle_domain(&p("domain"), &d)?;
-            if d.v[0] < -90.0 - crate::tolerance::FILE_DEGREE_SLACK_DEG
-                || d.v[1] > 90.0 + crate::tolerance::FILE_DEGREE_SLACK_DEG
+            if d.v[0] < -90.0 - crate::numerics::tolerance::FILE_DEGREE_SLACK_DEG
+                || d.v[1] > 90.0 + crate::numerics::tolerance::FILE_DEGREE_SLACK_DEG
             {
                 return Err(SceneError::new(
                     p("domain.v"),

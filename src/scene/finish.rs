@@ -7,28 +7,9 @@ use super::SceneError;
 use super::build::{build_machine, build_surface, validate_machine};
 pub use super::finish_spec::{CutterSpec, FinishScene, FinishSpec, StartSpec};
 use crate::fillet::paths::{curve_along, start_polyline};
-use crate::fillet::{Edge, FeedDirection, FinishOptions, PathStart, Strategy};
+use crate::fillet::{Edge, FeedDirection, FinishJob, FinishOptions, PathStart, Strategy};
 use crate::fiveaxis::Machine;
 use crate::geom::{Cutter, Surface};
-
-/// A finishing scene in core units, ready to compute.
-#[derive(Clone, Debug)]
-pub struct FinishJob {
-    /// Display name.
-    pub name: String,
-    /// The surface.
-    pub surface: Surface,
-    /// The cutter.
-    pub cutter: Cutter,
-    /// The strategy.
-    pub strategy: Strategy,
-    /// Path options.
-    pub options: FinishOptions,
-    /// The machine (the default table A/C when the scene has none).
-    pub machine: Machine,
-    /// Where the iso-scallop paths start (`finish.start`; parameters in internal units).
-    pub start: PathStart,
-}
 
 fn positive(path: &str, x: f64, what: &str) -> Result<(), SceneError> {
     if x > 0.0 && x.is_finite() {

@@ -593,7 +593,7 @@ const CUTTER_KEYS: &[&str] =
 const START_HINT: &str = "\"u0\", \"u1\", \"v0\", \"v1\" or { \"curve\": [[u, v], …] }";
 
 /// `finish.start`: an edge's name or `{ "curve": [[u, v], …] }` (at most
-/// [`crate::limits::MAX_START_CURVE_POINTS`] points, read before they are counted further).
+/// [`crate::numerics::limits::MAX_START_CURVE_POINTS`] points, read before they are counted further).
 fn parse_start(at: &At<'_>) -> Result<super::finish_spec::StartSpec, SceneError> {
     use super::finish_spec::StartSpec;
     if let Value::String(name) = at.v {
@@ -609,7 +609,7 @@ fn parse_start(at: &At<'_>) -> Result<super::finish_spec::StartSpec, SceneError>
     let o = Obj::new(at, &["curve"])?;
     let curve = o.req("curve", "[[u, v], [u, v], …]")?;
     let items = curve.array("the start curve's points [u, v] in the surface's parameters")?;
-    let max = crate::limits::MAX_START_CURVE_POINTS;
+    let max = crate::numerics::limits::MAX_START_CURVE_POINTS;
     if items.len() > max {
         return Err(SceneError::new(
             display_path(&curve.path),

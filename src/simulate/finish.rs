@@ -23,10 +23,9 @@ use super::interior::{INTERIOR_END_MM, INTERIOR_SIDE_MM, interior_mask};
 use super::stock::Grid;
 use super::{Design, MoveKind, Program, SimError, SimMove};
 use crate::fillet::program::plan_path;
-use crate::fillet::{CcNode, PathSet};
+use crate::fillet::{CcNode, FinishJob, PathSet};
 use crate::fiveaxis::Machine;
 use crate::geom::{Cutter, ParametricSurface, Surface};
-use crate::scene::finish::FinishJob;
 
 /// Share of the scallop height h the cusps between sampled poses may take
 /// ([`FinishProgram::pose_step_mm`]).

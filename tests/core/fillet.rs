@@ -8,9 +8,9 @@ use glam::{DVec2, DVec3};
 use interpolab::fillet::contact::{ContactFrame, CrossProfile, Pose, effective_curvature, gouge_margin, place};
 use interpolab::fillet::orient::{OrientOptions, Strategy, pose_at};
 use interpolab::fillet::paths::{FinishOptions, PathSet, PathStart, iso_scallop, iso_scallop_from, lead_out_mm};
-use interpolab::fillet::{FinishError, PartSamples, gouge};
+use interpolab::fillet::{FinishError, FinishJob, PartSamples, gouge};
 use interpolab::geom::{Cutter, LocalGeometry, ParametricSurface, Plane, ProjectOptions, Surface, project_point};
-use interpolab::scene::finish::{FINISH_PRESETS, FinishJob, FinishScene, StartSpec};
+use interpolab::scene::finish::{FINISH_PRESETS, FinishScene, StartSpec};
 
 fn plane() -> Surface {
     Surface::Plane(Plane::new(DVec3::ZERO, DVec3::Z, DVec3::X, [-50.0, 50.0], [-50.0, 50.0]))
@@ -535,7 +535,7 @@ fn the_matched_cutter_keeps_the_cross_curvature_floor() {
     use interpolab::fillet::contact::cross_curvature;
     let jb = job("finish-concave-mould");
     let floor = jb.options.orient.min_cross_curvature_per_mm;
-    assert_eq!(floor, interpolab::tolerance::FILLET_MIN_CROSS_CURVATURE_PER_MM);
+    assert_eq!(floor, interpolab::numerics::tolerance::FILLET_MIN_CROSS_CURVATURE_PER_MM);
     let set = paths(&jb, Strategy::Matched);
     let off = OrientOptions { min_cross_curvature_per_mm: 0.0, ..jb.options.orient };
     let (mut lowest, mut below_without) = (f64::INFINITY, 0usize);

@@ -19,9 +19,9 @@
 
 use glam::{DVec2, DVec3};
 use interpolab::fillet::paths::{PathSet, iso_scallop_from};
-use interpolab::fillet::{FinishError, PartSamples};
+use interpolab::fillet::{FinishError, FinishJob, PartSamples};
 use interpolab::geom::{Cutter, ParametricSurface};
-use interpolab::scene::finish::{FinishJob, FinishScene};
+use interpolab::scene::finish::FinishScene;
 
 use crate::support::Rng;
 

@@ -40,7 +40,7 @@ use glam::DVec3;
 use thiserror::Error;
 
 use crate::gcode::path::Plane;
-pub use crate::limits::{MAX_CYCLE_MOVES, MAX_CYCLE_PECKS, MAX_CYCLE_REPEATS};
+pub use crate::numerics::limits::{MAX_CYCLE_MOVES, MAX_CYCLE_PECKS, MAX_CYCLE_REPEATS};
 
 #[cfg(test)]
 mod tests;

@@ -8,7 +8,7 @@
 
 use thiserror::Error;
 
-use crate::limits::MAX_LINE_BYTES;
+use crate::numerics::limits::MAX_LINE_BYTES;
 
 /// A position in a source: the byte offset of a line's start and its 1-based number.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

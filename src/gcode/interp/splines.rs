@@ -42,7 +42,7 @@ use super::canon::Loc;
 use crate::gcode::path::Plane;
 use crate::geom::nurbs::MAX_DEGREE;
 use crate::geom::{NurbsCurve, NurbsError};
-use crate::tolerance;
+use crate::numerics::tolerance;
 
 #[cfg(test)]
 mod tests;

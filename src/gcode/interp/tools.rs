@@ -53,7 +53,7 @@ use glam::DVec3;
 use thiserror::Error;
 
 use crate::geom::{BodySpec, Cutter, CutterError};
-pub use crate::limits::{MAX_TOOL_TABLE_BYTES, MAX_TOOLS};
+pub use crate::numerics::limits::{MAX_TOOL_TABLE_BYTES, MAX_TOOLS};
 
 #[cfg(test)]
 mod tests;

@@ -26,7 +26,7 @@ use crate::gcode::dialect::Dialect;
 use crate::gcode::path::{Motion, PathBlock, Plane, Segment};
 use crate::geom::NurbsCurve;
 use crate::geom::nurbs::MAX_DEGREE;
-use crate::tolerance;
+use crate::numerics::tolerance;
 
 /// Largest Sinumerik point weight `PW` (the manual's range is 0 to 3).
 const SINUMERIK_MAX_PW: f64 = 3.0;

@@ -10,8 +10,8 @@ use interpolab::crease::{
     CreaseJob, InterpOptions, Interpolator, Location, Method, Row, Step, StopReason, crease_deviation, diagnose,
     locate_crease_point, run_to_end,
 };
+use interpolab::numerics::tolerance::MEASUREMENT_FLOOR_MM;
 use interpolab::scene::PRESETS;
-use interpolab::tolerance::MEASUREMENT_FLOOR_MM;
 
 const FLOOR_WALL: &str = include_str!("../../../examples/floor-round-wall.json");
 const SPHERE_PLANE: &str = include_str!("../../../examples/sphere-plane.json");

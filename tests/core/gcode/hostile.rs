@@ -25,7 +25,7 @@ use interpolab::gcode::{
 };
 use interpolab::jobs::program_row::{DesignSpec, ProgramRow, Request};
 use interpolab::jobs::{JobKind, NoProgress, run_encoded};
-use interpolab::limits::MAX_COMMENT_CHARS;
+use interpolab::numerics::limits::MAX_COMMENT_CHARS;
 use interpolab::scene::finish::FinishScene;
 use interpolab::scene::{PRESETS, Scene};
 use proptest::prelude::*;

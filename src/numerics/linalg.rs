@@ -11,7 +11,7 @@ use glam::{DVec2, DVec3};
 pub fn solve2(a: f64, b: f64, c: f64, d: f64, r: DVec2) -> Option<DVec2> {
     let det = a * d - b * c;
     let scale = (a.abs() + b.abs()) * (c.abs() + d.abs());
-    if !(det.abs() > crate::tolerance::SINGULAR_DET_REL * scale) || !det.is_finite() {
+    if !(det.abs() > crate::numerics::tolerance::SINGULAR_DET_REL * scale) || !det.is_finite() {
         return None;
     }
     Some(DVec2::new((r.x * d - b * r.y) / det, (a * r.y - c * r.x) / det))
@@ -27,7 +27,7 @@ pub fn solve3_rows(r0: DVec3, r1: DVec3, r2: DVec3, b: DVec3) -> Option<DVec3> {
     let c2 = r0.cross(r1);
     let det = r0.dot(c0);
     let scale = r0.length() * r1.length() * r2.length();
-    if !(det.abs() > crate::tolerance::SINGULAR_DET_REL * scale) || !det.is_finite() {
+    if !(det.abs() > crate::numerics::tolerance::SINGULAR_DET_REL * scale) || !det.is_finite() {
         return None;
     }
     Some((c0 * b.x + c1 * b.y + c2 * b.z) / det)
@@ -48,7 +48,7 @@ pub fn solve4(mut m: [[f64; 4]; 4], mut b: [f64; 4]) -> Option<[f64; 4]> {
                 piv = row;
             }
         }
-        if m[piv][col].abs() <= crate::tolerance::DENSE_PIVOT_REL * scale {
+        if m[piv][col].abs() <= crate::numerics::tolerance::DENSE_PIVOT_REL * scale {
             return None;
         }
         m.swap(col, piv);
