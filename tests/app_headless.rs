@@ -943,6 +943,7 @@ fn the_fillet_view_builds_the_cores_iso_scallop_paths_over_frames_and_restarts_o
     same(&s["strip_mm"]["max"], st.strip_mm[2]);
     assert_eq!(s["adjusted"], st.adjusted, "{s}");
     assert_eq!(s["refused"], core.refused.len(), "{s}");
+    assert_eq!(s["scallop_flags"], core.scallop_flags.len(), "{s}");
     assert!((s["h_mm"].as_f64().expect("h") - 0.04).abs() < 1e-12, "{s}");
     // The paths were built over several frames, not in one.
     assert!(seen.len() >= 2, "path counts seen while computing: {seen:?} of {}", st.passes);

@@ -267,6 +267,19 @@ impl FilletPanel {
                     r.refused.len(),
                     job.core_ms
                 ));
+                // Where the corrector could not bring the measured cusp under 1.10·h.
+                if let Some(worst) = r.scallop_flags.iter().map(|f| f.scallop_mm).max_by(f64::total_cmp) {
+                    ui.colored_label(
+                        ui.visuals().warn_fg_color,
+                        format!(
+                            "The scallop stays above {:.2}·h at {} place(s), measured between neighbouring paths (the worst {:.1} µm, {:.2}·h): use a smaller max step or scallop height, or the matched orientation",
+                            crate::fillet::paths::FLAG_ABOVE,
+                            r.scallop_flags.len(),
+                            worst * 1e3,
+                            worst / job.options.scallop_mm
+                        ),
+                    );
+                }
             }
         });
     }
@@ -599,6 +612,7 @@ impl Panel for FilletPanel {
             v["time_min"] = st.time_min.into();
             v["adjusted"] = st.adjusted.into();
             v["refused"] = r.refused.len().into();
+            v["scallop_flags"] = r.scallop_flags.len().into();
             v["second_side"] = r.second_side.into();
         }
         if let Some((p, k, n)) = self.selected() {
