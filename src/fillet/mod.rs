@@ -205,25 +205,32 @@ pub fn compare_from(
         max_check_cells: opts.max_check_cells.saturating_sub(part.cells_checked().saturating_sub(start_cells)),
         ..*opts
     };
-    for (k, s) in strategies.into_iter().enumerate() {
-        let iso = iso_scallop_from(surface, cutter, s, &left(part), part, start)?;
-        rows.push(Comparison { strategy: s, layout: Layout::IsoScallop, stats: iso.stats(opts.feed_mm_per_min) });
-        let par = iso_parametric_from(surface, cutter, s, &left(part), part, start)?;
-        rows.push(Comparison { strategy: s, layout: Layout::IsoParametric, stats: par.stats(opts.feed_mm_per_min) });
-        // The pilots' estimates of the plans still to come, scaled by how far the plans built
-        // so far outran theirs: refused as soon as the whole table would pass the budget.
+    // The pilots' estimates of the plans still to come (each pair: half its estimate a plan),
+    // scaled by how far the plans built so far outran theirs: refused as soon as the whole
+    // table would pass the budget, after every plan.
+    let project = |part: &PartSamples, plans: usize| -> Result<(), FinishError> {
         let spent = part.cells_checked().saturating_sub(start_cells) as f64;
-        let (done, rest): (f64, f64) = (each[..=k].iter().sum(), each[k + 1..].iter().sum());
-        let projected = spent + rest * if done > 0.0 { (spent / done).max(1.0) } else { 1.0 };
+        let total: f64 = each.iter().sum();
+        let done: f64 =
+            each.iter().take(plans / 2).sum::<f64>() + if plans % 2 == 1 { 0.5 * each[plans / 2] } else { 0.0 };
+        let projected = spent + (total - done) * if done > 0.0 { (spent / done).max(1.0) } else { 1.0 };
         if projected > opts.max_check_cells as f64 {
             return Err(FinishError::TooMuchChecking {
                 detail: format!(
-                    "of the table's ten plans would pass {} cells: about {projected:.2e} (projected after {} of them, which spent {spent:.2e})",
-                    opts.max_check_cells,
-                    2 * (k + 1)
+                    "of the table's ten plans would pass {} cells: about {projected:.2e} (projected after {plans} of them, which spent {spent:.2e})",
+                    opts.max_check_cells
                 ),
             });
         }
+        Ok(())
+    };
+    for (k, s) in strategies.into_iter().enumerate() {
+        let iso = iso_scallop_from(surface, cutter, s, &left(part), part, start)?;
+        rows.push(Comparison { strategy: s, layout: Layout::IsoScallop, stats: iso.stats(opts.feed_mm_per_min) });
+        project(part, 2 * k + 1)?;
+        let par = iso_parametric_from(surface, cutter, s, &left(part), part, start)?;
+        rows.push(Comparison { strategy: s, layout: Layout::IsoParametric, stats: par.stats(opts.feed_mm_per_min) });
+        project(part, 2 * k + 2)?;
     }
     Ok(rows)
 }
