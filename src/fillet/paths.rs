@@ -1787,8 +1787,9 @@ impl IsoScallopSteps {
         let h = opts.scallop_mm;
         let mut measured = ctx.measure_cusps(&tool, &last.nodes, &next.nodes, &steps);
         let off = |m: &Option<f64>| m.is_some_and(|c| c > CUSP_BAND.1 * h || c < CUSP_BAND.0 * h);
-        // Each round goes on from the last; it is kept when it leaves less cusp over the band,
-        // summed over the nodes.
+        // The rounds go on from the last trial (a round that made the cusp worse can still
+        // lead to a better one); the one kept leaves the least cusp over the band, summed
+        // over the nodes.
         let excess = |ms: &[Option<f64>]| ms.iter().flatten().map(|c| (c - CUSP_BAND.1 * h).max(0.0)).sum::<f64>();
         let mut best_excess = excess(&measured);
         let mut current = (steps.clone(), measured.clone());
@@ -1821,16 +1822,12 @@ impl IsoScallopSteps {
             let again = ctx.build_path(&poly, Some(&refs), &mut refused, &mut budget)?;
             let again_measured = ctx.measure_cusps(&tool, &last.nodes, &again.nodes, &trial);
             let e = excess(&again_measured);
-            // A round that does not lower the excess ends the correction: where the next path
-            // cannot be brought to h (a strategy whose cutter cannot match the surface there),
-            // further rounds only spend gouge checks.
-            if e >= best_excess {
-                break;
+            if e < best_excess {
+                best_excess = e;
+                (steps, next, measured) = (trial.clone(), again, again_measured.clone());
+                self.refused = refused;
+                self.budget = budget;
             }
-            best_excess = e;
-            (steps, next, measured) = (trial.clone(), again, again_measured.clone());
-            self.refused = refused;
-            self.budget = budget;
             current = (trial, again_measured);
         }
         // Where no round brought the cusp within FLAG_ABOVE·h, the place is named.

@@ -453,8 +453,10 @@ fn a_bore_narrower_than_the_cutter_is_refused() {
 
 /// How deep (mm) the point `p` lies inside the cutter's solid below its flute length: the
 /// solid is the corner ball swept over the cylinder of radius R − r between heights r and
-/// the flute length; depth = r − (distance to that cylinder), ≤ 0 outside.
-fn depth_inside(cutter: &Cutter, tip: DVec3, axis: DVec3, p: DVec3) -> f64 {
+/// the flute length; depth = r − (distance to that cylinder), ≤ 0 outside. The judges' own
+/// (also `fillet_unseen`'s), kept apart from `fillet::sweep::depth_in_cutter` on purpose: a
+/// judge that shared the code it judges would share its mistakes.
+pub(crate) fn depth_inside(cutter: &Cutter, tip: DVec3, axis: DVec3, p: DVec3) -> f64 {
     let (r, r0) = (cutter.corner_radius_mm, cutter.torus_radius_mm());
     let w = p - tip;
     let z = w.dot(axis);

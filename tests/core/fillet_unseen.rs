@@ -23,6 +23,7 @@ use interpolab::fillet::{FinishError, FinishJob, PartSamples};
 use interpolab::geom::{Cutter, ParametricSurface};
 use interpolab::scene::finish::FinishScene;
 
+use crate::fillet::depth_inside;
 use crate::support::Rng;
 
 /// The kinds of surface the family draws.
@@ -194,24 +195,6 @@ fn draw(seed: u64, index: u64) -> Drawn {
         Err(e) => panic!("job {index} ({shape}): the drawn scene is invalid: {e}\n{json}"),
     };
     Drawn { what: format!("#{index} {shape}, {tool}"), job }
-}
-
-/// How deep (mm) `p` lies inside the cutter's solid (the corner ball swept over the cylinder
-/// of radius R − r, from r above the tip to the flute length); negative outside: minus the
-/// distance to the solid.
-fn depth_inside(cutter: &Cutter, tip: DVec3, axis: DVec3, p: DVec3) -> f64 {
-    let (r, r0) = (cutter.corner_radius_mm, cutter.torus_radius_mm());
-    let w = p - tip;
-    let z = w.dot(axis);
-    let rho = (w - z * axis).length();
-    let dz = if z < r {
-        r - z
-    } else if z > cutter.flute_length_mm {
-        z - cutter.flute_length_mm
-    } else {
-        0.0
-    };
-    r - dz.hypot((rho - r0).max(0.0))
 }
 
 /// A CL row as the judge reads it.
