@@ -1660,14 +1660,12 @@ impl IsoScallopSteps {
     ) -> Result<Self, FinishError> {
         let ctx = Ctx::start(surface, cutter, strategy, opts, part, start)?;
         let along = ctx.along;
-        let ((a0, a1), (b0, b1)) = ctx.ranges();
-        let (poly, toward, second_side) = match start {
-            PathStart::FirstBoundary => (iso_curve((a0, a1), b0, along), 1.0, false),
-            PathStart::Boundary(e) => {
-                let b = if e.at_max() { b1 } else { b0 };
-                (iso_curve((a0, a1), b, along), if e.at_max() { -1.0 } else { 1.0 }, false)
-            }
-            PathStart::Curve(pts) => (start_polyline(surface, pts, along)?, 1.0, true),
+        let (_, (b0, b1)) = ctx.ranges();
+        let poly = ctx.first_polyline(start)?;
+        let (toward, second_side) = match start {
+            PathStart::Boundary(e) if e.at_max() => (-1.0, false),
+            PathStart::FirstBoundary | PathStart::Boundary(_) => (1.0, false),
+            PathStart::Curve(_) => (1.0, true),
         };
         let start_b = match start {
             PathStart::Curve(_) => poly.iter().map(|&p| b_of(p, along)).fold(b1, f64::min),
