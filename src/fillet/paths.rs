@@ -41,7 +41,7 @@ use super::contact::{ContactFrame, CrossProfile, Pose, place, scallop_between};
 use super::gouge::{Adjustment, PartSamples, adjust, check};
 use super::node::CcNode;
 use super::orient::{OrientOptions, Strategy, pose_at, smooth_inclinations};
-use super::sweep::{cusp_between, pose_between, surface_depth_near};
+use super::sweep::{NearPath, cusp_between, pose_between, surface_depth_near};
 use crate::geom::{Cutter, LocalGeometry, ParametricSurface, Surface};
 use crate::numerics::limits::MAX_START_CURVE_POINTS;
 use crate::numerics::tolerance::DOMAIN_SLACK;
@@ -613,7 +613,7 @@ impl<'a> Ctx<'a> {
                 .map(|(_, s)| *s)
                 .collect();
             let mut scratch = Vec::new();
-            let pilot = self.path_from_samples(pilot_samples, &mut scratch)?;
+            let pilot = self.path_from_samples(pilot_samples, &mut scratch, &mut budget)?;
             pilot_nodes += pilot.nodes.len();
             // Not one of PILOT_POINTS points spread along the first path can be cut: the job
             // stops here, as it would after trying every point of that path.
@@ -693,7 +693,7 @@ impl<'a> Ctx<'a> {
         budget: &mut usize,
     ) -> Result<ToolPath, FinishError> {
         let samples = self.forward_samples(poly, psi_ref, budget)?;
-        self.path_from_samples(samples, refused)
+        self.path_from_samples(samples, refused, budget)
     }
 
     /// The points of a path along a uv polyline by the forward step (each counted against
@@ -764,7 +764,12 @@ impl<'a> Ctx<'a> {
     }
 
     /// The path of [`Self::forward_samples`]'s points: oriented, smoothed, checked.
-    fn path_from_samples(&self, samples: Vec<Sample>, refused: &mut Vec<Refusal>) -> Result<ToolPath, FinishError> {
+    fn path_from_samples(
+        &self,
+        samples: Vec<Sample>,
+        refused: &mut Vec<Refusal>,
+        budget: &mut usize,
+    ) -> Result<ToolPath, FinishError> {
         // Frames and poses, ψ warm-started from the previous node.
         let mut frames = Vec::with_capacity(samples.len());
         let mut poses: Vec<Pose> = Vec::with_capacity(samples.len());
@@ -841,7 +846,7 @@ impl<'a> Ctx<'a> {
             .zip(poses)
             .map(|((frame, _, adjusted), pose)| self.node(&tool, frame, pose, adjusted))
             .collect();
-        let mut nodes = self.certify_chords(&tool, nodes, refused)?;
+        let mut nodes = self.certify_chords(&tool, nodes, refused, budget)?;
         if let Some(lead) = nodes.last().and_then(|last| self.lead_out(&tool, last, true)) {
             nodes.push(lead);
         }
@@ -878,12 +883,14 @@ impl<'a> Ctx<'a> {
     /// node is put at the middle of the chord's CC points (its pose the mean of the two,
     /// gouge-checked as every pose), and each half checked again, at most [`CHORD_SPLITS`]
     /// times. A chord whose middle node cannot be placed clear is left and its middle
-    /// refused (named, with its depth).
+    /// refused (named, with its depth). Each node put in is counted against `budget` (the
+    /// job's CC points, as the forward steps count theirs).
     fn certify_chords(
         &self,
         tool: &Cutter,
         nodes: Vec<CcNode>,
         refused: &mut Vec<Refusal>,
+        budget: &mut usize,
     ) -> Result<Vec<CcNode>, FinishError> {
         let tol = BETWEEN_CHECK_SHARE * self.opts.gouge_tol_mm;
         let mut out: Vec<CcNode> = Vec::with_capacity(nodes.len());
@@ -906,6 +913,10 @@ impl<'a> Ctx<'a> {
                 if (deep > tol || lifted) && !a.lead_out && !b.lead_out {
                     let placed = if depth < CHORD_SPLITS { self.node_between(tool, &a, &b)? } else { None };
                     if let Some(mid) = placed {
+                        if *budget == 0 {
+                            return Err(FinishError::TooManyNodes { max_nodes: self.opts.max_nodes });
+                        }
+                        *budget -= 1;
                         pending.push((b, depth + 1, -deep));
                         pending.push((mid, depth + 1, -deep));
                         continue;
@@ -1058,13 +1069,14 @@ impl<'a> Ctx<'a> {
         next: &[CcNode],
         steps: &[(usize, f64, bool, f64)],
     ) -> Vec<Option<f64>> {
+        let next = NearPath::new(next);
         steps
             .iter()
             .map(|&(i, w, beyond, _)| {
                 if beyond {
                     return None;
                 }
-                cusp_between(tool, self.surface, nodes, i, next, 2.0 * w + tool.radius_mm).map(|c| c.0)
+                cusp_between(tool, self.surface, nodes, i, &next, 2.0 * w + tool.radius_mm).map(|c| c.0)
             })
             .collect()
     }

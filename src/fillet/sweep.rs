@@ -165,6 +165,93 @@ pub fn surface_depth_near(cutter: &Cutter, surface: &Surface, tip: DVec3, axis: 
 /// under a micrometre across a millimetre-wide strip.
 const CUSP_ROUNDS: usize = 30;
 
+/// A path's CC polyline prepared for nearest-point queries ([`cusp_between`]): its segments
+/// (those between two CC points; lead-in and lead-out left out) in runs of about √n, each
+/// run bounded by a sphere, so a query tests the spheres and then the segments of the runs
+/// that can hold a nearer point — about √n tests a query instead of n, the answer the same
+/// as a scan of every segment (ties to the lower segment index, as the scan's).
+#[derive(Clone, Debug)]
+pub struct NearPath<'a> {
+    nodes: &'a [CcNode],
+    /// Per run: the first and one past the last segment index, the centre and radius (mm).
+    runs: Vec<(usize, usize, DVec3, f64)>,
+    /// The uv of the path's first and last CC points.
+    ends: Option<(DVec2, DVec2)>,
+}
+
+/// Fewest segments in a [`NearPath`] run.
+const MIN_RUN: usize = 16;
+
+impl<'a> NearPath<'a> {
+    /// Prepares `nodes` (work and memory linear in their count).
+    #[must_use]
+    pub fn new(nodes: &'a [CcNode]) -> Self {
+        let segments = nodes.len().saturating_sub(1);
+        let run = MIN_RUN.max((segments as f64).sqrt().ceil() as usize);
+        let mut runs = Vec::with_capacity(segments / run + 1);
+        let mut k0 = 0;
+        while k0 < segments {
+            let k1 = (k0 + run).min(segments);
+            let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+            for k in k0..k1 {
+                let (a, b) = (&nodes[k], &nodes[k + 1]);
+                if a.lead_out || b.lead_out {
+                    continue;
+                }
+                lo = lo.min(a.frame.point).min(b.frame.point);
+                hi = hi.max(a.frame.point).max(b.frame.point);
+            }
+            if lo.x <= hi.x {
+                let centre = 0.5 * (lo + hi);
+                // Widened by a part in 10⁹ so that rounding never drops a run holding a
+                // point at exactly the best distance found (the scan's tie rule needs it).
+                let radius = 0.5 * (hi - lo).length() * (1.0 + 1e-9) + 1e-12;
+                runs.push((k0, k1, centre, radius));
+            }
+            k0 = k1;
+        }
+        let mut cc = nodes.iter().filter(|n| !n.lead_out);
+        let ends = cc.next().map(|f| (f.frame.uv, cc.next_back().map_or(f.frame.uv, |l| l.frame.uv)));
+        Self { nodes, runs, ends }
+    }
+
+    /// The point of the CC polyline nearest to `q` within `reach_mm`: its distance (mm), the
+    /// index of the segment's first row and its uv.
+    #[must_use]
+    pub fn nearest(&self, q: DVec3, reach_mm: f64) -> Option<(f64, usize, DVec2)> {
+        let mut best: Option<(f64, usize, DVec2)> = None;
+        // The run whose sphere comes nearest first, so the bound prunes the rest.
+        let lower = |r: &(usize, usize, DVec3, f64)| (r.2 - q).length() - r.3;
+        let first = self.runs.iter().enumerate().min_by(|x, y| lower(x.1).total_cmp(&lower(y.1))).map(|(i, _)| i)?;
+        let order = std::iter::once(first).chain((0..self.runs.len()).filter(|&i| i != first));
+        for i in order {
+            let run = &self.runs[i];
+            let bound = lower(run);
+            if bound > reach_mm || best.is_some_and(|b| bound > b.0) {
+                continue;
+            }
+            for k in run.0..run.1 {
+                let (a, b) = (&self.nodes[k], &self.nodes[k + 1]);
+                if a.lead_out || b.lead_out {
+                    continue;
+                }
+                let (p0, p1) = (a.frame.point, b.frame.point);
+                let d = p1 - p0;
+                let len2 = d.length_squared();
+                let t = if len2 > 0.0 { ((q - p0).dot(d) / len2).clamp(0.0, 1.0) } else { 0.0 };
+                let dist = (p0 + t * d - q).length();
+                // Lengths are never −0 or NaN here (a NaN fails `dist <= reach_mm`), so the
+                // total order is the usual one, ties to the lower index.
+                let better = best.is_none_or(|b| dist.total_cmp(&b.0).then(k.cmp(&b.1)).is_lt());
+                if dist <= reach_mm && better {
+                    best = Some((dist, k, a.frame.uv.lerp(b.frame.uv, t)));
+                }
+            }
+        }
+        best
+    }
+}
+
 /// The cusp between path `a`'s row `j` and path `b`: on the surface curve from `a`'s CC
 /// point straight (in u, v) to the point of `b`'s CC polyline nearest to it, the point where the material left by the two swept cutters is equal —
 /// the top of the ridge between them. Returns its height (mm) and the index of `b`'s row
@@ -176,36 +263,19 @@ pub fn cusp_between(
     surface: &Surface,
     a: &[CcNode],
     j: usize,
-    b: &[CcNode],
+    b: &NearPath<'_>,
     reach_mm: f64,
 ) -> Option<(f64, usize)> {
     let node = a.get(j)?;
-    let q = node.frame.point;
-    // The point of b's CC polyline nearest to q (robust where a path turns: the plane normal
-    // to a turned feed would meet b far off).
-    let mut cross: Option<(f64, usize, DVec2)> = None;
-    for (k, w) in b.windows(2).enumerate() {
-        if w[0].lead_out || w[1].lead_out {
-            continue;
-        }
-        let (p0, p1) = (w[0].frame.point, w[1].frame.point);
-        let d = p1 - p0;
-        let len2 = d.length_squared();
-        let t = if len2 > 0.0 { ((q - p0).dot(d) / len2).clamp(0.0, 1.0) } else { 0.0 };
-        let dist = (p0 + t * d - q).length();
-        if dist <= reach_mm && cross.is_none_or(|c| dist < c.0) {
-            cross = Some((dist, k, w[0].frame.uv.lerp(w[1].frame.uv, t)));
-        }
-    }
-    let (_, k, uv_b) = cross?;
+    // The point of b's CC polyline nearest to the node (robust where a path turns: the plane
+    // normal to a turned feed would meet b far off).
+    let (_, k, uv_b) = b.nearest(node.frame.point, reach_mm)?;
     // Nearest at b's first or last CC point: b does not pass beside this node (it ends
     // before it, at an edge of the domain); there is no cusp between the two to measure.
-    let cc: Vec<usize> = (0..b.len()).filter(|&i| !b[i].lead_out).collect();
-    if let (Some(&first), Some(&last)) = (cc.first(), cc.last())
-        && (uv_b == b[first].frame.uv || uv_b == b[last].frame.uv)
-    {
+    if b.ends.is_some_and(|(first, last)| uv_b == first || uv_b == last) {
         return None;
     }
+    let b = b.nodes;
     let uv_a = node.frame.uv;
     let gap = |s: f64| -> (f64, f64) {
         let p = surface.point_at(uv_a.lerp(uv_b, s));
