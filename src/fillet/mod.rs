@@ -199,11 +199,35 @@ pub fn compare_from(
         });
     }
     let mut rows = Vec::new();
-    // Then each plan may spend what the ones before left.
+    // Then each plan may spend its share of what the ones before left: SHARE_ROOM times its
+    // estimate's part of the estimates still to come (at most all that is left). A plan
+    // past that has outrun its estimate so far that the projection below would refuse the
+    // table after it on the same ratio; its own checks stop it as soon as the part of the
+    // surface it has covered says so (a few per cent) instead of after it is built. The room
+    // covers that early extrapolation's error (the mould's fixed-lead plan read 2.1 times
+    // its final cost at 6 % of its surface).
+    const SHARE_ROOM: f64 = 3.0;
     let start_cells = part.cells_checked();
-    let left = |part: &PartSamples| FinishOptions {
-        max_check_cells: opts.max_check_cells.saturating_sub(part.cells_checked().saturating_sub(start_cells)),
-        ..*opts
+    let estimate_of = |plan: usize| 0.5 * each[plan / 2];
+    let budget_for = |part: &PartSamples, plan: usize| -> FinishOptions {
+        let spent = part.cells_checked().saturating_sub(start_cells);
+        let this = estimate_of(plan);
+        let rest: f64 = (plan..2 * each.len()).map(estimate_of).sum();
+        let left = opts.max_check_cells.saturating_sub(spent) as f64;
+        let share = if rest > 0.0 { (SHARE_ROOM * left * this / rest).min(left) } else { left };
+        FinishOptions { max_check_cells: share as u64, ..*opts }
+    };
+    // A plan's own refusal names its share of the table's budget.
+    let in_table = |s: Strategy, layout: Layout, e: FinishError| match e {
+        FinishError::TooMuchChecking { detail } => FinishError::TooMuchChecking {
+            detail: format!(
+                "of the table's ten plans would pass {} cells: its {} {} plan {detail} (its share: 3 times its estimate's part of what the plans before it left)",
+                opts.max_check_cells,
+                s.name(),
+                layout.name()
+            ),
+        },
+        other => other,
     };
     // The pilots' estimates of the plans still to come (each pair: half its estimate a plan),
     // scaled by how far the plans built so far outran theirs: refused as soon as the whole
@@ -211,8 +235,7 @@ pub fn compare_from(
     let project = |part: &PartSamples, plans: usize| -> Result<(), FinishError> {
         let spent = part.cells_checked().saturating_sub(start_cells) as f64;
         let total: f64 = each.iter().sum();
-        let done: f64 =
-            each.iter().take(plans / 2).sum::<f64>() + if plans % 2 == 1 { 0.5 * each[plans / 2] } else { 0.0 };
+        let done: f64 = (0..plans).map(estimate_of).sum();
         let projected = spent + (total - done) * if done > 0.0 { (spent / done).max(1.0) } else { 1.0 };
         if projected > opts.max_check_cells as f64 {
             return Err(FinishError::TooMuchChecking {
@@ -225,10 +248,12 @@ pub fn compare_from(
         Ok(())
     };
     for (k, s) in strategies.into_iter().enumerate() {
-        let iso = iso_scallop_from(surface, cutter, s, &left(part), part, start)?;
+        let iso = iso_scallop_from(surface, cutter, s, &budget_for(part, 2 * k), part, start)
+            .map_err(|e| in_table(s, Layout::IsoScallop, e))?;
         rows.push(Comparison { strategy: s, layout: Layout::IsoScallop, stats: iso.stats(opts.feed_mm_per_min) });
         project(part, 2 * k + 1)?;
-        let par = iso_parametric_from(surface, cutter, s, &left(part), part, start)?;
+        let par = iso_parametric_from(surface, cutter, s, &budget_for(part, 2 * k + 1), part, start)
+            .map_err(|e| in_table(s, Layout::IsoParametric, e))?;
         rows.push(Comparison { strategy: s, layout: Layout::IsoParametric, stats: par.stats(opts.feed_mm_per_min) });
         project(part, 2 * k + 2)?;
     }

@@ -1364,6 +1364,94 @@ fn a_job_far_over_its_caps_is_refused_before_its_paths_are_built() {
 /// refused before any plan is built (it used to build plans for up to 26 s, then stop in the
 /// middle of one): with a budget three times one matched plan's estimate, the five pilots are
 /// all that is checked.
+/// The cusp's nearest-point search through runs of segments (`NearPath`) returns what a scan
+/// of every segment returns — distance, segment (ties to the lower index) and uv — on
+/// polylines that wander over a whole-millimetre grid (revisiting points, so ties are exact),
+/// with lead-in and lead-out rows, and queries on and off the grid.
+#[test]
+fn the_nearest_point_by_runs_is_the_full_scan_s() {
+    use interpolab::fillet::sweep::NearPath;
+    use interpolab::fillet::{CcNode, ContactFrame, Pose};
+    let surface = plane();
+    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+    let mut next = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        seed
+    };
+    for case in 0..40 {
+        let n = 2 + (next() % 400) as usize;
+        let mut at = DVec2::ZERO;
+        let mut nodes = Vec::with_capacity(n);
+        for k in 0..n {
+            let step = [DVec2::X, -DVec2::X, DVec2::Y, -DVec2::Y, DVec2::ZERO][(next() % 5) as usize];
+            at = (at + step).clamp(DVec2::splat(-20.0), DVec2::splat(20.0));
+            let frame = ContactFrame::new(&surface, at, DVec3::X).unwrap();
+            let lead_out = (k == 0 || k + 1 == n) && next() % 2 == 0;
+            nodes.push(CcNode {
+                frame,
+                pose: Pose { inclination_rad: 0.0, azimuth_rad: 0.0 },
+                tip: frame.point,
+                axis: DVec3::Z,
+                strip_mm: 1.0,
+                side_step_mm: None,
+                scallop_mm: None,
+                adjusted: None,
+                lead_out,
+            });
+        }
+        let near = NearPath::new(&nodes);
+        for q in 0..60 {
+            let off = if q % 2 == 0 { 0.0 } else { (next() % 1000) as f64 / 1000.0 };
+            let p = DVec3::new((next() % 41) as f64 - 20.0 + off, (next() % 41) as f64 - 20.0, 0.0);
+            let reach = [0.5, 3.0, 100.0][q % 3];
+            let mut scan: Option<(f64, usize, DVec2)> = None;
+            for (k, w) in nodes.windows(2).enumerate() {
+                if w[0].lead_out || w[1].lead_out {
+                    continue;
+                }
+                let (p0, p1) = (w[0].frame.point, w[1].frame.point);
+                let d = p1 - p0;
+                let t =
+                    if d.length_squared() > 0.0 { ((p - p0).dot(d) / d.length_squared()).clamp(0.0, 1.0) } else { 0.0 };
+                let dist = (p0 + t * d - p).length();
+                if dist <= reach && scan.is_none_or(|s| dist < s.0) {
+                    scan = Some((dist, k, w[0].frame.uv.lerp(w[1].frame.uv, t)));
+                }
+            }
+            assert_eq!(near.nearest(p, reach), scan, "case {case} ({n} rows), query {p}, reach {reach}");
+        }
+    }
+}
+
+/// The mould with one corner control point folded onto the middle of its edge (a case the
+/// fuzzer found): each strategy's pilot passes, then the matched plan's checks outrun its
+/// estimate about tenfold. The table is refused within that plan, once the share of the
+/// surface it covered says it would pass the plan's share of the budget — not after the plan
+/// is built (it spent 2.6·10⁷ of the 10⁸ cells there before).
+#[test]
+fn a_table_plan_past_its_share_is_stopped_within_it() {
+    let p = FINISH_PRESETS.iter().find(|p| p.id == "finish-concave-mould").unwrap();
+    let mut scene: serde_json::Value = serde_json::from_str(p.json).unwrap();
+    scene["surfaces"][0]["points"][2][0][1] = serde_json::json!(1e-300);
+    let jb = FinishScene::from_json(&scene.to_string()).unwrap().job().unwrap();
+    let part = PartSamples::new(&jb.surface, jb.options.part_grid);
+    match interpolab::fillet::compare(&jb.surface, &jb.cutter, &jb.options, &part) {
+        Err(FinishError::TooMuchChecking { detail }) => {
+            assert!(detail.contains("its matched iso-scallop plan"), "{detail}");
+            assert!(detail.contains("of the surface covered"), "{detail}");
+        }
+        other => panic!("expected the table refused within its first plan: {other:?}"),
+    }
+    assert!(
+        part.cells_checked() < jb.options.max_check_cells / 10,
+        "{} cells checked before the refusal (budget {})",
+        part.cells_checked(),
+        jb.options.max_check_cells
+    );
+}
+
 #[test]
 fn a_table_over_its_shared_budget_is_refused_before_any_plan() {
     let jb = job("finish-bicubic-patch");
