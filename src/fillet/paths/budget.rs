@@ -1,0 +1,216 @@
+//! What a job may cost, and its refusal before the work: the pilot's estimate of paths, CC points and check cells, and the check counter.
+
+use glam::{DVec2, DVec3};
+
+use super::{Ctx, FinishOptions, PathStart, Sample, b_of, iso_curve, make_uv};
+use crate::fillet::FinishError;
+use crate::fillet::gouge::PartSamples;
+use crate::fillet::orient::Strategy;
+use crate::geom::{Cutter, LocalGeometry, ParametricSurface, Surface};
+
+/// What a pilot says a job will take: paths, CC points, certified check cells (and the
+/// cells a point it measured).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Estimate {
+    paths: f64,
+    nodes: f64,
+    cells: f64,
+    cells_per_node: f64,
+}
+
+/// The certified check cells an iso-scallop job from `start` would spend, estimated by the
+/// pilot its own start runs ([`MAX_CHECK_CELLS`]): for a comparison table, which refuses
+/// before any plan when its plans together would pass the budget they share. 0 when the
+/// pilot solved no side step.
+///
+/// # Errors
+/// A bad option or start, no path at the start, or a job refused by its own pilot.
+pub fn estimate_check_cells(
+    surface: &Surface,
+    cutter: &Cutter,
+    strategy: Strategy,
+    opts: &FinishOptions,
+    part: &PartSamples,
+    start: &PathStart,
+) -> Result<f64, FinishError> {
+    let ctx = Ctx::start(surface, cutter, strategy, opts, part, start)?;
+    let poly = ctx.first_polyline(start)?;
+    Ok(ctx.refuse_oversized(&poly)?.map_or(0.0, |e| e.cells))
+}
+
+/// Most cells of the certified bottom checks ([`PartSamples::cells_checked`]) a job may
+/// spend on average per CC point, once [`CHECK_COST_SAMPLE`] points are checked. The
+/// examples spend 190–1 470 (whole plans, every strategy and layout); a check stops at
+/// 40 000 cells, which a surface far larger or more curved than the cutter reaches at every
+/// pose tried (a NURBS with one control point at 10⁵ mm: minutes of checks that refuse
+/// every point). Stopping there takes a few seconds instead.
+pub const MAX_CHECK_CELLS_PER_NODE: u64 = 20_000;
+
+/// CC points checked before [`MAX_CHECK_CELLS_PER_NODE`] applies.
+pub const CHECK_COST_SAMPLE: u64 = 8;
+
+/// Most cells of the certified bottom checks a whole job may spend (the examples: 0.9–12
+/// million a job, a comparison table of ten plans shares it), some 15 s of checking.
+pub const MAX_CHECK_CELLS: u64 = 100_000_000;
+
+/// A job whose paths or CC points, estimated before they are built
+/// (`Ctx::refuse_oversized`), exceed their caps by this factor is refused at once; below
+/// it the caps themselves stop the work as it goes.
+pub const ESTIMATE_MARGIN: f64 = 1.25;
+
+/// Share of the surface covered after which the iso-scallop paths' CC points are estimated
+/// from the share, and the job refused when the estimate passes the cap.
+pub const ESTIMATE_AFTER_SHARE: f64 = 0.05;
+
+/// Share of the surface, and cells checked, after which the checks' total cost is
+/// estimated from the share (refused above twice [`MAX_CHECK_CELLS`] below
+/// [`ESTIMATE_AFTER_SHARE`], above it from there).
+pub const CELLS_ESTIMATE_AFTER_SHARE: f64 = 0.01;
+
+/// See [`CELLS_ESTIMATE_AFTER_SHARE`].
+pub const CELLS_ESTIMATE_AFTER: f64 = 1e6;
+
+/// Points of each pilot line whose side steps the estimate solves.
+pub(super) const PILOT_POINTS: usize = 16;
+
+/// Lines of the pilot: the first path's and iso-curves spread across the surface.
+pub(super) const PILOT_LINES: usize = 4;
+
+/// Iso-curves across (at the start, the middle and the end of the along parameter) whose
+/// length gives the width the paths must cover, and the points each is measured at.
+pub(super) const WIDTH_CURVES: usize = 3;
+
+pub(super) const WIDTH_POINTS: usize = 64;
+
+impl Ctx<'_> {
+    /// Counts a checked CC point and stops the job once its checks cost far more than any
+    /// usable part's ([`MAX_CHECK_CELLS_PER_NODE`], [`MAX_CHECK_CELLS`]).
+    pub(super) fn count_check(&self) -> Result<(), FinishError> {
+        let nodes = self.nodes_checked.get() + 1;
+        self.nodes_checked.set(nodes);
+        let cells = self.part.cells_checked().saturating_sub(self.cells_at_start);
+        let max = self.opts.max_check_cells;
+        if cells > max {
+            return Err(FinishError::TooMuchChecking { detail: format!("passed {max} cells after {nodes} CC points") });
+        }
+        // After CHECK_COST_SAMPLE points, or sooner once the cells spent would already put
+        // that many points over the average (a first point costing a million cells).
+        if (nodes >= CHECK_COST_SAMPLE || cells > CHECK_COST_SAMPLE * MAX_CHECK_CELLS_PER_NODE)
+            && cells / nodes > MAX_CHECK_CELLS_PER_NODE
+        {
+            return Err(FinishError::TooMuchChecking {
+                detail: format!(
+                    "cost {} cells a CC point over the first {nodes} (more than {MAX_CHECK_CELLS_PER_NODE})",
+                    cells / nodes
+                ),
+            });
+        }
+        Ok(())
+    }
+
+    /// Refuses a job whose paths would pass their caps by more than [`ESTIMATE_MARGIN`], or
+    /// whose checks would pass [`MAX_CHECK_CELLS`], before they are built. A pilot on the
+    /// first path's polyline and on [`PILOT_LINES`] − 1 iso-curves across the surface: each
+    /// line's forward steps counted (no orientation or check), [`PILOT_POINTS`] of them
+    /// oriented and checked and their side steps solved. The paths across are the surface's
+    /// width across times the mean of 1/side step, each with the lines' mean CC points, each
+    /// point checked at the pilot's mean cost.
+    pub(super) fn refuse_oversized(&self, poly: &[DVec2]) -> Result<Option<Estimate>, FinishError> {
+        let Some(est) = self.pilot(poly)? else { return Ok(None) };
+        let (paths, nodes) = (est.paths, est.nodes);
+        if paths > ESTIMATE_MARGIN * self.opts.max_paths as f64 || nodes > ESTIMATE_MARGIN * self.opts.max_nodes as f64
+        {
+            return Err(FinishError::Oversized {
+                paths,
+                nodes,
+                max_paths: self.opts.max_paths,
+                max_nodes: self.opts.max_nodes,
+            });
+        }
+        let (cells, cells_per_node) = (est.cells, est.cells_per_node);
+        let max = self.opts.max_check_cells;
+        if cells > max as f64 {
+            return Err(FinishError::TooMuchChecking {
+                detail: format!(
+                    "would pass {max} cells: about {cells:.2e} over about {nodes:.0} CC points (estimated before the paths are built, {cells_per_node:.0} cells a point on a pilot)"
+                ),
+            });
+        }
+        Ok(Some(est))
+    }
+
+    /// The pilot of [`Self::refuse_oversized`]: the job's paths, CC points and check cells
+    /// estimated from it; `None` when no side step could be solved on it.
+    pub(super) fn pilot(&self, poly: &[DVec2]) -> Result<Option<Estimate>, FinishError> {
+        let ((a0, a1), (b0, b1)) = self.ranges();
+        let mut lines = vec![poly.to_vec()];
+        for k in 1..PILOT_LINES {
+            lines.push(iso_curve((a0, a1), b0 + (b1 - b0) * k as f64 / (PILOT_LINES - 1) as f64, self.along));
+        }
+        let mut side = None;
+        let (mut inverse, mut samples_sum, mut pilot_nodes) = (Vec::new(), 0usize, 0usize);
+        let cells_before = self.part.cells_checked();
+        for line in &lines {
+            let mut budget = self.opts.max_nodes;
+            let samples = self.forward_samples(line, None, &mut budget)?;
+            samples_sum += samples.len();
+            let every = (samples.len() / PILOT_POINTS).max(1);
+            let pilot_samples: Vec<Sample> = samples
+                .iter()
+                .enumerate()
+                .filter(|(k, _)| k % every == 0 || *k + 1 == samples.len())
+                .map(|(_, s)| *s)
+                .collect();
+            let mut scratch = Vec::new();
+            let pilot = self.path_from_samples(pilot_samples, &mut scratch, &mut budget)?;
+            pilot_nodes += pilot.nodes.len();
+            // Not one of PILOT_POINTS points spread along the first path can be cut: the job
+            // stops here, as it would after trying every point of that path.
+            if side.is_none() && samples.len() > PILOT_POINTS && pilot.nodes.iter().all(|n| n.lead_out) {
+                return Err(FinishError::NoPath { reason: scratch.first().map_or("no CC point", |r| r.reason) });
+            }
+            // The side toward the far edge, from the first line's first node (as the job's).
+            if side.is_none()
+                && let Some(n0) = pilot.nodes.iter().find(|n| !n.lead_out)
+            {
+                let g = LocalGeometry::try_new(self.surface.derivatives_at(n0.frame.uv));
+                let tc = g.map_or(DVec2::ZERO, |g| g.tangent_coords(n0.frame.cross));
+                side = Some(if b_of(tc, self.along) >= 0.0 { 1.0 } else { -1.0 } * self.toward);
+            }
+            let Some(side) = side else { continue };
+            let ctx = Ctx { side, nodes_checked: std::cell::Cell::new(self.nodes_checked.get()), ..*self };
+            inverse.extend(
+                pilot
+                    .nodes
+                    .iter()
+                    .filter(|n| !n.lead_out)
+                    .map(|n| ctx.side_step(n).2)
+                    .filter(|w| *w > 0.0 && w.is_finite())
+                    .map(|w| 1.0 / w),
+            );
+            self.nodes_checked.set(ctx.nodes_checked.get());
+        }
+        // The checks' cost per CC point on the pilot (its paths and side steps, as a job's).
+        let cells_per_node = self.part.cells_checked().saturating_sub(cells_before) as f64 / pilot_nodes.max(1) as f64;
+        let samples_per_path = samples_sum as f64 / lines.len() as f64;
+        if inverse.is_empty() {
+            return Ok(None);
+        }
+        let per_mm = inverse.iter().sum::<f64>() / inverse.len() as f64;
+        let mut width = 0.0;
+        for i in 0..WIDTH_CURVES {
+            let a = a0 + (a1 - a0) * i as f64 / (WIDTH_CURVES - 1) as f64;
+            let mut prev: Option<DVec3> = None;
+            for j in 0..=WIDTH_POINTS {
+                let p = self.surface.point_at(make_uv(a, b0 + (b1 - b0) * j as f64 / WIDTH_POINTS as f64, self.along));
+                if let Some(q) = prev {
+                    width += (p - q).length() / WIDTH_CURVES as f64;
+                }
+                prev = Some(p);
+            }
+        }
+        let paths = (width * per_mm).max(1.0);
+        let nodes = paths * samples_per_path;
+        Ok(Some(Estimate { paths, nodes, cells: nodes * cells_per_node, cells_per_node }))
+    }
+}

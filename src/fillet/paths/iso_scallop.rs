@@ -1,0 +1,486 @@
+//! The iso-scallop paths, one after the other across the surface, each corrected from the cusp measured to the path before it.
+
+use glam::{DVec2, DVec3};
+
+use super::{
+    CELLS_ESTIMATE_AFTER, CELLS_ESTIMATE_AFTER_SHARE, Ctx, ESTIMATE_AFTER_SHARE, FinishOptions, Layout, PathSet,
+    PathStart, Refusal, ScallopFlag, ToolPath, b_of,
+};
+use crate::fillet::FinishError;
+use crate::fillet::gouge::PartSamples;
+use crate::fillet::node::CcNode;
+use crate::fillet::orient::Strategy;
+use crate::geom::{Cutter, LocalGeometry, ParametricSurface, Surface};
+
+/// The measured cusp's band (× h) outside which the corrector builds a path again, the
+/// cusp it aims at (× h), the most it scales a side step by in one round, and its rounds.
+pub(super) const CUSP_BAND: (f64, f64) = (0.0, 1.04);
+
+pub(super) const CUSP_TARGET: f64 = 0.995;
+
+pub(super) const CUSP_SCALE: (f64, f64) = (0.6, 1.0);
+
+pub(super) const CUSP_CORRECTIONS: usize = 4;
+
+/// A measured cusp above this many h after the corrector is named in
+/// [`PathSet::scallop_flags`].
+pub const FLAG_ABOVE: f64 = 1.10;
+
+/// Half the span (mm along the path) over which [`smooth_factors`] takes the smallest
+/// factor, and the most the factor changes per mm of path.
+pub(super) const FACTOR_SPAN_MM: f64 = 3.0;
+
+pub(super) const FACTOR_SLOPE: f64 = 0.02;
+
+/// Most change of the side step along a path (mm per mm of path): the offset curve turns by
+/// at most about this many radians from the path it offsets ([`limit_step_slope`]).
+pub(super) const SIDE_STEP_SLOPE: f64 = 0.5;
+
+/// The side steps lowered until they change along the path by at most [`SIDE_STEP_SLOPE`]
+/// mm per mm between neighbouring nodes (the lower Lipschitz envelope, one pass each way):
+/// a step far above its neighbours' (a side-step solution that jumped, a cusp correction at
+/// one node) would bend the offset curve into a kink that the next path's feed, and with it
+/// its side steps, turns with; lowering never widens a scallop.
+pub(super) fn limit_step_slope(nodes: &[CcNode], steps: &mut [(usize, f64, bool, f64)]) {
+    let gap = |i: usize, j: usize| match (nodes.get(i), nodes.get(j)) {
+        (Some(a), Some(b)) => (b.frame.point - a.frame.point).length(),
+        _ => 0.0,
+    };
+    for k in 1..steps.len() {
+        let cap = steps[k - 1].1 + SIDE_STEP_SLOPE * gap(steps[k - 1].0, steps[k].0);
+        steps[k].1 = steps[k].1.min(cap);
+    }
+    for k in (0..steps.len().saturating_sub(1)).rev() {
+        let cap = steps[k + 1].1 + SIDE_STEP_SLOPE * gap(steps[k].0, steps[k + 1].0);
+        steps[k].1 = steps[k].1.min(cap);
+    }
+}
+
+/// The corrector's factors made smooth along the path: each the smallest within
+/// [`FACTOR_SPAN_MM`] of its node, then lowered until it changes by at most
+/// [`FACTOR_SLOPE`] per mm (a step scaled at one node and not at the next would put a kink
+/// into the offset curve, which the paths after it inherit).
+pub(super) fn smooth_factors(nodes: &[CcNode], steps: &[(usize, f64, bool, f64)], factors: &[f64]) -> Vec<f64> {
+    let at: Vec<f64> = {
+        let mut s = 0.0;
+        let mut prev: Option<DVec3> = None;
+        steps
+            .iter()
+            .map(|st| {
+                let p = nodes.get(st.0).map_or(DVec3::ZERO, |n| n.frame.point);
+                if let Some(q) = prev {
+                    s += (p - q).length();
+                }
+                prev = Some(p);
+                s
+            })
+            .collect()
+    };
+    let mut out: Vec<f64> = (0..factors.len())
+        .map(|k| {
+            let lo = at.partition_point(|&x| x < at[k] - FACTOR_SPAN_MM);
+            let hi = at.partition_point(|&x| x <= at[k] + FACTOR_SPAN_MM);
+            factors[lo..hi.max(lo + 1).min(factors.len())].iter().copied().fold(factors[k], f64::min)
+        })
+        .collect();
+    for k in 1..out.len() {
+        out[k] = out[k].min(out[k - 1] + FACTOR_SLOPE * (at[k] - at[k - 1]));
+    }
+    for k in (0..out.len().saturating_sub(1)).rev() {
+        out[k] = out[k].min(out[k + 1] + FACTOR_SLOPE * (at[k + 1] - at[k]));
+    }
+    out
+}
+
+/// Iso-scallop paths (module docs). The same as running [`IsoScallopSteps`] to its end.
+///
+/// # Errors
+/// A bad option, no path at the first boundary, or too many paths or nodes.
+pub fn iso_scallop(
+    surface: &Surface,
+    cutter: &Cutter,
+    strategy: Strategy,
+    opts: &FinishOptions,
+    part: &PartSamples,
+) -> Result<PathSet, FinishError> {
+    iso_scallop_from(surface, cutter, strategy, opts, part, &PathStart::FirstBoundary)
+}
+
+/// Iso-scallop paths from the first path `start` says (module docs). The same as running
+/// [`IsoScallopSteps::start_from`] to its end.
+///
+/// # Errors
+/// A bad option or start curve, no path at the start, or too many paths or nodes.
+pub fn iso_scallop_from(
+    surface: &Surface,
+    cutter: &Cutter,
+    strategy: Strategy,
+    opts: &FinishOptions,
+    part: &PartSamples,
+    start: &PathStart,
+) -> Result<PathSet, FinishError> {
+    let mut steps = IsoScallopSteps::start_from(surface, cutter, strategy, opts, part, start)?;
+    while !steps.step(surface, cutter, opts, part)? {}
+    Ok(steps.finish())
+}
+
+/// Iso-scallop paths built one path per call, for callers that spread the work over time
+/// (the app's tab). [`IsoScallopSteps::start`] builds the first path; every
+/// [`IsoScallopSteps::step`] builds the next one from the side steps of the last; the
+/// result is exactly [`iso_scallop`]'s. Every call must get the same surface, cutter,
+/// options and part samples as `start`.
+///
+/// From a start curve the paths go to both sides, in this order (the order of machining):
+/// the curve, the paths toward increasing b outward to b_max, then — after a linking move —
+/// the paths toward decreasing b outward from the curve to b_min. Each path's side steps
+/// and scallops are to the next path of its own side (the curve's: to the first path toward
+/// increasing b); the last path of each side has none.
+#[derive(Clone, Debug)]
+pub struct IsoScallopSteps {
+    strategy: Strategy,
+    along: usize,
+    /// +1 when c points toward increasing b (at the first path's first node).
+    c_sign: f64,
+    /// +1 while the paths advance toward increasing b, −1 toward decreasing b.
+    toward: f64,
+    /// The path the next step offsets from.
+    frontier: usize,
+    /// Whether the side toward decreasing b is still to be done from the start curve.
+    second_side: bool,
+    /// Whether that side is being done.
+    in_second_side: bool,
+    /// Where the covered band began (b, internal units): the edge or the curve's lowest b.
+    start_b: f64,
+    /// The index of the second side's first path, once built.
+    second_side_at: Option<usize>,
+    refused: Vec<Refusal>,
+    flags: Vec<ScallopFlag>,
+    budget: usize,
+    /// The checking work so far (see [`Ctx::count_check`]): the part's cell count when the
+    /// job started and the CC points checked.
+    cells_at_start: u64,
+    nodes_checked: u64,
+    paths: Vec<ToolPath>,
+    done: bool,
+}
+
+impl IsoScallopSteps {
+    /// Checks the options and builds the first path (on the boundary b = b0).
+    ///
+    /// # Errors
+    /// A bad option or no path at the first boundary.
+    pub fn start(
+        surface: &Surface,
+        cutter: &Cutter,
+        strategy: Strategy,
+        opts: &FinishOptions,
+        part: &PartSamples,
+    ) -> Result<Self, FinishError> {
+        Self::start_from(surface, cutter, strategy, opts, part, &PathStart::FirstBoundary)
+    }
+
+    /// Checks the options and the start, and builds the first path where `start` says.
+    ///
+    /// # Errors
+    /// A bad option or start curve, or no path at the start.
+    pub fn start_from(
+        surface: &Surface,
+        cutter: &Cutter,
+        strategy: Strategy,
+        opts: &FinishOptions,
+        part: &PartSamples,
+        start: &PathStart,
+    ) -> Result<Self, FinishError> {
+        let ctx = Ctx::start(surface, cutter, strategy, opts, part, start)?;
+        let along = ctx.along;
+        let (_, (b0, b1)) = ctx.ranges();
+        let poly = ctx.first_polyline(start)?;
+        let (toward, second_side) = match start {
+            PathStart::Boundary(e) if e.at_max() => (-1.0, false),
+            PathStart::FirstBoundary | PathStart::Boundary(_) => (1.0, false),
+            PathStart::Curve(_) => (1.0, true),
+        };
+        let start_b = match start {
+            PathStart::Curve(_) => poly.iter().map(|&p| b_of(p, along)).fold(b1, f64::min),
+            _ => b0,
+        };
+        ctx.refuse_oversized(&poly)?;
+        let mut refused = Vec::new();
+        let mut budget = opts.max_nodes;
+        let first = ctx.build_path(&poly, None, &mut refused, &mut budget)?;
+        let Some(n0) = first.nodes.iter().find(|n| !n.lead_out) else {
+            return Err(FinishError::NoPath { reason: refused.first().map_or("no CC point", |r| r.reason) });
+        };
+        // c toward increasing b?
+        let g = LocalGeometry::try_new(surface.derivatives_at(n0.frame.uv));
+        let tc = g.map_or(DVec2::ZERO, |g| g.tangent_coords(n0.frame.cross));
+        let c_sign = if b_of(tc, along) >= 0.0 { 1.0 } else { -1.0 };
+        Ok(Self {
+            strategy,
+            along,
+            c_sign,
+            toward,
+            frontier: 0,
+            second_side,
+            in_second_side: false,
+            start_b,
+            second_side_at: None,
+            refused,
+            flags: Vec::new(),
+            budget,
+            cells_at_start: ctx.cells_at_start,
+            nodes_checked: ctx.nodes_checked.get(),
+            paths: vec![first],
+            done: false,
+        })
+    }
+
+    /// The current side is covered: on to the other side of the start curve, or done.
+    /// Returns whether all is done.
+    fn end_side(&mut self) -> bool {
+        if self.second_side {
+            self.second_side = false;
+            self.in_second_side = true;
+            self.toward = -1.0;
+            self.frontier = 0;
+            false
+        } else {
+            self.done = true;
+            true
+        }
+    }
+
+    /// Builds the next path; `Ok(true)` when the surface is covered (then further calls do
+    /// nothing).
+    ///
+    /// # Errors
+    /// Too many paths or nodes.
+    pub fn step(
+        &mut self,
+        surface: &Surface,
+        cutter: &Cutter,
+        opts: &FinishOptions,
+        part: &PartSamples,
+    ) -> Result<bool, FinishError> {
+        if self.done {
+            return Ok(true);
+        }
+        let along = self.along;
+        let (side, toward) = (self.c_sign * self.toward, self.toward);
+        let ctx = Ctx {
+            surface,
+            cutter: *cutter,
+            strategy: self.strategy,
+            opts,
+            part,
+            along,
+            side,
+            toward,
+            cells_at_start: self.cells_at_start,
+            nodes_checked: std::cell::Cell::new(self.nodes_checked),
+        };
+        let (_, (b0, b1)) = ctx.ranges();
+        if self.paths.len() >= opts.max_paths {
+            return Err(FinishError::TooManyPaths { max_paths: opts.max_paths });
+        }
+        // The side steps from the start curve toward decreasing b are not stored on it: it
+        // keeps those to the next path in the order of machining.
+        let keep = !(self.in_second_side && self.frontier == 0);
+        let Some(last) = self.paths.get_mut(self.frontier) else {
+            self.done = true;
+            return Ok(true);
+        };
+        let slack = 1e-12 * (b1 - b0);
+        let on_far_edge = |uv: DVec2| {
+            let b = b_of(uv, along);
+            if toward > 0.0 { b >= b1 - slack } else { b <= b0 + slack }
+        };
+        if last.nodes.iter().all(|n| on_far_edge(n.frame.uv)) {
+            return Ok(self.end_side());
+        }
+        // The side steps predicted from each node's cross profile (one per node, with whether
+        // it reached the far edge).
+        let mut steps: Vec<(usize, f64, bool, f64)> = Vec::with_capacity(last.nodes.len());
+        for (i, node) in last.nodes.iter().enumerate().filter(|(_, n)| !n.lead_out) {
+            let (_, beyond, w, s) = ctx.side_step(node);
+            steps.push((i, w, beyond, s));
+        }
+        limit_step_slope(&last.nodes, &mut steps);
+        let Some((poly, refs)) = ctx.offset_curve(&last.nodes, &steps) else {
+            return Ok(self.end_side());
+        };
+        let (refused_before, budget_before) = (self.refused.len(), self.budget);
+        let mut next = ctx.build_path(&poly, Some(&refs), &mut self.refused, &mut self.budget)?;
+        // The corrector: the cusp measured between the path just built and this one, from
+        // their swept cutters; where it leaves the band, the side steps there are scaled by
+        // √(h / cusp) (the cusp grows with the square of the step) and the path built again.
+        let tool = self.strategy.cutter_for(cutter);
+        let h = opts.scallop_mm;
+        let mut measured = ctx.measure_cusps(&tool, &last.nodes, &next.nodes, &steps);
+        let off = |m: &Option<f64>| m.is_some_and(|c| c > CUSP_BAND.1 * h || c < CUSP_BAND.0 * h);
+        // The rounds go on from the last trial (a round that made the cusp worse can still
+        // lead to a better one); the one kept leaves the least cusp over the band, summed
+        // over the nodes.
+        let excess = |ms: &[Option<f64>]| ms.iter().flatten().map(|c| (c - CUSP_BAND.1 * h).max(0.0)).sum::<f64>();
+        let mut best_excess = excess(&measured);
+        let mut current = (steps.clone(), measured.clone());
+        // Corrected only for the strategies whose paths are meant to leave h (matched, ball);
+        // the fixed-lead and principal-axis cutters cannot match a concave surface's
+        // curvature by their definition, and correcting them only spends checks (on the
+        // mould, past the job's budget): their cusps are measured and named.
+        let rounds = if matches!(self.strategy, Strategy::Matched | Strategy::Ball) { CUSP_CORRECTIONS } else { 0 };
+        for _ in 0..rounds {
+            if !current.1.iter().any(off) {
+                break;
+            }
+            let factors: Vec<f64> = current
+                .1
+                .iter()
+                .map(|m| match *m {
+                    Some(c) if off(m) => (CUSP_TARGET * h / c.max(1e-3 * h)).sqrt().clamp(CUSP_SCALE.0, CUSP_SCALE.1),
+                    _ => 1.0,
+                })
+                .collect();
+            let factors = smooth_factors(&last.nodes, &current.0, &factors);
+            let mut trial = current.0.clone();
+            for (st, f) in trial.iter_mut().zip(&factors) {
+                st.1 *= f;
+            }
+            limit_step_slope(&last.nodes, &mut trial);
+            let Some((poly, refs)) = ctx.offset_curve(&last.nodes, &trial) else { break };
+            let mut refused = self.refused[..refused_before].to_vec();
+            let mut budget = budget_before;
+            let again = ctx.build_path(&poly, Some(&refs), &mut refused, &mut budget)?;
+            let again_measured = ctx.measure_cusps(&tool, &last.nodes, &again.nodes, &trial);
+            let e = excess(&again_measured);
+            if e < best_excess {
+                best_excess = e;
+                (steps, next, measured) = (trial.clone(), again, again_measured.clone());
+                self.refused = refused;
+                self.budget = budget;
+            }
+            current = (trial, again_measured);
+        }
+        // Where no round brought the cusp within FLAG_ABOVE·h, the place is named.
+        for (&(i, ..), m) in steps.iter().zip(&measured) {
+            if let (Some(c), Some(node)) = (*m, last.nodes.get(i))
+                && c > FLAG_ABOVE * h
+            {
+                self.flags.push(ScallopFlag {
+                    uv: node.frame.uv,
+                    point: node.frame.point,
+                    path: self.frontier,
+                    scallop_mm: c,
+                });
+            }
+        }
+        if keep {
+            for ((i, w, _, predicted), m) in steps.iter().zip(&measured) {
+                if let Some(node) = last.nodes.get_mut(*i) {
+                    node.side_step_mm = Some(*w);
+                    node.scallop_mm = Some(m.unwrap_or(*predicted));
+                }
+            }
+        }
+        self.nodes_checked = ctx.nodes_checked.get();
+        if next.nodes.is_empty() {
+            return Ok(self.end_side());
+        }
+        self.paths.push(next);
+        self.frontier = self.paths.len() - 1;
+        // Refused as soon as the share covered says the whole would pass the cap (one side
+        // from an edge; a start curve's two sides are left to the cap itself).
+        if !self.second_side && !self.in_second_side {
+            let share = self.progress(surface);
+            let used = (opts.max_nodes - self.budget) as f64;
+            if share >= ESTIMATE_AFTER_SHARE && used / share > opts.max_nodes as f64 {
+                return Err(FinishError::Oversized {
+                    paths: self.paths.len() as f64 / share,
+                    nodes: used / share,
+                    max_paths: opts.max_paths,
+                    max_nodes: opts.max_nodes,
+                });
+            }
+            // The checks' cost from an earlier share (they are what takes the time), with
+            // room for a costly start below 5 %.
+            let cells = part.cells_checked().saturating_sub(self.cells_at_start) as f64;
+            let room = if share < ESTIMATE_AFTER_SHARE { 2.0 } else { 1.0 };
+            if share >= CELLS_ESTIMATE_AFTER_SHARE
+                && cells >= CELLS_ESTIMATE_AFTER
+                && cells / share > room * opts.max_check_cells as f64
+            {
+                return Err(FinishError::TooMuchChecking {
+                    detail: format!(
+                        "would pass {} cells: about {:.2e} (estimated from the {:.0} % of the surface covered)",
+                        opts.max_check_cells,
+                        cells / share,
+                        share * 100.0
+                    ),
+                });
+            }
+        }
+        if self.in_second_side && self.second_side_at.is_none() {
+            self.second_side_at = Some(self.frontier);
+        }
+        Ok(false)
+    }
+
+    /// The paths built so far (the last one's side steps and scallops are filled by the
+    /// next `step`).
+    #[must_use]
+    pub fn paths(&self) -> &[ToolPath] {
+        &self.paths
+    }
+
+    /// How far the paths have come across the surface, 0 … 1: the share of the surface's b
+    /// range between where the paths began and the nearest node of the last path (1 when
+    /// done). Advancing toward decreasing b (from the upper edge, or the start curve's
+    /// second side), the share between the last path's farthest-back node and b_max.
+    #[must_use]
+    pub fn progress(&self, surface: &Surface) -> f64 {
+        if self.done {
+            return 1.0;
+        }
+        let d = surface.domain();
+        let rb = if self.along == 0 { d.v } else { d.u };
+        let span = rb.max - rb.min;
+        let bs = || {
+            self.paths.get(self.frontier).into_iter().flat_map(|p| p.nodes.iter()).map(|n| b_of(n.frame.uv, self.along))
+        };
+        let covered = if self.toward > 0.0 {
+            bs().min_by(f64::total_cmp).map(|b| b - self.start_b)
+        } else {
+            bs().max_by(f64::total_cmp).map(|b| rb.max - b)
+        };
+        match covered {
+            Some(c) if span > 0.0 => (c / span).clamp(0.0, 1.0),
+            _ => 0.0,
+        }
+    }
+
+    /// Whether the surface is covered.
+    #[must_use]
+    pub fn is_done(&self) -> bool {
+        self.done
+    }
+
+    /// The CC points refused so far.
+    #[must_use]
+    pub fn refused(&self) -> &[Refusal] {
+        &self.refused
+    }
+
+    /// The path set built so far (all of it once `step` returned `Ok(true)`).
+    #[must_use]
+    pub fn finish(self) -> PathSet {
+        PathSet {
+            paths: self.paths,
+            layout: Layout::IsoScallop,
+            strategy: self.strategy,
+            along: self.along,
+            refused: self.refused,
+            second_side: self.second_side_at,
+            scallop_flags: self.flags,
+        }
+    }
+}
