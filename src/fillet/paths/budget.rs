@@ -184,7 +184,7 @@ impl Ctx<'_> {
                     .nodes
                     .iter()
                     .filter(|n| !n.lead_out)
-                    .map(|n| ctx.side_step(n).2)
+                    .map(|n| ctx.side_step(n).width_mm)
                     .filter(|w| *w > 0.0 && w.is_finite())
                     .map(|w| 1.0 / w),
             );

@@ -2,6 +2,7 @@
 
 use glam::{DVec2, DVec3};
 
+use super::side_step::Step;
 use super::{
     CELLS_ESTIMATE_AFTER, CELLS_ESTIMATE_AFTER_SHARE, Ctx, ESTIMATE_AFTER_SHARE, FinishOptions, Layout, PathSet,
     PathStart, Refusal, ScallopFlag, ToolPath, b_of,
@@ -41,18 +42,18 @@ pub(super) const SIDE_STEP_SLOPE: f64 = 0.5;
 /// a step far above its neighbours' (a side-step solution that jumped, a cusp correction at
 /// one node) would bend the offset curve into a kink that the next path's feed, and with it
 /// its side steps, turns with; lowering never widens a scallop.
-pub(super) fn limit_step_slope(nodes: &[CcNode], steps: &mut [(usize, f64, bool, f64)]) {
+pub(super) fn limit_step_slope(nodes: &[CcNode], steps: &mut [Step]) {
     let gap = |i: usize, j: usize| match (nodes.get(i), nodes.get(j)) {
         (Some(a), Some(b)) => (b.frame.point - a.frame.point).length(),
         _ => 0.0,
     };
     for k in 1..steps.len() {
-        let cap = steps[k - 1].1 + SIDE_STEP_SLOPE * gap(steps[k - 1].0, steps[k].0);
-        steps[k].1 = steps[k].1.min(cap);
+        let cap = steps[k - 1].width_mm + SIDE_STEP_SLOPE * gap(steps[k - 1].node, steps[k].node);
+        steps[k].width_mm = steps[k].width_mm.min(cap);
     }
     for k in (0..steps.len().saturating_sub(1)).rev() {
-        let cap = steps[k + 1].1 + SIDE_STEP_SLOPE * gap(steps[k].0, steps[k + 1].0);
-        steps[k].1 = steps[k].1.min(cap);
+        let cap = steps[k + 1].width_mm + SIDE_STEP_SLOPE * gap(steps[k].node, steps[k + 1].node);
+        steps[k].width_mm = steps[k].width_mm.min(cap);
     }
 }
 
@@ -60,14 +61,14 @@ pub(super) fn limit_step_slope(nodes: &[CcNode], steps: &mut [(usize, f64, bool,
 /// [`FACTOR_SPAN_MM`] of its node, then lowered until it changes by at most
 /// [`FACTOR_SLOPE`] per mm (a step scaled at one node and not at the next would put a kink
 /// into the offset curve, which the paths after it inherit).
-pub(super) fn smooth_factors(nodes: &[CcNode], steps: &[(usize, f64, bool, f64)], factors: &[f64]) -> Vec<f64> {
+pub(super) fn smooth_factors(nodes: &[CcNode], steps: &[Step], factors: &[f64]) -> Vec<f64> {
     let at: Vec<f64> = {
         let mut s = 0.0;
         let mut prev: Option<DVec3> = None;
         steps
             .iter()
             .map(|st| {
-                let p = nodes.get(st.0).map_or(DVec3::ZERO, |n| n.frame.point);
+                let p = nodes.get(st.node).map_or(DVec3::ZERO, |n| n.frame.point);
                 if let Some(q) = prev {
                     s += (p - q).length();
                 }
@@ -300,10 +301,15 @@ impl IsoScallopSteps {
         }
         // The side steps predicted from each node's cross profile (one per node, with whether
         // it reached the far edge).
-        let mut steps: Vec<(usize, f64, bool, f64)> = Vec::with_capacity(last.nodes.len());
+        let mut steps: Vec<Step> = Vec::with_capacity(last.nodes.len());
         for (i, node) in last.nodes.iter().enumerate().filter(|(_, n)| !n.lead_out) {
-            let (_, beyond, w, s) = ctx.side_step(node);
-            steps.push((i, w, beyond, s));
+            let solved = ctx.side_step(node);
+            steps.push(Step {
+                node: i,
+                width_mm: solved.width_mm,
+                beyond: solved.beyond,
+                predicted_mm: solved.scallop_mm,
+            });
         }
         limit_step_slope(&last.nodes, &mut steps);
         let Some((poly, refs)) = ctx.offset_curve(&last.nodes, &steps) else {
@@ -344,7 +350,7 @@ impl IsoScallopSteps {
             let factors = smooth_factors(&last.nodes, &current.0, &factors);
             let mut trial = current.0.clone();
             for (st, f) in trial.iter_mut().zip(&factors) {
-                st.1 *= f;
+                st.width_mm *= f;
             }
             limit_step_slope(&last.nodes, &mut trial);
             let Some((poly, refs)) = ctx.offset_curve(&last.nodes, &trial) else { break };
@@ -362,8 +368,8 @@ impl IsoScallopSteps {
             current = (trial, again_measured);
         }
         // Where no round brought the cusp within FLAG_ABOVE·h, the place is named.
-        for (&(i, ..), m) in steps.iter().zip(&measured) {
-            if let (Some(c), Some(node)) = (*m, last.nodes.get(i))
+        for (st, m) in steps.iter().zip(&measured) {
+            if let (Some(c), Some(node)) = (*m, last.nodes.get(st.node))
                 && c > FLAG_ABOVE * h
             {
                 self.flags.push(ScallopFlag {
@@ -375,10 +381,10 @@ impl IsoScallopSteps {
             }
         }
         if keep {
-            for ((i, w, _, predicted), m) in steps.iter().zip(&measured) {
-                if let Some(node) = last.nodes.get_mut(*i) {
-                    node.side_step_mm = Some(*w);
-                    node.scallop_mm = Some(m.unwrap_or(*predicted));
+            for (st, m) in steps.iter().zip(&measured) {
+                if let Some(node) = last.nodes.get_mut(st.node) {
+                    node.side_step_mm = Some(st.width_mm);
+                    node.scallop_mm = Some(m.unwrap_or(st.predicted_mm));
                 }
             }
         }

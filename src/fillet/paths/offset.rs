@@ -2,6 +2,7 @@
 
 use glam::DVec2;
 
+use super::side_step::Step;
 use super::{Ctx, a_of, b_of, make_uv};
 use crate::fillet::contact::ContactFrame;
 use crate::fillet::node::CcNode;
@@ -188,12 +189,12 @@ impl Ctx<'_> {
     /// segments (a step along b = const would kink the path there, and the kink would grow
     /// path by path through the end nodes' cross directions), b kept inside its range. With
     /// each vertex its azimuth window. `None` when nothing is left.
-    pub(super) fn offset_curve(&self, nodes: &[CcNode], steps: &[(usize, f64, bool, f64)]) -> Option<OffsetCurve> {
+    pub(super) fn offset_curve(&self, nodes: &[CcNode], steps: &[Step]) -> Option<OffsetCurve> {
         let along = self.along;
         let ((a0, a1), (b0, b1)) = self.ranges();
         let rate = self.opts.orient.max_turn_rad_per_mm;
         let mut offset: Vec<Vertex> = Vec::with_capacity(steps.len());
-        for &(i, w, _, _) in steps {
+        for &Step { node: i, width_mm: w, .. } in steps {
             let node = nodes.get(i)?;
             let (uv, _) = self.walk(&node.frame, w);
             // The vertex with a as walked (the walk's own uv is clamped to the domain).

@@ -15,6 +15,32 @@ pub(super) const SIDE_STEP_ROUNDS: usize = 12;
 
 pub(super) const SIDE_STEP_REL: f64 = 0.005;
 
+/// A side step solved at a node.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Solved {
+    /// The next path's point (clamped to the domain).
+    pub(super) uv: DVec2,
+    /// Whether the walk reached or passed the far edge.
+    pub(super) beyond: bool,
+    /// The side step (mm).
+    pub(super) width_mm: f64,
+    /// The scallop the cross profiles give at that step (mm; 0 where none was computed).
+    pub(super) scallop_mm: f64,
+}
+
+/// A node's step to the next path, as the next path is built from it.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Step {
+    /// The node's index in its path.
+    pub(super) node: usize,
+    /// The side step (mm), as predicted, then as limited and corrected.
+    pub(super) width_mm: f64,
+    /// Whether it reached the far edge (no cusp to measure there).
+    pub(super) beyond: bool,
+    /// The scallop the prediction gave (mm).
+    pub(super) predicted_mm: f64,
+}
+
 impl Ctx<'_> {
     /// The cusp measured between each node of `steps` (on `nodes`) and the path `next`
     /// built from them ([`cusp_between`]), `None` where it reached the far edge or `next`
@@ -24,16 +50,16 @@ impl Ctx<'_> {
         tool: &Cutter,
         nodes: &[CcNode],
         next: &[CcNode],
-        steps: &[(usize, f64, bool, f64)],
+        steps: &[Step],
     ) -> Vec<Option<f64>> {
         let next = NearPath::new(next);
         steps
             .iter()
-            .map(|&(i, w, beyond, _)| {
-                if beyond {
+            .map(|st| {
+                if st.beyond {
                     return None;
                 }
-                cusp_between(tool, self.surface, nodes, i, &next, 2.0 * w + tool.radius_mm).map(|c| c.0)
+                cusp_between(tool, self.surface, nodes, st.node, &next, 2.0 * st.width_mm + tool.radius_mm).map(|c| c.0)
             })
             .collect()
     }
@@ -64,9 +90,9 @@ impl Ctx<'_> {
     /// first with the next poses unchecked (the gouge checks are the costly part); when the
     /// checks changed this node's pose and change the next one's at the solution, solved
     /// again with every trial pose checked.
-    pub(super) fn side_step(&self, node: &CcNode) -> (DVec2, bool, f64, f64) {
+    pub(super) fn side_step(&self, node: &CcNode) -> Solved {
         let first = self.solve_side_step(node, false);
-        let (uv, beyond, w, _) = first;
+        let Solved { uv, beyond, width_mm: w, .. } = first;
         if beyond {
             return first;
         }
@@ -82,7 +108,7 @@ impl Ctx<'_> {
         }
     }
 
-    pub(super) fn solve_side_step(&self, node: &CcNode, checked: bool) -> (DVec2, bool, f64, f64) {
+    pub(super) fn solve_side_step(&self, node: &CcNode, checked: bool) -> Solved {
         let h = self.opts.scallop_mm;
         let tool = self.strategy.cutter_for(&self.cutter);
         let a = CrossProfile::new(&tool, self.surface, node.frame, &node.pose);
@@ -91,19 +117,19 @@ impl Ctx<'_> {
         let mut w = (a.reach(h, self.side) * 2.0).min(w_max);
         // Bracket of w: scallop below h at `lo`, above at `hi`.
         let (mut lo, mut hi) = (0.0f64, f64::INFINITY);
-        let mut result = (node.frame.uv, true, w, 0.0);
+        let mut result = Solved { uv: node.frame.uv, beyond: true, width_mm: w, scallop_mm: 0.0 };
         for _ in 0..SIDE_STEP_ROUNDS {
             let (uv, beyond) = self.walk(&node.frame, w);
             if beyond {
-                return (uv, true, w, 0.0);
+                return Solved { uv, beyond: true, width_mm: w, scallop_mm: 0.0 };
             }
             let Some(frame_b) = ContactFrame::new(self.surface, uv, node.frame.feed) else {
-                return (uv, beyond, w, 0.0);
+                return Solved { uv, beyond, width_mm: w, scallop_mm: 0.0 };
             };
             let (pose_b, _) = self.next_pose(node, &frame_b, w, checked);
             let b = CrossProfile::new(&tool, self.surface, frame_b, &pose_b);
             let s = scallop_between(&a, &b, self.side * w);
-            result = (uv, beyond, w, s);
+            result = Solved { uv, beyond, width_mm: w, scallop_mm: s };
             if (s - h).abs() < SIDE_STEP_REL * h {
                 break;
             }
