@@ -397,13 +397,24 @@ pub(super) fn replay(a: &ReplayArgs) -> Result<ExitCode, Fatal> {
         }
         return super::userprog::replay(&a.program, &a.read, &a.tools, a.tolerance, a.all);
     }
-    // Measured against a design, a program is held to fewer moves (each is searched).
-    let cap = if a.scene.is_some() || a.profile.is_some() {
-        interpolab::numerics::limits::MAX_DEVIATION_MOVES
-    } else {
-        interpolab::gcode::read::MAX_PATH_MOVES
+    // Measured against a design, a program is held to less work (each move is searched, a
+    // curve costing more than a line), refused as it is read.
+    use interpolab::gcode::Motion;
+    use interpolab::numerics::limits::{DEVIATION_CURVE_WEIGHT, MAX_DEVIATION_MOVES};
+    let measured = a.scene.is_some() || a.profile.is_some();
+    let deviation_work =
+        |m: &Motion| if matches!(m, Motion::Rapid | Motion::Linear) { 1 } else { DEVIATION_CURVE_WEIGHT };
+    let over = |line: usize| {
+        format!(
+            "line {line}: measuring the moves so far against a design is more than {MAX_DEVIATION_MOVES} line-equivalents of work (an arc or curve counts {DEVIATION_CURVE_WEIGHT}); split the program or replay it without --scene"
+        )
     };
-    let (parsed, dialect, how) = super::program::read_path(&a.program, a.dialect, &a.read, cap)?;
+    let weighing = if measured {
+        super::program::Weighing { max_work: MAX_DEVIATION_MOVES, weight: &deviation_work, over: Some(&over) }
+    } else {
+        super::program::Weighing { max_work: interpolab::gcode::read::MAX_PATH_MOVES, weight: &|_| 1, over: None }
+    };
+    let (parsed, dialect, how) = super::program::read_path_weighed(&a.program, a.dialect, &a.read, &weighing)?;
     let s = summarize(&parsed.toolpath);
     let mut lines = vec![
         format!("program      {} ({} lines, {} blocks)", a.program.display(), parsed.lines, parsed.blocks),
@@ -437,15 +448,9 @@ pub(super) fn replay(a: &ReplayArgs) -> Result<ExitCode, Fatal> {
     lines.extend(super::program::report_lines(&parsed));
     let mut failed = !parsed.unsupported.is_empty();
     if a.scene.is_some() || a.profile.is_some() {
-        // The measuring's work before it starts: a line counts one, a curve more.
-        use interpolab::gcode::Motion;
-        use interpolab::numerics::limits::{DEVIATION_CURVE_WEIGHT, MAX_DEVIATION_MOVES};
-        let work: usize = parsed
-            .toolpath
-            .blocks
-            .iter()
-            .map(|b| if matches!(b.motion, Motion::Rapid | Motion::Linear) { 1 } else { DEVIATION_CURVE_WEIGHT })
-            .sum();
+        // The measuring's work before it starts: a line counts one, a curve more (a
+        // Sinumerik program, read whole by its own reader, is weighed here).
+        let work: usize = parsed.toolpath.blocks.iter().map(|b| deviation_work(&b.motion)).sum();
         if work > MAX_DEVIATION_MOVES {
             return Err(Fatal(format!(
                 "{}: measuring {} moves against a design is {work} line-equivalents of work (an arc or curve counts {DEVIATION_CURVE_WEIGHT}), more than {MAX_DEVIATION_MOVES}; split the program or replay it without --scene",

@@ -85,16 +85,37 @@ pub(crate) fn open(path: &Path, opts: Options) -> Result<Interpreter<'static>, F
 /// streamed from the file (with the files beside it as subroutines), Sinumerik by its reader.
 /// Returns the program, its dialect and whether that was given or guessed. Reading stops
 /// with a refusal past `max_moves` moves (the command's own cap, at most
-/// [`interpolab::gcode::read::MAX_PATH_MOVES`]).
+/// [`interpolab::gcode::read::MAX_PATH_MOVES`]). A Sinumerik program is read whole by its
+/// own reader (held to the reader's caps).
 pub(crate) fn read_path(
     path: &Path,
     dialect: Option<interpolab::gcode::Dialect>,
     read: &ReadArgs,
     max_moves: usize,
 ) -> Result<(interpolab::gcode::ParsedProgram, interpolab::gcode::Dialect, &'static str), Fatal> {
+    read_path_weighed(path, dialect, read, &Weighing { max_work: max_moves, weight: &|_| 1, over: None })
+}
+
+/// How [`read_path_weighed`] weighs a program's moves as it reads them.
+pub(crate) struct Weighing<'a> {
+    /// The most work the command takes on (in the weight's units).
+    pub max_work: usize,
+    /// The work of one move (at least 1).
+    pub weight: &'a dyn Fn(&interpolab::gcode::Motion) -> usize,
+    /// The refusal past `max_work`, from the line reached (the reader's own otherwise).
+    pub over: Option<&'a dyn Fn(usize) -> String>,
+}
+
+/// [`read_path`] refusing as it reads once the moves weigh more than the command takes on.
+pub(crate) fn read_path_weighed(
+    path: &Path,
+    dialect: Option<interpolab::gcode::Dialect>,
+    read: &ReadArgs,
+    weighing: &Weighing<'_>,
+) -> Result<(interpolab::gcode::ParsedProgram, interpolab::gcode::Dialect, &'static str), Fatal> {
     use std::io::Read;
 
-    use interpolab::gcode::{Dialect, read_from_capped};
+    use interpolab::gcode::{Dialect, ParseError, read_from_weighted};
     use interpolab::simulate::pipeline::{DIALECT_GUESS_BYTES, guess_dialect, read_options, read_text};
     let (dialect, how) = match dialect {
         Some(d) => (d, "given"),
@@ -115,9 +136,15 @@ pub(crate) fn read_path(
             .map_err(|e| Fatal(format!("cannot read program {}: {e}", path.display())))?;
         read_text(&text, dialect, &read.options())
     } else {
-        read_from_capped(open(path, read_options(dialect, &read.options()))?, dialect, max_moves)
+        let it = open(path, read_options(dialect, &read.options()))?;
+        read_from_weighted(it, dialect, weighing.max_work, weighing.weight)
     };
-    let parsed = parsed.map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
+    let parsed = parsed.map_err(|e| match (e, weighing.over) {
+        (ParseError::TooManyMoves { line, max }, Some(over)) if max == weighing.max_work => {
+            Fatal(format!("{}: {}", path.display(), over(line)))
+        }
+        (e, _) => Fatal(format!("{}: {e}", path.display())),
+    })?;
     Ok((parsed, dialect, how))
 }
 

@@ -80,21 +80,38 @@ pub fn read_from(it: Interpreter<'_>, dialect: Dialect) -> Result<ParsedProgram,
 ///
 /// # Errors
 /// As [`read_from`], with the lower cap.
-pub fn read_from_capped(
+pub fn read_from_capped(it: Interpreter<'_>, dialect: Dialect, max_moves: usize) -> Result<ParsedProgram, ParseError> {
+    read_from_weighted(it, dialect, max_moves, &|_| 1)
+}
+
+/// [`read_from_capped`] with each move weighed (`weight`, at least 1 a move): reading stops
+/// once the moves so far weigh `max_work` (a command whose work per move depends on its kind
+/// — an arc measured against a design costs several lines — refuses as it reads, not after).
+/// The error's `max` is `max_work`.
+///
+/// # Errors
+/// As [`read_from`], past `max_work` (and past [`MAX_PATH_MOVES`] moves).
+pub fn read_from_weighted(
     mut it: Interpreter<'_>,
     dialect: Dialect,
-    max_moves: usize,
+    max_work: usize,
+    weight: &dyn Fn(&Motion) -> usize,
 ) -> Result<ParsedProgram, ParseError> {
-    let max = max_moves.min(MAX_PATH_MOVES);
     let mut out = ParsedProgram { dialect, ..ParsedProgram::default() };
     let mut pos = DVec3::ZERO;
     let mut tlo = DVec3::ZERO;
+    let mut work = 0usize;
     for c in it.by_ref() {
         let c = c.map_err(ParseError::Interp)?;
-        if out.toolpath.blocks.len() >= max {
-            return Err(ParseError::TooManyMoves { line: c.loc().line as usize, max });
+        if work >= max_work {
+            return Err(ParseError::TooManyMoves { line: c.loc().line as usize, max: max_work });
         }
+        if out.toolpath.blocks.len() >= MAX_PATH_MOVES {
+            return Err(ParseError::TooManyMoves { line: c.loc().line as usize, max: MAX_PATH_MOVES });
+        }
+        let before = out.toolpath.blocks.len();
         push(&mut out, &mut pos, &mut tlo, c);
+        work = out.toolpath.blocks[before..].iter().fold(work, |w, b| w.saturating_add(weight(&b.motion).max(1)));
     }
     finish(&mut out, &it);
     Ok(out)
