@@ -107,78 +107,6 @@ pub(super) fn extend_b(other: Option<DVec2>, end: DVec2, a: f64, along: usize) -
     b_of(end, along) + (a - a_of(end, along)) / da * (b_of(end, along) - b_of(o, along))
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn vertices(pts: &[(f64, f64)]) -> Vec<Vertex> {
-        pts.iter().enumerate().map(|(k, &(u, v))| (DVec2::new(u, v), (k as f64, 0.1))).collect()
-    }
-
-    /// Does any segment of the polyline cross a non-adjacent one? (brute force over all pairs)
-    fn self_crossing(p: &[Vertex]) -> bool {
-        (0..p.len().saturating_sub(1)).any(|i| {
-            (i + 2..p.len().saturating_sub(1)).any(|j| crossing(p[i].0, p[i + 1].0, p[j].0, p[j + 1].0).is_some())
-        })
-    }
-
-    #[test]
-    fn a_swallowtail_is_cut_at_its_crossing() {
-        // Along u, then a loop back over itself (the offset of a tight concave stretch), then
-        // along again: segments 1-2 and 4-5 cross at (0.5, 0.1).
-        let p = vertices(&[(0.0, 0.0), (0.4, 0.0), (0.7, 0.2), (0.6, 0.3), (0.3, 0.2), (0.7, 0.1), (1.0, 0.1)]);
-        assert!(self_crossing(&p));
-        let t = trim_swallowtails(&p);
-        assert!(!self_crossing(&t), "{t:?}");
-        // The loop's vertices are gone, the crossing replaces them, the ends are kept.
-        let uv: Vec<DVec2> = t.iter().map(|v| v.0).collect();
-        assert_eq!(uv.len(), 5, "{uv:?}");
-        assert_eq!(uv[0], DVec2::new(0.0, 0.0));
-        assert_eq!(uv[1], DVec2::new(0.4, 0.0));
-        // Segment (0.4, 0) → (0.7, 0.2) meets (0.3, 0.2) → (0.7, 0.1) where both lines agree.
-        let x = uv[2];
-        let on_first = (x - DVec2::new(0.4, 0.0)).perp_dot(DVec2::new(0.3, 0.2));
-        let on_second = (x - DVec2::new(0.3, 0.2)).perp_dot(DVec2::new(0.4, -0.1));
-        assert!(on_first.abs() < 1e-12 && on_second.abs() < 1e-12, "{x}");
-        assert_eq!(uv[3], DVec2::new(0.7, 0.1));
-        assert_eq!(uv[4], DVec2::new(1.0, 0.1));
-        // The crossing's azimuth window comes from the far branch (segment 4-5): between 4 and 5.
-        assert!(t[2].1.0 > 4.0 && t[2].1.0 < 5.0, "{:?}", t[2]);
-    }
-
-    #[test]
-    fn a_curve_without_crossings_is_left_as_it_is() {
-        let p: Vec<Vertex> = (0..200)
-            .map(|k| {
-                let u = f64::from(k) / 199.0;
-                (DVec2::new(u, 0.3 + 0.05 * (9.0 * u).sin()), (0.0, 0.1))
-            })
-            .collect();
-        assert_eq!(trim_swallowtails(&p), p);
-    }
-
-    #[test]
-    fn the_offset_is_cut_at_the_along_edges() {
-        // Leaves through a = 0 on the left (as the mould's corner offsets do), runs inside,
-        // leaves and re-enters through a = 1.
-        let p = vertices(&[(-0.2, 0.1), (0.2, 0.3), (0.8, 0.3), (1.2, 0.5), (0.9, 0.7)]);
-        for along in [0, 1] {
-            let q: Vec<Vertex> =
-                p.iter().map(|v| (if along == 0 { v.0 } else { DVec2::new(v.0.y, v.0.x) }, v.1)).collect();
-            let c = clip_along(&q, (0.0, 1.0), along);
-            let a: Vec<f64> = c.iter().map(|v| a_of(v.0, along)).collect();
-            let b: Vec<f64> = c.iter().map(|v| b_of(v.0, along)).collect();
-            assert_eq!(c.len(), 6, "{c:?}");
-            // The entry through a = 0 at b = 0.2, the exit and re-entry through a = 1 at
-            // b = 0.4 and b = 0.5 + 0.2·⅔ (linear along the segments).
-            let want = [(0.0, 0.2), (0.2, 0.3), (0.8, 0.3), (1.0, 0.4), (1.0, 0.5 + 0.2 * 2.0 / 3.0), (0.9, 0.7)];
-            for (k, &(wa, wb)) in want.iter().enumerate() {
-                assert!((a[k] - wa).abs() < 1e-12 && (b[k] - wb).abs() < 1e-12, "{k}: {} {}", a[k], b[k]);
-            }
-        }
-    }
-}
-
 impl Ctx<'_> {
     /// The next path's uv polyline from the side steps `steps` of `nodes` (node index, step
     /// mm, reached the far edge, scallop solved): each node walked its step across, the curve
@@ -258,5 +186,77 @@ impl Ctx<'_> {
         let b = b_of(uv, self.along);
         let beyond = if self.toward > 0.0 { b >= b1 } else { b <= b0 };
         (uv, beyond)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn vertices(pts: &[(f64, f64)]) -> Vec<Vertex> {
+        pts.iter().enumerate().map(|(k, &(u, v))| (DVec2::new(u, v), (k as f64, 0.1))).collect()
+    }
+
+    /// Does any segment of the polyline cross a non-adjacent one? (brute force over all pairs)
+    fn self_crossing(p: &[Vertex]) -> bool {
+        (0..p.len().saturating_sub(1)).any(|i| {
+            (i + 2..p.len().saturating_sub(1)).any(|j| crossing(p[i].0, p[i + 1].0, p[j].0, p[j + 1].0).is_some())
+        })
+    }
+
+    #[test]
+    fn a_swallowtail_is_cut_at_its_crossing() {
+        // Along u, then a loop back over itself (the offset of a tight concave stretch), then
+        // along again: segments 1-2 and 4-5 cross at (0.5, 0.1).
+        let p = vertices(&[(0.0, 0.0), (0.4, 0.0), (0.7, 0.2), (0.6, 0.3), (0.3, 0.2), (0.7, 0.1), (1.0, 0.1)]);
+        assert!(self_crossing(&p));
+        let t = trim_swallowtails(&p);
+        assert!(!self_crossing(&t), "{t:?}");
+        // The loop's vertices are gone, the crossing replaces them, the ends are kept.
+        let uv: Vec<DVec2> = t.iter().map(|v| v.0).collect();
+        assert_eq!(uv.len(), 5, "{uv:?}");
+        assert_eq!(uv[0], DVec2::new(0.0, 0.0));
+        assert_eq!(uv[1], DVec2::new(0.4, 0.0));
+        // Segment (0.4, 0) → (0.7, 0.2) meets (0.3, 0.2) → (0.7, 0.1) where both lines agree.
+        let x = uv[2];
+        let on_first = (x - DVec2::new(0.4, 0.0)).perp_dot(DVec2::new(0.3, 0.2));
+        let on_second = (x - DVec2::new(0.3, 0.2)).perp_dot(DVec2::new(0.4, -0.1));
+        assert!(on_first.abs() < 1e-12 && on_second.abs() < 1e-12, "{x}");
+        assert_eq!(uv[3], DVec2::new(0.7, 0.1));
+        assert_eq!(uv[4], DVec2::new(1.0, 0.1));
+        // The crossing's azimuth window comes from the far branch (segment 4-5): between 4 and 5.
+        assert!(t[2].1.0 > 4.0 && t[2].1.0 < 5.0, "{:?}", t[2]);
+    }
+
+    #[test]
+    fn a_curve_without_crossings_is_left_as_it_is() {
+        let p: Vec<Vertex> = (0..200)
+            .map(|k| {
+                let u = f64::from(k) / 199.0;
+                (DVec2::new(u, 0.3 + 0.05 * (9.0 * u).sin()), (0.0, 0.1))
+            })
+            .collect();
+        assert_eq!(trim_swallowtails(&p), p);
+    }
+
+    #[test]
+    fn the_offset_is_cut_at_the_along_edges() {
+        // Leaves through a = 0 on the left (as the mould's corner offsets do), runs inside,
+        // leaves and re-enters through a = 1.
+        let p = vertices(&[(-0.2, 0.1), (0.2, 0.3), (0.8, 0.3), (1.2, 0.5), (0.9, 0.7)]);
+        for along in [0, 1] {
+            let q: Vec<Vertex> =
+                p.iter().map(|v| (if along == 0 { v.0 } else { DVec2::new(v.0.y, v.0.x) }, v.1)).collect();
+            let c = clip_along(&q, (0.0, 1.0), along);
+            let a: Vec<f64> = c.iter().map(|v| a_of(v.0, along)).collect();
+            let b: Vec<f64> = c.iter().map(|v| b_of(v.0, along)).collect();
+            assert_eq!(c.len(), 6, "{c:?}");
+            // The entry through a = 0 at b = 0.2, the exit and re-entry through a = 1 at
+            // b = 0.4 and b = 0.5 + 0.2·⅔ (linear along the segments).
+            let want = [(0.0, 0.2), (0.2, 0.3), (0.8, 0.3), (1.0, 0.4), (1.0, 0.5 + 0.2 * 2.0 / 3.0), (0.9, 0.7)];
+            for (k, &(wa, wb)) in want.iter().enumerate() {
+                assert!((a[k] - wa).abs() < 1e-12 && (b[k] - wb).abs() < 1e-12, "{k}: {} {}", a[k], b[k]);
+            }
+        }
     }
 }
