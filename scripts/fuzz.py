@@ -5,7 +5,8 @@ Mutates the example scenes and finishing scenes (numbers replaced by extreme val
 dropped or repeated, bytes flipped) and small G-code programs, runs `run`, `check`, `gcode`,
 `steps`, `nurbs`, `finish`, `replay` and `simulate` on them with a time and memory limit, and keeps every case that breaks a promise:
 a panic or abort, an exit status other than 0/1/2, a refusal longer than one line or after more
-than a second of CPU, NaN/inf/runaway digits in a message, a run past the time limit (30 s), a
+than a second of CPU, NaN/inf/runaway digits in a message, a run past the time limit (30 s of CPU; the wall clock only backs it up, ten times that, so
+a campaign holds on a busy machine), a
 memory blow-up (address-space limit, 2 GB), or a program the product wrote that `replay` and
 `simulate` refuse. Besides mutated scenes and small programs it generates huge programs
 (millions of lines, one line of tens of MB) and cutters with extreme body words.
@@ -14,7 +15,7 @@ memory blow-up (address-space limit, 2 GB), or a program the product wrote that 
 
 Failures go to target/fuzz/<n>/ (input, command, stderr). Exit status 1 if any.
 """
-import argparse, json, os, random, re, resource, subprocess, sys, time
+import argparse, json, os, random, re, resource, signal, subprocess, sys, time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 EXTREMES = [0, -0.0, 1, -1, 1e-13, 1e-9, 1e-300, 1e6, 1e12, 1e308, -1e308, 0.5, 3, 360, 99999999, 200000]
@@ -68,10 +69,18 @@ CUTTERS = ["ball:3", "flat:2", "fillet:5,1", "ball:0", "fillet:1,5", "ball:1e9",
            "ball:3,flute=nan", "flat:3,shank=3", "ball:3,lenght=2", "v:3,90,flute=1"]
 
 
-def limits(mem_mb):
+def limits(mem_mb, cpu_s=None):
+    """The child's address space, and its CPU time when given: a run is judged by the CPU it
+    takes, so the campaign holds on a machine that is busy with other work."""
     def apply():
         resource.setrlimit(resource.RLIMIT_AS, (mem_mb << 20, mem_mb << 20))
+        if cpu_s is not None:
+            resource.setrlimit(resource.RLIMIT_CPU, (int(cpu_s), int(cpu_s) + 1))
     return apply
+
+
+# A run's wall-clock backstop, as a multiple of its CPU limit (a busy machine's share).
+WALL_OVER_CPU = 10
 
 
 def child_cpu_s():
@@ -82,11 +91,15 @@ def child_cpu_s():
 def check(bin_, args, timeout_s, mem_mb):
     cpu0 = child_cpu_s()
     try:
-        p = subprocess.run([bin_] + args, capture_output=True, timeout=timeout_s, preexec_fn=limits(mem_mb))
+        p = subprocess.run([bin_] + args, capture_output=True, timeout=WALL_OVER_CPU * timeout_s,
+                           preexec_fn=limits(mem_mb, timeout_s))
     except subprocess.TimeoutExpired:
-        return f"hang: more than {timeout_s} s"
+        return f"hang: more than {WALL_OVER_CPU * timeout_s} s of wall clock"
     cpu = child_cpu_s() - cpu0
     err = p.stderr.decode("utf-8", "replace")
+    # SIGXCPU at the soft limit, SIGKILL at the hard one.
+    if p.returncode in (-signal.SIGXCPU, -signal.SIGKILL) and cpu >= timeout_s - 0.5:
+        return f"run past {timeout_s} s of CPU ({cpu:.1f} s)"
     if "panicked" in err or p.returncode not in (0, 1, 2):
         return f"exit {p.returncode}: {err[-500:]}"
     if p.returncode == 2 and len(err.strip().splitlines()) != 1:
@@ -104,7 +117,7 @@ def main():
     ap.add_argument("--minutes", type=float, default=60)
     ap.add_argument("--seed", type=int, default=int(time.time()))
     ap.add_argument("--bin", default=os.path.join(ROOT, "target/release/interpolab"))
-    ap.add_argument("--timeout", type=float, default=30, help="seconds per command")
+    ap.add_argument("--timeout", type=float, default=30, help="seconds of CPU per command")
     ap.add_argument("--mem-mb", type=int, default=2048, help="address-space limit per command")
     a = ap.parse_args()
     rng = random.Random(a.seed)
@@ -163,7 +176,8 @@ def main():
         # A program the product wrote is read back by replay and simulate.
         if not why and readback and "--gcode" in args and os.path.exists(readback):
             for back in (["replay", readback], ["simulate", readback, "--cutter", "ball:3", "--stock", "-100,-100,-100,100,100,100", "--pitch", "2"]):
-                p = subprocess.run([a.bin] + back, capture_output=True, timeout=a.timeout, preexec_fn=limits(a.mem_mb))
+                p = subprocess.run([a.bin] + back, capture_output=True, timeout=WALL_OVER_CPU * a.timeout,
+                                   preexec_fn=limits(a.mem_mb, a.timeout))
                 if p.returncode not in (0, 1):
                     why = f"the written program is refused by {back[0]}: {p.stderr.decode('utf-8', 'replace')[-300:]}"
                     break
