@@ -69,12 +69,13 @@ pub struct OrientOptions {
     pub margin_per_mm: f64,
     /// Largest inclination α (rad; default 45°).
     pub max_inclination_rad: f64,
-    /// Largest |ψ| for `matched` (rad; default 0: lead only). Turning the meridian off the
-    /// feed (tilt) brings the corner's meridian curvature 1/r into the cross profile; that
-    /// curvature holds only over the arc r·α between the contact and the flat bottom, so
-    /// the second-order sweep model then overstates the strip (the brute force measured
-    /// scallops up to 2·h with tilts of 5°–20° at small α, docs/fillet.md). Raise it only
-    /// with that in mind.
+    /// Largest |ψ| for `matched` (rad; default 0: lead only; scenes: `finish.max_tilt` in
+    /// degrees). Turning the meridian off the feed (tilt) brings the corner's meridian
+    /// curvature 1/r into the cross profile; that curvature holds only over the arc r·α
+    /// between the contact and the flat bottom, so the second-order model overstates the
+    /// strip (scallops up to 2·h at tilts of 5°–20° before the cusp was measured). The
+    /// iso-scallop paths measure the cusp each path leaves and correct the side steps from
+    /// it, which holds the scallop with tilt too (docs/fillet.md, "Tilt").
     pub max_azimuth_rad: f64,
     /// Largest change of α and ψ per mm of path (rad/mm; default 3°/mm).
     pub max_turn_rad_per_mm: f64,

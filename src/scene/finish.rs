@@ -139,6 +139,16 @@ impl FinishScene {
             }
             options.orient.max_inclination_rad = a.to_radians();
         }
+        if let Some(t) = f.max_tilt {
+            if !(0.0..=MAX_TILT_DEG).contains(&t) {
+                return Err(SceneError::new(
+                    "finish.max_tilt",
+                    format!("{t}° is outside [0°, {MAX_TILT_DEG}°]"),
+                    "give the largest tilt in degrees, e.g. 10 (0: lead only)",
+                ));
+            }
+            options.orient.max_azimuth_rad = t.to_radians();
+        }
         if let Some(v) = f.feed {
             positive("finish.feed", v, "the feed in mm/min")?;
             options.feed_mm_per_min = v;
@@ -158,6 +168,10 @@ impl FinishScene {
 
 /// Cells a side of the area estimate of [`check_work`] (midpoint rule).
 const AREA_GRID: usize = 24;
+
+/// Largest `finish.max_tilt` a scene may give (degrees): the matched cutter's meridian
+/// turned off the feed by more than this meets the surface with the corner's far side.
+pub const MAX_TILT_DEG: f64 = 45.0;
 
 /// Refuses, before any path is built, a surface whose CC points could not stay under the cap
 /// ([`FinishOptions::max_nodes`]): every path has a CC point at least every max step, and no

@@ -57,6 +57,9 @@ pub struct FinishSpec {
     pub min_cross_curvature: Option<f64>,
     /// Largest inclination of the axis from the normal (degrees; default 45).
     pub max_inclination: Option<f64>,
+    /// Largest tilt |ψ| of the `matched` cutter's meridian off the feed (degrees; default 0:
+    /// lead only).
+    pub max_tilt: Option<f64>,
     /// Feed for the machining time and the G-code (mm/min; default 1000).
     pub feed: Option<f64>,
     /// Where the iso-scallop paths start (`None`: the first boundary of the direction).

@@ -584,6 +584,7 @@ const FINISH_KEYS: &[&str] = &[
     "margin",
     "min_cross_curvature",
     "max_inclination",
+    "max_tilt",
     "feed",
     "start",
 ];
@@ -680,6 +681,7 @@ pub(super) fn parse_finish(text: &str) -> Result<super::finish_spec::FinishScene
         margin: opt_num(&f, "margin", "the curvature margin in 1/mm")?,
         min_cross_curvature: opt_num(&f, "min_cross_curvature", "the smallest cross curvature in 1/mm")?,
         max_inclination: opt_num(&f, "max_inclination", "the largest inclination in degrees")?,
+        max_tilt: opt_num(&f, "max_tilt", "the largest tilt in degrees")?,
         feed: opt_num(&f, "feed", "the feed in mm/min")?,
         start: f.opt_non_null("start").map(|s| parse_start(&s)).transpose()?,
     };

@@ -166,6 +166,7 @@ pub(super) fn finish_to_json(s: &super::finish_spec::FinishScene) -> String {
     opt(&mut finish, "margin", f.margin);
     opt(&mut finish, "min_cross_curvature", f.min_cross_curvature);
     opt(&mut finish, "max_inclination", f.max_inclination);
+    opt(&mut finish, "max_tilt", f.max_tilt);
     opt(&mut finish, "feed", f.feed);
     match &f.start {
         None => {}

@@ -104,6 +104,10 @@ fn bad_input_gets_one_line_and_status_2() {
             r#"{"format":"interpolab-scene/1","surfaces":[{"type":"plane","origin":[0,0,0],"normal":[0,0,1],"u_axis":[1,0,0],"domain":{"u":[0,10],"v":[0,10]}}],"finish":{"cutter":{"radius":5,"corner_radius":1},"scallop":0.01,"tolerance":0.001,"min_cross_curvature":-0.01}}"#,
             "finish.min_cross_curvature",
         ),
+        (
+            r#"{"format":"interpolab-scene/1","surfaces":[{"type":"plane","origin":[0,0,0],"normal":[0,0,1],"u_axis":[1,0,0],"domain":{"u":[0,10],"v":[0,10]}}],"finish":{"cutter":{"radius":5,"corner_radius":1},"scallop":0.01,"tolerance":0.001,"max_tilt":60}}"#,
+            "finish.max_tilt",
+        ),
     ];
     for (i, (json, needle)) in cases.iter().enumerate() {
         let p = temp(&format!("bad{i}.json"), json);

@@ -558,6 +558,11 @@ fn the_matched_cutter_keeps_the_cross_curvature_floor() {
     assert_eq!(scene.job().unwrap().options.orient.min_cross_curvature_per_mm, 0.0);
     let again = FinishScene::from_json(&scene.to_json()).unwrap();
     assert_eq!(again.finish.min_cross_curvature, Some(0.0));
+    // The tilt's key: degrees in the file, radians in the job, kept by the writer.
+    let json = p.json.replace("\"margin\"", "\"max_tilt\": 12.5, \"margin\"");
+    let scene = FinishScene::from_json(&json).unwrap();
+    assert!((scene.job().unwrap().options.orient.max_azimuth_rad - 12.5f64.to_radians()).abs() < 1e-15);
+    assert_eq!(FinishScene::from_json(&scene.to_json()).unwrap().finish.max_tilt, Some(12.5));
 }
 
 /// The global check passes blocks of the part grid over by a bounding sphere: it must report

@@ -393,18 +393,28 @@ fn env(name: &str, default: u64) -> u64 {
 fn unseen_surfaces_keep_h_and_e() {
     let seed = env("UNSEEN_SEED", 24);
     // CI's sample: the jobs of family 24 that build in well under a second in release (the
-    // sphere, torus and cylinder patches and two B-splines); the B-splines with 2–8 µm
+    // sphere, torus and cylinder patches and two B-splines), and three of them again with the
+    // matched cutter free to tilt 10° (issue 24's item 4); the B-splines with 2–8 µm
     // scallops take 2–4 s each, too long for a debug build: the long run draws them.
-    // `UNSEEN_JOBS=40`: jobs 0–39; `UNSEEN_JOBS=4,35`: those two.
-    let jobs: Vec<u64> = match std::env::var("UNSEEN_JOBS") {
-        Ok(s) if s.contains(',') => s.split(',').filter_map(|x| x.trim().parse().ok()).collect(),
-        Ok(s) => (0..s.parse().unwrap_or(0)).collect(),
-        Err(_) => vec![1, 3, 5, 6, 7, 8, 9],
+    // `UNSEEN_JOBS=40`: jobs 0–39; `UNSEEN_JOBS=4,35`: those two; `UNSEEN_TILT=10`: those
+    // with a tilt of up to 10°.
+    let tilt_deg: f64 = std::env::var("UNSEEN_TILT").ok().and_then(|s| s.parse().ok()).unwrap_or(0.0);
+    let jobs: Vec<(u64, f64)> = match std::env::var("UNSEEN_JOBS") {
+        Ok(s) if s.contains(',') => s.split(',').filter_map(|x| x.trim().parse().ok()).map(|j| (j, tilt_deg)).collect(),
+        Ok(s) => (0..s.parse().unwrap_or(0)).map(|j| (j, tilt_deg)).collect(),
+        Err(_) => {
+            [1, 3, 5, 6, 7, 8, 9].map(|j| (j, tilt_deg)).into_iter().chain([3, 6, 19].map(|j| (j, 10.0))).collect()
+        }
     };
     let cells = env("UNSEEN_CELLS", 40) as usize;
     let mut failures = Vec::new();
-    for index in jobs {
-        let drawn = draw(seed, index);
+    let mut tilted_nodes = 0usize;
+    for (index, tilt_deg) in jobs {
+        let mut drawn = draw(seed, index);
+        drawn.job.options.orient.max_azimuth_rad = tilt_deg.to_radians();
+        if tilt_deg > 0.0 {
+            drawn.what = format!("{} (tilt ≤ {tilt_deg}°)", drawn.what);
+        }
         let job = &drawn.job;
         let part = PartSamples::new(&job.surface, job.options.part_grid);
         let clock = std::time::Instant::now();
@@ -425,9 +435,11 @@ fn unseen_surfaces_keep_h_and_e() {
         };
         let h = job.options.scallop_mm;
         let e = job.options.gouge_tol_mm;
+        let tilted = set.paths.iter().flat_map(|p| &p.nodes).filter(|n| n.pose.azimuth_rad.abs() > 1e-6).count();
+        tilted_nodes += tilted;
         let m = measure(job, &set, cells);
         eprintln!(
-            "{}: {} paths, {} refused, {} flagged, {ms:.0} ms; {} points: max {:.3}·h at uv {:.3} (path {}), p99.9 {:.3}·h, {} over 1.05·h, {} over 1.10·h; deepest {:.3} µm (E {:.2} µm); {} points flagged; worst on chord {:?}, deepest at {:?}",
+            "{}: {} paths ({tilted} nodes tilted), {} refused, {} flagged, {ms:.0} ms; {} points: max {:.3}·h at uv {:.3} (path {}), p99.9 {:.3}·h, {} over 1.05·h, {} over 1.10·h; deepest {:.3} µm (E {:.2} µm); {} points flagged; worst on chord {:?}, deepest at {:?}",
             drawn.what,
             set.paths.len(),
             set.refused.len(),
@@ -460,6 +472,9 @@ fn unseen_surfaces_keep_h_and_e() {
         }
     }
     assert!(failures.is_empty(), "{} jobs failed: {failures:?}", failures.len());
+    if std::env::var("UNSEEN_JOBS").is_err() {
+        assert!(tilted_nodes > 0, "no node of the tilted jobs tilted: the sample tests no tilt");
+    }
 }
 
 fn diagnose(job: &FinishJob, set: &PathSet, uv: DVec2) {
