@@ -2,9 +2,9 @@
 //! data (CSV or JSON), the comparison table (`--table`) and a five-axis G-code program
 //! through a seed-002 machine (`--gcode`).
 //!
-//! Exit status: 0 success; 1 some CC points were refused (each named on standard error; the
-//! other points are still written); 2 bad input (one line naming the problem and what to
-//! change).
+//! Exit status: 0 success; 1 some CC points were refused (counted on standard error, a line
+//! per reason; the JSON names each; the other points are still written); 2 bad input (one
+//! line naming the problem and what to change).
 
 use std::fs;
 use std::io::{self, BufWriter, Write};
@@ -20,7 +20,7 @@ use interpolab::fillet::program::FinishGcode;
 use interpolab::fillet::{
     FinishJob, PartSamples, PathSet, PathStart, Strategy, compare_from, iso_parametric_from, iso_scallop_from,
 };
-use interpolab::report::{fmt_num, one_line};
+use interpolab::report::{fmt_fixed, fmt_num, one_line};
 use interpolab::scene::finish::FinishScene;
 
 /// Orientation strategies by their command-line names.
@@ -337,12 +337,12 @@ pub(super) fn finish(a: &FinishArgs) -> Result<ExitCode, Fatal> {
         fs::write(path, text).map_err(|e| Fatal(format!("cannot write {}: {e}", path.display())))?;
     }
     let mut err = io::stderr().lock();
-    for r in &set.refused {
-        let _ = writeln!(
-            err,
-            "interpolab: {name}: refused the CC point ({:.3}, {:.3}, {:.3}) mm: {}; use a smaller cutter, a larger finish.max_inclination or a shorter gauge length",
-            r.point.x, r.point.y, r.point.z, r.reason
-        );
+    for line in refused_lines(
+        &name,
+        &set.refused,
+        "use a smaller cutter, a larger finish.max_inclination or a shorter gauge length (the JSON lists every one)",
+    ) {
+        let _ = writeln!(err, "{line}");
     }
     if let Some(worst) = set.scallop_flags.iter().max_by(|a, b| a.scallop_mm.total_cmp(&b.scallop_mm)) {
         let h = job.options.scallop_mm;
@@ -364,4 +364,30 @@ pub(super) fn finish(a: &FinishArgs) -> Result<ExitCode, Fatal> {
 fn plan_gcode(job: &FinishJob, set: &PathSet, name: &str, tol_mm: f64) -> Result<FinishGcode, Fatal> {
     FinishGcode::plan(&job.machine, &job.surface, &job.cutter, set, job.options.feed_mm_per_min, tol_mm)
         .map_err(|e| Fatal(format!("{name}: {e}")))
+}
+
+/// The refused CC points of a job on standard error's terms: one line per reason with how many,
+/// the first and the last (mm), and `advice` — not a line per point (a job can refuse
+/// thousands).
+pub(super) fn refused_lines(name: &str, refused: &[interpolab::fillet::Refusal], advice: &str) -> Vec<String> {
+    let at = |p: glam::DVec3| format!("({}, {}, {}) mm", fmt_fixed(p.x, 3), fmt_fixed(p.y, 3), fmt_fixed(p.z, 3));
+    let mut reasons: Vec<&str> = Vec::new();
+    for r in refused {
+        if !reasons.contains(&r.reason) {
+            reasons.push(r.reason);
+        }
+    }
+    reasons
+        .iter()
+        .map(|&reason| {
+            let these: Vec<_> = refused.iter().filter(|r| r.reason == reason).collect();
+            let (first, last) = (these[0], these[these.len() - 1]);
+            let place = if these.len() == 1 {
+                format!("at {}", at(first.point))
+            } else {
+                format!("the first at {}, the last at {}", at(first.point), at(last.point))
+            };
+            format!("interpolab: {name}: {} CC point(s) refused ({reason}), {place}; {advice}", these.len())
+        })
+        .collect()
 }

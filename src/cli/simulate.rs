@@ -324,11 +324,8 @@ fn simulate_finish(a: &SimulateArgs, tol: f64) -> Result<ExitCode, Fatal> {
     let fp = FinishProgram::new(&job, &set, tol).map_err(|e| Fatal(format!("--finish {tol}: {e}")))?;
     let program = fp.program().map_err(|e| Fatal(format!("{name}: {e}")))?;
     // Named once the program exists, so that a refusal of the command stays its only line.
-    for r in &set.refused {
-        eprintln!(
-            "interpolab: {name}: the CC point ({:.3}, {:.3}, {:.3}) mm was refused ({}); the simulated program leaves it out",
-            r.point.x, r.point.y, r.point.z, r.reason
-        );
+    for line in super::finish::refused_lines(&name, &set.refused, "the simulated program leaves them out") {
+        eprintln!("{line}");
     }
     // Poses close enough that the sampling's cusps stay under a quarter of h (the app's
     // hand-over does the same), unless --sample-step says otherwise.

@@ -84,6 +84,45 @@ fn the_table_compares_every_strategy_and_layout() {
     }
 }
 
+/// A cutter far too large for the mould (R 25 mm in a bowl of about 20 mm radius) has dozens
+/// of CC points refused: standard error counts them in one line per reason (with the first and
+/// last place), not a line each; the JSON names every one; the status is 1.
+#[test]
+fn refused_cc_points_are_counted_a_line_per_reason() {
+    let text = std::fs::read_to_string(example("concave-mould")).expect("example");
+    let mut scene: serde_json::Value = serde_json::from_str(&text).expect("json");
+    scene["finish"]["cutter"] = serde_json::json!({ "radius": 25.0, "corner_radius": 1.0 });
+    scene["finish"]["scallop"] = serde_json::json!(0.3);
+    scene["finish"]["tolerance"] = serde_json::json!(0.02);
+    scene["finish"]["max_step"] = serde_json::json!(2.0);
+    let p = temp("big-cutter.json", &scene.to_string());
+    let o = run(&["finish", &p, "--format", "json"]);
+    assert_eq!(o.status.code(), Some(1), "{}", String::from_utf8_lossy(&o.stderr));
+    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+    let refused = doc["refused"].as_array().expect("refused");
+    let mut reasons: Vec<&str> = refused.iter().map(|r| r["reason"].as_str().expect("reason")).collect();
+    reasons.sort_unstable();
+    reasons.dedup();
+    assert!(
+        refused.len() > 2 * reasons.len(),
+        "{} refused for {} reasons: too few to test",
+        refused.len(),
+        reasons.len()
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    let lines: Vec<&str> = err.lines().filter(|l| l.contains("CC point(s) refused")).collect();
+    assert_eq!(lines.len(), reasons.len(), "{err}");
+    let counted: usize = lines
+        .iter()
+        .map(|l| l.split(": ").nth(2).and_then(|t| t.split(' ').next()).and_then(|n| n.parse::<usize>().ok()).expect(l))
+        .sum();
+    assert_eq!(counted, refused.len(), "{err}");
+    for r in &reasons {
+        assert!(lines.iter().any(|l| l.contains(r)), "{r} not named in {err}");
+    }
+    assert!(!err.contains("-0.000"), "{err}");
+}
+
 #[test]
 fn bad_input_gets_one_line_and_status_2() {
     let cases = [
