@@ -25,7 +25,7 @@ use interpolab::fiveaxis::{
 use interpolab::gcode::crease_design;
 use interpolab::geom::Curve3;
 use interpolab::plan::steps::{DEFAULT_FEED_MM_PER_MIN, dynamics_of, steps_canon};
-use interpolab::plan::{StepsFeed, StepsTime, time_steps};
+use interpolab::plan::{Dynamics, StepsFeed, StepsTime, time_steps};
 use interpolab::report::{csv_comment_text, fmt_num, one_line};
 use interpolab::scene::{build_machine, build_tool_axis, machine_spec, machine_value};
 
@@ -94,6 +94,13 @@ pub(crate) struct StepsArgs {
     /// machine's dynamics preset. Default: the scene's `motion.feed`, else 1000.
     #[arg(long, value_parser = super::finite)]
     feed: Option<f64>,
+    /// The machine's dynamics for the time: a preset or a machine file (as `interpolab time
+    /// --machine`). Default: the preset named as the machine's structure (table-ac, …).
+    #[arg(long)]
+    machine: Option<String>,
+    /// Drop the jerk limits of those dynamics (acceleration may jump).
+    #[arg(long)]
+    no_jerk: bool,
     /// Output format.
     #[arg(long, value_enum, default_value = "csv")]
     format: OutFormat,
@@ -111,10 +118,21 @@ pub(crate) struct Example1Args {
     /// Points of the swept tool printed for the single block before steps are inserted.
     #[arg(long, default_value_t = 10)]
     samples: usize,
+    /// The machine's structure instead of the paper's table-ac (the same pivots through the
+    /// origin and travel; a head gets a 150 mm tool length, as in the 5-axis tab).
+    #[arg(long)]
+    structure: Option<String>,
     /// Feed F (mm/min) of the tool tip relative to the workpiece, for the time of the plans
     /// before and after on the machine's dynamics preset (table-ac).
     #[arg(long, value_parser = super::finite, default_value_t = DEFAULT_FEED_MM_PER_MIN)]
     feed: f64,
+    /// The machine's dynamics for the time: a preset or a machine file (as `interpolab time
+    /// --machine`). Default: the preset named as the machine's structure (table-ac, …).
+    #[arg(long)]
+    machine: Option<String>,
+    /// Drop the jerk limits of those dynamics (acceleration may jump).
+    #[arg(long)]
+    no_jerk: bool,
 }
 
 /// `interpolab table1`.
@@ -386,12 +404,22 @@ fn checked_feed(feed: f64) -> Result<f64, Fatal> {
     }
 }
 
-/// A plan's time on the dynamics preset of its machine's structure, at feed F (mm/min) of the
-/// tool tip relative to the workpiece (inverse time per block, docs/feed-planning.md).
-fn plan_time(kind: MachineKind, nodes: &[StepNode], feed: f64) -> Result<StepsTime, Fatal> {
+/// The dynamics of `--machine` (default: the preset named as the structure), without jerk
+/// limits with `--no-jerk`; checked before any work.
+fn dynamics_for(kind: MachineKind, machine: Option<&str>, no_jerk: bool) -> Result<Dynamics, Fatal> {
+    let base = match machine {
+        Some(m) => super::dynamics::machine_of(m)?,
+        None => dynamics_of(kind),
+    };
+    super::dynamics::machine_with(base, None, false, None, None, no_jerk)
+}
+
+/// A plan's time on `dynamics` at feed F (mm/min) of the tool tip relative to the workpiece
+/// (inverse time per block, docs/feed-planning.md).
+fn plan_time(kind: MachineKind, nodes: &[StepNode], feed: f64, dynamics: &Dynamics) -> Result<StepsTime, Fatal> {
     let blocks: Vec<_> = nodes.iter().map(|n| n.block).collect();
-    time_steps(kind, &blocks, feed, StepsFeed::Tip, &dynamics_of(kind))
-        .map_err(|e| Fatal(format!("the plan's time on {}: {e}", kind.as_str())))
+    time_steps(kind, &blocks, feed, StepsFeed::Tip, dynamics)
+        .map_err(|e| Fatal(format!("the plan's time on {}: {e}", dynamics.name)))
 }
 
 /// One line: the cycle time and its two lower bounds.
@@ -431,8 +459,9 @@ pub(super) fn steps(a: &StepsArgs) -> Result<ExitCode, Fatal> {
         }
     };
     let feed = checked_feed(a.feed.or(case.feed).unwrap_or(DEFAULT_FEED_MM_PER_MIN))?;
+    let dynamics = dynamics_for(case.machine.kind, a.machine.as_deref(), a.no_jerk)?;
     let plan = plan_case(&case, a.tolerance, a.method.method(), a.bound_tip)?;
-    let time = plan_time(case.machine.kind, &plan.nodes, feed)?;
+    let time = plan_time(case.machine.kind, &plan.nodes, feed, &dynamics)?;
     let cols = step_columns(case.machine.kind, a.bound_tip);
     let mut o = BufWriter::new(io::stdout().lock());
     let r = (|| -> io::Result<()> {
@@ -541,7 +570,18 @@ fn signed(x: f64) -> String {
 
 pub(super) fn example1_cmd(a: &Example1Args) -> Result<ExitCode, Fatal> {
     let feed = checked_feed(a.feed)?;
-    let ex = example1();
+    let mut ex = example1();
+    if let Some(k) = &a.structure {
+        ex.machine.kind = MachineKind::from_name(k).ok_or_else(|| {
+            Fatal(format!(
+                "--structure: '{k}' is not a machine structure; give table-ac, table-bc, head-bc or head-a-table-c"
+            ))
+        })?;
+        if ex.machine.kind.uses_tool_length() {
+            ex.machine.tool_length_mm = 150.0;
+        }
+    }
+    let dynamics = dynamics_for(ex.machine.kind, a.machine.as_deref(), a.no_jerk)?;
     let names = ex.machine.axis_names();
     let (s0, s1) = ex.path.range();
     let mut out = String::new();
@@ -582,7 +622,7 @@ pub(super) fn example1_cmd(a: &Example1Args) -> Result<ExitCode, Fatal> {
     line(format!("  total error δ = δt + δn at its worst (τ = {:.3})   {}", rep.at_tau, signed(rep.total_mm)));
     line(format!("    of which δt {} and δn {}", signed(rep.chord_mm), signed(rep.nonlinear_mm)));
     line(format!("  tool tip's largest distance from its chord        {:.6} mm", rep.tip_deviation_mm));
-    line(format!("  time: {}", time_text(&plan_time(ex.machine.kind, &before, feed)?)));
+    line(format!("  time: {}", time_text(&plan_time(ex.machine.kind, &before, feed, &dynamics)?)));
     line("  the swept tool (τ: tool tip x y z; ball centre x y z; δ on the cylinder):".into());
     for p in swept_samples(&ex.machine, &ex.path, &before[0].block, &before[1].block, a.samples.max(1)) {
         line(format!(
@@ -629,7 +669,7 @@ pub(super) fn example1_cmd(a: &Example1Args) -> Result<ExitCode, Fatal> {
         ));
     }
     line(format!("  worst |δ| after: {} mm (E = {} mm)", fmt_num(plan.worst_mm()), fmt_num(plan.tol_mm)));
-    line(format!("  time: {}", time_text(&plan_time(ex.machine.kind, &plan.nodes, feed)?)));
+    line(format!("  time: {}", time_text(&plan_time(ex.machine.kind, &plan.nodes, feed, &dynamics)?)));
     let mut o = io::stdout().lock();
     o.write_all(out.as_bytes()).map_err(|e| fatal_io(&e))?;
     Ok(ExitCode::SUCCESS)
