@@ -1384,3 +1384,7 @@ fn a_curve_picked_in_the_fillet_view_is_the_cores_start_and_a_click_selects_a_cc
 // The Your program tab.
 #[path = "app/userprog.rs"]
 mod userprog;
+
+// The 5-axis tab's time of its plans.
+#[path = "app/fiveaxis_time.rs"]
+mod fiveaxis_time;

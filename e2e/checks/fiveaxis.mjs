@@ -34,6 +34,11 @@ export const checks = [
       const p2 = f2.panel.status;
       check("5-axis tab: after the steps every segment is within E", p2.blocks === 32 && p2.worst_delta_mm <= p2.tol_mm && p2.error === "",
         `${p2.blocks} blocks, worst δ ${(p2.worst_delta_mm * 1e3).toFixed(4)} µm, E ${p2.tol_mm} mm, iterations ${JSON.stringify(p2.compare)}`);
+      const t = p2.time;
+      check("5-axis tab: the time of the before and after plans on the machine's preset",
+        t && t.machine === "table-ac" && t.feed_default === true && t.error === ""
+          && Number.isFinite(t.before_s) && Number.isFinite(t.after_s) && t.before_s > 0 && t.after_s > 0,
+        t ? `${t.machine} at F ${t.feed_mm_per_min} mm/min: before ${t.before_s} s, after ${t.after_s} s` : "no time in the status");
       state.p2 = p2;
     },
   },

@@ -24,6 +24,8 @@ use interpolab::fiveaxis::{
 };
 use interpolab::gcode::crease_design;
 use interpolab::geom::Curve3;
+use interpolab::plan::steps::{DEFAULT_FEED_MM_PER_MIN, dynamics_of, steps_canon};
+use interpolab::plan::{Dynamics, StepsFeed, StepsTime, time_steps};
 use interpolab::report::{csv_comment_text, fmt_num, one_line};
 use interpolab::scene::{build_machine, build_tool_axis, machine_spec, machine_value};
 
@@ -88,6 +90,17 @@ pub(crate) struct StepsArgs {
     /// checking the programmed point would); adds the column tip_design_mm.
     #[arg(long)]
     bound_tip: bool,
+    /// Feed F (mm/min) of the tool tip relative to the workpiece, for the plan's time on the
+    /// machine's dynamics preset. Default: the scene's `motion.feed`, else 1000.
+    #[arg(long, value_parser = super::finite)]
+    feed: Option<f64>,
+    /// The machine's dynamics for the time: a preset or a machine file (as `interpolab time
+    /// --machine`). Default: the preset named as the machine's structure (table-ac, …).
+    #[arg(long)]
+    machine: Option<String>,
+    /// Drop the jerk limits of those dynamics (acceleration may jump).
+    #[arg(long)]
+    no_jerk: bool,
     /// Output format.
     #[arg(long, value_enum, default_value = "csv")]
     format: OutFormat,
@@ -105,6 +118,21 @@ pub(crate) struct Example1Args {
     /// Points of the swept tool printed for the single block before steps are inserted.
     #[arg(long, default_value_t = 10)]
     samples: usize,
+    /// The machine's structure instead of the paper's table-ac (the same pivots through the
+    /// origin and travel; a head gets a 150 mm tool length, as in the 5-axis tab).
+    #[arg(long)]
+    structure: Option<String>,
+    /// Feed F (mm/min) of the tool tip relative to the workpiece, for the time of the plans
+    /// before and after on the machine's dynamics preset (table-ac).
+    #[arg(long, value_parser = super::finite, default_value_t = DEFAULT_FEED_MM_PER_MIN)]
+    feed: f64,
+    /// The machine's dynamics for the time: a preset or a machine file (as `interpolab time
+    /// --machine`). Default: the preset named as the machine's structure (table-ac, …).
+    #[arg(long)]
+    machine: Option<String>,
+    /// Drop the jerk limits of those dynamics (acceleration may jump).
+    #[arg(long)]
+    no_jerk: bool,
 }
 
 /// `interpolab table1`.
@@ -155,6 +183,8 @@ struct Case {
     rule: String,
     /// Unit of the path parameter s.
     s_unit: &'static str,
+    /// The scene's feed (mm/min); `None` for the built-in paths.
+    feed: Option<f64>,
 }
 
 /// A scene and its crease as a design curve (the same run the G-code commands use).
@@ -185,6 +215,7 @@ fn scene_case(path: &Path) -> Result<Case, Fatal> {
         machine_note,
         rule: describe_rule(&rule),
         s_unit: "mm",
+        feed: Some(scene.motion.feed),
     })
 }
 
@@ -197,6 +228,7 @@ fn example1_case() -> Case {
         machine: ex.machine,
         machine_note: "",
         s_unit: "rad",
+        feed: None,
     }
 }
 
@@ -215,6 +247,7 @@ fn blade_case_for(digits: &str) -> Result<Case, Fatal> {
         machine,
         machine_note: "",
         s_unit: "mm",
+        feed: None,
     })
 }
 
@@ -362,6 +395,60 @@ fn plan_case(case: &Case, tol: f64, method: RootMethod, bound_tip: bool) -> Resu
         .map_err(|e| Fatal(format!("{}: {e}", case.title)))
 }
 
+/// The feed of `--feed`, checked before any work.
+fn checked_feed(feed: f64) -> Result<f64, Fatal> {
+    if feed > 0.0 && feed <= interpolab::numerics::limits::MAX_FEED_MM_PER_MIN {
+        Ok(feed)
+    } else {
+        Err(Fatal(format!("--feed: {}", interpolab::plan::StepsTimeError::BadFeed { feed_mm_per_min: feed })))
+    }
+}
+
+/// The dynamics of `--machine` (default: the preset named as the structure), without jerk
+/// limits with `--no-jerk`; checked before any work.
+fn dynamics_for(kind: MachineKind, machine: Option<&str>, no_jerk: bool) -> Result<Dynamics, Fatal> {
+    let base = match machine {
+        Some(m) => super::dynamics::machine_of(m)?,
+        None => dynamics_of(kind),
+    };
+    super::dynamics::machine_with(base, None, false, None, None, no_jerk)
+}
+
+/// A plan's time on `dynamics` at feed F (mm/min) of the tool tip relative to the workpiece
+/// (inverse time per block, docs/feed-planning.md).
+fn plan_time(kind: MachineKind, nodes: &[StepNode], feed: f64, dynamics: &Dynamics) -> Result<StepsTime, Fatal> {
+    let blocks: Vec<_> = nodes.iter().map(|n| n.block).collect();
+    time_steps(kind, &blocks, feed, StepsFeed::Tip, dynamics)
+        .map_err(|e| Fatal(format!("the plan's time on {}: {e}", dynamics.name)))
+}
+
+/// One line: the cycle time and its two lower bounds.
+fn time_text(t: &StepsTime) -> String {
+    format!(
+        "{:.4} s on {} at F {} mm/min of the tool tip (G93, one inverse time per block); the feed alone {:.4} s, the rotary axes at least {:.4} s",
+        t.cycle_s,
+        t.machine,
+        fmt_num(t.feed_mm_per_min),
+        t.feed_s,
+        t.rotary_bound_s
+    )
+}
+
+/// The `time` object of `--format json` (units in the keys).
+fn time_json(t: &StepsTime) -> Value {
+    json!({
+        "machine": t.machine,
+        "feed_mm_per_min": t.feed_mm_per_min,
+        "feed_along": "tip",
+        "cycle_s": t.cycle_s,
+        "feed_s": t.feed_s,
+        "rotary_bound_s": t.rotary_bound_s,
+        "tip_path_mm": t.tip_path_mm,
+        "joint_path_mm": t.joint_path_mm,
+        "segment_s": t.segment_s,
+    })
+}
+
 pub(super) fn steps(a: &StepsArgs) -> Result<ExitCode, Fatal> {
     let case = match (&a.scene, a.example1, &a.blade) {
         (Some(p), _, _) => scene_case(p)?,
@@ -371,7 +458,10 @@ pub(super) fn steps(a: &StepsArgs) -> Result<ExitCode, Fatal> {
             return Err(Fatal("steps: give a scene file, --example1 or --blade 2412".into()));
         }
     };
+    let feed = checked_feed(a.feed.or(case.feed).unwrap_or(DEFAULT_FEED_MM_PER_MIN))?;
+    let dynamics = dynamics_for(case.machine.kind, a.machine.as_deref(), a.no_jerk)?;
     let plan = plan_case(&case, a.tolerance, a.method.method(), a.bound_tip)?;
+    let time = plan_time(case.machine.kind, &plan.nodes, feed, &dynamics)?;
     let cols = step_columns(case.machine.kind, a.bound_tip);
     let mut o = BufWriter::new(io::stdout().lock());
     let r = (|| -> io::Result<()> {
@@ -414,6 +504,7 @@ pub(super) fn steps(a: &StepsArgs) -> Result<ExitCode, Fatal> {
                     writeln!(o, "{}", cells.join(","))?;
                 }
                 writeln!(o, "# summary: {}", summary(&plan))?;
+                writeln!(o, "# time: {}", time_text(&time))?;
             }
             OutFormat::Json => {
                 let rows: Vec<Value> = plan
@@ -455,6 +546,7 @@ pub(super) fn steps(a: &StepsArgs) -> Result<ExitCode, Fatal> {
                         "worst_tip_design_mm": tip.map(|t| t.0),
                         "tip_limited": tip.map(|t| t.1),
                     },
+                    "time": time_json(&time),
                 });
                 writeln!(o, "{}", serde_json::to_string_pretty(&doc).unwrap_or_default())?;
             }
@@ -477,7 +569,19 @@ fn signed(x: f64) -> String {
 }
 
 pub(super) fn example1_cmd(a: &Example1Args) -> Result<ExitCode, Fatal> {
-    let ex = example1();
+    let feed = checked_feed(a.feed)?;
+    let mut ex = example1();
+    if let Some(k) = &a.structure {
+        ex.machine.kind = MachineKind::from_name(k).ok_or_else(|| {
+            Fatal(format!(
+                "--structure: '{k}' is not a machine structure; give table-ac, table-bc, head-bc or head-a-table-c"
+            ))
+        })?;
+        if ex.machine.kind.uses_tool_length() {
+            ex.machine.tool_length_mm = 150.0;
+        }
+    }
+    let dynamics = dynamics_for(ex.machine.kind, a.machine.as_deref(), a.no_jerk)?;
     let names = ex.machine.axis_names();
     let (s0, s1) = ex.path.range();
     let mut out = String::new();
@@ -518,6 +622,7 @@ pub(super) fn example1_cmd(a: &Example1Args) -> Result<ExitCode, Fatal> {
     line(format!("  total error δ = δt + δn at its worst (τ = {:.3})   {}", rep.at_tau, signed(rep.total_mm)));
     line(format!("    of which δt {} and δn {}", signed(rep.chord_mm), signed(rep.nonlinear_mm)));
     line(format!("  tool tip's largest distance from its chord        {:.6} mm", rep.tip_deviation_mm));
+    line(format!("  time: {}", time_text(&plan_time(ex.machine.kind, &before, feed, &dynamics)?)));
     line("  the swept tool (τ: tool tip x y z; ball centre x y z; δ on the cylinder):".into());
     for p in swept_samples(&ex.machine, &ex.path, &before[0].block, &before[1].block, a.samples.max(1)) {
         line(format!(
@@ -564,6 +669,7 @@ pub(super) fn example1_cmd(a: &Example1Args) -> Result<ExitCode, Fatal> {
         ));
     }
     line(format!("  worst |δ| after: {} mm (E = {} mm)", fmt_num(plan.worst_mm()), fmt_num(plan.tol_mm)));
+    line(format!("  time: {}", time_text(&plan_time(ex.machine.kind, &plan.nodes, feed, &dynamics)?)));
     let mut o = io::stdout().lock();
     o.write_all(out.as_bytes()).map_err(|e| fatal_io(&e))?;
     Ok(ExitCode::SUCCESS)
@@ -795,34 +901,12 @@ pub(super) fn scene_steps_program(
     path: &Path,
     tol: f64,
 ) -> Result<(Vec<interpolab::gcode::interp::Canon>, String), Fatal> {
-    use interpolab::gcode::interp::{Canon, Feed, FeedMode, Loc, Origin, Pose};
     let case = scene_case(path)?;
     let (scene, _) = super::crease::load(path)?;
     let plan = plan_case(&case, tol, RootMethod::default(), false)?;
-    let names = case.machine.kind.axis_names();
-    let pose = |j: &interpolab::fiveaxis::Joints| {
-        let mut abc = glam::DVec3::ZERO;
-        for (k, name) in names.iter().enumerate() {
-            let i = match *name {
-                "A" => 0,
-                "B" => 1,
-                _ => 2,
-            };
-            abc[i] = j.rotary_rad[k].to_degrees();
-        }
-        Pose { xyz: j.xyz_mm, abc }
-    };
-    let feed = Feed { mode: FeedMode::PerMinute, rate: scene.motion.feed, spindle_rpm: 0.0 };
-    let mut out = Vec::with_capacity(plan.nodes.len() + 1);
-    for (i, n) in plan.nodes.iter().enumerate() {
-        let loc = Loc::main(u32::try_from(i + 1).unwrap_or(u32::MAX));
-        let end = pose(&n.block.joints);
-        out.push(if i == 0 {
-            Canon::Traverse { loc, end, origin: Origin::Programmed }
-        } else {
-            Canon::Line { loc, end, feed, origin: Origin::Programmed }
-        });
-    }
+    let blocks: Vec<_> = plan.nodes.iter().map(|n| n.block).collect();
+    let out = steps_canon(case.machine.kind, &blocks, scene.motion.feed, StepsFeed::Joints)
+        .map_err(|e| Fatal(format!("{}: {e}", case.title)))?;
     let title = format!(
         "{}: seed 002's {} tool steps at {} mm on {} {}",
         case.title,

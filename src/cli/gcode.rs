@@ -331,8 +331,8 @@ pub(super) fn gcode(a: &GcodeArgs) -> Result<ExitCode, Fatal> {
 pub(super) fn compare_cmd(a: &CompareArgs) -> Result<ExitCode, Fatal> {
     // The machine is checked before any program is written.
     let machine = match &a.machine {
-        Some(m) => Some(super::time::machine_with(
-            super::time::machine_of(m)?,
+        Some(m) => Some(super::dynamics::machine_with(
+            super::dynamics::machine_of(m)?,
             a.blend_tolerance,
             false,
             None,

@@ -9,9 +9,11 @@
 //! One file per area: [`crease`] (`run`, `check`), [`gcode`] (`gcode`, `replay`, `compare`,
 //! `nurbs`), [`userprog`] (`canon`, and `replay` and `simulate` of a user's program),
 //! [`fiveaxis`] (`steps`, `example1`, `table1`, `chords`), [`finish`], [`simulate`], [`time`];
-//! [`program`] reads program files for them, [`plain_run`] reads a plain `run` without clap.
+//! [`program`] reads program files for them, [`dynamics`] a machine's dynamics (`--machine`),
+//! [`plain_run`] reads a plain `run` without clap.
 
 mod crease;
+mod dynamics;
 mod finish;
 mod fiveaxis;
 mod gcode;

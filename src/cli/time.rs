@@ -14,10 +14,11 @@ use clap::{Args, ValueEnum};
 use interpolab::gcode::interp::Canon;
 use interpolab::gcode::{Dialect, ProgramKind, ProgramOptions, crease_design, write_program};
 use interpolab::numerics::format::push_num;
-use interpolab::plan::{Dynamics, LimitChecker, PRESETS, Period, Timing, canon_of_toolpath, time_program};
+use interpolab::plan::{Dynamics, LimitChecker, Period, Timing, canon_of_toolpath, time_program};
 use interpolab::report::fmt_num;
 
 use super::Fatal;
+use super::dynamics::{machine_of, machine_with};
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub(crate) enum SceneKind {
@@ -82,62 +83,6 @@ pub(crate) struct TimeArgs {
     pub steps: Option<f64>,
     #[command(flatten)]
     pub read: super::program::ReadArgs,
-}
-
-/// A machine from `--machine` (a preset or a file).
-pub(crate) fn machine_of(arg: &str) -> Result<Dynamics, Fatal> {
-    if let Some(d) = Dynamics::preset(arg) {
-        return Ok(d);
-    }
-    let p = Path::new(arg);
-    if !p.exists() {
-        return Err(Fatal(format!(
-            "--machine: '{arg}' is neither a preset nor a file; give one of {} or a machine file (JSON)",
-            PRESETS.join(", ")
-        )));
-    }
-    let text = super::read_capped(p, interpolab::numerics::limits::MAX_SCENE_BYTES, "machine file")
-        .map_err(|e| Fatal(format!("cannot read machine file {arg}: {e}")))?;
-    let v: serde_json::Value =
-        serde_json::from_str(&text).map_err(|e| Fatal(format!("{arg}: not JSON: {e}; give a machine object")))?;
-    let obj = v.get("dynamics").unwrap_or(&v);
-    Dynamics::from_value(obj).map_err(|e| Fatal(format!("{arg}: {e}")))
-}
-
-/// The machine with the command line's overrides, checked before any work; a bad value
-/// names its option.
-pub(crate) fn machine_with(
-    base: Dynamics,
-    tolerance: Option<f64>,
-    exact_stop: bool,
-    window: Option<usize>,
-    period: Option<f64>,
-    no_jerk: bool,
-) -> Result<Dynamics, Fatal> {
-    let mut d = base;
-    if let Some(t) = tolerance {
-        d.tolerance_mm = t;
-    }
-    d.exact_stop |= exact_stop;
-    if let Some(w) = window {
-        d.window_blocks = Some(w);
-    }
-    if let Some(p) = period {
-        d.period_ms = p;
-    }
-    if no_jerk {
-        d = d.without_jerk();
-    }
-    d.validate().map_err(|e| {
-        let opt = match e.path.as_str() {
-            "tolerance" => "--tolerance".to_owned(),
-            "lookahead" => "--window".to_owned(),
-            "period" => "--period".to_owned(),
-            p => format!("--machine {}: {p}", d.name),
-        };
-        Fatal(format!("{opt}: {}; {}", e.problem, e.fix))
-    })?;
-    Ok(d)
 }
 
 fn is_scene(p: &Path) -> bool {

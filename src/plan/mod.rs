@@ -6,7 +6,8 @@
 //! ([`crate::gcode::interp::Canon`], all six axes) → a joint-space [`path::Path`] (lines,
 //! arcs, NURBS, blends; pieces with derivative bounds) → a [`feed::FeedPlan`] (phases of
 //! constant jerk along the path) → [`sample::Sampler`] (periods) and block times. The
-//! checker [`check::LimitChecker`] reads only periods and limits.
+//! checker [`check::LimitChecker`] reads only periods and limits. [`steps`] times seed 002's
+//! five-axis step plans through their machine's joints.
 //!
 //! Units inside: mm, s, rad (joints A B C), the path parameter s in mm of tool-tip travel
 //! (degrees on moves of the rotary axes alone). Machine files and scenes give mm/min and
@@ -18,6 +19,7 @@ pub mod machine;
 pub mod path;
 pub mod sample;
 pub mod scurve;
+pub mod steps;
 
 use thiserror::Error;
 
@@ -29,6 +31,7 @@ pub use feed::{FeedOptions, FeedPlan};
 pub use machine::{AxisLimits, Dynamics, JointLimits, MachineError, PRESETS};
 pub use path::{JunctionRules, Path};
 pub use sample::{Period, Sampler};
+pub use steps::{StepsFeed, StepsTime, StepsTimeError, time_steps};
 
 /// Why a program cannot be planned.
 #[derive(Clone, Debug, Error, PartialEq)]

@@ -137,6 +137,64 @@ fn steps_json_carries_the_machine_and_a_summary() {
 }
 
 #[test]
+fn steps_json_adds_the_plans_time_on_the_structures_preset_at_the_scenes_feed() {
+    let out = stdout_of(&["steps", "examples/torus-plate-head-bc.json", "--tolerance", "0.05", "--format", "json"]);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let t = &v["time"];
+    assert_eq!((t["machine"].as_str(), t["feed_along"].as_str()), (Some("head-bc"), Some("tip")), "{t}");
+    // The scene's motion.feed.
+    assert_eq!(t["feed_mm_per_min"], 1500.0, "{t}");
+    let cycle = t["cycle_s"].as_f64().unwrap();
+    let segments: Vec<f64> = t["segment_s"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+    assert_eq!(segments.len() + 1, v["rows"].as_array().unwrap().len());
+    let sum: f64 = segments.iter().sum();
+    assert!((sum - cycle).abs() <= 1e-9 * cycle, "{sum} vs {cycle}");
+    // At least the tip chords at F, and the rotary bound.
+    let by_feed = t["tip_path_mm"].as_f64().unwrap() / (1500.0 / 60.0);
+    assert!(cycle >= by_feed && cycle >= t["rotary_bound_s"].as_f64().unwrap(), "{t}");
+    assert!((t["feed_s"].as_f64().unwrap() - by_feed).abs() <= 1e-9 * by_feed, "{t}");
+    // --no-jerk is never slower; a bad feed or machine is refused before any work.
+    let free = stdout_of(&[
+        "steps",
+        "examples/torus-plate-head-bc.json",
+        "--tolerance",
+        "0.05",
+        "--format",
+        "json",
+        "--no-jerk",
+    ]);
+    let free: serde_json::Value = serde_json::from_str(&free).unwrap();
+    assert!(free["time"]["cycle_s"].as_f64().unwrap() <= cycle, "{}", free["time"]);
+    for (flag, value, says) in [
+        ("--feed", "0", "give e.g. 1000"),
+        ("--feed", "-5", "more than 0"),
+        ("--machine", "lathe", "neither a preset nor a file"),
+    ] {
+        let arg = format!("{flag}={value}");
+        let out = run(&["steps", "--example1", "--tolerance", "0.01", &arg]);
+        assert_eq!(out.status.code(), Some(2), "{flag} {value}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(says) && err.lines().count() == 1, "{flag} {value}: {err}");
+    }
+}
+
+#[test]
+fn example1_times_both_plans_and_the_csv_says_the_time_in_a_comment() {
+    let out = stdout_of(&["example1"]);
+    let times: Vec<f64> = out
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("time: "))
+        .map(|l| l.split_whitespace().next().unwrap().parse().unwrap())
+        .collect();
+    // docs/feed-planning.md: 1.0168 s before, 2.1662 s after on table-ac at 1000 mm/min.
+    assert_eq!(times.len(), 2, "{out}");
+    assert!((times[0] - 1.0168).abs() < 1e-4 && (times[1] - 2.1662).abs() < 1e-4, "{times:?}");
+    let csv = stdout_of(&["steps", "--example1", "--tolerance", "0.01"]);
+    let line = csv.lines().find(|l| l.starts_with("# time: ")).unwrap();
+    assert!(line.contains("2.1662 s on table-ac at F 1000 mm/min"), "{line}");
+}
+
+#[test]
 fn example1_shows_the_gouge_then_the_inserted_steps() {
     let out = stdout_of(&["example1"]);
     assert!(out.contains("Before: one block P1 -> P2"), "{out}");

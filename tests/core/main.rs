@@ -90,3 +90,5 @@ mod simulate {
 
 // `src/plan/`: feed planning — every period within the limits and the tolerance.
 mod plan;
+// `src/plan/steps.rs`: seed 002's step plans timed on their machine.
+mod plan_steps;

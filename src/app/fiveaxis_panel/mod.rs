@@ -110,6 +110,8 @@ pub struct FiveAxisPanel {
     generation: u64,
     /// "Simulate this program" asked for by `set_option` (handed over in the next frame).
     simulate_requested: bool,
+    /// The scene's feed `motion.feed` (mm/min), for the time of the crease's plan.
+    scene_feed: f64,
 }
 
 impl Default for FiveAxisPanel {
@@ -138,6 +140,7 @@ impl Default for FiveAxisPanel {
             rects: Vec::new(),
             generation: 0,
             simulate_requested: false,
+            scene_feed: crate::plan::steps::DEFAULT_FEED_MM_PER_MIN,
         }
     }
 }
@@ -220,6 +223,17 @@ impl FiveAxisPanel {
             method: self.method,
             before: self.source == Source::Example1 && self.before,
             bound_tip: self.bound_tip,
+            feed_mm_per_min: self.feed().0,
+        }
+    }
+
+    /// The feed of the plans' time (mm/min) and whether it is the default (the built-in paths
+    /// have no feed of their own).
+    fn feed(&self) -> (f64, bool) {
+        if self.source == Source::Scene {
+            (self.scene_feed, false)
+        } else {
+            (crate::plan::steps::DEFAULT_FEED_MM_PER_MIN, true)
         }
     }
 
@@ -230,6 +244,7 @@ impl FiveAxisPanel {
         }
         let generation = cx.compute.generation;
         self.generation = generation;
+        self.scene_feed = cx.scene.motion.feed;
         let inputs = self.inputs(generation);
         let key = (inputs.source, inputs.generation, inputs.rule);
         if self.design.as_ref().is_none_or(|d| d.key != key) {
@@ -286,6 +301,28 @@ impl FiveAxisPanel {
             (Some(p), _) => Some(p),
             (None, prev) => prev.as_ref(),
         }
+    }
+}
+
+impl FiveAxisPanel {
+    /// The plans' time for the status: machine, feed, and the seconds (`null` until computed
+    /// or where it failed; `before_s` only for Example 1).
+    fn times_json(&self) -> serde_json::Value {
+        let (feed, default) = self.feed();
+        let times = self.plan.as_ref().and_then(|p| p.times.as_ref());
+        let secs =
+            |r: Option<&Result<crate::plan::StepsTime, String>>| r.and_then(|r| r.as_ref().ok()).map(|t| t.cycle_s);
+        let error = times
+            .and_then(|t| t.before.iter().chain([&t.after]).find_map(|r| r.as_ref().err().cloned()))
+            .unwrap_or_default();
+        serde_json::json!({
+            "machine": self.machine.kind.as_str(),
+            "feed_mm_per_min": feed,
+            "feed_default": default,
+            "before_s": secs(times.and_then(|t| t.before.as_ref())),
+            "after_s": secs(times.map(|t| &t.after)),
+            "error": error,
+        })
     }
 }
 
@@ -450,6 +487,7 @@ impl Panel for FiveAxisPanel {
             "worst_delta_mm": plan.and_then(Plan::worst_delta_mm),
             "iterations": plan.map_or(0, Plan::iterations),
             "compare": compare,
+            "time": self.times_json(),
             "error": error,
             "ui": rects_json(&self.rects),
         })

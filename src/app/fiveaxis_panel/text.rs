@@ -8,6 +8,8 @@ use super::{FiveAxisPanel, plots, view};
 use crate::app::fmt_len;
 use crate::app::widgets::error_text;
 use crate::fiveaxis::StepNode;
+use crate::numerics::format::fmt_num;
+use crate::plan::StepsTime;
 
 /// A signed error in words: `+5.00 µm (overcut)`, `−2.00 µm (stock)`; below a picometre
 /// `0 (exact to 1 pm)`.
@@ -49,6 +51,7 @@ impl FiveAxisPanel {
             example1_story(ui, plan);
         }
         self.summary(ui);
+        self.time_ui(ui);
         ui.separator();
         ui.label(egui::RichText::new(format!("Iterations per method at E = {}", fmt_len(self.tol_mm))).strong());
         if let Some(plan) = &self.plan {
@@ -110,6 +113,43 @@ impl FiveAxisPanel {
         if stale {
             ui.label(egui::RichText::new("computing the new plan… (the last one is shown)").weak());
         }
+    }
+
+    /// The plans' time on the machine: one line "time on <machine> at F …: before X s, after
+    /// Y s" (the plan's time for sources without a before/after), and the two lower bounds.
+    pub(super) fn time_ui(&self, ui: &mut egui::Ui) {
+        let (feed, default) = self.feed();
+        let kind = self.machine.kind.as_str();
+        let head = format!(
+            "time on {kind} at F {} mm/min{}",
+            fmt_num(feed),
+            if default { " (default: this path has no feed)" } else { " (the scene's feed)" }
+        );
+        let times = self.plan.as_ref().and_then(|p| p.times.as_ref());
+        let Some(t) = times else {
+            ui.label(egui::RichText::new(format!("{head}: computing…")).weak());
+            return;
+        };
+        let secs = |r: &Result<StepsTime, String>| match r {
+            Ok(t) => format!("{:.3} s", t.cycle_s),
+            Err(_) => "—".to_owned(),
+        };
+        let line = match &t.before {
+            Some(b) => format!("{head}: before {}, after {}", secs(b), secs(&t.after)),
+            None => format!("{head}: {}", secs(&t.after)),
+        };
+        ui.label(egui::RichText::new(line).strong()).on_hover_text(
+            "Cycle time on the dynamics preset of the machine's structure (docs/feed-planning.md): each block a straight joint move programmed to take its tool-tip chord / F (inverse time, G93), every joint within its velocity, acceleration and jerk limits, junctions blended within the preset's contour tolerance.",
+        );
+        let bounds = |r: &Result<StepsTime, String>| match r {
+            Ok(t) => format!("feed alone {:.3} s, rotary axes ≥ {:.3} s", t.feed_s, t.rotary_bound_s),
+            Err(e) => e.clone(),
+        };
+        let detail = match &t.before {
+            Some(b) => format!("before: {}; after: {}", bounds(b), bounds(&t.after)),
+            None => bounds(&t.after),
+        };
+        ui.label(egui::RichText::new(detail).weak());
     }
 
     /// The selected segment (a slider picks it): its δ and parts, its blocks' joints.

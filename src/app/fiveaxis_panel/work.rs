@@ -11,11 +11,14 @@ use web_time::{Duration, Instant};
 
 use crate::crease::{CreaseCurve, CreaseJob};
 use crate::fiveaxis::{
-    CreasePath, CutterLocation, DesignPath, Example1, FiveAxisError, Machine, NacaProfile, ProfilePath, StepNode,
-    StepOptions, StepPlanner, ToolAxisRule, blade_case, evaluate_nodes, example1, tip_design_deviation,
+    Block, CreasePath, CutterLocation, DesignPath, Example1, FiveAxisError, Machine, NacaProfile, ProfilePath,
+    StepNode, StepOptions, StepPlanner, ToolAxisRule, blade_case, block_at, evaluate_nodes, example1,
+    tip_design_deviation,
 };
 use crate::numerics::maximise::MaxOptions;
 use crate::numerics::roots::RootMethod;
+use crate::plan::steps::dynamics_of;
+use crate::plan::{StepsFeed, StepsTime, time_steps};
 
 /// What the panel plans along.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -59,6 +62,9 @@ pub struct Inputs {
     pub before: bool,
     /// Also hold the swept tip within E of the design tip path ([`StepOptions::bound_tip`]).
     pub bound_tip: bool,
+    /// Feed F of the tool tip relative to the workpiece (mm/min) for the plans' time: the
+    /// scene's `motion.feed`, or [`crate::plan::steps::DEFAULT_FEED_MM_PER_MIN`].
+    pub feed_mm_per_min: f64,
 }
 
 impl Inputs {
@@ -275,6 +281,27 @@ pub struct Plan {
     compare_run: Option<(usize, StepPlanner, f64)>,
     /// Wall time spent on the main plan (ms, this device).
     pub plan_ms: f64,
+    /// Example 1 with "before" shown: the blocks of the plan after steps, from the comparison
+    /// run of this plan's method (reports do not change the nodes).
+    after_blocks: Option<Vec<Block>>,
+    /// The time on the machine's dynamics preset, computed last (`None` until then).
+    pub times: Option<Times>,
+}
+
+/// The time of the plans on the dynamics preset of the machine's structure
+/// ([`crate::plan::steps`]), at [`Inputs::feed_mm_per_min`] of the tool tip.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Times {
+    /// Example 1: the single block P1 → P2 (the "before" plan); `None` for other sources.
+    pub before: Option<Result<StepsTime, String>>,
+    /// The plan with steps: Example 1's "after", or the plan of the other sources.
+    pub after: Result<StepsTime, String>,
+}
+
+/// Times a plan's blocks on the preset of the machine's structure.
+fn time_of(inputs: &Inputs, blocks: &[Block]) -> Result<StepsTime, String> {
+    let kind = inputs.machine.kind;
+    time_steps(kind, blocks, inputs.feed_mm_per_min, StepsFeed::Tip, &dynamics_of(kind)).map_err(|e| e.to_string())
 }
 
 impl std::fmt::Debug for Plan {
@@ -306,6 +333,8 @@ impl Plan {
             compare: vec![CompareRow::Pending; RootMethod::ALL.len()],
             compare_run: None,
             plan_ms: 0.0,
+            after_blocks: None,
+            times: None,
         };
         let reusable = earlier.filter(|e| {
             e.inputs.same_single_block(&inputs)
@@ -362,6 +391,7 @@ impl Plan {
         self.shown_complete()
             && self.compare.iter().all(|r| *r != CompareRow::Pending)
             && self.tip_design_mm.len() + 1 >= self.nodes.len()
+            && self.times.is_some()
     }
 
     /// Works for at most `budget`; returns whether anything changed.
@@ -376,8 +406,10 @@ impl Plan {
                 self.plan_next_node();
             } else if self.compare.contains(&CompareRow::Pending) {
                 self.compare_step();
-            } else {
+            } else if self.tip_design_mm.len() + 1 < self.nodes.len() {
                 self.tip_design_next();
+            } else {
+                self.times = Some(self.compute_times());
             }
         }
         changed
@@ -476,6 +508,9 @@ impl Plan {
             }
             Ok(_) if planner.is_done() => {
                 let nodes = planner.nodes();
+                if method == self.inputs.method && self.inputs.before {
+                    self.after_blocks = Some(nodes.iter().map(|n| n.block).collect());
+                }
                 self.compare[i] = CompareRow::Done {
                     iterations: nodes.iter().map(|n| u64::from(n.evaluations)).sum(),
                     nodes: nodes.len(),
@@ -496,6 +531,43 @@ impl Plan {
         let opts = MaxOptions { floor: 1e-3 * self.inputs.tol_mm, ..MaxOptions::default() };
         let d = tip_design_deviation(&self.inputs.machine, self.design.path.as_ref(), a, b, &opts).unwrap_or(f64::NAN);
         self.tip_design_mm.push(d);
+    }
+
+    /// The plans' times: Example 1's before and after (one of them the plan shown, the other
+    /// its single block or the comparison run's nodes), or the plan shown.
+    fn compute_times(&self) -> Times {
+        let shown = || -> Result<StepsTime, String> {
+            match &self.error {
+                Some(e) => Err(format!("no complete plan to time: {}", e.message)),
+                None => time_of(&self.inputs, &self.nodes.iter().map(|n| n.block).collect::<Vec<_>>()),
+            }
+        };
+        if self.design.example1.is_none() {
+            return Times { before: None, after: shown() };
+        }
+        if self.inputs.before {
+            let after = match &self.after_blocks {
+                Some(b) => time_of(&self.inputs, b),
+                None => Err(self.compare_error().unwrap_or_else(|| "the plan with steps was not made".to_owned())),
+            };
+            return Times { before: Some(shown()), after };
+        }
+        let (machine, path) = (&self.inputs.machine, self.design.path.as_ref());
+        let (a, b) = path.range();
+        let before = block_at(machine, path, a, None)
+            .and_then(|first| Ok(vec![first, block_at(machine, path, b, Some(&first.joints))?]))
+            .map_err(|e| e.to_string())
+            .and_then(|blocks| time_of(&self.inputs, &blocks));
+        Times { before: Some(before), after: shown() }
+    }
+
+    /// The comparison run's failure for the plan's own method.
+    fn compare_error(&self) -> Option<String> {
+        let i = RootMethod::ALL.iter().position(|m| *m == self.inputs.method)?;
+        match &self.compare[i] {
+            CompareRow::Failed(e) => Some(e.clone()),
+            _ => None,
+        }
     }
 
     /// Total δ evaluations of the plan so far.
@@ -526,6 +598,7 @@ mod tests {
             method,
             before: true,
             bound_tip: false,
+            feed_mm_per_min: crate::plan::steps::DEFAULT_FEED_MM_PER_MIN,
         }
     }
 
