@@ -552,16 +552,21 @@ fn scurves(path: &Path, pieces: &[Piece], lims: &[PieceLimits], g: &[Pt], stop: 
         let top = g[i0..=i1].iter().fold(0.0f64, |t, p| t.max(p.x));
         segs.push(Seg { d: g[i1].s - g[i0].s, a, j, cap: top.max(0.0).sqrt() });
     }
+    // `reach` capped at the knot's own speed is min(that speed, the uncapped reach) — the
+    // speed when a ramp to it fits, which it checks first — without solving for the
+    // reach on most segments (falls, and rises that fit).
     for i in 0..segs.len() {
         let s = &segs[i];
-        v[i + 1] = v[i + 1].min(scurve::reach(v[i], s.d, s.a, s.j, f64::INFINITY));
+        v[i + 1] = scurve::reach(v[i], s.d, s.a, s.j, v[i + 1]);
     }
     for i in (0..segs.len()).rev() {
         let s = &segs[i];
-        v[i] = v[i].min(scurve::reach(v[i + 1], s.d, s.a, s.j, f64::INFINITY));
+        v[i] = scurve::reach(v[i + 1], s.d, s.a, s.j, v[i]);
     }
     let mut t = 0.0;
-    out.phases.reserve(4 * segs.len());
+    // At most 7 phases a segment (two ramps of 3, a cruise): never grown and copied; the
+    // pages beyond the phases written are not touched.
+    out.phases.reserve(7 * segs.len());
     let mut ph: Vec<Phase> = Vec::with_capacity(8);
     for (i, s) in segs.iter().enumerate() {
         let (v0, v1) = (v[i], v[i + 1]);
