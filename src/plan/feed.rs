@@ -28,6 +28,8 @@
 //! end of block b + N − 1 (a controller that sees N blocks must be able to stop where its
 //! buffer ends), computed by a backward pass per block (O(N) pieces each).
 
+use std::borrow::Cow;
+
 use super::machine::JointLimits;
 use super::path::{Bounds, Path, Piece, Shape, piece_bounds};
 use super::scurve::{self, Phase};
@@ -123,7 +125,9 @@ fn cap_of(b: &Bounds, feed: f64, lim: &JointLimits, share: f64, curved: bool) ->
                 cube = cube.min(0.5 * (1.0 - tj) * lim.j[i] / b.m3[i]);
             }
         }
-        if cube.is_finite() {
+        // The cube root only where it can bind: at or above v³ (with a margin for the
+        // rounding of v³ and of the root) it is at least v.
+        if cube.is_finite() && !(cube >= v * v * v * (1.0 + 16.0 * f64::EPSILON)) {
             v = v.min(cube.cbrt());
         }
         for i in 0..6 {
@@ -185,11 +189,16 @@ const MAX_SUBPIECES: usize = 64;
 /// than a quarter of the distance it needs to reach its cap from rest is cut into as many
 /// pieces as that takes (at most [`MAX_SUBPIECES`]); straight pieces may rise and fall
 /// inside themselves and are kept whole.
-fn work_pieces(path: &Path, opts: &FeedOptions, jerk: bool) -> (Vec<Piece>, Vec<Bounds>, Vec<PieceLimits>) {
-    let mut pieces = Vec::with_capacity(path.pieces.len());
-    let mut bounds: Vec<Bounds> = Vec::new();
+fn work_pieces<'a>(
+    path: &'a Path,
+    opts: &FeedOptions,
+    jerk: bool,
+) -> (Cow<'a, [Piece]>, Vec<Bounds>, Vec<PieceLimits>) {
+    // The path's own pieces until one is cut (never with jerk limits): no copy.
+    let mut cut: Option<Vec<Piece>> = None;
+    let mut bounds: Vec<Bounds> = Vec::with_capacity(if jerk { 0 } else { path.pieces.len() });
     let mut lims: Vec<PieceLimits> = Vec::with_capacity(path.pieces.len());
-    for p in &path.pieces {
+    for (idx, p) in path.pieces.iter().enumerate() {
         let e = &path.elems[p.elem as usize];
         let curved = !matches!(e.shape, Shape::Line { .. });
         let b = piece_bounds(path, p);
@@ -208,13 +217,20 @@ fn work_pieces(path: &Path, opts: &FeedOptions, jerk: bool) -> (Vec<Piece>, Vec<
             1
         };
         if n == 1 {
-            pieces.push(*p);
+            if let Some(c) = &mut cut {
+                c.push(*p);
+            }
             lims.push(l);
             if !jerk {
                 bounds.push(b);
             }
             continue;
         }
+        let pieces = cut.get_or_insert_with(|| {
+            let mut c = Vec::with_capacity(2 * path.pieces.len());
+            c.extend_from_slice(&path.pieces[..idx]);
+            c
+        });
         let mut s0 = p.s0;
         let dt = (p.tau.1 - p.tau.0) / n as f64;
         for i in 0..n {
@@ -229,6 +245,7 @@ fn work_pieces(path: &Path, opts: &FeedOptions, jerk: bool) -> (Vec<Piece>, Vec<
             s0 += h;
         }
     }
+    let pieces = cut.map_or(Cow::Borrowed(&path.pieces[..]), Cow::Owned);
     (pieces, bounds, lims)
 }
 

@@ -1036,60 +1036,92 @@ pub fn piece_bounds(path: &Path, p: &Piece) -> Bounds {
     let Some(e) = path.elems.get(p.elem as usize) else {
         return Bounds::default();
     };
-    if let Shape::Line { a, b } = &e.shape {
-        let d = scale(&sub(b, a), 1.0 / e.len);
-        return Bounds { lo1: d, hi1: d, ..Bounds::default() };
-    }
-    // Five samples over a piece (a blend's half, an arc's or NURBS' 5°).
-    const KMAX: usize = 5;
-    let kk = KMAX;
-    let mut q1 = [[0.0; 6]; KMAX];
-    let mut q2 = [[0.0; 6]; KMAX];
-    let mut sv = [0.0; KMAX];
-    let mut sig = [0.0; KMAX];
-    let dt = (p.tau.1 - p.tau.0) / (kk - 1) as f64;
-    for k in 0..kk {
-        let t = p.tau.0 + dt * k as f64;
-        let d = e.shape.eval(&path.curves, t);
-        let (a, b, sg) = in_s(&d, false);
-        q1[k] = a;
-        q2[k] = b;
-        sig[k] = sg;
-        sv[k] = if k == 0 { 0.0 } else { sv[k - 1] + 0.5 * (sig[k] + sig[k - 1]) * dt };
-    }
-    let mut out = Bounds {
-        lo1: [f64::INFINITY; 6],
-        hi1: [f64::NEG_INFINITY; 6],
-        lo2: [f64::INFINITY; 6],
-        hi2: [f64::NEG_INFINITY; 6],
-        m3: [0.0; 6],
+    let mut q1 = [[0.0; 6]; SAMPLES];
+    let mut q2 = [[0.0; 6]; SAMPLES];
+    let mut sig = [0.0; SAMPLES];
+    let dt = (p.tau.1 - p.tau.0) / (SAMPLES - 1) as f64;
+    let active = match &e.shape {
+        Shape::Line { a, b } => {
+            let d = scale(&sub(b, a), 1.0 / e.len);
+            return Bounds { lo1: d, hi1: d, ..Bounds::default() };
+        }
+        Shape::Bezier(c) => {
+            // A blend: straight from its power form, and only the joints it moves (a joint
+            // whose coefficients past the constant are zero has q' = q'' = 0 exactly, so
+            // bounds of zero, which is what evaluating it would give).
+            let active: [bool; 6] = std::array::from_fn(|i| (1..6).any(|k| c[k][i] != 0.0));
+            for k in 0..SAMPLES {
+                let t = p.tau.0 + dt * k as f64;
+                let mut d1 = [0.0; 6];
+                let mut d2 = [0.0; 6];
+                for i in 0..6 {
+                    if i < 3 || active[i] {
+                        d1[i] = (((5.0 * c[5][i] * t + 4.0 * c[4][i]) * t + 3.0 * c[3][i]) * t + 2.0 * c[2][i]) * t
+                            + c[1][i];
+                        d2[i] = ((20.0 * c[5][i] * t + 12.0 * c[4][i]) * t + 6.0 * c[3][i]) * t + 2.0 * c[2][i];
+                    }
+                }
+                // As `in_s` does (not in degrees: a blend always moves the tool tip).
+                let sigma = norm3(&d1);
+                if sigma > 0.0 {
+                    let dsigma = dot3(&d1, &d2) / sigma;
+                    let inv = 1.0 / sigma;
+                    let cube = sigma * sigma * sigma;
+                    for i in 0..6 {
+                        if active[i] {
+                            q1[k][i] = d1[i] * inv;
+                            q2[k][i] = (d2[i] * sigma - d1[i] * dsigma) / cube;
+                        }
+                    }
+                    sig[k] = sigma;
+                }
+            }
+            active
+        }
+        _ => {
+            for k in 0..SAMPLES {
+                let t = p.tau.0 + dt * k as f64;
+                let d = e.shape.eval(&path.curves, t);
+                (q1[k], q2[k], sig[k]) = in_s(&d, false);
+            }
+            [true; 6]
+        }
     };
-    for i in 0..6 {
-        let mut d1: f64 = 0.0;
-        let mut d2: f64 = 0.0;
-        for k in 0..kk {
-            out.lo1[i] = out.lo1[i].min(q1[k][i]);
-            out.hi1[i] = out.hi1[i].max(q1[k][i]);
-            out.lo2[i] = out.lo2[i].min(q2[k][i]);
-            out.hi2[i] = out.hi2[i].max(q2[k][i]);
+    let mut sv = [0.0; SAMPLES];
+    for k in 1..SAMPLES {
+        sv[k] = sv[k - 1] + 0.5 * (sig[k] + sig[k - 1]) * dt;
+    }
+    let mut out = Bounds::default();
+    for i in (0..6).filter(|&i| active[i]) {
+        let (mut lo1, mut hi1) = (f64::INFINITY, f64::NEG_INFINITY);
+        let (mut lo2, mut hi2) = (f64::INFINITY, f64::NEG_INFINITY);
+        let (mut d1, mut d2, mut m3) = (0.0f64, 0.0f64, 0.0f64);
+        for k in 0..SAMPLES {
+            lo1 = lo1.min(q1[k][i]);
+            hi1 = hi1.max(q1[k][i]);
+            lo2 = lo2.min(q2[k][i]);
+            hi2 = hi2.max(q2[k][i]);
             if k > 0 {
                 d1 = d1.max((q1[k][i] - q1[k - 1][i]).abs());
                 let dd = (q2[k][i] - q2[k - 1][i]).abs();
                 d2 = d2.max(dd);
                 let ds = sv[k] - sv[k - 1];
                 if ds > 0.0 {
-                    out.m3[i] = out.m3[i].max(dd / ds);
+                    m3 = m3.max(dd / ds);
                 }
             }
         }
-        out.lo1[i] -= 0.5 * d1;
-        out.hi1[i] += 0.5 * d1;
-        out.lo2[i] -= 0.5 * d2;
-        out.hi2[i] += 0.5 * d2;
-        out.m3[i] *= 1.5;
+        out.lo1[i] = lo1 - 0.5 * d1;
+        out.hi1[i] = hi1 + 0.5 * d1;
+        out.lo2[i] = lo2 - 0.5 * d2;
+        out.hi2[i] = hi2 + 0.5 * d2;
+        out.m3[i] = m3 * 1.5;
     }
     out
 }
+
+/// Samples a piece's bounds are taken from (a blend's half, an arc's or NURBS' 5°).
+const SAMPLES: usize = 5;
 
 impl Path {
     /// q, q', q'' (derivatives in s) and the programmed feed cap (mm/s) at path position s:
