@@ -630,7 +630,9 @@ where
     I: IntoIterator<Item = Canon>,
 {
     let mut path = Path::default();
-    let mut raws: Vec<Raw> = Vec::new();
+    let canon = canon.into_iter();
+    let mut raws: Vec<Raw> = Vec::with_capacity(canon.size_hint().0.min(MAX_ELEMENTS / 2));
+    path.blocks.reserve(raws.capacity());
     let mut pos: Q = [0.0; 6];
     for c in canon {
         let line = c.loc().line;
@@ -925,7 +927,14 @@ fn junctions(raws: &mut [Raw], path: &mut Path, rules: &JunctionRules) {
                 raws[i + 1].trim_start = m;
                 path.max_blend_dev = path.max_blend_dev.max(dev);
                 path.blends += 1;
-                blends[i] = Some((Box::new(bez), m));
+                // The blend's pieces: one per 15° its tangent turns, and one more.
+                let turn = {
+                    let t0 = v3(&bez[1]) - v3(&bez[0]);
+                    let t1 = v3(&bez[5]) - v3(&bez[4]);
+                    t0.normalize_or_zero().dot(t1.normalize_or_zero()).clamp(-1.0, 1.0).acos()
+                };
+                let pieces = 1 + (turn / (15f64).to_radians()).ceil() as usize;
+                blends[i] = Some((Box::new(power_of(&bez)), pieces));
             }
             None => {
                 raws[i].stop_after = true;
@@ -933,19 +942,23 @@ fn junctions(raws: &mut [Raw], path: &mut Path, rules: &JunctionRules) {
             }
         }
     }
-    layout(raws, &blends, path);
+    layout(raws, blends, path);
 }
 
-/// A junction's blend: its control points and the length m cut from each neighbour.
-type Blend = Option<(Box<[Q; 6]>, f64)>;
+/// A junction's blend: its power form and the number of pieces it is cut into.
+type Blend = Option<(Box<[Q; 6]>, usize)>;
 
-fn layout(raws: &[Raw], blends: &[Blend], path: &mut Path) {
+fn layout(raws: &[Raw], mut blends: Vec<Blend>, path: &mut Path) {
     let mut s = 0.0;
+    let n_blends = blends.iter().filter(|b| b.is_some()).count();
+    path.elems.reserve(raws.len() + n_blends);
+    path.pieces.reserve(raws.len() + 2 * n_blends);
+    let mut blended_into = false;
     for (i, r) in raws.iter().enumerate() {
         let keep = r.len - r.trim_start - r.trim_end;
         // The block starts where its trimmed move starts, or in the middle of the blend
         // entering it.
-        if i == 0 || blends[i - 1].is_none() {
+        if !blended_into {
             path.blocks[r.block].s_start = s;
         }
         if keep > MIN_MOVE {
@@ -994,9 +1007,10 @@ fn layout(raws: &[Raw], blends: &[Blend], path: &mut Path) {
             path.elems.push(e);
             s += keep;
         }
-        if let Some((bez, _m)) = &blends[i] {
+        blended_into = blends[i].is_some();
+        if let Some((power, n)) = blends[i].take() {
             let e0 = Element {
-                shape: Shape::Bezier(Box::new(power_of(bez))),
+                shape: Shape::Bezier(power),
                 kind: ElemKind::Blend,
                 tau: (0.0, 1.0),
                 len: 0.0,
@@ -1005,12 +1019,6 @@ fn layout(raws: &[Raw], blends: &[Blend], path: &mut Path) {
                 block: r.block,
                 stop_after: false,
             };
-            let turn = {
-                let t0 = v3(&bez[1]) - v3(&bez[0]);
-                let t1 = v3(&bez[5]) - v3(&bez[4]);
-                t0.normalize_or_zero().dot(t1.normalize_or_zero()).clamp(-1.0, 1.0).acos()
-            };
-            let n = 1 + (turn / (15f64).to_radians()).ceil() as usize;
             let idx = path.elems.len() as u32;
             let mut len = 0.0;
             for k in 0..n {
