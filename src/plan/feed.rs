@@ -328,14 +328,21 @@ impl Model<'_> {
 }
 
 fn backward(model: &Model<'_>, hs: &[f64], stop: &[bool], from: usize, to: usize) -> Vec<f64> {
-    let mut k = vec![f64::INFINITY; to - from + 1];
+    let mut k = Vec::new();
+    backward_into(model, hs, stop, from, to, &mut k);
+    k
+}
+
+/// [`backward`] into `k` (its old contents dropped, its allocation kept).
+fn backward_into(model: &Model<'_>, hs: &[f64], stop: &[bool], from: usize, to: usize, k: &mut Vec<f64>) {
+    k.clear();
+    k.resize(to - from + 1, f64::INFINITY);
     k[to - from] = 0.0;
     for p in (from..to).rev() {
         let x1 = if stop[p + 1] { 0.0 } else { k[p + 1 - from] };
         k[p + 1 - from] = x1;
         k[p - from] = if stop[p] { 0.0 } else { model.back(p, hs[p], x1) };
     }
-    k
 }
 
 fn window_limit(
@@ -357,11 +364,12 @@ fn window_limit(
         }
     }
     starts.push(n);
+    let mut k = Vec::new();
     for bi in 0..starts.len() - 1 {
         let from = starts[bi];
         let to = starts[(bi + w).min(starts.len() - 1)];
         let this_end = starts[bi + 1];
-        let k = backward(model, hs, stop, from, to);
+        backward_into(model, hs, stop, from, to, &mut k);
         // Within block bi (its pieces' starts and its end) the speed must allow the stop.
         for p in from..=this_end {
             env[p] = env[p].min(k[p - from]);
