@@ -452,6 +452,10 @@ fn trapezoids(path: &Path, guide: &[Pt], out: &mut FeedPlan) {
 
 /// Dwells (G4) as phases at rest where their block stops, later phases shifted.
 fn insert_dwells(path: &Path, out: &mut FeedPlan) {
+    if path.dwell_s <= 0.0 {
+        // No G4 with a time: nothing to insert (and no need to read every element).
+        return;
+    }
     let mut dwells: Vec<(f64, f64)> = Vec::new();
     for e in &path.elems {
         let d = path.blocks.get(e.block).map_or(0.0, |b| b.dwell_after_s);
