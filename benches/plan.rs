@@ -8,48 +8,20 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use glam::DVec3;
-use interpolab::gcode::interp::{Canon, Feed, FeedMode, Loc, Origin, Pose};
 use interpolab::gcode::{ProgramKind, ProgramOptions, write_program};
 use interpolab::nurbs_path::{Parabola, RealtimeOptions, Update, interpolate_realtime};
 use interpolab::plan::{Dynamics, Period, canon_of_toolpath, time_program};
+use plan_programs::wavy_spiral;
 
-/// `n` G01 blocks of about 0.5 mm along r = 40 + 5 sin(7θ) in XY, z rising 0.02 mm a turn.
-#[must_use]
-pub fn wavy_spiral(n: usize) -> Vec<Canon> {
-    let feed = Feed { mode: FeedMode::PerMinute, rate: 3000.0, spindle_rpm: 10_000.0 };
-    let mut out = Vec::with_capacity(n + 1);
-    out.push(Canon::Traverse {
-        loc: Loc::main(1),
-        end: Pose::at(DVec3::new(40.0, 0.0, 0.0)),
-        origin: Origin::Programmed,
-    });
-    let mut th: f64 = 0.0;
-    for k in 0..n {
-        th += 0.5 / 40.0;
-        let r = 40.0 + 5.0 * (7.0 * th).sin();
-        let p = DVec3::new(r * th.cos(), r * th.sin(), 0.02 * th / std::f64::consts::TAU);
-        out.push(Canon::Line { loc: Loc::main(k as u32 + 2), end: Pose::at(p), feed, origin: Origin::Programmed });
-    }
-    out
-}
+/// The program and machines, shared with `benches/native_and_wasm/plan.rs` (natively and in wasm).
+#[path = "support/plan_programs.rs"]
+mod plan_programs;
 
 fn benches(c: &mut Criterion) {
     let program = wavy_spiral(100_000);
     let mut g = c.benchmark_group("plan_100k_blocks");
     g.sample_size(10).measurement_time(Duration::from_secs(8));
-    for (name, m) in [
-        ("vmc_jerk_limited", Dynamics::preset("vmc")),
-        ("vmc_jerk_free", Dynamics::preset("vmc").map(Dynamics::without_jerk)),
-        (
-            "hobby_router_window_50",
-            Dynamics::preset("hobby-router").map(|mut d| {
-                d.window_blocks = Some(50);
-                d
-            }),
-        ),
-    ] {
-        let Some(m) = m else { continue };
+    for (name, m) in plan_programs::machines() {
         g.bench_function(name, |b| {
             b.iter(|| {
                 let t = time_program(black_box(program.iter().cloned()), &m);

@@ -13,6 +13,10 @@
 #[path = "../support/web_time.rs"]
 mod web_time_shim;
 
+// The feed planner's program and machines, shared with the criterion benchmark `benches/plan.rs`.
+#[path = "../support/plan_programs.rs"]
+mod plan_programs;
+
 // The simulation benchmarks' programs, shared with the criterion benchmark `benches/simulate.rs`.
 #[path = "../support/sim_programs.rs"]
 mod sim_programs;
@@ -21,6 +25,8 @@ mod sim_programs;
 mod fillet;
 // A million-line program through the interpreter.
 mod interp;
+// Planning a 100 000-block G01 program (path, blends, feed, block times).
+mod plan;
 // A 10 000-period crease recompute (what a slider move costs).
 mod recompute;
 // Ray-interval updates per second of the cutting simulation, and its job as the worker runs it.

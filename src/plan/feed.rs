@@ -28,6 +28,8 @@
 //! end of block b + N − 1 (a controller that sees N blocks must be able to stop where its
 //! buffer ends), computed by a backward pass per block (O(N) pieces each).
 
+use std::borrow::Cow;
+
 use super::machine::JointLimits;
 use super::path::{Bounds, Path, Piece, Shape, piece_bounds};
 use super::scurve::{self, Phase};
@@ -123,7 +125,9 @@ fn cap_of(b: &Bounds, feed: f64, lim: &JointLimits, share: f64, curved: bool) ->
                 cube = cube.min(0.5 * (1.0 - tj) * lim.j[i] / b.m3[i]);
             }
         }
-        if cube.is_finite() {
+        // The cube root only where it can bind: at or above v³ (with a margin for the
+        // rounding of v³ and of the root) it is at least v.
+        if cube.is_finite() && !(cube >= v * v * v * (1.0 + 16.0 * f64::EPSILON)) {
             v = v.min(cube.cbrt());
         }
         for i in 0..6 {
@@ -185,11 +189,16 @@ const MAX_SUBPIECES: usize = 64;
 /// than a quarter of the distance it needs to reach its cap from rest is cut into as many
 /// pieces as that takes (at most [`MAX_SUBPIECES`]); straight pieces may rise and fall
 /// inside themselves and are kept whole.
-fn work_pieces(path: &Path, opts: &FeedOptions, jerk: bool) -> (Vec<Piece>, Vec<Bounds>, Vec<PieceLimits>) {
-    let mut pieces = Vec::with_capacity(path.pieces.len());
-    let mut bounds: Vec<Bounds> = Vec::new();
+fn work_pieces<'a>(
+    path: &'a Path,
+    opts: &FeedOptions,
+    jerk: bool,
+) -> (Cow<'a, [Piece]>, Vec<Bounds>, Vec<PieceLimits>) {
+    // The path's own pieces until one is cut (never with jerk limits): no copy.
+    let mut cut: Option<Vec<Piece>> = None;
+    let mut bounds: Vec<Bounds> = Vec::with_capacity(if jerk { 0 } else { path.pieces.len() });
     let mut lims: Vec<PieceLimits> = Vec::with_capacity(path.pieces.len());
-    for p in &path.pieces {
+    for (idx, p) in path.pieces.iter().enumerate() {
         let e = &path.elems[p.elem as usize];
         let curved = !matches!(e.shape, Shape::Line { .. });
         let b = piece_bounds(path, p);
@@ -208,13 +217,20 @@ fn work_pieces(path: &Path, opts: &FeedOptions, jerk: bool) -> (Vec<Piece>, Vec<
             1
         };
         if n == 1 {
-            pieces.push(*p);
+            if let Some(c) = &mut cut {
+                c.push(*p);
+            }
             lims.push(l);
             if !jerk {
                 bounds.push(b);
             }
             continue;
         }
+        let pieces = cut.get_or_insert_with(|| {
+            let mut c = Vec::with_capacity(2 * path.pieces.len());
+            c.extend_from_slice(&path.pieces[..idx]);
+            c
+        });
         let mut s0 = p.s0;
         let dt = (p.tau.1 - p.tau.0) / n as f64;
         for i in 0..n {
@@ -229,6 +245,7 @@ fn work_pieces(path: &Path, opts: &FeedOptions, jerk: bool) -> (Vec<Piece>, Vec<
             s0 += h;
         }
     }
+    let pieces = cut.map_or(Cow::Borrowed(&path.pieces[..]), Cow::Owned);
     (pieces, bounds, lims)
 }
 
@@ -311,14 +328,21 @@ impl Model<'_> {
 }
 
 fn backward(model: &Model<'_>, hs: &[f64], stop: &[bool], from: usize, to: usize) -> Vec<f64> {
-    let mut k = vec![f64::INFINITY; to - from + 1];
+    let mut k = Vec::new();
+    backward_into(model, hs, stop, from, to, &mut k);
+    k
+}
+
+/// [`backward`] into `k` (its old contents dropped, its allocation kept).
+fn backward_into(model: &Model<'_>, hs: &[f64], stop: &[bool], from: usize, to: usize, k: &mut Vec<f64>) {
+    k.clear();
+    k.resize(to - from + 1, f64::INFINITY);
     k[to - from] = 0.0;
     for p in (from..to).rev() {
         let x1 = if stop[p + 1] { 0.0 } else { k[p + 1 - from] };
         k[p + 1 - from] = x1;
         k[p - from] = if stop[p] { 0.0 } else { model.back(p, hs[p], x1) };
     }
-    k
 }
 
 fn window_limit(
@@ -340,11 +364,12 @@ fn window_limit(
         }
     }
     starts.push(n);
+    let mut k = Vec::new();
     for bi in 0..starts.len() - 1 {
         let from = starts[bi];
         let to = starts[(bi + w).min(starts.len() - 1)];
         let this_end = starts[bi + 1];
-        let k = backward(model, hs, stop, from, to);
+        backward_into(model, hs, stop, from, to, &mut k);
         // Within block bi (its pieces' starts and its end) the speed must allow the stop.
         for p in from..=this_end {
             env[p] = env[p].min(k[p - from]);
@@ -427,6 +452,10 @@ fn trapezoids(path: &Path, guide: &[Pt], out: &mut FeedPlan) {
 
 /// Dwells (G4) as phases at rest where their block stops, later phases shifted.
 fn insert_dwells(path: &Path, out: &mut FeedPlan) {
+    if path.dwell_s <= 0.0 {
+        // No G4 with a time: nothing to insert (and no need to read every element).
+        return;
+    }
     let mut dwells: Vec<(f64, f64)> = Vec::new();
     for e in &path.elems {
         let d = path.blocks.get(e.block).map_or(0.0, |b| b.dwell_after_s);
@@ -552,16 +581,21 @@ fn scurves(path: &Path, pieces: &[Piece], lims: &[PieceLimits], g: &[Pt], stop: 
         let top = g[i0..=i1].iter().fold(0.0f64, |t, p| t.max(p.x));
         segs.push(Seg { d: g[i1].s - g[i0].s, a, j, cap: top.max(0.0).sqrt() });
     }
+    // `reach` capped at the knot's own speed is min(that speed, the uncapped reach) — the
+    // speed when a ramp to it fits, which it checks first — without solving for the
+    // reach on most segments (falls, and rises that fit).
     for i in 0..segs.len() {
         let s = &segs[i];
-        v[i + 1] = v[i + 1].min(scurve::reach(v[i], s.d, s.a, s.j, f64::INFINITY));
+        v[i + 1] = scurve::reach(v[i], s.d, s.a, s.j, v[i + 1]);
     }
     for i in (0..segs.len()).rev() {
         let s = &segs[i];
-        v[i] = v[i].min(scurve::reach(v[i + 1], s.d, s.a, s.j, f64::INFINITY));
+        v[i] = scurve::reach(v[i + 1], s.d, s.a, s.j, v[i]);
     }
     let mut t = 0.0;
-    out.phases.reserve(4 * segs.len());
+    // At most 7 phases a segment (two ramps of 3, a cruise): never grown and copied; the
+    // pages beyond the phases written are not touched.
+    out.phases.reserve(7 * segs.len());
     let mut ph: Vec<Phase> = Vec::with_capacity(8);
     for (i, s) in segs.iter().enumerate() {
         let (v0, v1) = (v[i], v[i + 1]);

@@ -630,7 +630,9 @@ where
     I: IntoIterator<Item = Canon>,
 {
     let mut path = Path::default();
-    let mut raws: Vec<Raw> = Vec::new();
+    let canon = canon.into_iter();
+    let mut raws: Vec<Raw> = Vec::with_capacity(canon.size_hint().0.min(MAX_ELEMENTS / 2));
+    path.blocks.reserve(raws.capacity());
     let mut pos: Q = [0.0; 6];
     for c in canon {
         let line = c.loc().line;
@@ -925,7 +927,14 @@ fn junctions(raws: &mut [Raw], path: &mut Path, rules: &JunctionRules) {
                 raws[i + 1].trim_start = m;
                 path.max_blend_dev = path.max_blend_dev.max(dev);
                 path.blends += 1;
-                blends[i] = Some((Box::new(bez), m));
+                // The blend's pieces: one per 15° its tangent turns, and one more.
+                let turn = {
+                    let t0 = v3(&bez[1]) - v3(&bez[0]);
+                    let t1 = v3(&bez[5]) - v3(&bez[4]);
+                    t0.normalize_or_zero().dot(t1.normalize_or_zero()).clamp(-1.0, 1.0).acos()
+                };
+                let pieces = 1 + (turn / (15f64).to_radians()).ceil() as usize;
+                blends[i] = Some((Box::new(power_of(&bez)), pieces));
             }
             None => {
                 raws[i].stop_after = true;
@@ -933,19 +942,23 @@ fn junctions(raws: &mut [Raw], path: &mut Path, rules: &JunctionRules) {
             }
         }
     }
-    layout(raws, &blends, path);
+    layout(raws, blends, path);
 }
 
-/// A junction's blend: its control points and the length m cut from each neighbour.
-type Blend = Option<(Box<[Q; 6]>, f64)>;
+/// A junction's blend: its power form and the number of pieces it is cut into.
+type Blend = Option<(Box<[Q; 6]>, usize)>;
 
-fn layout(raws: &[Raw], blends: &[Blend], path: &mut Path) {
+fn layout(raws: &[Raw], mut blends: Vec<Blend>, path: &mut Path) {
     let mut s = 0.0;
+    let n_blends = blends.iter().filter(|b| b.is_some()).count();
+    path.elems.reserve(raws.len() + n_blends);
+    path.pieces.reserve(raws.len() + 2 * n_blends);
+    let mut blended_into = false;
     for (i, r) in raws.iter().enumerate() {
         let keep = r.len - r.trim_start - r.trim_end;
         // The block starts where its trimmed move starts, or in the middle of the blend
         // entering it.
-        if i == 0 || blends[i - 1].is_none() {
+        if !blended_into {
             path.blocks[r.block].s_start = s;
         }
         if keep > MIN_MOVE {
@@ -994,9 +1007,10 @@ fn layout(raws: &[Raw], blends: &[Blend], path: &mut Path) {
             path.elems.push(e);
             s += keep;
         }
-        if let Some((bez, _m)) = &blends[i] {
+        blended_into = blends[i].is_some();
+        if let Some((power, n)) = blends[i].take() {
             let e0 = Element {
-                shape: Shape::Bezier(Box::new(power_of(bez))),
+                shape: Shape::Bezier(power),
                 kind: ElemKind::Blend,
                 tau: (0.0, 1.0),
                 len: 0.0,
@@ -1005,12 +1019,6 @@ fn layout(raws: &[Raw], blends: &[Blend], path: &mut Path) {
                 block: r.block,
                 stop_after: false,
             };
-            let turn = {
-                let t0 = v3(&bez[1]) - v3(&bez[0]);
-                let t1 = v3(&bez[5]) - v3(&bez[4]);
-                t0.normalize_or_zero().dot(t1.normalize_or_zero()).clamp(-1.0, 1.0).acos()
-            };
-            let n = 1 + (turn / (15f64).to_radians()).ceil() as usize;
             let idx = path.elems.len() as u32;
             let mut len = 0.0;
             for k in 0..n {
@@ -1036,60 +1044,92 @@ pub fn piece_bounds(path: &Path, p: &Piece) -> Bounds {
     let Some(e) = path.elems.get(p.elem as usize) else {
         return Bounds::default();
     };
-    if let Shape::Line { a, b } = &e.shape {
-        let d = scale(&sub(b, a), 1.0 / e.len);
-        return Bounds { lo1: d, hi1: d, ..Bounds::default() };
-    }
-    // Five samples over a piece (a blend's half, an arc's or NURBS' 5°).
-    const KMAX: usize = 5;
-    let kk = KMAX;
-    let mut q1 = [[0.0; 6]; KMAX];
-    let mut q2 = [[0.0; 6]; KMAX];
-    let mut sv = [0.0; KMAX];
-    let mut sig = [0.0; KMAX];
-    let dt = (p.tau.1 - p.tau.0) / (kk - 1) as f64;
-    for k in 0..kk {
-        let t = p.tau.0 + dt * k as f64;
-        let d = e.shape.eval(&path.curves, t);
-        let (a, b, sg) = in_s(&d, false);
-        q1[k] = a;
-        q2[k] = b;
-        sig[k] = sg;
-        sv[k] = if k == 0 { 0.0 } else { sv[k - 1] + 0.5 * (sig[k] + sig[k - 1]) * dt };
-    }
-    let mut out = Bounds {
-        lo1: [f64::INFINITY; 6],
-        hi1: [f64::NEG_INFINITY; 6],
-        lo2: [f64::INFINITY; 6],
-        hi2: [f64::NEG_INFINITY; 6],
-        m3: [0.0; 6],
+    let mut q1 = [[0.0; 6]; SAMPLES];
+    let mut q2 = [[0.0; 6]; SAMPLES];
+    let mut sig = [0.0; SAMPLES];
+    let dt = (p.tau.1 - p.tau.0) / (SAMPLES - 1) as f64;
+    let active = match &e.shape {
+        Shape::Line { a, b } => {
+            let d = scale(&sub(b, a), 1.0 / e.len);
+            return Bounds { lo1: d, hi1: d, ..Bounds::default() };
+        }
+        Shape::Bezier(c) => {
+            // A blend: straight from its power form, and only the joints it moves (a joint
+            // whose coefficients past the constant are zero has q' = q'' = 0 exactly, so
+            // bounds of zero, which is what evaluating it would give).
+            let active: [bool; 6] = std::array::from_fn(|i| (1..6).any(|k| c[k][i] != 0.0));
+            for k in 0..SAMPLES {
+                let t = p.tau.0 + dt * k as f64;
+                let mut d1 = [0.0; 6];
+                let mut d2 = [0.0; 6];
+                for i in 0..6 {
+                    if i < 3 || active[i] {
+                        d1[i] = (((5.0 * c[5][i] * t + 4.0 * c[4][i]) * t + 3.0 * c[3][i]) * t + 2.0 * c[2][i]) * t
+                            + c[1][i];
+                        d2[i] = ((20.0 * c[5][i] * t + 12.0 * c[4][i]) * t + 6.0 * c[3][i]) * t + 2.0 * c[2][i];
+                    }
+                }
+                // As `in_s` does (not in degrees: a blend always moves the tool tip).
+                let sigma = norm3(&d1);
+                if sigma > 0.0 {
+                    let dsigma = dot3(&d1, &d2) / sigma;
+                    let inv = 1.0 / sigma;
+                    let cube = sigma * sigma * sigma;
+                    for i in 0..6 {
+                        if active[i] {
+                            q1[k][i] = d1[i] * inv;
+                            q2[k][i] = (d2[i] * sigma - d1[i] * dsigma) / cube;
+                        }
+                    }
+                    sig[k] = sigma;
+                }
+            }
+            active
+        }
+        _ => {
+            for k in 0..SAMPLES {
+                let t = p.tau.0 + dt * k as f64;
+                let d = e.shape.eval(&path.curves, t);
+                (q1[k], q2[k], sig[k]) = in_s(&d, false);
+            }
+            [true; 6]
+        }
     };
-    for i in 0..6 {
-        let mut d1: f64 = 0.0;
-        let mut d2: f64 = 0.0;
-        for k in 0..kk {
-            out.lo1[i] = out.lo1[i].min(q1[k][i]);
-            out.hi1[i] = out.hi1[i].max(q1[k][i]);
-            out.lo2[i] = out.lo2[i].min(q2[k][i]);
-            out.hi2[i] = out.hi2[i].max(q2[k][i]);
+    let mut sv = [0.0; SAMPLES];
+    for k in 1..SAMPLES {
+        sv[k] = sv[k - 1] + 0.5 * (sig[k] + sig[k - 1]) * dt;
+    }
+    let mut out = Bounds::default();
+    for i in (0..6).filter(|&i| active[i]) {
+        let (mut lo1, mut hi1) = (f64::INFINITY, f64::NEG_INFINITY);
+        let (mut lo2, mut hi2) = (f64::INFINITY, f64::NEG_INFINITY);
+        let (mut d1, mut d2, mut m3) = (0.0f64, 0.0f64, 0.0f64);
+        for k in 0..SAMPLES {
+            lo1 = lo1.min(q1[k][i]);
+            hi1 = hi1.max(q1[k][i]);
+            lo2 = lo2.min(q2[k][i]);
+            hi2 = hi2.max(q2[k][i]);
             if k > 0 {
                 d1 = d1.max((q1[k][i] - q1[k - 1][i]).abs());
                 let dd = (q2[k][i] - q2[k - 1][i]).abs();
                 d2 = d2.max(dd);
                 let ds = sv[k] - sv[k - 1];
                 if ds > 0.0 {
-                    out.m3[i] = out.m3[i].max(dd / ds);
+                    m3 = m3.max(dd / ds);
                 }
             }
         }
-        out.lo1[i] -= 0.5 * d1;
-        out.hi1[i] += 0.5 * d1;
-        out.lo2[i] -= 0.5 * d2;
-        out.hi2[i] += 0.5 * d2;
-        out.m3[i] *= 1.5;
+        out.lo1[i] = lo1 - 0.5 * d1;
+        out.hi1[i] = hi1 + 0.5 * d1;
+        out.lo2[i] = lo2 - 0.5 * d2;
+        out.hi2[i] = hi2 + 0.5 * d2;
+        out.m3[i] = m3 * 1.5;
     }
     out
 }
+
+/// Samples a piece's bounds are taken from (a blend's half, an arc's or NURBS' 5°).
+const SAMPLES: usize = 5;
 
 impl Path {
     /// q, q', q'' (derivatives in s) and the programmed feed cap (mm/s) at path position s:

@@ -170,11 +170,13 @@ pub fn peak(v0: f64, v1: f64, d: f64, a: f64, j: f64, vcap: f64) -> f64 {
     // is the floor.
     let (val, der) = g(w);
     let mut step = (if der > 0.0 { val / der } else { 0.0 }).max(4.0 * f64::EPSILON * w);
+    // g at the first iterate is the one just computed.
+    let mut known = Some(val);
     for _ in 0..64 {
         if w <= lo_w {
             break;
         }
-        if g(w).0 <= 0.0 {
+        if known.take().unwrap_or_else(|| g(w).0) <= 0.0 {
             return lo + w * w;
         }
         w = (w - step).max(lo_w);
