@@ -50,8 +50,11 @@ pub struct Timed {
     /// Per block planned, the feed it achieves on average (mm/min): its stretch of the
     /// planned path over its time (dwell left out); NaN for a block of no time.
     pub block_feed_mm_min: Vec<f32>,
-    /// Per block planned, its line in the main program.
+    /// Per block planned, its line (in its file).
     pub block_line: Vec<u32>,
+    /// Per block planned, its file: 0 the main program, subroutine files numbered as the
+    /// interpreter opened them.
+    pub block_file: Vec<u16>,
 }
 
 /// How far ahead [`feeds_by_block`] looks for a drawn block's line among the planned blocks.
@@ -59,9 +62,9 @@ pub const MATCH_AHEAD: usize = 64;
 
 /// The achieved feeds of the planned blocks given to the blocks a view draws (`lines`,
 /// `files`: each drawn block's line and file, 0 the main program): the two lists are in
-/// program order, but the planner leaves out moves of no length and a drawn block of a
-/// subroutine file has that file's line, so each drawn block of the main program takes the
-/// next planned block of its line within [`MATCH_AHEAD`]; the others get NaN.
+/// program order, but the planner leaves out moves of no length, so each drawn block takes
+/// the next planned block of its line and file within [`MATCH_AHEAD`] (a subroutine's
+/// blocks as well as the main program's); the others get NaN.
 #[must_use]
 pub fn feeds_by_block(lines: &[u32], files: &[u16], t: &Timed) -> Vec<f32> {
     let mut j = 0usize;
@@ -69,11 +72,9 @@ pub fn feeds_by_block(lines: &[u32], files: &[u16], t: &Timed) -> Vec<f32> {
         .iter()
         .zip(files)
         .map(|(&line, &file)| {
-            if file != 0 {
-                return f32::NAN;
-            }
-            let mut ahead = t.block_line.get(j..).unwrap_or(&[]).iter().take(MATCH_AHEAD);
-            match ahead.position(|&l| l == line) {
+            let planned = t.block_line.iter().zip(&t.block_file);
+            let mut ahead = planned.skip(j).take(MATCH_AHEAD);
+            match ahead.position(|(&l, &f)| l == line && f == file) {
                 Some(k) => {
                     j += k + 1;
                     t.block_feed_mm_min[j - 1]
@@ -144,6 +145,7 @@ pub fn timed(t: &Timing) -> Timed {
         })
         .collect();
     out.block_line = blocks.iter().map(|b| b.line).collect();
+    out.block_file = blocks.iter().map(|b| b.file).collect();
     let phases = &t.plan.phases;
     let n = if out.total_s > 0.0 && !phases.is_empty() { PLOT_SAMPLES } else { 0 };
     let mut k = 0usize;
@@ -204,6 +206,7 @@ impl JobKind for ProgramTime {
                 "block_feed_mm_min": f32s_packed(&t.block_feed_mm_min),
                 // Lines as f32: exact below 2^24.
                 "block_line": f32s_packed(&t.block_line.iter().map(|&l| l as f32).collect::<Vec<_>>()),
+                "block_file": f32s_packed(&t.block_file.iter().map(|&f| f32::from(f)).collect::<Vec<_>>()),
             })
             .to_string(),
         }
@@ -233,6 +236,7 @@ impl JobKind for ProgramTime {
             jerk_mm_s3: r.f32s_packed("jerk_mm_s3", n)?,
             block_feed_mm_min: r.f32s_packed("block_feed_mm_min", r.usize("blocks")?)?,
             block_line: r.f32s_packed("block_line", r.usize("blocks")?)?.into_iter().map(|l| l as u32).collect(),
+            block_file: r.f32s_packed("block_file", r.usize("blocks")?)?.into_iter().map(|f| f as u16).collect(),
         }))
     }
 
@@ -317,5 +321,33 @@ mod tests {
         bad.program.text = "G21 G90\nG1 X10\n".to_owned();
         let e = ProgramTime::run(&bad, &mut NoProgress).unwrap_err();
         assert!(e.contains("line 2"), "{e}");
+    }
+
+    /// A subroutine file's blocks are matched to their planned blocks by line and file, as
+    /// the main program's are: every feed move the view draws, in either file, gets an
+    /// achieved feed, and the subroutine's lines (which repeat the main program's line
+    /// numbers) are not taken for the main program's.
+    #[test]
+    fn a_subroutine_file_s_blocks_get_their_achieved_feed() {
+        let mut req = request("vmc");
+        req.program.text = "G21 G90\nG0 X0 Y0 Z5\nG1 Z-1 F600\no<square> call\nG1 X-20 F900\nG0 Z5\nM30\n".to_owned();
+        req.program.files = vec![(
+            "square.ngc".to_owned(),
+            "o<square> sub\nG1 X20 F1200\nG1 Y20\nG1 X0\nG1 Y0\no<square> endsub\n".to_owned(),
+        )];
+        let (_, drawn) = user_program::read(&req.program, &mut NoProgress).unwrap_or_else(|e| panic!("{e}"));
+        let t = ProgramTime::run(&req, &mut NoProgress).unwrap_or_else(|e| panic!("{e}"));
+        assert!(t.block_file.contains(&1), "no planned block from the subroutine file: {:?}", t.block_file);
+        let by = feeds_by_block(&drawn.block_line, &drawn.block_file, &t);
+        let mut sub_feeds = 0;
+        for ((&line, &file), f) in drawn.block_line.iter().zip(&drawn.block_file).zip(&by) {
+            // Every drawn block has a planned one here (no move of zero length).
+            assert!(f.is_finite(), "file {file} line {line}: no achieved feed");
+            if file == 1 {
+                sub_feeds += 1;
+                assert!(*f <= 1200.0 * (1.0 + 1e-5), "file 1 line {line}: {f} mm/min over F1200");
+            }
+        }
+        assert_eq!(sub_feeds, 4, "{:?}", drawn.block_file);
     }
 }

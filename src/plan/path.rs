@@ -16,7 +16,7 @@
 use glam::DVec3;
 
 use super::PlanError;
-use crate::gcode::interp::{Canon, FeedMode, Pose};
+use crate::gcode::interp::{Canon, FeedMode, Loc, Pose};
 use crate::gcode::path::Plane;
 use crate::geom::NurbsCurve;
 
@@ -158,8 +158,11 @@ pub struct Element {
 /// One planned block: a canonical motion of the program.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Block {
-    /// Source line (main program).
+    /// Source line (1-based, in `file`).
     pub line: u32,
+    /// Source file: 0 the main program, subroutine files numbered as the interpreter opened
+    /// them ([`crate::gcode::interp::Loc::file`]).
+    pub file: u16,
     /// Rapid or feed.
     pub rapid: bool,
     /// Programmed length (mm; degrees on rotary-only moves).
@@ -635,7 +638,8 @@ where
     path.blocks.reserve(raws.capacity());
     let mut pos: Q = [0.0; 6];
     for c in canon {
-        let line = c.loc().line;
+        let loc = c.loc();
+        let line = loc.line;
         match c {
             Canon::Traverse { end, .. } | Canon::Line { end, .. } => {
                 let q = q_of(&end);
@@ -655,7 +659,7 @@ where
                         rapid,
                         len,
                         feed,
-                        line,
+                        loc,
                         (0.0, len),
                         None,
                     )?;
@@ -679,7 +683,7 @@ where
                 let len = probe.length_between(&path.curves, 0.0, 1.0, 16);
                 if len >= MIN_MOVE {
                     let f = feed_cap(&feed, len, line)?;
-                    push_raw(&mut raws, &mut path, shape, false, len, f, line, (0.0, 1.0), Some(4))?;
+                    push_raw(&mut raws, &mut path, shape, false, len, f, loc, (0.0, 1.0), Some(4))?;
                 }
                 pos = q;
             }
@@ -703,7 +707,7 @@ where
                 let len = table_of(&probe, &path.curves, &breaks).last().map_or(0.0, |t| t.1);
                 if len >= MIN_MOVE {
                     let f = feed_cap(&feed, len, line)?;
-                    push_raw(&mut raws, &mut path, shape, false, len, f, line, (u0, u1), Some(1))?;
+                    push_raw(&mut raws, &mut path, shape, false, len, f, loc, (u0, u1), Some(1))?;
                 }
                 pos = q;
             }
@@ -741,7 +745,7 @@ fn push_raw(
     rapid: bool,
     len: f64,
     feed: f64,
-    line: u32,
+    loc: Loc,
     tau: (f64, f64),
     min_pieces: Option<usize>,
 ) -> Result<(), PlanError> {
@@ -749,7 +753,7 @@ fn push_raw(
         return Err(PlanError::TooLarge { max: MAX_ELEMENTS / 2 });
     }
     let block = path.blocks.len();
-    path.blocks.push(Block { line, rapid, len, s_start: 0.0, dwell_after_s: 0.0 });
+    path.blocks.push(Block { line: loc.line, file: loc.file, rapid, len, s_start: 0.0, dwell_after_s: 0.0 });
     let mut raw = Raw {
         shape,
         rapid,

@@ -178,11 +178,11 @@ fn the_program_is_timed_on_a_machine_as_the_planner_times_it() {
     assert!(p["time"]["max_feed_mm_min"].as_f64().unwrap() <= router.axes[0].velocity * 1.000_001, "{p}");
     // The path coloured by the feed achieved: every feed block's average at most its
     // programmed feed, and the blocks that start from rest below it. (The main program's
-    // two feed blocks; the subroutine file's blocks are not matched to the plan's.)
+    // two feed blocks and the subroutine file's two, matched by line and file.)
     h.app.set_panel_option(TAB, "colour", "achieved").unwrap();
     h.frame();
     let a = h.panel()["achieved"].clone();
-    assert_eq!(a["blocks"], 2, "{a}");
+    assert_eq!(a["blocks"], 4, "{a}");
     assert!(a["max_ratio"].as_f64().unwrap() <= 1.0 + 1e-5, "{a}");
     assert!(a["min_ratio"].as_f64().unwrap() < 0.999, "{a}");
     // Stopping at every corner: planned again by itself, never faster.
