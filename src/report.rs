@@ -297,6 +297,17 @@ pub fn one_line(text: &str) -> String {
     out
 }
 
+/// A refusal or warning as one line of standard error, whatever user text it quotes (a key
+/// with a carriage return flipped into it, a NUL in a path): [`one_line`]'s characters, not
+/// cut (a message names the problem and what to change, and may be long).
+#[must_use]
+pub fn message_line(text: &str) -> String {
+    if text.chars().all(|c| line_char(c) == c) {
+        return text.to_owned();
+    }
+    text.chars().map(line_char).collect()
+}
+
 /// A user's text on a `#` comment line of a CSV output (`# interpolab steps: NAME`), so a
 /// spreadsheet that opens the file runs nothing and the rows stay rows: [`one_line`]
 /// (no line break can start a row), `"` as `'` (a quote cannot open a field that runs on

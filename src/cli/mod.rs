@@ -230,7 +230,8 @@ pub fn main() -> ExitCode {
     match result {
         Ok(code) => code,
         Err(Fatal(msg)) => {
-            let _ = writeln!(io::stderr(), "interpolab: {msg}");
+            // One line, whatever user text the message quotes.
+            let _ = writeln!(io::stderr(), "interpolab: {}", interpolab::report::message_line(&msg));
             ExitCode::from(2)
         }
     }
@@ -284,7 +285,7 @@ fn usage_error(e: &clap::Error) -> ExitCode {
         Some(tip) => format!("interpolab: {message}; {tip} (see --help)"),
         None => format!("interpolab: {message} (see --help)"),
     };
-    let _ = writeln!(io::stderr(), "{line}");
+    let _ = writeln!(io::stderr(), "{}", interpolab::report::message_line(&line));
     ExitCode::from(2)
 }
 

@@ -203,3 +203,20 @@ fn measuring_many_arcs_against_a_design_is_refused_before_the_work() {
     let o = run(&["replay", &small, "--scene", scene]);
     assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
 }
+
+/// A refusal quoting user text stays one printable line: a scene key with a carriage return
+/// and a NUL in it (a fuzz finding: the key was echoed raw, and a terminal or a script
+/// splitting on line breaks saw two lines) is shown with a space for the line break and `_`
+/// for the NUL.
+#[test]
+fn a_refusal_quoting_control_characters_stays_one_printable_line() {
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/floor-round-wall.json"))
+        .expect("example");
+    assert!(text.contains("\"period\""));
+    let bad = text.replacen("\"period\"", "\"pe\\riod\\u0000\"", 1);
+    let p = temp_file("control-key.json", bad.as_bytes());
+    let o = run(&["steps", &p, "--tolerance", "0.01"]);
+    refused(&o, &["pe iod_", "unknown key", "period"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!err.trim_end_matches('\n').chars().any(char::is_control), "{err:?}");
+}
