@@ -16,9 +16,10 @@ use serde_json::{Value, json};
 
 use super::{Fatal, OutFormat};
 
-use interpolab::fillet::program::FinishGcode;
+use interpolab::fillet::program::{FinishGcode, FinishProgramError, first_out_of_travel};
 use interpolab::fillet::{
-    FinishJob, PartSamples, PathSet, PathStart, Strategy, compare_from, iso_parametric_from, iso_scallop_from,
+    FinishError, FinishJob, IsoScallopSteps, PartSamples, PathSet, PathStart, Strategy, compare_from,
+    iso_parametric_from, iso_scallop_from,
 };
 use interpolab::report::{fmt_fixed, fmt_num, one_line};
 use interpolab::scene::finish::FinishScene;
@@ -253,13 +254,7 @@ pub(super) fn finish(a: &FinishArgs) -> Result<ExitCode, Fatal> {
         return Ok(ExitCode::SUCCESS);
     }
     let strategy = strategy_of(a, &job)?;
-    let set = match a.layout {
-        LayoutArg::IsoScallop => iso_scallop_from(&job.surface, &job.cutter, strategy, &job.options, &part, &job.start),
-        LayoutArg::IsoParametric => {
-            iso_parametric_from(&job.surface, &job.cutter, strategy, &job.options, &part, &job.start)
-        }
-    }
-    .map_err(|e| Fatal(format!("{name}: {e}")))?;
+    let set = paths_for(&job, strategy, a.layout, &part, a.gcode.is_some(), &name)?;
     // The 5-axis program is planned before the CL data is written: a tolerance it cannot
     // meet within its bounds is refused with nothing written.
     let gcode = match &a.gcode {
@@ -390,4 +385,44 @@ pub(super) fn refused_lines(name: &str, refused: &[interpolab::fillet::Refusal],
             format!("interpolab: {name}: {} CC point(s) refused ({reason}), {place}; {advice}", these.len())
         })
         .collect()
+}
+
+/// The job's paths in `layout`; for a program on the scene's machine (`for_program`), each
+/// iso-scallop path's tool axes checked against the machine's travel as it is built, so a job
+/// the program could not follow is refused at its first such path, not after all of them.
+pub(super) fn paths_for(
+    job: &FinishJob,
+    strategy: Strategy,
+    layout: LayoutArg,
+    part: &PartSamples,
+    for_program: bool,
+    name: &str,
+) -> Result<PathSet, Fatal> {
+    let fail = |e: FinishError| Fatal(format!("{name}: {e}"));
+    match layout {
+        LayoutArg::IsoParametric => {
+            iso_parametric_from(&job.surface, &job.cutter, strategy, &job.options, part, &job.start).map_err(fail)
+        }
+        LayoutArg::IsoScallop if !for_program => {
+            iso_scallop_from(&job.surface, &job.cutter, strategy, &job.options, part, &job.start).map_err(fail)
+        }
+        LayoutArg::IsoScallop => {
+            let mut steps =
+                IsoScallopSteps::start_from(&job.surface, &job.cutter, strategy, &job.options, part, &job.start)
+                    .map_err(fail)?;
+            let (mut checked, mut done) = (0, false);
+            loop {
+                for (k, p) in steps.paths().iter().enumerate().skip(checked) {
+                    if let Some(source) = first_out_of_travel(&job.machine, &p.nodes) {
+                        return Err(Fatal(format!("{name}: {}", FinishProgramError::Plan { path: k, source })));
+                    }
+                }
+                checked = steps.paths().len();
+                if done {
+                    return Ok(steps.finish());
+                }
+                done = steps.step(&job.surface, &job.cutter, &job.options, part).map_err(fail)?;
+            }
+        }
+    }
 }

@@ -10,7 +10,7 @@ use std::time::Instant;
 use clap::Args;
 use glam::DVec3;
 use interpolab::crease::CreaseJob;
-use interpolab::fillet::{PartSamples, iso_parametric_from, iso_scallop_from};
+use interpolab::fillet::PartSamples;
 use interpolab::geom::Cutter;
 use interpolab::scene::Scene;
 use interpolab::simulate::bench::BenchKind;
@@ -20,7 +20,6 @@ use interpolab::simulate::{INTERIOR_END_MM, INTERIOR_SIDE_MM, InteriorStats, int
 use serde_json::json;
 
 use super::Fatal;
-use super::finish::LayoutArg;
 
 /// Which point of the tool the program's coordinates give.
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -314,13 +313,7 @@ fn simulate_finish(a: &SimulateArgs, tol: f64) -> Result<ExitCode, Fatal> {
         }
     };
     let part = PartSamples::new(&job.surface, job.options.part_grid);
-    let set = match a.layout {
-        LayoutArg::IsoScallop => iso_scallop_from(&job.surface, &job.cutter, strategy, &job.options, &part, &job.start),
-        LayoutArg::IsoParametric => {
-            iso_parametric_from(&job.surface, &job.cutter, strategy, &job.options, &part, &job.start)
-        }
-    }
-    .map_err(|e| Fatal(format!("{name}: {e}")))?;
+    let set = super::finish::paths_for(&job, strategy, a.layout, &part, true, &name)?;
     let fp = FinishProgram::new(&job, &set, tol).map_err(|e| Fatal(format!("--finish {tol}: {e}")))?;
     let program = fp.program().map_err(|e| Fatal(format!("{name}: {e}")))?;
     // Named once the program exists, so that a refusal of the command stays its only line.

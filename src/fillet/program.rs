@@ -25,10 +25,35 @@ use super::contact::{ContactFrame, Pose, place};
 use super::node::CcNode;
 use super::orient::Strategy;
 use super::paths::PathSet;
-use crate::fiveaxis::{CutterLocation, DesignPath, FiveAxisError, Joints, Machine, StepOptions, StepPlan, plan_steps};
+use crate::fiveaxis::{
+    CutterLocation, DesignPath, FiveAxisError, Joints, KinematicsError, Machine, StepOptions, StepPlan, plan_steps,
+};
 use crate::gcode::{Dialect, safe_comment};
 use crate::geom::{Cutter, Surface};
 use crate::numerics::format::fmt_num;
+
+/// The first CC node of a path whose tool axis `machine` cannot reach within its rotary
+/// travel, as the error the program's planner would stop with there
+/// ([`FiveAxisError::Kinematics`], at the node's s: mm of CC points from the path's first, as
+/// [`FilletDesignPath`] measures). Checked node by node as the path is built, a finishing job
+/// for a program is refused at the first path that leaves the travel instead of after all
+/// of them; a node of another kinematic problem (a degenerate axis) is left to the planner.
+#[must_use]
+pub fn first_out_of_travel(machine: &Machine, nodes: &[CcNode]) -> Option<FiveAxisError> {
+    let mut previous: Option<Joints> = None;
+    let mut s = 0.0;
+    for (k, n) in nodes.iter().enumerate() {
+        if k > 0 {
+            s += (n.frame.point - nodes[k - 1].frame.point).length();
+        }
+        match machine.joints_from_pose(n.tip, n.axis, previous.as_ref()) {
+            Ok(j) => previous = Some(j),
+            Err(source @ KinematicsError::OutOfTravel { .. }) => return Some(FiveAxisError::Kinematics { s, source }),
+            Err(_) => {}
+        }
+    }
+    None
+}
 
 /// One path's CL data as a design path (module docs).
 #[derive(Clone, Debug)]

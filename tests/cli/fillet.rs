@@ -84,6 +84,31 @@ fn the_table_compares_every_strategy_and_layout() {
     }
 }
 
+/// The blade with one control point moved under the others (a fuzz finding) turns a stretch
+/// of the surface so its tool axes need A = 121° on a table whose A stops at 120°: `finish
+/// --gcode` is refused in one line naming the path, the place along it and the axis, and
+/// writes nothing (the axes are checked as each path is built: the refusal used to come
+/// after every path and most of the program's steps); without `--gcode` the paths are made.
+#[test]
+fn a_tool_axis_out_of_the_machine_s_travel_is_refused_by_path() {
+    let text = std::fs::read_to_string(example("naca-blade")).expect("example");
+    let mut scene: serde_json::Value = serde_json::from_str(&text).expect("json");
+    scene["surfaces"][0]["points"][2][0][1] = serde_json::json!(1e-9);
+    let p = temp("folded-blade.json", &scene.to_string());
+    let nc = temp("folded-blade.nc", "");
+    std::fs::remove_file(&nc).expect("remove");
+    let o = run(&["finish", &p, "--gcode", &nc]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    for w in ["path ", "along the path", "needs A", "outside its travel"] {
+        assert!(err.contains(w), "{w} not in {err}");
+    }
+    assert!(o.stdout.is_empty() && !std::path::Path::new(&nc).exists(), "something was written");
+    let o = run(&["finish", &p]);
+    assert!(matches!(o.status.code(), Some(0 | 1)), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
 /// A cutter far too large for the mould (R 25 mm in a bowl of about 20 mm radius) has dozens
 /// of CC points refused: standard error counts them in one line per reason (with the first and
 /// last place), not a line each; the JSON names every one; the status is 1.
