@@ -617,6 +617,65 @@ mod nurbs_panel {
         assert!(h.app.set_panel_option(TAB, "update", "fourth").is_err_and(|e| e.contains("corrected")));
     }
 
+    /// The time column: each row's time on the machine is the core's (`cycle_time` of the
+    /// program `compare_row` writes, what `interpolab compare --profile parabola --tolerance
+    /// 0.01 --machine M` prints), the machine picker changes it, and "none" hides it.
+    #[test]
+    fn the_time_column_is_the_cores_and_follows_the_machine() {
+        use interpolab::gcode::{ProgramKind, compare_row};
+        use interpolab::jobs::program_row::cycle_time;
+        use interpolab::plan::Dynamics;
+        let para = interpolab::nurbs_path::Parabola::paper_like();
+        let opts = CompareOptions {
+            program: ProgramOptions::default().with_feed(1500.0).with_title("parabola y = x^2/40, x from -60 to 60 mm"),
+            period_ms: 4.0,
+            chord_tol_mm: None,
+        };
+        let core = |machine: &str| -> Vec<f64> {
+            let m = Dynamics::preset(machine).expect("preset");
+            ProgramKind::ALL
+                .into_iter()
+                .map(|k| {
+                    let row = compare_row(k, &para, 0.01, &opts).expect("written");
+                    cycle_time(&row.program.parsed.toolpath, &m).expect("timed").total_s
+                })
+                .collect()
+        };
+        let times = |s: &serde_json::Value, machine: &str| -> Vec<f64> {
+            let rows = s["rows"].as_array().expect("rows");
+            rows.iter()
+                .map(|r| {
+                    assert_eq!(r["time_machine"], machine, "{r}");
+                    let mean = r["mean_feed_mm_min"].as_f64().expect("a mean feed");
+                    assert!(mean > 0.0 && mean <= 1500.0 * (1.0 + 1e-9), "{r}");
+                    r["time_s"].as_f64().expect("a time")
+                })
+                .collect()
+        };
+        let close = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| (x - y).abs() <= 1e-12 * y.abs());
+        let mut h = Harness::new();
+        h.settle();
+        super::set(&mut h, TAB, "source", "parabola");
+        super::set(&mut h, TAB, "tol_mm", "0.01");
+        let s = until_done(&mut h);
+        assert_eq!(s["machine"], "vmc", "the machining centre by default");
+        let (vmc, vmc_core) = (times(&s, "vmc"), core("vmc"));
+        assert!(close(&vmc, &vmc_core), "tab {vmc:?}, core {vmc_core:?}");
+        super::set(&mut h, TAB, "machine", "hobby-router");
+        let s = until_done(&mut h);
+        let (hobby, hobby_core) = (times(&s, "hobby-router"), core("hobby-router"));
+        assert!(close(&hobby, &hobby_core), "tab {hobby:?}, core {hobby_core:?}");
+        // The router's lower limits take longer on every program.
+        assert!(hobby.iter().zip(&vmc).all(|(r, v)| r > v), "router {hobby:?}, vmc {vmc:?}");
+        assert!(!s.to_string().contains("NaN"));
+        super::set(&mut h, TAB, "machine", "none");
+        let s = until_done(&mut h);
+        assert!(s["machine"].is_null(), "{s}");
+        assert!(s["rows"].as_array().expect("rows").iter().all(|r| r["time_s"].is_null() && r["path_blocks"].is_u64()));
+        let e = h.app.set_panel_option(TAB, "machine", "okuma").expect_err("not a preset");
+        assert!(e.contains("none") && e.contains("vmc") && e.contains("hobby-router"), "{e}");
+    }
+
     /// The dialect choice writes the programs in Sinumerik's and LinuxCNC's words, with the
     /// command line's numbers (`interpolab compare --profile parabola --tolerance 0.01
     /// --dialect all`, docs/gcode-dialects.md).

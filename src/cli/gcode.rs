@@ -19,6 +19,7 @@ use interpolab::gcode::{
     TableStyle, compare, crease_design, deviation, format_comparisons_with, summarize, write_program,
 };
 use interpolab::geom::Curve3;
+use interpolab::jobs::program_row::{CycleTime, cycle_time};
 use interpolab::nurbs_path::measure::Translated;
 use interpolab::nurbs_path::{Parabola, RealtimeOptions, Update, interpolate_realtime};
 use interpolab::report::{fmt_fixed, fmt_num};
@@ -362,19 +363,13 @@ pub(super) fn compare_cmd(a: &CompareArgs) -> Result<ExitCode, Fatal> {
     };
     let mut extra = ExtraColumns::default();
     if let Some(m) = &machine {
-        extra.heads = vec!["time s".to_owned(), "feed time s".to_owned(), "mean feed mm/min".to_owned()];
+        extra.heads = CycleTime::HEADS.map(str::to_owned).to_vec();
         for c in &cs {
             let mut rows = Vec::new();
             for r in &c.rows {
-                let canon = interpolab::plan::canon_of_toolpath(&r.program.parsed.toolpath);
-                let t = interpolab::plan::time_program(canon, m).map_err(|e| Fatal(e.to_string()))?;
-                let (feed_s, _) = t.feed_rapid_s();
-                let cut: f64 = t.path.blocks.iter().filter(|b| !b.rapid).map(|b| b.len).sum();
-                rows.push(vec![
-                    fmt_fixed(t.total_s(), 4),
-                    fmt_fixed(feed_s, 4),
-                    if feed_s > 0.0 { fmt_fixed(60.0 * cut / feed_s, 1) } else { String::new() },
-                ]);
+                // The time the app's comparison job gives its row (one function for both).
+                let t = cycle_time(&r.program.parsed.toolpath, m).map_err(|e| Fatal(e.to_string()))?;
+                rows.push(t.cells().to_vec());
             }
             extra.cells.push(rows);
         }

@@ -1,6 +1,8 @@
 //! One row of the NURBS & G-code comparison as a background job: the design path (a scene's
 //! crease or seed 004's parabola), one program kind written, read back and measured by
-//! [`compare_row`]. Writing a program takes 0.1–6 s in a browser, far more than a frame.
+//! [`compare_row`], and, when a machine is given, the program read back timed on it
+//! ([`cycle_time`], what `interpolab compare --machine` prints). Writing a program takes
+//! 0.1–6 s in a browser, far more than a frame.
 //!
 //! The request carries the scene as its JSON text (the worker rebuilds the crease from it;
 //! the caller checks beforehand that the text gives the same job), the output the program's
@@ -13,13 +15,97 @@ use serde_json::{Value, json};
 use super::{JobKind, Progress, Reader, nums, parse, vec3};
 use crate::crease::CreaseJob;
 use crate::gcode::compare::Junctions;
+use crate::gcode::path::Toolpath;
 use crate::gcode::{
     CompareOptions, CompareRow, Deviation, Dialect, Program, ProgramError, ProgramKind, ProgramOptions,
     ProgrammedPoint, compare_row, crease_design, parse_program_in,
 };
 use crate::geom::{Curve3, NurbsCurve};
 use crate::nurbs_path::{FitError, Parabola};
+use crate::plan::{Dynamics, PlanError, canon_of_toolpath, time_program};
+use crate::report::fmt_fixed;
 use crate::scene::Scene;
+
+/// A program's time on a machine: its feed planned within the machine's joint limits and
+/// contour tolerance ([`time_program`] on [`canon_of_toolpath`] of the program as read back).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CycleTime {
+    /// The machine's name.
+    pub machine: String,
+    /// Planned cycle time (s): every move, rapids and dwells included.
+    pub total_s: f64,
+    /// Time in feed moves (s), dwells left out.
+    pub feed_s: f64,
+    /// Length of the feed moves along the planned path (mm), blends included.
+    pub cut_mm: f64,
+}
+
+impl CycleTime {
+    /// The headers of [`Self::cells`], as `interpolab compare --machine` prints them.
+    pub const HEADS: [&'static str; 3] = ["time s", "feed time s", "mean feed mm/min"];
+
+    /// The cycle time (s) and the feed moves' time (s) to 0.1 ms, the mean feed (mm/min) to
+    /// 0.1 (empty when there is none): the cells of `interpolab compare --machine`'s table and
+    /// of the app's copied table.
+    #[must_use]
+    pub fn cells(&self) -> [String; 3] {
+        [
+            fmt_fixed(self.total_s, 4),
+            fmt_fixed(self.feed_s, 4),
+            self.mean_feed_mm_min().map_or(String::new(), |f| fmt_fixed(f, 1)),
+        ]
+    }
+
+    /// Mean feed over the cut (mm/min): the feed moves' length over their time; `None` when
+    /// the program spends no time in feed moves.
+    #[must_use]
+    pub fn mean_feed_mm_min(&self) -> Option<f64> {
+        (self.feed_s > 0.0).then(|| 60.0 * self.cut_mm / self.feed_s)
+    }
+}
+
+/// The time of a program (a toolpath as any dialect's reader gives it) on a machine: what
+/// `interpolab compare --machine M` prints per row and the comparison job hands back.
+///
+/// # Errors
+/// The planner's: a bad machine, a feed move without a feed, a program beyond its caps.
+pub fn cycle_time(toolpath: &Toolpath, machine: &Dynamics) -> Result<CycleTime, PlanError> {
+    let t = time_program(canon_of_toolpath(toolpath), machine)?;
+    let (feed_s, _) = t.feed_rapid_s();
+    let cut_mm: f64 = t.path.blocks.iter().filter(|b| !b.rapid).map(|b| b.len).sum();
+    Ok(CycleTime { machine: machine.name.clone(), total_s: t.total_s(), feed_s, cut_mm })
+}
+
+/// A row of the comparison with its time on the machine of the request.
+#[derive(Clone, Debug)]
+pub struct TimedRow {
+    /// The program written, read back and measured.
+    pub row: CompareRow,
+    /// Its time on the machine (`None`: no machine asked for; an error: why it could not be
+    /// planned, in the app's words).
+    pub time: Option<Result<CycleTime, String>>,
+}
+
+/// Writes, measures and (with a machine) times one program: the job's work, callable on any
+/// thread.
+///
+/// # Errors
+/// The program cannot be written ([`describe_program_error`]). A planning error is not one:
+/// it is the row's `time`.
+pub fn timed_row(
+    kind: ProgramKind,
+    design: &dyn Curve3,
+    tol_mm: f64,
+    options: &CompareOptions,
+    machine: Option<&Dynamics>,
+) -> Result<TimedRow, String> {
+    let row = compare_row(kind, design, tol_mm, options).map_err(|e| describe_program_error(&e, kind))?;
+    let time = machine.map(|m| {
+        cycle_time(&row.program.parsed.toolpath, m)
+            .map_err(|e| format!("The {} program cannot be timed on {}: {e}", kind.label(), m.name))
+    });
+    Ok(TimedRow { row, time })
+}
 
 /// Where the design path comes from.
 #[derive(Clone, Debug, PartialEq)]
@@ -41,6 +127,8 @@ pub struct Request {
     pub tol_mm: f64,
     /// Options of the programs, as [`compare_row`] takes them.
     pub options: CompareOptions,
+    /// The machine to time the program on (`None`: not timed).
+    pub machine: Option<Dynamics>,
 }
 
 /// The job kind.
@@ -78,7 +166,7 @@ fn build_design(spec: &DesignSpec) -> Result<Design, String> {
 impl JobKind for ProgramRow {
     const NAME: &'static str = "program-row";
     type Request = Request;
-    type Output = Result<CompareRow, String>;
+    type Output = Result<TimedRow, String>;
     type Partial = ();
 
     fn run(request: &Request, progress: &mut dyn Progress) -> Self::Output {
@@ -87,8 +175,7 @@ impl JobKind for ProgramRow {
             return Err("cancelled".to_owned());
         }
         progress.progress(0.5);
-        compare_row(request.kind, design.curve(), request.tol_mm, &request.options)
-            .map_err(|e| describe_program_error(&e, request.kind))
+        timed_row(request.kind, design.curve(), request.tol_mm, &request.options, request.machine.as_ref())
     }
 
     fn encode_request(r: &Request) -> String {
@@ -110,6 +197,7 @@ impl JobKind for ProgramRow {
             "dialect": Dialect::ALL.iter().position(|d| *d == p.dialect).unwrap_or(0),
             "period_ms": super::num(r.options.period_ms),
             "chord_tol_mm": r.options.chord_tol_mm.map_or(Value::Null, super::num),
+            "machine": r.machine.as_ref().map_or(Value::Null, Dynamics::to_value),
         })
         .to_string()
     }
@@ -127,6 +215,11 @@ impl JobKind for ProgramRow {
             other => return Err(format!("program-row request.point: \"{other}\" is neither centre nor tip")),
         };
         let dialect = *Dialect::ALL.get(r.usize("dialect")?).ok_or("program-row request.dialect: out of range")?;
+        // A request of an older page has no machine: not timed.
+        let machine = match v.get("machine") {
+            None | Some(Value::Null) => None,
+            Some(m) => Some(Dynamics::from_value(m).map_err(|e| format!("program-row request.machine: {e}"))?),
+        };
         let program = ProgramOptions::default()
             .with_resolution(r.f64("resolution_mm")?)
             .with_feed(r.f64("feed_mm_per_min")?)
@@ -143,13 +236,24 @@ impl JobKind for ProgramRow {
                 period_ms: r.f64("period_ms")?,
                 chord_tol_mm: r.opt_f64("chord_tol_mm")?,
             },
+            machine,
         })
     }
 
     fn encode_output(out: &Self::Output) -> String {
-        let row = match out {
+        let (row, time) = match out {
             Err(e) => return json!({ "error": e }).to_string(),
-            Ok(row) => row,
+            Ok(t) => (&t.row, &t.time),
+        };
+        let time = match time {
+            None => Value::Null,
+            Some(Err(e)) => json!({ "error": e }),
+            Some(Ok(t)) => json!({
+                "machine": t.machine,
+                "total_s": super::num(t.total_s),
+                "feed_s": super::num(t.feed_s),
+                "cut_mm": super::num(t.cut_mm),
+            }),
         };
         let p = &row.program;
         let d = &p.deviation;
@@ -172,6 +276,7 @@ impl JobKind for ProgramRow {
                 "max_turn_deg": super::num(row.junctions.max_turn_deg),
                 "max_curvature_jump": super::num(row.junctions.max_curvature_jump),
             },
+            "time": time,
             "program": {
                 "kind": kind_index(p.kind),
                 "dialect": Dialect::ALL.iter().position(|x| *x == p.dialect).unwrap_or(0),
@@ -258,7 +363,23 @@ impl JobKind for ProgramRow {
             nurbs,
             attempts: pv.usize("attempts")?,
         };
-        Ok(Ok(CompareRow {
+        // An output of an older worker has no time: not timed.
+        let time = match v.get("time") {
+            None | Some(Value::Null) => None,
+            Some(t) => {
+                let t = Reader::new(t, "program-row output.time")?;
+                Some(match t.value("error") {
+                    Ok(e) => Err(e.as_str().ok_or("program-row output.time.error: not text")?.to_owned()),
+                    Err(_) => Ok(CycleTime {
+                        machine: t.str("machine")?.to_owned(),
+                        total_s: t.f64("total_s")?,
+                        feed_s: t.f64("feed_s")?,
+                        cut_mm: t.f64("cut_mm")?,
+                    }),
+                })
+            }
+        };
+        let row = CompareRow {
             kind: *ProgramKind::ALL.get(r.usize("kind")?).ok_or("program-row output.kind: out of range")?,
             path_blocks: r.usize("path_blocks")?,
             total_blocks: r.usize("total_blocks")?,
@@ -270,7 +391,8 @@ impl JobKind for ProgramRow {
                 max_curvature_jump: j.f64("max_curvature_jump")?,
             },
             program,
-        }))
+        };
+        Ok(Ok(TimedRow { row, time }))
     }
 
     fn decode_partial(_text: &str) -> Result<(), String> {
@@ -317,6 +439,7 @@ mod tests {
 
     fn request(design: DesignSpec, kind: ProgramKind, dialect: Dialect, tol_mm: f64) -> Request {
         Request {
+            machine: Dynamics::preset("hobby-router"),
             design,
             kind,
             tol_mm,
@@ -348,8 +471,13 @@ mod tests {
             let back = ProgramRow::decode_request(&ProgramRow::encode_request(&req)).unwrap();
             assert_eq!(back, req);
             let out = ProgramRow::run(&back, &mut NoProgress);
-            let row = out.as_ref().unwrap();
+            let timed = out.as_ref().unwrap();
+            let row = &timed.row;
             let got = ProgramRow::decode_output(&ProgramRow::encode_output(&out)).unwrap().unwrap();
+            let time = timed.time.as_ref().unwrap().as_ref().unwrap();
+            assert_eq!(got.time.as_ref().unwrap().as_ref().unwrap(), time, "the time crosses bit for bit");
+            assert!(time.total_s > 0.0 && time.feed_s > 0.0 && time.feed_s <= time.total_s, "{time:?}");
+            let got = got.row;
             assert_eq!(got.kind, row.kind);
             assert_eq!((got.path_blocks, got.total_blocks, got.bytes), (row.path_blocks, row.total_blocks, row.bytes));
             assert_eq!(got.deviation_mm.to_bits(), row.deviation_mm.to_bits());
@@ -371,7 +499,7 @@ mod tests {
         let req = request(DesignSpec::Parabola, ProgramKind::Arcs, Dialect::Fanuc, 0.01);
         let direct = compare_row(ProgramKind::Arcs, &Parabola::paper_like(), 0.01, &req.options).unwrap();
         let job = ProgramRow::run(&req, &mut NoProgress).unwrap();
-        assert_eq!(job.program.text, direct.program.text);
+        assert_eq!(job.row.program.text, direct.program.text);
         let bad = request(DesignSpec::Parabola, ProgramKind::Lines, Dialect::Fanuc, 0.0015);
         let err = ProgramRow::run(&bad, &mut NoProgress).unwrap_err();
         assert!(err.contains("below twice the resolution"), "{err}");
@@ -379,6 +507,26 @@ mod tests {
         assert_eq!(out.unwrap_err(), err);
         let broken = ProgramRow::decode_request("{\"scene\": null}").unwrap_err();
         assert!(broken.contains("no field"), "{broken}");
+        // A request and an output of an older page or worker (no machine, no time) still read:
+        // not timed.
+        let mut untimed = req.clone();
+        untimed.machine = None;
+        let text = ProgramRow::encode_request(&untimed).replace(",\"machine\":null", "");
+        assert!(!text.contains("machine"), "{text}");
+        assert_eq!(ProgramRow::decode_request(&text).unwrap(), untimed);
+        let out = ProgramRow::run(&untimed, &mut NoProgress);
+        assert!(out.as_ref().unwrap().time.is_none());
+        let text = ProgramRow::encode_output(&out).replace("\"time\":null,", "");
+        assert!(!text.contains("\"time\""), "{text}");
+        assert!(ProgramRow::decode_output(&text).unwrap().unwrap().time.is_none());
+        // A machine the planner refuses: the program is written, its time says why not.
+        let mut bad_machine = req.clone();
+        if let Some(m) = bad_machine.machine.as_mut() {
+            m.axes[0].acceleration = 0.0;
+        }
+        let out = ProgramRow::run(&bad_machine, &mut NoProgress).unwrap();
+        let e = out.time.unwrap().unwrap_err();
+        assert!(e.contains("cannot be timed on hobby-router") && e.contains("acceleration"), "{e}");
         let scene = request(DesignSpec::Scene("{}".into()), ProgramKind::Lines, Dialect::Fanuc, 0.01);
         assert!(ProgramRow::run(&scene, &mut NoProgress).unwrap_err().starts_with("the scene"));
     }

@@ -59,6 +59,9 @@ mod geom {
     mod nurbs;
 }
 
+// `src/jobs/`: a comparison row's time on a machine (the NURBS tab's and `compare --machine`'s).
+mod jobs;
+
 /// `src/nurbs_path/`: NURBS fitting and real-time NURBS interpolation (seed 004).
 mod nurbs_path {
     mod fit;

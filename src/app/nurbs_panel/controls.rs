@@ -153,7 +153,7 @@ impl NurbsPanel {
         let (text, of_scene, name) = match self.shown {
             Shown::Kind(kind) => {
                 let i = ProgramKind::ALL.iter().position(|k| *k == kind).unwrap_or(0);
-                let text = self.work.rows[i].ok().map(|r| r.program.text.clone());
+                let text = self.work.row(i).map(|r| r.program.text.clone());
                 (text, self.settings.source == Source::Crease, format!("NURBS & G-code tab: {}", kind.label()))
             }
             Shown::Loaded => {

@@ -72,6 +72,9 @@ struct Settings {
     chord_limit: bool,
     degree: usize,
     dialect: Dialect,
+    /// The machine the programs are timed on, a name of [`crate::plan::PRESETS`]; `None`:
+    /// not timed (the time columns hidden).
+    machine: Option<&'static str>,
 }
 
 impl Default for Settings {
@@ -87,6 +90,7 @@ impl Default for Settings {
             chord_limit: false,
             degree: 3,
             dialect: Dialect::Fanuc,
+            machine: Some("vmc"),
         }
     }
 }
@@ -189,6 +193,7 @@ impl NurbsPanel {
                 period_ms: period,
                 chord_tol_mm: s.chord_limit.then_some(s.chord_tol_mm),
             },
+            machine: s.machine.and_then(crate::plan::Dynamics::preset),
         })
     }
 
@@ -264,13 +269,29 @@ impl NurbsPanel {
             .iter()
             .enumerate()
             .map(|(i, k)| match &self.work.rows[i].value {
-                Some(Ok(r)) => serde_json::json!({
-                    "kind": k.label(),
-                    "fresh": w.is_some_and(|w| self.work.row_fresh(i, w)),
-                    "path_blocks": r.path_blocks,
-                    "bytes": r.bytes,
-                    "deviation_mm": r.deviation_mm,
-                }),
+                Some(Ok(t)) => {
+                    let r = &t.row;
+                    let mut row = serde_json::json!({
+                        "kind": k.label(),
+                        "fresh": w.is_some_and(|w| self.work.row_fresh(i, w)),
+                        "path_blocks": r.path_blocks,
+                        "bytes": r.bytes,
+                        "deviation_mm": r.deviation_mm,
+                    });
+                    // The time on the machine (s), the feed moves' time (s) and mean feed
+                    // (mm/min); or why it could not be planned.
+                    match &t.time {
+                        Some(Ok(c)) => {
+                            row["time_machine"] = c.machine.clone().into();
+                            row["time_s"] = c.total_s.into();
+                            row["feed_s"] = c.feed_s.into();
+                            row["mean_feed_mm_min"] = c.mean_feed_mm_min().into();
+                        }
+                        Some(Err(e)) => row["time_error"] = e.clone().into(),
+                        None => {}
+                    }
+                    row
+                }
                 Some(Err(e)) => serde_json::json!({ "kind": k.label(), "error": e }),
                 None => serde_json::json!({ "kind": k.label() }),
             })
@@ -295,6 +316,7 @@ impl NurbsPanel {
         serde_json::json!({
             "source": match self.settings.source { Source::Crease => "crease", Source::Parabola => "parabola" },
             "tol_mm": self.settings.tol_mm,
+            "machine": self.settings.machine,
             "done": done,
             "computing": !done,
             "status": status,
@@ -387,6 +409,16 @@ impl Panel for NurbsPanel {
                 }
             }
             "dialect" => s.dialect = value.parse::<Dialect>().map_err(|e| e.to_string())?,
+            // The machine of the time column, or none to hide it.
+            "machine" => {
+                s.machine = if value == "none" {
+                    None
+                } else {
+                    Some(crate::plan::PRESETS.into_iter().find(|p| *p == value).ok_or_else(|| {
+                        format!("machine: \"{value}\"; give none or one of {}", crate::plan::PRESETS.join(", "))
+                    })?)
+                };
+            }
             "degree" => {
                 s.degree = match value {
                     "1" => 1,
@@ -406,7 +438,7 @@ impl Panel for NurbsPanel {
             }
             _ => {
                 return Err(format!(
-                    "no option \"{key}\"; give source, tol_mm, resolution_mm, point, update, feed_mm_per_min, chord_tol_mm, degree, dialect or program"
+                    "no option \"{key}\"; give source, tol_mm, resolution_mm, point, update, feed_mm_per_min, chord_tol_mm, degree, dialect, machine or program"
                 ));
             }
         }

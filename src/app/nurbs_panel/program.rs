@@ -8,7 +8,8 @@ use super::work::Source;
 use super::{NurbsPanel, um};
 use crate::app::panel::PanelContext;
 use crate::app::platform::FileKind;
-use crate::gcode::{Dialect, ProgramKind, format_comparison};
+use crate::gcode::{Dialect, ProgramKind, TableStyle, format_comparison, format_comparisons_with};
+use crate::plan::PRESETS;
 
 impl NurbsPanel {
     pub(super) fn side(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
@@ -31,18 +32,46 @@ impl NurbsPanel {
             if let Some(c) = w.as_ref().and_then(|w| self.work.comparison(w))
                 && ui
                     .small_button("copy table")
-                    .on_hover_text("Both tables as Markdown, as `interpolab compare` prints them")
+                    .on_hover_text("Both tables as Markdown, as `interpolab compare [--machine M]` prints them")
                     .clicked()
             {
-                ui.ctx().copy_text(format_comparison(&c, crate::gcode::TableStyle::Markdown));
+                let text = match self.work.time_columns() {
+                    Some(extra) => format_comparisons_with(&[c], &extra, TableStyle::Markdown),
+                    None => format_comparison(&c, TableStyle::Markdown),
+                };
+                ui.ctx().copy_text(text);
                 cx.info("Comparison tables copied to the clipboard (Markdown).");
             }
         });
+        self.machine_picker(ui);
         table::programs_table(ui, &self.work, w.as_ref());
         ui.add_space(4.0);
         table::realtime_table(ui, &self.work, w.as_ref());
         ui.separator();
         self.gcode(ui, cx);
+    }
+
+    /// The machine the programs are timed on (a preset), or none to hide the time columns.
+    fn machine_picker(&mut self, ui: &mut egui::Ui) {
+        let s = &mut self.settings;
+        ui.horizontal(|ui| {
+            ui.label("time on machine:");
+            let r = egui::ComboBox::from_id_salt("nurbs-machine")
+                .selected_text(s.machine.unwrap_or("none"))
+                .show_ui(ui, |ui| {
+                    ui.selectable_value(&mut s.machine, None, "none").on_hover_text("Hide the time columns");
+                    for p in PRESETS {
+                        ui.selectable_value(&mut s.machine, Some(p), p);
+                    }
+                })
+                .response
+                .on_hover_text(
+                    "Each program's feed planned on this machine's dynamics (`interpolab compare --machine`): \
+                     hobby-router a GRBL-class router, vmc a vertical machining centre; the five-axis presets have \
+                     the VMC's linear axes, so the same times for these three-axis programs",
+                );
+            self.rects.push(("machine", r.rect));
+        });
     }
 
     pub(super) fn file_stem(&self, cx: &PanelContext<'_>) -> String {
@@ -89,7 +118,7 @@ impl NurbsPanel {
         let (text, name, mark): (Option<&str>, String, Option<usize>) = match self.shown {
             Shown::Kind(kind) => {
                 let i = ProgramKind::ALL.iter().position(|k| *k == kind).unwrap_or(0);
-                match self.work.rows[i].ok() {
+                match self.work.row(i) {
                     Some(r) => (
                         Some(r.program.text.as_str()),
                         match self.settings.dialect {

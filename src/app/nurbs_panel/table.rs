@@ -1,6 +1,7 @@
 //! The comparison tables (seed 004: blocks, bytes, worst deviation, junction smoothness of
-//! the G01, G02/G03 and G06.2 programs; feed fluctuation of each real-time update) and the
-//! G-code view of the selected program with line numbers.
+//! the G01, G02/G03 and G06.2 programs, and their time and mean feed on the chosen machine;
+//! feed fluctuation of each real-time update) and the G-code view of the selected program
+//! with line numbers.
 
 use eframe::egui;
 
@@ -22,11 +23,33 @@ pub(super) fn kind_color(kind: ProgramKind) -> egui::Color32 {
     }
 }
 
+/// `x` with `digits` significant digits, trailing zeros kept and no decimals past the units
+/// (e.g. 9.980, 14.01, 1486); "—" for a value that is not finite.
+#[must_use]
+pub(super) fn significant(x: f64, digits: i32) -> String {
+    if !x.is_finite() {
+        return "—".to_owned();
+    }
+    let a = x.abs();
+    let decimals = if a > 0.0 { (digits - 1 - a.log10().floor() as i32).clamp(0, 9) as usize } else { 0 };
+    format!("{x:.decimals$}")
+}
+
 /// The programs table. `wanted` is `None` while the inputs are not ready (all stale).
 pub fn programs_table(ui: &mut egui::Ui, work: &Work, wanted: Option<&Wanted>) {
     let feed = wanted.map_or(0.0, |w| w.program.feed_mm_per_min);
-    let lines_blocks = work.rows[0].ok().map(|r| r.path_blocks);
-    egui::Grid::new("nurbs-compare").num_columns(8).striped(true).spacing([10.0, 3.0]).show(ui, |ui| {
+    let lines_blocks = work.row(0).map(|r| r.path_blocks);
+    let machine = wanted.and_then(|w| w.machine.as_ref()).map(|m| m.name.as_str());
+    let time_head = machine.map(|m| format!("time on {m}"));
+    let time_tip = machine.map(|m| {
+        format!(
+            "Cycle time (s) of the program on the machine {m}: its feed planned within the machine's axis limits \
+             (velocity, acceleration, jerk) and contour tolerance, rapids included — `interpolab compare --machine {m}`. \
+             Hover a time for the feed moves' share."
+        )
+    });
+    let columns = if machine.is_some() { 10 } else { 8 };
+    egui::Grid::new("nurbs-compare").num_columns(columns).striped(true).spacing([10.0, 3.0]).show(ui, |ui| {
         for (h, tip) in [
             ("program", "Program kind"),
             ("path blocks", "Blocks describing the cut: G01/G02/G03 moves; for G06.2 the control-point blocks plus the closing knot blocks"),
@@ -38,6 +61,13 @@ pub fn programs_table(ui: &mut egui::Ui, work: &Work, wanted: Option<&Wanted>) {
             ("velocity jump", "At the feed F: 2F·sin(θ/2) (mm/min)"),
         ] {
             ui.label(egui::RichText::new(h).strong()).on_hover_text(tip);
+        }
+        if let (Some(h), Some(tip)) = (&time_head, &time_tip) {
+            ui.label(egui::RichText::new(h).strong()).on_hover_text(tip);
+            ui.label(egui::RichText::new("mean feed").strong()).on_hover_text(
+                "Length of the feed moves over their planned time (mm/min): below F where the machine slows \
+                 down — at corners, in tight curvature, to start and stop",
+            );
         }
         ui.end_row();
         for (i, kind) in ProgramKind::ALL.into_iter().enumerate() {
@@ -59,7 +89,8 @@ pub fn programs_table(ui: &mut egui::Ui, work: &Work, wanted: Option<&Wanted>) {
                     ui.end_row();
                     continue;
                 }
-                Some(Ok(r)) => {
+                Some(Ok(timed)) => {
+                    let r = &timed.row;
                     let t = |s: String| egui::RichText::new(s).color(color);
                     ui.label(t(r.path_blocks.to_string()));
                     let vs = match lines_blocks {
@@ -72,6 +103,28 @@ pub fn programs_table(ui: &mut egui::Ui, work: &Work, wanted: Option<&Wanted>) {
                     ui.label(t(r.junctions.count.to_string()));
                     ui.label(t(format!("{}°", fmt_fixed(r.junctions.max_turn_deg, 3))));
                     ui.label(t(format!("{} mm/min", fmt_fixed(r.junctions.velocity_jump(feed), 1))));
+                    if machine.is_some() {
+                        match &timed.time {
+                            Some(Ok(c)) => {
+                                ui.label(t(format!("{} s", significant(c.total_s, 4)))).on_hover_text(format!(
+                                    "{} s in feed moves, {} s in rapids, on {}",
+                                    significant(c.feed_s, 4),
+                                    significant(c.total_s - c.feed_s, 4),
+                                    c.machine
+                                ));
+                                ui.label(t(c
+                                    .mean_feed_mm_min()
+                                    .map_or_else(|| "—".to_owned(), |f| format!("{} mm/min", significant(f, 4)))));
+                            }
+                            Some(Err(e)) => {
+                                ui.label(egui::RichText::new("not timed").color(if fresh { BAD } else { STALE }))
+                                    .on_hover_text(e);
+                            }
+                            None => {
+                                ui.label(egui::RichText::new("—").color(STALE));
+                            }
+                        }
+                    }
                 }
             }
             ui.end_row();
@@ -80,7 +133,12 @@ pub fn programs_table(ui: &mut egui::Ui, work: &Work, wanted: Option<&Wanted>) {
     // Why programs were not written, each reason once.
     let mut reasons: Vec<(Vec<&str>, &str)> = Vec::new();
     for (i, kind) in ProgramKind::ALL.into_iter().enumerate() {
-        if let Some(Err(e)) = &work.rows[i].value {
+        let why = match &work.rows[i].value {
+            Some(Err(e)) => Some(e),
+            Some(Ok(t)) => t.time.as_ref().and_then(|c| c.as_ref().err()),
+            None => None,
+        };
+        if let Some(e) = why {
             match reasons.iter_mut().find(|(_, r)| *r == e.as_str()) {
                 Some((kinds, _)) => kinds.push(kind.label()),
                 None => reasons.push((vec![kind.label()], e.as_str())),
@@ -95,7 +153,7 @@ pub fn programs_table(ui: &mut egui::Ui, work: &Work, wanted: Option<&Wanted>) {
 /// The real-time table: one row per update of the G06.2 curve.
 pub fn realtime_table(ui: &mut egui::Ui, work: &Work, wanted: Option<&Wanted>) {
     let fresh = wanted.is_some_and(|w| work.realtime_fresh(w));
-    if wanted.is_some_and(|w| work.row_fresh(2, w)) && work.rows[2].ok().is_none() {
+    if wanted.is_some_and(|w| work.row_fresh(2, w)) && work.row(2).is_none() {
         ui.label(
             egui::RichText::new("No real-time interpolation: there is no G06.2 program at these settings.")
                 .color(STALE),
@@ -198,4 +256,17 @@ pub fn code_view(ui: &mut egui::Ui, text: &str, mark: Option<usize>, scroll_to: 
             }
         });
     });
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn significant_digits_keep_their_zeros() {
+        use super::significant;
+        assert_eq!(significant(9.980_487, 4), "9.980");
+        assert_eq!(significant(14.008_67, 4), "14.01");
+        assert_eq!(significant(1486.37, 4), "1486");
+        assert_eq!(significant(0.012_345, 4), "0.01235");
+        assert_eq!(significant(f64::NAN, 4), "—");
+    }
 }

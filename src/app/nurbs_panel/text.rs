@@ -69,7 +69,7 @@ impl NurbsPanel {
         match self.shown {
             Shown::Kind(kind) => {
                 let i = ProgramKind::ALL.iter().position(|k| *k == kind).unwrap_or(0);
-                if let Some(r) = self.work.rows[i].ok() {
+                if let Some(r) = self.work.row(i) {
                     ui.label(format!(
                         "{}: {} path blocks, {} lines, {} bytes; deviation after rounding {} (program → design largest at line {}).",
                         kind.label(),

@@ -360,7 +360,7 @@ impl NurbsView {
         if self.show.design {
             design_lines = polyline(pts, o, 1.6, rgba(DESIGN_COLOR, 1.0));
         }
-        let curve = work.rows[2].ok().and_then(|r| r.program.read_back_curves().next());
+        let curve = work.row(2).and_then(|r| r.program.read_back_curves().next());
         if let Some(c) = curve {
             legend.control_points = c.len();
             legend.degree = c.degree();
@@ -400,7 +400,7 @@ impl NurbsView {
         if self.show.program {
             let drawn: Option<(&Toolpath, String, egui::Color32, Option<&Deviation>)> = match overlay {
                 Overlay::None => None,
-                Overlay::Row(i) => work.rows[i].ok().map(|r| {
+                Overlay::Row(i) => work.row(i).map(|r| {
                     let color = if i == 0 { LINES_COLOR } else { ARCS_COLOR };
                     let name = format!("{} program ({} blocks)", r.kind.label(), r.path_blocks);
                     (&r.program.parsed.toolpath, name, color, Some(&r.program.deviation))

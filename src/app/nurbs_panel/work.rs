@@ -7,8 +7,9 @@
 //! stale) until their replacement is ready. No egui here: the steps are plain core calls.
 //!
 //! The three programs are background jobs (`app::jobs`, kind `jobs::program_row`), started
-//! together and polled each frame: natively on threads, in the browser in Web Workers. Only
-//! the crease periods and the real-time periods run here, a few thousand per frame.
+//! together and polled each frame: natively on threads, in the browser in Web Workers; each
+//! also times its program on the chosen machine. Only the crease periods and the real-time
+//! periods run here, a few thousand per frame.
 
 use std::rc::Rc;
 
@@ -19,13 +20,13 @@ use crate::app::jobs::{Job, Poll};
 use crate::crease::{CreaseCurve, CreaseJob};
 use crate::gcode::{
     CompareOptions, CompareRow, Comparison, DesignBuilder, DesignError, Deviation, DeviationOptions, Dialect,
-    ParsedProgram, ProgramKind, ProgramOptions, ProgrammedPoint, compare_row, deviation,
+    ExtraColumns, ParsedProgram, ProgramKind, ProgramOptions, ProgrammedPoint, deviation,
 };
 use crate::geom::Curve3;
-pub use crate::jobs::program_row::describe_program_error;
-use crate::jobs::program_row::{DesignSpec, ProgramRow, Request};
+use crate::jobs::program_row::{CycleTime, DesignSpec, ProgramRow, Request, TimedRow, timed_row};
 use crate::numerics::measure::{ArcLengthTable, Translated};
 use crate::nurbs_path::{FeedStats, Parabola, RealtimeRun, RealtimeStepper, Update};
+use crate::plan::Dynamics;
 use crate::scene::Scene;
 
 /// Periods of the crease or of a real-time run per step: a few ms natively, ~10 ms in a
@@ -145,6 +146,8 @@ pub struct Wanted {
     pub program: ProgramInput,
     /// The real-time runs.
     pub realtime: RealtimeInput,
+    /// The machine the programs are timed on (`None`: not timed).
+    pub machine: Option<Dynamics>,
 }
 
 /// A result with the key it was computed for and a generation number that changes whenever
@@ -177,6 +180,12 @@ impl<K: PartialEq, T> Slot<K, T> {
         self.key = Some(key);
         self.value = Some(value);
         self.generation += 1;
+    }
+    /// Replaces the value by one that differs only in what nothing drawn depends on (a row's
+    /// time on another machine): the generation stays, so nothing is rebuilt or rerun.
+    fn set_same(&mut self, key: K, value: Result<T, String>) {
+        self.key = Some(key);
+        self.value = Some(value);
     }
     /// The value if it was computed without error.
     #[must_use]
@@ -223,7 +232,7 @@ pub struct Loaded {
 const READ_CALLS_PER_STEP: usize = 4000;
 
 type DesignSlot = Slot<DesignInput, Rc<Design>>;
-type RowKey = (u64, ProgramInput);
+type RowKey = (u64, ProgramInput, Option<Dynamics>);
 type RealtimeKey = (u64, u64, ProgramInput, RealtimeInput);
 type LoadedKey = (u64, u64, ProgramInput);
 
@@ -232,8 +241,8 @@ type LoadedKey = (u64, u64, ProgramInput);
 pub struct Work {
     /// The design path.
     pub design: DesignSlot,
-    /// One row per program kind, in [`ProgramKind::ALL`] order.
-    pub rows: [Slot<RowKey, CompareRow>; 3],
+    /// One row per program kind, in [`ProgramKind::ALL`] order, with its time on the machine.
+    pub rows: [Slot<RowKey, TimedRow>; 3],
     /// The real-time runs of the G06.2 program.
     pub realtime: Slot<RealtimeKey, Realtime>,
     /// A loaded program.
@@ -349,7 +358,35 @@ impl Work {
     }
 
     fn row_key(&self, w: &Wanted) -> RowKey {
-        (self.design.generation, w.program.clone())
+        (self.design.generation, w.program.clone(), w.machine.clone())
+    }
+
+    /// Row `i`'s program and numbers, if it was written.
+    #[must_use]
+    pub fn row(&self, i: usize) -> Option<&CompareRow> {
+        self.rows[i].ok().map(|t| &t.row)
+    }
+
+    /// Row `i`'s time on the machine: `None` while not written or not timed.
+    #[must_use]
+    pub fn row_time(&self, i: usize) -> Option<&Result<CycleTime, String>> {
+        self.rows[i].ok().and_then(|t| t.time.as_ref())
+    }
+
+    /// The time columns of `interpolab compare --machine` (time s, feed time s, mean feed
+    /// mm/min, as it formats them), when every row was timed.
+    #[must_use]
+    pub fn time_columns(&self) -> Option<ExtraColumns> {
+        let cells =
+            (0..3).map(|i| self.row_time(i)?.as_ref().ok().map(|t| t.cells().to_vec())).collect::<Option<Vec<_>>>()?;
+        let name = self.row_time(0)?.as_ref().ok()?.machine.clone();
+        Some(ExtraColumns {
+            heads: CycleTime::HEADS.map(str::to_owned).to_vec(),
+            cells: vec![cells],
+            notes: vec![format!(
+                "Times on the machine {name}: the feed planned within its limits (interpolab compare --machine {name})."
+            )],
+        })
     }
 
     /// Whether row `i` is for the current inputs.
@@ -397,7 +434,7 @@ impl Work {
 
     /// The real-time step is done, or cannot run (no G06.2 program).
     fn realtime_done(&self, w: &Wanted) -> bool {
-        self.realtime_fresh(w) || (self.row_fresh(2, w) && self.rows[2].ok().is_none())
+        self.realtime_fresh(w) || (self.row_fresh(2, w) && self.row(2).is_none())
     }
 
     /// Notes the inputs of this frame (restarting the quiet time when they changed).
@@ -482,8 +519,13 @@ impl Work {
                 // In the background: start the job for these inputs (replacing, and so
                 // cancelling, one for older inputs), then see whether it is done.
                 if self.row_jobs[i].as_ref().is_none_or(|(k, _)| *k != key) {
-                    let request =
-                        Request { design: spec.clone(), kind, tol_mm: w.program.tol_mm, options: opts.clone() };
+                    let request = Request {
+                        design: spec.clone(),
+                        kind,
+                        tol_mm: w.program.tol_mm,
+                        options: opts.clone(),
+                        machine: w.machine.clone(),
+                    };
                     self.row_jobs[i] = Some((key.clone(), Job::start(request)));
                 }
                 match self.row_jobs[i].as_mut().map(|(_, job)| job.poll()) {
@@ -494,13 +536,21 @@ impl Work {
                     _ => continue,
                 }
             } else {
-                compare_row(kind, &design.curve, w.program.tol_mm, &opts).map_err(|e| describe_program_error(&e, kind))
+                timed_row(kind, &design.curve, w.program.tol_mm, &opts, w.machine.as_ref())
             };
             if kind == ProgramKind::Nurbs && value.is_err() {
                 // Nothing to run: drop the last curve's run rather than show it as current.
                 self.realtime.clear();
             }
-            self.rows[i].set(key, value);
+            // Only the machine changed (the same program text): what is drawn and run from
+            // the program stays.
+            let same_program = matches!((&self.rows[i].value, &value),
+                (Some(Ok(a)), Ok(b)) if a.row.program.text == b.row.program.text && self.rows[i].key.as_ref().is_some_and(|k| k.0 == key.0 && k.1 == key.1));
+            if same_program {
+                self.rows[i].set_same(key, value);
+            } else {
+                self.rows[i].set(key, value);
+            }
             return true;
         }
         if rows_due {
@@ -580,7 +630,7 @@ impl Work {
         opts: &CompareOptions,
         chosen: Update,
     ) -> Option<Result<Realtime, String>> {
-        let Some(curve) = self.rows[2].ok().and_then(|r| r.program.read_back_curves().next()) else {
+        let Some(curve) = self.rows[2].ok().and_then(|r| r.row.program.read_back_curves().next()) else {
             return Some(Err("the G06.2 program holds no curve".to_owned()));
         };
         if self.realtime_task.as_ref().is_none_or(|t| t.key != *key) {
@@ -634,7 +684,7 @@ impl Work {
         if !(0..3).all(|i| self.row_fresh(i, w)) {
             return None;
         }
-        let rows: Vec<CompareRow> = self.rows.iter().map(|r| r.ok().cloned()).collect::<Option<_>>()?;
+        let rows: Vec<CompareRow> = self.rows.iter().map(|r| r.ok().map(|t| t.row.clone())).collect::<Option<_>>()?;
         let realtime = if self.realtime_fresh(w) { self.realtime.ok()?.stats.clone() } else { Vec::new() };
         Some(Comparison {
             tol_mm: w.program.tol_mm,

@@ -313,11 +313,13 @@ proptest! {
                     program: options(dialect, if name.is_empty() { "scene" } else { name }),
                     ..CompareOptions::default()
                 },
+                // Not timed: the blocks are the question here.
+                machine: None,
             };
             let out = run_encoded(ProgramRow::NAME, &ProgramRow::encode_request(&request), &mut NoProgress)
                 .expect("the job runs");
             let row = ProgramRow::decode_output(&out).expect("decodes").expect("a program");
-            row.program.text
+            row.row.program.text
         };
         assert_same_blocks(&program(&text), &program(BENIGN), dialect, &text)?;
     }
