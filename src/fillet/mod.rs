@@ -214,7 +214,9 @@ pub fn compare_from(
         let this = estimate_of(plan);
         let rest: f64 = (plan..2 * each.len()).map(estimate_of).sum();
         let left = opts.max_check_cells.saturating_sub(spent) as f64;
-        let share = if rest > 0.0 { (SHARE_ROOM * left * this / rest).min(left) } else { left };
+        // A plan its pilot could not estimate (no side step solved there: 0) has no share
+        // to keep to: it may spend what is left, as before the shares.
+        let share = if this > 0.0 && rest > 0.0 { (SHARE_ROOM * left * this / rest).min(left) } else { left };
         FinishOptions { max_check_cells: share as u64, ..*opts }
     };
     // A plan's own refusal names its share of the table's budget.
