@@ -31,6 +31,10 @@ export const checks = [
       check("NURBS panel compares the G01, G02/G03 and G06.2 programs", st.status_ok && st.rows.length === 3
         && st.rows.every((r) => r.fresh && r.path_blocks > 0 && r.deviation_mm <= st.tol_mm) && st.realtime.length === 3,
         `${blocks} path blocks at ${st.tol_mm} mm, in ${Date.now() - tn} ms`);
+      const times = st.rows.map((r) => `${r.kind} ${r.time_s?.toFixed(3)} s`).join(", ");
+      check("NURBS panel times each program on its machine", st.machine && st.rows.every((r) => r.time_machine === st.machine
+        && Number.isFinite(r.time_s) && r.time_s > 0 && r.feed_s > 0 && r.feed_s <= r.time_s),
+        `${times} on ${st.machine}`);
       Object.assign(state, { page, st });
     },
   },
