@@ -8,6 +8,8 @@ use crate::fiveaxis::{Machine, ToolAxisRule};
 use crate::geom::{
     Cylinder, Domain, Frame, NurbsSurface, ParamRange, ParamUnit, Plane, Sphere, Surface, Torus, nurbs::NurbsError,
 };
+use crate::numerics::format::fmt_num;
+use crate::numerics::limits::MAX_COORDINATE_MM;
 use crate::numerics::tolerance;
 
 fn v3(a: [f64; 3]) -> DVec3 {
@@ -155,6 +157,22 @@ pub(super) fn validate_machine(m: &MachineSpec) -> Result<(), SceneError> {
                 "give finite coordinates in mm",
             ));
         }
+        // A pivot a kilometre off turns every step's error into overflow (a pivot at −1e308
+        // made the steps search for seconds before refusing).
+        if has && m.pivots[i].iter().any(|x| x.abs() > MAX_COORDINATE_MM) {
+            return Err(SceneError::new(
+                format!("machine.pivots.{}", names[i]),
+                format!("lies more than {} mm from the origin", fmt_num(MAX_COORDINATE_MM)),
+                "give a point on the axis in mm, within the machine",
+            ));
+        }
+    }
+    if m.tool_length.is_finite() && m.tool_length > MAX_COORDINATE_MM {
+        return Err(SceneError::new(
+            "machine.tool_length",
+            format!("is more than {} mm", fmt_num(MAX_COORDINATE_MM)),
+            "give the distance from the last head axis to the tool tip in mm, e.g. 150",
+        ));
     }
     if !(m.tool_length.is_finite() && m.tool_length >= 0.0) {
         return Err(SceneError::new(

@@ -220,3 +220,17 @@ fn a_refusal_quoting_control_characters_stays_one_printable_line() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(!err.trim_end_matches('\n').chars().any(char::is_control), "{err:?}");
 }
+
+/// A machine pivot far off the part (a fuzz finding: −1e308 mm made `steps` search for two
+/// seconds before refusing with an error of 2e292 mm) is refused when the scene is read,
+/// naming the key.
+#[test]
+fn a_machine_pivot_a_kilometre_off_is_refused_with_the_scene() {
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/torus-plate-head-bc.json"))
+        .expect("example");
+    let mut scene: serde_json::Value = serde_json::from_str(&text).expect("json");
+    assert!(scene["machine"]["pivots"]["b"].is_array(), "{}", scene["machine"]);
+    scene["machine"]["pivots"]["b"][1] = serde_json::json!(-1e308);
+    let p = temp_file("far-pivot.json", scene.to_string().as_bytes());
+    refused(&run(&["steps", &p, "--tolerance", "0.01"]), &["machine.pivots.b", "more than 1000000 mm", "from the origin"]);
+}
