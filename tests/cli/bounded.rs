@@ -232,5 +232,8 @@ fn a_machine_pivot_a_kilometre_off_is_refused_with_the_scene() {
     assert!(scene["machine"]["pivots"]["b"].is_array(), "{}", scene["machine"]);
     scene["machine"]["pivots"]["b"][1] = serde_json::json!(-1e308);
     let p = temp_file("far-pivot.json", scene.to_string().as_bytes());
-    refused(&run(&["steps", &p, "--tolerance", "0.01"]), &["machine.pivots.b", "more than 1000000 mm", "from the origin"]);
+    refused(
+        &run(&["steps", &p, "--tolerance", "0.01"]),
+        &["machine.pivots.b", "more than 1000000 mm", "from the origin"],
+    );
 }
