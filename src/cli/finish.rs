@@ -16,10 +16,10 @@ use serde_json::{Value, json};
 
 use super::{Fatal, OutFormat};
 
-use interpolab::fillet::program::{FinishGcode, FinishProgramError, first_out_of_travel};
+use interpolab::fillet::program::{FinishGcode, iso_scallop_in_travel};
 use interpolab::fillet::{
-    FinishError, FinishJob, IsoScallopSteps, PartSamples, PathSet, PathStart, Strategy, compare_from,
-    iso_parametric_from, iso_scallop_from,
+    FinishError, FinishJob, PartSamples, PathSet, PathStart, Strategy, compare_from, iso_parametric_from,
+    iso_scallop_from,
 };
 use interpolab::report::{fmt_fixed, fmt_num, one_line};
 use interpolab::scene::finish::FinishScene;
@@ -407,22 +407,9 @@ pub(super) fn paths_for(
             iso_scallop_from(&job.surface, &job.cutter, strategy, &job.options, part, &job.start).map_err(fail)
         }
         LayoutArg::IsoScallop => {
-            let mut steps =
-                IsoScallopSteps::start_from(&job.surface, &job.cutter, strategy, &job.options, part, &job.start)
-                    .map_err(fail)?;
-            let (mut checked, mut done) = (0, false);
-            loop {
-                for (k, p) in steps.paths().iter().enumerate().skip(checked) {
-                    if let Some(source) = first_out_of_travel(&job.machine, &p.nodes) {
-                        return Err(Fatal(format!("{name}: {}", FinishProgramError::Plan { path: k, source })));
-                    }
-                }
-                checked = steps.paths().len();
-                if done {
-                    return Ok(steps.finish());
-                }
-                done = steps.step(&job.surface, &job.cutter, &job.options, part).map_err(fail)?;
-            }
+            let (j, o) = (job, &job.options);
+            iso_scallop_in_travel(&j.machine, &j.surface, &j.cutter, strategy, o, part, &j.start)
+                .map_err(|e| Fatal(format!("{name}: {e}")))
         }
     }
 }

@@ -46,7 +46,7 @@ pub use node::CcNode;
 pub use orient::{OrientOptions, Strategy};
 pub use paths::{
     Edge, FeedDirection, FinishOptions, IsoScallopSteps, Layout, PathSet, PathStart, Refusal, ScallopFlag, Stats,
-    ToolPath, iso_parametric, iso_parametric_from, iso_scallop, iso_scallop_from,
+    ToolPath, iso_parametric, iso_parametric_from, iso_scallop, iso_scallop_checked, iso_scallop_from,
 };
 
 /// A finishing scene in core units, ready to compute (what `scene::finish` builds from a

@@ -21,10 +21,12 @@
 use glam::{DVec2, DVec3};
 use thiserror::Error;
 
+use super::FinishError;
 use super::contact::{ContactFrame, Pose, place};
+use super::gouge::PartSamples;
 use super::node::CcNode;
 use super::orient::Strategy;
-use super::paths::PathSet;
+use super::paths::{FinishOptions, PathSet, PathStart, iso_scallop_checked};
 use crate::fiveaxis::{
     CutterLocation, DesignPath, FiveAxisError, Joints, KinematicsError, Machine, StepOptions, StepPlan, plan_steps,
 };
@@ -53,6 +55,29 @@ pub fn first_out_of_travel(machine: &Machine, nodes: &[CcNode]) -> Option<FiveAx
         }
     }
     None
+}
+
+/// Iso-scallop paths for a program on `machine` ([`iso_scallop_checked`]): the job is refused
+/// at the first path with a node [`first_out_of_travel`], before the paths after it are built.
+///
+/// # Errors
+/// What [`iso_scallop_from`](super::iso_scallop_from) refuses, or
+/// [`FinishProgramError::Plan`] naming the first path and node out of the machine's travel.
+pub fn iso_scallop_in_travel(
+    machine: &Machine,
+    surface: &Surface,
+    cutter: &Cutter,
+    strategy: Strategy,
+    opts: &FinishOptions,
+    part: &PartSamples,
+    start: &PathStart,
+) -> Result<PathSet, FinishProgramError> {
+    iso_scallop_checked(surface, cutter, strategy, opts, part, start, |path, p| {
+        match first_out_of_travel(machine, &p.nodes) {
+            Some(source) => Err(FinishProgramError::Plan { path, source }),
+            None => Ok(()),
+        }
+    })
 }
 
 /// One path's CL data as a design path (module docs).
@@ -249,6 +274,9 @@ pub enum FinishProgramError {
         /// The planner's error.
         source: FiveAxisError,
     },
+    /// The paths themselves could not be made.
+    #[error(transparent)]
+    Paths(#[from] FinishError),
 }
 
 /// The five-axis program of a finishing job, planned (what `interpolab finish --gcode`

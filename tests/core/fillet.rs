@@ -7,7 +7,9 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 use glam::{DVec2, DVec3};
 use interpolab::fillet::contact::{ContactFrame, CrossProfile, Pose, effective_curvature, gouge_margin, place};
 use interpolab::fillet::orient::{OrientOptions, Strategy, pose_at};
-use interpolab::fillet::paths::{FinishOptions, PathSet, PathStart, iso_scallop, iso_scallop_from, lead_out_mm};
+use interpolab::fillet::paths::{
+    FinishOptions, PathSet, PathStart, iso_scallop, iso_scallop_checked, iso_scallop_from, lead_out_mm,
+};
 use interpolab::fillet::{FinishError, FinishJob, PartSamples, gouge};
 use interpolab::geom::{Cutter, LocalGeometry, ParametricSurface, Plane, ProjectOptions, Surface, project_point};
 use interpolab::scene::finish::{FINISH_PRESETS, FinishScene, StartSpec};
@@ -1223,6 +1225,48 @@ fn a_bad_start_is_refused_with_the_key_and_the_fix() {
                 .unwrap_err();
         assert!(matches!(err, FinishError::BadStart { .. }), "{err}");
     }
+}
+
+/// `iso_scallop_checked` shows every path once, in the order of machining, while it is
+/// built: with a check that passes, the set equals `iso_scallop_from`'s and the check saw
+/// paths 0, 1, … n−1 equal to the set's (across both sides of a start curve); a check that
+/// refuses path 2 stops the job there with its own error, having seen three paths.
+#[test]
+fn a_per_path_check_sees_each_path_as_built_and_stops_the_job() {
+    let scene = start_scene(START_PLANE, BALL_5, "ball", r#", "start": {"curve": [[24, 3.7], [0, 3.7]]}"#);
+    let job = start_job(&scene);
+    let part = PartSamples::new(&job.surface, job.options.part_grid);
+    let whole = paths_from(&job);
+    assert!(whole.paths.len() > 4, "{} paths", whole.paths.len());
+    let mut seen = Vec::new();
+    let checked =
+        iso_scallop_checked(&job.surface, &job.cutter, job.strategy, &job.options, &part, &job.start, |k, p| {
+            seen.push((k, p.nodes.len(), p.nodes.first().map(|n| n.frame.uv)));
+            Ok::<(), FinishError>(())
+        })
+        .unwrap();
+    assert_eq!(checked, whole);
+    let want: Vec<_> =
+        whole.paths.iter().enumerate().map(|(k, p)| (k, p.nodes.len(), p.nodes.first().map(|n| n.frame.uv))).collect();
+    assert_eq!(seen, want);
+
+    #[derive(Debug, PartialEq)]
+    enum Stop {
+        Finish(FinishError),
+        At(usize),
+    }
+    impl From<FinishError> for Stop {
+        fn from(e: FinishError) -> Self {
+            Self::Finish(e)
+        }
+    }
+    let mut calls = 0;
+    let r = iso_scallop_checked(&job.surface, &job.cutter, job.strategy, &job.options, &part, &job.start, |k, _| {
+        calls += 1;
+        if k == 2 { Err(Stop::At(k)) } else { Ok(()) }
+    });
+    assert_eq!(r.unwrap_err(), Stop::At(2));
+    assert_eq!(calls, 3);
 }
 
 /// The lead-out's lag against a brute force: for a fillet-end mill on a plane (lead α,

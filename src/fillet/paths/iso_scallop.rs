@@ -120,9 +120,38 @@ pub fn iso_scallop_from(
     part: &PartSamples,
     start: &PathStart,
 ) -> Result<PathSet, FinishError> {
+    iso_scallop_checked(surface, cutter, strategy, opts, part, start, |_, _| Ok(()))
+}
+
+/// [`iso_scallop_from`] with `check` called on every path as soon as it is built (its index
+/// in the set and the path, in the order of machining): the first `Err` stops the job there,
+/// before the paths after it are built. A caller that refuses a job for what one path does
+/// (a tool axis its machine cannot reach, say) refuses it at that path, not after all of them.
+///
+/// # Errors
+/// What [`iso_scallop_from`] refuses, or the first error of `check`.
+pub fn iso_scallop_checked<E: From<FinishError>>(
+    surface: &Surface,
+    cutter: &Cutter,
+    strategy: Strategy,
+    opts: &FinishOptions,
+    part: &PartSamples,
+    start: &PathStart,
+    mut check: impl FnMut(usize, &ToolPath) -> Result<(), E>,
+) -> Result<PathSet, E> {
     let mut steps = IsoScallopSteps::start_from(surface, cutter, strategy, opts, part, start)?;
-    while !steps.step(surface, cutter, opts, part)? {}
-    Ok(steps.finish())
+    let mut checked = 0;
+    loop {
+        // A step may add more than one path (a side ending and the other side's first).
+        for (k, path) in steps.paths().iter().enumerate().skip(checked) {
+            check(k, path)?;
+        }
+        checked = steps.paths().len();
+        if steps.is_done() {
+            return Ok(steps.finish());
+        }
+        steps.step(surface, cutter, opts, part)?;
+    }
 }
 
 /// Iso-scallop paths built one path per call, for callers that spread the work over time
