@@ -213,18 +213,19 @@ pub fn compare_from(
         let spent = part.cells_checked().saturating_sub(start_cells);
         let this = estimate_of(plan);
         let rest: f64 = (plan..2 * each.len()).map(estimate_of).sum();
-        let left = opts.max_check_cells.saturating_sub(spent) as f64;
+        let left = paths::check_stop(opts.max_check_cells).saturating_sub(spent) as f64;
         // A plan its pilot could not estimate (no side step solved there: 0) has no share
         // to keep to: it may spend what is left, as before the shares.
         let share = if this > 0.0 && rest > 0.0 { (SHARE_ROOM * left * this / rest).min(left) } else { left };
-        FinishOptions { max_check_cells: share as u64, ..*opts }
+        // The plan's checks stop at its share (its budget times the stop factor).
+        FinishOptions { max_check_cells: (share / paths::CHECK_STOP_FACTOR) as u64, ..*opts }
     };
     // A plan's own refusal names its share of the table's budget.
     let in_table = |s: Strategy, layout: Layout, e: FinishError| match e {
         FinishError::TooMuchChecking { detail } => FinishError::TooMuchChecking {
             detail: format!(
                 "of the table's ten plans would pass {} cells: its {} {} plan {detail} (its share: 3 times its estimate's part of what the plans before it left)",
-                opts.max_check_cells,
+                paths::check_stop(opts.max_check_cells),
                 s.name(),
                 layout.name()
             ),
@@ -239,11 +240,11 @@ pub fn compare_from(
         let total: f64 = each.iter().sum();
         let done: f64 = (0..plans).map(estimate_of).sum();
         let projected = spent + (total - done) * if done > 0.0 { (spent / done).max(1.0) } else { 1.0 };
-        if projected > opts.max_check_cells as f64 {
+        let stop = paths::check_stop(opts.max_check_cells);
+        if projected > stop as f64 {
             return Err(FinishError::TooMuchChecking {
                 detail: format!(
-                    "of the table's ten plans would pass {} cells: about {projected:.2e} (projected after {plans} of them, which spent {spent:.2e})",
-                    opts.max_check_cells
+                    "of the table's ten plans would pass {stop} cells: about {projected:.2e} (projected after {plans} of them, which spent {spent:.2e})"
                 ),
             });
         }

@@ -5,6 +5,7 @@ use glam::{DVec2, DVec3};
 use super::{Ctx, FinishOptions, PathStart, Sample, b_of, iso_curve, make_uv};
 use crate::fillet::FinishError;
 use crate::fillet::gouge::PartSamples;
+use crate::fillet::node::CcNode;
 use crate::fillet::orient::Strategy;
 use crate::geom::{Cutter, LocalGeometry, ParametricSurface, Surface};
 
@@ -49,9 +50,30 @@ pub const MAX_CHECK_CELLS_PER_NODE: u64 = 20_000;
 /// CC points checked before [`MAX_CHECK_CELLS_PER_NODE`] applies.
 pub const CHECK_COST_SAMPLE: u64 = 8;
 
-/// Most cells of the certified bottom checks a whole job may spend (the examples: 0.9–12
-/// million a job, a comparison table of ten plans shares it), some 15 s of checking.
-pub const MAX_CHECK_CELLS: u64 = 100_000_000;
+/// Most cells of the certified bottom checks a whole job's pilot may estimate (the
+/// examples: 0.9–12 million a job, a comparison table of ten plans shares it): some 7 s of
+/// checking. The checks themselves stop at [`CHECK_STOP_FACTOR`] times this.
+pub const MAX_CHECK_CELLS: u64 = 50_000_000;
+
+/// A job whose pilot's estimate fits its budget of check cells (`max_check_cells`) is
+/// stopped only when its checks pass this many times the budget (some 15 s at the default):
+/// the room for the pilot's error, so that a job is refused by its pilot, within a second,
+/// or built — not refused after most of its work. The pilot runs 1.0–7.3 times too low
+/// before [`PILOT_CELLS_FACTOR`] (69 jobs: the unseen family's first twelve, the three
+/// examples and three fuzz cases, every strategy), 1.7 at the median.
+pub const CHECK_STOP_FACTOR: f64 = 2.0;
+
+/// The pilot's cells, measured on its runs, are multiplied by this: the job builds paths
+/// the pilot does not (the side-step corrector builds a path again where the measured cusp
+/// leaves its band, and its narrower steps make more paths), measured 1.7 times the
+/// pilot's at the median ([`CHECK_STOP_FACTOR`]'s jobs).
+pub const PILOT_CELLS_FACTOR: f64 = 1.7;
+
+/// Where a job's checks stop: [`CHECK_STOP_FACTOR`] × its budget.
+#[must_use]
+pub fn check_stop(max_check_cells: u64) -> u64 {
+    (CHECK_STOP_FACTOR * max_check_cells as f64) as u64
+}
 
 /// A job whose paths or CC points, estimated before they are built
 /// (`Ctx::refuse_oversized`), exceed their caps by this factor is refused at once; below
@@ -70,8 +92,12 @@ pub const CELLS_ESTIMATE_AFTER_SHARE: f64 = 0.01;
 /// See [`CELLS_ESTIMATE_AFTER_SHARE`].
 pub const CELLS_ESTIMATE_AFTER: f64 = 1e6;
 
-/// Points of each pilot line whose side steps the estimate solves.
-pub(super) const PILOT_POINTS: usize = 16;
+/// Runs of consecutive forward steps the pilot builds on each of its lines, and the steps
+/// of a run: their CC points' side steps and checks are what the estimate measures.
+pub(super) const PILOT_RUNS: usize = 6;
+
+/// See [`PILOT_RUNS`].
+pub(super) const PILOT_RUN: usize = 4;
 
 /// Lines of the pilot: the first path's and iso-curves spread across the surface.
 pub(super) const PILOT_LINES: usize = 4;
@@ -89,9 +115,11 @@ impl Ctx<'_> {
         let nodes = self.nodes_checked.get() + 1;
         self.nodes_checked.set(nodes);
         let cells = self.part.cells_checked().saturating_sub(self.cells_at_start);
-        let max = self.opts.max_check_cells;
-        if cells > max {
-            return Err(FinishError::TooMuchChecking { detail: format!("passed {max} cells after {nodes} CC points") });
+        let stop = check_stop(self.opts.max_check_cells);
+        if cells > stop {
+            return Err(FinishError::TooMuchChecking {
+                detail: format!("passed {stop} cells after {nodes} CC points"),
+            });
         }
         // After CHECK_COST_SAMPLE points, or sooner once the cells spent would already put
         // that many points over the average (a first point costing a million cells).
@@ -111,10 +139,11 @@ impl Ctx<'_> {
     /// Refuses a job whose paths would pass their caps by more than [`ESTIMATE_MARGIN`], or
     /// whose checks would pass [`MAX_CHECK_CELLS`], before they are built. A pilot on the
     /// first path's polyline and on [`PILOT_LINES`] − 1 iso-curves across the surface: each
-    /// line's forward steps counted (no orientation or check), [`PILOT_POINTS`] of them
-    /// oriented and checked and their side steps solved. The paths across are the surface's
-    /// width across times the mean of 1/side step, each with the lines' mean CC points, each
-    /// point checked at the pilot's mean cost.
+    /// line's forward steps counted (no orientation or check), [`PILOT_RUNS`] runs of
+    /// [`PILOT_RUN`] of them built as paths (oriented, checked, chords certified) and their
+    /// side steps solved. The paths across are the surface's width across times the mean of
+    /// 1/side step, each with the lines' mean forward steps times the runs' CC points per
+    /// step, each point checked at the runs' mean cost.
     pub(super) fn refuse_oversized(&self, poly: &[DVec2]) -> Result<Option<Estimate>, FinishError> {
         let Some(est) = self.pilot(poly)? else { return Ok(None) };
         let (paths, nodes) = (est.paths, est.nodes);
@@ -132,7 +161,7 @@ impl Ctx<'_> {
         if cells > max as f64 {
             return Err(FinishError::TooMuchChecking {
                 detail: format!(
-                    "would pass {max} cells: about {cells:.2e} over about {nodes:.0} CC points (estimated before the paths are built, {cells_per_node:.0} cells a point on a pilot)"
+                    "would pass {max} cells: about {cells:.2e} over about {nodes:.0} CC points (estimated before the paths are built, {cells_per_node:.0} cells a point on a pilot, with the paths it does not build)"
                 ),
             });
         }
@@ -149,29 +178,39 @@ impl Ctx<'_> {
         }
         let mut side = None;
         let (mut inverse, mut samples_sum, mut pilot_nodes) = (Vec::new(), 0usize, 0usize);
+        // CC points the pilot's runs end with (their certified chords' inserted points
+        // included, lead-outs not) per forward step they began with.
+        let (mut run_samples, mut run_nodes) = (0usize, 0usize);
         let cells_before = self.part.cells_checked();
         for line in &lines {
             let mut budget = self.opts.max_nodes;
             let samples = self.forward_samples(line, None, &mut budget)?;
             samples_sum += samples.len();
-            let every = (samples.len() / PILOT_POINTS).max(1);
-            let pilot_samples: Vec<Sample> = samples
-                .iter()
-                .enumerate()
-                .filter(|(k, _)| k % every == 0 || *k + 1 == samples.len())
-                .map(|(_, s)| *s)
-                .collect();
+            // PILOT_RUNS runs of PILOT_RUN consecutive forward steps spread along the line,
+            // each built as a path of its own: its chords are the job's chords, so their
+            // certification inserts the points the job's would, and each check starts from
+            // its neighbour's as in the job.
+            let mut nodes: Vec<CcNode> = Vec::new();
             let mut scratch = Vec::new();
-            let pilot = self.path_from_samples(pilot_samples, &mut scratch, &mut budget)?;
-            pilot_nodes += pilot.nodes.len();
-            // Not one of PILOT_POINTS points spread along the first path can be cut: the job
-            // stops here, as it would after trying every point of that path.
-            if side.is_none() && samples.len() > PILOT_POINTS && pilot.nodes.iter().all(|n| n.lead_out) {
+            let runs = PILOT_RUNS.min(samples.len().div_ceil(PILOT_RUN)).max(1);
+            for r in 0..runs {
+                let first = if runs == 1 { 0 } else { (samples.len() - PILOT_RUN.min(samples.len())) * r / (runs - 1) };
+                let run: Vec<Sample> = samples.iter().skip(first).take(PILOT_RUN).copied().collect();
+                run_samples += run.len();
+                let path = self.path_from_samples(run, &mut scratch, &mut budget)?;
+                let cut = path.nodes.iter().filter(|n| !n.lead_out);
+                run_nodes += cut.clone().count();
+                nodes.extend(cut.copied());
+            }
+            pilot_nodes += nodes.len();
+            // Not one of the points tried along the first path can be cut: the job stops
+            // here, as it would after trying every point of that path.
+            if side.is_none() && samples.len() > PILOT_RUNS * PILOT_RUN && nodes.is_empty() {
                 return Err(FinishError::NoPath { reason: scratch.first().map_or("no CC point", |r| r.reason) });
             }
             // The side toward the far edge, from the first line's first node (as the job's).
             if side.is_none()
-                && let Some(n0) = pilot.nodes.iter().find(|n| !n.lead_out)
+                && let Some(n0) = nodes.first()
             {
                 let g = LocalGeometry::try_new(self.surface.derivatives_at(n0.frame.uv));
                 let tc = g.map_or(DVec2::ZERO, |g| g.tangent_coords(n0.frame.cross));
@@ -180,19 +219,13 @@ impl Ctx<'_> {
             let Some(side) = side else { continue };
             let ctx = Ctx { side, nodes_checked: std::cell::Cell::new(self.nodes_checked.get()), ..*self };
             inverse.extend(
-                pilot
-                    .nodes
-                    .iter()
-                    .filter(|n| !n.lead_out)
-                    .map(|n| ctx.side_step(n).width_mm)
-                    .filter(|w| *w > 0.0 && w.is_finite())
-                    .map(|w| 1.0 / w),
+                nodes.iter().map(|n| ctx.side_step(n).width_mm).filter(|w| *w > 0.0 && w.is_finite()).map(|w| 1.0 / w),
             );
             self.nodes_checked.set(ctx.nodes_checked.get());
         }
         // The checks' cost per CC point on the pilot (its paths and side steps, as a job's).
         let cells_per_node = self.part.cells_checked().saturating_sub(cells_before) as f64 / pilot_nodes.max(1) as f64;
-        let samples_per_path = samples_sum as f64 / lines.len() as f64;
+        let samples_per_path = samples_sum as f64 / lines.len() as f64 * run_nodes as f64 / run_samples.max(1) as f64;
         if inverse.is_empty() {
             return Ok(None);
         }
@@ -211,6 +244,7 @@ impl Ctx<'_> {
         }
         let paths = (width * per_mm).max(1.0);
         let nodes = paths * samples_per_path;
+        let cells_per_node = cells_per_node * PILOT_CELLS_FACTOR;
         Ok(Some(Estimate { paths, nodes, cells: nodes * cells_per_node, cells_per_node }))
     }
 }

@@ -57,8 +57,8 @@ mod side_step;
 mod start;
 
 pub use budget::{
-    CELLS_ESTIMATE_AFTER, CELLS_ESTIMATE_AFTER_SHARE, CHECK_COST_SAMPLE, ESTIMATE_AFTER_SHARE, ESTIMATE_MARGIN,
-    MAX_CHECK_CELLS, MAX_CHECK_CELLS_PER_NODE, estimate_check_cells,
+    CELLS_ESTIMATE_AFTER, CELLS_ESTIMATE_AFTER_SHARE, CHECK_COST_SAMPLE, CHECK_STOP_FACTOR, ESTIMATE_AFTER_SHARE,
+    ESTIMATE_MARGIN, MAX_CHECK_CELLS, MAX_CHECK_CELLS_PER_NODE, PILOT_CELLS_FACTOR, check_stop, estimate_check_cells,
 };
 pub use build::{BETWEEN_CHECK_SHARE, CHORD_SPLITS, LIFT_HALVING_GAIN, LIFT_SHARE_OF_H, lead_out_frame, lead_out_mm};
 pub use iso_parametric::{iso_parametric, iso_parametric_from};
@@ -189,8 +189,9 @@ pub struct FinishOptions {
     pub max_paths: usize,
     /// Most CC points over all paths.
     pub max_nodes: usize,
-    /// Most cells the job's certified bottom checks may spend (default [`MAX_CHECK_CELLS`];
-    /// a comparison table shares it among its plans).
+    /// Most cells the job's certified bottom checks may be estimated to spend before the
+    /// work (default [`MAX_CHECK_CELLS`]; a comparison table shares it among its plans); the
+    /// checks stop at [`check_stop`] of it.
     pub max_check_cells: u64,
 }
 
