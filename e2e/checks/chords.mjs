@@ -1,10 +1,10 @@
-// The chords tab (seed 003): the parabola's equal-error chords against equal-interval and
+// The chords tab: the parabola's equal-error chords against equal-interval and
 // equal-step nodes, the plots, the tolerance slider.
 import {
   check, clickRect, dragSlider, drawnVariety, openSettled, panelDone, recordFrames, resetFrames, waitFor,
 } from "../harness.mjs";
 
-const TAB = "Chords (seed 003)";
+const TAB = "Chords";
 const done = panelDone(TAB);
 
 export const checks = [
@@ -17,7 +17,7 @@ export const checks = [
       const f4 = await waitFor(page, "the chords view", done);
       await recordFrames(page, "opening the chords tab", "chords");
       const rows = f4.panel.status.rows;
-      check("chords tab: the parabola's equal-error chords are the fewest (seed 003)",
+      check("chords tab: the parabola's equal-error chords are the fewest",
         rows["equal-error"].nodes === 18 && rows["equal-interval, sized by ρ_min"].nodes === 23 && rows["equal-step, sized by ρ_min"].nodes === 41,
         `${rows["equal-error"].nodes} / ${rows["equal-interval, sized by ρ_min"].nodes} / ${rows["equal-step, sized by ρ_min"].nodes} nodes at d = ${f4.panel.status.tol_mm} mm`);
       const v2 = await drawnVariety(page, "08-chords-parabola.png", f4.panel.status.ui.plots, 12);
