@@ -1,7 +1,8 @@
 // The chords tab: the parabola's equal-error chords against equal-interval and
 // equal-step nodes, the plots, the tolerance slider.
 import {
-  check, clickRect, dragSlider, drawnVariety, openSettled, panelDone, recordFrames, resetFrames, waitFor,
+  check, clickRect, clickUntil, dragSlider, drawnVariety, openSettled, panelDone, recordFrames, resetFrames, shotPath, status,
+  waitFor,
 } from "../harness.mjs";
 
 const TAB = "Chords";
@@ -26,6 +27,13 @@ export const checks = [
       await dragSlider(page, f4.panel.status.ui.tolerance);
       await waitFor(page, "the chords at a new tolerance", (s) => done(s) && s.panel.status.tol_mm !== f4.panel.status.tol_mm);
       await recordFrames(page, "dragging the chords tolerance slider", "chords");
+      // The tab is named by its subject; its help cites the article it follows.
+      const h0 = await status(page);
+      check("chords tab: named by its subject, its source cited", h0.panel.title === TAB && /Node calculation of equal-error/.test(h0.panel.paper ?? ""),
+        `${h0.panel.title}: ${h0.panel.paper}`);
+      // The help box opens above the tab strip: the tab's button moves down.
+      await clickUntil(page, "the help box open", (s) => s.ui.help, (s) => s.ui[TAB][1] > h0.ui[TAB][1]);
+      await page.screenshot({ path: shotPath("08b-chords-help.png") });
       await page.close();
     },
   },
