@@ -124,7 +124,7 @@ pub trait Panel {
     /// end-to-end test clicks).
     fn title(&self) -> &'static str;
     /// The paper the view is built from, as one line for its help (authors, English title,
-    /// venue, year: [`super::papers`]); `None` for a view of the user's own work.
+    /// venue, year: `app::papers`); `None` for a view of the user's own work.
     fn paper(&self) -> Option<&'static str> {
         None
     }
