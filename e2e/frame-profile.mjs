@@ -222,12 +222,12 @@ async function dragSlider(p, r, from = 40, to = 70, steps = 10) {
 
 const TABS = [
   { id: "crease", title: null, scene: null, slider: (s) => s.ui.feed_slider, done: (s) => settled(s) },
-  { id: "fiveaxis", title: "5-axis (seed 002)", slider: (s) => s.panel.status.ui.tolerance, done: (s) => s.panel.status.computing === false },
-  { id: "chords", title: "Chords (seed 003)", slider: (s) => s.panel.status.ui.tolerance, done: (s) => s.panel.status.computing === false },
-  { id: "nurbs", title: "NURBS & G-code (seed 004)", scene: "torus-plane.json", slider: (s) => s.panel.status.ui.tolerance_slider, done: (s) => s.panel.status.done },
+  { id: "fiveaxis", title: "5-axis steps", slider: (s) => s.panel.status.ui.tolerance, done: (s) => s.panel.status.computing === false },
+  { id: "chords", title: "Chords", slider: (s) => s.panel.status.ui.tolerance, done: (s) => s.panel.status.computing === false },
+  { id: "nurbs", title: "NURBS & G-code", scene: "torus-plane.json", slider: (s) => s.panel.status.ui.tolerance_slider, done: (s) => s.panel.status.done },
   { id: "simulation", title: "Cutting simulation", slider: (s) => s.panel.status.ui.sim_move_slider, from: 90, to: 50,
     done: (s) => s.panel.status.stage === "done" && s.panel.status.computing === false },
-  { id: "fillet", title: "Fillet end mill (seed 001)", slider: (s) => s.panel.status.ui.scallop_slider,
+  { id: "fillet", title: "Fillet end mill", slider: (s) => s.panel.status.ui.scallop_slider,
     done: (s) => s.panel.status.computing === false && s.panel.status.passes > 0 },
 ];
 

@@ -22,7 +22,7 @@ const url = process.argv[2] ?? "http://127.0.0.1:8765/";
 const artifacts = path.join(here, "artifacts", "hostile");
 fs.mkdirSync(artifacts, { recursive: true });
 
-const TAB = "NURBS & G-code (seed 004)";
+const TAB = "NURBS & G-code";
 const KINDS = [
   { key: "G01", value: "g01" },
   { key: "G02/G03", value: "arcs" },

@@ -198,18 +198,18 @@ fn each_tab_shows_the_scene_controls_only_where_it_uses_the_scene() {
     let mut h = Harness::new();
     h.settle();
     // The crease tab is a tab like the others: shown by its title, named in the status.
-    set(&mut h, "Crease (seed 000)", "", "");
+    set(&mut h, "Crease interpolation", "", "");
     assert!(scene_controls_shown(&mut h));
     let s: serde_json::Value = serde_json::from_str(&h.app.status()).expect("JSON");
-    assert_eq!(s["panel"]["title"], "Crease (seed 000)");
-    for title in ["Crease (seed 000)", FIVE_AXIS, CHORDS, "NURBS & G-code (seed 004)", SIMULATION, FILLET] {
+    assert_eq!(s["panel"]["title"], "Crease interpolation");
+    for title in ["Crease interpolation", FIVE_AXIS, CHORDS, "NURBS & G-code", SIMULATION, FILLET] {
         assert!(s["ui"].get(title).is_some(), "tab {title} not on screen: {}", s["ui"]);
     }
     // Tabs on their own curves or parts: no scene controls; on the scene's crease: shown.
     for (title, key, own, scene) in [
         (FIVE_AXIS, "source", "example1", "scene"),
         (CHORDS, "curve", "parabola", "crease"),
-        ("NURBS & G-code (seed 004)", "source", "parabola", "crease"),
+        ("NURBS & G-code", "source", "parabola", "crease"),
     ] {
         set(&mut h, title, key, own);
         assert!(!scene_controls_shown(&mut h), "{title} on {own}");
@@ -218,6 +218,37 @@ fn each_tab_shows_the_scene_controls_only_where_it_uses_the_scene() {
     }
     set(&mut h, FILLET, "", "");
     assert!(!scene_controls_shown(&mut h), "the fillet tab has its own parts");
+}
+
+/// Every tab is named by its subject, never by the project's internal "seed" numbers, and
+/// names the paper it follows in its status and help; each paper's English title is the one
+/// docs/papers.md cites. The user's own program follows none.
+#[test]
+fn each_tab_names_its_subject_and_its_paper() {
+    let mut h = Harness::new();
+    h.settle();
+    let papers =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/papers.md")).expect("docs/papers.md");
+    for title in ["Crease interpolation", FIVE_AXIS, CHORDS, "NURBS & G-code", SIMULATION, FILLET, "Your program"] {
+        set(&mut h, title, "", "");
+        h.frame();
+        let s: serde_json::Value = serde_json::from_str(&h.app.status()).expect("JSON");
+        assert_eq!(s["panel"]["title"], title);
+        assert!(!title.to_lowercase().contains("seed"), "{title}");
+        let paper = &s["panel"]["paper"];
+        if title == "Your program" {
+            assert!(paper.is_null(), "{title}: {paper}");
+            continue;
+        }
+        let paper = paper.as_str().unwrap_or_else(|| panic!("{title} names no paper: {s}"));
+        // The quoted English title, or the authors where our copy prints no title.
+        let cited = paper
+            .split('“')
+            .nth(1)
+            .and_then(|t| t.split('”').next())
+            .unwrap_or_else(|| paper.split(" (").next().expect("authors"));
+        assert!(papers.contains(cited), "{title}: \"{cited}\" is not in docs/papers.md");
+    }
 }
 
 /// Shows a view and sets an option as its widgets would.
@@ -245,7 +276,7 @@ fn settle_panel(h: &mut Harness, what: &str) -> serde_json::Value {
     panic!("{what}: the view did not finish");
 }
 
-const FIVE_AXIS: &str = "5-axis (seed 002)";
+const FIVE_AXIS: &str = "5-axis steps";
 
 #[test]
 fn the_five_axis_view_reproduces_example1_before_and_after() {
@@ -347,7 +378,7 @@ fn the_five_axis_tip_bound_gives_the_cores_plan() {
     assert!(core_bound.nodes.len() > core_plain.nodes.len());
 }
 
-const CHORDS: &str = "Chords (seed 003)";
+const CHORDS: &str = "Chords";
 
 fn row<'a>(s: &'a serde_json::Value, label: &str) -> &'a serde_json::Value {
     &s["rows"][label]
@@ -442,7 +473,7 @@ fn the_chords_view_cuts_the_crease_of_every_preset() {
     }
 }
 
-// ---- NURBS & G-code panel (seed 004) ----
+// ---- NURBS & G-code panel ----
 
 mod nurbs_panel {
     use std::path::{Path, PathBuf};
@@ -455,7 +486,7 @@ mod nurbs_panel {
 
     use super::Harness;
 
-    const TAB: &str = "NURBS & G-code (seed 004)";
+    const TAB: &str = "NURBS & G-code";
 
     /// A file dropped on the window (what a browser or the desktop gives the app).
     #[derive(Debug)]
@@ -945,7 +976,7 @@ fn the_simulation_view_gives_the_command_lines_numbers_for_the_scenes_programs()
     }
 }
 
-const FILLET: &str = "Fillet end mill (seed 001)";
+const FILLET: &str = "Fillet end mill";
 
 #[test]
 fn the_fillet_view_builds_the_cores_iso_scallop_paths_over_frames_and_restarts_on_a_change() {
@@ -1143,7 +1174,7 @@ fn simulate_this_program_hands_the_five_axis_and_nurbs_programs_over_and_compare
 
     // The NURBS & G-code tab's shown program (the scene's crease as G06.2): its text goes to
     // the simulation as program B, measured against the scene's surfaces with its ball.
-    set(&mut h, "NURBS & G-code (seed 004)", "", "");
+    set(&mut h, "NURBS & G-code", "", "");
     let t0 = std::time::Instant::now();
     loop {
         h.frame();
@@ -1155,7 +1186,7 @@ fn simulate_this_program_hands_the_five_axis_and_nurbs_programs_over_and_compare
         // Its programs are written by background jobs: they need time, not frames.
         std::thread::sleep(std::time::Duration::from_millis(1));
     }
-    set(&mut h, "NURBS & G-code (seed 004)", "simulate", "");
+    set(&mut h, "NURBS & G-code", "simulate", "");
     h.frame();
     h.frame();
     let s: serde_json::Value = serde_json::from_str(&h.app.status()).expect("status is JSON");

@@ -1,4 +1,4 @@
-// The fillet end mill tab (seed 001): the default finishing part's iso-scallop paths, built
+// The fillet end mill tab: the default finishing part's iso-scallop paths, built
 // path by path over frames and drawn with the cutter at a contact point; its program through
 // the cutting simulation; the comparison table as background jobs; picking on the surface.
 import {
@@ -6,7 +6,7 @@ import {
   screenshotUntil, shotPath, status, waitFor,
 } from "../harness.mjs";
 
-const TAB = "Fillet end mill (seed 001)";
+const TAB = "Fillet end mill";
 const pathsDone = (s) => s.panel && s.panel.title === TAB && s.panel.status && s.panel.status.computing === false && s.panel.status.passes > 0;
 
 export const checks = [

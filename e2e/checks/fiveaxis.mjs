@@ -1,10 +1,10 @@
-// The 5-axis tab (seed 002): Example 1 before and after its steps are inserted, the iteration
+// The 5-axis tab: Example 1 before and after its steps are inserted, the iteration
 // table following the tolerance slider, the tip-bound switch.
 import {
   check, clickRect, drawnVariety, openSettled, panelDone, recordFrames, resetFrames, shotPath, waitFor,
 } from "../harness.mjs";
 
-const TAB = "5-axis (seed 002)";
+const TAB = "5-axis steps";
 const done = panelDone(TAB);
 
 export const checks = [

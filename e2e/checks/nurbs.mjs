@@ -1,4 +1,4 @@
-// The NURBS & G-code tab (seed 004): the tab draws, its comparison is computed (in Web
+// The NURBS & G-code tab: the tab draws, its comparison is computed (in Web
 // Workers), a program downloaded from it and loaded back is drawn and measured, a malformed
 // one is refused with its line, the tolerance slider.
 import fs from "node:fs";
@@ -8,7 +8,7 @@ import {
   screenshotUntil, shotPath, status, waitFor, settled,
 } from "../harness.mjs";
 
-const TAB = "NURBS & G-code (seed 004)";
+const TAB = "NURBS & G-code";
 const done = (s) => s.panel && s.panel.title === TAB && s.panel.status && s.panel.status.done;
 
 export const checks = [

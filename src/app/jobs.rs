@@ -564,7 +564,7 @@ mod imp {
                                 }
                                 Some(out)
                             }
-                            Err(e) => self.here(&e, partials),
+                            Err(e) => self.here(&e.to_string(), partials),
                         };
                     }
                     _ => return self.here(body, partials),
@@ -630,16 +630,16 @@ mod tests {
         fn encode_request(r: &Self::Request) -> String {
             r.0.to_string()
         }
-        fn decode_request(_: &str) -> Result<Self::Request, String> {
+        fn decode_request(_: &str) -> Result<Self::Request, crate::jobs::DecodeError> {
             Err("not used".into())
         }
         fn encode_output(o: &u64) -> String {
             o.to_string()
         }
-        fn decode_output(t: &str) -> Result<u64, String> {
+        fn decode_output(t: &str) -> Result<u64, crate::jobs::DecodeError> {
             t.parse().map_err(|_| "not a count".into())
         }
-        fn decode_partial(t: &str) -> Result<u64, String> {
+        fn decode_partial(t: &str) -> Result<u64, crate::jobs::DecodeError> {
             t.parse().map_err(|_| "not a count".into())
         }
     }

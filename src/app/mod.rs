@@ -20,6 +20,7 @@ pub mod jobs;
 mod nurbs_panel;
 mod overlay;
 pub mod panel;
+mod papers;
 mod platform;
 pub mod ranges;
 mod scene_controls;
@@ -89,7 +90,8 @@ pub struct InterpolabApp {
     render_state: Option<eframe::egui_wgpu::RenderState>,
     /// The tab shown: an index into `panels`.
     tab: usize,
-    /// The tabs (crease, 5-axis, chords, NURBS & G-code, simulation, fillet), in order.
+    /// The tabs (crease, 5-axis, chords, NURBS & G-code, simulation, fillet, the user's
+    /// program), in order.
     panels: Vec<Box<dyn Panel>>,
     frames: u64,
     first_frame_ms: Option<f64>,
@@ -275,7 +277,7 @@ impl InterpolabApp {
     }
 
     /// Shows the tab titled `title` and sets one of its options as its widgets would, e.g.
-    /// `("5-axis (seed 002)", "source", "scene")`; with an empty `key` only shows it. For
+    /// `("5-axis steps", "source", "scene")`; with an empty `key` only shows it. For
     /// headless tests and automation.
     ///
     /// # Errors
@@ -338,9 +340,11 @@ impl InterpolabApp {
             ui.heading("interpolab");
             ui.label(egui::RichText::new("crease interpolation lab").weak());
             ui.separator();
-            if ui.selectable_label(self.show_help, "Help").clicked() {
+            let r = ui.selectable_label(self.show_help, "Help");
+            if r.clicked() {
                 self.show_help = !self.show_help;
             }
+            self.widget_rects.push(("help", r.rect));
         });
     }
 
@@ -464,7 +468,7 @@ impl InterpolabApp {
             "playback_k": self.playback.k.floor(),
             "ui": ui,
             "panel": self.panels.get(self.tab).map_or(serde_json::Value::Null, |p| {
-                serde_json::json!({ "title": p.title(), "status": p.status() })
+                serde_json::json!({ "title": p.title(), "paper": p.paper(), "status": p.status() })
             }),
         })
         .to_string()
@@ -604,7 +608,8 @@ impl eframe::App for InterpolabApp {
         egui::CentralPanel::default().show(ui, |ui| {
             self.banner(ui);
             if self.show_help {
-                help(ui);
+                let shown = self.panels.get(self.tab).map(|p| (p.title(), p.paper()));
+                help(ui, shown);
             }
             if !ablate::hidden(ablate::Part::Tabs) {
                 ui.horizontal(|ui| {
@@ -659,7 +664,9 @@ impl eframe::App for InterpolabApp {
     }
 }
 
-fn help(ui: &mut egui::Ui) {
+/// The help box: how to use the app, then the shown tab's paper (`shown`: its title and
+/// [`Panel::paper`]).
+fn help(ui: &mut egui::Ui, shown: Option<(&str, Option<&str>)>) {
     egui::Frame::group(ui.style()).show(ui, |ui| {
         ui.label(egui::RichText::new("How to use interpolab").strong());
         ui.label("• Pick an example at the top, or open / drop a scene file. Every change recomputes the path at once.");
@@ -668,6 +675,19 @@ fn help(ui: &mut egui::Ui) {
         ui.label("• Each period the centre advances by f = F·Ts. The plots show the measured errors e1, e2 against the allowed ±b·T and the paper's steady-state bound (16).");
         ui.label("• Playback moves the cutter at the machine's speed (× the speed factor); the plots' cursor follows it.");
         ui.label("• 🔗 Share link copies a URL that opens this exact scene; the last scene is kept across reloads.");
+        match shown {
+            Some((title, Some(paper))) => {
+                ui.separator();
+                ui.label(egui::RichText::new(format!("The {title} tab follows")).strong());
+                ui.label(paper);
+                ui.label(egui::RichText::new("docs/papers.md cites each paper in full and says where the lab departs from it.").weak());
+            }
+            Some((title, None)) => {
+                ui.separator();
+                ui.label(format!("The {title} tab follows no paper: it reads, times and simulates your own program."));
+            }
+            None => {}
+        }
     });
 }
 

@@ -49,6 +49,9 @@ pub struct PanelContext<'a> {
 /// Title of the cutting simulation view, the target of the "Simulate this program" buttons.
 pub const SIMULATION_TITLE: &str = "Cutting simulation";
 
+/// Title of the fillet end mill view, where a finishing program for the simulation is made.
+pub const FILLET_TITLE: &str = "Fillet end mill";
+
 /// A request from one view to another, routed by the app after the frame: show the view
 /// titled `to` and set its options in order, as [`Panel::set_option`] would — e.g. the 5-axis
 /// tab's "Simulate this program" is `("Cutting simulation", [("source", "steps")])`. A view
@@ -120,6 +123,11 @@ pub trait Panel {
     /// Tab title (also the key of its tab button in the status element, and what the
     /// end-to-end test clicks).
     fn title(&self) -> &'static str;
+    /// The paper the view is built from, as one line for its help (authors, English title,
+    /// venue, year: `app::papers`); `None` for a view of the user's own work.
+    fn paper(&self) -> Option<&'static str> {
+        None
+    }
     /// The kind of files this view accepts (routed to it when opened or dropped).
     fn accepts(&self) -> Option<FileKind> {
         None

@@ -295,7 +295,7 @@ pub fn scene_controls(
     section(ui, "Interpolation", true, |ui| {
         let opts = &mut ed.opts;
         let before = *opts;
-        ui.radio_value(&mut opts.method, Method::Seed000, "seed 000: track, correct, re-solve (no iteration)");
+        ui.radio_value(&mut opts.method, Method::Seed000, "the paper's: track, correct, re-solve (no iteration)");
         ui.radio_value(&mut opts.method, Method::Exact, "exact: Newton onto the crease (reference)");
         if is_seed000(opts) {
             ui.checkbox(&mut opts.exact_feed, "rescale each step to exactly f (eq. 2)");

@@ -105,7 +105,7 @@ pub(super) fn run(
                 if *e > allowed {
                     let _ = writeln!(
                         io::stderr(),
-                        "interpolab: {}: warning: the measured error on surface {} reaches {:.3e} mm at period {k}, above b·T{} = {} mm; lower motion.feed or motion.period (the error of seed 000 grows with the feed per period), or use --method exact",
+                        "interpolab: {}: warning: the measured error on surface {} reaches {:.3e} mm at period {k}, above b·T{} = {} mm; lower motion.feed or motion.period (the paper's error grows with the feed per period), or use --method exact",
                         path.display(),
                         i + 1,
                         e,

@@ -71,7 +71,7 @@ pub(crate) struct FinishArgs {
     #[arg(long)]
     table: bool,
     /// Also write a five-axis G-code program (G01 with the machine's joints, steps by the
-    /// seed-002 step selection within the scene's tolerance) to this file.
+    /// 5-axis step selection within the scene's tolerance) to this file.
     #[arg(long)]
     gcode: Option<PathBuf>,
     /// Tolerance E of the G-code steps (mm): the swept tool tip stays within E of its design

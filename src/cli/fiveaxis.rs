@@ -36,7 +36,7 @@ pub(crate) enum RootArg {
     Bisection,
     /// Golden-section cut of the bracket.
     Golden,
-    /// Seed 002's modified secant (regula falsi), eq. (4).
+    /// The 5-axis steps paper's modified secant (regula falsi), eq. (4).
     Secant,
     /// Regula falsi with the Illinois modification.
     Illinois,
@@ -56,7 +56,7 @@ impl RootArg {
     }
 }
 
-/// Planar test curves of seed 003 (and the blade section).
+/// Planar test curves of the chords article (and the blade section).
 #[derive(Clone, Copy, ValueEnum)]
 pub(crate) enum CurveArg {
     /// y = 0.025·x², 0 ≤ x ≤ 60 mm.
@@ -74,7 +74,7 @@ pub(crate) enum CurveArg {
 pub(crate) struct StepsArgs {
     /// Scene file: its crease, `machine` and `tool_axis` (defaults when absent).
     scene: Option<PathBuf>,
-    /// Seed 002's Example 1 instead of a scene.
+    /// The 5-axis steps paper's Example 1 instead of a scene.
     #[arg(long, conflicts_with = "scene")]
     example1: bool,
     /// A blade section instead of a scene: NACA four digits, e.g. 2412 (100 mm chord).
@@ -222,7 +222,9 @@ fn scene_case(path: &Path) -> Result<Case, Fatal> {
 fn example1_case() -> Case {
     let ex = example1();
     Case {
-        title: "seed 002, Example 1: circle r = 25 mm at z = 50, P1 (0, 25, 50) → P2 (1.744, 24.939, 50)".into(),
+        title:
+            "Example 1 of the 5-axis steps paper: circle r = 25 mm at z = 50, P1 (0, 25, 50) → P2 (1.744, 24.939, 50)"
+                .into(),
         rule: "turning from T1 (0, 1, 0) to T2 (0.997, -0.070, 0) along the great circle".into(),
         path: Box::new(ex.path),
         machine: ex.machine,
@@ -589,7 +591,7 @@ pub(super) fn example1_cmd(a: &Example1Args) -> Result<ExitCode, Fatal> {
         out.push_str(&s);
         out.push('\n');
     };
-    line("Seed 002, Example 1 (Ji, Zhou, An & Zhang 2010)".into());
+    line("Example 1 of the 5-axis steps paper (Ji, Zhou, An & Zhang 2010)".into());
     line("  circle r = 25 mm about the Z axis at z = 50 (a convex boss, tool outside), ball R = 5 mm".into());
     line(format!("  machine: {}; tolerance E = {} mm", describe_machine(&ex.machine), fmt_num(a.tolerance)));
     let before = evaluate_nodes(&ex.machine, &ex.path, &[s0, s1], &Default::default())
@@ -713,7 +715,7 @@ pub(super) fn table1(a: &Table1Args) -> Result<ExitCode, Fatal> {
         for m in RootMethod::ALL {
             let mut row = format!(
                 "| {} |",
-                if m == RootMethod::Secant { "secant (seed 002)".to_owned() } else { m.as_str().to_owned() }
+                if m == RootMethod::Secant { "secant (paper)".to_owned() } else { m.as_str().to_owned() }
             );
             for &t in &a.tolerances {
                 let opts = StepOptions { reports: false, ..StepOptions::new(t).with_method(m) };
@@ -851,7 +853,7 @@ fn chords_table(a: &ChordsArgs, opts: &ChordOptions) -> Result<ExitCode, Fatal> 
     }
     let mut o = BufWriter::new(io::stdout().lock());
     let mut w = |s: String| writeln!(o, "{s}").map_err(|e| fatal_io(&e));
-    w("Nodes and worst chord error per spacing (seed 003). Equal-interval: constant parameter step; equal-step: constant chord length.".into())?;
+    w("Nodes and worst chord error per spacing. Equal-interval: constant parameter step; equal-step: constant chord length.".into())?;
     for (title, curve) in &curves {
         w(String::new())?;
         w(format!("### {}", one_line(title)))?;
@@ -908,7 +910,7 @@ pub(super) fn scene_steps_program(
     let out = steps_canon(case.machine.kind, &blocks, scene.motion.feed, StepsFeed::Joints)
         .map_err(|e| Fatal(format!("{}: {e}", case.title)))?;
     let title = format!(
-        "{}: seed 002's {} tool steps at {} mm on {} {}",
+        "{}: {} five-axis tool steps at {} mm on {} {}",
         case.title,
         plan.segments(),
         fmt_num(tol),

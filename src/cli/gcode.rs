@@ -57,7 +57,7 @@ impl DialectsArg {
 
 #[derive(Clone, Copy, ValueEnum)]
 pub(crate) enum ProfileArg {
-    /// y = x²/40 for x from −60 to 60 mm (z = 0): a parabola-like profile like seed 004's.
+    /// y = x²/40 for x from −60 to 60 mm (z = 0): a parabola-like profile like the NURBS paper's.
     Parabola,
 }
 

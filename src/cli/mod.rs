@@ -35,7 +35,7 @@ use clap::{Parser, Subcommand, ValueEnum};
     name = "interpolab",
     version,
     about = "CNC tool-path interpolation lab: tool paths by the papers' methods, G-code written and read, cutting simulation, machining time",
-    long_about = "CNC tool-path interpolation lab: tool paths by the papers' methods (crease interpolation, seed 000; fillet-end finishing, 001; five-axis tool steps, 002; equal-error chords, 003; NURBS fitting and G-code, 004), G-code programs written and read, cutting simulation on a dexel stock, and the time a program takes on a machine.\n\nWithout a subcommand (and built with the `app` feature) it opens the app in a window."
+    long_about = "CNC tool-path interpolation lab: tool paths by the papers' methods (crease interpolation; fillet-end finishing; five-axis tool steps; equal-error chords; NURBS fitting and G-code; docs/papers.md cites each paper), G-code programs written and read, cutting simulation on a dexel stock, and the time a program takes on a machine.\n\nWithout a subcommand (and built with the `app` feature) it opens the app in a window."
 )]
 struct Cli {
     #[command(subcommand)]
@@ -50,7 +50,7 @@ pub(crate) enum OutFormat {
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub(crate) enum MethodArg {
-    /// Seed 000's track–correct–re-solve step (no iteration).
+    /// The crease paper's track–correct–re-solve step (no iteration).
     Seed000,
     /// Newton projection onto the exact crease (precise mode).
     Exact,
@@ -83,7 +83,7 @@ enum Command {
         /// Scene file.
         scene: PathBuf,
     },
-    /// Write a G01, G02/G03 or G06.2 program for a scene's crease within a tolerance (seed 004).
+    /// Write a G01, G02/G03 or G06.2 program for a scene's crease within a tolerance.
     Gcode(gcode::GcodeArgs),
     /// Read a G-code program; with --scene, report its deviation from the design crease.
     Replay(Box<gcode::ReplayArgs>),
@@ -93,15 +93,15 @@ enum Command {
     Compare(gcode::CompareArgs),
     /// Real-time interpolation of the fitted G06.2 curve: one CSV row per period.
     Nurbs(gcode::NurbsArgs),
-    /// Five-axis tool steps (seed 002): nodes with joint values so every segment's |δt + δn| = E.
+    /// Five-axis tool steps (Ji, Zhou, An & Zhang 2010): nodes with joint values so every segment's |δt + δn| = E.
     Steps(fiveaxis::StepsArgs),
-    /// Seed 002's Example 1: the gouge of one block, then the steps the method inserts.
+    /// Example 1 of the 5-axis steps paper: the gouge of one block, then the steps the method inserts.
     Example1(fiveaxis::Example1Args),
-    /// Seed 002's Table 1: iterations and time per step-selection method at 0.1, 0.01, 0.001 mm.
+    /// Table 1 of the 5-axis steps paper: iterations and time per step-selection method at 0.1, 0.01, 0.001 mm.
     Table1(fiveaxis::Table1Args),
-    /// Equal-error chords (seed 003) of a planar curve or a scene's crease; --table compares spacings.
+    /// Equal-error chords of a planar curve or a scene's crease; --table compares spacings.
     Chords(fiveaxis::ChordsArgs),
-    /// Five-axis finishing of one surface with a fillet-end mill (seed 001): CL data, --table, --gcode.
+    /// Five-axis finishing of one surface with a fillet-end mill: CL data, --table, --gcode.
     Finish(finish::FinishArgs),
     /// Cutting simulation: machine a G-code program into a dexel stock; height map (CSV), PNG, statistics (JSON).
     Simulate(Box<simulate::SimulateArgs>),

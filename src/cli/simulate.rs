@@ -76,11 +76,11 @@ pub(crate) struct SimulateArgs {
     /// Write a PNG of the result (deviation colours with a design, heights without).
     #[arg(long)]
     png: Option<PathBuf>,
-    /// PROGRAM is a scene: simulate its seed-002 five-axis tool steps at this tolerance (mm),
+    /// PROGRAM is a scene: simulate its five-axis tool steps at this tolerance (mm),
     /// joints interpolated linearly on the scene's machine; the design is its two surfaces.
     #[arg(value_parser = super::finite, long, conflicts_with_all = ["design_z", "scene"])]
     steps: Option<f64>,
-    /// PROGRAM is a finishing scene (seed 001, a `finish` key): simulate the five-axis
+    /// PROGRAM is a finishing scene (a `finish` key): simulate the five-axis
     /// program `interpolab finish --gcode` writes for it, steps within this tolerance (mm),
     /// joints interpolated linearly on the scene's machine; the design is the finish surface.
     #[arg(value_parser = super::finite, long, conflicts_with_all = ["design_z", "scene", "steps"])]

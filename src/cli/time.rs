@@ -77,7 +77,7 @@ pub(crate) struct TimeArgs {
     /// For a scene: the program's tolerance (mm).
     #[arg(long, value_parser = super::finite, default_value_t = 0.01)]
     pub program_tolerance: f64,
-    /// For a scene: instead of a 3-axis program, seed 002's five-axis tool steps at this
+    /// For a scene: instead of a 3-axis program, the five-axis tool steps at this
     /// tolerance (mm) through the scene's machine, as the joint moves the machine makes.
     #[arg(long, value_parser = super::finite)]
     pub steps: Option<f64>,

@@ -9,7 +9,7 @@
 
 use serde_json::json;
 
-use super::{JobKind, Progress, Reader, nums, parse};
+use super::{DecodeError, JobKind, Progress, Reader, nums, parse};
 use crate::fillet::{Layout, PartSamples, Stats, iso_parametric_from, iso_scallop_from};
 use crate::scene::finish::FinishScene;
 
@@ -30,11 +30,10 @@ fn layout_name(l: Layout) -> &'static str {
     l.name()
 }
 
-fn layout_of(name: &str) -> Result<Layout, String> {
-    [Layout::IsoScallop, Layout::IsoParametric]
-        .into_iter()
-        .find(|l| l.name() == name)
-        .ok_or_else(|| format!("fillet-row request.layout: \"{name}\" is neither iso-scallop nor iso-parametric"))
+fn layout_of(name: &str) -> Result<Layout, DecodeError> {
+    [Layout::IsoScallop, Layout::IsoParametric].into_iter().find(|l| l.name() == name).ok_or_else(|| {
+        format!("fillet-row request.layout: \"{name}\" is neither iso-scallop nor iso-parametric").into()
+    })
 }
 
 impl JobKind for FilletRow {
@@ -62,7 +61,7 @@ impl JobKind for FilletRow {
         json!({ "scene": r.scene.to_json(), "layout": layout_name(r.layout) }).to_string()
     }
 
-    fn decode_request(text: &str) -> Result<Request, String> {
+    fn decode_request(text: &str) -> Result<Request, DecodeError> {
         let v = parse(text, "fillet-row request")?;
         let r = Reader::new(&v, "fillet-row request")?;
         let scene = FinishScene::from_json(r.str("scene")?).map_err(|e| format!("fillet-row request.scene: {e}"))?;
@@ -85,17 +84,17 @@ impl JobKind for FilletRow {
         }
     }
 
-    fn decode_output(text: &str) -> Result<Self::Output, String> {
+    fn decode_output(text: &str) -> Result<Self::Output, DecodeError> {
         let v = parse(text, "fillet-row output")?;
         if let Some(e) = v.get("error") {
             return Ok(Err(e.as_str().unwrap_or("the row failed").to_owned()));
         }
         let r = Reader::new(&v, "fillet-row output")?;
-        let three = |key: &str| -> Result<[f64; 3], String> {
-            r.f64s(key)?.try_into().map_err(|_| format!("fillet-row output.{key}: not three numbers"))
+        let three = |key: &str| -> Result<[f64; 3], DecodeError> {
+            r.f64s(key)?.try_into().map_err(|_| format!("fillet-row output.{key}: not three numbers").into())
         };
-        let two = |key: &str| -> Result<[f64; 2], String> {
-            r.f64s(key)?.try_into().map_err(|_| format!("fillet-row output.{key}: not two numbers"))
+        let two = |key: &str| -> Result<[f64; 2], DecodeError> {
+            r.f64s(key)?.try_into().map_err(|_| format!("fillet-row output.{key}: not two numbers").into())
         };
         Ok(Ok(Stats {
             passes: r.usize("passes")?,
@@ -108,7 +107,7 @@ impl JobKind for FilletRow {
         }))
     }
 
-    fn decode_partial(_text: &str) -> Result<(), String> {
+    fn decode_partial(_text: &str) -> Result<(), DecodeError> {
         Ok(())
     }
 }
@@ -208,10 +207,12 @@ mod tests {
         }
         let err = FilletRow::decode_output(&FilletRow::encode_output(&Err("no paths".into()))).unwrap();
         assert_eq!(err.unwrap_err(), "no paths");
-        let bad = FilletRow::decode_request("{\"scene\": \"{}\", \"layout\": \"iso-scallop\"}").unwrap_err();
-        assert!(bad.starts_with("fillet-row request.scene"), "{bad}");
         let bad =
-            FilletRow::decode_request(&json!({"scene": scene.to_json(), "layout": "zigzag"}).to_string()).unwrap_err();
+            FilletRow::decode_request("{\"scene\": \"{}\", \"layout\": \"iso-scallop\"}").unwrap_err().to_string();
+        assert!(bad.starts_with("fillet-row request.scene"), "{bad}");
+        let bad = FilletRow::decode_request(&json!({"scene": scene.to_json(), "layout": "zigzag"}).to_string())
+            .unwrap_err()
+            .to_string();
         assert!(bad.contains("zigzag"), "{bad}");
     }
 }

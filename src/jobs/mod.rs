@@ -28,6 +28,38 @@ pub mod user_program;
 
 use glam::DVec3;
 use serde_json::Value;
+use thiserror::Error;
+
+/// Why an encoded request, output or partial output cannot be read: a message naming the
+/// malformed field (e.g. `program-row request.point: "x" is neither centre nor tip`). Only a
+/// page and a worker of different builds, or a bug, give one; a job's own failure is its
+/// output's error instead, in the user's terms.
+#[derive(Clone, Debug, PartialEq, Eq, Error)]
+#[error("{0}")]
+pub struct DecodeError(String);
+
+impl From<String> for DecodeError {
+    fn from(message: String) -> Self {
+        Self(message)
+    }
+}
+
+impl From<&str> for DecodeError {
+    fn from(message: &str) -> Self {
+        Self(message.to_owned())
+    }
+}
+
+/// Why the worker cannot answer a message ([`run_encoded`]).
+#[derive(Clone, Debug, PartialEq, Eq, Error)]
+pub enum WorkerError {
+    /// No job kind has that name.
+    #[error("the worker knows no job \"{0}\"")]
+    UnknownJob(String),
+    /// The request does not decode.
+    #[error(transparent)]
+    Request(#[from] DecodeError),
+}
 
 /// What a running job reports besides its output.
 pub trait Progress {
@@ -57,19 +89,19 @@ pub trait JobKind: 'static {
     ///
     /// # Errors
     /// A message naming what is malformed.
-    fn decode_request(text: &str) -> Result<Self::Request, String>;
+    fn decode_request(text: &str) -> Result<Self::Request, DecodeError>;
     /// The output as text.
     fn encode_output(output: &Self::Output) -> String;
     /// The output from its text.
     ///
     /// # Errors
     /// A message naming what is malformed.
-    fn decode_output(text: &str) -> Result<Self::Output, String>;
+    fn decode_output(text: &str) -> Result<Self::Output, DecodeError>;
     /// A partial output from its text ([`Progress::partial`]).
     ///
     /// # Errors
     /// A message naming what is malformed.
-    fn decode_partial(text: &str) -> Result<Self::Partial, String>;
+    fn decode_partial(text: &str) -> Result<Self::Partial, DecodeError>;
 }
 
 /// Runs an encoded request of the kind named `name` and returns its encoded output: what a
@@ -77,8 +109,8 @@ pub trait JobKind: 'static {
 ///
 /// # Errors
 /// An unknown kind or a malformed request.
-pub fn run_encoded(name: &str, request: &str, progress: &mut dyn Progress) -> Result<String, String> {
-    fn go<K: JobKind>(request: &str, progress: &mut dyn Progress) -> Result<String, String> {
+pub fn run_encoded(name: &str, request: &str, progress: &mut dyn Progress) -> Result<String, WorkerError> {
+    fn go<K: JobKind>(request: &str, progress: &mut dyn Progress) -> Result<String, WorkerError> {
         let req = K::decode_request(request)?;
         Ok(K::encode_output(&K::run(&req, progress)))
     }
@@ -88,7 +120,7 @@ pub fn run_encoded(name: &str, request: &str, progress: &mut dyn Progress) -> Re
         simulate_run::SimulateRun::NAME => go::<simulate_run::SimulateRun>(request, progress),
         user_program::UserProgram::NAME => go::<user_program::UserProgram>(request, progress),
         program_time::ProgramTime::NAME => go::<program_time::ProgramTime>(request, progress),
-        _ => Err(format!("the worker knows no job \"{name}\"")),
+        _ => Err(WorkerError::UnknownJob(name.to_owned())),
     }
 }
 
@@ -124,42 +156,44 @@ pub(crate) struct Reader<'a> {
 }
 
 impl<'a> Reader<'a> {
-    pub(crate) fn new(v: &'a Value, what: &'static str) -> Result<Self, String> {
-        v.as_object().map(|obj| Self { obj, what }).ok_or_else(|| format!("{what}: not an object"))
+    pub(crate) fn new(v: &'a Value, what: &'static str) -> Result<Self, DecodeError> {
+        v.as_object().map(|obj| Self { obj, what }).ok_or_else(|| DecodeError::from(format!("{what}: not an object")))
     }
-    pub(crate) fn value(&self, key: &str) -> Result<&'a Value, String> {
-        self.obj.get(key).ok_or_else(|| format!("{}: no field \"{key}\"", self.what))
+    pub(crate) fn value(&self, key: &str) -> Result<&'a Value, DecodeError> {
+        self.obj.get(key).ok_or_else(|| DecodeError::from(format!("{}: no field \"{key}\"", self.what)))
     }
-    pub(crate) fn f64(&self, key: &str) -> Result<f64, String> {
-        as_f64(self.value(key)?).ok_or_else(|| format!("{}.{key}: not an encoded number", self.what))
+    pub(crate) fn f64(&self, key: &str) -> Result<f64, DecodeError> {
+        as_f64(self.value(key)?).ok_or_else(|| DecodeError::from(format!("{}.{key}: not an encoded number", self.what)))
     }
-    pub(crate) fn opt_f64(&self, key: &str) -> Result<Option<f64>, String> {
+    pub(crate) fn opt_f64(&self, key: &str) -> Result<Option<f64>, DecodeError> {
         match self.value(key)? {
             Value::Null => Ok(None),
-            v => as_f64(v).map(Some).ok_or_else(|| format!("{}.{key}: not an encoded number", self.what)),
+            v => as_f64(v)
+                .map(Some)
+                .ok_or_else(|| DecodeError::from(format!("{}.{key}: not an encoded number", self.what))),
         }
     }
-    pub(crate) fn usize(&self, key: &str) -> Result<usize, String> {
+    pub(crate) fn usize(&self, key: &str) -> Result<usize, DecodeError> {
         self.value(key)?
             .as_u64()
             .and_then(|n| usize::try_from(n).ok())
-            .ok_or_else(|| format!("{}.{key}: not a count", self.what))
+            .ok_or_else(|| DecodeError::from(format!("{}.{key}: not a count", self.what)))
     }
-    pub(crate) fn str(&self, key: &str) -> Result<&'a str, String> {
-        self.value(key)?.as_str().ok_or_else(|| format!("{}.{key}: not text", self.what))
+    pub(crate) fn str(&self, key: &str) -> Result<&'a str, DecodeError> {
+        self.value(key)?.as_str().ok_or_else(|| DecodeError::from(format!("{}.{key}: not text", self.what)))
     }
-    pub(crate) fn vec3(&self, key: &str) -> Result<DVec3, String> {
+    pub(crate) fn vec3(&self, key: &str) -> Result<DVec3, DecodeError> {
         let xs = self.f64s(key)?;
         match xs[..] {
             [x, y, z] => Ok(DVec3::new(x, y, z)),
-            _ => Err(format!("{}.{key}: not three numbers", self.what)),
+            _ => Err(format!("{}.{key}: not three numbers", self.what).into()),
         }
     }
-    pub(crate) fn f64s(&self, key: &str) -> Result<Vec<f64>, String> {
+    pub(crate) fn f64s(&self, key: &str) -> Result<Vec<f64>, DecodeError> {
         self.value(key)?
             .as_array()
             .and_then(|a| a.iter().map(as_f64).collect::<Option<Vec<_>>>())
-            .ok_or_else(|| format!("{}.{key}: not a list of encoded numbers", self.what))
+            .ok_or_else(|| DecodeError::from(format!("{}.{key}: not a list of encoded numbers", self.what)))
     }
 }
 
@@ -190,38 +224,38 @@ pub(crate) fn bits_packed(flags: &[bool]) -> Value {
 }
 
 impl Reader<'_> {
-    fn packed(&self, key: &str) -> Result<Vec<u8>, String> {
+    fn packed(&self, key: &str) -> Result<Vec<u8>, DecodeError> {
         self.str(key)
             .ok()
             .and_then(crate::scene::link::base64url_decode)
-            .ok_or_else(|| format!("{}.{key}: not packed data", self.what))
+            .ok_or_else(|| DecodeError::from(format!("{}.{key}: not packed data", self.what)))
     }
     /// `n` floats packed by [`f64s_packed`].
-    pub(crate) fn f64s_packed(&self, key: &str, n: usize) -> Result<Vec<f64>, String> {
+    pub(crate) fn f64s_packed(&self, key: &str, n: usize) -> Result<Vec<f64>, DecodeError> {
         let b = self.packed(key)?;
         if b.len() != 8 * n {
-            return Err(format!("{}.{key}: {} bytes for {n} numbers", self.what, b.len()));
+            return Err(format!("{}.{key}: {} bytes for {n} numbers", self.what, b.len()).into());
         }
         Ok(b.chunks_exact(8).map(|c| f64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]])).collect())
     }
     /// `n` floats packed by [`f32s_packed`].
-    pub(crate) fn f32s_packed(&self, key: &str, n: usize) -> Result<Vec<f32>, String> {
+    pub(crate) fn f32s_packed(&self, key: &str, n: usize) -> Result<Vec<f32>, DecodeError> {
         let b = self.packed(key)?;
         if b.len() != 4 * n {
-            return Err(format!("{}.{key}: {} bytes for {n} numbers", self.what, b.len()));
+            return Err(format!("{}.{key}: {} bytes for {n} numbers", self.what, b.len()).into());
         }
         Ok(b.chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect())
     }
     /// `n` flags packed by [`bits_packed`].
-    pub(crate) fn bits_packed(&self, key: &str, n: usize) -> Result<Vec<bool>, String> {
+    pub(crate) fn bits_packed(&self, key: &str, n: usize) -> Result<Vec<bool>, DecodeError> {
         let b = self.packed(key)?;
         if b.len() != n.div_ceil(8) {
-            return Err(format!("{}.{key}: {} bytes for {n} flags", self.what, b.len()));
+            return Err(format!("{}.{key}: {} bytes for {n} flags", self.what, b.len()).into());
         }
         Ok((0..n).map(|i| b[i / 8] & (1 << (i % 8)) != 0).collect())
     }
 }
 
-pub(crate) fn parse(text: &str, what: &'static str) -> Result<Value, String> {
-    serde_json::from_str(text).map_err(|e| format!("{what}: not JSON ({e})"))
+pub(crate) fn parse(text: &str, what: &'static str) -> Result<Value, DecodeError> {
+    serde_json::from_str(text).map_err(|e| format!("{what}: not JSON ({e})").into())
 }

@@ -11,20 +11,21 @@
 
 use glam::DVec3;
 use serde_json::{Value, json};
+use thiserror::Error;
 
-use super::{JobKind, Progress, Reader, nums, parse, vec3};
+use super::{DecodeError, JobKind, Progress, Reader, nums, parse, vec3};
 use crate::crease::CreaseJob;
 use crate::gcode::compare::Junctions;
 use crate::gcode::path::Toolpath;
 use crate::gcode::{
-    CompareOptions, CompareRow, Deviation, Dialect, Program, ProgramError, ProgramKind, ProgramOptions,
+    CompareOptions, CompareRow, DesignError, Deviation, Dialect, Program, ProgramError, ProgramKind, ProgramOptions,
     ProgrammedPoint, compare_row, crease_design, parse_program_in,
 };
 use crate::geom::{Curve3, NurbsCurve};
 use crate::nurbs_path::{FitError, Parabola};
 use crate::plan::{Dynamics, PlanError, canon_of_toolpath, time_program};
 use crate::report::fmt_fixed;
-use crate::scene::Scene;
+use crate::scene::{Scene, SceneError};
 
 /// A program's time on a machine: its feed planned within the machine's joint limits and
 /// contour tolerance ([`time_program`] on [`canon_of_toolpath`] of the program as read back).
@@ -76,6 +77,29 @@ pub fn cycle_time(toolpath: &Toolpath, machine: &Dynamics) -> Result<CycleTime, 
     Ok(CycleTime { machine: machine.name.clone(), total_s: t.total_s(), feed_s, cut_mm })
 }
 
+/// Why one program of the comparison cannot be made, in the app's words (the job's output
+/// hands it over as text: [`ProgramRow`]'s output is `Result<_, String>`).
+#[derive(Clone, Debug, Error)]
+pub enum RowError {
+    /// The job was cancelled.
+    #[error("cancelled")]
+    Cancelled,
+    /// The scene of the design path cannot be read or run.
+    #[error("the scene: {0}")]
+    Scene(SceneError),
+    /// The scene's crease gives no design path.
+    #[error("The scene's crease gives no design path: {0}. Change the scene, or use the parabola profile.")]
+    NoDesign(DesignError),
+    /// The program cannot be written ([`describe_program_error`]).
+    #[error("{}", describe_program_error(.source, *.kind))]
+    Program {
+        /// The program's kind.
+        kind: ProgramKind,
+        /// Why.
+        source: ProgramError,
+    },
+}
+
 /// A row of the comparison with its time on the machine of the request.
 #[derive(Clone, Debug)]
 pub struct TimedRow {
@@ -90,16 +114,16 @@ pub struct TimedRow {
 /// thread.
 ///
 /// # Errors
-/// The program cannot be written ([`describe_program_error`]). A planning error is not one:
-/// it is the row's `time`.
+/// The program cannot be written ([`RowError::Program`]). A planning error is not one: it is
+/// the row's `time`.
 pub fn timed_row(
     kind: ProgramKind,
     design: &dyn Curve3,
     tol_mm: f64,
     options: &CompareOptions,
     machine: Option<&Dynamics>,
-) -> Result<TimedRow, String> {
-    let row = compare_row(kind, design, tol_mm, options).map_err(|e| describe_program_error(&e, kind))?;
+) -> Result<TimedRow, RowError> {
+    let row = compare_row(kind, design, tol_mm, options).map_err(|source| RowError::Program { kind, source })?;
     let time = machine.map(|m| {
         cycle_time(&row.program.parsed.toolpath, m)
             .map_err(|e| format!("The {} program cannot be timed on {}: {e}", kind.label(), m.name))
@@ -150,17 +174,25 @@ impl Design {
     }
 }
 
-fn build_design(spec: &DesignSpec) -> Result<Design, String> {
+fn build_design(spec: &DesignSpec) -> Result<Design, RowError> {
     match spec {
         DesignSpec::Parabola => Ok(Design::Parabola(Parabola::paper_like())),
         DesignSpec::Scene(text) => {
-            let scene = Scene::from_json(text).map_err(|e| format!("the scene: {e}"))?;
-            let job = CreaseJob::from_scene(&scene).map_err(|e| format!("the scene: {e}"))?;
-            crease_design(&job).map(|c| Design::Crease(Box::new(c))).map_err(|e| {
-                format!("The scene's crease gives no design path: {e}. Change the scene, or use the parabola profile.")
-            })
+            let scene = Scene::from_json(text).map_err(RowError::Scene)?;
+            let job = CreaseJob::from_scene(&scene).map_err(RowError::Scene)?;
+            crease_design(&job).map(|c| Design::Crease(Box::new(c))).map_err(RowError::NoDesign)
         }
     }
+}
+
+/// The job's work on a request.
+fn run_row(request: &Request, progress: &mut dyn Progress) -> Result<TimedRow, RowError> {
+    let design = build_design(&request.design)?;
+    if progress.cancelled() {
+        return Err(RowError::Cancelled);
+    }
+    progress.progress(0.5);
+    timed_row(request.kind, design.curve(), request.tol_mm, &request.options, request.machine.as_ref())
 }
 
 impl JobKind for ProgramRow {
@@ -170,12 +202,7 @@ impl JobKind for ProgramRow {
     type Partial = ();
 
     fn run(request: &Request, progress: &mut dyn Progress) -> Self::Output {
-        let design = build_design(&request.design)?;
-        if progress.cancelled() {
-            return Err("cancelled".to_owned());
-        }
-        progress.progress(0.5);
-        timed_row(request.kind, design.curve(), request.tol_mm, &request.options, request.machine.as_ref())
+        run_row(request, progress).map_err(|e| e.to_string())
     }
 
     fn encode_request(r: &Request) -> String {
@@ -202,7 +229,7 @@ impl JobKind for ProgramRow {
         .to_string()
     }
 
-    fn decode_request(text: &str) -> Result<Request, String> {
+    fn decode_request(text: &str) -> Result<Request, DecodeError> {
         let v = parse(text, "program-row request")?;
         let r = Reader::new(&v, "program-row request")?;
         let design = match r.value("scene")? {
@@ -212,7 +239,7 @@ impl JobKind for ProgramRow {
         let point = match r.str("point")? {
             "centre" => ProgrammedPoint::BallCentre,
             "tip" => ProgrammedPoint::BallTip { radius_mm: r.f64("radius_mm")? },
-            other => return Err(format!("program-row request.point: \"{other}\" is neither centre nor tip")),
+            other => return Err(format!("program-row request.point: \"{other}\" is neither centre nor tip").into()),
         };
         let dialect = *Dialect::ALL.get(r.usize("dialect")?).ok_or("program-row request.dialect: out of range")?;
         // A request of an older page has no machine: not timed.
@@ -304,7 +331,7 @@ impl JobKind for ProgramRow {
         .to_string()
     }
 
-    fn decode_output(text: &str) -> Result<Self::Output, String> {
+    fn decode_output(text: &str) -> Result<Self::Output, DecodeError> {
         let v = parse(text, "program-row output")?;
         if let Some(e) = v.get("error") {
             return Ok(Err(e.as_str().unwrap_or("the job failed").to_owned()));
@@ -330,7 +357,7 @@ impl JobKind for ProgramRow {
                     .map(|p| p.as_array().and_then(|a| a.iter().map(|x| x.as_u64().map(f64::from_bits)).collect()))
                     .map(|xs: Option<Vec<f64>>| match xs.as_deref() {
                         Some([x, y, z]) => Ok(DVec3::new(*x, *y, *z)),
-                        _ => Err("program-row output.program.nurbs.points: not points".to_owned()),
+                        _ => Err(DecodeError::from("program-row output.program.nurbs.points: not points")),
                     })
                     .collect::<Result<Vec<_>, _>>()?;
                 let weights = n.f64s("weights")?;
@@ -395,7 +422,7 @@ impl JobKind for ProgramRow {
         Ok(Ok(TimedRow { row, time }))
     }
 
-    fn decode_partial(_text: &str) -> Result<(), String> {
+    fn decode_partial(_text: &str) -> Result<(), DecodeError> {
         Ok(())
     }
 }
@@ -505,7 +532,7 @@ mod tests {
         assert!(err.contains("below twice the resolution"), "{err}");
         let out = ProgramRow::decode_output(&ProgramRow::encode_output(&Err(err.clone()))).unwrap();
         assert_eq!(out.unwrap_err(), err);
-        let broken = ProgramRow::decode_request("{\"scene\": null}").unwrap_err();
+        let broken = ProgramRow::decode_request("{\"scene\": null}").unwrap_err().to_string();
         assert!(broken.contains("no field"), "{broken}");
         // A request and an output of an older page or worker (no machine, no time) still read:
         // not timed.

@@ -5,12 +5,13 @@
 //! acceleration and jerk along the path against time, sampled for a plot.
 
 use serde_json::json;
+use thiserror::Error;
 
-use super::user_program::{self, UserProgram};
-use super::{JobKind, Progress, Reader, f32s_packed, parse};
+use super::user_program::{self, UserProgram, UserProgramError};
+use super::{DecodeError, JobKind, Progress, Reader, f32s_packed, parse};
 use crate::gcode::interp::tools::TableUnits;
-use crate::gcode::interp::{Interpreter, Options, TextLibrary, TextSource};
-use crate::plan::{Dynamics, Timing, time_program};
+use crate::gcode::interp::{InterpError, Interpreter, Options, TextLibrary, TextSource};
+use crate::plan::{Dynamics, PlanError, Timing, time_program};
 
 /// Samples of the feed, acceleration and jerk handed back for the plot (evenly in time).
 pub const PLOT_SAMPLES: usize = 2000;
@@ -89,14 +90,42 @@ pub fn feeds_by_block(lines: &[u32], files: &[u16], t: &Timed) -> Vec<f32> {
 #[derive(Clone, Copy, Debug)]
 pub struct ProgramTime;
 
+/// Why a program cannot be timed, in the app's words (the job's output hands it over as text:
+/// [`ProgramTime`]'s output is `Result<_, String>`).
+#[derive(Clone, Debug, Error)]
+pub enum TimeError {
+    /// The job was cancelled.
+    #[error("cancelled")]
+    Cancelled,
+    /// The program's tools (its table, project or the user's tools) cannot be read.
+    #[error(transparent)]
+    Tools(UserProgramError),
+    /// The interpreter stops on the program (its line and message).
+    #[error("{name}: {error}")]
+    Program {
+        /// The program's name.
+        name: String,
+        /// Why.
+        error: InterpError,
+    },
+    /// The planner refuses the program on this machine.
+    #[error("{name}: {error}")]
+    Plan {
+        /// The program's name.
+        name: String,
+        /// Why.
+        error: PlanError,
+    },
+}
+
 /// Reads the program into canonical motions and plans it on the machine.
 ///
 /// # Errors
 /// A bad table or project, the interpreter's error with its line, the planner's (a feed move
 /// without a feed, a bad machine, a program beyond its caps), or cancelled.
-pub fn time(req: &Request, progress: &mut dyn Progress) -> Result<Timing, String> {
+pub fn time(req: &Request, progress: &mut dyn Progress) -> Result<Timing, TimeError> {
     let p = &req.program;
-    let (table, project) = user_program::tools_of(p)?;
+    let (table, project) = user_program::tools_of(p).map_err(TimeError::Tools)?;
     let inch = project.as_ref().is_some_and(|p| p.units == TableUnits::Inch);
     let opts = Options { tools: table, inch, ..Options::default() };
     let mut lib = TextLibrary::new();
@@ -107,15 +136,15 @@ pub fn time(req: &Request, progress: &mut dyn Progress) -> Result<Timing, String
     let size = p.text.len().max(1) as f64;
     let mut canon = Vec::new();
     while let Some(c) = it.next() {
-        canon.push(c.map_err(|e| format!("{}: {e}", p.name))?);
+        canon.push(c.map_err(|error| TimeError::Program { name: p.name.clone(), error })?);
         if canon.len().is_multiple_of(4096) {
             progress.progress(0.5 * it.main_offset() as f64 / size);
             if progress.cancelled() {
-                return Err("cancelled".to_owned());
+                return Err(TimeError::Cancelled);
             }
         }
     }
-    let t = time_program(canon, &req.machine).map_err(|e| format!("{}: {e}", p.name))?;
+    let t = time_program(canon, &req.machine).map_err(|error| TimeError::Plan { name: p.name.clone(), error })?;
     progress.progress(1.0);
     Ok(t)
 }
@@ -172,7 +201,7 @@ impl JobKind for ProgramTime {
     type Partial = ();
 
     fn run(req: &Request, progress: &mut dyn Progress) -> Self::Output {
-        time(req, progress).map(|t| timed(&t))
+        time(req, progress).map(|t| timed(&t)).map_err(|e| e.to_string())
     }
 
     /// The machine as one line of JSON, then the program's request as the user-program job
@@ -181,7 +210,7 @@ impl JobKind for ProgramTime {
         format!("{}\n{}", r.machine.to_value(), UserProgram::encode_request(&r.program))
     }
 
-    fn decode_request(text: &str) -> Result<Request, String> {
+    fn decode_request(text: &str) -> Result<Request, DecodeError> {
         let (machine, program) = text.split_once('\n').ok_or("program-time request: no program after the machine")?;
         let machine =
             Dynamics::from_value(&parse(machine, "program-time request.machine")?).map_err(|e| e.to_string())?;
@@ -212,7 +241,7 @@ impl JobKind for ProgramTime {
         }
     }
 
-    fn decode_output(text: &str) -> Result<Self::Output, String> {
+    fn decode_output(text: &str) -> Result<Self::Output, DecodeError> {
         const W: &str = "program-time output";
         let v = parse(text, W)?;
         if let Some(e) = v.get("error") {
@@ -221,7 +250,7 @@ impl JobKind for ProgramTime {
         let r = Reader::new(&v, W)?;
         let n = r.usize("samples")?;
         if n > PLOT_SAMPLES || r.usize("blocks")? > crate::simulate::canon::MAX_BLOCKS {
-            return Err(format!("{W}: more than {PLOT_SAMPLES} samples or too many blocks"));
+            return Err(format!("{W}: more than {PLOT_SAMPLES} samples or too many blocks").into());
         }
         Ok(Ok(Timed {
             machine: r.str("machine")?.to_owned(),
@@ -240,7 +269,7 @@ impl JobKind for ProgramTime {
         }))
     }
 
-    fn decode_partial(_text: &str) -> Result<(), String> {
+    fn decode_partial(_text: &str) -> Result<(), DecodeError> {
         Ok(())
     }
 }

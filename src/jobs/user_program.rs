@@ -8,17 +8,18 @@
 
 use glam::DVec3;
 use serde_json::{Value, json};
+use thiserror::Error;
 
 use super::simulate_run::codec::{counters_of, counters_value, grid_of, grid_value};
-use super::{JobKind, Progress, Reader, f32s_packed, f64s_packed, parse};
-use crate::gcode::interp::tools::{TableUnits, ToolTable, parse_tool_spec};
+use super::{DecodeError, JobKind, Progress, Reader, f32s_packed, f64s_packed, parse};
+use crate::gcode::interp::tools::{TableUnits, ToolError, ToolTable, parse_tool_spec};
 use crate::gcode::interp::{Interpreter, NoLibrary, Options, TextLibrary, TextSource};
 use crate::geom::Cutter;
 use crate::simulate::canon::{
     BlockKind, CanonBuilder, CanonOptions, CanonProgram, KinematicsChoice, MachineSetup, NO_SLOT,
 };
 use crate::simulate::stock::Grid;
-use crate::simulate::{Counters, CrashKind, CrashLog, DexelStock, HeightMap, NO_TOOL, Simulation};
+use crate::simulate::{Counters, CrashKind, CrashLog, DexelStock, HeightMap, NO_TOOL, SimError, Simulation};
 
 /// Most points of the path handed back for drawing; a longer program's path is thinned
 /// evenly (every block keeps its end).
@@ -207,27 +208,82 @@ pub type Partial = Box<SummaryPiece>;
 #[derive(Clone, Copy, Debug)]
 pub struct UserProgram;
 
+/// Why a user's program cannot be read or machined, in the app's words (the job's output hands
+/// it over as text: [`UserProgram`]'s output is `Result<_, String>`).
+#[derive(Clone, Debug, Error)]
+pub enum UserProgramError {
+    /// The job was cancelled.
+    #[error("cancelled")]
+    Cancelled,
+    /// The CAMotics project's tools cannot be read.
+    #[error("the CAMotics project: {0}")]
+    Project(ToolError),
+    /// The tool table cannot be read, or one of its tools set.
+    #[error("the tool table: {0}")]
+    ToolTable(ToolError),
+    /// A tool the user set cannot be read (the message starts with the tool).
+    #[error("tool {0}")]
+    ToolSpec(ToolError),
+    /// A tool the user set cannot be used.
+    #[error("tool {spec}: {error}")]
+    Tool {
+        /// The tool as the user wrote it.
+        spec: String,
+        /// Why.
+        error: ToolError,
+    },
+    /// The machine named is not one the app has.
+    #[error("\"{0}\" is not a machine; choose one of {names}", names = MachineSetup::NAMES.join(", "))]
+    UnknownMachine(String),
+    /// The program cannot be read into moves (the interpreter's or the builder's error).
+    #[error("{name}: {error}")]
+    Program {
+        /// The program's name.
+        name: String,
+        /// Why.
+        error: SimError,
+    },
+    /// No stock was given and the program has no feed move to size one from.
+    #[error("the program has no feed move to size the stock from; give the stock")]
+    NoFeedMove,
+    /// The grid has more than [`MAX_RAYS`] rays.
+    #[error(
+        "a pitch of {pitch_mm} mm on this stock gives {nx} × {ny} rays, more than the {MAX_RAYS} this view simulates; raise the pitch"
+    )]
+    TooManyRays {
+        /// The pitch (mm).
+        pitch_mm: f64,
+        /// Rays in x, as counted for the message.
+        nx: String,
+        /// Rays in y, as counted for the message.
+        ny: String,
+    },
+    /// The simulation's own refusal: the stock, the program or the work bound.
+    #[error(transparent)]
+    Sim(SimError),
+}
+
 /// The tools of a request: the project's, then the table's (a number in both: the table's),
 /// then the cutters set by the user.
 pub(crate) fn tools_of(
     req: &Request,
-) -> Result<(ToolTable, Option<crate::gcode::interp::tools::CamoticsProject>), String> {
+) -> Result<(ToolTable, Option<crate::gcode::interp::tools::CamoticsProject>), UserProgramError> {
     let mut table = ToolTable::new();
     let mut project = None;
     if let Some(p) = &req.project {
-        let proj = ToolTable::from_camotics(p).map_err(|e| format!("the CAMotics project: {e}"))?;
+        let proj = ToolTable::from_camotics(p).map_err(UserProgramError::Project)?;
         table = proj.tools.clone();
         project = Some(proj);
     }
     if let Some(t) = &req.tool_table {
-        let t = ToolTable::from_linuxcnc(t, TableUnits::Mm).map_err(|e| format!("the tool table: {e}"))?;
+        let t = ToolTable::from_linuxcnc(t, TableUnits::Mm).map_err(UserProgramError::ToolTable)?;
         for e in t.iter() {
-            table.set(e.clone()).map_err(|e| format!("the tool table: {e}"))?;
+            table.set(e.clone()).map_err(UserProgramError::ToolTable)?;
         }
     }
     for s in &req.tool_specs {
-        let e = parse_tool_spec(s).map_err(|e| format!("tool {e}"))?;
-        table.set_cutter(e).map_err(|e| format!("tool {s}: {e}"))?;
+        let e = parse_tool_spec(s).map_err(UserProgramError::ToolSpec)?;
+        table.set_cutter(e).map_err(|error| UserProgramError::Tool { spec: s.clone(), error })?;
     }
     Ok((table, project))
 }
@@ -237,19 +293,18 @@ pub(crate) fn tools_of(
 /// # Errors
 /// A bad table or project, an unknown machine, the interpreter's error with its line, the
 /// builder's (a tool no table gives), or cancelled.
-pub fn read(req: &Request, progress: &mut dyn Progress) -> Result<(CanonProgram, ReadSummary), String> {
+pub fn read(req: &Request, progress: &mut dyn Progress) -> Result<(CanonProgram, ReadSummary), UserProgramError> {
     let (table, project) = tools_of(req)?;
     let mut opts = Options { tools: table.clone(), keep_comments: 64, ..Options::default() };
     if project.as_ref().is_some_and(|p| p.units == TableUnits::Inch) {
         opts.inch = true;
     }
-    let mut machine =
-        match &req.machine {
-            None => None,
-            Some(name) => Some(MachineSetup::from_name(name, 0.0).ok_or_else(|| {
-                format!("\"{name}\" is not a machine; choose one of {}", MachineSetup::NAMES.join(", "))
-            })?),
-        };
+    let mut machine = match &req.machine {
+        None => None,
+        Some(name) => {
+            Some(MachineSetup::from_name(name, 0.0).ok_or_else(|| UserProgramError::UnknownMachine(name.clone()))?)
+        }
+    };
     let mut messages = Vec::new();
     if machine.is_none() {
         // The machine the first comments name (LinuxCNC's `M428 ;TCP:xyzac`).
@@ -289,9 +344,9 @@ pub fn read(req: &Request, progress: &mut dyn Progress) -> Result<(CanonProgram,
             }
             true
         })
-        .map_err(|e| format!("{}: {e}", req.name))?;
+        .map_err(|error| UserProgramError::Program { name: req.name.clone(), error })?;
     if !done {
-        return Err("cancelled".to_owned());
+        return Err(UserProgramError::Cancelled);
     }
     for w in it.warnings() {
         messages.push((w.loc.line, format!("warning: {}", w.text)));
@@ -314,9 +369,7 @@ pub fn read(req: &Request, progress: &mut dyn Progress) -> Result<(CanonProgram,
         }
         (None, w) => {
             let margin = w.map_or(5.0, |w| w.margin_percent);
-            let s = p
-                .automatic_stock(margin)
-                .ok_or("the program has no feed move to size the stock from; give the stock")?;
+            let s = p.automatic_stock(margin).ok_or(UserProgramError::NoFeedMove)?;
             (s, format!("automatic (the cuts' box, margin {margin} %)"))
         }
     };
@@ -447,7 +500,7 @@ fn crash_rows(p: &CanonProgram, log: &CrashLog) -> Vec<CrashRow> {
 ///
 /// # Errors
 /// As [`read`]; a grid over [`MAX_RAYS`], too much work, or cancelled.
-pub fn run(req: &Request, progress: &mut dyn Progress) -> Result<Option<Finished>, String> {
+pub fn run(req: &Request, progress: &mut dyn Progress) -> Result<Option<Finished>, UserProgramError> {
     let (mut p, summary) = read(req, progress)?;
     let (stock_mm, pitch) = (summary.stock_mm, summary.pitch_mm);
     for piece in encode_pieces(&summary) {
@@ -460,15 +513,15 @@ pub fn run(req: &Request, progress: &mut dyn Progress) -> Result<Option<Finished
     let nx = ((stock_mm[3] - stock_mm[0]) / pitch).ceil();
     let ny = ((stock_mm[4] - stock_mm[1]) / pitch).ceil();
     if !(nx * ny <= MAX_RAYS as f64) {
-        return Err(format!(
-            "a pitch of {pitch} mm on this stock gives {} × {} rays, more than the {MAX_RAYS} this view simulates; raise the pitch",
-            crate::simulate::ray_count(nx),
-            crate::simulate::ray_count(ny)
-        ));
+        return Err(UserProgramError::TooManyRays {
+            pitch_mm: pitch,
+            nx: crate::simulate::ray_count(nx),
+            ny: crate::simulate::ray_count(ny),
+        });
     }
     let stock =
         DexelStock::block([stock_mm[0], stock_mm[1], stock_mm[2]], [stock_mm[3], stock_mm[4], stock_mm[5]], pitch)
-            .map_err(|e| e.to_string())?;
+            .map_err(UserProgramError::Sim)?;
     let first = p.tools.first().map_or(req.default_cutter, |t| t.cutter);
     let mut sim = Simulation::new(stock, &first).with_tool_map();
     let total = p.program.moves.len().max(1) as f64;
@@ -477,9 +530,9 @@ pub fn run(req: &Request, progress: &mut dyn Progress) -> Result<Option<Finished
             progress.progress(READ_SHARE + (1.0 - READ_SHARE) * moves as f64 / total);
             !progress.cancelled()
         })
-        .map_err(|e| e.to_string())?;
+        .map_err(UserProgramError::Sim)?;
     if !done {
-        return Err("cancelled".to_owned());
+        return Err(UserProgramError::Cancelled);
     }
     let map = HeightMap::of(sim.stock());
     let tool_map = sim.tool_map().map_or_else(|| vec![NO_TOOL; map.grid.len()], <[u16]>::to_vec);
@@ -635,7 +688,7 @@ fn encode_piece(
     v.to_string()
 }
 
-fn decode_piece(text: &str) -> Result<SummaryPiece, String> {
+fn decode_piece(text: &str) -> Result<SummaryPiece, DecodeError> {
     const W: &str = "user-program partial";
     let v = parse(text, W)?;
     let r = Reader::new(&v, W)?;
@@ -645,7 +698,7 @@ fn decode_piece(text: &str) -> Result<SummaryPiece, String> {
     let total_blocks = r.usize("total_blocks")?;
     let max_blocks = crate::simulate::canon::MAX_BLOCKS;
     if n > MAX_PATH_POINTS + max_blocks || total_blocks > max_blocks || first_block + nb > total_blocks {
-        return Err(format!("{W}: too many points or blocks, or a piece past the program's end"));
+        return Err(format!("{W}: too many points or blocks, or a piece past the program's end").into());
     }
     let as_u = |xs: Vec<f32>| -> Vec<u32> { xs.into_iter().map(|x| x as u32).collect() };
     let mut s = ReadSummary {
@@ -669,7 +722,7 @@ fn decode_piece(text: &str) -> Result<SummaryPiece, String> {
 }
 
 /// The first piece's header into `s`.
-fn decode_header(h: &Reader<'_>, s: &mut ReadSummary) -> Result<(), String> {
+fn decode_header(h: &Reader<'_>, s: &mut ReadSummary) -> Result<(), DecodeError> {
     const W: &str = "user-program partial.header";
     s.tools = h
         .value("tools")?
@@ -697,7 +750,7 @@ fn decode_header(h: &Reader<'_>, s: &mut ReadSummary) -> Result<(), String> {
                     .ok_or("user-program partial.header.tools[].centre_cutting: not true or false")?,
             })
         })
-        .collect::<Result<Vec<_>, String>>()?;
+        .collect::<Result<Vec<_>, DecodeError>>()?;
     s.messages = h
         .value("messages")?
         .as_array()
@@ -706,9 +759,11 @@ fn decode_header(h: &Reader<'_>, s: &mut ReadSummary) -> Result<(), String> {
         .map(|m| {
             let line = m.get(0).and_then(Value::as_u64).and_then(|l| u32::try_from(l).ok());
             let text = m.get(1).and_then(Value::as_str);
-            line.zip(text).map(|(l, t)| (l, t.to_owned())).ok_or(format!("{W}.messages: not [line, text]"))
+            line.zip(text)
+                .map(|(l, t)| (l, t.to_owned()))
+                .ok_or_else(|| format!("{W}.messages: not [line, text]").into())
         })
-        .collect::<Result<Vec<_>, String>>()?;
+        .collect::<Result<Vec<_>, DecodeError>>()?;
     s.lines = u32::try_from(h.usize("lines")?).unwrap_or(u32::MAX);
     s.machine = match h.value("machine")? {
         Value::Null => None,
@@ -737,7 +792,7 @@ impl JobKind for UserProgram {
     type Partial = Partial;
 
     fn run(req: &Request, progress: &mut dyn Progress) -> Self::Output {
-        run(req, progress)
+        run(req, progress).map_err(|e| e.to_string())
     }
 
     /// The request's fields as one line of JSON, then the program's text as it is: a big
@@ -765,16 +820,16 @@ impl JobKind for UserProgram {
         out
     }
 
-    fn decode_request(text: &str) -> Result<Request, String> {
+    fn decode_request(text: &str) -> Result<Request, DecodeError> {
         const W: &str = "user-program request";
         // JSON text holds no raw line break: the first one ends the fields.
         let (head, program) = text.split_once('\n').ok_or(format!("{W}: no program text after the fields"))?;
         let v = parse(head, W)?;
         let r = Reader::new(&v, W)?;
-        let opt_text = |k: &str| -> Result<Option<String>, String> {
+        let opt_text = |k: &str| -> Result<Option<String>, DecodeError> {
             match r.value(k)? {
                 Value::Null => Ok(None),
-                v => v.as_str().map(|s| Some(s.to_owned())).ok_or(format!("{W}.{k}: not text")),
+                v => v.as_str().map(|s| Some(s.to_owned())).ok_or_else(|| format!("{W}.{k}: not text").into()),
             }
         };
         let files = r
@@ -785,9 +840,11 @@ impl JobKind for UserProgram {
             .map(|f| {
                 let n = f.get(0).and_then(Value::as_str);
                 let t = f.get(1).and_then(Value::as_str);
-                n.zip(t).map(|(n, t)| (n.to_owned(), t.to_owned())).ok_or(format!("{W}.files: not [name, text]"))
+                n.zip(t)
+                    .map(|(n, t)| (n.to_owned(), t.to_owned()))
+                    .ok_or_else(|| format!("{W}.files: not [name, text]").into())
             })
-            .collect::<Result<Vec<_>, String>>()?;
+            .collect::<Result<Vec<_>, DecodeError>>()?;
         Ok(Request {
             name: r.str("name")?.to_owned(),
             text: program.to_owned(),
@@ -807,7 +864,7 @@ impl JobKind for UserProgram {
                 0 => KinematicsChoice::Auto,
                 1 => KinematicsChoice::Joints,
                 2 => KinematicsChoice::Tcp,
-                k => return Err(format!("{W}.kinematics: {k} is not 0, 1 or 2")),
+                k => return Err(format!("{W}.kinematics: {k} is not 0, 1 or 2").into()),
             },
             pitch_mm: r.opt_f64("pitch_mm")?,
             stock_mm: match r.value("stock_mm")? {
@@ -838,7 +895,7 @@ impl JobKind for UserProgram {
         .to_string()
     }
 
-    fn decode_output(text: &str) -> Result<Self::Output, String> {
+    fn decode_output(text: &str) -> Result<Self::Output, DecodeError> {
         const W: &str = "user-program output";
         let v = parse(text, W)?;
         if let Some(e) = v.get("error") {
@@ -875,14 +932,14 @@ impl JobKind for UserProgram {
             crashes: {
                 let n = r.usize("crashes")?;
                 if n > MAX_CRASHES_SENT {
-                    return Err(format!("{W}.crashes: {n} reports, more than the {MAX_CRASHES_SENT} sent"));
+                    return Err(format!("{W}.crashes: {n} reports, more than the {MAX_CRASHES_SENT} sent").into());
                 }
                 crashes_of(&r.f64s_packed("crash_list", CRASH_NUMBERS * n)?)?
             },
         })))
     }
 
-    fn decode_partial(text: &str) -> Result<Partial, String> {
+    fn decode_partial(text: &str) -> Result<Partial, DecodeError> {
         decode_piece(text).map(Box::new)
     }
 }
@@ -908,7 +965,7 @@ fn crash_numbers(rows: &[CrashRow]) -> Vec<f64> {
         .collect()
 }
 
-fn crashes_of(xs: &[f64]) -> Result<Vec<CrashRow>, String> {
+fn crashes_of(xs: &[f64]) -> Result<Vec<CrashRow>, DecodeError> {
     const W: &str = "user-program output.crash_list";
     xs.chunks_exact(CRASH_NUMBERS)
         .map(|c| {
@@ -1103,7 +1160,7 @@ mod tests {
         assert_eq!(UserProgram::decode_output(&text), Ok(out));
         let too_many = text.replacen(&format!("\"crashes\":{MAX_CRASHES_SENT}"), "\"crashes\":1001", 1);
         assert_ne!(too_many, text);
-        assert!(UserProgram::decode_output(&too_many).is_err_and(|e| e.contains("more than")));
+        assert!(UserProgram::decode_output(&too_many).is_err_and(|e| e.to_string().contains("more than")));
     }
 
     /// A program of several pieces crosses whole: the pieces taken in order give the summary

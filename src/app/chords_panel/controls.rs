@@ -90,7 +90,7 @@ impl ChordsPanel {
         self.tol_rect = Some(r.rect);
         ui.horizontal(|ui| {
             ui.label("uniform spacings sized");
-            ui.selectable_value(&mut self.sizing, Sizing::MinRadius, "by ρ_min (seed 003)")
+            ui.selectable_value(&mut self.sizing, Sizing::MinRadius, "by ρ_min (the article's)")
                 .on_hover_text("chord L = 2√(2ρ_min·d − d²) at the smallest radius of curvature");
             ui.selectable_value(&mut self.sizing, Sizing::Widest, "widest within d")
                 .on_hover_text("the widest uniform spacing whose every chord stays within d (searched)");

@@ -355,7 +355,11 @@ impl Prepared {
 
 impl Panel for ChordsPanel {
     fn title(&self) -> &'static str {
-        "Chords (seed 003)"
+        "Chords"
+    }
+
+    fn paper(&self) -> Option<&'static str> {
+        Some(super::papers::CHORDS)
     }
 
     fn controls(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {

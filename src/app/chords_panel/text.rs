@@ -12,7 +12,7 @@ pub(super) fn intro(ui: &mut egui::Ui) {
     ui.heading("Equal-error chords");
     ui.label(
             egui::RichText::new(
-                "Straight chords between nodes on a curve. Seed 003 puts the nodes so that every chord deviates from the curve by exactly the tolerance d, and compares it with constant parameter steps and constant chord lengths.",
+                "Straight chords between nodes on a curve. The article this tab follows puts the nodes so that every chord deviates from the curve by exactly the tolerance d, and compares it with constant parameter steps and constant chord lengths.",
             )
             .weak(),
         );

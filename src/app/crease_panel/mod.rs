@@ -27,7 +27,11 @@ impl Default for CreasePanel {
 
 impl Panel for CreasePanel {
     fn title(&self) -> &'static str {
-        "Crease (seed 000)"
+        "Crease interpolation"
+    }
+
+    fn paper(&self) -> Option<&'static str> {
+        Some(super::papers::CREASE)
     }
 
     fn controls(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {

@@ -1,4 +1,4 @@
-//! The "Fillet end mill (seed 001)" view: a finishing preset (`scene::finish::FINISH_PRESETS`)
+//! The "Fillet end mill" view: a finishing preset (`scene::finish::FINISH_PRESETS`)
 //! machined with a fillet-end mill of the user's R and r at scallop height h and chord
 //! tolerance E under one orientation strategy; its iso-scallop paths built path by path
 //! within a time budget per frame (`fillet::IsoScallopSteps`, the same result as
@@ -18,7 +18,7 @@ use eframe::egui;
 use egui_plot::{Corner, Legend, Line, Plot, PlotPoints};
 
 use super::budget::FRAME_BUDGET;
-use super::panel::{FinishHandoff, Handoff, Panel, PanelContext, Payload, SIMULATION_TITLE};
+use super::panel::{FILLET_TITLE, FinishHandoff, Handoff, Panel, PanelContext, Payload, SIMULATION_TITLE};
 use crate::fillet::{CcNode, effective_curvature};
 use crate::scene::finish::FINISH_PRESETS;
 use view::{Click, FilletView};
@@ -509,7 +509,11 @@ impl FilletPanel {
 
 impl Panel for FilletPanel {
     fn title(&self) -> &'static str {
-        "Fillet end mill (seed 001)"
+        FILLET_TITLE
+    }
+
+    fn paper(&self) -> Option<&'static str> {
+        Some(super::papers::FIVE_AXIS_FINISHING)
     }
 
     fn controls(&mut self, ui: &mut egui::Ui, _cx: &mut PanelContext<'_>) {

@@ -91,7 +91,7 @@ impl FiveAxisPanel {
             );
         });
         let r = ui.checkbox(&mut self.bound_tip, "also hold the tool tip within E of its design path").on_hover_text(
-            "By default each segment's error is the ball's signed error on the surfaces (seed 002's δ). With this, the swept tool tip's distance from the design tip path is held within E too, as a post-processor checking the programmed point would want (interpolab steps --bound-tip).",
+            "By default each segment's error is the ball's signed error on the surfaces (the paper's δ). With this, the swept tool tip's distance from the design tip path is held within E too, as a post-processor checking the programmed point would want (interpolab steps --bound-tip).",
         );
         self.rects.push(("bound_tip", r.rect));
     }

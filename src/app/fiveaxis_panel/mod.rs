@@ -328,7 +328,11 @@ impl FiveAxisPanel {
 
 impl Panel for FiveAxisPanel {
     fn title(&self) -> &'static str {
-        "5-axis (seed 002)"
+        "5-axis steps"
+    }
+
+    fn paper(&self) -> Option<&'static str> {
+        Some(super::papers::FIVE_AXIS)
     }
 
     fn controls(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {

@@ -23,7 +23,7 @@ impl NurbsPanel {
             ui.selectable_value(&mut s.source, Source::Crease, "scene's crease")
                 .on_hover_text("The current scene's ball-centre crease, as `interpolab gcode SCENE` uses it");
             let r = ui.selectable_value(&mut s.source, Source::Parabola, "parabola profile").on_hover_text(
-                "Seed 004's parabola-like profile: y = x²/40 for x from −60 to 60 mm, z = 0 (1500 mm/min, 4 ms)",
+                "The paper's parabola-like profile: y = x²/40 for x from −60 to 60 mm, z = 0 (1500 mm/min, 4 ms)",
             );
             self.rects.push(("source_parabola", r.rect));
         });

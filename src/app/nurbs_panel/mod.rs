@@ -1,4 +1,4 @@
-//! The "NURBS & G-code (seed 004)" view: the design path (the scene's crease or seed 004's
+//! The "NURBS & G-code" view: the design path (the scene's crease or seed 004's
 //! parabola-like profile) with its G06.2 curve, control polygon and knots; the real-time
 //! interpolation of that curve, drawn as points coloured by feed fluctuation and plotted over
 //! time; seed 004's comparison of the G01, G02/G03 and G06.2 programs at the tolerance of the
@@ -339,7 +339,11 @@ impl NurbsPanel {
 
 impl Panel for NurbsPanel {
     fn title(&self) -> &'static str {
-        "NURBS & G-code (seed 004)"
+        "NURBS & G-code"
+    }
+
+    fn paper(&self) -> Option<&'static str> {
+        Some(super::papers::NURBS)
     }
 
     fn accepts(&self) -> Option<FileKind> {

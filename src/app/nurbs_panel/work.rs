@@ -536,7 +536,7 @@ impl Work {
                     _ => continue,
                 }
             } else {
-                timed_row(kind, &design.curve, w.program.tol_mm, &opts, w.machine.as_ref())
+                timed_row(kind, &design.curve, w.program.tol_mm, &opts, w.machine.as_ref()).map_err(|e| e.to_string())
             };
             if kind == ProgramKind::Nurbs && value.is_err() {
                 // Nothing to run: drop the last curve's run rather than show it as current.

@@ -567,6 +567,10 @@ impl Panel for SimulatePanel {
         SIMULATION_TITLE
     }
 
+    fn paper(&self) -> Option<&'static str> {
+        Some(super::papers::FIVE_AXIS_FINISHING)
+    }
+
     fn controls(&mut self, ui: &mut egui::Ui, cx: &mut PanelContext<'_>) {
         self.rects.clear();
         self.controls(ui, cx);

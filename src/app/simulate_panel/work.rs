@@ -18,7 +18,7 @@ use glam::DVec3;
 use web_time::{Duration, Instant};
 
 use crate::app::jobs::{Job as BackgroundJob, Poll};
-use crate::app::panel::FinishHandoff;
+use crate::app::panel::{FILLET_TITLE, FinishHandoff};
 use crate::gcode::ProgramKind;
 use crate::geom::Cutter;
 use crate::jobs::simulate_run::SimulateRun;
@@ -99,9 +99,9 @@ impl SourceKind {
             Self::CreaseG01 => "Scene crease, G01 program",
             Self::CreaseArcs => "Scene crease, G02/G03 program",
             Self::CreaseNurbs => "Scene crease, G06.2 program",
-            Self::Steps => "Scene 5-axis tool steps (seed 002)",
+            Self::Steps => "Scene 5-axis tool steps",
             Self::Loaded => "Loaded G-code file",
-            Self::Finish => "Fillet tab's finishing program (seed 001)",
+            Self::Finish => "Fillet tab's finishing program",
             Self::Benchmark => "Benchmark raster (ball R 3 on a 51.2 mm block)",
         }
     }
@@ -376,9 +376,9 @@ impl Job {
     /// box as the stock (unless one is given) and the finish surface as the design.
     fn finish_request(&self, scene: &Scene) -> Result<Request, String> {
         let i = &self.inputs;
-        let f = self.finish.as_ref().ok_or(
-            "no finishing program yet: build paths in the \"Fillet end mill (seed 001)\" tab and press Simulate this program → there",
-        )?;
+        let f = self.finish.as_ref().ok_or_else(|| {
+            format!("no finishing program yet: build paths in the \"{FILLET_TITLE}\" tab and press Simulate this program → there")
+        })?;
         let cutter = match i.cutter {
             CutterChoice::SceneBall => f.program.cutter,
             c => c.cutter(scene)?,

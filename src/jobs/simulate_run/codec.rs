@@ -11,7 +11,7 @@ use crate::fillet::contact::{ContactFrame, Form2, Pose};
 use crate::fiveaxis::{Joints, Machine, MachineKind};
 use crate::gcode::ProgramKind;
 use crate::geom::Cutter;
-use crate::jobs::{Reader, bits_packed, f32s_packed, f64s_packed, num, nums, parse};
+use crate::jobs::{DecodeError, Reader, bits_packed, f32s_packed, f64s_packed, num, nums, parse};
 use crate::simulate::bench::BenchKind;
 use crate::simulate::measure::Summary;
 use crate::simulate::stock::Grid;
@@ -59,7 +59,7 @@ pub fn encode_request(r: &Request) -> String {
 ///
 /// # Errors
 /// What in the text is not a request.
-pub fn decode_request(text: &str) -> Result<Request, String> {
+pub fn decode_request(text: &str) -> Result<Request, DecodeError> {
     const W: &str = "simulate-run request";
     let v = parse(text, W)?;
     let r = Reader::new(&v, W)?;
@@ -180,7 +180,7 @@ pub fn encode_output(out: &Result<Finished, String>) -> String {
 ///
 /// # Errors
 /// What in the text is not an output.
-pub fn decode_output(text: &str) -> Result<Result<Finished, String>, String> {
+pub fn decode_output(text: &str) -> Result<Result<Finished, String>, DecodeError> {
     const W: &str = "simulate-run output";
     let v = parse(text, W)?;
     if let Some(e) = v.get("error") {
@@ -207,7 +207,7 @@ pub fn decode_output(text: &str) -> Result<Result<Finished, String>, String> {
         Value::Null => None,
         _ => match s.f64s("worst_gouge")?[..] {
             [d, x, y] => Some((d, DVec2::new(x, y))),
-            _ => return Err(format!("{W}.stats.worst_gouge: not three numbers")),
+            _ => return Err(format!("{W}.stats.worst_gouge: not three numbers").into()),
         },
     };
     let stats = SimStats {
@@ -236,7 +236,7 @@ pub fn decode_output(text: &str) -> Result<Result<Finished, String>, String> {
 ///
 /// # Errors
 /// What in the text is not a partial output.
-pub fn decode_partial(text: &str) -> Result<Partial, String> {
+pub fn decode_partial(text: &str) -> Result<Partial, DecodeError> {
     const W: &str = "simulate-run partial";
     let v = parse(text, W)?;
     let r = Reader::new(&v, W)?;
@@ -247,7 +247,7 @@ pub fn decode_partial(text: &str) -> Result<Partial, String> {
             "plane" => "plane",
             "scene surfaces" => "scene surfaces",
             "finish surface" => "finish surface",
-            other => return Err(format!("{W}.prepared.design: \"{other}\" is not a design")),
+            other => return Err(format!("{W}.prepared.design: \"{other}\" is not a design").into()),
         };
         return Ok(Partial::Prepared(Box::new(Prepared {
             program: program_of(p.value("program")?)?,
@@ -262,7 +262,7 @@ pub fn decode_partial(text: &str) -> Result<Partial, String> {
     let k = Reader::new(r.value("keyframe")?, "simulate-run partial.keyframe")?;
     let n = k.usize("rays")?;
     if n > MAX_RAYS {
-        return Err(format!("{W}.keyframe.rays: {n} is more than {MAX_RAYS}"));
+        return Err(format!("{W}.keyframe.rays: {n} is more than {MAX_RAYS}").into());
     }
     Ok(Partial::Keyframe(Keyframe {
         moves: k.usize("moves")?,
@@ -300,8 +300,8 @@ fn cutter_value(c: &Cutter) -> Value {
     nums(c.numbers())
 }
 
-fn cutter_of(c: &[f64]) -> Result<Cutter, String> {
-    Cutter::from_numbers(c)
+fn cutter_of(c: &[f64]) -> Result<Cutter, DecodeError> {
+    Cutter::from_numbers(c).map_err(DecodeError::from)
 }
 
 /// Numbers of a CC node: uv, point, normal, feed, cross, the surface's form (3), pose (2),
@@ -327,7 +327,7 @@ fn nodes_value(nodes: &[CcNode]) -> Value {
     json!({ "count": nodes.len(), "data": f64s_packed(&d) })
 }
 
-fn nodes_of(v: &Value) -> Result<Vec<CcNode>, String> {
+fn nodes_of(v: &Value) -> Result<Vec<CcNode>, DecodeError> {
     let r = Reader::new(v, "simulate-run request.source.passes[]")?;
     let n = r.usize("count")?;
     let d = r.f64s_packed("data", n.checked_mul(NODE_NUMBERS).ok_or("simulate-run request: too many CC nodes")?)?;
@@ -361,7 +361,7 @@ pub(crate) fn grid_value(g: &Grid) -> Value {
 }
 
 /// A grid read from JSON, at most [`MAX_RAYS`] rays.
-pub(crate) fn grid_of(v: &Value) -> Result<Grid, String> {
+pub(crate) fn grid_of(v: &Value) -> Result<Grid, DecodeError> {
     let g = Reader::new(v, "simulate-run grid")?;
     let grid = Grid {
         x0_mm: g.f64("x0_mm")?,
@@ -371,7 +371,7 @@ pub(crate) fn grid_of(v: &Value) -> Result<Grid, String> {
         ny: g.usize("ny")?,
     };
     if grid.nx.checked_mul(grid.ny).is_none_or(|n| n > MAX_RAYS) {
-        return Err(format!("simulate-run grid: {} × {} rays is more than {MAX_RAYS}", grid.nx, grid.ny));
+        return Err(format!("simulate-run grid: {} × {} rays is more than {MAX_RAYS}", grid.nx, grid.ny).into());
     }
     Ok(grid)
 }
@@ -391,9 +391,11 @@ pub(crate) fn counters_value(c: &Counters) -> Value {
 }
 
 /// A run's counts read from JSON.
-pub(crate) fn counters_of(v: &Value) -> Result<Counters, String> {
+pub(crate) fn counters_of(v: &Value) -> Result<Counters, DecodeError> {
     let c = Reader::new(v, "simulate-run counters")?;
-    let u64_of = |k: &str| c.value(k)?.as_u64().ok_or_else(|| format!("simulate-run counters.{k}: not a count"));
+    let u64_of = |k: &str| -> Result<u64, DecodeError> {
+        c.value(k)?.as_u64().ok_or_else(|| format!("simulate-run counters.{k}: not a count").into())
+    };
     Ok(Counters {
         moves: c.usize("moves")?,
         samples: u64_of("samples")?,
@@ -456,7 +458,7 @@ fn program_value(p: &Program) -> Value {
     })
 }
 
-fn program_of(v: &Value) -> Result<Program, String> {
+fn program_of(v: &Value) -> Result<Program, DecodeError> {
     const W: &str = "simulate-run program";
     let r = Reader::new(v, W)?;
     // The count is bounded by the text: every move has its flags, line and numbers in it.
@@ -471,7 +473,7 @@ fn program_of(v: &Value) -> Result<Program, String> {
     let numbers = r.usize("numbers")?;
     let expected: usize = joints.iter().map(|j| if *j { JOINTS_NUMBERS } else { LINE_NUMBERS }).sum();
     if lines.len() != n || numbers != expected {
-        return Err(format!("{W}: {} lines and {numbers} numbers for {n} moves", lines.len()));
+        return Err(format!("{W}: {} lines and {numbers} numbers for {n} moves", lines.len()).into());
     }
     let data = r.f64s_packed("data", numbers)?;
     let mut at = 0;

@@ -28,7 +28,7 @@
 //! (all of it as text), [`error`] (why a run stops), and the job's progress reports
 //! (`progress.rs`).
 
-use super::{JobKind, Progress};
+use super::{DecodeError, JobKind, Progress};
 use output::{Finished, Partial};
 use request::Request;
 
@@ -59,7 +59,7 @@ impl JobKind for SimulateRun {
         codec::encode_request(r)
     }
 
-    fn decode_request(text: &str) -> Result<Request, String> {
+    fn decode_request(text: &str) -> Result<Request, DecodeError> {
         codec::decode_request(text)
     }
 
@@ -67,11 +67,11 @@ impl JobKind for SimulateRun {
         codec::encode_output(out)
     }
 
-    fn decode_output(text: &str) -> Result<Self::Output, String> {
+    fn decode_output(text: &str) -> Result<Self::Output, DecodeError> {
         codec::decode_output(text)
     }
 
-    fn decode_partial(text: &str) -> Result<Partial, String> {
+    fn decode_partial(text: &str) -> Result<Partial, DecodeError> {
         codec::decode_partial(text)
     }
 }

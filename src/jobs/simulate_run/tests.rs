@@ -212,7 +212,8 @@ fn requests_cross_unchanged() {
     for r in reqs {
         assert_eq!(SimulateRun::decode_request(&SimulateRun::encode_request(&r)).unwrap(), r);
     }
-    let e = SimulateRun::decode_request(r#"{"source": {"benchmark": "five-axis", "count": 0}}"#).unwrap_err();
+    let e =
+        SimulateRun::decode_request(r#"{"source": {"benchmark": "five-axis", "count": 0}}"#).unwrap_err().to_string();
     assert!(e.contains("five-axis:N"), "{e}");
 }
 
@@ -247,9 +248,9 @@ fn cancelled_and_bad_runs_say_so() {
     let fine = Request { pitch_mm: Some(0.001), ..grooves(None, 0) };
     let e = SimulateRun::run(&fine, &mut NoProgress).unwrap_err();
     assert!(e.contains("raise the pitch"), "{e}");
-    let e = SimulateRun::decode_request("{\"source\": {}}").unwrap_err();
+    let e = SimulateRun::decode_request("{\"source\": {}}").unwrap_err().to_string();
     assert!(e.contains("simulate-run request"), "{e}");
-    let e = SimulateRun::decode_partial("{\"keyframe\": {\"moves\": 1}}").unwrap_err();
+    let e = SimulateRun::decode_partial("{\"keyframe\": {\"moves\": 1}}").unwrap_err().to_string();
     assert!(e.contains("keyframe"), "{e}");
 }
 
