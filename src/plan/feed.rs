@@ -402,7 +402,9 @@ struct Pt {
 /// x_p = min(cap, (x₀ + x₁)/2 + A·h), reached after (x_p − x₀)/(2A).
 fn guide(path: &Path, pieces: &[Piece], lims: &[PieceLimits], hs: &[f64], x: &[f64], jerk: bool) -> Vec<Pt> {
     let n = hs.len();
-    let mut out = Vec::with_capacity(2 * n + 1);
+    // At most three points a piece (its start, the end of a rise, the start of a fall) and
+    // the end: reserved once, never grown and copied.
+    let mut out = Vec::with_capacity(3 * n + 1);
     for k in 0..n {
         let s0 = pieces[k].s0;
         let h = hs[k];
@@ -527,12 +529,13 @@ fn scurves(path: &Path, pieces: &[Piece], lims: &[PieceLimits], g: &[Pt], stop: 
     // for a while: a cap the S-curves must not cross), and the stops; a peak — a rise
     // turning into a fall, with or without a plateau between — is not a knot: one S-curve
     // segment runs from trough to trough through it, its peak at most the plan's.
-    let mut runs: Vec<(Trend, usize, usize)> = Vec::new();
+    // Each run as its trend and the guide point it ends at.
+    let mut runs: Vec<(Trend, usize)> = Vec::with_capacity(m - 1);
     for i in 0..m - 1 {
         let Some(tr) = trend(i) else { continue };
         match runs.last_mut() {
-            Some(r) if r.0 == tr => r.2 = i + 1,
-            _ => runs.push((tr, i, i + 1)),
+            Some(r) if r.0 == tr => r.1 = i + 1,
+            _ => runs.push((tr, i + 1)),
         }
     }
     let peak_flat = |r: usize| {
@@ -542,10 +545,11 @@ fn scurves(path: &Path, pieces: &[Piece], lims: &[PieceLimits], g: &[Pt], stop: 
             && runs[r - 1].0 == Trend::Up
             && runs[r + 1].0 == Trend::Down
     };
-    let mut knots: Vec<usize> = vec![0];
+    let mut knots: Vec<usize> = Vec::with_capacity(runs.len() + 2);
+    knots.push(0);
     for r in 0..runs.len().saturating_sub(1) {
         let (a, b) = (runs[r].0, runs[r + 1].0);
-        let at = runs[r].2;
+        let at = runs[r].1;
         let knot = (a == Trend::Down && b == Trend::Up)
             || (a == Trend::Flat && !peak_flat(r))
             || (b == Trend::Flat && !peak_flat(r + 1))

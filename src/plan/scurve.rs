@@ -94,23 +94,10 @@ pub fn peak(v0: f64, v1: f64, d: f64, a: f64, j: f64, vcap: f64) -> f64 {
     if vcap <= lo {
         return lo;
     }
-    let f = |vp: f64| ramp_dist(v0, vp, a, j) + ramp_dist(vp, v1, a, j) - d;
-    if f(vcap) <= 0.0 {
-        return vcap;
-    }
-    if j.is_infinite() {
-        return (a * d + 0.5 * (v0 * v0 + v1 * v1)).sqrt().clamp(lo, vcap);
-    }
-    // Both ramps reach A: v_p² + v_p·A²/J + A·[(v₀ + v₁)A/(2J) − (v₀² + v₁²)/(2A) − d] = 0.
-    let k = a * a / j;
-    let c = a * (0.5 * (v0 + v1) * a / j - 0.5 * (v0 * v0 + v1 * v1) / a - d);
-    let vp = 0.5 * (-k + (k * k - 4.0 * c).sqrt());
-    if vp - lo >= k && vp <= vcap {
-        return vp;
-    }
-    // Otherwise Newton in w = √(v_p − lo), where f is smooth (in v_p it has a √ at lo) and
-    // grows like w³: from the right it converges monotonically; a step that leaves the
-    // bracket is replaced by a halving. At most 100 steps.
+    // The segment's length used less d, and its derivative, in w = √(v_p − lo), where it is
+    // smooth (in v_p it has a √ at lo), increasing and convex (each ramp's distance is
+    // convex and increasing in v_p, and v_p convex in w): Newton from above the root
+    // converges monotonically; a step that leaves the bracket is replaced by a halving.
     let g = |w: f64| -> (f64, f64) {
         let vp = lo + w * w;
         let mut val = -d;
@@ -131,16 +118,39 @@ pub fn peak(v0: f64, v1: f64, d: f64, a: f64, j: f64, vcap: f64) -> f64 {
         }
         (val, der)
     };
-    let (mut lo_w, mut hi_w) = (0.0, (vcap - lo).sqrt());
-    if g(0.0).0 > 0.0 {
+    // At w = 0 one ramp, from v₀ to v₁: when it takes all of d (the passes leave many such
+    // segments) there is no rise.
+    let (g0, d0) = g(0.0);
+    if g0 >= 0.0 {
         return lo;
     }
-    // Start where both ramps would start from lo without reaching A:
-    // (2·lo + w²)·w·2/√J = d, a depressed cubic (Cardano, then the bracket).
+    let f = |vp: f64| ramp_dist(v0, vp, a, j) + ramp_dist(vp, v1, a, j) - d;
+    if f(vcap) <= 0.0 {
+        return vcap;
+    }
+    if j.is_infinite() {
+        return (a * d + 0.5 * (v0 * v0 + v1 * v1)).sqrt().clamp(lo, vcap);
+    }
+    // Both ramps reach A: v_p² + v_p·A²/J + A·[(v₀ + v₁)A/(2J) − (v₀² + v₁²)/(2A) − d] = 0.
+    let k = a * a / j;
+    let c = a * (0.5 * (v0 + v1) * a / j - 0.5 * (v0 * v0 + v1 * v1) / a - d);
+    let vp = 0.5 * (-k + (k * k - 4.0 * c).sqrt());
+    if vp - lo >= k && vp <= vcap {
+        return vp;
+    }
+    let (mut lo_w, mut hi_w) = (0.0, (vcap - lo).sqrt());
+    // Two starts above the root, the lower taken (at most 100 steps from it): the tangent
+    // at w = 0 (g is convex, so the tangent's root is at or above g's), and where both
+    // ramps would start from lo without reaching A — (2·lo + w²)·w·2/√J = d, a depressed
+    // cubic (Cardano) — which ignores the longer ramp from the lower end speed. On a
+    // segment whose ends differ a little and whose rise is tiny (most of them) the tangent
+    // is within rounding of the root.
     let q = 0.5 * d * j.sqrt();
     let p3 = 2.0 * lo / 3.0;
     let big = (0.5 * q + (0.25 * q * q + p3 * p3 * p3).sqrt()).cbrt();
-    let start = if big > 0.0 { big - p3 / big } else { hi_w };
+    let w_sym = if big > 0.0 { big - p3 / big } else { f64::INFINITY };
+    let w_tan = if d0 > 0.0 { -g0 / d0 } else { f64::INFINITY };
+    let start = w_sym.min(w_tan);
     let mut w = if start > 0.0 && start < hi_w { start } else { hi_w };
     for _ in 0..100 {
         let (val, der) = g(w);
@@ -156,10 +166,13 @@ pub fn peak(v0: f64, v1: f64, d: f64, a: f64, j: f64, vcap: f64) -> f64 {
         // Rounding in g is about 1e-16 of d: closer than that the steps are noise.
         // Done when the step no longer moves v_p = lo + w² beyond its own rounding, or g
         // is at its rounding (about 1e-16 of d).
+        // Or the step is below 1e-8 of w: Newton converges quadratically, so the next
+        // iterate is within about 1e-16 of the root (the check below keeps it feasible).
         let vp_ulp = 4.0 * f64::EPSILON * (lo + w * w);
         let done = val.abs() <= 1e-14 * d
             || 2.0 * w.max(next) * (next - w).abs() <= vp_ulp
-            || 2.0 * hi_w * (hi_w - lo_w) <= vp_ulp;
+            || 2.0 * hi_w * (hi_w - lo_w) <= vp_ulp
+            || (next - w).abs() <= 1e-8 * w;
         w = next;
         if done {
             break;
