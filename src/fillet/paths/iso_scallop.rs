@@ -2,7 +2,7 @@
 
 use glam::{DVec2, DVec3};
 
-use super::budget::check_stop;
+use super::budget::{EXTRAPOLATION_ROOM, check_stop};
 use super::side_step::Step;
 use super::{
     CELLS_ESTIMATE_AFTER, CELLS_ESTIMATE_AFTER_SHARE, Ctx, ESTIMATE_AFTER_SHARE, FinishOptions, Layout, PathSet,
@@ -143,7 +143,7 @@ pub fn iso_scallop_checked<E: From<FinishError>>(
     let mut steps = IsoScallopSteps::start_from(surface, cutter, strategy, opts, part, start)?;
     let mut checked = 0;
     loop {
-        // A step may add more than one path (a side ending and the other side's first).
+        // Every path the last call added.
         for (k, path) in steps.paths().iter().enumerate().skip(checked) {
             check(k, path)?;
         }
@@ -442,10 +442,9 @@ impl IsoScallopSteps {
             // come late. The room is the extrapolation's own error (the mould's fixed-lead
             // plan reads 1.45–2.1 times its final cost at 6–9 % of its surface).
             let cells = part.cells_checked().saturating_sub(self.cells_at_start) as f64;
-            let room = 2.0;
             if share >= CELLS_ESTIMATE_AFTER_SHARE
                 && cells >= CELLS_ESTIMATE_AFTER
-                && cells / share > room * check_stop(opts.max_check_cells) as f64
+                && cells / share > EXTRAPOLATION_ROOM * check_stop(opts.max_check_cells) as f64
             {
                 return Err(FinishError::TooMuchChecking {
                     detail: format!(
