@@ -183,39 +183,73 @@ pub fn plan(path: &Path, opts: &FeedOptions) -> FeedPlan {
 
 /// Most planning pieces one path piece is cut into.
 const MAX_SUBPIECES: usize = 64;
+/// Most planning pieces of a jerk-free plan after cutting (about 0.5 kB each: bounds, limits,
+/// the envelope and the phases). A path that would pass it has its cuts scaled down, every
+/// piece keeping at least one: the bounds then hold over longer pieces, so the feed is lower
+/// there and still within the limits.
+const MAX_WORK_PIECES: usize = super::path::MAX_PIECES;
+
+/// How many planning pieces a curved path piece needs without jerk limits (1 for a line, or
+/// with jerk limits).
+fn cuts(p: &Piece, b: &Bounds, l: &PieceLimits, curved: bool, jerk: bool) -> usize {
+    if jerk || !curved || !(l.a > 0.0) || !l.x_cap.is_finite() {
+        return 1;
+    }
+    let ramp = l.x_cap / (2.0 * l.a);
+    let by_ramp = if ramp > 0.0 { (4.0 * p.h / ramp).ceil() as usize } else { 1 };
+    // The bounds hold over the whole piece: where q'' changes much along it (a blend's
+    // curvature rises from zero to its peak), cut it so each part's range is at most 20 % of
+    // the largest |q''|.
+    let top = (0..6).fold(0.0f64, |m, i| m.max(b.lo2[i].abs()).max(b.hi2[i].abs()));
+    let spread = (0..6).fold(0.0f64, |m, i| m.max(b.hi2[i] - b.lo2[i]));
+    let by_curv = if top > 0.0 { (spread / (0.2 * top)).ceil() as usize } else { 1 };
+    by_ramp.max(by_curv).clamp(1, MAX_SUBPIECES)
+}
 
 /// The pieces the planner works on, their bounds (jerk-free settings) and limits. Without
 /// jerk limits the speed is constant-acceleration per curved piece, so a curved piece longer
 /// than a quarter of the distance it needs to reach its cap from rest is cut into as many
-/// pieces as that takes (at most [`MAX_SUBPIECES`]); straight pieces may rise and fall
-/// inside themselves and are kept whole.
+/// pieces as that takes (at most [`MAX_SUBPIECES`], and [`MAX_WORK_PIECES`] in all); straight
+/// pieces may rise and fall inside themselves and are kept whole.
 fn work_pieces<'a>(
     path: &'a Path,
     opts: &FeedOptions,
     jerk: bool,
 ) -> (Cow<'a, [Piece]>, Vec<Bounds>, Vec<PieceLimits>) {
+    let curved_at = |p: &Piece| !matches!(path.elems[p.elem as usize].shape, Shape::Line { .. });
+    let limits_of = |p: &Piece, b: &Bounds| {
+        let e = &path.elems[p.elem as usize];
+        cap_of(b, e.feed, &opts.limits, opts.tangent_share, curved_at(p))
+    };
+    // Each piece's cuts, before any is made, so that their total can be held to the cap.
+    let mut ns: Vec<u8> = Vec::new();
+    if !jerk {
+        ns.reserve(path.pieces.len());
+        let mut total = 0usize;
+        for p in &path.pieces {
+            let b = piece_bounds(path, p);
+            let n = cuts(p, &b, &limits_of(p, &b), curved_at(p), jerk);
+            total += n;
+            ns.push(n as u8);
+        }
+        let base = path.pieces.len();
+        if total > MAX_WORK_PIECES.max(base) {
+            let room = MAX_WORK_PIECES.saturating_sub(base) as f64 / (total - base) as f64;
+            for n in &mut ns {
+                *n = 1 + (f64::from(*n - 1) * room).floor() as u8;
+            }
+        }
+    }
     // The path's own pieces until one is cut (never with jerk limits): no copy.
     let mut cut: Option<Vec<Piece>> = None;
     let mut bounds: Vec<Bounds> = Vec::with_capacity(if jerk { 0 } else { path.pieces.len() });
     let mut lims: Vec<PieceLimits> = Vec::with_capacity(path.pieces.len());
     for (idx, p) in path.pieces.iter().enumerate() {
         let e = &path.elems[p.elem as usize];
-        let curved = !matches!(e.shape, Shape::Line { .. });
+        let curved = curved_at(p);
         let b = piece_bounds(path, p);
-        let l = cap_of(&b, e.feed, &opts.limits, opts.tangent_share, curved);
-        let n = if !jerk && curved && l.a > 0.0 && l.x_cap.is_finite() {
-            let ramp = l.x_cap / (2.0 * l.a);
-            let by_ramp = if ramp > 0.0 { (4.0 * p.h / ramp).ceil() as usize } else { 1 };
-            // The bounds hold over the whole piece: where q'' changes much along it (a
-            // blend's curvature rises from zero to its peak), cut it so each part's range
-            // is at most 20 % of the largest |q''|.
-            let top = (0..6).fold(0.0f64, |m, i| m.max(b.lo2[i].abs()).max(b.hi2[i].abs()));
-            let spread = (0..6).fold(0.0f64, |m, i| m.max(b.hi2[i] - b.lo2[i]));
-            let by_curv = if top > 0.0 { (spread / (0.2 * top)).ceil() as usize } else { 1 };
-            by_ramp.max(by_curv).clamp(1, MAX_SUBPIECES)
-        } else {
-            1
-        };
+        let l = limits_of(p, &b);
+        let n = ns.get(idx).map_or(1, |&n| usize::from(n));
         if n == 1 {
             if let Some(c) = &mut cut {
                 c.push(*p);

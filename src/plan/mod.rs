@@ -44,15 +44,35 @@ pub enum PlanError {
         /// Source line.
         line: u32,
     },
-    /// Too many moves.
-    #[error("the program has more than {max} moves; split it")]
+    /// The path passes [`path::MAX_PIECES`] pieces at this line.
+    #[error(
+        "line {line}: the program is too large to plan whole: more than {max} pieces up to here (a piece is a line, 5° of an arc or curve, 15° of a blended corner); split it"
+    )]
     TooLarge {
-        /// The cap.
+        /// Source line of the move that passes the cap.
+        line: u32,
+        /// The cap (pieces).
         max: usize,
     },
     /// A bad machine value.
     #[error("{0}")]
     Machine(#[from] MachineError),
+}
+
+/// Why a program read as it is planned was not timed: its reader stopped (an interpreter's
+/// error, or a job cancelled), or the planner refused it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Stopped<E> {
+    /// The reader's error.
+    Read(E),
+    /// The planner's.
+    Plan(PlanError),
+}
+
+impl<E> From<PlanError> for Stopped<E> {
+    fn from(e: PlanError) -> Self {
+        Self::Plan(e)
+    }
 }
 
 /// A program timed on a machine.
@@ -113,9 +133,33 @@ where
         jerk_limited: !limits.jerk_free(),
     };
     let path = path::build(canon, &rules)?;
-    let plan = feed::plan(&path, &FeedOptions { limits, window: machine.window_blocks, tangent_share: 0.5 });
+    Ok(time_path(path, machine, &limits))
+}
+
+/// As [`time_program`], over motions read as they are planned (an interpreter streaming a
+/// file): the motions are never held as a list, and the first read error stops the work.
+///
+/// # Errors
+/// [`Stopped::Read`] with the reader's error; [`Stopped::Plan`] as [`time_program`].
+pub fn time_read<I, E>(canon: I, machine: &Dynamics) -> Result<Timing, Stopped<E>>
+where
+    I: IntoIterator<Item = Result<Canon, E>>,
+{
+    machine.validate().map_err(PlanError::from)?;
+    let limits = machine.joint_limits();
+    let rules = JunctionRules {
+        tol_mm: machine.tolerance_mm,
+        exact_stop: machine.exact_stop,
+        jerk_limited: !limits.jerk_free(),
+    };
+    let path = path::build_read(canon, &rules)?;
+    Ok(time_path(path, machine, &limits))
+}
+
+fn time_path(path: Path, machine: &Dynamics, limits: &JointLimits) -> Timing {
+    let plan = feed::plan(&path, &FeedOptions { limits: *limits, window: machine.window_blocks, tangent_share: 0.5 });
     let block_time_s = block_times(&path, &plan);
-    Ok(Timing { path, plan, machine: machine.clone(), block_time_s })
+    Timing { path, plan, machine: machine.clone(), block_time_s }
 }
 
 /// The time (s) within phase `p` at which the path position reaches `s` (s ≥ p.s0, within

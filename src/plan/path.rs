@@ -15,7 +15,7 @@
 
 use glam::DVec3;
 
-use super::PlanError;
+use super::{PlanError, Stopped};
 use crate::gcode::interp::{Canon, FeedMode, Loc, Pose};
 use crate::gcode::path::Plane;
 use crate::geom::NurbsCurve;
@@ -67,8 +67,13 @@ pub const MIN_TURN_RAD: f64 = 1e-9;
 pub const MAX_BLEND_TURN_RAD: f64 = 175.0 * std::f64::consts::PI / 180.0;
 /// Most pieces of one curve element (arcs of many turns, long NURBS).
 pub const MAX_PIECES_PER_ELEMENT: usize = 4096;
-/// Most elements of a path (moves and blends).
-pub const MAX_ELEMENTS: usize = 8_000_000;
+/// Most pieces of a path: a line is one, an arc or curve one per 5° its tangent turns (at least
+/// four for an arc), a corner's blend one per 15° and one more. The whole plan stays in memory
+/// (its path, phases and per-block times): 140–700 bytes a piece as measured (the most where
+/// the path stops at every corner: five to seven phases a piece), so at most about 1 GB.
+/// [`build`] counts the pieces as it reads, a blend at the most its corner's turn can give,
+/// and refuses at the line that passes this.
+pub const MAX_PIECES: usize = 1_500_000;
 
 /// A circular or helical arc (with a radius that may change linearly, as controllers allow
 /// within their arc tolerance), with the rotary axes moving linearly; τ ∈ [0, 1].
@@ -210,9 +215,12 @@ pub struct Path {
     pub elems: Vec<Element>,
     /// Pieces in order (each element's pieces contiguous).
     pub pieces: Vec<Piece>,
-    /// Arc length at the piece boundaries of curve elements: for piece k, `arc[k]` is the
-    /// element-local s at its start (lines: 0).
+    /// The NURBS curves of the spline elements ([`Shape::Nurbs`]'s `curve` indexes it).
     pub curves: Vec<NurbsCurve>,
+    /// The pieces counted as the program was read, each blend at the most its corner's turn
+    /// gives (≥ `pieces.len()`; equal on a path of lines whose corners are all blended and
+    /// turn by other than whole 15° steps); the count [`MAX_PIECES`] holds.
+    pub pieces_bound: usize,
     /// The program's blocks.
     pub blocks: Vec<Block>,
     /// Total length (mm).
@@ -632,12 +640,29 @@ pub fn build<I>(canon: I, rules: &JunctionRules) -> Result<Path, PlanError>
 where
     I: IntoIterator<Item = Canon>,
 {
+    build_read(canon.into_iter().map(Ok::<Canon, std::convert::Infallible>), rules).map_err(|e| match e {
+        Stopped::Plan(e) => e,
+        Stopped::Read(never) => match never {},
+    })
+}
+
+/// As [`build`], over motions read as the path is built (an interpreter streaming a file):
+/// the first read error stops it, and is returned, before any more work.
+///
+/// # Errors
+/// [`Stopped::Read`] with the reader's error, or [`Stopped::Plan`] as [`build`].
+pub fn build_read<I, E>(canon: I, rules: &JunctionRules) -> Result<Path, Stopped<E>>
+where
+    I: IntoIterator<Item = Result<Canon, E>>,
+{
     let mut path = Path::default();
     let canon = canon.into_iter();
-    let mut raws: Vec<Raw> = Vec::with_capacity(canon.size_hint().0.min(MAX_ELEMENTS / 2));
+    let mut raws: Vec<Raw> = Vec::with_capacity(canon.size_hint().0.min(MAX_PIECES));
     path.blocks.reserve(raws.capacity());
     let mut pos: Q = [0.0; 6];
+    let mut pieces = 0usize;
     for c in canon {
+        let c = c.map_err(Stopped::Read)?;
         let loc = c.loc();
         let line = loc.line;
         match c {
@@ -662,6 +687,7 @@ where
                         loc,
                         (0.0, len),
                         None,
+                        (&mut pieces, rules),
                     )?;
                 }
                 pos = q;
@@ -683,7 +709,18 @@ where
                 let len = probe.length_between(&path.curves, 0.0, 1.0, 16);
                 if len >= MIN_MOVE {
                     let f = feed_cap(&feed, len, line)?;
-                    push_raw(&mut raws, &mut path, shape, false, len, f, loc, (0.0, 1.0), Some(4))?;
+                    push_raw(
+                        &mut raws,
+                        &mut path,
+                        shape,
+                        false,
+                        len,
+                        f,
+                        loc,
+                        (0.0, 1.0),
+                        Some(4),
+                        (&mut pieces, rules),
+                    )?;
                 }
                 pos = q;
             }
@@ -707,7 +744,7 @@ where
                 let len = table_of(&probe, &path.curves, &breaks).last().map_or(0.0, |t| t.1);
                 if len >= MIN_MOVE {
                     let f = feed_cap(&feed, len, line)?;
-                    push_raw(&mut raws, &mut path, shape, false, len, f, loc, (u0, u1), Some(1))?;
+                    push_raw(&mut raws, &mut path, shape, false, len, f, loc, (u0, u1), Some(1), (&mut pieces, rules))?;
                 }
                 pos = q;
             }
@@ -733,6 +770,7 @@ where
         r.stop_after = true;
     }
     path.end = pos;
+    path.pieces_bound = pieces;
     junctions(&mut raws, &mut path, rules);
     Ok(path)
 }
@@ -748,10 +786,9 @@ fn push_raw(
     loc: Loc,
     tau: (f64, f64),
     min_pieces: Option<usize>,
+    count: (&mut usize, &JunctionRules),
 ) -> Result<(), PlanError> {
-    if raws.len() >= MAX_ELEMENTS / 2 {
-        return Err(PlanError::TooLarge { max: MAX_ELEMENTS / 2 });
-    }
+    let (pieces, rules) = count;
     let block = path.blocks.len();
     path.blocks.push(Block { line: loc.line, file: loc.file, rapid, len, s_start: 0.0, dwell_after_s: 0.0 });
     let mut raw = Raw {
@@ -779,8 +816,39 @@ fn push_raw(
     {
         prev.stop_after = true;
     }
+    let own = raw.table.len().saturating_sub(1).max(1);
+    let blend = raws.last().map_or(0, |prev| blend_pieces_at_most(prev, &raw, &path.curves, rules));
+    *pieces = pieces.saturating_add(own + blend);
+    if *pieces > MAX_PIECES {
+        return Err(PlanError::TooLarge { line: loc.line, max: MAX_PIECES });
+    }
     raws.push(raw);
     Ok(())
+}
+
+/// The most pieces a blend between `a` and `b` can take: none where the path stops (a rapid,
+/// exact stop, a reversal) or goes straight on, else one and one per 15° its end tangents
+/// turn (what [`junctions`] gives a blend). Between two lines those are the lines'
+/// directions; a curved neighbour is trimmed by at most half its length, over which its
+/// tangent turns by at most half its pieces' 5° each, added to the corner's turn. A hair
+/// (1e-9 of a 15° step) above keeps the count an upper bound at turns of whole 15° steps.
+fn blend_pieces_at_most(a: &Raw, b: &Raw, curves: &[NurbsCurve], rules: &JunctionRules) -> usize {
+    if a.stop_after || a.rapid || b.rapid || rules.exact_stop || rules.tol_mm <= 0.0 {
+        return 0;
+    }
+    let (_, ta, _) = a.at_s(curves, a.len);
+    let (_, tb, _) = b.at_s(curves, 0.0);
+    if norm3(&ta) < 0.5 || norm3(&tb) < 0.5 {
+        return 0;
+    }
+    let turn = (dot3(&ta, &tb) / (norm3(&ta) * norm3(&tb))).clamp(-1.0, 1.0).acos();
+    let both_lines = matches!(a.shape, Shape::Line { .. }) && matches!(b.shape, Shape::Line { .. });
+    if (both_lines && turn <= MIN_TURN_RAD) || turn > MAX_BLEND_TURN_RAD {
+        return 0;
+    }
+    let half_turn = |r: &Raw| 0.5 * PIECE_TURN_RAD * r.table.len().saturating_sub(1) as f64;
+    let ends = (turn + half_turn(a) + half_turn(b)).min(std::f64::consts::PI);
+    1 + (ends / (15f64).to_radians() + 1e-9).ceil() as usize
 }
 
 /// A quintic Bézier from `pa` to `pb` matching the tangents (dq/ds) `ta`, `tb` and second

@@ -228,3 +228,88 @@ fn a_scene_carries_its_machine_dynamics_and_old_scenes_still_read() {
     let e = Scene::from_json(&v.to_string()).expect_err("refused");
     assert!(e.to_string().starts_with("dynamics.axes.y.acceleration: must be > 0"), "{e}");
 }
+
+/// A zig-zag of `n` G1 moves alternating ±50° from X (every corner turns 100°), after a
+/// rapid to the start; the first feed move is on line 4.
+fn zigzag(n: usize) -> String {
+    let (c, s) = (50f64.to_radians().cos(), 50f64.to_radians().sin());
+    let mut text = String::from("G21 G90 G64 P0.01\nG0 X0 Y0 Z1\nF3000\n");
+    let mut y = 0.0;
+    for k in 0..n {
+        y += if k % 2 == 0 { s } else { -s };
+        text.push_str(&format!("G1 X{:.6} Y{y:.6}\n", c * (k + 1) as f64));
+    }
+    text
+}
+
+fn read(text: &str) -> Vec<Canon> {
+    Interpreter::from_text(text, Options::default()).map(|c| c.expect("reads")).collect()
+}
+
+#[test]
+fn the_pieces_counted_while_reading_bound_the_path_and_equal_it_on_blended_lines() {
+    let mut programs = programs();
+    programs.push(("zig-zag".to_owned(), read(&zigzag(40))));
+    // Corners of whole 15° steps (45°, 90°, 135°), where the blend's turn and the corner's
+    // may differ in their last bit.
+    let steps = "G21 G90 G0 X0 Y0\nG1 F2000 X10\nX20 Y10\nY20\nX10 Y10\nX0 Y20\nX-10 Y20\nY0\nX0 Y-10\n";
+    programs.push(("whole steps".to_owned(), read(steps)));
+    for (name, canon) in programs {
+        for mname in ["hobby-router", "vmc", "table-ac"] {
+            for (jerk, exact) in [(true, false), (false, false), (true, true)] {
+                let mut m = Dynamics::preset(mname).expect("preset");
+                m.exact_stop = exact;
+                if !jerk {
+                    m = m.without_jerk();
+                }
+                let t = time_program(canon.iter().cloned(), &m).expect("plans");
+                let (n, bound) = (t.path.pieces.len(), t.path.pieces_bound);
+                assert!(n <= bound, "{name} on {mname} (exact stop {exact}): {n} pieces over the bound {bound}");
+                if name == "zig-zag" {
+                    // 1 for the rapid, then 1 a line and, unless stopped, 1 + ⌈100°/15°⌉ = 8
+                    // for each of the 39 corners, all blended on these machines.
+                    let want = 1 + 40 + if exact { 0 } else { 39 * 8 };
+                    assert_eq!((n, bound), (want, want), "{name} on {mname} (exact stop {exact})");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn a_program_past_the_piece_cap_is_refused_at_the_line_that_passes_it() {
+    use interpolab::plan::PlanError;
+    use interpolab::plan::path::MAX_PIECES;
+    // Each move after the first adds 9 pieces: past the cap at move k when 1 + 1 + 9(k−1)
+    // passes it.
+    let k = (MAX_PIECES - 2) / 9 + 2;
+    let text = zigzag(k + 10);
+    let m = Dynamics::preset("vmc").expect("preset");
+    let err = time_program(read(&text), &m).expect_err("over the cap");
+    let line = 3 + k as u32;
+    assert_eq!(err, PlanError::TooLarge { line, max: MAX_PIECES });
+    assert!(err.to_string().starts_with(&format!("line {line}: ")), "{err}");
+    // One move fewer is a path (built, not planned: the plan of 1.5 million pieces is the
+    // benchmark's work, not a test's).
+    let rules = interpolab::plan::JunctionRules { tol_mm: m.tolerance_mm, exact_stop: false, jerk_limited: true };
+    let path = interpolab::plan::path::build(read(&zigzag(k - 1)), &rules).expect("a path");
+    assert_eq!(path.pieces.len(), path.pieces_bound);
+    assert!(path.pieces_bound <= MAX_PIECES && path.pieces_bound + 9 > MAX_PIECES);
+}
+
+#[test]
+fn a_program_read_as_it_is_planned_times_the_same_and_stops_at_the_first_read_error() {
+    use interpolab::plan::{Stopped, time_read};
+    let m = Dynamics::preset("vmc").expect("preset");
+    let text = include_str!("../data/plan/corners.nc");
+    let whole = time_program(read(text), &m).expect("plans");
+    let streamed = time_read(Interpreter::from_text(text, Options::default()), &m).expect("plans");
+    assert_eq!(streamed.total_s().to_bits(), whole.total_s().to_bits());
+    assert_eq!(streamed.block_time_s, whole.block_time_s);
+    // A bad word on line 9: the interpreter's error, with its line, and nothing planned.
+    let bad = text.replacen("G01 X10.0\n", "G01 X10.0 X11.0\n", 1);
+    match time_read(Interpreter::from_text(&bad, Options::default()), &m) {
+        Err(Stopped::Read(e)) => assert_eq!(e.loc.line, 9, "{e}"),
+        other => panic!("expected the reader's error, got {other:?}"),
+    }
+}
