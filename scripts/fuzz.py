@@ -3,7 +3,7 @@
 
 Mutates the example scenes and finishing scenes (numbers replaced by extreme values, keys
 dropped or repeated, bytes flipped) and small G-code programs, runs `run`, `check`, `gcode`,
-`steps`, `nurbs`, `finish`, `replay` and `simulate` on them with a time and memory limit, and keeps every case that breaks a promise:
+`steps`, `nurbs`, `finish`, `replay`, `simulate`, `time` and `canon` on them with a time and memory limit, and keeps every case that breaks a promise:
 a panic or abort, an exit status other than 0/1/2, a refusal longer than one line or after more
 than a second of CPU, NaN/inf/runaway digits in a message, a run past the time limit (30 s of CPU; the wall clock only backs it up, ten times that, so
 a campaign holds on a busy machine), a
@@ -91,7 +91,9 @@ def child_cpu_s():
 def check(bin_, args, timeout_s, mem_mb):
     cpu0 = child_cpu_s()
     try:
-        p = subprocess.run([bin_] + args, capture_output=True, timeout=WALL_OVER_CPU * timeout_s,
+        # `canon` prints a line a motion: millions of lines the campaign need not keep.
+        out = subprocess.DEVNULL if args[0] == "canon" else subprocess.PIPE
+        p = subprocess.run([bin_] + args, stdout=out, stderr=subprocess.PIPE, timeout=WALL_OVER_CPU * timeout_s,
                            preexec_fn=limits(mem_mb, timeout_s))
     except subprocess.TimeoutExpired:
         return f"hang: more than {WALL_OVER_CPU * timeout_s} s of wall clock"
@@ -135,7 +137,8 @@ def main():
             # A huge generated program: bounded memory and time, or one line.
             path = huge_gcode(rng, out)
             args = rng.choice([["replay", path], ["simulate", path, "--cutter", "ball:1", "--stock", "-5,-5,-2,10,10,1", "--pitch", "0.2"],
-                               ["replay", path, "--scene", os.path.join(ex, "floor-round-wall.json")]])
+                               ["replay", path, "--scene", os.path.join(ex, "floor-round-wall.json")],
+                               ["time", path], ["time", path, "--no-jerk"], ["canon", path]])
             runs += 1
             why = check(a.bin, args, a.timeout, a.mem_mb)
             if why:
@@ -162,6 +165,8 @@ def main():
         else:
             data, name = gcode(rng), "case.nc"
             cmds = [["replay", "{f}"], ["replay", "{f}", "--scene", os.path.join(ex, "floor-round-wall.json")],
+                    ["time", "{f}", "--machine", rng.choice(["vmc", "hobby-router", "table-ac"])] + rng.choice([[], ["--no-jerk"], ["--exact-stop"]]),
+                    ["time", "{f}", "--periods", os.path.join(out, "periods.csv")],
                     ["simulate", "{f}", "--cutter", rng.choice(CUTTERS), "--crashes", os.path.join(out, "crashes.csv"),
                      "--stock", rng.choice(["-60,-60,-10,60,60,10", "0,0,0,0,0,0", "-1e9,-1e9,0,1e9,1e9,1"]),
                      "--pitch=" + rng.choice(["0.5", "0.05", "0", "nan", "-2"])]]

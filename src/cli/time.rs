@@ -12,9 +12,10 @@ use std::process::ExitCode;
 
 use clap::{Args, ValueEnum};
 use interpolab::gcode::interp::Canon;
+use interpolab::gcode::read::MAX_PATH_MOVES;
 use interpolab::gcode::{Dialect, ProgramKind, ProgramOptions, crease_design, write_program};
 use interpolab::numerics::format::push_num;
-use interpolab::plan::{Dynamics, LimitChecker, Period, Timing, canon_of_toolpath, time_program};
+use interpolab::plan::{Dynamics, LimitChecker, Period, Stopped, Timing, canon_of_toolpath, time_program, time_read};
 use interpolab::report::fmt_num;
 
 use super::Fatal;
@@ -132,22 +133,40 @@ pub(super) fn time(a: &TimeArgs) -> Result<ExitCode, Fatal> {
             None => default_machine()?,
         };
         let machine = machine_with(base, a.tolerance, a.exact_stop, a.window, a.period, a.no_jerk)?;
-        (read_canon(&a.input, &a.read)?, a.input.display().to_string(), machine)
+        let timing = time_file(&a.input, &a.read, &machine)?;
+        return report_timing(a, &timing, &a.input.display().to_string());
     };
     finish(a, canon, &title, &scene_machine)
 }
 
 fn finish(a: &TimeArgs, canon: Vec<Canon>, title: &str, machine: &Dynamics) -> Result<ExitCode, Fatal> {
     let timing = time_program(canon, machine).map_err(|e| Fatal(format!("{}: {e}", a.input.display())))?;
-    let mut out = summary(title, &timing);
+    report_timing(a, &timing, title)
+}
+
+/// The summary on standard output and the files the options ask for.
+fn report_timing(a: &TimeArgs, timing: &Timing, title: &str) -> Result<ExitCode, Fatal> {
+    if a.periods.is_some() {
+        let periods = (timing.total_s() / timing.machine.period_s()).ceil();
+        if !(periods <= MAX_PERIODS) {
+            return Err(Fatal(format!(
+                "--periods: the program takes {:.1} s, {} periods of {} ms, more than {MAX_PERIODS} (about {} GB of CSV); time a part of it, or give a longer --period",
+                timing.total_s(),
+                fmt_num(periods),
+                fmt_num(timing.machine.period_ms),
+                fmt_num(MAX_PERIODS * 75.0 / 1e9),
+            )));
+        }
+    }
+    let mut out = summary(title, timing);
     if let Some(p) = &a.blocks {
-        write_blocks(p, &timing)?;
+        write_blocks(p, timing)?;
     }
     if let Some(p) = &a.geometry {
-        write_geometry(p, &timing, a.geometry_step)?;
+        write_geometry(p, timing, a.geometry_step)?;
     }
     if let Some(p) = &a.periods {
-        let rep = write_periods(p, &timing)?;
+        let rep = write_periods(p, timing)?;
         let _ = writeln!(
             out,
             "periods      {} written to {}; checked from the positions: largest joint velocity/acceleration/jerk at {:.4} of its limit{}",
@@ -173,25 +192,27 @@ fn scene_dynamics(p: &Path) -> Result<Option<Dynamics>, Fatal> {
     Ok(scene.dynamics)
 }
 
-/// A program's canonical motions: through the interpreter, or the Sinumerik reader.
-fn read_canon(path: &Path, read: &super::program::ReadArgs) -> Result<Vec<Canon>, Fatal> {
+/// A program file timed on `machine`: FANUC and LinuxCNC programs streamed from the
+/// interpreter into the planner (the canonical motions are never held as a list; the planner
+/// refuses at the line where its path passes its cap), Sinumerik through its reader.
+fn time_file(path: &Path, read: &super::program::ReadArgs, machine: &Dynamics) -> Result<Timing, Fatal> {
     use std::io::Read as _;
     let mut head = Vec::new();
     fs::File::open(path)
         .and_then(|f| f.take(64 << 10).read_to_end(&mut head))
         .map_err(|e| Fatal(format!("cannot read program {}: {e}", path.display())))?;
+    let plan_err = |e: interpolab::plan::PlanError| Fatal(format!("{}: {e}", path.display()));
     if Dialect::guess(&String::from_utf8_lossy(&head)) == Dialect::Sinumerik {
-        let (parsed, _, _) =
-            super::program::read_path(path, Some(Dialect::Sinumerik), read, interpolab::gcode::read::MAX_PATH_MOVES)?;
-        return Ok(canon_of_toolpath(&parsed.toolpath));
+        let (parsed, _, _) = super::program::read_path(path, Some(Dialect::Sinumerik), read, MAX_PATH_MOVES)?;
+        return time_program(canon_of_toolpath(&parsed.toolpath), machine).map_err(plan_err);
     }
     let mut it = super::program::open(path, read.options())?;
-    let mut out = Vec::new();
-    for c in it.by_ref() {
-        out.push(c.map_err(|e| Fatal(format!("{}: {e}", path.display())))?);
-    }
+    let timing = time_read(it.by_ref(), machine).map_err(|e| match e {
+        Stopped::Read(e) => Fatal(format!("{}: {e}", path.display())),
+        Stopped::Plan(e) => plan_err(e),
+    })?;
     super::program::report(&it, path);
-    Ok(out)
+    Ok(timing)
 }
 
 /// One line naming a machine and its controller settings.
@@ -277,6 +298,8 @@ fn summary(title: &str, t: &Timing) -> String {
 
 /// Most samples `--geometry` writes.
 const MAX_GEOMETRY_SAMPLES: usize = 2_000_000;
+/// Most rows `--periods` writes (about 75 bytes each).
+const MAX_PERIODS: f64 = 20_000_000.0;
 
 fn write_geometry(p: &Path, t: &Timing, step: f64) -> Result<(), Fatal> {
     if !(step > 0.0) {
@@ -368,7 +391,7 @@ fn write_periods(p: &Path, t: &Timing) -> Result<interpolab::plan::LimitReport, 
     let f = fs::File::create(p).map_err(|e| Fatal(format!("cannot create {}: {e}", p.display())))?;
     let mut w = BufWriter::with_capacity(1 << 16, f);
     let ts = t.machine.period_s();
-    let scale = t.path.pieces.iter().fold(1.0f64, |m, _| m).max(t.path.length);
+    let scale = t.path.length;
     let mut checker = LimitChecker::new(t.machine.joint_limits(), ts, 4.0 * f64::EPSILON * scale.max(1.0) * 1e3);
     let mut line = String::with_capacity(256);
     let _ = w.write_all(b"k,t_s,x,y,z,a,b,c,feed_mm_per_min,accel_mm_per_s2,jerk_mm_per_s3,line\n");

@@ -1,6 +1,6 @@
 //! A user's program timed on a machine, as a background job: read by the interpreter with its
 //! tool table, project and subroutine files (as [`super::user_program`] reads it), its feed
-//! planned within the machine's joint limits and contour tolerance ([`crate::plan::time_program`],
+//! planned within the machine's joint limits and contour tolerance ([`crate::plan::time_read`],
 //! the pipeline of `interpolab time`), handed back as the cycle time and the planned feed,
 //! acceleration and jerk along the path against time, sampled for a plot.
 
@@ -11,7 +11,7 @@ use super::user_program::{self, UserProgram, UserProgramError};
 use super::{DecodeError, JobKind, Progress, Reader, f32s_packed, parse};
 use crate::gcode::interp::tools::TableUnits;
 use crate::gcode::interp::{InterpError, Interpreter, Options, TextLibrary, TextSource};
-use crate::plan::{Dynamics, PlanError, Timing, time_program};
+use crate::plan::{Dynamics, PlanError, Stopped, Timing, time_read};
 
 /// Samples of the feed, acceleration and jerk handed back for the plot (evenly in time).
 pub const PLOT_SAMPLES: usize = 2000;
@@ -134,17 +134,24 @@ pub fn time(req: &Request, progress: &mut dyn Progress) -> Result<Timing, TimeEr
     }
     let mut it = Interpreter::new(Box::new(TextSource::new(&p.text)), Box::new(lib), opts);
     let size = p.text.len().max(1) as f64;
-    let mut canon = Vec::new();
-    while let Some(c) = it.next() {
-        canon.push(c.map_err(|error| TimeError::Program { name: p.name.clone(), error })?);
-        if canon.len().is_multiple_of(4096) {
+    // The motions go to the planner as they are read (never held as a list); progress is
+    // half the text read, and a cancel stops the reading.
+    let mut read = 0usize;
+    let stream = std::iter::from_fn(|| {
+        let c = it.next()?;
+        read += 1;
+        if read.is_multiple_of(4096) {
             progress.progress(0.5 * it.main_offset() as f64 / size);
             if progress.cancelled() {
-                return Err(TimeError::Cancelled);
+                return Some(Err(TimeError::Cancelled));
             }
         }
-    }
-    let t = time_program(canon, &req.machine).map_err(|error| TimeError::Plan { name: p.name.clone(), error })?;
+        Some(c.map_err(|error| TimeError::Program { name: p.name.clone(), error }))
+    });
+    let t = time_read(stream, &req.machine).map_err(|e| match e {
+        Stopped::Read(e) => e,
+        Stopped::Plan(error) => TimeError::Plan { name: p.name.clone(), error },
+    })?;
     progress.progress(1.0);
     Ok(t)
 }

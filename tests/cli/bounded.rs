@@ -237,3 +237,28 @@ fn a_machine_pivot_a_kilometre_off_is_refused_with_the_scene() {
         &["machine.pivots.b", "more than 1000000 mm", "from the origin"],
     );
 }
+
+#[test]
+fn timing_a_program_past_the_plan_cap_is_refused_at_its_line_and_periods_past_theirs_before_a_file() {
+    // 1.6 million reversals: every move is a piece of its own (a reversal is a stop, not a
+    // blend), so the 1 500 001st piece is the 1 499 999th move after the rapid, on line
+    // 3 + 1 499 999.
+    let mut text = String::from("G21 G90\nG0 X0 Y0 Z1\n");
+    text.push_str("G1 F100 X1\n");
+    for k in 1..1_600_000 {
+        text.push_str(if k % 2 == 1 { "X2\n" } else { "X1\n" });
+    }
+    let p = temp_file("reversals.nc", text.as_bytes());
+    refused(&run(&["time", &p]), &["line 1500002:", "more than 1500000 pieces", "split it"]);
+    // A 1 km move at 1 mm/min takes 60 000 000 s: 6e10 periods of 1 ms.
+    let slow = temp_file("slow.nc", b"G21 G90\nG1 F1 X1000000\n");
+    let csv = std::env::temp_dir().join(format!("interpolab-bounded-{}-periods.csv", std::process::id()));
+    refused(
+        &run(&["time", &slow, "--periods", &csv.display().to_string()]),
+        &["--periods", "more than 20000000", "--period"],
+    );
+    assert!(!csv.exists(), "a file was written before the refusal");
+    // Without --periods the same program is timed.
+    let o = run(&["time", &slow]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
