@@ -338,7 +338,7 @@ impl InterpolabApp {
     fn top_bar(&mut self, ui: &mut egui::Ui) {
         ui.horizontal_wrapped(|ui| {
             ui.heading("interpolab");
-            ui.label(egui::RichText::new("crease interpolation lab").weak());
+            ui.label(egui::RichText::new("CNC tool-path interpolation lab").weak());
             ui.separator();
             let r = ui.selectable_label(self.show_help, "Help");
             if r.clicked() {
