@@ -414,7 +414,14 @@ fn finish(
     let t0 = Instant::now();
     let mut sim =
         pipeline::start(stock, cutter, sample_step, program).map_err(|e| Fatal(format!("{}: {e}", program_name(a))))?;
-    let Ok(()) = pipeline::machine(&mut sim, &program.moves, |_| Ok::<(), Infallible>(()));
+    // A run that would pass its work bound is refused as soon as its projection shows it.
+    let meter = pipeline::WorkMeter::new(&sim, &program.moves);
+    let mut done = 0;
+    pipeline::machine(&mut sim, &program.moves, |sim| {
+        done += 1;
+        meter.check(sim, &program.moves, done)
+    })
+    .map_err(|e| Fatal(format!("{}: {e}", program_name(a))))?;
     let run_ms = t0.elapsed().as_secs_f64() * 1e3;
     let Ok(Measures { map, stats }) = pipeline::measure(sim.stock(), design, usize::MAX, |_| Ok::<(), Infallible>(()));
     let has_design = !matches!(design, Design::None);

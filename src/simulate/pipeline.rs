@@ -17,7 +17,8 @@ use glam::DVec3;
 
 use super::program::MAX_MOVES;
 use super::{
-    Design, DeviationScan, DexelStock, HeightMap, MAX_RAY_VISITS, Program, SimError, SimMove, SimStats, Simulation,
+    Design, DeviationScan, DexelStock, HeightMap, MAX_RAY_VISITS, MAX_WORK, PROJECTED_WORK_ROOM, Program, SimError,
+    SimMove, SimStats, Simulation,
 };
 use crate::gcode::interp::{Interpreter, Options};
 use crate::gcode::{Dialect, ParseError, ParsedProgram, ProgrammedPoint, Toolpath, parse_program_in, read_from_capped};
@@ -175,6 +176,63 @@ pub fn start(
         return Err(SimError::TooMuchWork { visits, max: MAX_RAY_VISITS });
     }
     Ok(sim)
+}
+
+/// The bound on a run's work ([`MAX_WORK`]): refuses it once the work done, scaled by the
+/// estimated ray visits of the moves still to come, reads [`PROJECTED_WORK_ROOM`] times the
+/// cap (judged once a twentieth of the estimated visits is done), and stops it when the work
+/// done does. Deterministic: counts of ray updates, never a clock.
+#[derive(Clone, Debug)]
+pub struct WorkMeter {
+    /// Estimated ray visits of the moves before each move (`moves.len() + 1` entries).
+    before: Vec<f64>,
+    /// The cap (straight-move ray updates): [`MAX_WORK`].
+    max: f64,
+}
+
+impl WorkMeter {
+    /// The meter of `moves` machined by `sim` from its start.
+    #[must_use]
+    pub fn new(sim: &Simulation, moves: &[SimMove]) -> Self {
+        let mut before = Vec::with_capacity(moves.len() + 1);
+        let mut sum = 0.0;
+        before.push(0.0);
+        for m in moves {
+            sum += sim.estimate_move_visits(m);
+            before.push(sum);
+        }
+        Self { before, max: MAX_WORK }
+    }
+
+    /// The same meter with another cap (straight-move ray updates; tests use small ones).
+    #[must_use]
+    pub fn with_cap(mut self, max: f64) -> Self {
+        self.max = max;
+        self
+    }
+
+    /// After the first `done` moves of the meter's program.
+    ///
+    /// # Errors
+    /// [`SimError::TooMuchWorkDone`] when the work done, or projected, passes the room.
+    pub fn check(&self, sim: &Simulation, moves: &[SimMove], done: usize) -> Result<(), SimError> {
+        let total = self.before.last().copied().unwrap_or(0.0);
+        let so_far = self.before.get(done).copied().unwrap_or(total);
+        let work = sim.work_done();
+        let projected = if so_far >= 0.05 * total && so_far > 0.0 { work * total / so_far } else { work };
+        let stop = PROJECTED_WORK_ROOM * self.max;
+        if work > stop || projected > stop {
+            return Err(SimError::TooMuchWorkDone {
+                done,
+                moves: moves.len(),
+                line: done.checked_sub(1).and_then(|k| moves.get(k)).map_or(0, |m| m.line),
+                work,
+                projected: projected.max(work),
+                max: self.max,
+            });
+        }
+        Ok(())
+    }
 }
 
 /// Machines `moves` one after the other, calling `after` with the simulation after each

@@ -383,6 +383,7 @@ pub(crate) fn counters_value(c: &Counters) -> Value {
         "samples": c.samples,
         "rays_visited": c.rays_visited,
         "ray_updates": c.ray_updates,
+        "joint_updates": c.joint_updates,
         "removed_mm3": num(c.removed_mm3),
         "rapid_cuts": c.rapid_cuts,
         "first_rapid_cut_line": c.first_rapid_cut_line,
@@ -401,6 +402,7 @@ pub(crate) fn counters_of(v: &Value) -> Result<Counters, DecodeError> {
         samples: u64_of("samples")?,
         rays_visited: u64_of("rays_visited")?,
         ray_updates: u64_of("ray_updates")?,
+        joint_updates: u64_of("joint_updates")?,
         removed_mm3: c.f64("removed_mm3")?,
         rapid_cuts: c.usize("rapid_cuts")?,
         first_rapid_cut_line: match c.value("first_rapid_cut_line")? {

@@ -67,3 +67,105 @@ fn a_given_sample_step_holds_for_every_cutter_and_the_slider_s_only_below_the_pi
     assert_eq!(SampleStep::BelowPitch(0.05).resolve(0.1, &ball), None, "a ball is swept in closed form");
     assert_eq!(SampleStep::BelowPitch(0.1).resolve(0.1, &flat), None, "not finer than the pitch");
 }
+
+mod work {
+    use interpolab::geom::Cutter;
+    use interpolab::simulate::pipeline::{WorkMeter, machine};
+    use interpolab::simulate::{DexelStock, MoveKind, PROJECTED_WORK_ROOM, Program, SimError, SimMove, Simulation};
+
+    /// `n` equal passes of a ball along X through a 20 × 20 mm block, each a little deeper.
+    fn passes(n: usize) -> Program {
+        let moves = (0..n)
+            .map(|k| {
+                let z = -0.01 * (k + 1) as f64;
+                let y = -8.0 + 16.0 * (k % 8) as f64 / 7.0;
+                SimMove {
+                    kind: MoveKind::Line { from: glam::DVec3::new(-12.0, y, z), to: glam::DVec3::new(12.0, y, z) },
+                    rapid: false,
+                    line: k + 1,
+                }
+            })
+            .collect();
+        Program { moves, ..Program::default() }
+    }
+
+    fn simulation() -> Simulation {
+        let stock = DexelStock::block([-10.0, -10.0, -5.0], [10.0, 10.0, 0.0], 0.1).unwrap();
+        Simulation::new(stock, &Cutter::ball(2.0).unwrap())
+    }
+
+    #[test]
+    fn a_run_is_measured_by_its_ray_updates_and_refused_once_its_projection_passes_the_cap() {
+        let program = passes(200);
+        // The whole run, unmetered: straight moves count one a ray update.
+        let mut whole = simulation();
+        let Ok(()) = machine(&mut whole, &program.moves, |_| Ok::<(), std::convert::Infallible>(()));
+        let c = *whole.counters();
+        assert!(c.ray_updates > 100_000 && c.joint_updates == 0, "{c:?}");
+        assert_eq!(whole.work_done(), c.ray_updates as f64);
+        // A cap the run fits: metered, it ends the same.
+        let fits = simulation();
+        let meter = WorkMeter::new(&fits, &program.moves).with_cap(whole.work_done());
+        let mut sim = fits;
+        let mut done = 0;
+        machine(&mut sim, &program.moves, |s| {
+            done += 1;
+            meter.check(s, &program.moves, done)
+        })
+        .unwrap();
+        assert_eq!(sim.counters(), &c);
+        // A cap of a fifth of its work: refused once a twentieth of the estimated visits is
+        // done (the passes are alike: at move 10 of 200), projecting about the whole.
+        let small = simulation();
+        let cap = whole.work_done() / 5.0;
+        let meter = WorkMeter::new(&small, &program.moves).with_cap(cap);
+        let mut sim = small;
+        let mut done = 0;
+        let err = machine(&mut sim, &program.moves, |s| {
+            done += 1;
+            meter.check(s, &program.moves, done)
+        })
+        .unwrap_err();
+        let SimError::TooMuchWorkDone { done: at, moves, line, work, projected, max } = err.clone() else {
+            panic!("{err}")
+        };
+        assert_eq!((at, moves, line, max), (10, 200, 10, cap));
+        assert!(work < PROJECTED_WORK_ROOM * cap && projected > PROJECTED_WORK_ROOM * cap, "{err}");
+        assert!(
+            (projected / whole.work_done() - 1.0).abs() < 0.5,
+            "projected {projected}, whole {}",
+            whole.work_done()
+        );
+        let text = err.to_string();
+        assert!(text.contains("after 10 of 200 moves (line 10)") && text.contains("raise the pitch"), "{text}");
+    }
+}
+
+#[test]
+fn the_work_of_five_axis_moves_is_weighed_by_their_measured_cost() {
+    use glam::DVec3;
+    use interpolab::fiveaxis::Joints;
+    use interpolab::simulate::canon::MachineSetup;
+    use interpolab::simulate::{DexelStock, JOINT_UPDATE_COST, MoveKind, SimMove, Simulation};
+    let m = MachineSetup::from_name("head-bc", 0.0).unwrap().machine;
+    let joints = |x: f64| Joints { xyz_mm: DVec3::new(x, 0.0, -0.5), rotary_rad: [0.2, 0.0] };
+    let stock = DexelStock::block([-10.0, -10.0, -5.0], [10.0, 10.0, 0.0], 0.1).unwrap();
+    let mut sim = Simulation::new(stock, &Cutter::flat(2.0).unwrap());
+    let line = SimMove {
+        kind: MoveKind::Line { from: DVec3::new(-8.0, 5.0, -0.5), to: DVec3::new(8.0, 5.0, -0.5) },
+        line: 1,
+        rapid: false,
+    };
+    sim.apply(&line);
+    let straight = sim.counters().ray_updates;
+    sim.apply(&SimMove {
+        kind: MoveKind::Joints { machine: m, from: joints(-8.0), to: joints(8.0) },
+        line: 2,
+        rapid: false,
+    });
+    let c = *sim.counters();
+    let joint = c.ray_updates - straight;
+    assert!(straight > 1000 && joint > 1000, "{c:?}");
+    assert_eq!(c.joint_updates, joint);
+    assert_eq!(sim.work_done(), straight as f64 + JOINT_UPDATE_COST * joint as f64);
+}
