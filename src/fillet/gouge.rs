@@ -364,6 +364,10 @@ fn bottom_clash(
     None
 }
 
+/// Most cells [`adjust`]'s trials of other poses may evaluate for one CC point (four
+/// checks' worth, [`MAX_CELLS`]); past it the point is refused with the clash of its pose.
+pub const MAX_ADJUST_CELLS: u64 = 4 * MAX_CELLS as u64;
+
 /// Share of the gouge tolerance allowed by [`adjust`]: the check measures how deep the
 /// part reaches into the cutter, the independent re-computation how deep the cutter reaches
 /// below the part; the two agree at the deepest point to first order, and the share keeps
@@ -499,8 +503,13 @@ pub fn adjust(
     if exhausted > exhausted_before {
         return Err(first);
     }
+    // Up to 2 527 poses are tried, each check up to MAX_CELLS: the point is refused once its
+    // trials have cost MAX_ADJUST_CELLS (a fold of the surface under the cutter made every
+    // trial search deep before it clashed: 11 million cells a point).
+    let cells_before = part.cells_checked();
     let mut ok = |p: &Pose| {
-        gouge_margin(cutter, frame, p) >= opts.margin_per_mm
+        part.cells_checked() - cells_before <= MAX_ADJUST_CELLS
+            && gouge_margin(cutter, frame, p) >= opts.margin_per_mm
             && check_hinted(cutter, surface, part, frame, p, tol, &mut hint).is_none()
     };
     let deg = 0.25f64.to_radians();
