@@ -928,8 +928,9 @@ impl Panel for UserProgramPanel {
             list: result.as_ref().map_or(&[][..], |f| f.crashes.as_slice()),
             selected: self.picked_crash(),
         };
+        let (by, tol) = (self.colour, self.tol());
         let picked =
-            self.view.ui(ui, path_rect, &s, self.colour, self.tol(), self.selected, self.shown, achieved, marks);
+            self.view.ui(ui, path_rect, cx.render_state, &s, by, tol, self.selected, self.shown, achieved, marks);
         if let Some(b) = picked {
             self.selected = Some(b);
             self.view.invalidate();

@@ -1,15 +1,24 @@
-//! The user program's path in 3D (egui shapes through the orbit camera's projection,
-//! thinned to what the screen can show: consecutive points closer than a pixel within one
-//! colour are merged, so a 180 000-block program draws as a few tens of thousands of
-//! segments) and its machined stock as a picture coloured by the tool that cut each ray last,
-//! both with a red cross at each crash the simulation found (the one picked circled).
+//! The user program's path in 3D and its machined stock as a picture coloured by the tool that
+//! cut each ray last, both with a red cross at each crash the simulation found (the one picked
+//! circled).
+//!
+//! The path is drawn by the 3D views' GPU line renderer (`render::gpu`): its segments are
+//! uploaded when the path, its colours, the selection or the blocks shown change — only those
+//! after the part that stayed the same, so a path read piece by piece sends each piece once —
+//! and the camera is a uniform, so turning and zooming project nothing on the CPU. A program
+//! of more than [`MAX_UPLOADED`] points is thinned evenly, the same whatever the view. The
+//! crash marks, the marker of the last block shown, the legend and the help are egui shapes
+//! over the image, their few points projected with the same camera; a click projects the
+//! points once to find the move nearest to it.
 
 use eframe::egui;
+use eframe::egui_wgpu::RenderState;
 use glam::Vec3;
 
 use super::ColourBy;
+use crate::app::overlay::{camera_controls, no_gpu, paint_view};
 use crate::jobs::user_program::{CrashRow, Finished, ReadSummary};
-use crate::render::OrbitCamera;
+use crate::render::{Layer, LineSegment, OrbitCamera, Renderer3d, ViewId};
 use crate::simulate::NO_TOOL;
 use crate::simulate::canon::NO_SLOT;
 
@@ -31,8 +40,16 @@ pub fn tool_colour(slot: usize) -> egui::Color32 {
     PALETTE[slot % PALETTE.len()]
 }
 
-/// Most path points drawn (about as many segments): past it the path is thinned evenly.
-pub const MAX_DRAWN: usize = 40_000;
+/// This view's GPU id.
+pub const VIEW_ID: ViewId = 5;
+/// The view's background (egui's grey 22).
+const BACKGROUND: [f32; 4] = [22.0 / 255.0, 22.0 / 255.0, 22.0 / 255.0, 1.0];
+
+/// Most path segments uploaded (about): past it the path is thinned evenly, whatever the view.
+pub const MAX_UPLOADED: usize = 50_000;
+/// Farthest a merged point may be from the segment drawn for it, as a share of the radius of
+/// the path's box: about 1/30 of a pixel when the whole path fills a view 800 pixels high.
+const SIMPLIFY: f32 = 1e-4;
 
 const RAPID: egui::Color32 = egui::Color32::from_rgb(120, 120, 120);
 /// The colour of a crash's mark.
@@ -127,32 +144,190 @@ fn block_colour(
     }
 }
 
-/// What the cached shapes were made for.
+/// What the uploaded lines were made for: the view's serial ([`PathView::invalidate`]) and
+/// the pixels per point their widths were scaled by.
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Key {
-    rect: egui::Rect,
-    camera: OrbitCamera,
+struct Uploaded {
     serial: u64,
-    moving: bool,
+    ppp: u32,
 }
 
-/// The path view: camera, cached shapes and projected points (for picking).
+/// The path view: camera, the path's segments as handed to the GPU (to upload only what
+/// follows the part unchanged), and what the overlays drawn over the image need.
 #[derive(Default)]
 pub struct PathView {
     camera: OrbitCamera,
     origin: Vec3,
+    /// Radius of the sphere framed (mm), for a double click's fit.
+    radius: f32,
     fitted: bool,
     serial: u64,
-    key: Option<Key>,
-    shapes: Vec<egui::Shape>,
-    segments: usize,
-    /// Crash marks drawn inside the view in the last build.
+    uploaded: Option<Uploaded>,
+    /// The path's segments on the GPU (local to `origin`).
+    path: Vec<LineSegment>,
+    /// The last point drawn (the marker at the last block shown).
+    last_point: Option<Vec3>,
+    /// The selected block's point when it has no segment of its own (circled).
+    selected_point: Option<Vec3>,
+    /// Crash marks drawn inside the view in the last frame.
     marks: usize,
-    /// Projected points kept for picking: (screen position, block).
-    picks: Vec<(egui::Pos2, u32)>,
-    /// Each block's colour, for the serial they were made for.
-    colours: (u64, Vec<egui::Color32>),
     map_texture: Option<(usize, egui::TextureHandle)>,
+}
+
+/// An egui colour as the renderer's display RGBA in 0…1.
+fn rgba(c: egui::Color32) -> [f32; 4] {
+    let [r, g, b, a] = c.to_srgba_unmultiplied();
+    [f32::from(r) / 255.0, f32::from(g) / 255.0, f32::from(b) / 255.0, f32::from(a) / 255.0]
+}
+
+/// The lowest and highest programmed feed of the moves that cut (mm/min).
+fn feed_range(s: &ReadSummary) -> (f32, f32) {
+    s.block_feed
+        .iter()
+        .zip(&s.block_kind)
+        .filter(|(f, k)| **k != 0 && f.is_finite() && **f > 0.0)
+        .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), (f, _)| (lo.min(*f), hi.max(*f)))
+}
+
+/// Point `k` of the path (mm; not finite where the reader left a gap).
+fn point(s: &ReadSummary, k: usize) -> Vec3 {
+    s.points.get(3 * k..3 * k + 3).map_or(Vec3::NAN, |p| Vec3::new(p[0], p[1], p[2]))
+}
+
+/// Points merged into one segment at the most (bounds the work of [`Simplifier::offer`]).
+const RUN_WINDOW: usize = 32;
+
+/// Distance from `p` to the segment `a`–`b` (mm).
+fn distance_to_segment(p: Vec3, a: Vec3, b: Vec3) -> f32 {
+    let ab = b - a;
+    let len2 = ab.length_squared();
+    let t = if len2 > 0.0 { ((p - a).dot(ab) / len2).clamp(0.0, 1.0) } else { 0.0 };
+    p.distance(a + t * ab)
+}
+
+/// Merges consecutive points of one colour into one segment while every point merged stays
+/// within `tolerance` of it (at most [`RUN_WINDOW`] of them): the segments only depend on the
+/// points before, so a path that grows keeps the segments it had.
+struct Simplifier {
+    tolerance: f32,
+    origin: Vec3,
+    width_px: f32,
+    /// The last point kept.
+    anchor: Option<Vec3>,
+    /// The points after it not kept yet (the last one the tentative end) and their colour.
+    pending: Vec<Vec3>,
+    colour: egui::Color32,
+    out: Vec<LineSegment>,
+}
+
+impl Simplifier {
+    fn segment(&mut self, a: Vec3, b: Vec3, c: egui::Color32) {
+        let o = self.origin;
+        self.out.push(LineSegment::new((a - o).to_array(), (b - o).to_array(), self.width_px, rgba(c)));
+    }
+
+    /// Ends the current segment at the tentative end (kept).
+    fn settle(&mut self) {
+        if let (Some(a), Some(&t)) = (self.anchor, self.pending.last()) {
+            self.segment(a, t, self.colour);
+            self.anchor = Some(t);
+        }
+        self.pending.clear();
+    }
+
+    /// Whether the segment from the anchor to `p` passes within the tolerance of every point
+    /// pending.
+    fn covers(&self, p: Vec3) -> bool {
+        let Some(a) = self.anchor else { return false };
+        self.pending.len() < RUN_WINDOW && self.pending.iter().all(|q| distance_to_segment(*q, a, p) <= self.tolerance)
+    }
+
+    /// The next point, in colour `c`; `keep`: it must be a point of the drawing (a run's end
+    /// or start).
+    fn offer(&mut self, p: Vec3, c: egui::Color32, keep: bool) {
+        if c != self.colour {
+            // A colour change: the last run ends at its last point, the new one starts there.
+            self.settle();
+            self.colour = c;
+        } else if !self.covers(p) {
+            self.settle();
+        }
+        if self.anchor.is_none() {
+            self.anchor = Some(p);
+            return;
+        }
+        self.pending.push(p);
+        if keep {
+            self.settle();
+        }
+    }
+
+    /// Breaks the path (a gap): what is pending is drawn up to its last point.
+    fn gap(&mut self) {
+        self.settle();
+        self.anchor = None;
+    }
+}
+
+/// The path's segments, point to point in order, each in the colour of its end point's block
+/// (`colour`), as far as the blocks below `limit`; a point that is not finite breaks the path.
+/// Consecutive points of one colour are merged while the segment stays within `tolerance`
+/// (mm) of every point it replaces, each run's ends and every colour change kept. Past
+/// `max_segments` segments, every `stride`-th point of a run is kept besides its ends and
+/// merged likewise. Nothing depends on the view. The segments are local to `origin`; returns
+/// them and the last point drawn (mm).
+fn path_segments(
+    s: &ReadSummary,
+    origin: Vec3,
+    limit: usize,
+    max_segments: usize,
+    tolerance: f32,
+    colour: impl Fn(usize) -> egui::Color32,
+    width_px: f32,
+) -> (Vec<LineSegment>, Option<Vec3>) {
+    let n = s.point_block.len().min(s.points.len() / 3);
+    let mut stride = 1;
+    loop {
+        let mut m = Simplifier {
+            tolerance,
+            origin,
+            width_px,
+            anchor: None,
+            pending: Vec::with_capacity(RUN_WINDOW),
+            colour: egui::Color32::TRANSPARENT,
+            out: Vec::new(),
+        };
+        let mut last = None;
+        for k in 0..n {
+            let b = s.point_block[k] as usize;
+            if b >= limit {
+                break;
+            }
+            let p = point(s, k);
+            if !p.is_finite() {
+                m.gap();
+                continue;
+            }
+            let c = colour(b);
+            let next = s.point_block.get(k + 1).map(|nb| *nb as usize);
+            let is_end = next.is_none_or(|nb| nb >= limit || colour(nb) != c || !point(s, k + 1).is_finite());
+            if stride > 1 && !is_end && c == m.colour && m.anchor.is_some() && !k.is_multiple_of(stride) {
+                continue;
+            }
+            m.offer(p, c, is_end);
+            last = Some(p);
+        }
+        m.settle();
+        if m.out.len() <= max_segments || stride > 1 {
+            return (m.out, last);
+        }
+        stride = m.out.len() / max_segments.max(1) + 1;
+    }
+}
+
+/// The first index where `a` and `b` differ (the shorter one's length if one begins the other).
+fn common_prefix(a: &[LineSegment], b: &[LineSegment]) -> usize {
+    a.iter().zip(b).position(|(x, y)| x != y).unwrap_or(a.len().min(b.len()))
 }
 
 impl PathView {
@@ -162,16 +337,15 @@ impl PathView {
         self.invalidate();
     }
 
-    /// Draw the shapes again (colours, selection, slider changed).
+    /// Upload the lines again (path, colours, selection, slider changed).
     pub fn invalidate(&mut self) {
         self.serial += 1;
-        self.key = None;
     }
 
-    /// Segments drawn in the last frame (after thinning).
+    /// Segments of the path handed to the GPU in the last upload (after thinning).
     #[must_use]
     pub fn drawn_segments(&self) -> usize {
-        self.segments
+        self.path.len()
     }
 
     /// Crash marks drawn inside the path view in the last frame.
@@ -185,13 +359,18 @@ impl PathView {
     pub fn fit_box(&mut self, b: [f32; 6]) {
         let (lo, hi) = (Vec3::new(b[0], b[1], b[2]), Vec3::new(b[3], b[4], b[5]));
         if lo.is_finite() && hi.is_finite() && lo.cmple(hi).all() {
-            self.origin = 0.5 * (lo + hi);
-            self.camera.fit(Vec3::ZERO, (0.5 * (hi - lo).length()).max(1.0));
-            self.fitted = true;
+            self.frame(lo, hi);
         } else {
             self.fitted = false;
         }
         self.invalidate();
+    }
+
+    fn frame(&mut self, lo: Vec3, hi: Vec3) {
+        self.origin = 0.5 * (lo + hi);
+        self.radius = (0.5 * (hi - lo).length()).max(1.0);
+        self.camera.fit(Vec3::ZERO, self.radius);
+        self.fitted = true;
     }
 
     fn fit(&mut self, s: &ReadSummary) {
@@ -204,20 +383,19 @@ impl PathView {
                 hi = hi.max(v);
             }
         }
-        if lo.x > hi.x {
-            return;
+        if lo.x <= hi.x {
+            self.frame(lo, hi);
         }
-        self.origin = 0.5 * (lo + hi);
-        self.camera.fit(Vec3::ZERO, (0.5 * (hi - lo).length()).max(1.0));
-        self.fitted = true;
     }
 
-    /// Draws the path in `rect`; returns the block clicked, if any.
+    /// Draws the path in `rect` with the GPU line renderer of `rs` (a message without one);
+    /// returns the block clicked, if any.
     #[allow(clippy::too_many_arguments, reason = "the view's inputs, all read-only")]
     pub fn ui(
         &mut self,
         ui: &mut egui::Ui,
         rect: egui::Rect,
+        rs: Option<&RenderState>,
         s: &ReadSummary,
         by: ColourBy,
         tol: f64,
@@ -230,81 +408,76 @@ impl PathView {
             self.fit(s);
         }
         let resp = ui.allocate_rect(rect, egui::Sense::click_and_drag());
-        if resp.dragged_by(egui::PointerButton::Primary) {
-            let d = resp.drag_delta();
-            self.camera.orbit(d.x, d.y);
-        }
-        if resp.dragged_by(egui::PointerButton::Secondary) || resp.dragged_by(egui::PointerButton::Middle) {
-            let d = resp.drag_delta();
-            self.camera.pan(d.x, d.y, rect.height());
-        }
-        if resp.hovered() {
-            let scroll = ui.input(|i| i.smooth_scroll_delta.y);
-            if scroll.abs() > 0.0 {
-                self.camera.zoom((scroll * 0.003).exp());
-            }
-        }
-        let painter = ui.painter_at(rect);
-        painter.rect_filled(rect, 0.0, egui::Color32::from_gray(22));
-        // While the view turns, a coarser path (a quarter of the points); the whole when it rests.
-        let moving = resp.dragged() || ui.input(|i| i.smooth_scroll_delta.y.abs() > 0.0);
-        let key = Key { rect, camera: self.camera, serial: self.serial, moving };
-        if self.key != Some(key) {
-            let max = if moving { MAX_DRAWN / 4 } else { MAX_DRAWN };
-            self.build(rect, s, by, tol, selected, shown, max, achieved, crashes);
-            self.key = Some(key);
-        }
-        if moving {
-            ui.ctx().request_repaint();
-        }
-        painter.extend(self.shapes.iter().cloned());
-        self.legend(&painter, rect, s, by, tol, crashes.list.len());
+        let limit = shown.unwrap_or(usize::MAX);
         let clicked = resp.clicked().then(|| resp.interact_pointer_pos()).flatten();
-        clicked.and_then(|at| {
-            self.picks
-                .iter()
-                .map(|(p, b)| (p.distance_sq(at), *b))
-                .filter(|(d, _)| *d < 100.0)
-                .min_by(|a, b| a.0.total_cmp(&b.0))
-                .map(|(_, b)| b as usize)
-        })
+        let picked = clicked.and_then(|at| self.pick(s, rect, limit, at));
+        let Some(rs) = rs else {
+            self.marks = 0;
+            no_gpu(ui.painter(), rect);
+            return picked;
+        };
+        camera_controls(&mut self.camera, ui, &resp, rect, self.radius);
+        let ppp = ui.ctx().pixels_per_point();
+        let key = Uploaded { serial: self.serial, ppp: ppp.to_bits() };
+        if self.uploaded != Some(key) {
+            self.upload(rs, s, by, tol, selected, limit, achieved, ppp);
+            self.uploaded = Some(key);
+        }
+        paint_view(ui, rect, &self.camera, VIEW_ID, BACKGROUND, false);
+        self.overlays(ui, rect, shown.is_some(), crashes);
+        self.legend(&ui.painter_at(rect), rect, s, by, tol, crashes.list.len());
+        picked
     }
 
+    /// Where a point of the path's space (mm) appears in `rect`, if in front of the eye.
+    fn to_screen(&self, rect: egui::Rect, p: Vec3) -> Option<egui::Pos2> {
+        let ndc = self.camera.project(rect.width() / rect.height().max(1.0), p - self.origin)?;
+        let q = egui::pos2(rect.center().x + 0.5 * ndc.x * rect.width(), rect.center().y - 0.5 * ndc.y * rect.height());
+        q.is_finite().then_some(q)
+    }
+
+    /// The block of the point shown nearest to a click at `at` (within 10 points): every point
+    /// below the slider's `limit` projected once, on the CPU.
+    fn pick(&self, s: &ReadSummary, rect: egui::Rect, limit: usize, at: egui::Pos2) -> Option<usize> {
+        let clip = self.camera.clip_from_world(rect.width() / rect.height().max(1.0));
+        let mut best: Option<(f32, usize)> = None;
+        for (k, b) in s.point_block.iter().enumerate() {
+            let b = *b as usize;
+            if b >= limit {
+                break;
+            }
+            let q = clip * (point(s, k) - self.origin).extend(1.0);
+            if !(q.w > 0.0) {
+                continue;
+            }
+            let screen = egui::pos2(
+                rect.center().x + 0.5 * q.x / q.w * rect.width(),
+                rect.center().y - 0.5 * q.y / q.w * rect.height(),
+            );
+            let d = screen.distance_sq(at);
+            if d < 100.0 && best.is_none_or(|(bd, _)| d < bd) {
+                best = Some((d, b));
+            }
+        }
+        best.map(|(_, b)| b)
+    }
+
+    /// Uploads the stock's edges, the path (only what follows the part unchanged) and the
+    /// selected block's highlight.
     #[allow(clippy::too_many_arguments, reason = "the view's inputs, all read-only")]
-    fn build(
+    fn upload(
         &mut self,
-        rect: egui::Rect,
+        rs: &RenderState,
         s: &ReadSummary,
         by: ColourBy,
         tol: f64,
         selected: Option<usize>,
-        shown: Option<usize>,
-        max_points: usize,
+        limit: usize,
         achieved: Option<&[f32]>,
-        crashes: CrashMarks<'_>,
+        ppp: f32,
     ) {
-        self.shapes.clear();
-        self.picks.clear();
-        self.segments = 0;
-        let aspect = rect.width() / rect.height().max(1.0);
-        let to_screen = |p: Vec3| -> Option<egui::Pos2> {
-            let ndc = self.camera.project(aspect, p - self.origin)?;
-            Some(egui::pos2(
-                rect.center().x + 0.5 * ndc.x * rect.width(),
-                rect.center().y - 0.5 * ndc.y * rect.height(),
-            ))
-        };
-        let feeds: Vec<f32> = s
-            .block_feed
-            .iter()
-            .zip(&s.block_kind)
-            .filter(|(f, k)| **k != 0 && f.is_finite() && **f > 0.0)
-            .map(|(f, _)| *f)
-            .collect();
-        let feed_range = (
-            feeds.iter().copied().fold(f32::INFINITY, f32::min),
-            feeds.iter().copied().fold(f32::NEG_INFINITY, f32::max),
-        );
+        let o = self.origin;
+        let local = |p: Vec3| (p - o).to_array();
         // The stock block's edges.
         let b = s.stock_mm;
         let corner = |i: usize| {
@@ -314,105 +487,78 @@ impl PathView {
                 if i & 4 == 0 { b[2] } else { b[5] } as f32,
             )
         };
-        for (i, j) in [(0, 1), (2, 3), (4, 5), (6, 7), (0, 2), (1, 3), (4, 6), (5, 7), (0, 4), (1, 5), (2, 6), (3, 7)] {
-            if let (Some(p), Some(q)) = (to_screen(corner(i)), to_screen(corner(j))) {
-                self.shapes
-                    .push(egui::Shape::line_segment([p, q], egui::Stroke::new(1.0, egui::Color32::from_gray(70))));
-            }
-        }
-        if self.colours.0 != self.serial || self.colours.1.len() != s.block_kind.len() {
-            let colours = (0..s.block_kind.len()).map(|b| block_colour(s, b, by, tol, feed_range, achieved)).collect();
-            self.colours = (self.serial, colours);
-        }
-        let colours = &self.colours.1;
-        let colour_of = |b: usize| colours.get(b).copied().unwrap_or(RAPID);
-        let limit = shown.unwrap_or(usize::MAX);
-        // At most MAX_DRAWN points: past it every `stride`-th point of a run is kept (its
-        // first and last always), besides merging points within a pixel.
-        let stride = (s.point_block.len() / max_points.max(1) + 1).max(1);
-        let mut since = 0usize;
-        let mut run: Vec<egui::Pos2> = Vec::new();
-        let mut run_colour = egui::Color32::TRANSPARENT;
-        let mut last: Option<egui::Pos2> = None;
-        let mut sel_pts: Vec<egui::Pos2> = Vec::new();
-        let flush =
-            |run: &mut Vec<egui::Pos2>, colour: egui::Color32, shapes: &mut Vec<egui::Shape>, segs: &mut usize| {
-                if run.len() >= 2 {
-                    *segs += run.len() - 1;
-                    shapes.push(egui::Shape::line(std::mem::take(run), egui::Stroke::new(1.2, colour)));
+        let edge = rgba(egui::Color32::from_gray(70));
+        let stock: Vec<LineSegment> =
+            [(0, 1), (2, 3), (4, 5), (6, 7), (0, 2), (1, 3), (4, 6), (5, 7), (0, 4), (1, 5), (2, 6), (3, 7)]
+                .into_iter()
+                .map(|(i, j)| (corner(i), corner(j)))
+                .filter(|(p, q)| p.is_finite() && q.is_finite())
+                .map(|(p, q)| LineSegment::new(local(p), local(q), ppp, edge))
+                .collect();
+        // Each block's colour once, then the path in them.
+        let feeds = feed_range(s);
+        let colours: Vec<egui::Color32> =
+            (0..s.block_kind.len()).map(|b| block_colour(s, b, by, tol, feeds, achieved)).collect();
+        let colour = |b: usize| colours.get(b).copied().unwrap_or(RAPID);
+        let tolerance = self.radius * SIMPLIFY;
+        let (path, last) = path_segments(s, o, limit, MAX_UPLOADED, tolerance, colour, 1.2 * ppp);
+        self.last_point = last;
+        let unchanged = common_prefix(&self.path, &path);
+        self.path = path;
+        // The selected block in white over the path: its moves from the point before it.
+        let mut highlight = Vec::new();
+        self.selected_point = None;
+        if let Some(sel) = selected.filter(|b| *b < limit) {
+            let white = rgba(egui::Color32::WHITE);
+            for (k, _) in s.point_block.iter().enumerate().filter(|(_, b)| **b as usize == sel) {
+                let p = point(s, k);
+                let before = k.checked_sub(1).map(|j| point(s, j)).filter(|q| q.is_finite());
+                match before {
+                    Some(q) if p.is_finite() => {
+                        highlight.push(LineSegment::new(local(q), local(p), 3.5 * ppp, white).with_depth_bias(0.003))
+                    }
+                    _ if p.is_finite() && self.selected_point.is_none() => self.selected_point = Some(p),
+                    _ => {}
                 }
-                run.clear();
-            };
-        let mut marker = None;
-        let n_points = s.point_block.len();
-        for (k, p) in s.points.chunks_exact(3).enumerate() {
-            let b = s.point_block.get(k).copied().unwrap_or(0) as usize;
-            if b >= limit {
-                break;
             }
-            let colour = colour_of(b);
-            let change = colour != run_colour;
-            let next_block = s.point_block.get(k + 1).map(|nb| *nb as usize);
-            let is_end = next_block.is_none_or(|nb| nb >= limit || colour_of(nb) != colour);
-            let is_selected = Some(b) == selected || next_block == selected;
-            since += 1;
-            // Points between kept ones are not even projected (the thinning's saving).
-            if !(change || is_end || is_selected || since.is_multiple_of(stride) || k + 1 == n_points) {
-                continue;
+            if !highlight.is_empty() {
+                self.selected_point = None;
             }
-            let Some(q) = to_screen(Vec3::new(p[0], p[1], p[2])) else {
-                last = None;
-                continue;
-            };
-            marker = Some(q);
-            if Some(b) == selected {
-                if sel_pts.is_empty()
-                    && let Some(l) = last
-                {
-                    sel_pts.push(l);
-                }
-                sel_pts.push(q);
-            }
-            if change {
-                let prev = run.last().copied();
-                flush(&mut run, run_colour, &mut self.shapes, &mut self.segments);
-                run_colour = colour;
-                if let Some(pv) = prev.or(last) {
-                    run.push(pv);
-                }
-                run.push(q);
-            } else if is_end || run.last().is_none_or(|l| l.distance_sq(q) >= 1.0) {
-                run.push(q);
-            }
-            last = Some(q);
-            self.picks.push((q, u32::try_from(b).unwrap_or(u32::MAX)));
         }
-        flush(&mut run, run_colour, &mut self.shapes, &mut self.segments);
-        if sel_pts.len() == 1 {
-            self.shapes.push(egui::Shape::circle_stroke(sel_pts[0], 6.0, egui::Stroke::new(2.0, egui::Color32::WHITE)));
-        } else if sel_pts.len() >= 2 {
-            self.shapes.push(egui::Shape::line(sel_pts, egui::Stroke::new(3.5, egui::Color32::WHITE)));
+        Renderer3d::with(rs, |r| {
+            r.set_lines(VIEW_ID, Layer::StaticLines, &stock, 0);
+            r.set_lines(VIEW_ID, Layer::PathLines, &self.path, unchanged);
+            r.set_lines(VIEW_ID, Layer::DynamicLines, &highlight, 0);
+        });
+    }
+
+    /// What is drawn over the GPU image, projected with the same camera: the marker at the last
+    /// point shown (with the slider), the selected block when it is a single point, and the
+    /// crashes (the picked one last, on top).
+    fn overlays(&mut self, ui: &egui::Ui, rect: egui::Rect, slider: bool, crashes: CrashMarks<'_>) {
+        let mut shapes = Vec::new();
+        if let Some(q) = self.selected_point.and_then(|p| self.to_screen(rect, p)) {
+            shapes.push(egui::Shape::circle_stroke(q, 6.0, egui::Stroke::new(2.0, egui::Color32::WHITE)));
         }
-        if shown.is_some()
-            && let Some(m) = marker
-        {
-            self.shapes.push(egui::Shape::circle_filled(m, 5.0, egui::Color32::WHITE));
+        if slider && let Some(q) = self.last_point.and_then(|p| self.to_screen(rect, p)) {
+            shapes.push(egui::Shape::circle_filled(q, 5.0, egui::Color32::WHITE));
         }
-        // The crashes over the path, the picked one last (on top).
-        let at = |c: &CrashRow| to_screen(c.at_mm.as_vec3()).filter(|q| q.is_finite());
-        self.marks = 0;
+        let at = |c: &CrashRow| self.to_screen(rect, c.at_mm.as_vec3());
+        let mut marks = 0;
         for (k, c) in crashes.list.iter().enumerate() {
             if Some(k) != crashes.selected
                 && let Some(q) = at(c)
             {
-                crash_mark(&mut self.shapes, q, false);
-                self.marks += usize::from(rect.contains(q));
+                crash_mark(&mut shapes, q, false);
+                marks += usize::from(rect.contains(q));
             }
         }
         if let Some(q) = crashes.selected.and_then(|k| crashes.list.get(k)).and_then(at) {
-            crash_mark(&mut self.shapes, q, true);
-            self.marks += usize::from(rect.contains(q));
+            crash_mark(&mut shapes, q, true);
+            marks += usize::from(rect.contains(q));
         }
+        self.marks = marks;
+        ui.painter_at(rect).extend(shapes);
     }
 
     fn legend(
@@ -465,7 +611,10 @@ impl PathView {
         painter.text(
             egui::pos2(rect.right() - 10.0, rect.bottom() - 8.0),
             egui::Align2::RIGHT_BOTTOM,
-            format!("{} segments drawn · drag to turn, right-drag to pan, scroll to zoom, click a move", self.segments),
+            format!(
+                "{} segments drawn · drag to turn, right-drag to pan, scroll to zoom, click a move",
+                self.path.len()
+            ),
             egui::FontId::proportional(12.0),
             egui::Color32::from_gray(170),
         );
@@ -543,5 +692,87 @@ impl PathView {
                 ui.painter().with_clip_rect(rect).extend(shapes);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A raster like the browser test's: rows of 200 points 0.25 mm apart over a wavy floor,
+    /// one block per point; blocks from `tool_change` on in another colour, and a gap (a point
+    /// that is not finite) at 1 234.
+    fn raster(points: usize) -> ReadSummary {
+        let mut s = ReadSummary::default();
+        for k in 0..points {
+            let (row, i) = (k / 200, k % 200);
+            let x = if row % 2 == 0 { i } else { 199 - i } as f32 * 0.25;
+            let y = row as f32 * 0.25;
+            let z = if k == 1234 { f32::NAN } else { -1.0 - 0.8 * (x / 9.0).sin() * (y / 7.0).cos() };
+            s.points.extend([x, y, z]);
+            s.point_block.push(k as u32);
+        }
+        s
+    }
+
+    fn colour_at(tool_change: usize) -> impl Fn(usize) -> egui::Color32 {
+        move |b| if b < tool_change { RAPID } else { CRASH }
+    }
+
+    fn ends(l: &LineSegment) -> (Vec3, Vec3) {
+        (Vec3::from_array(l.a), Vec3::from_array(l.b))
+    }
+
+    #[test]
+    fn every_point_stays_within_the_tolerance_of_a_segment_of_its_colour() {
+        let s = raster(6000);
+        let tol = 0.004;
+        let colour = colour_at(3100);
+        let (path, last) = path_segments(&s, Vec3::ZERO, usize::MAX, 50_000, tol, &colour, 1.0);
+        assert!(path.len() < 6000 / 3, "{} segments for 6000 points: little merged", path.len());
+        assert_eq!(last, Some(point(&s, 5999)), "the last point is drawn");
+        for k in (0..6000).filter(|k| *k != 1234) {
+            let p = point(&s, k);
+            let c = rgba(colour(k));
+            let d = path
+                .iter()
+                .filter(|l| l.color == c)
+                .map(|l| {
+                    let (a, b) = ends(l);
+                    distance_to_segment(p, a, b)
+                })
+                .fold(f32::INFINITY, f32::min);
+            assert!(d <= tol * 1.001, "point {k} is {d} mm from the path drawn");
+        }
+        // Each segment is in the colour of its end, and the path is broken at the gap.
+        let gap = (point(&s, 1233), point(&s, 1235));
+        assert!(path.iter().all(|l| ends(l) != gap && ends(l) != (gap.1, gap.0)));
+        let first_red = path.iter().position(|l| l.color == rgba(CRASH)).expect("a red run");
+        assert_eq!(ends(&path[first_red]).0, point(&s, 3099), "the red run starts where the last one ends");
+        assert_eq!(ends(&path[first_red - 1]).1, point(&s, 3099));
+    }
+
+    #[test]
+    fn a_path_that_grows_keeps_its_segments_but_the_last() {
+        let colour = colour_at(usize::MAX);
+        let (part, _) = path_segments(&raster(2500), Vec3::ZERO, usize::MAX, 50_000, 0.004, &colour, 1.0);
+        let (whole, _) = path_segments(&raster(5000), Vec3::ZERO, usize::MAX, 50_000, 0.004, &colour, 1.0);
+        assert!(common_prefix(&part, &whole) + 1 >= part.len(), "{} of {}", common_prefix(&part, &whole), part.len());
+    }
+
+    #[test]
+    fn past_the_cap_the_path_is_thinned_keeping_the_ends_and_the_slider_s_limit() {
+        let s = raster(20_000);
+        let colour = colour_at(9000);
+        let (all, _) = path_segments(&s, Vec3::ZERO, usize::MAX, 50_000, 0.0, &colour, 1.0);
+        let (capped, last) = path_segments(&s, Vec3::ZERO, usize::MAX, 2000, 0.0, &colour, 1.0);
+        assert!(all.len() > 10_000 && capped.len() <= 2 * 2000, "{} → {} segments", all.len(), capped.len());
+        assert_eq!(last, Some(point(&s, 19_999)));
+        let first_red = capped.iter().position(|l| l.color == rgba(CRASH)).expect("a red run");
+        assert_eq!(ends(&capped[first_red]).0, point(&s, 8999), "the colour change is kept");
+        assert_eq!(ends(&capped[first_red - 1]).1, point(&s, 8999));
+        let (shown, last) = path_segments(&s, Vec3::ZERO, 700, 50_000, 0.0, &colour, 1.0);
+        assert_eq!(last, Some(point(&s, 699)), "the last block shown ends the path");
+        assert_eq!(shown.len(), 699, "without tolerance only exactly collinear points merge");
     }
 }

@@ -155,17 +155,30 @@ impl Renderer3d {
     /// one draw per instance, so a layer of a few thousand segments cost some 100 ms per scene
     /// pass; as plain vertices it is one draw (docs/speed.md, "Frames on SwiftShader").
     pub fn set_lines(&mut self, view: ViewId, layer: Layer, lines: &[LineSegment], unchanged: usize) {
-        let mut corners = std::mem::take(&mut self.line_corners);
-        per_corner(lines, &mut corners);
-        let bytes = bytemuck::cast_slice::<LineSegment, u8>(&corners);
-        let prefix = (unchanged.min(lines.len()) * LINE_CORNERS * std::mem::size_of::<LineSegment>()) as u64;
+        let per_segment = LINE_CORNERS * std::mem::size_of::<LineSegment>();
         let v = self.views.entry(view).or_default();
-        if Self::write_instances(&self.device, &self.queue, v.lines.entry(layer), bytes, corners.len() as u32, prefix) {
+        // Only the segments after the unchanged ones are repeated per corner, compared and
+        // sent: a path that grows piece by piece does not copy what it already drew (a
+        // 180 000-segment path is 52 MB of corners).
+        let held = v.lines.get(&layer).map_or(0, |a| a.held_bytes() / per_segment);
+        let unchanged = unchanged.min(lines.len()).min(held);
+        let mut corners = std::mem::take(&mut self.line_corners);
+        per_corner(&lines[unchanged..], &mut corners);
+        let tail = bytemuck::cast_slice::<LineSegment, u8>(&corners);
+        let count = (lines.len() * LINE_CORNERS) as u32;
+        let device = &self.device;
+        let array = v.lines.entry(layer).or_insert_with(|| {
+            GpuArray::with_capacity(device, "interpolab instances", wgpu::BufferUsages::VERTEX, tail.len())
+        });
+        if array.write_tail(device, &self.queue, unchanged * per_segment, tail, count) {
             v.version += 1;
-            let sent = v.lines.get(&layer).map_or(0, |a| a.sent_bytes);
-            mark(|| format!("3d upload view {view} {layer:?} lines {} B, sent {sent} B", bytes.len()));
+            let sent = array.sent_bytes;
+            mark(|| format!("3d upload view {view} {layer:?} lines {} B, sent {sent} B", lines.len() * per_segment));
         }
-        self.line_corners = corners;
+        // A big scratch is not kept (it would double the memory of a long path).
+        if corners.capacity() <= 1 << 16 {
+            self.line_corners = corners;
+        }
     }
 
     /// Replaces a sphere layer.

@@ -123,6 +123,53 @@ impl GpuArray {
         self.count = count;
         true
     }
+
+    /// Bytes the buffer is known to hold (its CPU copy).
+    pub(super) fn held_bytes(&self) -> usize {
+        self.shadow.len()
+    }
+
+    /// Writes contents made of the buffer's own first `prefix_bytes` (at most
+    /// [`GpuArray::held_bytes`]) followed by `tail`, `count` elements in all: a layer that
+    /// grew by appending passes only what follows the part already sent, which is neither
+    /// copied nor compared. Returns whether the contents changed.
+    pub(super) fn write_tail(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        prefix_bytes: usize,
+        tail: &[u8],
+        count: u32,
+    ) -> bool {
+        let prefix = prefix_bytes.min(self.shadow.len());
+        let len = prefix + tail.len();
+        if len as u64 > self.capacity_bytes {
+            // A bigger buffer holds nothing: all of it is sent.
+            let mut all = std::mem::take(&mut self.shadow);
+            all.truncate(prefix);
+            all.extend_from_slice(tail);
+            *self = Self::with_capacity(device, self.label, self.usage, len * 3 / 2);
+            queue.write_buffer(&self.buffer, 0, &all);
+            self.sent_bytes = all.len();
+            self.shadow = all;
+            self.count = count;
+            return true;
+        }
+        self.sent_bytes = 0;
+        let range = changed_range(&self.shadow[prefix..], tail, 0);
+        if range.is_none() && count == self.count && len == self.shadow.len() {
+            return false;
+        }
+        self.shadow.resize(len, 0);
+        if let Some(r) = range.filter(|r| !r.is_empty()) {
+            let at = prefix + r.start;
+            queue.write_buffer(&self.buffer, at as u64, &tail[r.clone()]);
+            self.shadow[at..prefix + r.end].copy_from_slice(&tail[r.clone()]);
+            self.sent_bytes = r.len();
+        }
+        self.count = count;
+        true
+    }
 }
 
 /// A mesh layer's buffers.
