@@ -365,7 +365,7 @@ fn bottom_clash(
 }
 
 /// Most cells [`adjust`]'s trials of other poses may evaluate for one CC point (four
-/// checks' worth, [`MAX_CELLS`]); past it the point is refused with the clash of its pose.
+/// checks' worth of 40 000 cells); past it the point is refused with the clash of its pose.
 pub const MAX_ADJUST_CELLS: u64 = 4 * MAX_CELLS as u64;
 
 /// Share of the gouge tolerance allowed by [`adjust`]: the check measures how deep the
