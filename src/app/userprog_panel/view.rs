@@ -411,11 +411,6 @@ impl PathView {
         let limit = shown.unwrap_or(usize::MAX);
         let clicked = resp.clicked().then(|| resp.interact_pointer_pos()).flatten();
         let picked = clicked.and_then(|at| self.pick(s, rect, limit, at));
-        let Some(rs) = rs else {
-            self.marks = 0;
-            no_gpu(ui.painter(), rect);
-            return picked;
-        };
         camera_controls(&mut self.camera, ui, &resp, rect, self.radius);
         let ppp = ui.ctx().pixels_per_point();
         let key = Uploaded { serial: self.serial, ppp: ppp.to_bits() };
@@ -423,7 +418,14 @@ impl PathView {
             self.upload(rs, s, by, tol, selected, limit, achieved, ppp);
             self.uploaded = Some(key);
         }
-        paint_view(ui, rect, &self.camera, VIEW_ID, BACKGROUND, false);
+        // Without a GPU the path is still made (and counted) and the marks placed over the
+        // message, so what the view would show is known.
+        match rs {
+            Some(_) => {
+                paint_view(ui, rect, &self.camera, VIEW_ID, BACKGROUND, false);
+            }
+            None => no_gpu(ui.painter(), rect),
+        }
         self.overlays(ui, rect, shown.is_some(), crashes);
         self.legend(&ui.painter_at(rect), rect, s, by, tol, crashes.list.len());
         picked
@@ -462,12 +464,12 @@ impl PathView {
         best.map(|(_, b)| b)
     }
 
-    /// Uploads the stock's edges, the path (only what follows the part unchanged) and the
-    /// selected block's highlight.
+    /// Makes and, with a GPU, uploads the stock's edges, the path (only what follows the part
+    /// unchanged) and the selected block's highlight.
     #[allow(clippy::too_many_arguments, reason = "the view's inputs, all read-only")]
     fn upload(
         &mut self,
-        rs: &RenderState,
+        rs: Option<&RenderState>,
         s: &ReadSummary,
         by: ColourBy,
         tol: f64,
@@ -525,11 +527,13 @@ impl PathView {
                 self.selected_point = None;
             }
         }
-        Renderer3d::with(rs, |r| {
-            r.set_lines(VIEW_ID, Layer::StaticLines, &stock, 0);
-            r.set_lines(VIEW_ID, Layer::PathLines, &self.path, unchanged);
-            r.set_lines(VIEW_ID, Layer::DynamicLines, &highlight, 0);
-        });
+        if let Some(rs) = rs {
+            Renderer3d::with(rs, |r| {
+                r.set_lines(VIEW_ID, Layer::StaticLines, &stock, 0);
+                r.set_lines(VIEW_ID, Layer::PathLines, &self.path, unchanged);
+                r.set_lines(VIEW_ID, Layer::DynamicLines, &highlight, 0);
+            });
+        }
     }
 
     /// What is drawn over the GPU image, projected with the same camera: the marker at the last
