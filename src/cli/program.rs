@@ -168,12 +168,22 @@ pub(crate) fn canon_loc(it: &Interpreter<'_>, loc: interpolab::gcode::interp::Lo
 
 /// The interpreter's reports and warnings, one line each, on standard error.
 pub(crate) fn report(it: &Interpreter<'_>, program: &Path) {
+    for line in report_lines_of(it, program) {
+        eprintln!("{line}");
+    }
+}
+
+/// [`report`]'s lines, for a command that prints them only once nothing more can be refused
+/// (a refusal is one line).
+pub(crate) fn report_lines_of(it: &Interpreter<'_>, program: &Path) -> Vec<String> {
     let name = program.display();
+    let mut out = Vec::new();
     for w in it.warnings() {
-        eprintln!("{name}: warning: line {}: {}", canon_loc(it, w.loc), w.text);
+        out.push(format!("{name}: warning: line {}: {}", canon_loc(it, w.loc), w.text));
     }
     for r in it.reports() {
         let times = if r.count == 1 { "once".to_owned() } else { format!("{} times", r.count) };
-        eprintln!("{name}: {} ({times}, first on line {}): {}", r.code, canon_loc(it, r.first), r.what);
+        out.push(format!("{name}: {} ({times}, first on line {}): {}", r.code, canon_loc(it, r.first), r.what));
     }
+    out
 }

@@ -133,8 +133,12 @@ pub(super) fn time(a: &TimeArgs) -> Result<ExitCode, Fatal> {
             None => default_machine()?,
         };
         let machine = machine_with(base, a.tolerance, a.exact_stop, a.window, a.period, a.no_jerk)?;
-        let timing = time_file(&a.input, &a.read, &machine)?;
-        return report_timing(a, &timing, &a.input.display().to_string());
+        let (timing, notes) = time_file(&a.input, &a.read, &machine)?;
+        let code = report_timing(a, &timing, &a.input.display().to_string())?;
+        for line in notes {
+            eprintln!("{line}");
+        }
+        return Ok(code);
     };
     finish(a, canon, &title, &scene_machine)
 }
@@ -150,8 +154,8 @@ fn report_timing(a: &TimeArgs, timing: &Timing, title: &str) -> Result<ExitCode,
         let periods = (timing.total_s() / timing.machine.period_s()).ceil();
         if !(periods <= MAX_PERIODS) {
             return Err(Fatal(format!(
-                "--periods: the program takes {:.1} s, {} periods of {} ms, more than {MAX_PERIODS} (about {} GB of CSV); time a part of it, or give a longer --period",
-                timing.total_s(),
+                "--periods: the program takes {} s, {} periods of {} ms, more than {MAX_PERIODS} (about {} GB of CSV); time a part of it, or give a longer --period",
+                if timing.total_s() < 1e7 { format!("{:.1}", timing.total_s()) } else { format!("{:.3e}", timing.total_s()) },
                 fmt_num(periods),
                 fmt_num(timing.machine.period_ms),
                 fmt_num(MAX_PERIODS * 75.0 / 1e9),
@@ -194,8 +198,9 @@ fn scene_dynamics(p: &Path) -> Result<Option<Dynamics>, Fatal> {
 
 /// A program file timed on `machine`: FANUC and LinuxCNC programs streamed from the
 /// interpreter into the planner (the canonical motions are never held as a list; the planner
-/// refuses at the line where its path passes its cap), Sinumerik through its reader.
-fn time_file(path: &Path, read: &super::program::ReadArgs, machine: &Dynamics) -> Result<Timing, Fatal> {
+/// refuses at the line where its path passes its cap), Sinumerik through its reader; with the
+/// interpreter's report lines, printed once nothing more can be refused.
+fn time_file(path: &Path, read: &super::program::ReadArgs, machine: &Dynamics) -> Result<(Timing, Vec<String>), Fatal> {
     use std::io::Read as _;
     let mut head = Vec::new();
     fs::File::open(path)
@@ -204,15 +209,14 @@ fn time_file(path: &Path, read: &super::program::ReadArgs, machine: &Dynamics) -
     let plan_err = |e: interpolab::plan::PlanError| Fatal(format!("{}: {e}", path.display()));
     if Dialect::guess(&String::from_utf8_lossy(&head)) == Dialect::Sinumerik {
         let (parsed, _, _) = super::program::read_path(path, Some(Dialect::Sinumerik), read, MAX_PATH_MOVES)?;
-        return time_program(canon_of_toolpath(&parsed.toolpath), machine).map_err(plan_err);
+        return Ok((time_program(canon_of_toolpath(&parsed.toolpath), machine).map_err(plan_err)?, Vec::new()));
     }
     let mut it = super::program::open(path, read.options())?;
     let timing = time_read(it.by_ref(), machine).map_err(|e| match e {
         Stopped::Read(e) => Fatal(format!("{}: {e}", path.display())),
         Stopped::Plan(e) => plan_err(e),
     })?;
-    super::program::report(&it, path);
-    Ok(timing)
+    Ok((timing, super::program::report_lines_of(&it, path)))
 }
 
 /// One line naming a machine and its controller settings.
@@ -241,6 +245,12 @@ pub(crate) fn machine_note(m: &Dynamics) -> String {
         m.window_blocks.map_or("the whole program".to_owned(), |w| format!("{w} blocks")),
         fmt_num(m.period_ms)
     )
+}
+
+/// Four decimals, or four significant ones in exponent form from a billion on (a mistyped
+/// coordinate of 40 digits does not print 40 digits).
+fn four(x: f64) -> String {
+    if x.abs() < 1e9 { format!("{x:.4}") } else { format!("{x:.4e}") }
 }
 
 fn summary(title: &str, t: &Timing) -> String {
@@ -274,16 +284,16 @@ fn summary(title: &str, t: &Timing) -> String {
     );
     let _ = writeln!(
         s,
-        "time         {:.4} s (feed moves {:.4} s, rapids {:.4} s, dwell {:.4} s)",
-        t.total_s(),
-        feed,
-        rapid,
-        t.path.dwell_s
+        "time         {} s (feed moves {} s, rapids {} s, dwell {} s)",
+        four(t.total_s()),
+        four(feed),
+        four(rapid),
+        four(t.path.dwell_s)
     );
     let _ = writeln!(
         s,
-        "path         {:.4} mm in {} blocks; {} corners blended (largest deviation {:.6} mm), {} stops at corners",
-        t.path.length,
+        "path         {} mm in {} blocks; {} corners blended (largest deviation {:.6} mm), {} stops at corners",
+        four(t.path.length),
         t.path.blocks.len(),
         t.path.blends,
         t.path.max_blend_dev,

@@ -250,15 +250,17 @@ fn timing_a_program_past_the_plan_cap_is_refused_at_its_line_and_periods_past_th
     }
     let p = temp_file("reversals.nc", text.as_bytes());
     refused(&run(&["time", &p]), &["line 1500002:", "more than 1500000 pieces", "split it"]);
-    // A 1 km move at 1 mm/min takes 60 000 000 s: 6e10 periods of 1 ms.
-    let slow = temp_file("slow.nc", b"G21 G90\nG1 F1 X1000000\n");
+    // A 1 km move at 1 mm/min takes 60 000 000 s: 6e10 periods of 1 ms. The line that is
+    // not G-code is reported, but not before the refusal (which is one line).
+    let slow = temp_file("slow.nc", b"G21 G90\nG1 F1 X1000000\nnot g-code\n");
     let csv = std::env::temp_dir().join(format!("interpolab-bounded-{}-periods.csv", std::process::id()));
     refused(
         &run(&["time", &slow, "--periods", &csv.display().to_string()]),
         &["--periods", "more than 20000000", "--period"],
     );
     assert!(!csv.exists(), "a file was written before the refusal");
-    // Without --periods the same program is timed.
+    // Without --periods the same program is timed, and the line reported.
     let o = run(&["time", &slow]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success() && err.contains("not G-code"), "{err}");
 }
