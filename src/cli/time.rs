@@ -155,7 +155,11 @@ fn report_timing(a: &TimeArgs, timing: &Timing, title: &str) -> Result<ExitCode,
         if !(periods <= MAX_PERIODS) {
             return Err(Fatal(format!(
                 "--periods: the program takes {} s, {} periods of {} ms, more than {MAX_PERIODS} (about {} GB of CSV); time a part of it, or give a longer --period",
-                if timing.total_s() < 1e7 { format!("{:.1}", timing.total_s()) } else { format!("{:.3e}", timing.total_s()) },
+                if timing.total_s() < 1e7 {
+                    format!("{:.1}", timing.total_s())
+                } else {
+                    format!("{:.3e}", timing.total_s())
+                },
                 fmt_num(periods),
                 fmt_num(timing.machine.period_ms),
                 fmt_num(MAX_PERIODS * 75.0 / 1e9),
