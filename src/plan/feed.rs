@@ -184,9 +184,9 @@ pub fn plan(path: &Path, opts: &FeedOptions) -> FeedPlan {
 /// Most planning pieces one path piece is cut into.
 const MAX_SUBPIECES: usize = 64;
 /// Most planning pieces of a jerk-free plan after cutting (about 0.5 kB each: bounds, limits,
-/// the envelope and the phases). A path that would pass it has its cuts scaled down, every
-/// piece keeping at least one: the bounds then hold over longer pieces, so the feed is lower
-/// there and still within the limits.
+/// the envelope and the phases). On a path that would pass it the later pieces get fewer
+/// cuts, each keeping at least one: the bounds then hold over longer pieces, so the feed is
+/// lower there and still within the limits.
 const MAX_WORK_PIECES: usize = super::path::MAX_PIECES;
 
 /// How many planning pieces a curved path piece needs without jerk limits (1 for a line, or
@@ -221,35 +221,22 @@ fn work_pieces<'a>(
         let e = &path.elems[p.elem as usize];
         cap_of(b, e.feed, &opts.limits, opts.tangent_share, curved_at(p))
     };
-    // Each piece's cuts, before any is made, so that their total can be held to the cap.
-    let mut ns: Vec<u8> = Vec::new();
-    if !jerk {
-        ns.reserve(path.pieces.len());
-        let mut total = 0usize;
-        for p in &path.pieces {
-            let b = piece_bounds(path, p);
-            let n = cuts(p, &b, &limits_of(p, &b), curved_at(p), jerk);
-            total += n;
-            ns.push(n as u8);
-        }
-        let base = path.pieces.len();
-        if total > MAX_WORK_PIECES.max(base) {
-            let room = MAX_WORK_PIECES.saturating_sub(base) as f64 / (total - base) as f64;
-            for n in &mut ns {
-                *n = 1 + (f64::from(*n - 1) * room).floor() as u8;
-            }
-        }
-    }
     // The path's own pieces until one is cut (never with jerk limits): no copy.
     let mut cut: Option<Vec<Piece>> = None;
     let mut bounds: Vec<Bounds> = Vec::with_capacity(if jerk { 0 } else { path.pieces.len() });
     let mut lims: Vec<PieceLimits> = Vec::with_capacity(path.pieces.len());
+    // Each piece keeps at least one planning piece; cuts beyond it are granted while the
+    // pieces after it can still keep theirs within MAX_WORK_PIECES, so a path whose cuts fit
+    // is cut exactly as without the cap.
+    let mut total = 0usize;
     for (idx, p) in path.pieces.iter().enumerate() {
         let e = &path.elems[p.elem as usize];
         let curved = curved_at(p);
         let b = piece_bounds(path, p);
         let l = limits_of(p, &b);
-        let n = ns.get(idx).map_or(1, |&n| usize::from(n));
+        let room = MAX_WORK_PIECES.saturating_sub(total + (path.pieces.len() - idx - 1)).max(1);
+        let n = cuts(p, &b, &l, curved, jerk).min(room);
+        total += n;
         if n == 1 {
             if let Some(c) = &mut cut {
                 c.push(*p);
