@@ -412,10 +412,9 @@ fn finish(
     let chord_tol = chord_tol_mm(a);
     let sample_step = sample_step.resolve(stock.grid().pitch_mm, cutter);
     let t0 = Instant::now();
-    let mut sim =
-        pipeline::start(stock, cutter, sample_step, program).map_err(|e| Fatal(format!("{}: {e}", program_name(a))))?;
     // A run that would pass its work bound is refused as soon as its projection shows it.
-    let meter = pipeline::WorkMeter::new(&sim, &program.moves);
+    let (mut sim, meter) = pipeline::start_metered(stock, cutter, sample_step, program)
+        .map_err(|e| Fatal(format!("{}: {e}", program_name(a))))?;
     let mut done = 0;
     pipeline::machine(&mut sim, &program.moves, |sim| {
         done += 1;

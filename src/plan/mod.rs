@@ -125,15 +125,10 @@ pub fn time_program<I>(canon: I, machine: &Dynamics) -> Result<Timing, PlanError
 where
     I: IntoIterator<Item = Canon>,
 {
-    machine.validate()?;
-    let limits = machine.joint_limits();
-    let rules = JunctionRules {
-        tol_mm: machine.tolerance_mm,
-        exact_stop: machine.exact_stop,
-        jerk_limited: !limits.jerk_free(),
-    };
-    let path = path::build(canon, &rules)?;
-    Ok(time_path(path, machine, &limits))
+    time_read(canon.into_iter().map(Ok::<Canon, std::convert::Infallible>), machine).map_err(|e| match e {
+        Stopped::Plan(e) => e,
+        Stopped::Read(never) => match never {},
+    })
 }
 
 /// As [`time_program`], over motions read as they are planned (an interpreter streaming a
@@ -153,13 +148,9 @@ where
         jerk_limited: !limits.jerk_free(),
     };
     let path = path::build_read(canon, &rules)?;
-    Ok(time_path(path, machine, &limits))
-}
-
-fn time_path(path: Path, machine: &Dynamics, limits: &JointLimits) -> Timing {
-    let plan = feed::plan(&path, &FeedOptions { limits: *limits, window: machine.window_blocks, tangent_share: 0.5 });
+    let plan = feed::plan(&path, &FeedOptions { limits, window: machine.window_blocks, tangent_share: 0.5 });
     let block_time_s = block_times(&path, &plan);
-    Timing { path, plan, machine: machine.clone(), block_time_s }
+    Ok(Timing { path, plan, machine: machine.clone(), block_time_s })
 }
 
 /// The time (s) within phase `p` at which the path position reaches `s` (s ≥ p.s0, within

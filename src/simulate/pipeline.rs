@@ -167,15 +167,30 @@ pub fn start(
     sample_step_mm: Option<f64>,
     program: &Program,
 ) -> Result<Simulation, SimError> {
+    start_metered(stock, cutter, sample_step_mm, program).map(|(sim, _)| sim)
+}
+
+/// [`start`], with the [`WorkMeter`] of the program made from the same estimates (each
+/// move's visits are estimated once).
+///
+/// # Errors
+/// As [`start`].
+pub fn start_metered(
+    stock: DexelStock,
+    cutter: &Cutter,
+    sample_step_mm: Option<f64>,
+    program: &Program,
+) -> Result<(Simulation, WorkMeter), SimError> {
     let mut sim = Simulation::new(stock, cutter);
     if let Some(step) = sample_step_mm {
         sim = sim.with_sample_step(step);
     }
-    let visits = sim.estimate_visits(program);
+    let meter = WorkMeter::new(&sim, &program.moves);
+    let visits = meter.estimated_visits();
     if !(visits <= MAX_RAY_VISITS) {
         return Err(SimError::TooMuchWork { visits, max: MAX_RAY_VISITS });
     }
-    Ok(sim)
+    Ok((sim, meter))
 }
 
 /// The bound on a run's work ([`MAX_WORK`]): refuses it once the work done, scaled by the
@@ -204,6 +219,12 @@ impl WorkMeter {
         Self { before, max: MAX_WORK }
     }
 
+    /// The program's estimated ray visits ([`Simulation::estimate_visits`]).
+    #[must_use]
+    pub fn estimated_visits(&self) -> f64 {
+        self.before.last().copied().unwrap_or(0.0)
+    }
+
     /// The same meter with another cap (straight-move ray updates; tests use small ones).
     #[must_use]
     pub fn with_cap(mut self, max: f64) -> Self {
@@ -216,7 +237,7 @@ impl WorkMeter {
     /// # Errors
     /// [`SimError::TooMuchWorkDone`] when the work done, or projected, passes the room.
     pub fn check(&self, sim: &Simulation, moves: &[SimMove], done: usize) -> Result<(), SimError> {
-        let total = self.before.last().copied().unwrap_or(0.0);
+        let total = self.estimated_visits();
         let so_far = self.before.get(done).copied().unwrap_or(total);
         let work = sim.work_done();
         let projected = if so_far >= 0.05 * total && so_far > 0.0 { work * total / so_far } else { work };
