@@ -245,7 +245,8 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
     let motion_code = seen[1];
 
     // Axes this interpreter does not carry.
-    for c in [b'u', b'v', b'w'] {
+    const UVW: u32 = (1 << (b'u' - b'a')) | (1 << (b'v' - b'a')) | (1 << (b'w' - b'a'));
+    for c in [b'u', b'v', b'w'].into_iter().filter(|_| b.letters & UVW != 0) {
         if let Some(v) = b.get(c)
             && v != 0.0
         {

@@ -277,9 +277,9 @@ impl<'a> Interpreter<'a> {
         if block.delete && self.opts.block_delete {
             return Ok(());
         }
-        let mut block = std::mem::take(&mut self.reader.block);
+        let mut block = self.reader.take_block();
         let result = self.after_read(loc, pos, &mut block);
-        self.reader.block = block;
+        self.reader.put_block(block);
         result
     }
 
@@ -331,9 +331,9 @@ impl<'a> Interpreter<'a> {
         if p == Problem::UnclosedComment {
             // The words before the comment still count.
             self.report("unclosed comment", loc, "a comment without ')' (read to the end of its line)");
-            let mut block = std::mem::take(&mut self.reader.block);
+            let mut block = self.reader.take_block();
             let r = self.after_read(loc, pos, &mut block);
-            self.reader.block = block;
+            self.reader.put_block(block);
             return r;
         }
         self.report("not G-code", loc, &format!("a line that is not G-code was skipped (first: {p})"));
@@ -743,9 +743,8 @@ impl<'a> Interpreter<'a> {
         // Other words of the block run first (FANUC executes the block, then calls).
         let mut rest = block.clone();
         rest.m.retain(|&m| m != 98);
-        rest.words[(b'p' - b'a') as usize] = None;
-        rest.words[(b'l' - b'a') as usize] = None;
-        rest.letters &= !((1 << (b'p' - b'a')) | (1 << (b'l' - b'a')));
+        rest.remove(b'p');
+        rest.remove(b'l');
         if !rest.is_empty() {
             super::exec::block(self, loc, &mut rest)?;
         }
@@ -755,8 +754,7 @@ impl<'a> Interpreter<'a> {
     fn m99(&mut self, loc: Loc, block: &super::read::Block) -> Result<(), Problem> {
         let mut rest = block.clone();
         rest.m.retain(|&m| m != 99);
-        let target = rest.words[(b'p' - b'a') as usize].take();
-        rest.letters &= !(1 << (b'p' - b'a'));
+        let target = rest.remove(b'p');
         if !rest.is_empty() {
             super::exec::block(self, loc, &mut rest)?;
         }

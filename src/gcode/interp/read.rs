@@ -93,8 +93,9 @@ pub(crate) struct Block {
     pub g: Vec<i32>,
     /// M codes.
     pub m: Vec<i32>,
-    /// Values of the letter words A…Z (G, M, N, O are kept elsewhere).
-    pub words: [Option<f64>; 26],
+    /// Values of the letter words A…Z (G, M, N, O are kept elsewhere); a value counts only
+    /// when its letter's bit is set in `letters` (so clearing a line writes none of them).
+    words: [f64; 26],
     /// Polar distance `@`.
     pub polar_r: Option<f64>,
     /// Polar angle `^` (degrees).
@@ -123,7 +124,6 @@ impl Block {
         self.line_number = None;
         self.g.clear();
         self.m.clear();
-        self.words = [None; 26];
         self.polar_r = None;
         self.polar_a = None;
         self.assigns.clear();
@@ -138,7 +138,15 @@ impl Block {
 
     /// The value of a letter's word.
     pub fn get(&self, letter: u8) -> Option<f64> {
-        self.words[(letter.to_ascii_lowercase() - b'a') as usize]
+        let k = (letter.to_ascii_lowercase() - b'a') as usize;
+        (self.letters & (1 << k) != 0).then(|| self.words[k])
+    }
+
+    /// Takes a letter's word out of the block.
+    pub fn remove(&mut self, letter: u8) -> Option<f64> {
+        let v = self.get(letter);
+        self.letters &= !(1 << (letter.to_ascii_lowercase() - b'a'));
+        v
     }
 
     /// The line has nothing to do.
@@ -159,8 +167,11 @@ impl Block {
 #[derive(Debug, Default)]
 pub(crate) struct Reader {
     code: Vec<u8>,
-    /// Comments seen on the line after the first (kept for `MSG` detection only).
-    pub block: Block,
+    /// The line read last.
+    pub block: Box<Block>,
+    /// A second block the reader works in while the last one is executed
+    /// ([`Reader::take_block`]): handing a block over moves a pointer, not the block.
+    spare: Option<Box<Block>>,
 }
 
 /// The light view of a line used while skipping (inside a false `IF`, a `sub` being passed):
@@ -180,6 +191,19 @@ pub(crate) enum Peek {
 }
 
 impl Reader {
+    /// The block read last, taken out to be executed while the reader may read other lines
+    /// (a call searching for its subroutine) into its spare block; give it back with
+    /// [`Reader::put_block`].
+    pub fn take_block(&mut self) -> Box<Block> {
+        let spare = self.spare.take().unwrap_or_default();
+        std::mem::replace(&mut self.block, spare)
+    }
+
+    /// Gives back the block [`Reader::take_block`] took.
+    pub fn put_block(&mut self, block: Box<Block>) {
+        self.spare = Some(std::mem::replace(&mut self.block, block));
+    }
+
     /// Strips comments and spaces into `self.code` (lower case), keeping the first comment.
     fn normalize(&mut self, raw: &str) -> Result<(), Problem> {
         self.code.clear();
@@ -258,7 +282,7 @@ impl Reader {
         let code = std::mem::take(&mut self.code);
         let r = Parser { s: &code, i: 0, env, depth: 0 }.line(&mut self.block);
         self.code = code;
-        r.map(|()| &self.block)
+        r.map(|()| &*self.block)
     }
 
     /// Looks at a line without computing anything (for skipping).
@@ -513,10 +537,10 @@ impl Parser<'_, '_> {
             b'o' => return Err(Problem::Expected("an O-word at the start of its line")),
             _ => {
                 let k = (c - b'a') as usize;
-                if b.words[k].is_some() {
+                if b.letters & (1 << k) != 0 {
                     return Err(Problem::Repeated(c.to_ascii_uppercase() as char));
                 }
-                b.words[k] = Some(v);
+                b.words[k] = v;
                 b.letters |= 1 << k;
             }
         }
