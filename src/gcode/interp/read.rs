@@ -205,55 +205,84 @@ impl Reader {
     }
 
     /// Strips comments and spaces into `self.code` (lower case), keeping the first comment.
+    /// Read byte by byte: every byte that matters is ASCII, and the bytes of a multi-byte
+    /// character are never ASCII, so only such a character outside a comment is decoded.
     fn normalize(&mut self, raw: &str) -> Result<(), Problem> {
         self.code.clear();
         let b = &mut self.block;
-        let mut depth = 0usize;
-        let mut first = true;
-        let mut chars = raw.char_indices().peekable();
-        // A line that starts with '%' is a tape mark: what follows on it is not G-code.
-        let trimmed = raw.trim_start();
-        if let Some(rest) = trimmed.strip_prefix('%') {
+        // A line that starts with '%' is a tape mark: what follows on it is not G-code. Most
+        // lines start with a letter, which is not one; any other line is trimmed to see.
+        let starts_plain = raw.as_bytes().first().is_some_and(|c| c.is_ascii_alphanumeric());
+        if !starts_plain && let Some(rest) = raw.trim_start().strip_prefix('%') {
             b.percent = true;
             b.percent_text = !rest.trim().is_empty();
             return Ok(());
         }
-        while let Some((_, c)) = chars.next() {
+        let bytes = raw.as_bytes();
+        // Most lines are ASCII without comments: every printable byte is code, lower-cased,
+        // and spaces and control characters are left out.
+        let special = bytes.iter().fold(false, |any, &c| any | (c >= 0x80) | (c == b'(') | (c == b';'));
+        if !special {
+            self.code.extend(bytes.iter().map(u8::to_ascii_lowercase));
+            self.code.retain(|c| c.wrapping_sub(b'!') <= b'~' - b'!');
+            return Ok(());
+        }
+        let mut depth = 0usize;
+        let mut first = true;
+        // Where the comment being read started (after its '(').
+        let mut opened = 0;
+        let mut i = 0;
+        while i < bytes.len() {
+            let c = bytes[i];
+            i += 1;
             if depth > 0 {
                 match c {
-                    '(' => depth += 1,
-                    ')' => depth -= 1,
+                    b'(' => depth += 1,
+                    b')' => {
+                        depth -= 1;
+                        if depth == 0 && first {
+                            b.comment.push_str(&raw[opened..i - 1]);
+                            first = false;
+                        }
+                    }
                     _ => {}
-                }
-                if depth > 0 && first {
-                    b.comment.push(c);
-                }
-                if depth == 0 {
-                    first = false;
                 }
                 continue;
             }
+            // Most bytes: a printable character of the code (a letter, a digit, a sign …).
+            if c > b' ' && c < 0x7f && c != b'(' && c != b';' {
+                self.code.push(c.to_ascii_lowercase());
+                continue;
+            }
             match c {
-                '(' => {
+                b'(' => {
                     depth = 1;
+                    opened = i;
                     b.has_comment = true;
                 }
-                ';' => {
+                b';' => {
                     b.has_comment = true;
                     if first {
-                        for (_, c) in chars.by_ref() {
-                            b.comment.push(c);
-                        }
+                        b.comment.push_str(&raw[i..]);
                     }
                     break;
                 }
-                ' ' | '\t' | '\u{feff}' => {}
-                c if c.is_ascii() && !c.is_ascii_control() => self.code.push(c.to_ascii_lowercase() as u8),
-                c if c.is_ascii_control() => {}
-                c => return Err(Problem::Char(c)),
+                // Spaces and control characters (tabs, a carriage return, DEL).
+                c if c.is_ascii() => {}
+                _ => {
+                    // A character of several bytes: only the byte-order mark is passed over.
+                    let ch = raw[i - 1..].chars().next().unwrap_or(char::REPLACEMENT_CHARACTER);
+                    if ch != '\u{feff}' {
+                        return Err(Problem::Char(ch));
+                    }
+                    i += ch.len_utf8() - 1;
+                }
             }
         }
         if depth > 0 {
+            if first {
+                b.comment.push_str(&raw[opened..]);
+            }
             // LinuxCNC refuses an unclosed comment; a viewer reads the rest of the line as
             // its text (reported by the caller).
             return Err(Problem::UnclosedComment);

@@ -177,27 +177,45 @@ pub struct ReaderSource<R> {
     offset: u64,
     line: u32,
     cap: u64,
-    bytes: Vec<u8>,
 }
 
 impl<R: std::io::BufRead + std::io::Seek> ReaderSource<R> {
     /// Lines of `reader`, refusing to read past `cap` bytes.
     pub fn new(reader: R, cap: u64) -> Self {
-        Self { reader, offset: 0, line: 0, cap, bytes: Vec::new() }
+        Self { reader, offset: 0, line: 0, cap }
     }
-}
 
-impl<R: std::io::BufRead + std::io::Seek> Source for ReaderSource<R> {
-    fn next_line(&mut self, buf: &mut String) -> Result<Option<SourcePos>, SourceError> {
-        use std::io::{BufRead, Read};
-        buf.clear();
-        self.bytes.clear();
+    /// Reads up to the next newline (kept) or one byte more than the longest line into
+    /// `bytes`; returns the bytes read (0 at the end of the file).
+    fn read_line(&mut self, bytes: &mut Vec<u8>) -> Result<usize, SourceError> {
         // One byte more than the longest line tells a line too long without reading it all.
-        let limit = MAX_LINE_BYTES as u64 + 2;
-        let n = (&mut self.reader)
-            .take(limit)
-            .read_until(b'\n', &mut self.bytes)
-            .map_err(|e| SourceError::Io(e.to_string()))?;
+        let limit = MAX_LINE_BYTES + 2;
+        let mut n = 0;
+        loop {
+            let avail = match self.reader.fill_buf() {
+                Ok(a) => a,
+                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+                Err(e) => return Err(SourceError::Io(e.to_string())),
+            };
+            if avail.is_empty() {
+                return Ok(n);
+            }
+            let avail = &avail[..avail.len().min(limit - n)];
+            let (used, ended) = match avail.iter().position(|&c| c == b'\n') {
+                Some(at) => (at + 1, true),
+                None => (avail.len(), false),
+            };
+            bytes.extend_from_slice(&avail[..used]);
+            self.reader.consume(used);
+            n += used;
+            if ended || n == limit {
+                return Ok(n);
+            }
+        }
+    }
+
+    /// After `n` bytes read into `bytes`: the line's position, its end of line taken off.
+    fn line_end(&mut self, bytes: &mut Vec<u8>, n: usize) -> Result<Option<SourcePos>, SourceError> {
         if n == 0 {
             return Ok(None);
         }
@@ -207,21 +225,43 @@ impl<R: std::io::BufRead + std::io::Seek> Source for ReaderSource<R> {
         if self.offset > self.cap {
             return Err(SourceError::TooLarge { cap_mib: self.cap >> 20 });
         }
-        let mut body = &self.bytes[..];
-        if let Some(b) = body.strip_suffix(b"\n") {
-            body = b;
-        } else if n as u64 == limit {
+        if bytes.last() == Some(&b'\n') {
+            bytes.pop();
+        } else if n == MAX_LINE_BYTES + 2 {
             return Err(SourceError::LineTooLong { line: self.line, max: MAX_LINE_BYTES });
         }
-        if let Some(b) = body.strip_suffix(b"\r") {
-            body = b;
+        if bytes.last() == Some(&b'\r') {
+            bytes.pop();
         }
-        if body.len() > MAX_LINE_BYTES {
+        if bytes.len() > MAX_LINE_BYTES {
             return Err(SourceError::LineTooLong { line: self.line, max: MAX_LINE_BYTES });
         }
-        let text = std::str::from_utf8(body).map_err(|_| SourceError::NotUtf8 { line: self.line })?;
-        buf.push_str(text);
         Ok(Some(pos))
+    }
+}
+
+impl<R: std::io::BufRead + std::io::Seek> Source for ReaderSource<R> {
+    fn next_line(&mut self, buf: &mut String) -> Result<Option<SourcePos>, SourceError> {
+        // The line is read straight into `buf`'s bytes and checked as UTF-8 once, in place.
+        let mut bytes = std::mem::take(buf).into_bytes();
+        bytes.clear();
+        let r = self.read_line(&mut bytes);
+        let r = r.and_then(|n| self.line_end(&mut bytes, n));
+        if r.is_err() {
+            bytes.clear();
+        }
+        match String::from_utf8(bytes) {
+            Ok(s) => {
+                *buf = s;
+                r
+            }
+            Err(e) => {
+                let mut bytes = e.into_bytes();
+                bytes.clear();
+                *buf = String::from_utf8(bytes).unwrap_or_default();
+                Err(SourceError::NotUtf8 { line: self.line })
+            }
+        }
     }
 
     fn tell(&self) -> SourcePos {
