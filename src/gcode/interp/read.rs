@@ -500,7 +500,8 @@ impl Parser<'_, '_> {
         if self.peek() == Some(b'o') {
             return self.oword(b);
         }
-        if self.fanuc_statement(b)? {
+        // FANUC statements start with GOTO, IF, WHILE, DO or END.
+        if matches!(self.peek(), Some(b'g' | b'i' | b'w' | b'd' | b'e')) && self.fanuc_statement(b)? {
             return Ok(());
         }
         while let Some(c) = self.peek() {
@@ -531,7 +532,11 @@ impl Parser<'_, '_> {
                     if !starts_value {
                         return Err(Problem::NoValue(c.to_ascii_uppercase() as char));
                     }
-                    let v = self.real_value()?;
+                    // Most words hold a plain number: read it without the expression reader.
+                    let v = match self.plain_number() {
+                        Some(v) => v,
+                        None => self.real_value()?,
+                    };
                     self.word(b, c, v)?;
                 }
                 _ => return Err(Problem::Char(c as char)),
@@ -709,37 +714,66 @@ impl Parser<'_, '_> {
         self.binary_tail(first, 0, true)
     }
 
+    /// A plain decimal (`12`, `-6.789`, `.5`, `+1.`): a sign, at most 19 digits with at most
+    /// one point among them, and a value below 2^53 over a power of ten up to 10^22 — both
+    /// exact doubles, so one division rounds their quotient as parsing the text does. `None`
+    /// (nothing read) for anything else, which [`Parser::number`] reads in full.
+    fn plain_number(&mut self) -> Option<f64> {
+        let s = self.s;
+        let mut i = self.i;
+        let negative = s.get(i) == Some(&b'-');
+        if matches!(s.get(i), Some(b'+' | b'-')) {
+            i += 1;
+        }
+        let mut mantissa: u64 = 0;
+        let mut digits = 0u32;
+        while i < s.len() && s[i].is_ascii_digit() {
+            // Up to 19 digits cannot overflow; beyond, the number is not plain.
+            mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(s[i] - b'0'));
+            digits += 1;
+            i += 1;
+        }
+        let mut after_point = 0u32;
+        if s.get(i) == Some(&b'.') {
+            i += 1;
+            while i < s.len() && s[i].is_ascii_digit() {
+                mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(s[i] - b'0'));
+                after_point += 1;
+                i += 1;
+            }
+            if s.get(i) == Some(&b'.') {
+                return None;
+            }
+        }
+        let digits = digits + after_point;
+        if digits == 0 || digits > 19 || mantissa >= 1 << 53 || after_point > 22 {
+            return None;
+        }
+        self.i = i;
+        let v = mantissa as f64 / EXACT_TENS[after_point as usize];
+        Some(if negative { -v } else { v })
+    }
+
     fn number(&mut self) -> Result<f64, Problem> {
+        if let Some(v) = self.plain_number() {
+            return Ok(v);
+        }
         let st = self.i;
-        let negative = self.peek() == Some(b'-');
         if matches!(self.peek(), Some(b'+' | b'-')) {
             self.i += 1;
         }
+        // Not a plain decimal: two points, no digit, or too many digits for the fast path.
         let mut digits = 0;
         let mut dots = 0;
-        // The digits as an integer and how many follow the point, while they fit the fast
-        // path below.
-        let mut mantissa: u64 = 0;
-        let mut after_point = 0u32;
         while let Some(c) = self.peek() {
             if c.is_ascii_digit() {
                 digits += 1;
-                mantissa = mantissa.saturating_mul(10).saturating_add(u64::from(c - b'0'));
-                after_point += u32::from(dots > 0);
             } else if c == b'.' {
                 dots += 1;
             } else {
                 break;
             }
             self.i += 1;
-        }
-        // Most numbers of a program (coordinates to a few decimals): an integer below 2^53
-        // over a power of ten up to 10^22 are both exact doubles, and one division rounds
-        // their quotient correctly, so this is what parsing the text gives, without making
-        // the text.
-        if dots <= 1 && digits > 0 && digits <= 19 && mantissa < 1 << 53 && after_point <= 22 {
-            let v = mantissa as f64 / EXACT_TENS[after_point as usize];
-            return Ok(if negative { -v } else { v });
         }
         let text = self.text_from(st);
         if dots > 1 {
