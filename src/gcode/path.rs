@@ -278,8 +278,14 @@ impl Toolpath {
     #[must_use]
     pub fn cut_bounds(&self) -> Option<(DVec3, DVec3)> {
         let mut bb: Option<(DVec3, DVec3)> = None;
+        // The points of `sample_segment`, from one buffer of parameters for every move.
+        let mut params = Vec::new();
         for b in self.cuts() {
-            for p in sample_segment(&b.segment, 16) {
+            params.clear();
+            push_sample_params(&b.segment, 16, &mut params);
+            let curve = b.segment.curve();
+            for &t in &params {
+                let p = curve.point_at(t);
                 bb = Some(match bb {
                     None => (p, p),
                     Some((lo, hi)) => (lo.min(p), hi.max(p)),
@@ -300,19 +306,29 @@ pub fn sample_segment(seg: &Segment, per_piece: usize) -> Vec<DVec3> {
 /// Parameters of [`sample_segment`].
 #[must_use]
 pub fn sample_params(seg: &Segment, per_piece: usize) -> Vec<f64> {
-    let n = per_piece.max(1);
     let mut out = Vec::new();
-    let breaks: Vec<f64> = match seg {
-        Segment::Nurbs(c) => crate::numerics::knots::span_breaks(c.knots(), c.degree()),
-        _ => vec![0.0, 1.0],
+    push_sample_params(seg, per_piece, &mut out);
+    out
+}
+
+/// [`sample_params`] appended to `out`.
+fn push_sample_params(seg: &Segment, per_piece: usize, out: &mut Vec<f64>) {
+    let n = per_piece.max(1);
+    let nurbs_breaks;
+    let breaks: &[f64] = match seg {
+        Segment::Nurbs(c) => {
+            nurbs_breaks = crate::numerics::knots::span_breaks(c.knots(), c.degree());
+            &nurbs_breaks
+        }
+        _ => &[0.0, 1.0],
     };
+    out.reserve(1 + breaks.len().saturating_sub(1) * n);
     out.push(breaks[0]);
     for w in breaks.windows(2) {
         for i in 1..=n {
             out.push(w[0] + (w[1] - w[0]) * i as f64 / n as f64);
         }
     }
-    out
 }
 
 fn segment_length(seg: &Segment) -> f64 {
