@@ -31,7 +31,7 @@
 use std::borrow::Cow;
 
 use super::machine::JointLimits;
-use super::path::{Bounds, Path, Piece, Shape, piece_bounds};
+use super::path::{Bounds, Path, Piece, Shape, lower, piece_bounds};
 use super::scurve::{self, Phase};
 
 /// A phase of the plan placed in time and along the path.
@@ -107,12 +107,12 @@ fn cap_of(b: &Bounds, feed: f64, lim: &JointLimits, share: f64, curved: bool) ->
         let q1 = b.lo1[i].abs().max(b.hi1[i].abs());
         let q2 = b.lo2[i].abs().max(b.hi2[i].abs());
         if q1 > 0.0 {
-            v = v.min(lim.v[i] / q1);
-            a = a.min(ta * lim.a[i] / q1);
-            j = j.min(tj * lim.j[i] / q1);
+            v = lower(v, lim.v[i] / q1);
+            a = lower(a, ta * lim.a[i] / q1);
+            j = lower(j, tj * lim.j[i] / q1);
         }
         if q2 > 0.0 {
-            v = v.min(((1.0 - ta) * lim.a[i] / q2).sqrt());
+            v = lower(v, ((1.0 - ta) * lim.a[i] / q2).sqrt());
         }
     }
     if curved && !j.is_infinite() {
@@ -122,19 +122,19 @@ fn cap_of(b: &Bounds, feed: f64, lim: &JointLimits, share: f64, curved: bool) ->
         let mut cube = f64::INFINITY;
         for i in 0..6 {
             if b.m3[i] > 0.0 {
-                cube = cube.min(0.5 * (1.0 - tj) * lim.j[i] / b.m3[i]);
+                cube = lower(cube, 0.5 * (1.0 - tj) * lim.j[i] / b.m3[i]);
             }
         }
         // The cube root only where it can bind: at or above v³ (with a margin for the
         // rounding of v³ and of the root) it is at least v.
         if cube.is_finite() && !(cube >= v * v * v * (1.0 + 16.0 * f64::EPSILON)) {
-            v = v.min(cube.cbrt());
+            v = lower(v, cube.cbrt());
         }
         for i in 0..6 {
             let q2 = b.lo2[i].abs().max(b.hi2[i].abs());
             let rest = 0.5 * (1.0 - tj) * lim.j[i];
             if q2 > 0.0 && v > 0.0 {
-                a = a.min(rest / (3.0 * q2 * v));
+                a = lower(a, rest / (3.0 * q2 * v));
             }
         }
     }

@@ -47,6 +47,18 @@ pub(crate) fn norm3(a: &Q) -> f64 {
 fn dot3(a: &Q, b: &Q) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
+/// The smaller of a running minimum `acc` (never NaN) and `x`: `acc.min(x)` — a NaN `x` is
+/// passed over, a tie keeps `acc` — in one compare-and-select instead of `f64::min`'s NaN
+/// handling for both operands. The two differ only in the sign of a zero tie.
+#[inline]
+pub(crate) fn lower(acc: f64, x: f64) -> f64 {
+    if x < acc { x } else { acc }
+}
+/// The larger of a running maximum `acc` (never NaN) and `x`, as [`lower`].
+#[inline]
+pub(crate) fn upper(acc: f64, x: f64) -> f64 {
+    if x > acc { x } else { acc }
+}
 #[inline]
 fn norm_abc(a: &Q) -> f64 {
     (a[3] * a[3] + a[4] * a[4] + a[5] * a[5]).sqrt()
@@ -1177,17 +1189,17 @@ pub fn piece_bounds(path: &Path, p: &Piece) -> Bounds {
         let (mut lo2, mut hi2) = (f64::INFINITY, f64::NEG_INFINITY);
         let (mut d1, mut d2, mut m3) = (0.0f64, 0.0f64, 0.0f64);
         for k in 0..SAMPLES {
-            lo1 = lo1.min(q1[k][i]);
-            hi1 = hi1.max(q1[k][i]);
-            lo2 = lo2.min(q2[k][i]);
-            hi2 = hi2.max(q2[k][i]);
+            lo1 = lower(lo1, q1[k][i]);
+            hi1 = upper(hi1, q1[k][i]);
+            lo2 = lower(lo2, q2[k][i]);
+            hi2 = upper(hi2, q2[k][i]);
             if k > 0 {
-                d1 = d1.max((q1[k][i] - q1[k - 1][i]).abs());
+                d1 = upper(d1, (q1[k][i] - q1[k - 1][i]).abs());
                 let dd = (q2[k][i] - q2[k - 1][i]).abs();
-                d2 = d2.max(dd);
+                d2 = upper(d2, dd);
                 let ds = sv[k] - sv[k - 1];
                 if ds > 0.0 {
-                    m3 = m3.max(dd / ds);
+                    m3 = upper(m3, dd / ds);
                 }
             }
         }
