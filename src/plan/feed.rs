@@ -31,7 +31,7 @@
 use std::borrow::Cow;
 
 use super::machine::JointLimits;
-use super::path::{Bounds, Path, Piece, Shape, lower, piece_bounds};
+use super::path::{Bounds, Path, Piece, Shape, lower, piece_bounds, upper};
 use super::scurve::{self, Phase};
 
 /// A phase of the plan placed in time and along the path.
@@ -286,7 +286,8 @@ impl Model<'_> {
     fn back(&self, k: usize, h: f64, x1: f64) -> f64 {
         let l = self.lim(k);
         let cap = l.x_cap;
-        let x1 = x1.min(cap);
+        // `cap` is never NaN (a square of a minimum started at the feed), so `lower` is `min`.
+        let x1 = lower(cap, x1);
         match self {
             Self::Coupled { bounds, a, .. } if !l.line => {
                 let b = &bounds[k];
@@ -310,7 +311,7 @@ impl Model<'_> {
                 let u = u_min.min(0.0);
                 if u.is_finite() { (x1 - 2.0 * h * u).min(cap) } else { cap }
             }
-            _ => (x1 + 2.0 * h * l.a).min(cap),
+            _ => lower(cap, x1 + 2.0 * h * l.a),
         }
     }
 
@@ -318,7 +319,7 @@ impl Model<'_> {
     /// `x1_max`.
     fn fwd(&self, k: usize, h: f64, x0: f64, x1_max: f64) -> f64 {
         let l = self.lim(k);
-        let cap = l.x_cap.min(x1_max);
+        let cap = lower(l.x_cap, x1_max);
         match self {
             Self::Coupled { bounds, a, .. } if !l.line => {
                 let b = &bounds[k];
@@ -343,7 +344,7 @@ impl Model<'_> {
                 }
                 x0 + 2.0 * h * u_hi
             }
-            _ => (x0 + 2.0 * h * l.a).min(cap),
+            _ => lower(cap, x0 + 2.0 * h * l.a),
         }
     }
 }
@@ -393,7 +394,7 @@ fn window_limit(
         backward_into(model, hs, stop, from, to, &mut k);
         // Within block bi (its pieces' starts and its end) the speed must allow the stop.
         for p in from..=this_end {
-            env[p] = env[p].min(k[p - from]);
+            env[p] = lower(env[p], k[p - from]);
         }
     }
 }
@@ -402,7 +403,7 @@ fn forward(model: &Model<'_>, hs: &[f64], env: &[f64]) -> Vec<f64> {
     let n = hs.len();
     let mut x: Vec<f64> = vec![0.0; n + 1];
     for k in 0..n {
-        let x0 = x[k].min(env[k]);
+        let x0 = lower(env[k], x[k]);
         x[k] = x0;
         x[k + 1] = model.fwd(k, hs[k], x0, env[k + 1]).clamp(0.0, env[k + 1]);
     }
@@ -434,9 +435,9 @@ fn guide(path: &Path, pieces: &[Piece], lims: &[PieceLimits], hs: &[f64], x: &[f
         let l = &lims[k];
         let coupled_curve = !jerk && !l.line;
         if h > 0.0 && !coupled_curve && l.a.is_finite() && l.a > 0.0 {
-            let xp = (0.5 * (x0 + x1) + l.a * h).min(l.x_cap);
-            let d1 = ((xp - x0) / (2.0 * l.a)).max(0.0);
-            let d2 = ((xp - x1) / (2.0 * l.a)).max(0.0);
+            let xp = lower(l.x_cap, 0.5 * (x0 + x1) + l.a * h);
+            let d1 = upper(0.0, (xp - x0) / (2.0 * l.a));
+            let d2 = upper(0.0, (xp - x1) / (2.0 * l.a));
             // A rise to the peak that ends inside the piece, and a fall from it that starts
             // inside; the plateau between them is the straight stretch at x_p.
             if d1 + d2 <= h * (1.0 + 1e-12) {
@@ -600,10 +601,10 @@ fn scurves(path: &Path, pieces: &[Piece], lims: &[PieceLimits], g: &[Pt], stop: 
         // not enter when it ends there).
         let last = if g[i1].s <= pieces.get(pb).map_or(f64::INFINITY, |p| p.s0) && pb > pa { pb - 1 } else { pb };
         for l in &lims[pa..=last.min(lims.len() - 1)] {
-            a = a.min(l.a);
-            j = j.min(l.j);
+            a = lower(a, l.a);
+            j = lower(j, l.j);
         }
-        let top = g[i0..=i1].iter().fold(0.0f64, |t, p| t.max(p.x));
+        let top = g[i0..=i1].iter().fold(0.0f64, |t, p| upper(t, p.x));
         segs.push(Seg { d: g[i1].s - g[i0].s, a, j, cap: top.max(0.0).sqrt() });
     }
     // `reach` capped at the knot's own speed is min(that speed, the uncapped reach) — the
