@@ -295,7 +295,8 @@ impl Model<'_> {
                 let mut lower = |c: f64, r: f64| {
                     // c·u ≤ r with u ≤ 0: a lower bound when c < 0.
                     if c < 0.0 {
-                        u_min = u_min.max(r / c);
+                        // u_min starts at -∞ and never takes a NaN: `upper` is `max`.
+                        u_min = upper(u_min, r / c);
                     }
                 };
                 for i in 0..6 {
@@ -327,7 +328,8 @@ impl Model<'_> {
                 if u_hi > 0.0 {
                     let mut upper = |c: f64, r: f64| {
                         if c > 0.0 {
-                            u_hi = u_hi.min(r / c);
+                            // u_hi > 0 here, never NaN: `lower` is `min`.
+                            u_hi = lower(u_hi, r / c);
                         }
                     };
                     for i in 0..6 {
