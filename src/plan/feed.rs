@@ -31,7 +31,7 @@
 use std::borrow::Cow;
 
 use super::machine::JointLimits;
-use super::path::{Bounds, Path, Piece, Shape, piece_bounds};
+use super::path::{Bounds, Path, Piece, Shape, lower, piece_bounds, upper};
 use super::scurve::{self, Phase};
 
 /// A phase of the plan placed in time and along the path.
@@ -107,12 +107,12 @@ fn cap_of(b: &Bounds, feed: f64, lim: &JointLimits, share: f64, curved: bool) ->
         let q1 = b.lo1[i].abs().max(b.hi1[i].abs());
         let q2 = b.lo2[i].abs().max(b.hi2[i].abs());
         if q1 > 0.0 {
-            v = v.min(lim.v[i] / q1);
-            a = a.min(ta * lim.a[i] / q1);
-            j = j.min(tj * lim.j[i] / q1);
+            v = lower(v, lim.v[i] / q1);
+            a = lower(a, ta * lim.a[i] / q1);
+            j = lower(j, tj * lim.j[i] / q1);
         }
         if q2 > 0.0 {
-            v = v.min(((1.0 - ta) * lim.a[i] / q2).sqrt());
+            v = lower(v, ((1.0 - ta) * lim.a[i] / q2).sqrt());
         }
     }
     if curved && !j.is_infinite() {
@@ -122,19 +122,19 @@ fn cap_of(b: &Bounds, feed: f64, lim: &JointLimits, share: f64, curved: bool) ->
         let mut cube = f64::INFINITY;
         for i in 0..6 {
             if b.m3[i] > 0.0 {
-                cube = cube.min(0.5 * (1.0 - tj) * lim.j[i] / b.m3[i]);
+                cube = lower(cube, 0.5 * (1.0 - tj) * lim.j[i] / b.m3[i]);
             }
         }
         // The cube root only where it can bind: at or above v³ (with a margin for the
         // rounding of v³ and of the root) it is at least v.
         if cube.is_finite() && !(cube >= v * v * v * (1.0 + 16.0 * f64::EPSILON)) {
-            v = v.min(cube.cbrt());
+            v = lower(v, cube.cbrt());
         }
         for i in 0..6 {
             let q2 = b.lo2[i].abs().max(b.hi2[i].abs());
             let rest = 0.5 * (1.0 - tj) * lim.j[i];
             if q2 > 0.0 && v > 0.0 {
-                a = a.min(rest / (3.0 * q2 * v));
+                a = lower(a, rest / (3.0 * q2 * v));
             }
         }
     }
@@ -286,7 +286,8 @@ impl Model<'_> {
     fn back(&self, k: usize, h: f64, x1: f64) -> f64 {
         let l = self.lim(k);
         let cap = l.x_cap;
-        let x1 = x1.min(cap);
+        // `cap` is never NaN (a square of a minimum started at the feed), so `lower` is `min`.
+        let x1 = lower(cap, x1);
         match self {
             Self::Coupled { bounds, a, .. } if !l.line => {
                 let b = &bounds[k];
@@ -294,7 +295,8 @@ impl Model<'_> {
                 let mut lower = |c: f64, r: f64| {
                     // c·u ≤ r with u ≤ 0: a lower bound when c < 0.
                     if c < 0.0 {
-                        u_min = u_min.max(r / c);
+                        // u_min starts at -∞ and never takes a NaN: `upper` is `max`.
+                        u_min = upper(u_min, r / c);
                     }
                 };
                 for i in 0..6 {
@@ -310,7 +312,7 @@ impl Model<'_> {
                 let u = u_min.min(0.0);
                 if u.is_finite() { (x1 - 2.0 * h * u).min(cap) } else { cap }
             }
-            _ => (x1 + 2.0 * h * l.a).min(cap),
+            _ => lower(cap, x1 + 2.0 * h * l.a),
         }
     }
 
@@ -318,7 +320,7 @@ impl Model<'_> {
     /// `x1_max`.
     fn fwd(&self, k: usize, h: f64, x0: f64, x1_max: f64) -> f64 {
         let l = self.lim(k);
-        let cap = l.x_cap.min(x1_max);
+        let cap = lower(l.x_cap, x1_max);
         match self {
             Self::Coupled { bounds, a, .. } if !l.line => {
                 let b = &bounds[k];
@@ -326,7 +328,8 @@ impl Model<'_> {
                 if u_hi > 0.0 {
                     let mut upper = |c: f64, r: f64| {
                         if c > 0.0 {
-                            u_hi = u_hi.min(r / c);
+                            // u_hi > 0 here, never NaN: `lower` is `min`.
+                            u_hi = lower(u_hi, r / c);
                         }
                     };
                     for i in 0..6 {
@@ -343,7 +346,7 @@ impl Model<'_> {
                 }
                 x0 + 2.0 * h * u_hi
             }
-            _ => (x0 + 2.0 * h * l.a).min(cap),
+            _ => lower(cap, x0 + 2.0 * h * l.a),
         }
     }
 }
@@ -393,7 +396,7 @@ fn window_limit(
         backward_into(model, hs, stop, from, to, &mut k);
         // Within block bi (its pieces' starts and its end) the speed must allow the stop.
         for p in from..=this_end {
-            env[p] = env[p].min(k[p - from]);
+            env[p] = lower(env[p], k[p - from]);
         }
     }
 }
@@ -402,7 +405,7 @@ fn forward(model: &Model<'_>, hs: &[f64], env: &[f64]) -> Vec<f64> {
     let n = hs.len();
     let mut x: Vec<f64> = vec![0.0; n + 1];
     for k in 0..n {
-        let x0 = x[k].min(env[k]);
+        let x0 = lower(env[k], x[k]);
         x[k] = x0;
         x[k + 1] = model.fwd(k, hs[k], x0, env[k + 1]).clamp(0.0, env[k + 1]);
     }
@@ -434,9 +437,9 @@ fn guide(path: &Path, pieces: &[Piece], lims: &[PieceLimits], hs: &[f64], x: &[f
         let l = &lims[k];
         let coupled_curve = !jerk && !l.line;
         if h > 0.0 && !coupled_curve && l.a.is_finite() && l.a > 0.0 {
-            let xp = (0.5 * (x0 + x1) + l.a * h).min(l.x_cap);
-            let d1 = ((xp - x0) / (2.0 * l.a)).max(0.0);
-            let d2 = ((xp - x1) / (2.0 * l.a)).max(0.0);
+            let xp = lower(l.x_cap, 0.5 * (x0 + x1) + l.a * h);
+            let d1 = upper(0.0, (xp - x0) / (2.0 * l.a));
+            let d2 = upper(0.0, (xp - x1) / (2.0 * l.a));
             // A rise to the peak that ends inside the piece, and a fall from it that starts
             // inside; the plateau between them is the straight stretch at x_p.
             if d1 + d2 <= h * (1.0 + 1e-12) {
@@ -600,10 +603,10 @@ fn scurves(path: &Path, pieces: &[Piece], lims: &[PieceLimits], g: &[Pt], stop: 
         // not enter when it ends there).
         let last = if g[i1].s <= pieces.get(pb).map_or(f64::INFINITY, |p| p.s0) && pb > pa { pb - 1 } else { pb };
         for l in &lims[pa..=last.min(lims.len() - 1)] {
-            a = a.min(l.a);
-            j = j.min(l.j);
+            a = lower(a, l.a);
+            j = lower(j, l.j);
         }
-        let top = g[i0..=i1].iter().fold(0.0f64, |t, p| t.max(p.x));
+        let top = g[i0..=i1].iter().fold(0.0f64, |t, p| upper(t, p.x));
         segs.push(Seg { d: g[i1].s - g[i0].s, a, j, cap: top.max(0.0).sqrt() });
     }
     // `reach` capped at the knot's own speed is min(that speed, the uncapped reach) — the

@@ -15,6 +15,8 @@
 //! From rest to rest this is the time-optimal profile of a single axis (Ruckig gives the
 //! same; `tests/plan_anchors.rs`).
 
+use super::path::{lower, upper};
+
 /// One phase of constant jerk: the acceleration starts at `a0` (it may jump there when the
 /// jerk is not limited) and changes at `j` for `dur` seconds.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -30,7 +32,8 @@ pub struct Phase {
 /// Time of a ramp changing the speed by `dv ≥ 0` (s).
 #[must_use]
 pub fn ramp_time(dv: f64, a: f64, j: f64) -> f64 {
-    let dv = dv.max(0.0);
+    // As `dv.max(0.0)` (a NaN gives 0), in one compare-and-select.
+    let dv = upper(0.0, dv);
     if j.is_infinite() {
         dv / a
     } else if dv * j >= a * a {
@@ -82,7 +85,8 @@ pub fn reach(v0: f64, d: f64, a: f64, j: f64, vmax: f64) -> f64 {
             v0 + w.max(0.0) * w.max(0.0)
         }
     };
-    v1.min(vmax)
+    // `vmax` is a knot's speed, never NaN: `lower` is `min`.
+    lower(vmax, v1)
 }
 
 /// The peak speed of a segment of length `d` from v₀ to v₁ under `vcap` (≥ max(v₀, v₁)):
