@@ -21,6 +21,7 @@ use glam::{DVec2, DVec3};
 
 use super::contact::{ContactFrame, Pose, gouge_margin, place};
 use super::orient::OrientOptions;
+use super::second_bound::{FIRST_CELLS, SecondBound};
 use crate::geom::{Cutter, LocalGeometry, ParametricSurface, Surface};
 
 /// Which part of the cutter met the part.
@@ -75,6 +76,10 @@ pub struct PartSamples {
     /// torus have constant or trigonometric second derivatives whose largest values lie on
     /// the grid's rows; for a NURBS the allowance covers the variation between grid points.
     pub second_bound: f64,
+    /// K near each cell of the bottom check's subdivision (from the same grid, with the same
+    /// allowance): the bound [`bottom_clash`] uses, so that a place where the surface bends
+    /// hard does not loosen the bound everywhere else.
+    second_map: SecondBound,
     /// The grid's side n (`points` holds n × n, row i at `i·n`).
     side: usize,
     /// Blocks of up to [`BLOCK`] × [`BLOCK`] grid points: first row, first column, and a
@@ -109,7 +114,7 @@ impl CellCount {
 }
 
 /// Grid points per side of a block of [`PartSamples`].
-const BLOCK: usize = 8;
+const BLOCK: usize = 4;
 
 /// Factor on the grid's largest second derivative for [`PartSamples::second_bound`].
 pub const SECOND_DERIVATIVE_ALLOWANCE: f64 = 1.25;
@@ -122,7 +127,7 @@ impl PartSamples {
         let dom = surface.domain();
         let mut points = Vec::with_capacity(n * n);
         let mut kmax = f64::NEG_INFINITY;
-        let mut second = 0.0f64;
+        let mut second = Vec::with_capacity(n * n);
         for i in 0..n {
             for j in 0..n {
                 let uv = DVec2::new(
@@ -132,7 +137,7 @@ impl PartSamples {
                 let d = surface.derivatives_at(uv);
                 points.push(d.point);
                 let (a, b, c) = (d.duu.length(), d.duv.length(), d.dvv.length());
-                second = second.max(0.5 * (a + c) + (0.5 * (a - c)).hypot(b));
+                second.push(SECOND_DERIVATIVE_ALLOWANCE * (0.5 * (a + c) + (0.5 * (a - c)).hypot(b)));
                 if let Some(g) = LocalGeometry::try_new(d) {
                     kmax = kmax.max(g.principal_curvatures().0);
                 }
@@ -149,15 +154,24 @@ impl PartSamples {
                 blocks.push((i0, j0, centre, radius));
             }
         }
+        let second_map = SecondBound::from_grid(&second, n);
         Self {
             points,
             k_concave_max: kmax,
-            second_bound: SECOND_DERIVATIVE_ALLOWANCE * second,
+            second_bound: second_map.global(),
+            second_map,
             side: n,
             blocks,
             checked: CellCount::default(),
             exhausted: CellCount::default(),
         }
+    }
+
+    /// The bound of the second derivative near each cell of the bottom check
+    /// ([`SecondBound`]), from this grid.
+    #[must_use]
+    pub fn second_map(&self) -> &SecondBound {
+        &self.second_map
     }
 
     /// Cells evaluated so far by the certified bottom checks against these samples (each at
@@ -169,8 +183,6 @@ impl PartSamples {
     }
 }
 
-/// Cells of the first grid of [`bottom_clash`] along each parameter.
-const FIRST_CELLS: usize = 4;
 /// Most cells [`bottom_clash`] evaluates; beyond it the cell with the lowest bound is
 /// reported as a clash (a refusal errs on the safe side).
 const MAX_CELLS: usize = 40_000;
@@ -221,6 +233,12 @@ struct Cell {
     centre: DVec2,
     half: DVec2,
     depth: u32,
+    /// Halvings across u and v from the first grid, and the cell's place among the
+    /// rectangles of that level (see [`SecondBound`]).
+    level: (u32, u32),
+    index: (u64, u64),
+    /// K on the cell: [`SecondBound::at`].
+    k2: f64,
     /// The gouge function at the centre (mm).
     g: f64,
     /// |∂g/∂u|·hu and |∂g/∂v|·hv at the centre (mm): what each side costs the bound.
@@ -266,7 +284,9 @@ impl Ord for Open {
 /// `d(x) ≥ d(p) + ∇d(p)·(x − p)` (the supporting plane), inside the core too. On a cell of
 /// centre c and half sizes (hu, hv), `r(c + δ) − r(c) = r_u δu + r_v δv + R` with
 /// `|R| ≤ ½·K·|δ|²`, K the bound of |r_ee| along unit directions e of the parameter plane
-/// ([`PartSamples::second_bound`]). Hence on the whole cell
+/// on the cell: the largest at the part's grid points within one spacing of the cell, times
+/// the allowance ([`SecondBound`]; a surface's worst place bounds only the cells near it).
+/// Hence on the whole cell
 ///
 /// `g ≥ g(c) − |g_u|·hu − |g_v|·hv − ½·K·(hu² + hv²)`,   `g_u = ∇d·r_u`, `g_v = ∇d·r_v`,
 ///
@@ -288,7 +308,6 @@ fn bottom_clash(
     tol_mm: f64,
     hint: Option<DVec2>,
 ) -> Option<(Clash, DVec2)> {
-    let k2 = part.second_bound;
     /// Adds the cells a search evaluated to the count however it returns.
     struct Tally<'c>(&'c CellCount, usize);
     impl Drop for Tally<'_> {
@@ -304,13 +323,14 @@ fn bottom_clash(
             return Some((Clash { part: ClashPart::Bottom, depth_mm: -g, at }, uv));
         }
     }
-    let make = |centre: DVec2, half: DVec2, depth: u32| {
+    let make = |centre: DVec2, half: DVec2, depth: u32, level: (u32, u32), index: (u64, u64)| {
         // Only r, r_u and r_v enter the bound; to rounding is enough (a NURBS's power form).
         let (point, du, dv) = surface.tangents_fast_at(centre);
         let (g, grad) = body.signed_distance(point);
         let slope = DVec2::new(grad.dot(du).abs() * half.x, grad.dot(dv).abs() * half.y);
+        let k2 = part.second_map.at(level, index);
         let bound = g - slope.x - slope.y - 0.5 * k2 * half.length_squared();
-        (Cell { centre, half, depth, g, slope, bound }, point)
+        (Cell { centre, half, depth, level, index, k2, g, slope, bound }, point)
     };
     let n = FIRST_CELLS;
     let mut evaluated = Tally(&part.checked, n * n);
@@ -325,7 +345,7 @@ fn bottom_clash(
     for i in 0..n {
         for j in 0..n {
             let centre = origin + DVec2::new((2 * i + 1) as f64 * half.x, (2 * j + 1) as f64 * half.y);
-            let (cell, at) = make(centre, half, 0);
+            let (cell, at) = make(centre, half, 0, (0, 0), (i as u64, j as u64));
             if cell.g < -tol_mm {
                 return Some((Clash { part: ClashPart::Bottom, depth_mm: -cell.g, at }, centre));
             }
@@ -343,15 +363,29 @@ fn bottom_clash(
             let at = surface.point_at(cell.centre);
             return Some((Clash { part: ClashPart::Bottom, depth_mm: -cell.bound, at }, cell.centre));
         }
-        let cost_u = cell.slope.x + 0.5 * k2 * cell.half.x * cell.half.x;
-        let cost_v = cell.slope.y + 0.5 * k2 * cell.half.y * cell.half.y;
-        let (half, step) = if cost_u >= cost_v {
-            (DVec2::new(0.5 * cell.half.x, cell.half.y), DVec2::new(0.5 * cell.half.x, 0.0))
+        let cost_u = cell.slope.x + 0.5 * cell.k2 * cell.half.x * cell.half.x;
+        let cost_v = cell.slope.y + 0.5 * cell.k2 * cell.half.y * cell.half.y;
+        let across_u = cost_u >= cost_v;
+        let (half, step, level) = if across_u {
+            (
+                DVec2::new(0.5 * cell.half.x, cell.half.y),
+                DVec2::new(0.5 * cell.half.x, 0.0),
+                (cell.level.0 + 1, cell.level.1),
+            )
         } else {
-            (DVec2::new(cell.half.x, 0.5 * cell.half.y), DVec2::new(0.0, 0.5 * cell.half.y))
+            (
+                DVec2::new(cell.half.x, 0.5 * cell.half.y),
+                DVec2::new(0.0, 0.5 * cell.half.y),
+                (cell.level.0, cell.level.1 + 1),
+            )
         };
-        for sign in [-1.0, 1.0] {
-            let (child, at) = make(cell.centre + sign * step, half, cell.depth + 1);
+        for (sign, upper) in [(-1.0, 0), (1.0, 1)] {
+            let index = if across_u {
+                (2 * cell.index.0 + upper, cell.index.1)
+            } else {
+                (cell.index.0, 2 * cell.index.1 + upper)
+            };
+            let (child, at) = make(cell.centre + sign * step, half, cell.depth + 1, level, index);
             evaluated.1 += 1;
             if child.g < -tol_mm {
                 return Some((Clash { part: ClashPart::Bottom, depth_mm: -child.g, at }, child.centre));
@@ -385,50 +419,69 @@ pub fn check(
     pose: &Pose,
     tol_mm: f64,
 ) -> Option<Clash> {
-    check_hinted(cutter, surface, part, frame, pose, tol_mm, &mut None)
+    check_hinted(cutter, surface, part, place(cutter, frame, pose), tol_mm, &mut Hint::default(), Find::Deepest)
 }
 
-/// [`check`] trying the parameters in `hint` first ([`bottom_clash`]), and leaving there
-/// those of a bottom clash found: whether a clash is reported is the same as without the
-/// hint, only which one may differ.
+/// Where the last pose tried clashed: the bottom check's parameters and the index of a
+/// part sample inside the cutter. The next pose (a quarter degree on) is tested there first,
+/// which answers most failing trials with one evaluation.
+#[derive(Clone, Copy, Debug, Default)]
+struct Hint {
+    bottom: Option<DVec2>,
+    global: Option<usize>,
+}
+
+/// How much of a clash a check must find.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Find {
+    /// The deepest clash of the global check (and the bottom check's first): what a
+    /// refusal or an adjustment reports.
+    Deepest,
+    /// Any clash: a trial pose of [`adjust`] only needs to know whether it passes.
+    Any,
+}
+
+/// [`check`] trying the places in `hint` first and leaving there those of a clash found:
+/// whether a clash is reported is the same as without the hint, only which one may differ.
+/// With [`Find::Any`] the first clash found is returned.
+/// `placed`: the tip and the unit axis ([`place`]).
 fn check_hinted(
     cutter: &Cutter,
     surface: &Surface,
     part: &PartSamples,
-    frame: &ContactFrame,
-    pose: &Pose,
+    placed: (DVec3, DVec3),
     tol_mm: f64,
-    hint: &mut Option<DVec2>,
+    hint: &mut Hint,
+    find: Find,
 ) -> Option<Clash> {
-    let (tip, axis) = place(cutter, frame, pose);
+    let (tip, axis) = placed;
     let mut worst: Option<Clash> = None;
-    let mut note = |c: Clash| {
-        if worst.is_none_or(|w| c.depth_mm > w.depth_mm) {
-            worst = Some(c);
-        }
-    };
     // Local and rear: the part against the cutter's convex solid, certified.
     if part.k_concave_max > 0.0
-        && let Some((c, uv)) = bottom_clash(surface, &CutterBody::new(cutter, tip, axis, tol_mm), part, tol_mm, *hint)
+        && let Some((c, uv)) =
+            bottom_clash(surface, &CutterBody::new(cutter, tip, axis, tol_mm), part, tol_mm, hint.bottom)
     {
-        *hint = Some(uv);
-        note(c);
+        hint.bottom = Some(uv);
+        if find == Find::Any {
+            return Some(c);
+        }
+        worst = Some(c);
     }
     // Global: the part's points against the solid of revolution. A block whose sphere
     // (centre c, radius ρb) lies wholly at or below the corner's height, wholly above the
-    // holder, or wholly at least the tool's widest radius from the axis holds no colliding
-    // point (z and the distance to the axis are 1-Lipschitz in space) and is passed over.
-    let widest = cutter.radius_mm.max(cutter.shank_radius_mm).max(cutter.holder_radius_mm);
+    // holder, or wholly farther from the axis than the tool is wide over the block's heights
+    // holds no colliding point (z and the distance to the axis are 1-Lipschitz in space)
+    // and is passed over.
     let length = cutter.gauge_length_mm + cutter.holder_length_mm;
-    let mut test = |p: DVec3| {
+    let clash_at = |p: DVec3| {
         let w = p - tip;
         let z = w.dot(axis);
         if z <= cutter.corner_radius_mm {
-            return;
+            return None;
         }
-        let Some(rad) = cutter.radius_at_height_mm(z) else { return };
+        let rad = cutter.radius_at_height_mm(z)?;
         let rho = (w - z * axis).length();
-        if rho < rad - tol_mm {
+        (rho < rad - tol_mm).then(|| {
             let part = if z <= cutter.flute_length_mm {
                 ClashPart::Flank
             } else if z <= cutter.gauge_length_mm {
@@ -436,8 +489,21 @@ fn check_hinted(
             } else {
                 ClashPart::Holder
             };
-            note(Clash { part, depth_mm: rad - rho, at: p });
+            Clash { part, depth_mm: rad - rho, at: p }
+        })
+    };
+    if find == Find::Any
+        && let Some(c) = hint.global.and_then(|k| part.points.get(k)).and_then(|&p| clash_at(p))
+    {
+        return Some(c);
+    }
+    let mut test = |k: usize, p: DVec3| {
+        let Some(c) = clash_at(p) else { return false };
+        hint.global = Some(k);
+        if worst.is_none_or(|w| c.depth_mm > w.depth_mm) {
+            worst = Some(c);
         }
+        find == Find::Any
     };
     let n = part.side;
     if n * n == part.points.len() {
@@ -445,21 +511,51 @@ fn check_hinted(
             let w = c - tip;
             let z = w.dot(axis);
             let rho = (w - z * axis).length();
-            if z + rb <= cutter.corner_radius_mm || z - rb > length || rho - rb >= widest - tol_mm {
+            if z + rb <= cutter.corner_radius_mm
+                || z - rb > length
+                || rho - rb >= widest_between(cutter, z - rb, z + rb) - tol_mm
+            {
                 continue;
             }
             for i in i0..(i0 + BLOCK).min(n) {
-                for &p in &part.points[i * n + j0..i * n + (j0 + BLOCK).min(n)] {
-                    test(p);
+                for k in i * n + j0..i * n + (j0 + BLOCK).min(n) {
+                    if test(k, part.points[k]) {
+                        return worst;
+                    }
                 }
             }
         }
     } else {
-        for &p in &part.points {
-            test(p);
+        for (k, &p) in part.points.iter().enumerate() {
+            if test(k, p) {
+                return worst;
+            }
         }
     }
     worst
+}
+
+/// The widest the cutter's solid of revolution is (mm) at any height above the tip in
+/// `[lo, hi]` (mm), or 0 when the interval misses it: R below the flute length (the corner
+/// and a taper's cone never pass R), the shank's radius up to the gauge length, the
+/// holder's above it.
+fn widest_between(cutter: &Cutter, lo: f64, hi: f64) -> f64 {
+    let (flutes, gauge) = (cutter.flute_length_mm.max(cutter.cone_height_mm()), cutter.gauge_length_mm);
+    let top = gauge + cutter.holder_length_mm;
+    if hi < 0.0 || lo > top {
+        return 0.0;
+    }
+    let mut widest = 0.0f64;
+    if lo <= flutes {
+        widest = widest.max(cutter.radius_mm);
+    }
+    if lo <= gauge && hi > cutter.flute_length_mm {
+        widest = widest.max(cutter.shank_radius_mm);
+    }
+    if hi > gauge {
+        widest = widest.max(cutter.holder_radius_mm);
+    }
+    widest
 }
 
 /// What [`adjust`] changed.
@@ -491,9 +587,10 @@ pub fn adjust(
     // Where the last pose tried clashed at the bottom: the next one is tried there first
     // (a raise of 0.25° rarely clears the deepest point), which answers a failing trial with
     // one evaluation; a passing one is certified in full as before.
-    let mut hint = None;
+    let mut hint = Hint::default();
     let exhausted_before = part.exhausted.get();
-    let Some(first) = check_hinted(cutter, surface, part, frame, &pose, tol, &mut hint) else {
+    let Some(first) = check_hinted(cutter, surface, part, place(cutter, frame, &pose), tol, &mut hint, Find::Deepest)
+    else {
         return Ok((pose, None));
     };
     // A check that ran out of cells certifies nothing either way, and the next pose (a
@@ -510,7 +607,7 @@ pub fn adjust(
     let mut ok = |p: &Pose| {
         part.cells_checked() - cells_before <= MAX_ADJUST_CELLS
             && gouge_margin(cutter, frame, p) >= opts.margin_per_mm
-            && check_hinted(cutter, surface, part, frame, p, tol, &mut hint).is_none()
+            && check_hinted(cutter, surface, part, place(cutter, frame, p), tol, &mut hint, Find::Any).is_none()
     };
     let deg = 0.25f64.to_radians();
     let top = opts.max_inclination_rad.max(pose.inclination_rad);

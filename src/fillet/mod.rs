@@ -33,6 +33,7 @@ pub mod node;
 pub mod orient;
 pub mod paths;
 pub mod program;
+pub mod second_bound;
 pub mod sweep;
 
 use thiserror::Error;
