@@ -115,7 +115,7 @@ pub enum FinishError {
     /// The paths or their CC points would pass their caps: estimated before they are built
     /// (by more than `paths::ESTIMATE_MARGIN`), or from the share of the surface covered.
     #[error(
-        "the paths would number about {paths:.0} with about {nodes:.2e} CC points (estimated before the paths are built, or from the share of the surface they covered), more than the {max_paths} paths or {max_nodes} CC points allowed; raise the scallop height, the chord tolerance or the max step, or use a larger cutter"
+        "the paths would number about {paths:.0} with about {nodes:.2e} CC points (estimated before the paths are built, or from the share of the surface they covered), more than the {max_paths} paths or {max_nodes} CC points allowed; raise the scallop height, the chord tolerance or the max step, use a larger cutter, or check the surface (a mistyped control point?)"
     )]
     Oversized {
         /// Estimated paths.

@@ -159,14 +159,15 @@ fn example_finish(name: &str) -> String {
 
 /// The NACA blade with one control point mistyped far away: at 10⁶ mm the surface's area
 /// alone says the paths cannot fit the CC-point cap, before any path is built; at 2·10⁵ mm
-/// the certified gouge checks cannot bound the part near the cutter and the job stops after
-/// its first CC points (it ran for minutes, refusing every point, before).
+/// the pilot's lines, built and checked, say the paths would need far more CC points than the
+/// cap (it ran for minutes, refusing every point, before the checks had caps; until the
+/// checks bounded the surface's bend near each cell, they were what refused it).
 #[test]
 fn a_finishing_surface_with_a_mistyped_control_point_is_refused_early() {
     let text = std::fs::read_to_string(example_finish("naca-blade")).expect("example");
     for (x, words) in [
         (1e6, &["surfaces[0]", "area", "CC points", "mistyped control point"][..]),
-        (2e5, &["gouge checks", "cells a CC point", "mistyped control point"][..]),
+        (2e5, &["would number", "CC points", "mistyped control point"][..]),
     ] {
         let mut v: serde_json::Value = serde_json::from_str(&text).expect("json");
         v["surfaces"][0]["points"][6][4][0] = serde_json::json!(x);
