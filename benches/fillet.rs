@@ -10,7 +10,7 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use glam::DVec2;
 use interpolab::fillet::contact::{ContactFrame, CrossProfile, scallop_between};
 use interpolab::fillet::orient::{Strategy, pose_at};
-use interpolab::fillet::{FinishJob, PartSamples, iso_scallop};
+use interpolab::fillet::{FinishJob, FinishSetup, PartSamples, iso_scallop};
 use interpolab::geom::ParametricSurface;
 use interpolab::scene::finish::{FINISH_PRESETS, FinishScene};
 
@@ -50,7 +50,9 @@ fn benches(c: &mut Criterion) {
         let j = job(id);
         let part = PartSamples::new(&j.surface, j.options.part_grid);
         g.bench_function(id, |b| {
-            b.iter(|| iso_scallop(&j.surface, &j.cutter, Strategy::Matched, &j.options, &part).map(|s| s.paths.len()));
+            b.iter(|| {
+                iso_scallop(&FinishSetup { strategy: Strategy::Matched, ..j.setup(&part) }).map(|s| s.paths.len())
+            });
         });
     }
     g.finish();

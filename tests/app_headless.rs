@@ -1017,7 +1017,7 @@ fn the_fillet_view_builds_the_cores_iso_scallop_paths_over_frames_and_restarts_o
     scene.finish.lead = None;
     let job = scene.job().expect("job");
     let part = PartSamples::new(&job.surface, job.options.part_grid);
-    let core = iso_scallop(&job.surface, &job.cutter, job.strategy, &job.options, &part).expect("core");
+    let core = iso_scallop(&job.setup(&part)).expect("core");
     let st = core.stats(job.options.feed_mm_per_min);
     assert!(st.passes > 2, "a case with several passes: {}", st.passes);
     assert_eq!(s["passes"], st.passes, "{s}");
@@ -1099,8 +1099,8 @@ fn the_fillet_table_rows_are_background_jobs_giving_the_cores_numbers() {
         let job = scene.job().expect("job");
         let part = PartSamples::new(&job.surface, job.options.part_grid);
         let core = match layout {
-            Layout::IsoScallop => iso_scallop(&job.surface, &job.cutter, job.strategy, &job.options, &part),
-            Layout::IsoParametric => iso_parametric(&job.surface, &job.cutter, job.strategy, &job.options, &part),
+            Layout::IsoScallop => iso_scallop(&job.setup(&part)),
+            Layout::IsoParametric => iso_parametric(&job.setup(&part)),
         }
         .expect("core")
         .stats(job.options.feed_mm_per_min);
@@ -1263,7 +1263,7 @@ fn the_fillet_tab_hands_its_program_to_the_simulation_and_two_maps_are_compared(
     scene.finish.lead = None;
     let job = scene.job().expect("job");
     let part = PartSamples::new(&job.surface, job.options.part_grid);
-    let set_core = iso_scallop(&job.surface, &job.cutter, job.strategy, &job.options, &part).expect("core");
+    let set_core = iso_scallop(&job.setup(&part)).expect("core");
     let fp = FinishProgram::new(&job, &set_core, job.options.chord_tol_mm).expect("program");
     let program = fp.program().expect("planned");
     assert_eq!(a["moves_total"].as_u64(), Some(program.moves.len() as u64), "{a}");
@@ -1370,7 +1370,7 @@ fn click_at(h: &mut Harness, at: egui::Pos2) {
 /// `finish.start`, and a click in "select" mode selects the CC node nearest on screen.
 #[test]
 fn a_curve_picked_in_the_fillet_view_is_the_cores_start_and_a_click_selects_a_cc_point() {
-    use interpolab::fillet::{PartSamples, PathStart, iso_scallop_from};
+    use interpolab::fillet::{PartSamples, PathStart, iso_scallop};
     use interpolab::geom::ParametricSurface;
     use interpolab::render::OrbitCamera;
     use interpolab::scene::finish::{FINISH_PRESETS, FinishScene, StartSpec};
@@ -1439,8 +1439,7 @@ fn a_curve_picked_in_the_fillet_view_is_the_cores_start_and_a_click_selects_a_cc
     let s = settle_panel(&mut h, "fillet paths from a picked curve");
     assert_eq!(s["error"], serde_json::Value::Null, "{s}");
     let part = PartSamples::new(&job.surface, job.options.part_grid);
-    let core =
-        iso_scallop_from(&job.surface, &job.cutter, job.strategy, &job.options, &part, &job.start).expect("core");
+    let core = iso_scallop(&job.setup(&part)).expect("core");
     let st = core.stats(job.options.feed_mm_per_min);
     assert!(core.second_side.is_some(), "an interior curve: paths on both sides");
     assert_eq!(s["passes"], st.passes, "{s}");

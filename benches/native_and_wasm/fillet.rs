@@ -12,7 +12,7 @@
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use crate::web_time_shim::{Instant, print};
-use interpolab::fillet::{PartSamples, Strategy, iso_scallop};
+use interpolab::fillet::{FinishSetup, PartSamples, Strategy, iso_scallop};
 use interpolab::scene::finish::{FINISH_PRESETS, FinishScene};
 
 #[test]
@@ -25,7 +25,7 @@ fn whole_surface_paths_native_and_wasm() {
         let part = PartSamples::new(&job.surface, job.options.part_grid);
         let run = || {
             let t = Instant::now();
-            let set = iso_scallop(&job.surface, &job.cutter, Strategy::Matched, &job.options, &part).expect("paths");
+            let set = iso_scallop(&FinishSetup { strategy: Strategy::Matched, ..job.setup(&part) }).expect("paths");
             (t.elapsed().as_secs_f64() * 1000.0, set.stats(job.options.feed_mm_per_min).nodes)
         };
         // Warm up once (the wasm engine optimises hot code after a while), then the median of 5.

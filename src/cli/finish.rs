@@ -18,8 +18,8 @@ use super::{Fatal, OutFormat};
 
 use interpolab::fillet::program::{FinishGcode, iso_scallop_in_travel};
 use interpolab::fillet::{
-    FinishError, FinishJob, PartSamples, PathSet, PathStart, Strategy, compare_from, iso_parametric_from,
-    iso_scallop_from,
+    FinishError, FinishJob, FinishSetup, PartSamples, PathSet, PathStart, Strategy, compare_from, iso_parametric,
+    iso_scallop,
 };
 use interpolab::report::{fmt_fixed, fmt_num, one_line};
 use interpolab::scene::finish::FinishScene;
@@ -399,17 +399,10 @@ pub(super) fn paths_for(
     name: &str,
 ) -> Result<PathSet, Fatal> {
     let fail = |e: FinishError| Fatal(format!("{name}: {e}"));
+    let setup = FinishSetup { strategy, ..job.setup(part) };
     match layout {
-        LayoutArg::IsoParametric => {
-            iso_parametric_from(&job.surface, &job.cutter, strategy, &job.options, part, &job.start).map_err(fail)
-        }
-        LayoutArg::IsoScallop if !for_program => {
-            iso_scallop_from(&job.surface, &job.cutter, strategy, &job.options, part, &job.start).map_err(fail)
-        }
-        LayoutArg::IsoScallop => {
-            let (j, o) = (job, &job.options);
-            iso_scallop_in_travel(&j.machine, &j.surface, &j.cutter, strategy, o, part, &j.start)
-                .map_err(|e| Fatal(format!("{name}: {e}")))
-        }
+        LayoutArg::IsoParametric => iso_parametric(&setup).map_err(fail),
+        LayoutArg::IsoScallop if !for_program => iso_scallop(&setup).map_err(fail),
+        LayoutArg::IsoScallop => iso_scallop_in_travel(&job.machine, &setup).map_err(|e| Fatal(format!("{name}: {e}"))),
     }
 }

@@ -46,8 +46,8 @@ pub use gouge::{Adjustment, Clash, ClashPart, PartSamples};
 pub use node::CcNode;
 pub use orient::{OrientOptions, Strategy};
 pub use paths::{
-    Edge, FeedDirection, FinishOptions, IsoScallopSteps, Layout, PathSet, PathStart, Refusal, ScallopFlag, Stats,
-    ToolPath, iso_parametric, iso_parametric_from, iso_scallop, iso_scallop_checked, iso_scallop_from,
+    Edge, FeedDirection, FinishOptions, FinishSetup, IsoScallopSteps, Layout, PathSet, PathStart, Refusal, ScallopFlag,
+    Stats, ToolPath, iso_parametric, iso_scallop, iso_scallop_checked,
 };
 
 /// A finishing scene in core units, ready to compute (what `scene::finish` builds from a
@@ -69,6 +69,22 @@ pub struct FinishJob {
     pub machine: Machine,
     /// Where the iso-scallop paths start (`finish.start`; parameters in internal units).
     pub start: PathStart,
+}
+
+impl FinishJob {
+    /// The job's inputs borrowed for the path layouts, with `part` its part sampled once
+    /// (`PartSamples::new(&job.surface, job.options.part_grid)`).
+    #[must_use]
+    pub fn setup<'a>(&'a self, part: &'a PartSamples) -> FinishSetup<'a> {
+        FinishSetup {
+            surface: &self.surface,
+            cutter: &self.cutter,
+            strategy: self.strategy,
+            options: &self.options,
+            part,
+            start: &self.start,
+        }
+    }
 }
 
 /// Why a finishing job failed. Each message says what to change.
@@ -186,9 +202,10 @@ pub fn compare_from(
     // when the plans together would pass it: each strategy's pilot (as its own job's start
     // runs it) estimates its iso-scallop plan; its iso-parametric plan, at the same worst
     // scallop, takes at least as many paths, so twice that is the least the pair costs.
+    let setup = |strategy| FinishSetup { surface, cutter, strategy, options: opts, part, start };
     let mut each = Vec::with_capacity(strategies.len());
     for s in strategies {
-        each.push(2.0 * paths::estimate_check_cells(surface, cutter, s, opts, part, start)?);
+        each.push(2.0 * paths::estimate_check_cells(&setup(s))?);
     }
     let estimated: f64 = each.iter().sum();
     if estimated > opts.max_check_cells as f64 {
@@ -252,11 +269,11 @@ pub fn compare_from(
         Ok(())
     };
     for (k, s) in strategies.into_iter().enumerate() {
-        let iso = iso_scallop_from(surface, cutter, s, &budget_for(part, 2 * k), part, start)
+        let iso = iso_scallop(&FinishSetup { options: &budget_for(part, 2 * k), ..setup(s) })
             .map_err(|e| in_table(s, Layout::IsoScallop, e))?;
         rows.push(Comparison { strategy: s, layout: Layout::IsoScallop, stats: iso.stats(opts.feed_mm_per_min) });
         project(part, 2 * k + 1)?;
-        let par = iso_parametric_from(surface, cutter, s, &budget_for(part, 2 * k + 1), part, start)
+        let par = iso_parametric(&FinishSetup { options: &budget_for(part, 2 * k + 1), ..setup(s) })
             .map_err(|e| in_table(s, Layout::IsoParametric, e))?;
         rows.push(Comparison { strategy: s, layout: Layout::IsoParametric, stats: par.stats(opts.feed_mm_per_min) });
         project(part, 2 * k + 2)?;

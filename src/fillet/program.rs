@@ -23,10 +23,9 @@ use thiserror::Error;
 
 use super::FinishError;
 use super::contact::{ContactFrame, Pose, place};
-use super::gouge::PartSamples;
 use super::node::CcNode;
 use super::orient::Strategy;
-use super::paths::{FinishOptions, PathSet, PathStart, iso_scallop_checked};
+use super::paths::{FinishSetup, PathSet, iso_scallop_checked};
 use crate::fiveaxis::{
     CutterLocation, DesignPath, FiveAxisError, Joints, KinematicsError, Machine, StepOptions, StepPlan, plan_steps,
 };
@@ -61,22 +60,12 @@ pub fn first_out_of_travel(machine: &Machine, nodes: &[CcNode]) -> Option<FiveAx
 /// at the first path with a node [`first_out_of_travel`], before the paths after it are built.
 ///
 /// # Errors
-/// What [`iso_scallop_from`](super::iso_scallop_from) refuses, or
+/// What [`iso_scallop`](super::iso_scallop) refuses, or
 /// [`FinishProgramError::Plan`] naming the first path and node out of the machine's travel.
-pub fn iso_scallop_in_travel(
-    machine: &Machine,
-    surface: &Surface,
-    cutter: &Cutter,
-    strategy: Strategy,
-    opts: &FinishOptions,
-    part: &PartSamples,
-    start: &PathStart,
-) -> Result<PathSet, FinishProgramError> {
-    iso_scallop_checked(surface, cutter, strategy, opts, part, start, |path, p| {
-        match first_out_of_travel(machine, &p.nodes) {
-            Some(source) => Err(FinishProgramError::Plan { path, source }),
-            None => Ok(()),
-        }
+pub fn iso_scallop_in_travel(machine: &Machine, setup: &FinishSetup) -> Result<PathSet, FinishProgramError> {
+    iso_scallop_checked(setup, |path, p| match first_out_of_travel(machine, &p.nodes) {
+        Some(source) => Err(FinishProgramError::Plan { path, source }),
+        None => Ok(()),
     })
 }
 

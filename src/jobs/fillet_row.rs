@@ -1,6 +1,6 @@
 //! One row of the fillet tab's comparison table as a background job: a finishing scene (its
 //! strategy written into it) machined with iso-scallop or iso-parametric paths by
-//! [`iso_scallop_from`] / [`iso_parametric_from`] (from the scene's `finish.start`), and the
+//! [`iso_scallop`] / [`iso_parametric`] (from the scene's `finish.start`), and the
 //! numbers of the paths ([`Stats`]). A row is one whole core run, 1–1.5 s natively and more
 //! in a browser: far more than a frame.
 //!
@@ -10,7 +10,7 @@
 use serde_json::json;
 
 use super::{DecodeError, JobKind, Progress, Reader, nums, parse};
-use crate::fillet::{Layout, PartSamples, Stats, iso_parametric_from, iso_scallop_from};
+use crate::fillet::{Layout, PartSamples, Stats, iso_parametric, iso_scallop};
 use crate::scene::finish::FinishScene;
 
 /// One row: the scene (strategy included) and the layout of its paths.
@@ -49,12 +49,11 @@ impl JobKind for FilletRow {
             return Err("cancelled".to_owned());
         }
         progress.progress(0.1);
-        let (s, c, st, o) = (&job.surface, &job.cutter, job.strategy, &job.options);
         let paths = match request.layout {
-            Layout::IsoScallop => iso_scallop_from(s, c, st, o, &part, &job.start),
-            Layout::IsoParametric => iso_parametric_from(s, c, st, o, &part, &job.start),
+            Layout::IsoScallop => iso_scallop(&job.setup(&part)),
+            Layout::IsoParametric => iso_parametric(&job.setup(&part)),
         };
-        paths.map(|p| p.stats(o.feed_mm_per_min)).map_err(|e| e.to_string())
+        paths.map(|p| p.stats(job.options.feed_mm_per_min)).map_err(|e| e.to_string())
     }
 
     fn encode_request(r: &Request) -> String {
@@ -193,12 +192,8 @@ mod tests {
             assert!(matches!(job.start, PathStart::Curve(_)));
             let part = PartSamples::new(&job.surface, job.options.part_grid);
             let direct = match layout {
-                Layout::IsoScallop => {
-                    iso_scallop_from(&job.surface, &job.cutter, job.strategy, &job.options, &part, &job.start)
-                }
-                Layout::IsoParametric => {
-                    iso_parametric_from(&job.surface, &job.cutter, job.strategy, &job.options, &part, &job.start)
-                }
+                Layout::IsoScallop => iso_scallop(&job.setup(&part)),
+                Layout::IsoParametric => iso_parametric(&job.setup(&part)),
             }
             .unwrap()
             .stats(job.options.feed_mm_per_min);

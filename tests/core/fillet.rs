@@ -8,7 +8,7 @@ use glam::{DVec2, DVec3};
 use interpolab::fillet::contact::{ContactFrame, CrossProfile, Pose, effective_curvature, gouge_margin, place};
 use interpolab::fillet::orient::{OrientOptions, Strategy, pose_at};
 use interpolab::fillet::paths::{
-    FinishOptions, PathSet, PathStart, iso_scallop, iso_scallop_checked, iso_scallop_from, lead_out_mm,
+    FinishOptions, FinishSetup, PathSet, PathStart, iso_scallop, iso_scallop_checked, lead_out_mm,
 };
 use interpolab::fillet::{FinishError, FinishJob, PartSamples, gouge};
 use interpolab::geom::{Cutter, LocalGeometry, ParametricSurface, Plane, ProjectOptions, Surface, project_point};
@@ -147,7 +147,7 @@ fn job(id: &str) -> FinishJob {
 
 fn paths(job: &FinishJob, strategy: Strategy) -> PathSet {
     let part = PartSamples::new(&job.surface, job.options.part_grid);
-    iso_scallop(&job.surface, &job.cutter, strategy, &job.options, &part).unwrap()
+    iso_scallop(&FinishSetup { strategy, start: &PathStart::FirstBoundary, ..job.setup(&part) }).unwrap()
 }
 
 /// Distance from a point to the cutter's bottom disc (centre tip + r·a, radius R0, normal a).
@@ -448,7 +448,15 @@ fn a_bore_narrower_than_the_cutter_is_refused() {
     assert!(clash.depth_mm > 0.1, "{clash:?}");
     let mut opts = FinishOptions::new(0.01, 0.01);
     opts.direction = interpolab::fillet::FeedDirection::V;
-    let err = iso_scallop(&bore, &cutter, Strategy::Matched, &opts, &part).unwrap_err();
+    let err = iso_scallop(&FinishSetup {
+        surface: &bore,
+        cutter: &cutter,
+        strategy: Strategy::Matched,
+        options: &opts,
+        part: &part,
+        start: &PathStart::FirstBoundary,
+    })
+    .unwrap_err();
     let msg = err.to_string();
     assert!(msg.contains("no path could be started"), "{msg}");
 }
@@ -1176,7 +1184,7 @@ fn start_job(scene: &str) -> FinishJob {
 
 fn paths_from(job: &FinishJob) -> PathSet {
     let part = PartSamples::new(&job.surface, job.options.part_grid);
-    iso_scallop_from(&job.surface, &job.cutter, job.strategy, &job.options, &part, &job.start).unwrap()
+    iso_scallop(&job.setup(&part)).unwrap()
 }
 
 /// The across parameter b of a path's nodes, min and max (internal units).
@@ -1329,15 +1337,13 @@ fn a_bad_start_is_refused_with_the_key_and_the_fix() {
     let job = start_job(&start_scene(START_PLANE, BALL_5, "ball", ""));
     let part = PartSamples::new(&job.surface, job.options.part_grid);
     for pts in [vec![DVec2::new(3.0, 4.0)], vec![DVec2::new(3.0, 4.0), DVec2::new(3.0, 40.0)]] {
-        let err =
-            iso_scallop_from(&job.surface, &job.cutter, job.strategy, &job.options, &part, &PathStart::Curve(pts))
-                .unwrap_err();
+        let err = iso_scallop(&FinishSetup { start: &PathStart::Curve(pts), ..job.setup(&part) }).unwrap_err();
         assert!(matches!(err, FinishError::BadStart { .. }), "{err}");
     }
 }
 
 /// `iso_scallop_checked` shows every path once, in the order of machining, while it is
-/// built: with a check that passes, the set equals `iso_scallop_from`'s and the check saw
+/// built: with a check that passes, the set equals `iso_scallop`'s and the check saw
 /// paths 0, 1, … n−1 equal to the set's (across both sides of a start curve); a check that
 /// refuses path 2 stops the job there with its own error, having seen three paths.
 #[test]
@@ -1348,12 +1354,11 @@ fn a_per_path_check_sees_each_path_as_built_and_stops_the_job() {
     let whole = paths_from(&job);
     assert!(whole.paths.len() > 4, "{} paths", whole.paths.len());
     let mut seen = Vec::new();
-    let checked =
-        iso_scallop_checked(&job.surface, &job.cutter, job.strategy, &job.options, &part, &job.start, |k, p| {
-            seen.push((k, p.nodes.len(), p.nodes.first().map(|n| n.frame.uv)));
-            Ok::<(), FinishError>(())
-        })
-        .unwrap();
+    let checked = iso_scallop_checked(&job.setup(&part), |k, p| {
+        seen.push((k, p.nodes.len(), p.nodes.first().map(|n| n.frame.uv)));
+        Ok::<(), FinishError>(())
+    })
+    .unwrap();
     assert_eq!(checked, whole);
     let want: Vec<_> =
         whole.paths.iter().enumerate().map(|(k, p)| (k, p.nodes.len(), p.nodes.first().map(|n| n.frame.uv))).collect();
@@ -1370,7 +1375,7 @@ fn a_per_path_check_sees_each_path_as_built_and_stops_the_job() {
         }
     }
     let mut calls = 0;
-    let r = iso_scallop_checked(&job.surface, &job.cutter, job.strategy, &job.options, &part, &job.start, |k, _| {
+    let r = iso_scallop_checked(&job.setup(&part), |k, _| {
         calls += 1;
         if k == 2 { Err(Stop::At(k)) } else { Ok(()) }
     });
@@ -1499,7 +1504,7 @@ fn a_job_far_over_its_caps_is_refused_before_its_paths_are_built() {
         tweak(&mut opts);
         let part = PartSamples::new(&base.surface, opts.part_grid);
         let before = part.cells_checked();
-        let r = iso_scallop_from(&base.surface, &base.cutter, base.strategy, &opts, &part, &PathStart::FirstBoundary);
+        let r = iso_scallop(&FinishSetup { options: &opts, start: &PathStart::FirstBoundary, ..base.setup(&part) });
         match r {
             Err(FinishError::Oversized { paths, nodes, max_paths, max_nodes }) => {
                 assert!(paths > 1.25 * max_paths as f64 || nodes > 1.25 * max_nodes as f64, "{what}: {paths} {nodes}");
@@ -1512,9 +1517,7 @@ fn a_job_far_over_its_caps_is_refused_before_its_paths_are_built() {
     }
     // The job itself is not refused, and its estimate does not stand in its way.
     let part = PartSamples::new(&base.surface, base.options.part_grid);
-    let set =
-        iso_scallop_from(&base.surface, &base.cutter, base.strategy, &base.options, &part, &PathStart::FirstBoundary)
-            .unwrap();
+    let set = iso_scallop(&FinishSetup { start: &PathStart::FirstBoundary, ..base.setup(&part) }).unwrap();
     assert!(set.paths.len() > 10);
 }
 
@@ -1623,14 +1626,11 @@ fn a_table_plan_past_its_share_is_stopped_within_it() {
 fn a_table_over_its_shared_budget_is_refused_before_any_plan() {
     let jb = job("finish-bicubic-patch");
     let part = PartSamples::new(&jb.surface, jb.options.part_grid);
-    let one = interpolab::fillet::paths::estimate_check_cells(
-        &jb.surface,
-        &jb.cutter,
-        Strategy::Matched,
-        &jb.options,
-        &part,
-        &PathStart::FirstBoundary,
-    )
+    let one = interpolab::fillet::paths::estimate_check_cells(&FinishSetup {
+        strategy: Strategy::Matched,
+        start: &PathStart::FirstBoundary,
+        ..jb.setup(&part)
+    })
     .unwrap();
     let pilot_cells = part.cells_checked();
     assert!(one > 0.0 && pilot_cells > 0, "estimate {one}, pilot {pilot_cells} cells");

@@ -18,7 +18,7 @@
 //! (`UNSEEN_SEED` picks another family).
 
 use glam::{DVec2, DVec3};
-use interpolab::fillet::paths::{PathSet, iso_scallop_from};
+use interpolab::fillet::paths::{PathSet, iso_scallop};
 use interpolab::fillet::{FinishError, FinishJob, PartSamples};
 use interpolab::geom::{Cutter, ParametricSurface};
 use interpolab::scene::finish::FinishScene;
@@ -418,7 +418,7 @@ fn unseen_surfaces_keep_h_and_e() {
         let job = &drawn.job;
         let part = PartSamples::new(&job.surface, job.options.part_grid);
         let clock = std::time::Instant::now();
-        let built = iso_scallop_from(&job.surface, &job.cutter, job.strategy, &job.options, &part, &job.start);
+        let built = iso_scallop(&job.setup(&part));
         let ms = clock.elapsed().as_secs_f64() * 1e3;
         let set = match built {
             Ok(set) => set,

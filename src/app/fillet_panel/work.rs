@@ -10,7 +10,9 @@
 use web_time::{Duration, Instant};
 
 use crate::app::jobs::{Job as BackgroundJob, Poll};
-use crate::fillet::{Edge, FinishOptions, IsoScallopSteps, Layout, PartSamples, PathSet, PathStart, Stats, Strategy};
+use crate::fillet::{
+    Edge, FinishOptions, FinishSetup, IsoScallopSteps, Layout, PartSamples, PathSet, PathStart, Stats, Strategy,
+};
 use crate::geom::{Cutter, Surface};
 use crate::jobs::fillet_row::{FilletRow, Request as RowRequest};
 use crate::scene::finish::{FINISH_PRESETS, FinishScene, StartSpec};
@@ -417,20 +419,20 @@ impl Job {
         let start = Instant::now();
         while self.computing_paths() && start.elapsed() < budget {
             let t = Instant::now();
+            let setup = FinishSetup {
+                surface: &self.surface,
+                cutter: &self.cutter,
+                strategy: self.strategy,
+                options: &self.options,
+                part: &self.part,
+                start: &self.start,
+            };
             let r = match self.steps.as_mut() {
-                None => IsoScallopSteps::start_from(
-                    &self.surface,
-                    &self.cutter,
-                    self.strategy,
-                    &self.options,
-                    &self.part,
-                    &self.start,
-                )
-                .map(|s| {
+                None => IsoScallopSteps::start(&setup).map(|s| {
                     self.steps = Some(s);
                     false
                 }),
-                Some(s) => s.step(&self.surface, &self.cutter, &self.options, &self.part),
+                Some(s) => s.step(&setup),
             };
             let ms = t.elapsed().as_secs_f64() * 1e3;
             self.core_ms += ms;

@@ -2,12 +2,10 @@
 
 use glam::{DVec2, DVec3};
 
-use super::{Ctx, FinishOptions, PathStart, Sample, b_of, iso_curve, make_uv};
+use super::{Ctx, FinishSetup, Sample, b_of, iso_curve, make_uv};
 use crate::fillet::FinishError;
-use crate::fillet::gouge::PartSamples;
 use crate::fillet::node::CcNode;
-use crate::fillet::orient::Strategy;
-use crate::geom::{Cutter, LocalGeometry, ParametricSurface, Surface};
+use crate::geom::{LocalGeometry, ParametricSurface};
 
 /// What a pilot says a job will take: paths, CC points, certified check cells (and the
 /// cells a point it measured).
@@ -19,27 +17,20 @@ pub(super) struct Estimate {
     cells_per_node: f64,
 }
 
-/// The certified check cells an iso-scallop job from `start` would spend, estimated by the
+/// The certified check cells the iso-scallop job `setup` would spend, estimated by the
 /// pilot its own start runs ([`MAX_CHECK_CELLS`]): for a comparison table, which refuses
 /// before any plan when its plans together would pass the budget they share. 0 when the
 /// pilot solved no side step.
 ///
 /// # Errors
 /// A bad option or start, no path at the start, or a job refused by its own pilot.
-pub fn estimate_check_cells(
-    surface: &Surface,
-    cutter: &Cutter,
-    strategy: Strategy,
-    opts: &FinishOptions,
-    part: &PartSamples,
-    start: &PathStart,
-) -> Result<f64, FinishError> {
-    let ctx = Ctx::start(surface, cutter, strategy, opts, part, start)?;
-    let poly = ctx.first_polyline(start)?;
+pub fn estimate_check_cells(setup: &FinishSetup) -> Result<f64, FinishError> {
+    let ctx = Ctx::start(setup)?;
+    let poly = ctx.first_polyline(setup.start)?;
     Ok(ctx.refuse_oversized(&poly)?.map_or(0.0, |e| e.cells))
 }
 
-/// Most cells of the certified bottom checks ([`PartSamples::cells_checked`]) a job may
+/// Most cells of the certified bottom checks ([`PartSamples::cells_checked`](crate::fillet::PartSamples::cells_checked)) a job may
 /// spend on average per CC point, once [`CHECK_COST_SAMPLE`] points are checked. The
 /// examples spend 190–1 470 (whole plans, every strategy and layout); a check stops at
 /// 40 000 cells, which a surface far larger or more curved than the cutter reaches at every

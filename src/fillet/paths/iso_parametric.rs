@@ -1,43 +1,23 @@
 //! The iso-parametric paths at the same worst scallop, for comparison.
 
-use super::{Ctx, FinishOptions, Layout, PathSet, PathStart, a_of, iso_curve, make_uv};
+use super::{Ctx, FinishSetup, Layout, PathSet, a_of, iso_curve, make_uv};
 use crate::fillet::FinishError;
 use crate::fillet::contact::{ContactFrame, CrossProfile, scallop_between};
-use crate::fillet::gouge::PartSamples;
-use crate::fillet::orient::{Strategy, pose_at};
-use crate::geom::{Cutter, ParametricSurface, Surface};
+use crate::fillet::orient::pose_at;
+use crate::geom::ParametricSurface;
 
-/// Iso-parametric paths b = const at the same worst scallop h (module docs): the spacing
-/// starts from the narrowest strip over a trial set of 9 iso-curves and is narrowed until
-/// the scallop solved at every node to the next path is at most h (at most 8 rounds).
+/// Iso-parametric paths b = const at the same worst scallop h (module docs), along the
+/// parameter the iso-scallop paths from `setup.start` run along ([`PathStart::along`](super::PathStart::along)), so
+/// the two layouts compare on the same feed direction; they are the same b = const family
+/// for every start. The spacing starts from the narrowest strip over a trial set of 9
+/// iso-curves and is narrowed until the scallop solved at every node to the next path is at
+/// most h (at most 8 rounds).
 ///
 /// # Errors
 /// As [`iso_scallop`](super::iso_scallop).
-pub fn iso_parametric(
-    surface: &Surface,
-    cutter: &Cutter,
-    strategy: Strategy,
-    opts: &FinishOptions,
-    part: &PartSamples,
-) -> Result<PathSet, FinishError> {
-    iso_parametric_from(surface, cutter, strategy, opts, part, &PathStart::FirstBoundary)
-}
-
-/// Iso-parametric paths along the parameter the iso-scallop paths from `start` run along
-/// ([`PathStart::along`]), so the two layouts compare on the same feed direction; they are
-/// the same b = const family for every start.
-///
-/// # Errors
-/// As [`iso_scallop`](super::iso_scallop).
-pub fn iso_parametric_from(
-    surface: &Surface,
-    cutter: &Cutter,
-    strategy: Strategy,
-    opts: &FinishOptions,
-    part: &PartSamples,
-    start: &PathStart,
-) -> Result<PathSet, FinishError> {
-    let ctx = Ctx::start(surface, cutter, strategy, opts, part, start)?;
+pub fn iso_parametric(setup: &FinishSetup) -> Result<PathSet, FinishError> {
+    let FinishSetup { surface, cutter, strategy, options: opts, .. } = *setup;
+    let ctx = Ctx::start(setup)?;
     let along = ctx.along;
     let ((a0, a1), (b0, b1)) = ctx.ranges();
     let tool = strategy.cutter_for(cutter);

@@ -5,14 +5,13 @@ use glam::{DVec2, DVec3};
 use super::budget::{EXTRAPOLATION_ROOM, check_stop};
 use super::side_step::Step;
 use super::{
-    CELLS_ESTIMATE_AFTER, CELLS_ESTIMATE_AFTER_SHARE, Ctx, ESTIMATE_AFTER_SHARE, FinishOptions, Layout, PathSet,
+    CELLS_ESTIMATE_AFTER, CELLS_ESTIMATE_AFTER_SHARE, Ctx, ESTIMATE_AFTER_SHARE, FinishSetup, Layout, PathSet,
     PathStart, Refusal, ScallopFlag, ToolPath, b_of,
 };
 use crate::fillet::FinishError;
-use crate::fillet::gouge::PartSamples;
 use crate::fillet::node::CcNode;
 use crate::fillet::orient::Strategy;
-use crate::geom::{Cutter, LocalGeometry, ParametricSurface, Surface};
+use crate::geom::{LocalGeometry, ParametricSurface, Surface};
 
 /// The measured cusp's band (× h) outside which the corrector builds a path again, the
 /// cusp it aims at (× h), the most it scales a side step by in one round, and its rounds.
@@ -94,53 +93,27 @@ pub(super) fn smooth_factors(nodes: &[CcNode], steps: &[Step], factors: &[f64]) 
     out
 }
 
-/// Iso-scallop paths (module docs). The same as running [`IsoScallopSteps`] to its end.
-///
-/// # Errors
-/// A bad option, no path at the first boundary, or too many paths or nodes.
-pub fn iso_scallop(
-    surface: &Surface,
-    cutter: &Cutter,
-    strategy: Strategy,
-    opts: &FinishOptions,
-    part: &PartSamples,
-) -> Result<PathSet, FinishError> {
-    iso_scallop_from(surface, cutter, strategy, opts, part, &PathStart::FirstBoundary)
-}
-
-/// Iso-scallop paths from the first path `start` says (module docs). The same as running
-/// [`IsoScallopSteps::start_from`] to its end.
+/// Iso-scallop paths from the first path `setup.start` says (module docs). The same as
+/// running [`IsoScallopSteps::start`] to its end.
 ///
 /// # Errors
 /// A bad option or start curve, no path at the start, or too many paths or nodes.
-pub fn iso_scallop_from(
-    surface: &Surface,
-    cutter: &Cutter,
-    strategy: Strategy,
-    opts: &FinishOptions,
-    part: &PartSamples,
-    start: &PathStart,
-) -> Result<PathSet, FinishError> {
-    iso_scallop_checked(surface, cutter, strategy, opts, part, start, |_, _| Ok(()))
+pub fn iso_scallop(setup: &FinishSetup) -> Result<PathSet, FinishError> {
+    iso_scallop_checked(setup, |_, _| Ok(()))
 }
 
-/// [`iso_scallop_from`] with `check` called on every path as soon as it is built (its index
+/// [`iso_scallop`] with `check` called on every path as soon as it is built (its index
 /// in the set and the path, in the order of machining): the first `Err` stops the job there,
 /// before the paths after it are built. A caller that refuses a job for what one path does
 /// (a tool axis its machine cannot reach, say) refuses it at that path, not after all of them.
 ///
 /// # Errors
-/// What [`iso_scallop_from`] refuses, or the first error of `check`.
+/// What [`iso_scallop`] refuses, or the first error of `check`.
 pub fn iso_scallop_checked<E: From<FinishError>>(
-    surface: &Surface,
-    cutter: &Cutter,
-    strategy: Strategy,
-    opts: &FinishOptions,
-    part: &PartSamples,
-    start: &PathStart,
+    setup: &FinishSetup,
     mut check: impl FnMut(usize, &ToolPath) -> Result<(), E>,
 ) -> Result<PathSet, E> {
-    let mut steps = IsoScallopSteps::start_from(surface, cutter, strategy, opts, part, start)?;
+    let mut steps = IsoScallopSteps::start(setup)?;
     let mut checked = 0;
     loop {
         // Every path the last call added.
@@ -151,15 +124,15 @@ pub fn iso_scallop_checked<E: From<FinishError>>(
         if steps.is_done() {
             return Ok(steps.finish());
         }
-        steps.step(surface, cutter, opts, part)?;
+        steps.step(setup)?;
     }
 }
 
 /// Iso-scallop paths built one path per call, for callers that spread the work over time
 /// (the app's tab). [`IsoScallopSteps::start`] builds the first path; every
 /// [`IsoScallopSteps::step`] builds the next one from the side steps of the last; the
-/// result is exactly [`iso_scallop`]'s. Every call must get the same surface, cutter,
-/// options and part samples as `start`.
+/// result is exactly [`iso_scallop`]'s. Every call must get the same [`FinishSetup`] as
+/// `start` (`step` keeps the strategy and the start `start` was given).
 ///
 /// From a start curve the paths go to both sides, in this order (the order of machining):
 /// the curve, the paths toward increasing b outward to b_max, then — after a linking move —
@@ -196,33 +169,14 @@ pub struct IsoScallopSteps {
 }
 
 impl IsoScallopSteps {
-    /// Checks the options and builds the first path (on the boundary b = b0).
-    ///
-    /// # Errors
-    /// A bad option or no path at the first boundary.
-    pub fn start(
-        surface: &Surface,
-        cutter: &Cutter,
-        strategy: Strategy,
-        opts: &FinishOptions,
-        part: &PartSamples,
-    ) -> Result<Self, FinishError> {
-        Self::start_from(surface, cutter, strategy, opts, part, &PathStart::FirstBoundary)
-    }
-
-    /// Checks the options and the start, and builds the first path where `start` says.
+    /// Checks the options and the start, and builds the first path where `setup.start`
+    /// says.
     ///
     /// # Errors
     /// A bad option or start curve, or no path at the start.
-    pub fn start_from(
-        surface: &Surface,
-        cutter: &Cutter,
-        strategy: Strategy,
-        opts: &FinishOptions,
-        part: &PartSamples,
-        start: &PathStart,
-    ) -> Result<Self, FinishError> {
-        let ctx = Ctx::start(surface, cutter, strategy, opts, part, start)?;
+    pub fn start(setup: &FinishSetup) -> Result<Self, FinishError> {
+        let FinishSetup { surface, strategy, options: opts, start, .. } = *setup;
+        let ctx = Ctx::start(setup)?;
         let along = ctx.along;
         let (_, (b0, b1)) = ctx.ranges();
         let poly = ctx.first_polyline(start)?;
@@ -286,13 +240,8 @@ impl IsoScallopSteps {
     ///
     /// # Errors
     /// Too many paths or nodes.
-    pub fn step(
-        &mut self,
-        surface: &Surface,
-        cutter: &Cutter,
-        opts: &FinishOptions,
-        part: &PartSamples,
-    ) -> Result<bool, FinishError> {
+    pub fn step(&mut self, setup: &FinishSetup) -> Result<bool, FinishError> {
+        let FinishSetup { surface, cutter, options: opts, part, .. } = *setup;
         if self.done {
             return Ok(true);
         }

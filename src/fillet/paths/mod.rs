@@ -61,8 +61,8 @@ pub use budget::{
     ESTIMATE_MARGIN, MAX_CHECK_CELLS, MAX_CHECK_CELLS_PER_NODE, PILOT_CELLS_FACTOR, check_stop, estimate_check_cells,
 };
 pub use build::{BETWEEN_CHECK_SHARE, CHORD_SPLITS, LIFT_HALVING_GAIN, LIFT_SHARE_OF_H, lead_out_frame, lead_out_mm};
-pub use iso_parametric::{iso_parametric, iso_parametric_from};
-pub use iso_scallop::{FLAG_ABOVE, IsoScallopSteps, iso_scallop, iso_scallop_checked, iso_scallop_from};
+pub use iso_parametric::iso_parametric;
+pub use iso_scallop::{FLAG_ABOVE, IsoScallopSteps, iso_scallop, iso_scallop_checked};
 use start::iso_curve;
 pub use start::{choose_along, curve_along, start_polyline, strip_by_direction};
 
@@ -216,6 +216,28 @@ impl FinishOptions {
     }
 }
 
+/// One finishing job's inputs, borrowed: what [`iso_scallop`], [`iso_parametric`],
+/// [`estimate_check_cells`] and [`IsoScallopSteps`] take instead of the same six arguments
+/// each. [`crate::fillet::FinishJob::setup`] makes one from a scene's job; a table or a test
+/// that varies one input writes `FinishSetup { strategy, ..setup }`.
+#[derive(Clone, Copy, Debug)]
+pub struct FinishSetup<'a> {
+    /// The surface to finish.
+    pub surface: &'a Surface,
+    /// The cutter (mm).
+    pub cutter: &'a Cutter,
+    /// How the tool is oriented at each CC point.
+    pub strategy: Strategy,
+    /// Path options (tolerances in mm, caps).
+    pub options: &'a FinishOptions,
+    /// The part sampled once for the gouge checks (its counter of checked cells is shared
+    /// by every job given it).
+    pub part: &'a PartSamples,
+    /// Where the iso-scallop paths start; the iso-parametric paths run along the same
+    /// parameter ([`PathStart::along`]).
+    pub start: &'a PathStart,
+}
+
 /// One path: its nodes in the order of travel.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ToolPath {
@@ -364,14 +386,8 @@ impl<'a> Ctx<'a> {
     /// A job's context after checking its options: the along parameter chosen by the start
     /// ([`PathStart::along`]), c taken toward increasing b until the first path says
     /// otherwise.
-    fn start(
-        surface: &'a Surface,
-        cutter: &Cutter,
-        strategy: Strategy,
-        opts: &'a FinishOptions,
-        part: &'a PartSamples,
-        start: &PathStart,
-    ) -> Result<Self, FinishError> {
+    fn start(setup: &FinishSetup<'a>) -> Result<Self, FinishError> {
+        let FinishSetup { surface, cutter, strategy, options: opts, part, start } = *setup;
         check_options(opts)?;
         let along = start.along(surface, cutter, &strategy, opts);
         Ok(Self {

@@ -348,7 +348,7 @@ fn a_finishing_program_is_planned_in_the_job_as_on_the_page() {
     scene.finish.tolerance = 0.005;
     let job = scene.job().unwrap();
     let part = PartSamples::new(&job.surface, job.options.part_grid);
-    let set = iso_scallop(&job.surface, &job.cutter, job.strategy, &job.options, &part).unwrap();
+    let set = iso_scallop(&job.setup(&part)).unwrap();
     let fp = FinishProgram::new(&job, &set, 0.005).unwrap();
     assert!(fp.passes.len() >= 3, "{} passes", fp.passes.len());
     let mut here = Program::default();

@@ -16,7 +16,7 @@ use std::sync::OnceLock;
 
 use interpolab::crease::{CreaseCurve, CreaseJob};
 use interpolab::fillet::program::FinishGcode;
-use interpolab::fillet::{PartSamples, iso_scallop_from};
+use interpolab::fillet::{PartSamples, iso_scallop};
 use interpolab::gcode::HeaderKey;
 use interpolab::gcode::comment::{comment_text, safe_comment};
 use interpolab::gcode::{
@@ -232,8 +232,7 @@ fn finish_program() -> &'static FinishGcode {
         .expect("example");
         let job = FinishScene::from_json(&text).expect("finish scene").job().expect("job");
         let part = PartSamples::new(&job.surface, job.options.part_grid);
-        let mut set =
-            iso_scallop_from(&job.surface, &job.cutter, job.strategy, &job.options, &part, &job.start).expect("paths");
+        let mut set = iso_scallop(&job.setup(&part)).expect("paths");
         set.paths.truncate(4);
         FinishGcode::plan(&job.machine, &job.surface, &job.cutter, &set, job.options.feed_mm_per_min, 0.01)
             .expect("planned")

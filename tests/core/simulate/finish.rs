@@ -76,7 +76,7 @@ fn the_finish_surface_gives_a_deviation_only_over_the_patch() {
 fn a_finishing_program_is_the_seed_002_steps_of_every_pass() {
     let job = FinishScene::from_json(SMALL_FINISH).unwrap().job().unwrap();
     let part = PartSamples::new(&job.surface, job.options.part_grid);
-    let set = iso_scallop(&job.surface, &job.cutter, job.strategy, &job.options, &part).unwrap();
+    let set = iso_scallop(&job.setup(&part)).unwrap();
     let tol = 0.001;
     let fp = FinishProgram::new(&job, &set, tol).unwrap();
     assert_eq!(fp.passes.len(), set.paths.iter().filter(|p| p.nodes.len() >= 2).count());
