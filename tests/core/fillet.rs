@@ -489,15 +489,25 @@ pub(crate) fn depth_inside(cutter: &Cutter, tip: DVec3, axis: DVec3, p: DVec3) -
 #[test]
 fn the_bottom_check_finds_every_pocket_the_brute_force_finds() {
     let j = job("finish-concave-mould");
+    let uvs = [(0.5, 0.5), (0.26, 0.0), (0.98, 0.73), (0.1, 0.9), (0.5, 0.04), (0.95, 0.5)];
+    let (found, clear) = check_against_brute_force(&j, &uvs, &[2.0, 3.5, 4.5, 5.5, 7.0, 9.0], &[-6.0, 0.0, 6.0]);
+    assert!(found >= 10 && clear >= 10, "{found} clashes, {clear} clear: the cases should go both ways");
+}
+
+/// The check of `j`'s cutter at lead × tilt poses (degrees) on frames at `uvs` (feed along
+/// r_u + 0.3·r_v), each against a dense brute force (the surface sampled 400 × 400, every
+/// sample's depth inside the cutter): a part deeper than the tolerance is reported, and
+/// every clash reported is a point at least that deep. Returns (clashes, clear poses).
+fn check_against_brute_force(j: &FinishJob, uvs: &[(f64, f64)], leads: &[f64], tilts: &[f64]) -> (usize, usize) {
     let part = PartSamples::new(&j.surface, 48);
     let tol = 0.0005;
     let (mut found, mut clear) = (0, 0);
-    for (u, v) in [(0.5, 0.5), (0.26, 0.0), (0.98, 0.73), (0.1, 0.9), (0.5, 0.04), (0.95, 0.5)] {
+    for &(u, v) in uvs {
         let uv = DVec2::new(u, v);
         let d = j.surface.derivatives_at(uv);
         let frame = ContactFrame::new(&j.surface, uv, d.du + 0.3 * d.dv).unwrap();
-        for lead in [2.0f64, 3.5, 4.5, 5.5, 7.0, 9.0] {
-            for tilt in [-6.0f64, 0.0, 6.0] {
+        for &lead in leads {
+            for &tilt in tilts {
                 let pose = Pose::from_lead_tilt(lead.to_radians(), tilt.to_radians());
                 let (tip, axis) = place(&j.cutter, &frame, &pose);
                 let mut deepest = 0.0f64;
@@ -521,7 +531,16 @@ fn the_bottom_check_finds_every_pocket_the_brute_force_finds() {
             }
         }
     }
-    assert!(found >= 10 && clear >= 10, "{found} clashes, {clear} clear: the cases should go both ways");
+    (found, clear)
+}
+
+/// The bicubic example with its middle control point sunk 40 mm: a pit far more curved than
+/// the rim.
+fn pit_patch() -> FinishJob {
+    let p = FINISH_PRESETS.iter().find(|p| p.id == "finish-bicubic-patch").unwrap();
+    let mut scene: serde_json::Value = serde_json::from_str(p.json).unwrap();
+    scene["surfaces"][0]["points"][2][2][2] = serde_json::json!(-40.0);
+    FinishScene::from_json(&scene.to_string()).unwrap().job().unwrap()
 }
 
 /// The map of the second derivative's bound holds where the bottom check uses it: at
@@ -533,13 +552,7 @@ fn the_bottom_check_finds_every_pocket_the_brute_force_finds() {
 #[test]
 fn the_second_derivative_bound_of_each_cell_holds_inside_it() {
     use interpolab::fillet::second_bound::FIRST_CELLS;
-    let pit = {
-        let p = FINISH_PRESETS.iter().find(|p| p.id == "finish-bicubic-patch").unwrap();
-        let mut scene: serde_json::Value = serde_json::from_str(p.json).unwrap();
-        scene["surfaces"][0]["points"][2][2][2] = serde_json::json!(-40.0);
-        FinishScene::from_json(&scene.to_string()).unwrap().job().unwrap()
-    };
-    let jobs = [job("finish-bicubic-patch"), job("finish-concave-mould"), job("finish-naca-blade"), pit];
+    let jobs = [job("finish-bicubic-patch"), job("finish-concave-mould"), job("finish-naca-blade"), pit_patch()];
     let mut rng = 0x2545_f491_4f6c_dd1du64;
     let mut next = move || {
         rng ^= rng << 13;
@@ -587,49 +600,13 @@ fn the_second_derivative_bound_of_each_cell_holds_inside_it() {
 /// 40 mm, a pit far more curved than the rim), at poses in the pit, on its steep flank and
 /// near the rim, the check still finds every pocket a dense
 /// brute force (400 × 400 samples) finds deeper than the tolerance, and every clash it
-/// reports is a point of the part at least that deep.
+/// reports is a point of the part at least that deep. (Its pockets are wide: it passed with
+/// K = 0 too, so `the_second_derivative_bound_of_each_cell_holds_inside_it` guards K.)
 #[test]
 fn the_bottom_check_finds_every_pocket_on_a_patch_that_bends_hard_in_one_place() {
-    let p = FINISH_PRESETS.iter().find(|p| p.id == "finish-bicubic-patch").unwrap();
-    let mut scene: serde_json::Value = serde_json::from_str(p.json).unwrap();
-    scene["surfaces"][0]["points"][2][2][2] = serde_json::json!(-40.0);
-    let j = FinishScene::from_json(&scene.to_string()).unwrap().job().unwrap();
-    let part = PartSamples::new(&j.surface, 48);
-    let tol = 0.0005;
-    let (mut found, mut clear) = (0, 0);
-    for (u, v) in [(0.62, 0.6), (0.4, 0.55), (0.75, 0.8), (0.08, 0.1), (0.9, 0.15), (0.5, 0.95)] {
-        let uv = DVec2::new(u, v);
-        let d = j.surface.derivatives_at(uv);
-        let frame = ContactFrame::new(&j.surface, uv, d.du + 0.3 * d.dv).unwrap();
-        for lead in [0.5f64, 2.0, 4.0, 7.0, 12.0, 20.0] {
-            for tilt in [-8.0f64, 0.0, 8.0] {
-                let pose = Pose::from_lead_tilt(lead.to_radians(), tilt.to_radians());
-                let (tip, axis) = place(&j.cutter, &frame, &pose);
-                let mut deepest = 0.0f64;
-                for a in 0..=400 {
-                    for b in 0..=400 {
-                        let p = j.surface.point_at(DVec2::new(f64::from(a) / 400.0, f64::from(b) / 400.0));
-                        deepest = deepest.max(depth_inside(&j.cutter, tip, axis, p));
-                    }
-                }
-                let clash = gouge::check(&j.cutter, &j.surface, &part, &frame, &pose, tol);
-                if deepest > 1.02 * tol {
-                    assert!(clash.is_some(), "{uv} lead {lead} tilt {tilt}: brute force {deepest} mm, check none");
-                }
-                if let Some(c) = clash {
-                    // A bottom clash is a point of the part inside the cutter's bottom solid;
-                    // a flank, shank or holder clash lies above it (checked by its own test).
-                    if c.part == gouge::ClashPart::Bottom {
-                        let at = depth_inside(&j.cutter, tip, axis, c.at);
-                        assert!(at >= 0.99 * tol, "{uv} lead {lead} tilt {tilt}: the clash point is only {at} mm deep");
-                    }
-                    found += 1;
-                } else {
-                    clear += 1;
-                }
-            }
-        }
-    }
+    let uvs = [(0.62, 0.6), (0.4, 0.55), (0.75, 0.8), (0.08, 0.1), (0.9, 0.15), (0.5, 0.95)];
+    let (found, clear) =
+        check_against_brute_force(&pit_patch(), &uvs, &[0.5, 2.0, 4.0, 7.0, 12.0, 20.0], &[-8.0, 0.0, 8.0]);
     assert!(found >= 10 && clear >= 10, "{found} clashes, {clear} clear: the cases should go both ways");
 }
 
