@@ -47,6 +47,8 @@ mod gcode {
     // User text in written programs: every writer, hostile names (proptest, native).
     #[cfg(not(target_arch = "wasm32"))]
     mod hostile;
+    // The interpreter's short way for plain motion lines equals the general one.
+    mod interp_plain;
     mod parse;
     mod roundtrip;
 }

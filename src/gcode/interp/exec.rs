@@ -215,6 +215,17 @@ impl Interpreter<'_> {
 
 /// Executes one block.
 pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result<(), Problem> {
+    if !it.opts.general_only
+        && b.letters != 0
+        && b.letters & !PLAIN_AXES == 0
+        && b.g.is_empty()
+        && b.m.is_empty()
+        && !b.has_comment
+        && b.polar_r.is_none()
+        && b.polar_a.is_none()
+    {
+        return plain_block(it, loc, b);
+    }
     // One code per modal group (LinuxCNC: "two G codes used from same modal group").
     let mut seen: [Option<i32>; 24] = [None; 24];
     for &t in &b.g {
@@ -547,6 +558,31 @@ pub(super) fn block(it: &mut Interpreter<'_>, loc: Loc, b: &mut Block) -> Result
         }
     }
     let _ = codes;
+    match it.exec.deferred.take() {
+        Some(p) => Err(p),
+        None => Ok(()),
+    }
+}
+
+/// The axis letters X Y Z A B C (bits as `Block::letters`).
+const PLAIN_AXES: u32 = (1 << (b'x' - b'a'))
+    | (1 << (b'y' - b'a'))
+    | (1 << (b'z' - b'a'))
+    | 1
+    | (1 << (b'b' - b'a'))
+    | (1 << (b'c' - b'a'));
+
+/// [`block`] for a block of axis words only (no G or M code, no other letter, no comment, no
+/// polar word): of the steps before the motion only the inverse-time check can act on it —
+/// every other step reads a code, a letter or a comment it does not have — so it goes
+/// straight to the motion in the modes in force, as [`block`] would.
+fn plain_block(it: &mut Interpreter<'_>, loc: Loc, b: &Block) -> Result<(), Problem> {
+    if it.st.feed.mode == FeedMode::InverseTime && matches!(motion_of(it.st.motion), Some(10 | 20 | 30)) {
+        return Err(Problem::Rule("a feed move in inverse-time mode (G93) needs F on its own block".into()));
+    }
+    if !spline_block(it, loc, b, None)? {
+        motion(it, loc, b, false, None)?;
+    }
     match it.exec.deferred.take() {
         Some(p) => Err(p),
         None => Ok(()),

@@ -75,6 +75,11 @@ pub struct Options {
     /// Most lines executed (loops counted each time round); `None` is
     /// [`MAX_EXECUTED_LINES`].
     pub max_lines: Option<u64>,
+    /// Reads and executes every line the general way. By default a *plain motion line* —
+    /// only axis words X Y Z A B C with plain numbers, in the modes in force (`X1`,
+    /// `X10.5 Y-2`) — takes a shorter way through the reader and the executor that gives the
+    /// same calls; this turns it off, for tests that compare the two.
+    pub general_only: bool,
 }
 
 /// Something the program does that is not modelled, or a line skipped: reported once per
@@ -137,12 +142,14 @@ impl<'a> Interpreter<'a> {
     /// An interpreter of the program `main`, finding called files in `library`.
     pub fn new(main: Box<dyn Source + 'a>, library: Box<dyn Library<'a> + 'a>, opts: Options) -> Self {
         let st = State { inch: opts.inch, ..State::default() };
+        let mut reader = Reader::default();
+        reader.general_only = opts.general_only;
         Self {
             opts,
             files: vec![Open { id: 0, src: main }],
             names: vec![String::new()],
             library,
-            reader: Reader::default(),
+            reader,
             line: String::new(),
             params: Params::default(),
             st,

@@ -34,6 +34,96 @@ const EXACT_TENS: [f64; 23] = [
     1e21, 1e22,
 ];
 
+/// A plain decimal number at `s[i..]` — an optional sign, digits with at most one point, at
+/// most 19 digits whose value is below 2^53 and at most 22 after the point — and the index
+/// after it; `None` for anything else (the expression reader's business). Exact: the digits
+/// as an integer, divided once by an exact power of ten.
+fn plain_number_at(s: &[u8], mut i: usize) -> Option<(f64, usize)> {
+    let negative = s.get(i) == Some(&b'-');
+    if matches!(s.get(i), Some(b'+' | b'-')) {
+        i += 1;
+    }
+    let mut mantissa: u64 = 0;
+    let mut digits = 0u32;
+    while i < s.len() && s[i].is_ascii_digit() {
+        // Up to 19 digits cannot overflow; beyond, the number is not plain.
+        mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(s[i] - b'0'));
+        digits += 1;
+        i += 1;
+    }
+    let mut after_point = 0u32;
+    if s.get(i) == Some(&b'.') {
+        i += 1;
+        while i < s.len() && s[i].is_ascii_digit() {
+            mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(s[i] - b'0'));
+            after_point += 1;
+            i += 1;
+        }
+        if s.get(i) == Some(&b'.') {
+            return None;
+        }
+    }
+    let digits = digits + after_point;
+    if digits == 0 || digits > 19 || mantissa >= 1 << 53 || after_point > 22 {
+        return None;
+    }
+    let v = mantissa as f64 / EXACT_TENS[after_point as usize];
+    Some((if negative { -v } else { v }, i))
+}
+
+/// The letters of a plain motion line: the axes X Y Z A B C (bits as [`Block::letters`]).
+const PLAIN_LETTERS: u32 = (1 << (b'x' - b'a'))
+    | (1 << (b'y' - b'a'))
+    | (1 << (b'z' - b'a'))
+    | 1
+    | (1 << (b'b' - b'a'))
+    | (1 << (b'c' - b'a'));
+
+/// Reads a *plain motion line* into a cleared block — axis words X Y Z A B C (either case),
+/// each once, each followed at once by a plain number ([`plain_number_at`]), words apart or
+/// separated by spaces and tabs — and says whether it was one. Most lines of a big program
+/// are, and the general reader (the comment and space stripping, the word table, the
+/// statements and expressions) gives them the same block: only the letters and their
+/// values. Anything else (a comment, another letter, a space inside a word, a sign without a
+/// digit, an exponent, a second point, a repeated axis …) leaves the line to the general
+/// reader; what is written into the block then does not matter, it is cleared again.
+fn plain_line(s: &[u8], b: &mut Block) -> bool {
+    let mut i = 0;
+    let mut any = false;
+    loop {
+        while i < s.len() && (s[i] == b' ' || s[i] == b'\t') {
+            i += 1;
+        }
+        let Some(&c) = s.get(i) else {
+            return any;
+        };
+        let c = c.to_ascii_lowercase();
+        if !c.is_ascii_lowercase() {
+            return false;
+        }
+        let bit = 1u32 << (c - b'a');
+        if bit & PLAIN_LETTERS == 0 || b.letters & bit != 0 {
+            return false;
+        }
+        // The general reader wants a value to start right after the letter.
+        if !s.get(i + 1).is_some_and(|n| matches!(n, b'.' | b'-' | b'+') || n.is_ascii_digit()) {
+            return false;
+        }
+        let Some((v, after)) = plain_number_at(s, i + 1) else {
+            return false;
+        };
+        // A word ends at a space, a tab, the next letter or the line's end: anything else
+        // (`X1e3`, `X1#2`, `X1(…)`) is the general reader's to read or refuse.
+        if s.get(after).is_some_and(|n| !(matches!(n, b' ' | b'\t') || n.is_ascii_alphabetic())) {
+            return false;
+        }
+        b.words[(c - b'a') as usize] = v;
+        b.letters |= bit;
+        any = true;
+        i = after;
+    }
+}
+
 /// An O-word's keyword.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum OKind {
@@ -166,6 +256,9 @@ impl Block {
 /// Reads lines into blocks, reusing its buffers.
 #[derive(Debug, Default)]
 pub(crate) struct Reader {
+    /// Every line through the general reader: [`Reader::plain`] is not tried
+    /// ([`super::Options::general_only`]).
+    pub general_only: bool,
     code: Vec<u8>,
     /// The line read last.
     pub block: Box<Block>,
@@ -292,6 +385,10 @@ impl Reader {
 
     /// Reads a line fully, computing every value with `env`.
     pub fn read(&mut self, raw: &str, env: &dyn Env) -> Result<&Block, Problem> {
+        self.block.clear();
+        if !self.general_only && plain_line(raw.as_bytes(), &mut self.block) {
+            return Ok(&self.block);
+        }
         self.block.clear();
         match self.normalize(raw) {
             Ok(()) => {}
@@ -719,39 +816,9 @@ impl Parser<'_, '_> {
     /// exact doubles, so one division rounds their quotient as parsing the text does. `None`
     /// (nothing read) for anything else, which [`Parser::number`] reads in full.
     fn plain_number(&mut self) -> Option<f64> {
-        let s = self.s;
-        let mut i = self.i;
-        let negative = s.get(i) == Some(&b'-');
-        if matches!(s.get(i), Some(b'+' | b'-')) {
-            i += 1;
-        }
-        let mut mantissa: u64 = 0;
-        let mut digits = 0u32;
-        while i < s.len() && s[i].is_ascii_digit() {
-            // Up to 19 digits cannot overflow; beyond, the number is not plain.
-            mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(s[i] - b'0'));
-            digits += 1;
-            i += 1;
-        }
-        let mut after_point = 0u32;
-        if s.get(i) == Some(&b'.') {
-            i += 1;
-            while i < s.len() && s[i].is_ascii_digit() {
-                mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(s[i] - b'0'));
-                after_point += 1;
-                i += 1;
-            }
-            if s.get(i) == Some(&b'.') {
-                return None;
-            }
-        }
-        let digits = digits + after_point;
-        if digits == 0 || digits > 19 || mantissa >= 1 << 53 || after_point > 22 {
-            return None;
-        }
+        let (v, i) = plain_number_at(self.s, self.i)?;
         self.i = i;
-        let v = mantissa as f64 / EXACT_TENS[after_point as usize];
-        Some(if negative { -v } else { v })
+        Some(v)
     }
 
     fn number(&mut self) -> Result<f64, Problem> {
