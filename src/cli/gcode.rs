@@ -16,7 +16,7 @@ use super::Fatal;
 
 use interpolab::gcode::{
     CompareOptions, DeviationOptions, Dialect, ExtraColumns, ProgramKind, ProgramOptions, ProgrammedPoint, Segment,
-    TableStyle, compare, crease_design, deviation, format_comparisons_with, summarize, write_program,
+    TableStyle, compare, crease_design, deviation, format_comparisons_with, summarize, Summarizer, write_program,
 };
 use interpolab::geom::Curve3;
 use interpolab::jobs::program_row::{CycleTime, cycle_time};
@@ -404,13 +404,32 @@ pub(super) fn replay(a: &ReplayArgs) -> Result<ExitCode, Fatal> {
             "line {line}: measuring the moves so far against a design is more than {MAX_DEVIATION_MOVES} line-equivalents of work (an arc or curve counts {DEVIATION_CURVE_WEIGHT}); split the program or replay it without --scene"
         )
     };
-    let weighing = if measured {
-        super::program::Weighing { max_work: MAX_DEVIATION_MOVES, weight: &deviation_work, over: Some(&over) }
+    // Without a design only the summary is asked for: the moves stream through it and none
+    // is held (the reader still refuses past its cap of moves, where it would when holding).
+    let (parsed, dialect, how, s, path_blocks) = if measured {
+        let weighing =
+            super::program::Weighing { max_work: MAX_DEVIATION_MOVES, weight: &deviation_work, over: Some(&over) };
+        let (parsed, dialect, how) = super::program::read_path_weighed(&a.program, a.dialect, &a.read, &weighing)?;
+        let s = summarize(&parsed.toolpath);
+        let path_blocks = parsed.path_blocks();
+        (parsed, dialect, how, s, path_blocks)
     } else {
-        super::program::Weighing { max_work: interpolab::gcode::read::MAX_PATH_MOVES, weight: &|_| 1, over: None }
+        // The path blocks a program's curves take depend on its dialect, known once it is
+        // read (it may be guessed): counted in each.
+        const DIALECTS: [Dialect; 3] = [Dialect::Fanuc, Dialect::Sinumerik, Dialect::LinuxCnc];
+        let mut sum = Summarizer::default();
+        let mut path_blocks = [0usize; 3];
+        let (parsed, dialect, how) = super::program::read_path_streamed(&a.program, a.dialect, &a.read, &mut |b| {
+            sum.add(b);
+            if b.motion != Motion::Rapid {
+                for (n, d) in path_blocks.iter_mut().zip(DIALECTS) {
+                    *n += if let Segment::Nurbs(c) = &b.segment { d.nurbs_blocks(c) } else { 1 };
+                }
+            }
+        })?;
+        let path_blocks = DIALECTS.iter().zip(path_blocks).find(|(d, _)| **d == dialect).map_or(0, |(_, n)| n);
+        (parsed, dialect, how, sum.finish(), path_blocks)
     };
-    let (parsed, dialect, how) = super::program::read_path_weighed(&a.program, a.dialect, &a.read, &weighing)?;
-    let s = summarize(&parsed.toolpath);
     let mut lines = vec![
         format!("program      {} ({} lines, {} blocks)", a.program.display(), parsed.lines, parsed.blocks),
         format!("dialect      {dialect} ({}), {how}", dialect.label()),
@@ -423,7 +442,7 @@ pub(super) fn replay(a: &ReplayArgs) -> Result<ExitCode, Fatal> {
             dialect.kind_label(ProgramKind::Nurbs),
             s.moves[4],
             s.nurbs_control_points,
-            parsed.path_blocks()
+            path_blocks
         ),
         format!("length       cutting {:.4} mm, rapid {:.4} mm", s.cut_length_mm + 0.0, s.rapid_length_mm + 0.0),
     ];

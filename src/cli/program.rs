@@ -113,22 +113,9 @@ pub(crate) fn read_path_weighed(
     read: &ReadArgs,
     weighing: &Weighing<'_>,
 ) -> Result<(interpolab::gcode::ParsedProgram, interpolab::gcode::Dialect, &'static str), Fatal> {
-    use std::io::Read;
-
     use interpolab::gcode::{Dialect, ParseError, read_from_weighted};
-    use interpolab::simulate::pipeline::{DIALECT_GUESS_BYTES, guess_dialect, read_options, read_text};
-    let (dialect, how) = match dialect {
-        Some(d) => (d, "given"),
-        None => {
-            let f =
-                std::fs::File::open(path).map_err(|e| Fatal(format!("cannot read program {}: {e}", path.display())))?;
-            let mut head = Vec::new();
-            f.take(DIALECT_GUESS_BYTES as u64)
-                .read_to_end(&mut head)
-                .map_err(|e| Fatal(format!("cannot read program {}: {e}", path.display())))?;
-            (guess_dialect(&head), "guessed from the text")
-        }
-    };
+    use interpolab::simulate::pipeline::{read_options, read_text};
+    let (dialect, how) = dialect_of(path, dialect)?;
     // The simulation's pipeline, but streamed from the file with the files beside it as
     // subroutines (a Sinumerik program is read whole by its own reader).
     let parsed = if dialect == Dialect::Sinumerik {
@@ -145,6 +132,55 @@ pub(crate) fn read_path_weighed(
         }
         (e, _) => Fatal(format!("{}: {e}", path.display())),
     })?;
+    Ok((parsed, dialect, how))
+}
+
+/// The dialect given, or guessed from the program's first bytes, and which of the two.
+fn dialect_of(
+    path: &Path,
+    dialect: Option<interpolab::gcode::Dialect>,
+) -> Result<(interpolab::gcode::Dialect, &'static str), Fatal> {
+    use std::io::Read;
+
+    use interpolab::simulate::pipeline::{DIALECT_GUESS_BYTES, guess_dialect};
+    if let Some(d) = dialect {
+        return Ok((d, "given"));
+    }
+    let f = std::fs::File::open(path).map_err(|e| Fatal(format!("cannot read program {}: {e}", path.display())))?;
+    let mut head = Vec::new();
+    f.take(DIALECT_GUESS_BYTES as u64)
+        .read_to_end(&mut head)
+        .map_err(|e| Fatal(format!("cannot read program {}: {e}", path.display())))?;
+    Ok((guess_dialect(&head), "guessed from the text"))
+}
+
+/// [`read_path`] for a command that looks at each move once: every path block goes to
+/// `each` and none is kept (the program comes back without its moves), refused as
+/// [`read_path`] refuses at [`interpolab::gcode::read::MAX_PATH_MOVES`]. A Sinumerik program,
+/// read whole by its own reader, is handed over block by block after it is read.
+pub(crate) fn read_path_streamed(
+    path: &Path,
+    dialect: Option<interpolab::gcode::Dialect>,
+    read: &ReadArgs,
+    each: &mut dyn FnMut(&interpolab::gcode::PathBlock),
+) -> Result<(interpolab::gcode::ParsedProgram, interpolab::gcode::Dialect, &'static str), Fatal> {
+    use interpolab::gcode::{Dialect, read_streamed};
+    use interpolab::simulate::pipeline::{read_options, read_text};
+    let (dialect, how) = dialect_of(path, dialect)?;
+    let parsed = if dialect == Dialect::Sinumerik {
+        let text = super::read_capped(path, MAX_PROGRAM_BYTES, "G-code program")
+            .map_err(|e| Fatal(format!("cannot read program {}: {e}", path.display())))?;
+        read_text(&text, dialect, &read.options()).map(|mut p| {
+            for b in p.toolpath.blocks.drain(..) {
+                each(&b);
+            }
+            p
+        })
+    } else {
+        let it = open(path, read_options(dialect, &read.options()))?;
+        read_streamed(it, dialect, each)
+    };
+    let parsed = parsed.map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
     Ok((parsed, dialect, how))
 }
 

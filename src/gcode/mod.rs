@@ -47,6 +47,7 @@ pub use parse::{ParseError, ParsedProgram, Unsupported};
 pub use path::{ArcMove, LineMove, Motion, PathBlock, Plane, Segment, Toolpath};
 pub use read::{
     ProgramReader, parse_program, parse_program_in, read_from, read_from_capped, read_from_weighted, read_program,
+    read_streamed,
 };
-pub use replay::{Deviation, DeviationOptions, ProgramSummary, ReplayError, deviation, summarize};
+pub use replay::{Deviation, DeviationOptions, ProgramSummary, ReplayError, Summarizer, deviation, summarize};
 pub use write::{Program, ProgramError, ProgramOptions, ProgrammedPoint, write_program};

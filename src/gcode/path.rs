@@ -312,7 +312,7 @@ pub fn sample_params(seg: &Segment, per_piece: usize) -> Vec<f64> {
 }
 
 /// [`sample_params`] appended to `out`.
-fn push_sample_params(seg: &Segment, per_piece: usize, out: &mut Vec<f64>) {
+pub(super) fn push_sample_params(seg: &Segment, per_piece: usize, out: &mut Vec<f64>) {
     let n = per_piece.max(1);
     let nurbs_breaks;
     let breaks: &[f64] = match seg {
@@ -331,7 +331,7 @@ fn push_sample_params(seg: &Segment, per_piece: usize, out: &mut Vec<f64>) {
     }
 }
 
-fn segment_length(seg: &Segment) -> f64 {
+pub(super) fn segment_length(seg: &Segment) -> f64 {
     match seg {
         Segment::Line(l) => (l.end - l.start).length(),
         Segment::Arc(a) => a.length(),

@@ -118,6 +118,38 @@ pub fn read_from_weighted(
     Ok(out)
 }
 
+/// [`read_from`] for a command that looks at each move once (a summary): every path block
+/// goes to `each` as it is made and is not kept, so memory does not grow with the program.
+/// The program returned has everything but its moves (`toolpath` is empty). It is refused
+/// where [`read_from`] refuses, past [`MAX_PATH_MOVES`] moves at the same line, so a command
+/// answers alike whether it holds the moves or not.
+///
+/// # Errors
+/// As [`read_from`].
+pub fn read_streamed(
+    mut it: Interpreter<'_>,
+    dialect: Dialect,
+    each: &mut dyn FnMut(&PathBlock),
+) -> Result<ParsedProgram, ParseError> {
+    let mut out = ParsedProgram { dialect, ..ParsedProgram::default() };
+    let mut pos = DVec3::ZERO;
+    let mut tlo = DVec3::ZERO;
+    let mut moves = 0usize;
+    for c in it.by_ref() {
+        let c = c.map_err(ParseError::Interp)?;
+        if moves >= MAX_PATH_MOVES {
+            return Err(ParseError::TooManyMoves { line: c.loc().line as usize, max: MAX_PATH_MOVES });
+        }
+        push(&mut out, &mut pos, &mut tlo, c);
+        moves += out.toolpath.blocks.len();
+        for b in out.toolpath.blocks.drain(..) {
+            each(&b);
+        }
+    }
+    finish(&mut out, &it);
+    Ok(out)
+}
+
 /// A program read a slice at a time (the app reads a big file over several frames, showing
 /// the path as it grows).
 pub struct ProgramReader {

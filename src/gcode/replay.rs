@@ -24,7 +24,7 @@ use std::hash::{BuildHasherDefault, Hasher};
 use glam::DVec3;
 use thiserror::Error;
 
-use super::path::{Motion, PathBlock, Segment, Toolpath, sample_params};
+use super::path::{Motion, PathBlock, Segment, Toolpath, push_sample_params, sample_params, segment_length};
 use crate::geom::Curve3;
 use crate::numerics::maximise::max_on_interval;
 use crate::numerics::measure::{ArcLengthTable, nearest_on_curve};
@@ -559,10 +559,95 @@ pub struct ProgramSummary {
 /// Summarises a toolpath.
 #[must_use]
 pub fn summarize(path: &Toolpath) -> ProgramSummary {
-    let mut moves = [0usize; 5];
-    let mut ncp = 0;
-    let mut feed: Option<(f64, f64)> = None;
+    let mut s = Summarizer::default();
     for b in &path.blocks {
+        s.add(b);
+    }
+    s.finish()
+}
+
+/// Sample steps of a move for the bounds ([`Toolpath::cut_bounds`]; per knot span of a curve).
+const SAMPLE_STEPS: usize = 16;
+
+/// Folds one coordinate of a line's bounds samples (`a (1 − t) + b t` at t = i / 16, as
+/// glam's lerp) into `lo` and `hi` as glam's `min` and `max` do (`if lo < v { lo } else
+/// { v }`), sample after sample, bit for bit.
+///
+/// When `a` and `b` are *coarse* — their last five significand bits zero, far from overflow
+/// and underflow: whole millimetres, halves, quarters … — every product `a (1 − t)`, `b t`
+/// is exact (t has at most five significant bits), so each sample is the exact value
+/// rounded, and rounding keeps order: the samples run monotonically from `a` (t = 0: a·1 +
+/// b·0) to `b` (t = 1). Folding a sample no lower than one folded before changes nothing, so
+/// when none of them is a zero (whose two signs compare equal) folding the 17 samples is
+/// folding the lower end into `lo` and the upper into `hi`. That holds when `a` equals `b`
+/// (every sample is `a`, the exact a (1 − t) + a t) or when they have the same sign (all
+/// samples lie between them, away from zero), and for a zero the line keeps.
+fn fold_line_samples(lo: &mut f64, hi: &mut f64, a: f64, b: f64) {
+    let coarse = |v: f64| v.to_bits() & 0x1f == 0 && (1e-280..1e280).contains(&v.abs());
+    // A zero the line keeps: every sample is that zero, sign and all (±0·u ± 0·t).
+    let same_zero = a == 0.0 && a.to_bits() == b.to_bits();
+    if same_zero || (coarse(a) && coarse(b) && (a > 0.0) == (b > 0.0)) {
+        let (l, h) = if a < b { (a, b) } else { (b, a) };
+        *lo = if *lo < l { *lo } else { l };
+        *hi = if *hi > h { *hi } else { h };
+        return;
+    }
+    for (&t, &u) in LINE_T.iter().zip(&LINE_ONE_MINUS_T) {
+        let v = a * u + b * t;
+        *lo = if *lo < v { *lo } else { v };
+        *hi = if *hi > v { *hi } else { v };
+    }
+}
+
+/// The sample parameters of a line, `push_sample_params`'s `0 + (1 − 0)·i / 16` (all within
+/// 0…1, so `point_at`'s clamp keeps them).
+const LINE_T: [f64; SAMPLE_STEPS + 1] = {
+    let mut t = [0.0; SAMPLE_STEPS + 1];
+    let mut i = 1;
+    while i <= SAMPLE_STEPS {
+        t[i] = 0.0 + (1.0 - 0.0) * i as f64 / SAMPLE_STEPS as f64;
+        i += 1;
+    }
+    t
+};
+
+/// `1 − t` of [`LINE_T`], as glam's lerp computes it.
+const LINE_ONE_MINUS_T: [f64; SAMPLE_STEPS + 1] = {
+    let mut u = [0.0; SAMPLE_STEPS + 1];
+    let mut i = 0;
+    while i <= SAMPLE_STEPS {
+        u[i] = 1.0 - LINE_T[i];
+        i += 1;
+    }
+    u
+};
+
+/// A [`ProgramSummary`] built one block at a time, so a command that only summarises a
+/// program never holds its moves ([`crate::gcode::read_streamed`]). Blocks added in the
+/// path's order give the summary [`summarize`] gives, bit for bit: the lengths are summed in
+/// the same order and the bounds come from the same sample points.
+#[derive(Clone, Debug)]
+pub struct Summarizer {
+    moves: [usize; 5],
+    ncp: usize,
+    feed: Option<(f64, f64)>,
+    cut: f64,
+    rapid: f64,
+    bounds: Option<(DVec3, DVec3)>,
+    /// The sample parameters of one block (a buffer kept between blocks).
+    params: Vec<f64>,
+}
+
+impl Default for Summarizer {
+    fn default() -> Self {
+        // A sum of lengths starts at -0.0, as `Iterator::sum` of f64 does.
+        Self { moves: [0; 5], ncp: 0, feed: None, cut: -0.0, rapid: -0.0, bounds: None, params: Vec::new() }
+    }
+}
+
+impl Summarizer {
+    /// Adds the next block of the path.
+    pub fn add(&mut self, b: &PathBlock) {
         let i = match b.motion {
             Motion::Rapid => 0,
             Motion::Linear => 1,
@@ -570,23 +655,58 @@ pub fn summarize(path: &Toolpath) -> ProgramSummary {
             Motion::ArcCcw => 3,
             Motion::Nurbs => 4,
         };
-        moves[i] += 1;
+        self.moves[i] += 1;
         if let Segment::Nurbs(c) = &b.segment {
-            ncp += c.len();
+            self.ncp += c.len();
         }
         if let Some(f) = b.feed_mm_per_min {
-            feed = Some(match feed {
+            self.feed = Some(match self.feed {
                 None => (f, f),
                 Some((lo, hi)) => (lo.min(f), hi.max(f)),
             });
         }
+        if b.motion == Motion::Rapid {
+            self.rapid += segment_length(&b.segment);
+            return;
+        }
+        self.cut += segment_length(&b.segment);
+        if let Segment::Line(l) = &b.segment {
+            // A line's samples are those `push_sample_params` and `LineMove::point_at` make,
+            // folded into the bounds axis by axis in the same order with the same operations
+            // (glam's lerp, min and max), without the buffer and the dynamic call: most moves
+            // are lines.
+            let (mut lo, mut hi) = self.bounds.unwrap_or_else(|| {
+                let p = l.start.lerp(l.end, 0.0);
+                (p, p)
+            });
+            for k in 0..3 {
+                fold_line_samples(&mut lo[k], &mut hi[k], l.start[k], l.end[k]);
+            }
+            self.bounds = Some((lo, hi));
+            return;
+        }
+        self.params.clear();
+        push_sample_params(&b.segment, SAMPLE_STEPS, &mut self.params);
+        let curve = b.segment.curve();
+        for &t in &self.params {
+            let p = curve.point_at(t);
+            self.bounds = Some(match self.bounds {
+                None => (p, p),
+                Some((lo, hi)) => (lo.min(p), hi.max(p)),
+            });
+        }
     }
-    ProgramSummary {
-        moves,
-        nurbs_control_points: ncp,
-        cut_length_mm: path.cut_length(),
-        rapid_length_mm: path.rapid_length(),
-        bounds: path.cut_bounds(),
-        feed_range: feed,
+
+    /// The summary of the blocks added.
+    #[must_use]
+    pub fn finish(self) -> ProgramSummary {
+        ProgramSummary {
+            moves: self.moves,
+            nurbs_control_points: self.ncp,
+            cut_length_mm: self.cut,
+            rapid_length_mm: self.rapid,
+            bounds: self.bounds,
+            feed_range: self.feed,
+        }
     }
 }

@@ -51,6 +51,8 @@ mod gcode {
     mod interp_plain;
     mod parse;
     mod roundtrip;
+    // A program summarised move by move equals its held summary (what `replay` streams).
+    mod summary;
 }
 
 /// `src/geom/`: differential geometry, derivatives, the Hermite path, NURBS evaluation.
