@@ -92,6 +92,8 @@ impl Program {
         // Before its first move a program's position is unknown (the reader starts at the
         // origin): a leading rapid only brings the tool to its first point, and is skipped.
         let skip = usize::from(path.blocks.first().is_some_and(|b| b.motion == Motion::Rapid));
+        let moves = count_moves(&path.blocks[skip..], chord_tol_mm)?;
+        out.moves.reserve_exact(moves);
         for b in &path.blocks[skip..] {
             let rapid = b.motion == Motion::Rapid;
             let points = out.segment_points(&b.segment, b.line, chord_tol_mm)?;
@@ -129,9 +131,7 @@ impl Program {
     /// [`SimError::Program`] above [`MAX_MOVES`] moves.
     pub fn push(&mut self, m: SimMove) -> Result<(), SimError> {
         if self.moves.len() >= MAX_MOVES {
-            return Err(SimError::Program(format!(
-                "the program has more than {MAX_MOVES} moves (after cutting arcs and NURBS into chords); raise the chord tolerance or split the program"
-            )));
+            return Err(too_many_moves());
         }
         self.moves.push(m);
         Ok(())
@@ -152,10 +152,7 @@ impl Program {
         Ok(match segment {
             Segment::Line(l) => vec![l.start, l.end],
             Segment::Arc(a) => {
-                let rho = a.radius_start().max(a.radius_end());
-                let sweep = a.sweep().abs();
-                let step = if chord_tol_mm >= rho { sweep } else { 2.0 * (1.0 - chord_tol_mm / rho).acos() };
-                let n = chord_count(sweep / step, line)?;
+                let n = arc_chords(a, chord_tol_mm, line)?;
                 let c = segment.curve();
                 let pts: Vec<DVec3> = (0..=n).map(|i| c.point_at(i as f64 / n as f64)).collect();
                 self.measure(&pts, |k| c.point_at((k as f64 + 0.5) / n as f64));
@@ -181,6 +178,40 @@ impl Program {
             self.chord_error_mm = self.chord_error_mm.max(d);
         }
     }
+}
+
+/// The moves [`Program::from_toolpath`] makes of `blocks`, counted before any is made, so a
+/// program that makes too many is refused without building (and holding) the moves first:
+/// the same error at the same block — a curve's own chord cap, or [`MAX_MOVES`] passed
+/// within this block — as the moves made one by one would give.
+fn count_moves(blocks: &[crate::gcode::PathBlock], chord_tol_mm: f64) -> Result<usize, SimError> {
+    let mut total = 0usize;
+    for b in blocks {
+        let n = match &b.segment {
+            Segment::Line(_) => 1,
+            Segment::Arc(a) => arc_chords(a, chord_tol_mm, b.line)?,
+            Segment::Nurbs(c) => nurbs_params(c, chord_tol_mm, b.line)?.len() - 1,
+        };
+        if total + n > MAX_MOVES {
+            return Err(too_many_moves());
+        }
+        total += n;
+    }
+    Ok(total)
+}
+
+fn too_many_moves() -> SimError {
+    SimError::Program(format!(
+        "the program has more than {MAX_MOVES} moves (after cutting arcs and NURBS into chords); raise the chord tolerance or split the program"
+    ))
+}
+
+/// The chords of an arc or helix of radius ρ: steps of Δθ = 2·acos(1 − e/ρ) (module docs).
+fn arc_chords(a: &crate::gcode::ArcMove, chord_tol_mm: f64, line: usize) -> Result<usize, SimError> {
+    let rho = a.radius_start().max(a.radius_end());
+    let sweep = a.sweep().abs();
+    let step = if chord_tol_mm >= rho { sweep } else { 2.0 * (1.0 - chord_tol_mm / rho).acos() };
+    chord_count(sweep / step, line)
 }
 
 fn chord_count(x: f64, line: usize) -> Result<usize, SimError> {
