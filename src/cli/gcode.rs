@@ -16,7 +16,7 @@ use super::Fatal;
 
 use interpolab::gcode::{
     CompareOptions, DeviationOptions, Dialect, ExtraColumns, ProgramKind, ProgramOptions, ProgrammedPoint, Segment,
-    TableStyle, compare, crease_design, deviation, format_comparisons_with, summarize, Summarizer, write_program,
+    Summarizer, TableStyle, compare, crease_design, deviation, format_comparisons_with, summarize, write_program,
 };
 use interpolab::geom::Curve3;
 use interpolab::jobs::program_row::{CycleTime, cycle_time};

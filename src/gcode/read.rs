@@ -14,10 +14,10 @@ use super::interp::{Canon, InterpError, Interpreter, Options};
 use super::parse::{ParseError, ParsedProgram, Unsupported, parse_dialect_reader};
 use super::path::{ArcMove, LineMove, Motion, PathBlock, Segment};
 
-/// Most moves of a program held as a path (each about 112 bytes: 340 MB at the cap);
-/// commands that need every move at once refuse a program with more, after reading that
-/// many (about 0.6 s of CPU, a third of it the kernel's page faults for the path). A
-/// million-line program is a third of it.
+/// Most moves of a program held as a path (each 112 bytes, a [`PathBlock`]: 336 MB at the
+/// cap); commands that need every move at once refuse a program with more, after reading that
+/// many. [`read_streamed`] holds none and refuses at the same move. A million-line program is
+/// a third of it.
 pub const MAX_PATH_MOVES: usize = 3_000_000;
 
 /// Header comments kept for [`super::write::ProgrammedPoint::from_comments`].

@@ -256,7 +256,7 @@ impl Block {
 /// Reads lines into blocks, reusing its buffers.
 #[derive(Debug, Default)]
 pub(crate) struct Reader {
-    /// Every line through the general reader: [`Reader::plain`] is not tried
+    /// Every line through the general reader: [`plain_line`] is not tried
     /// ([`super::Options::general_only`]).
     pub general_only: bool,
     code: Vec<u8>,

@@ -183,7 +183,10 @@ fn plain_lines_take_the_short_way_to_the_same_calls_as_the_general_one() {
             assert_eq!(short, general, "case {case}:\n{text}");
             calls += general.len();
         }
-        plain_lines += text.lines().filter(|l| !l.is_empty() && l.trim().chars().all(|c| "XYZABCxyzabc0123456789.+- \t".contains(c))).count();
+        plain_lines += text
+            .lines()
+            .filter(|l| !l.is_empty() && l.trim().chars().all(|c| "XYZABCxyzabc0123456789.+- \t".contains(c)))
+            .count();
     }
     // The programs do exercise both ways.
     assert!(plain_lines > 5_000 && calls > 20_000, "{plain_lines} plain lines, {calls} calls");
