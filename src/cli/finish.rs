@@ -221,8 +221,7 @@ pub(super) fn finish(a: &FinishArgs) -> Result<ExitCode, Fatal> {
     let name = a.scene.display().to_string();
     let part = PartSamples::new(&job.surface, job.options.part_grid);
     if a.table {
-        let rows = compare(&job.setup(&part))
-            .map_err(|e| Fatal(format!("{name}: {e}")))?;
+        let rows = compare(&job.setup(&part)).map_err(|e| Fatal(format!("{name}: {e}")))?;
         let mut w = sink(a.out.as_deref())?;
         let h = job.options.scallop_mm;
         let mut text = format!(
