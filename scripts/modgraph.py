@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Print the module-level import graph of src/ and any cycle in it.
 
-A "module" is the first path segment under src/ (src/chords/maximise.rs and
+A "module" is the first path segment under src/ (src/chords/planar.rs and
 src/chords/mod.rs are both `chords`; src/report.rs is `report`), except in the
 directories of SPLIT, shelves of independent helpers whose files are modules of
 their own: src/numerics/tolerance.rs is `numerics::tolerance` (geom uses it, and
@@ -23,8 +23,8 @@ LAYERS), and so does an entry of UPWARD_EXCEPTIONS that is no longer needed.
 
     python3 scripts/modgraph.py --files [src_dir]
 
-also looks for cycles between the files of one directory (src/geom/nurbs.rs using
-`super::surface` while src/geom/surface.rs uses `super::nurbs`) and fails on those too: a
+also looks for cycles between the files of one directory (src/geom/curve.rs using
+`super::surface` while src/geom/surface.rs uses `super::curve`) and fails on those too: a
 file's edges there are its `super::X` paths (from a file that is not mod.rs, outside its
 inline `mod tests`) and `crate::a::b::X` paths naming a sibling X of the same directory.
 """

@@ -56,7 +56,7 @@ if [ "$what" = "test" ]; then
     fi
     # LinuxCNC's standalone interpreter `rs274` and its sample programs
     # (/usr/share/linuxcnc/ncfiles): the reference the G-code interpreter is compared with
-    # (tests/rs274_reference.rs, scripts/corpus.py).
+    # (tests/reference/, scripts/corpus.py).
     if ! command -v rs274 >/dev/null 2>&1; then
         say "installing Debian's linuxcnc-uspace (LinuxCNC's rs274 interpreter and sample programs)"
         sudo_cmd=""

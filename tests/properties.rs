@@ -2,7 +2,8 @@
 //! bounded by an operation budget (periods allowed per millimetre of crease, not a clock),
 //! exact ends within 1e-9 mm, closure detected for any feed per period, and one-line errors
 //! that print no NaN, inf or runaway decimals. Case counts are modest so the suite stays fast;
-//! `scripts/fuzz.sh` runs the same properties (and the command line) for as long as wanted.
+//! `PROPTEST_CASES` raises them (README, "Fuzzing and property tests"), and `scripts/fuzz.py`
+//! fuzzes the command line for as long as wanted.
 #![cfg(not(target_arch = "wasm32"))]
 
 mod support;

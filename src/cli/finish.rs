@@ -18,7 +18,7 @@ use super::{Fatal, OutFormat};
 
 use interpolab::fillet::program::{FinishGcode, iso_scallop_in_travel};
 use interpolab::fillet::{
-    FinishError, FinishJob, FinishSetup, PartSamples, PathSet, PathStart, Strategy, compare_from, iso_parametric,
+    FinishError, FinishJob, FinishSetup, PartSamples, PathSet, PathStart, Strategy, compare, iso_parametric,
     iso_scallop,
 };
 use interpolab::report::{fmt_fixed, fmt_num, one_line};
@@ -221,8 +221,7 @@ pub(super) fn finish(a: &FinishArgs) -> Result<ExitCode, Fatal> {
     let name = a.scene.display().to_string();
     let part = PartSamples::new(&job.surface, job.options.part_grid);
     if a.table {
-        let rows = compare_from(&job.surface, &job.cutter, &job.options, &part, &job.start)
-            .map_err(|e| Fatal(format!("{name}: {e}")))?;
+        let rows = compare(&job.setup(&part)).map_err(|e| Fatal(format!("{name}: {e}")))?;
         let mut w = sink(a.out.as_deref())?;
         let h = job.options.scallop_mm;
         let mut text = format!(

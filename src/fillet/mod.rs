@@ -165,32 +165,13 @@ pub struct Comparison {
     pub stats: Stats,
 }
 
-/// The comparison table: matched, fixed lead 5° and 10°, principal axis and ball, each with
-/// iso-scallop and iso-parametric paths.
+/// The comparison table of a job: matched, fixed lead 5° and 10°, principal axis and ball
+/// (each in place of `job.strategy`), each with iso-scallop paths from `job.start` and
+/// iso-parametric paths along the same parameter.
 ///
 /// # Errors
 /// The first job that fails.
-pub fn compare(
-    surface: &crate::geom::Surface,
-    cutter: &crate::geom::Cutter,
-    opts: &FinishOptions,
-    part: &PartSamples,
-) -> Result<Vec<Comparison>, FinishError> {
-    compare_from(surface, cutter, opts, part, &PathStart::FirstBoundary)
-}
-
-/// [`compare`] with the iso-scallop paths from `start` (the iso-parametric ones along the
-/// same parameter).
-///
-/// # Errors
-/// The first job that fails.
-pub fn compare_from(
-    surface: &crate::geom::Surface,
-    cutter: &crate::geom::Cutter,
-    opts: &FinishOptions,
-    part: &PartSamples,
-    start: &PathStart,
-) -> Result<Vec<Comparison>, FinishError> {
+pub fn compare(job: &FinishSetup) -> Result<Vec<Comparison>, FinishError> {
     let strategies = [
         Strategy::Matched,
         Strategy::FixedLead { lead_rad: 5f64.to_radians() },
@@ -202,7 +183,8 @@ pub fn compare_from(
     // when the plans together would pass it: each strategy's pilot (as its own job's start
     // runs it) estimates its iso-scallop plan; its iso-parametric plan, at the same worst
     // scallop, takes at least as many paths, so twice that is the least the pair costs.
-    let setup = |strategy| FinishSetup { surface, cutter, strategy, options: opts, part, start };
+    let (opts, part) = (job.options, job.part);
+    let setup = |strategy| FinishSetup { strategy, ..*job };
     let mut each = Vec::with_capacity(strategies.len());
     for s in strategies {
         each.push(2.0 * paths::estimate_check_cells(&setup(s))?);

@@ -3,7 +3,7 @@
 //! Every comment a writer of ours puts in a program — a scene's or job's name, a title, a
 //! cutter's description, the writer's own header lines — is built here, by
 //! [`safe_comment`] (any text) or [`key_comment`] (the header keys the readers look for), and
-//! nowhere else (`tests/comment_boundary.rs` scans the writers for comment delimiters). So no
+//! nowhere else (`tests/boundary/comments.rs` scans the writers for comment delimiters). So no
 //! text, whoever wrote it, can end the comment early, start a new block, or hide a line
 //! break the control would honour: a scene named `"Dome\nG0 X999 Y999 Z-50\n(x"` is the
 //! comment `(DOME G0 X999 Y999 Z-50  _X)`, never a rapid move.

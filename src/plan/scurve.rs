@@ -13,7 +13,7 @@
 //! Springer 2008, §3.4, the "double S" profile). A *segment* of length D goes from v₀ to v₁
 //! (acceleration 0 at both ends) through a peak speed v_p ≤ V: ramp up, cruise, ramp down.
 //! From rest to rest this is the time-optimal profile of a single axis (Ruckig gives the
-//! same; `tests/plan_anchors.rs`).
+//! same; `tests/reference/plan_ruckig.rs`).
 
 use super::path::{lower, upper};
 

@@ -2,7 +2,7 @@
 //! commands write (`gcode` in every kind and dialect, `finish --gcode`) keeps the blocks it
 //! has for a benign name and is read back by `replay` and `simulate`; the CSV outputs keep
 //! their rows and give a spreadsheet no formula; the JSON outputs stay well-formed and carry
-//! the name as it was. `tests/hostile_text.rs` holds the generated cases through the library.
+//! the name as it was. `tests/core/gcode/hostile.rs` holds the generated cases through the library.
 #![allow(clippy::unwrap_used, clippy::expect_used, reason = "tests: a failure should fail the test")]
 
 use std::path::{Path, PathBuf};

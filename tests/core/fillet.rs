@@ -1576,7 +1576,7 @@ fn a_table_plan_past_its_share_is_stopped_within_it() {
     scene["surfaces"][0]["points"][2][0][1] = serde_json::json!(1e-300);
     let jb = FinishScene::from_json(&scene.to_string()).unwrap().job().unwrap();
     let part = PartSamples::new(&jb.surface, jb.options.part_grid);
-    match interpolab::fillet::compare(&jb.surface, &jb.cutter, &jb.options, &part) {
+    match interpolab::fillet::compare(&FinishSetup { start: &PathStart::FirstBoundary, ..jb.setup(&part) }) {
         Err(FinishError::TooMuchChecking { detail }) => assert!(detail.contains("before any is built"), "{detail}"),
         other => panic!("expected the table refused by its pilots: {other:?}"),
     }
@@ -1584,7 +1584,11 @@ fn a_table_plan_past_its_share_is_stopped_within_it() {
 
     let opts = FinishOptions { max_check_cells: 2 * jb.options.max_check_cells, ..jb.options };
     let part = PartSamples::new(&jb.surface, jb.options.part_grid);
-    match interpolab::fillet::compare(&jb.surface, &jb.cutter, &opts, &part) {
+    match interpolab::fillet::compare(&FinishSetup {
+        options: &opts,
+        start: &PathStart::FirstBoundary,
+        ..jb.setup(&part)
+    }) {
         Err(FinishError::TooMuchChecking { detail }) => assert!(
             detail.contains("its matched iso-scallop plan") || detail.contains("projected after 1 of them"),
             "{detail}"
@@ -1613,7 +1617,11 @@ fn a_table_over_its_shared_budget_is_refused_before_any_plan() {
     assert!(one > 0.0 && pilot_cells > 0, "estimate {one}, pilot {pilot_cells} cells");
     let opts = FinishOptions { max_check_cells: (3.0 * one) as u64, ..jb.options };
     let fresh = PartSamples::new(&jb.surface, jb.options.part_grid);
-    match interpolab::fillet::compare(&jb.surface, &jb.cutter, &opts, &fresh) {
+    match interpolab::fillet::compare(&FinishSetup {
+        options: &opts,
+        start: &PathStart::FirstBoundary,
+        ..jb.setup(&fresh)
+    }) {
         Err(FinishError::TooMuchChecking { detail }) => {
             assert!(detail.contains("before any is built"), "{detail}");
         }

@@ -24,7 +24,7 @@
 //! So that every call names its source line, the program is run as a copy in which each line
 //! starts with `N<LINE_BASE + line>` (an existing leading `N` word is replaced; `%` lines, blank
 //! lines and lines too long to grow are left alone). LinuxCNC ignores `N` words, and
-//! `tests/rs274_reference.rs` checks that numbering changes no call on LinuxCNC's samples.
+//! `tests/reference/rs274.rs` checks that numbering changes no call on LinuxCNC's samples.
 
 use std::fmt::Write as _;
 use std::io::{BufRead, BufReader, Read};

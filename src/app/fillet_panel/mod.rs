@@ -252,7 +252,7 @@ impl FilletPanel {
                 );
                 ui.ctx().request_repaint();
             } else if let Some(r) = &job.result {
-                let st = r.stats(job.options.feed_mm_per_min);
+                let st = r.stats(job.finish.options.feed_mm_per_min);
                 ui.label(format!(
                     "{} passes, {} CC points, {:.1} mm, strip {:.3} / {:.3} / {:.3} mm (min / mean / max), {:.2} min at {} mm/min, {} adjusted, {} refused; core {:.0} ms",
                     st.passes,
@@ -262,7 +262,7 @@ impl FilletPanel {
                     st.strip_mm[1],
                     st.strip_mm[2],
                     st.time_min,
-                    job.options.feed_mm_per_min,
+                    job.finish.options.feed_mm_per_min,
                     st.adjusted,
                     r.refused.len(),
                     job.core_ms
@@ -276,7 +276,7 @@ impl FilletPanel {
                             crate::fillet::paths::FLAG_ABOVE,
                             r.scallop_flags.len(),
                             worst * 1e3,
-                            worst / job.options.scallop_mm
+                            worst / job.finish.options.scallop_mm
                         ),
                     );
                 }
@@ -306,11 +306,11 @@ impl FilletPanel {
             return;
         };
         let program = crate::simulate::FinishProgram::of_paths(
-            &job.surface,
-            &job.cutter,
-            &job.machine,
+            &job.finish.surface,
+            &job.finish.cutter,
+            &job.finish.machine,
             set,
-            job.options.chord_tol_mm,
+            job.finish.options.chord_tol_mm,
         )
         .map_err(|e| e.to_string());
         match program.and_then(|p| Ok((p, job.settings.scene()?.to_json()))) {
@@ -323,7 +323,7 @@ impl FilletPanel {
                     payload: Some(Payload::Finish(std::rc::Rc::new(FinishHandoff {
                         program,
                         scene_json,
-                        scallop_mm: job.options.scallop_mm,
+                        scallop_mm: job.finish.options.scallop_mm,
                     }))),
                 });
             }
@@ -350,7 +350,7 @@ impl FilletPanel {
             ClickMode::Pick => match self.view.pick_surface(job, c) {
                 Some(uv) => {
                     use crate::geom::ParametricSurface;
-                    let f = job.surface.domain().to_file(uv);
+                    let f = job.finish.surface.domain().to_file(uv);
                     if self.settings.pick([f.x, f.y]) {
                         // Picking a start curve means starting from it.
                         self.settings.start = StartChoice::Picked;
@@ -379,11 +379,11 @@ impl FilletPanel {
             ui.label("The section appears when a path exists.");
             return;
         };
-        let tool = job.strategy.cutter_for(&job.cutter);
+        let tool = job.finish.strategy.cutter_for(&job.finish.cutter);
         let theta = self.theta_deg.to_radians();
         let ks = node.frame.surface_form.at(theta);
         let kc = effective_curvature(&tool, &node.pose, theta);
-        let h = job.options.scallop_mm;
+        let h = job.finish.options.scallop_mm;
         let gap = kc - ks;
         let half = if gap > 1e-9 { (2.0 * h / gap).sqrt() } else { f64::INFINITY };
         let y_max = (1.6 * half).min(tool.radius_mm).max(1e-3);
@@ -607,7 +607,7 @@ impl Panel for FilletPanel {
             v["error"] = e.clone().into();
         }
         if let Some(r) = &job.result {
-            let st = r.stats(job.options.feed_mm_per_min);
+            let st = r.stats(job.finish.options.feed_mm_per_min);
             v["passes"] = st.passes.into();
             v["nodes"] = st.nodes.into();
             v["length_mm"] = st.length_mm.into();
@@ -625,7 +625,7 @@ impl Panel for FilletPanel {
                 "lead_deg": n.pose.lead_rad().to_degrees(), "tilt_deg": n.pose.tilt_rad().to_degrees(),
                 "theta_deg": self.theta_deg,
                 "k_surface_per_mm": n.frame.surface_form.at(self.theta_deg.to_radians()),
-                "k_cutter_per_mm": effective_curvature(&job.strategy.cutter_for(&job.cutter), &n.pose, self.theta_deg.to_radians()),
+                "k_cutter_per_mm": effective_curvature(&job.finish.strategy.cutter_for(&job.finish.cutter), &n.pose, self.theta_deg.to_radians()),
             });
         }
         v["table_requested"] = job.table_requested.into();

@@ -147,7 +147,7 @@ impl FilletView {
     #[must_use]
     pub fn pick_surface(&self, job: &Job, click: &Click) -> Option<DVec2> {
         let (o, d) = self.camera.ray(click.aspect(), click.ndc);
-        ray_hit(&job.surface, self.origin.0 + o.as_dvec3(), d.as_dvec3(), PICK_GRID).map(|h| h.uv)
+        ray_hit(&job.finish.surface, self.origin.0 + o.as_dvec3(), d.as_dvec3(), PICK_GRID).map(|h| h.uv)
     }
 
     /// The CC node (path, node) that appears nearest to a click, within
@@ -184,13 +184,13 @@ impl FilletView {
         let new_job = self.built.is_none_or(|b| b.job_id != job_id);
         let o = self.origin;
         if new_job {
-            let mesh = tessellate(&job.surface, o, MESH_SIDE, 0.0, [0.62, 0.64, 0.68, 1.0]);
+            let mesh = tessellate(&job.finish.surface, o, MESH_SIDE, 0.0, [0.62, 0.64, 0.68, 1.0]);
             Renderer3d::with(rs, |r| r.set_mesh(VIEW_ID, Layer::Surfaces, &mesh));
         }
         let (lo, hi) = strip_range(job).unwrap_or((0.0, 1.0));
         let mut lines = Vec::new();
         let mut markers = Vec::new();
-        let mark = (job.cutter.radius_mm * 0.06).max(0.02) as f32;
+        let mark = (job.finish.cutter.radius_mm * 0.06).max(0.02) as f32;
         for p in paths {
             for w in p.nodes.windows(2) {
                 let c = strip_color(0.5 * (w[0].strip_mm + w[1].strip_mm), lo, hi);
@@ -213,7 +213,7 @@ impl FilletView {
         self.start_curve(job, &mut lines, &mut markers, mark);
         let mut tool = Vec::new();
         if let Some((_, _, n)) = selected {
-            tool = cutter_lines(o, &job.strategy.cutter_for(&job.cutter), n.tip, n.axis);
+            tool = cutter_lines(o, &job.finish.strategy.cutter_for(&job.finish.cutter), n.tip, n.axis);
             markers.push(SphereInstance {
                 center: o.local(n.frame.point),
                 radius: mark * 1.6,
@@ -234,10 +234,10 @@ impl FilletView {
         let o = self.origin;
         let picked = job.settings.picked();
         let pts: Vec<DVec2> =
-            picked.iter().map(|p| crate::scene::params_from_file(&job.surface, DVec2::from(*p))).collect();
+            picked.iter().map(|p| crate::scene::params_from_file(&job.finish.surface, DVec2::from(*p))).collect();
         for &uv in &pts {
             markers.push(SphereInstance {
-                center: o.local(job.surface.point_at(uv)),
+                center: o.local(job.finish.surface.point_at(uv)),
                 radius: mark * 2.5,
                 color: PICK_COLOR,
             });
@@ -245,13 +245,13 @@ impl FilletView {
         if pts.len() < 2 {
             return;
         }
-        let along = crate::fillet::paths::curve_along(&job.surface, &pts, job.options.direction);
-        if let Ok(poly) = crate::fillet::paths::start_polyline(&job.surface, &pts, along) {
+        let along = crate::fillet::paths::curve_along(&job.finish.surface, &pts, job.finish.options.direction);
+        if let Ok(poly) = crate::fillet::paths::start_polyline(&job.finish.surface, &pts, along) {
             for w in poly.windows(2) {
                 lines.push(
                     LineSegment::new(
-                        o.local(job.surface.point_at(w[0])),
-                        o.local(job.surface.point_at(w[1])),
+                        o.local(job.finish.surface.point_at(w[0])),
+                        o.local(job.finish.surface.point_at(w[1])),
                         2.4,
                         PICK_COLOR,
                     )
@@ -277,7 +277,7 @@ impl FilletView {
             size: rect.size(),
         });
         if let Some((job, _)) = job {
-            let d = job.surface.domain();
+            let d = job.finish.surface.domain();
             let pts = (0..=8).flat_map(|i| {
                 (0..=8).map(move |j| {
                     let u = d.u.min + (d.u.max - d.u.min) * f64::from(i) / 8.0;
@@ -285,7 +285,7 @@ impl FilletView {
                     (u, v)
                 })
             });
-            let pts: Vec<DVec3> = pts.map(|(u, v)| job.surface.point_at(glam::DVec2::new(u, v))).collect();
+            let pts: Vec<DVec3> = pts.map(|(u, v)| job.finish.surface.point_at(glam::DVec2::new(u, v))).collect();
             if let Some((c, r)) = bounds(pts) {
                 self.origin = Origin(c);
                 self.radius = r.max(1.0) as f32;

@@ -10,10 +10,7 @@
 use web_time::{Duration, Instant};
 
 use crate::app::jobs::{Job as BackgroundJob, Poll};
-use crate::fillet::{
-    Edge, FinishOptions, FinishSetup, IsoScallopSteps, Layout, PartSamples, PathSet, PathStart, Stats, Strategy,
-};
-use crate::geom::{Cutter, Surface};
+use crate::fillet::{Edge, FinishJob, IsoScallopSteps, Layout, PartSamples, PathSet, Stats};
 use crate::jobs::fillet_row::{FilletRow, Request as RowRequest};
 use crate::scene::finish::{FINISH_PRESETS, FinishScene, StartSpec};
 
@@ -294,19 +291,10 @@ pub fn table_row(k: usize) -> (StrategyChoice, Layout) {
 pub struct Job {
     /// The settings it was made for.
     pub settings: Settings,
-    /// The surface.
-    pub surface: Surface,
-    /// The cutter.
-    pub cutter: Cutter,
-    /// The core's strategy.
-    pub strategy: Strategy,
-    /// The core's options.
-    pub options: FinishOptions,
-    /// Where the paths start (the scene's `finish.start`, core units).
-    pub start: PathStart,
-    /// The scene's machine (the default table A/C when the preset has none): what the
-    /// simulation's five-axis program runs on.
-    pub machine: crate::fiveaxis::Machine,
+    /// The scene's finishing job (surface, cutter, strategy, options, machine, start; the
+    /// machine the default table A/C when the preset has none: what the simulation's
+    /// five-axis program runs on).
+    pub finish: FinishJob,
     part: PartSamples,
     steps: Option<IsoScallopSteps>,
     /// The finished paths.
@@ -349,12 +337,7 @@ impl Job {
         });
         Ok(Self {
             settings,
-            surface: job.surface,
-            cutter: job.cutter,
-            strategy: job.strategy,
-            options: job.options,
-            start: job.start,
-            machine: job.machine,
+            finish: job,
             part,
             steps: None,
             result: None,
@@ -399,7 +382,7 @@ impl Job {
         if self.result.is_some() || self.error.is_some() {
             1.0
         } else {
-            self.steps.as_ref().map_or(0.0, |s| s.progress(&self.surface))
+            self.steps.as_ref().map_or(0.0, |s| s.progress(&self.finish.surface))
         }
     }
 
@@ -419,14 +402,7 @@ impl Job {
         let start = Instant::now();
         while self.computing_paths() && start.elapsed() < budget {
             let t = Instant::now();
-            let setup = FinishSetup {
-                surface: &self.surface,
-                cutter: &self.cutter,
-                strategy: self.strategy,
-                options: &self.options,
-                part: &self.part,
-                start: &self.start,
-            };
+            let setup = self.finish.setup(&self.part);
             let r = match self.steps.as_mut() {
                 None => IsoScallopSteps::start(&setup).map(|s| {
                     self.steps = Some(s);
@@ -452,7 +428,7 @@ impl Job {
     /// time. The main paths' own row (iso-scallop with the chosen strategy) is their result,
     /// taken when they are done.
     fn advance_table(&mut self) {
-        let feed = self.options.feed_mm_per_min;
+        let feed = self.finish.options.feed_mm_per_min;
         let mut k = 0;
         while k < self.table_jobs.len() {
             let (row, job) = &mut self.table_jobs[k];

@@ -9,7 +9,7 @@
 //! G01 / arcs / NURBS × FANUC / Sinumerik / LinuxCNC), the same through the background job
 //! the app's NURBS & G-code tab downloads its programs from (`jobs::program_row`, encoded and
 //! decoded as the Web Worker does), and the five-axis finishing program
-//! (`fillet::program::FinishGcode`, what `finish --gcode` writes). `tests/hostile_cli.rs`
+//! (`fillet::program::FinishGcode`, what `finish --gcode` writes). `tests/cli/hostile.rs`
 //! drives the command line.
 
 use std::sync::OnceLock;
