@@ -114,6 +114,11 @@ def check(bin_, args, timeout_s, mem_mb):
     return None
 
 
+# Each kind of case and its share of the rolls: huge generated programs, finishing scenes,
+# the other example scenes, small programs.
+KINDS = {"huge": (0.0, 0.05), "finish": (0.05, 0.2), "scene": (0.2, 0.7), "gcode": (0.7, 1.0)}
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--minutes", type=float, default=60)
@@ -121,6 +126,7 @@ def main():
     ap.add_argument("--bin", default=os.path.join(ROOT, "target/release/interpolab"))
     ap.add_argument("--timeout", type=float, default=30, help="seconds of CPU per command")
     ap.add_argument("--mem-mb", type=int, default=2048, help="address-space limit per command")
+    ap.add_argument("--only", choices=sorted(KINDS), help="run one kind of case only (to chase one kind of failure)")
     a = ap.parse_args()
     rng = random.Random(a.seed)
     ex = os.path.join(ROOT, "examples")
@@ -130,8 +136,9 @@ def main():
     out = os.path.join(ROOT, "target/fuzz")
     os.makedirs(out, exist_ok=True)
     end, runs, fails = time.time() + 60 * a.minutes, 0, 0
+    lo, hi = KINDS[a.only] if a.only else (0.0, 1.0)
     while time.time() < end:
-        roll = rng.random()
+        roll = lo + (hi - lo) * rng.random()
         readback = None
         if roll < 0.05:
             # A huge generated program: bounded memory and time, or one line.

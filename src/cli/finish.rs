@@ -80,6 +80,12 @@ pub(crate) struct FinishArgs {
     gcode_tolerance: f64,
 }
 
+/// A count of work units as the table's warning prints it: 3 significant digits, exponent
+/// form.
+fn fmt_units(n: u64) -> String {
+    format!("{:.2e}", n as f64)
+}
+
 pub(super) fn load(path: &Path) -> Result<FinishJob, Fatal> {
     let text = super::read_capped(path, interpolab::numerics::limits::MAX_SCENE_BYTES, "scene")
         .map_err(|e| Fatal(format!("cannot read scene file {}: {e}", path.display())))?;
@@ -232,8 +238,17 @@ pub(super) fn finish(a: &FinishArgs) -> Result<ExitCode, Fatal> {
             job.options.feed_mm_per_min
         );
         text.push_str("| strategy | layout | passes | CC points | length mm | strip min mm | strip mean mm | strip max mm | time min | adjusted |\n|---|---|---|---|---|---|---|---|---|---|\n");
+        let mut left_out = Vec::new();
         for r in &rows {
-            let s = &r.stats;
+            let Ok(s) = &r.plan else {
+                left_out.push(r);
+                text.push_str(&format!(
+                    "| {} | {} | — | — | — | — | — | — | — | left out |\n",
+                    r.strategy.name(),
+                    r.layout.name()
+                ));
+                continue;
+            };
             text.push_str(&format!(
                 "| {} | {} | {} | {} | {:.1} | {:.3} | {:.3} | {:.3} | {:.2} | {} |\n",
                 r.strategy.name(),
@@ -250,7 +265,27 @@ pub(super) fn finish(a: &FinishArgs) -> Result<ExitCode, Fatal> {
         }
         w.write_all(text.as_bytes()).map_err(|e| fatal_io(&e))?;
         w.flush().map_err(|e| fatal_io(&e))?;
-        return Ok(ExitCode::SUCCESS);
+        if left_out.is_empty() {
+            return Ok(ExitCode::SUCCESS);
+        }
+        // The rows built are written; the ones left out are named on one line, as a warning.
+        let names: Vec<String> = left_out
+            .iter()
+            .map(|r| {
+                let (work, share) = r.plan.err().map_or((0, 0), |l| (l.work, l.share));
+                if work == 0 {
+                    format!("{} {} (no budget left)", r.strategy.name(), r.layout.name())
+                } else {
+                    format!("{} {} (past its share, {} units)", r.strategy.name(), r.layout.name(), fmt_units(share))
+                }
+            })
+            .collect();
+        eprintln!(
+            "interpolab: {name}: the table left out {} of its 10 plans, whose work passed their share of its budget: {}; raise the scallop height or use a larger cutter to see them",
+            left_out.len(),
+            names.join(", ")
+        );
+        return Ok(ExitCode::from(1));
     }
     let strategy = strategy_of(a, &job)?;
     let set = paths_for(&job, strategy, a.layout, &part, a.gcode.is_some(), &name)?;

@@ -143,6 +143,17 @@ pub enum FinishError {
         /// The cap on CC points.
         max_nodes: usize,
     },
+    /// A comparison table's plan did more work than its share of the table's budget
+    /// (`FinishOptions::max_work`); the table leaves the plan out and goes on.
+    #[error(
+        "the plan stopped after {work:.2e} units of work, more than its share of the comparison table's budget ({max_work:.2e}); raise the scallop height or use a larger cutter"
+    )]
+    OverShare {
+        /// Work done (bottom-check cells and their equivalents).
+        work: u64,
+        /// The share.
+        max_work: u64,
+    },
     /// The certified gouge checks cost far more than on any usable part
     /// (`paths::MAX_CHECK_CELLS_PER_NODE`, `paths::MAX_CHECK_CELLS`).
     #[error(
@@ -161,16 +172,41 @@ pub struct Comparison {
     pub strategy: Strategy,
     /// The layout.
     pub layout: Layout,
-    /// Its numbers.
-    pub stats: Stats,
+    /// Its numbers, or why the table left the plan out.
+    pub plan: Result<Stats, LeftOut>,
 }
+
+/// A plan the comparison table left out: its work passed its share of the table's budget
+/// (in bottom-check cells and their equivalents, [`PartSamples::work_done`]), or nothing of
+/// the budget was left for it (`work` 0).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LeftOut {
+    /// Work the plan did before it stopped.
+    pub work: u64,
+    /// Its share.
+    pub share: u64,
+}
+
+/// The comparison table's budget of work ([`PartSamples::work_done`]) as a multiple of its
+/// jobs' budget of check cells (`FinishOptions::max_check_cells`): 80 million at the
+/// default, some 15 s of CPU. The example tables do 23–58 million.
+pub const TABLE_WORK_FACTOR: f64 = 1.6;
 
 /// The comparison table of a job: matched, fixed lead 5° and 10°, principal axis and ball
 /// (each in place of `job.strategy`), each with iso-scallop paths from `job.start` and
 /// iso-parametric paths along the same parameter.
 ///
+/// The table is refused before any plan is built when its plans' pilots say they would
+/// pass the budget of check cells. Past that it is built to a budget of work
+/// (`FinishOptions::max_work`, by default [`TABLE_WORK_FACTOR`] times the cells' budget):
+/// each plan may do its share of what the plans before it left, and one that passes its
+/// share is left out ([`LeftOut`]) while the table goes on. A pilot can be far out on a
+/// tightly curved surface (ten times, on a blade with a control point moved onto its nose),
+/// so a table that only refused would be refused after most of its work; this one keeps
+/// the rows it built, and its time is bounded by the budget.
+///
 /// # Errors
-/// The first job that fails.
+/// The first job that fails for another reason than its share, or the table's pilots.
 pub fn compare(job: &FinishSetup) -> Result<Vec<Comparison>, FinishError> {
     let strategies = [
         Strategy::Matched,
@@ -179,10 +215,10 @@ pub fn compare(job: &FinishSetup) -> Result<Vec<Comparison>, FinishError> {
         Strategy::PrincipalAxis,
         Strategy::Ball,
     ];
-    // The table's ten plans share one budget of check cells. Refused before any is built
-    // when the plans together would pass it: each strategy's pilot (as its own job's start
-    // runs it) estimates its iso-scallop plan; its iso-parametric plan, at the same worst
-    // scallop, takes at least as many paths, so twice that is the least the pair costs.
+    // Refused before any plan is built when the plans together would pass the budget of
+    // check cells: each strategy's pilot (as its own job's start runs it) estimates its
+    // iso-scallop plan; its iso-parametric plan, at the same worst scallop, takes at least
+    // as many paths, so twice that is the least the pair costs.
     let (opts, part) = (job.options, job.part);
     let setup = |strategy| FinishSetup { strategy, ..*job };
     let mut each = Vec::with_capacity(strategies.len());
@@ -198,67 +234,46 @@ pub fn compare(job: &FinishSetup) -> Result<Vec<Comparison>, FinishError> {
             ),
         });
     }
-    let mut rows = Vec::new();
-    // Then each plan may spend its share of what the ones before left: SHARE_ROOM times its
-    // estimate's part of the estimates still to come (at most all that is left). A plan
-    // past that has outrun its estimate so far that the projection below would refuse the
-    // table after it on the same ratio; its own checks stop it as soon as the part of the
-    // surface it has covered says so (a few per cent) instead of after it is built. The room
-    // covers that early extrapolation's error (the mould's fixed-lead plan read 2.1 times
-    // its final cost at 6 % of its surface).
+    // Then each plan may do SHARE_ROOM times its estimate's part of the work the plans before
+    // it left of the budget (at most all of it). The room is for the estimates' error: a
+    // plan that keeps to its estimate is never stopped.
     const SHARE_ROOM: f64 = 3.0;
-    let start_cells = part.cells_checked();
+    let budget = opts.max_work.unwrap_or((TABLE_WORK_FACTOR * opts.max_check_cells as f64) as u64);
+    let start_work = part.work_done();
     let estimate_of = |plan: usize| 0.5 * each[plan / 2];
-    let budget_for = |part: &PartSamples, plan: usize| -> FinishOptions {
-        let spent = part.cells_checked().saturating_sub(start_cells);
+    let share_for = |part: &PartSamples, plan: usize| -> u64 {
+        let left = budget.saturating_sub(part.work_done().saturating_sub(start_work));
         let this = estimate_of(plan);
         let rest: f64 = (plan..2 * each.len()).map(estimate_of).sum();
-        let left = paths::check_stop(opts.max_check_cells).saturating_sub(spent) as f64;
         // A plan its pilot could not estimate (no side step solved there: 0) has no share
-        // to keep to: it may spend what is left, as before the shares.
-        let share = if this > 0.0 && rest > 0.0 { (SHARE_ROOM * left * this / rest).min(left) } else { left };
-        // The plan's checks stop at its share (its budget times the stop factor).
-        FinishOptions { max_check_cells: (share / paths::CHECK_STOP_FACTOR) as u64, ..*opts }
+        // to keep to: it may do what is left.
+        if this > 0.0 && rest > 0.0 { ((SHARE_ROOM * left as f64 * this / rest) as u64).min(left) } else { left }
     };
-    // A plan's own refusal names its share of the table's budget.
-    let in_table = |s: Strategy, layout: Layout, e: FinishError| match e {
-        FinishError::TooMuchChecking { detail } => FinishError::TooMuchChecking {
-            detail: format!(
-                "of the table's ten plans would pass {} cells: its {} {} plan {detail} (its share: 3 times its estimate's part of what the plans before it left)",
-                paths::check_stop(opts.max_check_cells),
-                s.name(),
-                layout.name()
-            ),
-        },
-        other => other,
-    };
-    // The pilots' estimates of the plans still to come (each pair: half its estimate a plan),
-    // scaled by how far the plans built so far outran theirs: refused as soon as the whole
-    // table would pass the budget, after every plan.
-    let project = |part: &PartSamples, plans: usize| -> Result<(), FinishError> {
-        let spent = part.cells_checked().saturating_sub(start_cells) as f64;
-        let total: f64 = each.iter().sum();
-        let done: f64 = (0..plans).map(estimate_of).sum();
-        let projected = spent + (total - done) * if done > 0.0 { (spent / done).max(1.0) } else { 1.0 };
-        let stop = paths::check_stop(opts.max_check_cells);
-        if projected > stop as f64 {
-            return Err(FinishError::TooMuchChecking {
-                detail: format!(
-                    "of the table's ten plans would pass {stop} cells: about {projected:.2e} (projected after {plans} of them, which spent {spent:.2e})"
-                ),
-            });
-        }
-        Ok(())
-    };
+    let mut rows = Vec::new();
     for (k, s) in strategies.into_iter().enumerate() {
-        let iso = iso_scallop(&FinishSetup { options: &budget_for(part, 2 * k), ..setup(s) })
-            .map_err(|e| in_table(s, Layout::IsoScallop, e))?;
-        rows.push(Comparison { strategy: s, layout: Layout::IsoScallop, stats: iso.stats(opts.feed_mm_per_min) });
-        project(part, 2 * k + 1)?;
-        let par = iso_parametric(&FinishSetup { options: &budget_for(part, 2 * k + 1), ..setup(s) })
-            .map_err(|e| in_table(s, Layout::IsoParametric, e))?;
-        rows.push(Comparison { strategy: s, layout: Layout::IsoParametric, stats: par.stats(opts.feed_mm_per_min) });
-        project(part, 2 * k + 2)?;
+        for (j, layout) in [Layout::IsoScallop, Layout::IsoParametric].into_iter().enumerate() {
+            let share = share_for(part, 2 * k + j);
+            let plan = if share == 0 {
+                Err(LeftOut { work: 0, share })
+            } else {
+                let options = FinishOptions { max_work: Some(share), ..*opts };
+                let job = FinishSetup { options: &options, ..setup(s) };
+                let built = if layout == Layout::IsoScallop { iso_scallop(&job) } else { iso_parametric(&job) };
+                match built {
+                    Ok(set) => Ok(set.stats(opts.feed_mm_per_min)),
+                    Err(FinishError::OverShare { work, max_work }) => Err(LeftOut { work, share: max_work }),
+                    Err(e) => return Err(e),
+                }
+            };
+            rows.push(Comparison { strategy: s, layout, plan });
+        }
+    }
+    if rows.iter().all(|r| r.plan.is_err()) {
+        return Err(FinishError::TooMuchChecking {
+            detail: format!(
+                "of the table's ten plans each passed its share of the table's budget of {budget:.2e} units of work (estimated before any was built at {estimated:.2e} cells)"
+            ),
+        });
     }
     Ok(rows)
 }

@@ -106,10 +106,17 @@ pub(super) const WIDTH_POINTS: usize = 64;
 
 impl Ctx<'_> {
     /// Counts a checked CC point and stops the job once its checks cost far more than any
-    /// usable part's ([`MAX_CHECK_CELLS_PER_NODE`], [`MAX_CHECK_CELLS`]).
+    /// usable part's ([`MAX_CHECK_CELLS_PER_NODE`], [`MAX_CHECK_CELLS`]), or its work passes
+    /// the share a comparison table gave it (`FinishOptions::max_work`).
     pub(super) fn count_check(&self) -> Result<(), FinishError> {
         let nodes = self.nodes_checked.get() + 1;
         self.nodes_checked.set(nodes);
+        if let Some(max_work) = self.opts.max_work {
+            let work = self.part.work_done().saturating_sub(self.work_at_start);
+            if work > max_work {
+                return Err(FinishError::OverShare { work, max_work });
+            }
+        }
         let cells = self.part.cells_checked().saturating_sub(self.cells_at_start);
         let stop = check_stop(self.opts.max_check_cells);
         if cells > stop {

@@ -163,6 +163,7 @@ pub struct IsoScallopSteps {
     /// The checking work so far (see [`Ctx::count_check`]): the part's cell count when the
     /// job started and the CC points checked.
     cells_at_start: u64,
+    work_at_start: u64,
     nodes_checked: u64,
     paths: Vec<ToolPath>,
     done: bool,
@@ -214,6 +215,7 @@ impl IsoScallopSteps {
             flags: Vec::new(),
             budget,
             cells_at_start: ctx.cells_at_start,
+            work_at_start: ctx.work_at_start,
             nodes_checked: ctx.nodes_checked.get(),
             paths: vec![first],
             done: false,
@@ -257,6 +259,7 @@ impl IsoScallopSteps {
             side,
             toward,
             cells_at_start: self.cells_at_start,
+            work_at_start: self.work_at_start,
             nodes_checked: std::cell::Cell::new(self.nodes_checked),
         };
         let (_, (b0, b1)) = ctx.ranges();

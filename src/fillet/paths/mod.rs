@@ -193,6 +193,14 @@ pub struct FinishOptions {
     /// work (default [`MAX_CHECK_CELLS`]; a comparison table shares it among its plans); the
     /// checks stop at [`check_stop`] of it.
     pub max_check_cells: u64,
+    /// Most work ([`PartSamples::work_done`](crate::fillet::PartSamples::work_done), in
+    /// bottom-check cells and their equivalents): a job stops with
+    /// [`FinishError::OverShare`](crate::fillet::FinishError::OverShare) past it (a
+    /// comparison table gives each plan its share this way), a comparison table shares it
+    /// among its plans. `None` (the default): a job has no cap of its own (its pilot and its
+    /// checks' caps bound it), a table has [`TABLE_WORK_FACTOR`](crate::fillet::TABLE_WORK_FACTOR)
+    /// times `max_check_cells`.
+    pub max_work: Option<u64>,
 }
 
 impl FinishOptions {
@@ -212,6 +220,7 @@ impl FinishOptions {
             max_paths: 2000,
             max_nodes: 400_000,
             max_check_cells: MAX_CHECK_CELLS,
+            max_work: None,
         }
     }
 }
@@ -367,8 +376,10 @@ struct Ctx<'a> {
     side: f64,
     /// +1 while the paths advance toward increasing b, −1 toward decreasing b.
     toward: f64,
-    /// `part.cells_checked()` when the job started, and the CC points checked since.
+    /// `part.cells_checked()` and `part.work_done()` when the job started, and the CC points
+    /// checked since.
     cells_at_start: u64,
+    work_at_start: u64,
     nodes_checked: std::cell::Cell<u64>,
 }
 
@@ -400,6 +411,7 @@ impl<'a> Ctx<'a> {
             side: 1.0,
             toward: 1.0,
             cells_at_start: part.cells_checked(),
+            work_at_start: part.work_done(),
             nodes_checked: std::cell::Cell::new(0),
         })
     }

@@ -59,6 +59,7 @@ impl Ctx<'_> {
                 if st.beyond {
                     return None;
                 }
+                self.part.cusps.add(1);
                 cusp_between(tool, self.surface, nodes, st.node, &next, 2.0 * st.width_mm + tool.radius_mm).map(|c| c.0)
             })
             .collect()
@@ -119,6 +120,7 @@ impl Ctx<'_> {
         let (mut lo, mut hi) = (0.0f64, f64::INFINITY);
         let mut result = Solved { uv: node.frame.uv, beyond: true, width_mm: w, scallop_mm: 0.0 };
         for _ in 0..SIDE_STEP_ROUNDS {
+            self.part.side_trials.add(1);
             let (uv, beyond) = self.walk(&node.frame, w);
             if beyond {
                 return Solved { uv, beyond: true, width_mm: w, scallop_mm: 0.0 };
