@@ -194,10 +194,9 @@ pub struct FinishOptions {
     /// checks stop at [`check_stop`] of it.
     pub max_check_cells: u64,
     /// Most work ([`PartSamples::work_done`](crate::fillet::PartSamples::work_done), in
-    /// bottom-check cells and their equivalents): a job stops with
-    /// [`FinishError::OverShare`](crate::fillet::FinishError::OverShare) past it (a
-    /// comparison table gives each plan its share this way), a comparison table shares it
-    /// among its plans. `None` (the default): a job has no cap of its own (its pilot and its
+    /// bottom-check cells and their equivalents): past it a job stops with
+    /// [`FinishError::OverShare`] (how a comparison table gives each plan its share), and a
+    /// comparison table shares it among its plans. `None` (the default): a job has no cap of its own (its pilot and its
     /// checks' caps bound it), a table has [`TABLE_WORK_FACTOR`](crate::fillet::TABLE_WORK_FACTOR)
     /// times `max_check_cells`.
     pub max_work: Option<u64>,
