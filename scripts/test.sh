@@ -41,7 +41,7 @@ say "app tests, native (headless frames)"
 cargo test --locked --lib --test app_headless
 
 say "core tests compiled to wasm32, run under Node (same sources)"
-# Without debuginfo the test modules stay small and load fast (see docs/toolchain notes).
+# Without debuginfo the test modules stay small and load fast.
 CARGO_PROFILE_DEV_DEBUG=false cargo test --no-default-features --target wasm32-unknown-unknown --tests --locked
 
 say "release web build (trunk)"
