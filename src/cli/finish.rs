@@ -272,16 +272,22 @@ pub(super) fn finish(a: &FinishArgs) -> Result<ExitCode, Fatal> {
         let names: Vec<String> = left_out
             .iter()
             .map(|r| {
-                let (work, share) = r.plan.err().map_or((0, 0), |l| (l.work, l.share));
-                if work == 0 {
+                let Err(l) = r.plan else { return String::new() };
+                if l.work == 0 {
                     format!("{} {} (no budget left)", r.strategy.name(), r.layout.name())
                 } else {
-                    format!("{} {} (past its share, {} units)", r.strategy.name(), r.layout.name(), fmt_units(share))
+                    format!(
+                        "{} {} ({}, after {} units of work)",
+                        r.strategy.name(),
+                        r.layout.name(),
+                        l.cause.describe(),
+                        fmt_units(l.work)
+                    )
                 }
             })
             .collect();
         eprintln!(
-            "interpolab: {name}: the table left out {} of its 10 plans, whose work passed their share of its budget: {}; raise the scallop height or use a larger cutter to see them",
+            "interpolab: {name}: the table left out {} of its 10 plans: {}; raise the scallop height or use a larger cutter to see them",
             left_out.len(),
             names.join(", ")
         );

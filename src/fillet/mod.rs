@@ -146,7 +146,7 @@ pub enum FinishError {
     /// A comparison table's plan did more work than its share of the table's budget
     /// (`FinishOptions::max_work`); the table leaves the plan out and goes on.
     #[error(
-        "the plan stopped after {work:.2e} units of work, more than its share of the comparison table's budget ({max_work:.2e}); raise the scallop height or use a larger cutter"
+        "the plan stopped after {work} units of work, more than its share of the comparison table's budget ({max_work}); raise the scallop height or use a larger cutter"
     )]
     OverShare {
         /// Work done (bottom-check cells and their equivalents).
@@ -176,15 +176,42 @@ pub struct Comparison {
     pub plan: Result<Stats, LeftOut>,
 }
 
-/// A plan the comparison table left out: its work passed its share of the table's budget
-/// (in bottom-check cells and their equivalents, [`PartSamples::work_done`]), or nothing of
-/// the budget was left for it (`work` 0).
+/// A plan the comparison table left out, and the work it did first (in bottom-check cells
+/// and their equivalents, [`PartSamples::work_done`]; 0 when nothing of the budget was left
+/// for it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct LeftOut {
     /// Work the plan did before it stopped.
     pub work: u64,
-    /// Its share.
+    /// Its share of the table's budget.
     pub share: u64,
+    /// Why it stopped.
+    pub cause: LeftOutCause,
+}
+
+/// Why the comparison table left a plan out. Each is a refusal when the plan is a job of its
+/// own; in a table, one plan's size says nothing about the others', so the table goes on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LeftOutCause {
+    /// Its work passed its share ([`FinishError::OverShare`]), or no budget was left.
+    Share,
+    /// Its gouge checks would pass their stop ([`FinishError::TooMuchChecking`]).
+    Checks,
+    /// It needs more paths or CC points than allowed ([`FinishError::Oversized`],
+    /// [`FinishError::TooManyPaths`], [`FinishError::TooManyNodes`]).
+    Size,
+}
+
+impl LeftOutCause {
+    /// The cause as the table's warning names it.
+    #[must_use]
+    pub fn describe(self) -> &'static str {
+        match self {
+            Self::Share => "past its share of the budget",
+            Self::Checks => "its gouge checks would pass their stop",
+            Self::Size => "more paths or CC points than allowed",
+        }
+    }
 }
 
 /// The comparison table's budget of work ([`PartSamples::work_done`]) as a multiple of its
@@ -200,13 +227,15 @@ pub const TABLE_WORK_FACTOR: f64 = 1.6;
 /// pass the budget of check cells. Past that it is built to a budget of work
 /// (`FinishOptions::max_work`, by default [`TABLE_WORK_FACTOR`] times the cells' budget):
 /// each plan may do its share of what the plans before it left, and one that passes its
-/// share is left out ([`LeftOut`]) while the table goes on. A pilot can be far out on a
+/// share is left out ([`LeftOut`]) while the table goes on, as is one whose own caps stop
+/// it (paths, CC points, checks). A pilot can be far out on a
 /// tightly curved surface (ten times, on a blade with a control point moved onto its nose),
 /// so a table that only refused would be refused after most of its work; this one keeps
 /// the rows it built, and its time is bounded by the budget.
 ///
 /// # Errors
-/// The first job that fails for another reason than its share, or the table's pilots.
+/// The table's pilots, a plan that fails for another reason than its size (a bad option,
+/// no path at the start), or no plan built.
 pub fn compare(job: &FinishSetup) -> Result<Vec<Comparison>, FinishError> {
     let strategies = [
         Strategy::Matched,
@@ -254,14 +283,24 @@ pub fn compare(job: &FinishSetup) -> Result<Vec<Comparison>, FinishError> {
         for (j, layout) in [Layout::IsoScallop, Layout::IsoParametric].into_iter().enumerate() {
             let share = share_for(part, 2 * k + j);
             let plan = if share == 0 {
-                Err(LeftOut { work: 0, share })
+                Err(LeftOut { work: 0, share, cause: LeftOutCause::Share })
             } else {
                 let options = FinishOptions { max_work: Some(share), ..*opts };
                 let job = FinishSetup { options: &options, ..setup(s) };
+                let before = part.work_done();
                 let built = if layout == Layout::IsoScallop { iso_scallop(&job) } else { iso_parametric(&job) };
+                let left_out = |cause| Err(LeftOut { work: part.work_done().saturating_sub(before), share, cause });
                 match built {
                     Ok(set) => Ok(set.stats(opts.feed_mm_per_min)),
-                    Err(FinishError::OverShare { work, max_work }) => Err(LeftOut { work, share: max_work }),
+                    Err(FinishError::OverShare { work, max_work }) => {
+                        Err(LeftOut { work, share: max_work, cause: LeftOutCause::Share })
+                    }
+                    Err(FinishError::TooMuchChecking { .. }) => left_out(LeftOutCause::Checks),
+                    Err(
+                        FinishError::Oversized { .. }
+                        | FinishError::TooManyPaths { .. }
+                        | FinishError::TooManyNodes { .. },
+                    ) => left_out(LeftOutCause::Size),
                     Err(e) => return Err(e),
                 }
             };
@@ -271,7 +310,8 @@ pub fn compare(job: &FinishSetup) -> Result<Vec<Comparison>, FinishError> {
     if rows.iter().all(|r| r.plan.is_err()) {
         return Err(FinishError::TooMuchChecking {
             detail: format!(
-                "of the table's ten plans each passed its share of the table's budget of {budget:.2e} units of work (estimated before any was built at {estimated:.2e} cells)"
+                "of the table's ten plans each passed its share of the table's budget of {:.2e} units of work or its own caps (estimated before any was built at {estimated:.2e} cells)",
+                budget as f64
             ),
         });
     }

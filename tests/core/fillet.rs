@@ -1597,6 +1597,8 @@ fn a_table_plan_past_its_share_is_left_out_and_the_table_keeps_to_its_budget() {
     assert!(rows.iter().any(|r| r.plan.is_err()), "no plan left out: {rows:?}");
     for r in &rows {
         if let Err(l) = r.plan {
+            // The patch needs far fewer paths and checks than its caps: only the share stops it.
+            assert_eq!(l.cause, interpolab::fillet::LeftOutCause::Share, "{r:?}");
             assert!(l.work == 0 || l.work > l.share, "{r:?}");
             // One CC point's work past the share at most: its checks' trial poses stop at
             // 160 000 cells (gouge::MAX_ADJUST_CELLS), its side steps and cusps far below.
