@@ -9,7 +9,7 @@
 
 use serde_json::json;
 
-use super::{DecodeError, JobKind, Progress, Reader, nums, parse};
+use super::{DecodeError, JobError, JobKind, Progress, Reader, nums, parse};
 use crate::fillet::{Layout, PartSamples, Stats, iso_parametric, iso_scallop};
 use crate::scene::finish::FinishScene;
 
@@ -39,21 +39,21 @@ fn layout_of(name: &str) -> Result<Layout, DecodeError> {
 impl JobKind for FilletRow {
     const NAME: &'static str = "fillet-row";
     type Request = Request;
-    type Output = Result<Stats, String>;
+    type Output = Result<Stats, JobError>;
     type Partial = ();
 
     fn run(request: &Request, progress: &mut dyn Progress) -> Self::Output {
-        let job = request.scene.job().map_err(|e| e.to_string())?;
+        let job = request.scene.job().map_err(JobError::failed)?;
         let part = PartSamples::new(&job.surface, job.options.part_grid);
         if progress.cancelled() {
-            return Err("cancelled".to_owned());
+            return Err(JobError::Cancelled);
         }
         progress.progress(0.1);
         let paths = match request.layout {
             Layout::IsoScallop => iso_scallop(&job.setup(&part)),
             Layout::IsoParametric => iso_parametric(&job.setup(&part)),
         };
-        paths.map(|p| p.stats(job.options.feed_mm_per_min)).map_err(|e| e.to_string())
+        paths.map(|p| p.stats(job.options.feed_mm_per_min)).map_err(JobError::failed)
     }
 
     fn encode_request(r: &Request) -> String {
@@ -69,7 +69,7 @@ impl JobKind for FilletRow {
 
     fn encode_output(out: &Self::Output) -> String {
         match out {
-            Err(e) => json!({ "error": e }).to_string(),
+            Err(e) => e.encode(),
             Ok(s) => json!({
                 "passes": s.passes,
                 "nodes": s.nodes,
@@ -85,8 +85,8 @@ impl JobKind for FilletRow {
 
     fn decode_output(text: &str) -> Result<Self::Output, DecodeError> {
         let v = parse(text, "fillet-row output")?;
-        if let Some(e) = v.get("error") {
-            return Ok(Err(e.as_str().unwrap_or("the row failed").to_owned()));
+        if let Some(e) = JobError::decode(&v, "fillet-row output")? {
+            return Ok(Err(e));
         }
         let r = Reader::new(&v, "fillet-row output")?;
         let three = |key: &str| -> Result<[f64; 3], DecodeError> {
@@ -200,8 +200,9 @@ mod tests {
             assert_eq!(stats, direct);
             assert!(stats.passes > 1 && stats.strip_mm[0] > 0.0);
         }
-        let err = FilletRow::decode_output(&FilletRow::encode_output(&Err("no paths".into()))).unwrap();
-        assert_eq!(err.unwrap_err(), "no paths");
+        let failed = JobError::Failed("no paths".to_owned());
+        let err = FilletRow::decode_output(&FilletRow::encode_output(&Err(failed.clone()))).unwrap();
+        assert_eq!(err.unwrap_err(), failed);
         let bad =
             FilletRow::decode_request("{\"scene\": \"{}\", \"layout\": \"iso-scallop\"}").unwrap_err().to_string();
         assert!(bad.starts_with("fillet-row request.scene"), "{bad}");

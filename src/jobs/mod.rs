@@ -10,6 +10,9 @@
 //! (`app::jobs`) starts, polls and cancels jobs; this module only defines them and, for the
 //! worker, answers a request by its kind's name ([`run_encoded`]).
 //!
+//! Every kind's output is `Result<_, JobError>`: [`JobError`] tells a cancellation from a
+//! failure, whose message is the kind's own typed error as the user reads it.
+//!
 //! A job may also hand back *partial* outputs while it runs ([`Progress::partial`], e.g. the
 //! stock's heights every so many moves of a cutting simulation), in the same text encoding.
 //!
@@ -61,6 +64,60 @@ pub enum WorkerError {
     Request(#[from] DecodeError),
 }
 
+/// Why a job gives no result: the one error every kind's output carries
+/// (`Result<_, JobError>`). Each kind has its own typed error inside, in the user's terms
+/// ([`program_row::RowError`], [`simulate_run::SimulateError`], …); at the job's edge it is
+/// either a cancellation or a failure with that error's message, because the output crosses
+/// into and out of a Web Worker as text ([`JobError::encode`], [`JobError::decode`]).
+#[derive(Clone, Debug, PartialEq, Eq, Error)]
+pub enum JobError {
+    /// The job was cancelled before it finished ([`Progress::cancelled`]).
+    #[error("cancelled")]
+    Cancelled,
+    /// The job failed: the message shown to the user, as the kind's own error words it.
+    #[error("{0}")]
+    Failed(String),
+}
+
+impl JobError {
+    /// A failure with `error`'s message.
+    pub fn failed(error: impl std::fmt::Display) -> Self {
+        Self::Failed(error.to_string())
+    }
+
+    /// The error as an encoded output: `{"error":"message"}` for a failure,
+    /// `{"cancelled":true}` for a cancellation.
+    #[must_use]
+    pub fn encode(&self) -> String {
+        match self {
+            Self::Cancelled => serde_json::json!({ "cancelled": true }),
+            Self::Failed(message) => serde_json::json!({ "error": message }),
+        }
+        .to_string()
+    }
+
+    /// The error an encoded output `v` of `what` (e.g. `"program-row output"`) carries, if it
+    /// is one ([`JobError::encode`]); `None` for an output that is not an error.
+    ///
+    /// # Errors
+    /// An error field that is not text, or a cancellation that is not `true`.
+    pub fn decode(v: &Value, what: &str) -> Result<Option<Self>, DecodeError> {
+        if let Some(c) = v.get("cancelled") {
+            return match c {
+                Value::Bool(true) => Ok(Some(Self::Cancelled)),
+                _ => Err(format!("{what}.cancelled: not true").into()),
+            };
+        }
+        match v.get("error") {
+            None => Ok(None),
+            Some(e) => e
+                .as_str()
+                .map(|m| Some(Self::Failed(m.to_owned())))
+                .ok_or_else(|| format!("{what}.error: not text").into()),
+        }
+    }
+}
+
 /// What a running job reports besides its output.
 pub trait Progress {
     /// Fraction done, 0 to 1 (for a progress bar).
@@ -77,7 +134,7 @@ pub trait JobKind: 'static {
     const NAME: &'static str;
     /// What the job is given.
     type Request: Send + 'static;
-    /// What it gives back.
+    /// What it gives back (every kind: `Result<_, JobError>`).
     type Output: Send + 'static;
     /// What it may hand back while it runs (`()` for kinds that hand back nothing early).
     type Partial: Send + 'static;
@@ -258,4 +315,42 @@ impl Reader<'_> {
 
 pub(crate) fn parse(text: &str, what: &'static str) -> Result<Value, DecodeError> {
     serde_json::from_str(text).map_err(|e| format!("{what}: not JSON ({e})").into())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn round_trip(e: &JobError) -> Option<JobError> {
+        let text = e.encode();
+        JobError::decode(&parse(&text, "test output").unwrap(), "test output").unwrap()
+    }
+
+    /// A cancellation crosses as a cancellation, never as a failure whose text says so.
+    #[test]
+    fn a_cancellation_round_trips() {
+        assert_eq!(round_trip(&JobError::Cancelled), Some(JobError::Cancelled));
+        assert_eq!(JobError::Cancelled.to_string(), "cancelled");
+    }
+
+    /// A failure crosses with its message byte for byte, even one that reads "cancelled".
+    #[test]
+    fn a_failure_round_trips_with_its_message() {
+        for m in ["the scene: no field \"path\"", "cancelled", "", "tool 3: ∅ \u{1f}\n"] {
+            let e = JobError::Failed(m.to_owned());
+            assert_eq!(round_trip(&e), Some(e.clone()));
+            assert_eq!(e.to_string(), m);
+        }
+    }
+
+    /// An output that is not an error is none; a malformed error names its field.
+    #[test]
+    fn an_output_without_an_error_is_none_and_a_bad_one_is_refused() {
+        let ok = parse(r#"{"passes": 3}"#, "t").unwrap();
+        assert_eq!(JobError::decode(&ok, "t"), Ok(None));
+        let bad = parse(r#"{"error": 3}"#, "t").unwrap();
+        assert_eq!(JobError::decode(&bad, "t").unwrap_err().to_string(), "t.error: not text");
+        let bad = parse(r#"{"cancelled": false}"#, "t").unwrap();
+        assert_eq!(JobError::decode(&bad, "t").unwrap_err().to_string(), "t.cancelled: not true");
+    }
 }

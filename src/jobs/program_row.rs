@@ -13,7 +13,7 @@ use glam::DVec3;
 use serde_json::{Value, json};
 use thiserror::Error;
 
-use super::{DecodeError, JobKind, Progress, Reader, nums, parse, vec3};
+use super::{DecodeError, JobError, JobKind, Progress, Reader, nums, parse, vec3};
 use crate::crease::CreaseJob;
 use crate::gcode::compare::Junctions;
 use crate::gcode::path::Toolpath;
@@ -78,7 +78,7 @@ pub fn cycle_time(toolpath: &Toolpath, machine: &Dynamics) -> Result<CycleTime, 
 }
 
 /// Why one program of the comparison cannot be made, in the app's words (the job's output
-/// hands it over as text: [`ProgramRow`]'s output is `Result<_, String>`).
+/// hands it over as a [`JobError`]: [`ProgramRow`]'s output is `Result<_, JobError>`).
 #[derive(Clone, Debug, Error)]
 pub enum RowError {
     /// The job was cancelled.
@@ -98,6 +98,15 @@ pub enum RowError {
         /// Why.
         source: ProgramError,
     },
+}
+
+impl From<RowError> for JobError {
+    fn from(e: RowError) -> Self {
+        match e {
+            RowError::Cancelled => Self::Cancelled,
+            e => Self::failed(e),
+        }
+    }
 }
 
 /// A row of the comparison with its time on the machine of the request.
@@ -198,11 +207,11 @@ fn run_row(request: &Request, progress: &mut dyn Progress) -> Result<TimedRow, R
 impl JobKind for ProgramRow {
     const NAME: &'static str = "program-row";
     type Request = Request;
-    type Output = Result<TimedRow, String>;
+    type Output = Result<TimedRow, JobError>;
     type Partial = ();
 
     fn run(request: &Request, progress: &mut dyn Progress) -> Self::Output {
-        run_row(request, progress).map_err(|e| e.to_string())
+        run_row(request, progress).map_err(JobError::from)
     }
 
     fn encode_request(r: &Request) -> String {
@@ -269,7 +278,7 @@ impl JobKind for ProgramRow {
 
     fn encode_output(out: &Self::Output) -> String {
         let (row, time) = match out {
-            Err(e) => return json!({ "error": e }).to_string(),
+            Err(e) => return e.encode(),
             Ok(t) => (&t.row, &t.time),
         };
         let time = match time {
@@ -333,8 +342,8 @@ impl JobKind for ProgramRow {
 
     fn decode_output(text: &str) -> Result<Self::Output, DecodeError> {
         let v = parse(text, "program-row output")?;
-        if let Some(e) = v.get("error") {
-            return Ok(Err(e.as_str().unwrap_or("the job failed").to_owned()));
+        if let Some(e) = JobError::decode(&v, "program-row output")? {
+            return Ok(Err(e));
         }
         let r = Reader::new(&v, "program-row output")?;
         let j = Reader::new(r.value("junctions")?, "program-row output.junctions")?;
@@ -529,7 +538,7 @@ mod tests {
         assert_eq!(job.row.program.text, direct.program.text);
         let bad = request(DesignSpec::Parabola, ProgramKind::Lines, Dialect::Fanuc, 0.0015);
         let err = ProgramRow::run(&bad, &mut NoProgress).unwrap_err();
-        assert!(err.contains("below twice the resolution"), "{err}");
+        assert!(matches!(&err, JobError::Failed(m) if m.contains("below twice the resolution")), "{err}");
         let out = ProgramRow::decode_output(&ProgramRow::encode_output(&Err(err.clone()))).unwrap();
         assert_eq!(out.unwrap_err(), err);
         let broken = ProgramRow::decode_request("{\"scene\": null}").unwrap_err().to_string();
@@ -555,6 +564,7 @@ mod tests {
         let e = out.time.unwrap().unwrap_err();
         assert!(e.contains("cannot be timed on hobby-router") && e.contains("acceleration"), "{e}");
         let scene = request(DesignSpec::Scene("{}".into()), ProgramKind::Lines, Dialect::Fanuc, 0.01);
-        assert!(ProgramRow::run(&scene, &mut NoProgress).unwrap_err().starts_with("the scene"));
+        let err = ProgramRow::run(&scene, &mut NoProgress).unwrap_err();
+        assert!(matches!(&err, JobError::Failed(m) if m.starts_with("the scene")), "{err}");
     }
 }

@@ -8,7 +8,7 @@ use serde_json::json;
 use thiserror::Error;
 
 use super::user_program::{self, UserProgram, UserProgramError};
-use super::{DecodeError, JobKind, Progress, Reader, f32s_packed, parse};
+use super::{DecodeError, JobError, JobKind, Progress, Reader, f32s_packed, parse};
 use crate::gcode::interp::tools::TableUnits;
 use crate::gcode::interp::{InterpError, Interpreter, Options, TextLibrary, TextSource};
 use crate::plan::{Dynamics, PlanError, Stopped, Timing, time_read};
@@ -90,8 +90,8 @@ pub fn feeds_by_block(lines: &[u32], files: &[u16], t: &Timed) -> Vec<f32> {
 #[derive(Clone, Copy, Debug)]
 pub struct ProgramTime;
 
-/// Why a program cannot be timed, in the app's words (the job's output hands it over as text:
-/// [`ProgramTime`]'s output is `Result<_, String>`).
+/// Why a program cannot be timed, in the app's words (the job's output hands it over as a
+/// [`JobError`]: [`ProgramTime`]'s output is `Result<_, JobError>`).
 #[derive(Clone, Debug, Error)]
 pub enum TimeError {
     /// The job was cancelled.
@@ -116,6 +116,16 @@ pub enum TimeError {
         /// Why.
         error: PlanError,
     },
+}
+
+impl From<TimeError> for JobError {
+    fn from(e: TimeError) -> Self {
+        match e {
+            TimeError::Cancelled => Self::Cancelled,
+            TimeError::Tools(e) => e.into(),
+            e => Self::failed(e),
+        }
+    }
 }
 
 /// Reads the program into canonical motions and plans it on the machine.
@@ -204,11 +214,11 @@ pub fn timed(t: &Timing) -> Timed {
 impl JobKind for ProgramTime {
     const NAME: &'static str = "program-time";
     type Request = Request;
-    type Output = Result<Timed, String>;
+    type Output = Result<Timed, JobError>;
     type Partial = ();
 
     fn run(req: &Request, progress: &mut dyn Progress) -> Self::Output {
-        time(req, progress).map(|t| timed(&t)).map_err(|e| e.to_string())
+        time(req, progress).map(|t| timed(&t)).map_err(JobError::from)
     }
 
     /// The machine as one line of JSON, then the program's request as the user-program job
@@ -226,7 +236,7 @@ impl JobKind for ProgramTime {
 
     fn encode_output(out: &Self::Output) -> String {
         match out {
-            Err(e) => json!({ "error": e }).to_string(),
+            Err(e) => e.encode(),
             Ok(t) => json!({
                 "machine": t.machine,
                 "tolerance_mm": super::num(t.tolerance_mm),
@@ -251,8 +261,8 @@ impl JobKind for ProgramTime {
     fn decode_output(text: &str) -> Result<Self::Output, DecodeError> {
         const W: &str = "program-time output";
         let v = parse(text, W)?;
-        if let Some(e) = v.get("error") {
-            return Ok(Err(e.as_str().ok_or(format!("{W}.error: not text"))?.to_owned()));
+        if let Some(e) = JobError::decode(&v, W)? {
+            return Ok(Err(e));
         }
         let r = Reader::new(&v, W)?;
         let n = r.usize("samples")?;
@@ -356,7 +366,7 @@ mod tests {
         let mut bad = request("vmc");
         bad.program.text = "G21 G90\nG1 X10\n".to_owned();
         let e = ProgramTime::run(&bad, &mut NoProgress).unwrap_err();
-        assert!(e.contains("line 2"), "{e}");
+        assert!(matches!(&e, JobError::Failed(m) if m.contains("line 2")), "{e}");
     }
 
     /// A subroutine file's blocks are matched to their planned blocks by line and file, as

@@ -11,7 +11,7 @@ use serde_json::{Value, json};
 use thiserror::Error;
 
 use super::simulate_run::codec::{counters_of, counters_value, grid_of, grid_value};
-use super::{DecodeError, JobKind, Progress, Reader, f32s_packed, f64s_packed, parse};
+use super::{DecodeError, JobError, JobKind, Progress, Reader, f32s_packed, f64s_packed, parse};
 use crate::gcode::interp::tools::{TableUnits, ToolError, ToolTable, parse_tool_spec};
 use crate::gcode::interp::{Interpreter, NoLibrary, Options, TextLibrary, TextSource};
 use crate::geom::Cutter;
@@ -209,7 +209,7 @@ pub type Partial = Box<SummaryPiece>;
 pub struct UserProgram;
 
 /// Why a user's program cannot be read or machined, in the app's words (the job's output hands
-/// it over as text: [`UserProgram`]'s output is `Result<_, String>`).
+/// it over as a [`JobError`]: [`UserProgram`]'s output is `Result<_, JobError>`).
 #[derive(Clone, Debug, Error)]
 pub enum UserProgramError {
     /// The job was cancelled.
@@ -261,6 +261,15 @@ pub enum UserProgramError {
     /// The simulation's own refusal: the stock, the program or the work bound.
     #[error(transparent)]
     Sim(SimError),
+}
+
+impl From<UserProgramError> for JobError {
+    fn from(e: UserProgramError) -> Self {
+        match e {
+            UserProgramError::Cancelled => Self::Cancelled,
+            e => Self::failed(e),
+        }
+    }
 }
 
 /// The tools of a request: the project's, then the table's (a number in both: the table's),
@@ -788,11 +797,11 @@ fn kinematics_index(k: KinematicsChoice) -> u64 {
 impl JobKind for UserProgram {
     const NAME: &'static str = "user-program";
     type Request = Request;
-    type Output = Result<Option<Finished>, String>;
+    type Output = Result<Option<Finished>, JobError>;
     type Partial = Partial;
 
     fn run(req: &Request, progress: &mut dyn Progress) -> Self::Output {
-        run(req, progress).map_err(|e| e.to_string())
+        run(req, progress).map_err(JobError::from)
     }
 
     /// The request's fields as one line of JSON, then the program's text as it is: a big
@@ -877,7 +886,7 @@ impl JobKind for UserProgram {
 
     fn encode_output(out: &Self::Output) -> String {
         match out {
-            Err(e) => json!({ "error": e }),
+            Err(e) => return e.encode(),
             Ok(None) => json!({ "read": true }),
             Ok(Some(f)) => json!({
                 "counters": counters_value(&f.counters),
@@ -898,8 +907,8 @@ impl JobKind for UserProgram {
     fn decode_output(text: &str) -> Result<Self::Output, DecodeError> {
         const W: &str = "user-program output";
         let v = parse(text, W)?;
-        if let Some(e) = v.get("error") {
-            return Ok(Err(e.as_str().unwrap_or("the run failed").to_owned()));
+        if let Some(e) = JobError::decode(&v, W)? {
+            return Ok(Err(e));
         }
         if v.get("read").is_some() {
             return Ok(Ok(None));

@@ -494,7 +494,7 @@ impl FilletPanel {
                         ui.label(format!("{:.2}", s.time_min));
                     }
                     Err(e) => {
-                        ui.label(e);
+                        ui.label(e.to_string());
                         for _ in 0..5 {
                             ui.label("");
                         }
@@ -641,7 +641,9 @@ impl Panel for FilletPanel {
                     "strategy": r.strategy.key(), "layout": r.layout.name(), "passes": s.passes,
                     "length_mm": s.length_mm, "strip_mm": s.strip_mm, "time_min": s.time_min,
                 }),
-                Err(e) => serde_json::json!({"strategy": r.strategy.key(), "layout": r.layout.name(), "error": e}),
+                Err(e) => {
+                    serde_json::json!({"strategy": r.strategy.key(), "layout": r.layout.name(), "error": e.to_string()})
+                }
             })
             .collect();
         v

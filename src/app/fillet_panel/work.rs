@@ -11,6 +11,7 @@ use web_time::{Duration, Instant};
 
 use crate::app::jobs::{Job as BackgroundJob, Poll};
 use crate::fillet::{Edge, FinishJob, IsoScallopSteps, Layout, PartSamples, PathSet, Stats};
+use crate::jobs::JobError;
 use crate::jobs::fillet_row::{FilletRow, Request as RowRequest};
 use crate::scene::finish::{FINISH_PRESETS, FinishScene, StartSpec};
 
@@ -273,7 +274,7 @@ pub struct Row {
     /// Layout.
     pub layout: Layout,
     /// Numbers or the core's message.
-    pub stats: Result<Stats, String>,
+    pub stats: Result<Stats, JobError>,
     /// Wall time of this row (ms): from its job's start to its output (in a browser the
     /// worker's start included), or the main paths' core time for the row they are.
     pub ms: f64,
@@ -463,7 +464,7 @@ impl Job {
             let settings = Settings { strategy, ..self.settings };
             match settings.scene() {
                 Ok(scene) => self.table_jobs.push((k, BackgroundJob::start(RowRequest { scene, layout }))),
-                Err(e) => self.table[k] = Some(Row { strategy, layout, stats: Err(e), ms: 0.0 }),
+                Err(e) => self.table[k] = Some(Row { strategy, layout, stats: Err(JobError::Failed(e)), ms: 0.0 }),
             }
         }
     }

@@ -23,6 +23,7 @@ use crate::gcode::{
     ExtraColumns, ParsedProgram, ProgramKind, ProgramOptions, ProgrammedPoint, deviation,
 };
 use crate::geom::Curve3;
+use crate::jobs::JobError;
 use crate::jobs::program_row::{CycleTime, DesignSpec, ProgramRow, Request, TimedRow, timed_row};
 use crate::numerics::measure::{ArcLengthTable, Translated};
 use crate::nurbs_path::{FeedStats, Parabola, RealtimeRun, RealtimeStepper, Update};
@@ -536,8 +537,9 @@ impl Work {
                     _ => continue,
                 }
             } else {
-                timed_row(kind, &design.curve, w.program.tol_mm, &opts, w.machine.as_ref()).map_err(|e| e.to_string())
-            };
+                timed_row(kind, &design.curve, w.program.tol_mm, &opts, w.machine.as_ref()).map_err(JobError::from)
+            }
+            .map_err(|e| e.to_string());
             if kind == ProgramKind::Nurbs && value.is_err() {
                 // Nothing to run: drop the last curve's run rather than show it as current.
                 self.realtime.clear();

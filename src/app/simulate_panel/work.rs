@@ -21,6 +21,7 @@ use crate::app::jobs::{Job as BackgroundJob, Poll};
 use crate::app::panel::{FILLET_TITLE, FinishHandoff};
 use crate::gcode::ProgramKind;
 use crate::geom::Cutter;
+use crate::jobs::JobError;
 use crate::jobs::simulate_run::SimulateRun;
 use crate::jobs::simulate_run::output::{Keyframe, Partial};
 use crate::jobs::simulate_run::program::ends;
@@ -633,8 +634,12 @@ impl Job {
         }
         match polled {
             Poll::Running(f) => self.fraction = f.unwrap_or(self.fraction),
-            Poll::Done(Err(e)) => {
-                self.error = Some(e);
+            Poll::Done(Err(JobError::Cancelled)) => {
+                self.cancelled = true;
+                self.run = None;
+            }
+            Poll::Done(Err(JobError::Failed(message))) => {
+                self.error = Some(message);
                 self.run = None;
             }
             Poll::Done(Ok(f)) => {

@@ -21,6 +21,7 @@ use super::jobs::{Job, Poll};
 use super::panel::{Panel, PanelContext};
 use super::platform::FileKind;
 use crate::geom::Cutter;
+use crate::jobs::JobError;
 use crate::jobs::user_program::{CrashRow, Finished, ReadSummary, Request, UserProgram};
 use crate::simulate::CrashKind;
 use crate::simulate::canon::{KinematicsChoice, MachineSetup};
@@ -269,7 +270,7 @@ impl UserProgramPanel {
                         self.selected_crash = None;
                     }
                     Ok(None) => {}
-                    Err(e) => self.error = Some(e),
+                    Err(e) => self.error = Some(e.to_string()),
                 }
                 self.view.invalidate();
             }
@@ -810,7 +811,7 @@ impl Panel for UserProgramPanel {
                         if let Some(run) = self.run.as_mut() {
                             run.job = None;
                         }
-                        self.error = Some("cancelled".to_owned());
+                        self.error = Some(JobError::Cancelled.to_string());
                     }
                     let f = self.run.as_ref().map_or(0.0, |r| r.progress) as f32;
                     ui.add(egui::ProgressBar::new(f).show_percentage().desired_width(140.0));

@@ -9,6 +9,7 @@ use eframe::egui;
 use egui_plot::{Line, Plot, PlotPoints};
 
 use crate::app::jobs::{Job, Poll};
+use crate::jobs::JobError;
 use crate::jobs::program_time::{ProgramTime, Request, Timed};
 use crate::jobs::user_program;
 use crate::plan::machine::MAX_TOLERANCE_MM;
@@ -39,7 +40,7 @@ pub struct Timing {
     /// The plan under way and what it is for (the program's reading, the machine).
     job: Option<(Key, Job<ProgramTime>)>,
     /// The last plan and what it was for.
-    done: Option<(Key, Result<Timed, String>)>,
+    done: Option<(Key, Result<Timed, JobError>)>,
     /// Index in [`PLOTS`].
     plot: usize,
     /// Planning was asked for (the button, or a setting changed after a plan).
@@ -244,7 +245,7 @@ impl Timing {
         }
         match self.done.as_ref().map(|d| &d.1) {
             None => {}
-            Some(Err(e)) => super::super::widgets::error_text(ui, e.clone()),
+            Some(Err(e)) => super::super::widgets::error_text(ui, e.to_string()),
             Some(Ok(t)) => {
                 let t = t.clone();
                 self.show(ui, &t, programmed_min);
@@ -299,7 +300,7 @@ impl Timing {
             })),
             "for_x_velocity_mm_min": self.done.as_ref().map(|d| d.0.1.axes[0].velocity),
             "running": self.running(),
-            "error": self.done.as_ref().and_then(|d| d.1.as_ref().err().cloned()),
+            "error": self.done.as_ref().and_then(|d| d.1.as_ref().err().map(ToString::to_string)),
             "total_s": self.done.as_ref().and_then(|d| d.1.as_ref().ok().map(|t| t.total_s)),
             "feed_s": self.done.as_ref().and_then(|d| d.1.as_ref().ok().map(|t| t.feed_s)),
             "rapid_s": self.done.as_ref().and_then(|d| d.1.as_ref().ok().map(|t| t.rapid_s)),

@@ -11,7 +11,7 @@ use crate::fillet::contact::{ContactFrame, Form2, Pose};
 use crate::fiveaxis::{Joints, Machine, MachineKind};
 use crate::gcode::ProgramKind;
 use crate::geom::Cutter;
-use crate::jobs::{DecodeError, Reader, bits_packed, f32s_packed, f64s_packed, num, nums, parse};
+use crate::jobs::{DecodeError, JobError, Reader, bits_packed, f32s_packed, f64s_packed, num, nums, parse};
 use crate::simulate::bench::BenchKind;
 use crate::simulate::measure::Summary;
 use crate::simulate::stock::Grid;
@@ -133,9 +133,9 @@ pub fn decode_request(text: &str) -> Result<Request, DecodeError> {
 
 /// A run's output as text ([`decode_output`] reads it).
 #[must_use]
-pub fn encode_output(out: &Result<Finished, String>) -> String {
+pub fn encode_output(out: &Result<Finished, JobError>) -> String {
     let f = match out {
-        Err(e) => return json!({ "error": e }).to_string(),
+        Err(e) => return e.encode(),
         Ok(f) => f,
     };
     let s = &f.stats;
@@ -180,11 +180,11 @@ pub fn encode_output(out: &Result<Finished, String>) -> String {
 ///
 /// # Errors
 /// What in the text is not an output.
-pub fn decode_output(text: &str) -> Result<Result<Finished, String>, DecodeError> {
+pub fn decode_output(text: &str) -> Result<Result<Finished, JobError>, DecodeError> {
     const W: &str = "simulate-run output";
     let v = parse(text, W)?;
-    if let Some(e) = v.get("error") {
-        return Ok(Err(e.as_str().unwrap_or("the simulation failed").to_owned()));
+    if let Some(e) = JobError::decode(&v, W)? {
+        return Ok(Err(e));
     }
     let r = Reader::new(&v, W)?;
     let m = Reader::new(r.value("map")?, "simulate-run output.map")?;

@@ -1,11 +1,13 @@
 //! Why a run of the simulation job stops: one variant a cause, each message the text the page
-//! shows (the job hands it over as text: [`super::SimulateRun`]'s output is `Result<_, String>`).
+//! shows (the job hands it over as a [`JobError`]: [`super::SimulateRun`]'s output is
+//! `Result<_, JobError>`).
 
 use thiserror::Error;
 
 use super::request::MAX_RAYS;
 use crate::fiveaxis::FiveAxisError;
 use crate::gcode::{DesignError, ParseError, ProgramError};
+use crate::jobs::JobError;
 use crate::scene::SceneError;
 use crate::simulate::SimError;
 
@@ -70,4 +72,13 @@ pub enum SimulateError {
     /// The simulation's own refusal: the program, the stock or the work bound.
     #[error(transparent)]
     Sim(#[from] SimError),
+}
+
+impl From<SimulateError> for JobError {
+    fn from(e: SimulateError) -> Self {
+        match e {
+            SimulateError::Cancelled => Self::Cancelled,
+            e => Self::failed(e),
+        }
+    }
 }

@@ -28,7 +28,7 @@
 //! (all of it as text), [`error`] (why a run stops), and the job's progress reports
 //! (`progress.rs`).
 
-use super::{DecodeError, JobKind, Progress};
+use super::{DecodeError, JobError, JobKind, Progress};
 use output::{Finished, Partial};
 use request::Request;
 
@@ -48,11 +48,11 @@ pub struct SimulateRun;
 impl JobKind for SimulateRun {
     const NAME: &'static str = "simulate-run";
     type Request = Request;
-    type Output = Result<Finished, String>;
+    type Output = Result<Finished, JobError>;
     type Partial = Partial;
 
     fn run(req: &Request, progress: &mut dyn Progress) -> Self::Output {
-        run::run_in_session(req, progress, &session::SESSION).map_err(|e| e.to_string())
+        run::run_in_session(req, progress, &session::SESSION).map_err(JobError::from)
     }
 
     fn encode_request(r: &Request) -> String {

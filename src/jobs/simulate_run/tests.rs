@@ -239,15 +239,15 @@ fn a_benchmark_run_machines_the_core_benchmark_program() {
 #[test]
 fn cancelled_and_bad_runs_say_so() {
     let mut c = Collect { cancel_after: Some(5), ..Collect::default() };
-    assert_eq!(SimulateRun::run(&grooves(None, 0), &mut c).unwrap_err(), "cancelled");
+    assert_eq!(SimulateRun::run(&grooves(None, 0), &mut c).unwrap_err(), JobError::Cancelled);
     assert!(c.checks.get() == 6, "stopped at the first look after the flag: {}", c.checks.get());
     let bad =
         Request { source: ProgramSource::Text { name: "bad.nc".into(), text: "G01 X#1\n".into() }, ..grooves(None, 0) };
     let e = SimulateRun::run(&bad, &mut NoProgress).unwrap_err();
-    assert!(e.starts_with("bad.nc is not a program"), "{e}");
+    assert!(matches!(&e, JobError::Failed(m) if m.starts_with("bad.nc is not a program")), "{e}");
     let fine = Request { pitch_mm: Some(0.001), ..grooves(None, 0) };
     let e = SimulateRun::run(&fine, &mut NoProgress).unwrap_err();
-    assert!(e.contains("raise the pitch"), "{e}");
+    assert!(matches!(&e, JobError::Failed(m) if m.contains("raise the pitch")), "{e}");
     let e = SimulateRun::decode_request("{\"source\": {}}").unwrap_err().to_string();
     assert!(e.contains("simulate-run request"), "{e}");
     let e = SimulateRun::decode_partial("{\"keyframe\": {\"moves\": 1}}").unwrap_err().to_string();
@@ -398,7 +398,7 @@ fn a_finishing_program_is_planned_in_the_job_as_on_the_page() {
         ..req
     };
     let e = SimulateRun::run(&bad, &mut NoProgress).unwrap_err();
-    assert!(e.contains("step tolerance"), "{e}");
+    assert!(matches!(&e, JobError::Failed(m) if m.contains("step tolerance")), "{e}");
 }
 
 /// The stock intervals of two simulations, every ray, by their bits.
