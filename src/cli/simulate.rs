@@ -428,7 +428,15 @@ fn finish(
         write(out, heights_csv(&map, has_design.then_some(&stats)).as_bytes())?;
     }
     if let Some(png) = &a.png {
-        write(png, &png_rgb(&map, has_design.then_some(&stats), sim.stock().z_range_mm(), a.band_um * 1e-3))?;
+        write(
+            png,
+            &png_rgb(
+                &map,
+                has_design.then_some(&stats),
+                sim.stock().z_range_mm(),
+                a.band_um * interpolab::numerics::units::MM_PER_UM,
+            ),
+        )?;
     }
     let c = sim.counters();
     let crashes = super::crash_report(sim.crashes(), a.crashes.as_deref(), !cutter.body_given, |_| None)?;

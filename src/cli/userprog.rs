@@ -438,7 +438,15 @@ pub(crate) fn simulate(r: &SimulateRequest<'_>) -> Result<ExitCode, Fatal> {
         write(out, heights_csv(&map, has_design.then_some(&stats)).as_bytes())?;
     }
     if let Some(png) = r.png {
-        write(png, &png_rgb(&map, has_design.then_some(&stats), sim.stock().z_range_mm(), r.band_um * 1e-3))?;
+        write(
+            png,
+            &png_rgb(
+                &map,
+                has_design.then_some(&stats),
+                sim.stock().z_range_mm(),
+                r.band_um * interpolab::numerics::units::MM_PER_UM,
+            ),
+        )?;
     }
     if let (Some(path), Some(slots)) = (r.tool_map, sim.tool_map()) {
         write(path, &tool_map_bytes(path, &map, slots, &p))?;

@@ -165,6 +165,11 @@ pub fn surface_depth_near(cutter: &Cutter, surface: &Surface, tip: DVec3, axis: 
 /// under a micrometre across a millimetre-wide strip.
 const CUSP_ROUNDS: usize = 30;
 
+/// The cusp's root search stops when its bracket spans less than this in (u, v) (parameter
+/// units) or the two paths leave heights differing by less than this (mm): far below any
+/// scallop worth measuring.
+const CUSP_DONE: f64 = 1e-9;
+
 /// A path's CC polyline prepared for nearest-point queries ([`cusp_between`]): its segments
 /// (those between two CC points; lead-in and lead-out left out) in runs of about √n, each
 /// run bounded by a sphere, so a query tests the spheres and then the segments of the runs
@@ -181,6 +186,12 @@ pub struct NearPath<'a> {
 
 /// Fewest segments in a [`NearPath`] run.
 const MIN_RUN: usize = 16;
+
+/// A run's bounding sphere is widened by this fraction of its radius …
+const RUN_WIDEN_REL: f64 = 1e-9;
+/// … and this length (mm), so rounding never drops a run holding a point at exactly the
+/// best distance found.
+const RUN_WIDEN_MM: f64 = 1e-12;
 
 impl<'a> NearPath<'a> {
     /// Prepares `nodes` (work and memory linear in their count).
@@ -205,7 +216,7 @@ impl<'a> NearPath<'a> {
                 let centre = 0.5 * (lo + hi);
                 // Widened by a part in 10⁹ so that rounding never drops a run holding a
                 // point at exactly the best distance found (the scan's tie rule needs it).
-                let radius = 0.5 * (hi - lo).length() * (1.0 + 1e-9) + 1e-12;
+                let radius = 0.5 * (hi - lo).length() * (1.0 + RUN_WIDEN_REL) + RUN_WIDEN_MM;
                 runs.push((k0, k1, centre, radius));
             }
             k0 = k1;
@@ -309,7 +320,7 @@ pub fn cusp_between(
             }
             side = 1;
         }
-        if (s1 - s0) * (uv_b - uv_a).length() < 1e-9 || g.abs() < 1e-9 {
+        if (s1 - s0) * (uv_b - uv_a).length() < CUSP_DONE || g.abs() < CUSP_DONE {
             break;
         }
     }

@@ -128,6 +128,12 @@ struct Grid {
 /// Program samples past which coincident ones are merged ([`deviation`]).
 const DEDUPE_AFTER: usize = 65_536;
 
+/// Past [`DEDUPE_AFTER`] samples, samples in the same cell of this fraction of the sample
+/// spacing are one position …
+const DEDUPE_CELL_REL: f64 = 1e-3;
+/// … the cell at least this wide (mm).
+const DEDUPE_CELL_MIN_MM: f64 = 1e-9;
+
 /// Cells per block of the whole-cloud scan ([`Grid::within`]).
 const BOX_GROUP: usize = 32;
 
@@ -474,7 +480,7 @@ pub fn deviation(path: &Toolpath, design: &dyn Curve3, opts: &DeviationOptions) 
     // on the same points, which every search near them would scan: past DEDUPE_AFTER samples
     // one is kept per position (to a thousandth of the spacing). Smaller clouds stay whole.
     if samples.len() > DEDUPE_AFTER {
-        let q = (spacing * 1e-3).max(1e-9);
+        let q = (spacing * DEDUPE_CELL_REL).max(DEDUPE_CELL_MIN_MM);
         let mut seen = std::collections::HashSet::with_capacity(samples.len());
         samples.retain(|(_, _, p)| {
             let k = (*p / q).round();

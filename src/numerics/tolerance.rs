@@ -97,6 +97,11 @@ pub const STEP_PARAM_REL: f64 = 1e-13;
 /// pass it, so the plan stops there instead of creeping on by rounding steps.
 pub const STEP_STALL_REL: f64 = 1e-9;
 
+/// A one-dimensional Newton iteration (on a curve's parameter, on a phase's time) stops when
+/// its step is below this times (1 + |x|), x the iterate: a few units in the last place of x,
+/// below which the steps are rounding noise.
+pub const NEWTON_STEP_REL: f64 = 1e-15;
+
 // --- NURBS paths and G-code (seed 004) ---
 
 /// Default machine resolution of G-code output (mm): the least input increment of IS-B, to

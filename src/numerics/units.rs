@@ -21,6 +21,10 @@ pub const MS_PER_S: f64 = 1000.0;
 /// Seconds in a minute.
 pub const S_PER_MIN: f64 = 60.0;
 
+/// Millimetres in a micrometre: a deviation band given in µm (command line, UI) times this is
+/// mm.
+pub const MM_PER_UM: f64 = 1e-3;
+
 /// Distance travelled in one interpolation period (mm) at feed `feed_mm_per_min` (mm/min)
 /// and period `period_ms` (ms): f = F·Ts / 60 000.
 #[must_use]

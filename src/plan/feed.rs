@@ -31,8 +31,16 @@
 use std::borrow::Cow;
 
 use super::machine::JointLimits;
-use super::path::{Bounds, Path, Piece, Shape, lower, piece_bounds, upper};
+use super::path::{Bounds, MIN_MOVE, Path, Piece, Shape, lower, piece_bounds, upper};
 use super::scurve::{self, Phase};
+use crate::numerics::tolerance::ROUNDING_REL;
+
+/// Relative slack of the comparisons that decide whether a piece's speed can rise to a peak
+/// and fall again within it (lengths against the piece's length, peak against end speeds):
+/// absorbs the rounding of quantities formed differently.
+const PEAK_SLACK_REL: f64 = 1e-12;
+/// Floor added to the speed term of a trend's tolerance, so two zero speeds compare flat.
+const TREND_FLOOR: f64 = 1e-12;
 
 /// A phase of the plan placed in time and along the path.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -442,9 +450,9 @@ fn guide(path: &Path, pieces: &[Piece], lims: &[PieceLimits], hs: &[f64], x: &[f
             let d2 = upper(0.0, (xp - x1) / (2.0 * l.a));
             // A rise to the peak that ends inside the piece, and a fall from it that starts
             // inside; the plateau between them is the straight stretch at x_p.
-            if d1 + d2 <= h * (1.0 + 1e-12) {
-                let rise = xp > x0 * (1.0 + 1e-12) && d1 < h;
-                let fall = xp > x1 * (1.0 + 1e-12) && d2 < h;
+            if d1 + d2 <= h * (1.0 + PEAK_SLACK_REL) {
+                let rise = xp > x0 * (1.0 + PEAK_SLACK_REL) && d1 < h;
+                let fall = xp > x1 * (1.0 + PEAK_SLACK_REL) && d2 < h;
                 if rise && d1 > 0.0 {
                     out.push(Pt { s: s0 + d1, x: xp, piece: k });
                 }
@@ -496,7 +504,7 @@ fn insert_dwells(path: &Path, out: &mut FeedPlan) {
     let mut shift = 0.0;
     let mut next = 0;
     for p in out.phases.drain(..) {
-        while next < dwells.len() && p.s0 >= dwells[next].0 - 1e-9 && p.v0 == 0.0 {
+        while next < dwells.len() && p.s0 >= dwells[next].0 - MIN_MOVE && p.v0 == 0.0 {
             let (s, d) = dwells[next];
             phases.push(TimedPhase {
                 t0: p.t0 + shift,
@@ -533,7 +541,7 @@ fn scurves(path: &Path, pieces: &[Piece], lims: &[PieceLimits], g: &[Pt], stop: 
     }
     let trend = |i: usize| {
         let d = g[i + 1].x - g[i].x;
-        let tol = 1e-9 * (g[i + 1].x.max(g[i].x) + 1e-12);
+        let tol = ROUNDING_REL * (g[i + 1].x.max(g[i].x) + TREND_FLOOR);
         if g[i + 1].s <= g[i].s {
             None
         } else if d > tol {

@@ -167,7 +167,9 @@ fn time_in(p: &feed::TimedPhase, s: f64) -> f64 {
         }
         let next = if vt > 0.0 { t - (st - s) / vt } else { f64::NAN };
         let next = if next > lo && next < hi { next } else { 0.5 * (lo + hi) };
-        if (next - t).abs() <= 1e-15 * (1.0 + t.abs()) || hi - lo <= 1e-15 * (1.0 + t.abs()) {
+        if (next - t).abs() <= crate::numerics::tolerance::NEWTON_STEP_REL * (1.0 + t.abs())
+            || hi - lo <= crate::numerics::tolerance::NEWTON_STEP_REL * (1.0 + t.abs())
+        {
             return next;
         }
         t = next;
@@ -210,7 +212,9 @@ pub fn canon_of_toolpath(tp: &Toolpath) -> Vec<Canon> {
     for b in &tp.blocks {
         let loc = Loc::main(u32::try_from(b.line).unwrap_or(u32::MAX));
         let start = b.segment.start();
-        if pos.is_some_and(|p: glam::DVec3| (p - start).length() > 1e-9) || (pos.is_none() && start.length() > 0.0) {
+        if pos.is_some_and(|p: glam::DVec3| (p - start).length() > path::MIN_MOVE)
+            || (pos.is_none() && start.length() > 0.0)
+        {
             // The reader's path jumps (it should not): join with a traverse.
             out.push(Canon::Traverse { loc, end: Pose::at(start), origin: Origin::Programmed });
         }

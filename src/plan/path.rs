@@ -19,6 +19,7 @@ use super::{PlanError, Stopped};
 use crate::gcode::interp::{Canon, FeedMode, Loc, Pose};
 use crate::gcode::path::Plane;
 use crate::geom::NurbsCurve;
+use crate::numerics::tolerance::NEWTON_STEP_REL;
 
 /// Joint values: X, Y, Z (mm), A, B, C (rad).
 pub type Q = [f64; 6];
@@ -77,6 +78,24 @@ pub const MIN_MOVE: f64 = 1e-9;
 pub const MIN_TURN_RAD: f64 = 1e-9;
 /// Corners turning by more than this (rad, 175°) reverse the path: stopped at, not blended.
 pub const MAX_BLEND_TURN_RAD: f64 = 175.0 * std::f64::consts::PI / 180.0;
+/// An arc whose sweep from its start angle to its end angle is below this (rad) ends where it
+/// starts: it is a full turn, not none.
+const FULL_TURN_SWEEP_RAD: f64 = 1e-12;
+/// Margin (in the cosine) by which a blend's turn must be below 15° to take the two-piece
+/// shortcut of [`blend_pieces_of_cos`] (some 4e-9 rad, far above the arc cosine's rounding).
+const COS_15_SLACK: f64 = 1e-9;
+/// Slack (in 15° steps) of a blend's piece count, so a turn of exactly k·15° formed by
+/// rounding does not begin one piece more.
+const PIECE_COUNT_SLACK: f64 = 1e-9;
+/// A jump of a joint's rate (its unit tangent's component, per mm) across a junction larger
+/// than this times (1 + |rate|) is a corner; below it, rounding.
+const RATE_JUMP_REL: f64 = 1e-12;
+/// A jump of a joint's curvature component across a junction larger than this times
+/// (1 + |curvature|) needs a blend when jerk is limited.
+const CURVATURE_JUMP_REL: f64 = 1e-9;
+/// Turns (rad) at or below this get no first guess of the blend's cut length from the
+/// line–line deviation (it divides by the turn's sine): the guess is unbounded.
+const BLEND_GUESS_MIN_TURN_RAD: f64 = 1e-6;
 /// Most pieces of one curve element (arcs of many turns, long NURBS).
 pub const MAX_PIECES_PER_ELEMENT: usize = 4096;
 /// Most pieces of a path: a line is one, an arc or curve one per 5° its tangent turns (at least
@@ -470,7 +489,7 @@ impl Element {
             }
             let step = err / sig;
             t = (t - step).clamp(lo, hi);
-            if step.abs() <= 1e-15 * (1.0 + t.abs()) {
+            if step.abs() <= NEWTON_STEP_REL * (1.0 + t.abs()) {
                 break;
             }
         }
@@ -559,7 +578,7 @@ fn arc_shape(start: &Q, end: &Q, centre: DVec3, plane: Plane, turns: i32) -> Arc
     let tau = std::f64::consts::TAU;
     let ccw = turns > 0;
     let mut sweep = if ccw { (th1 - th0).rem_euclid(tau) } else { -(th0 - th1).rem_euclid(tau) };
-    if sweep.abs() < 1e-12 {
+    if sweep.abs() < FULL_TURN_SWEEP_RAD {
         sweep = if ccw { tau } else { -tau };
     }
     let extra = f64::from(turns.unsigned_abs().saturating_sub(1));
@@ -648,7 +667,7 @@ const COS_15_DEG: f64 = 0.965_925_826_289_068_3;
 fn blend_pieces_of_cos(cos: f64) -> usize {
     if cos >= 1.0 {
         1
-    } else if cos > COS_15_DEG + 1e-9 {
+    } else if cos > COS_15_DEG + COS_15_SLACK {
         2
     } else {
         1 + (cos.acos() / (15f64).to_radians()).ceil() as usize
@@ -877,7 +896,7 @@ fn blend_pieces_at_most(a: &Raw, b: &Raw, curves: &[NurbsCurve], rules: &Junctio
     }
     let half_turn = |r: &Raw| 0.5 * PIECE_TURN_RAD * r.table.len().saturating_sub(1) as f64;
     let ends = (turn + half_turn(a) + half_turn(b)).min(std::f64::consts::PI);
-    1 + (ends / (15f64).to_radians() + 1e-9).ceil() as usize
+    1 + (ends / (15f64).to_radians() + PIECE_COUNT_SLACK).ceil() as usize
 }
 
 /// A quintic Bézier from `pa` to `pb` matching the tangents (dq/ds) `ta`, `tb` and second
@@ -966,9 +985,11 @@ fn junctions(raws: &mut [Raw], path: &mut Path, rules: &JunctionRules) {
         let rot_only = norm3(&ta) < 0.5 || norm3(&tb) < 0.5;
         let cos = (dot3(&ta, &tb) / (norm3(&ta) * norm3(&tb))).clamp(-1.0, 1.0);
         let turn = if rot_only { 0.0 } else { cos.acos() };
-        let rate_jump = (3..6).any(|k| (ta[k] - tb[k]).abs() > 1e-12 * (1.0 + ta[k].abs()));
-        let curv_jump = (0..6).any(|k| (ka[k] - kb[k]).abs() > 1e-9 * (1.0 + ka[k].abs().max(kb[k].abs())));
-        let corner = turn > MIN_TURN_RAD || rate_jump || (rot_only && sub(&ta, &tb).iter().any(|x| x.abs() > 1e-12));
+        let rate_jump = (3..6).any(|k| (ta[k] - tb[k]).abs() > RATE_JUMP_REL * (1.0 + ta[k].abs()));
+        let curv_jump =
+            (0..6).any(|k| (ka[k] - kb[k]).abs() > CURVATURE_JUMP_REL * (1.0 + ka[k].abs().max(kb[k].abs())));
+        let corner =
+            turn > MIN_TURN_RAD || rate_jump || (rot_only && sub(&ta, &tb).iter().any(|x| x.abs() > RATE_JUMP_REL));
         let needs = corner || (rules.jerk_limited && curv_jump);
         if !needs {
             continue;
@@ -982,7 +1003,7 @@ fn junctions(raws: &mut [Raw], path: &mut Path, rules: &JunctionRules) {
         let room_a = 0.5 * a.len;
         let room_b = 0.5 * b.len;
         let tol = rules.tol_mm;
-        let guess = if turn > 1e-6 { tol / (0.234 * turn.sin().max(0.05)) } else { f64::INFINITY };
+        let guess = if turn > BLEND_GUESS_MIN_TURN_RAD { tol / (0.234 * turn.sin().max(0.05)) } else { f64::INFINITY };
         let mut m = guess.min(room_a).min(room_b);
         let mut done = None;
         if both_lines && turn <= std::f64::consts::FRAC_PI_2 {

@@ -17,6 +17,13 @@
 
 use super::path::{lower, upper};
 
+/// The peak-speed Newton is done when its residual is below this fraction of the distance
+/// d: the residual's own rounding is about 1e-16 of d.
+const RESIDUAL_DONE_REL: f64 = 1e-14;
+/// … or when its step is below this fraction of the iterate w: Newton converges
+/// quadratically, so the next iterate is within about 1e-16 of the root.
+const STEP_DONE_REL: f64 = 1e-8;
+
 /// One phase of constant jerk: the acceleration starts at `a0` (it may jump there when the
 /// jerk is not limited) and changes at `j` for `dur` seconds.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -173,10 +180,10 @@ pub fn peak(v0: f64, v1: f64, d: f64, a: f64, j: f64, vcap: f64) -> f64 {
         // Or the step is below 1e-8 of w: Newton converges quadratically, so the next
         // iterate is within about 1e-16 of the root (the check below keeps it feasible).
         let vp_ulp = 4.0 * f64::EPSILON * (lo + w * w);
-        let done = val.abs() <= 1e-14 * d
+        let done = val.abs() <= RESIDUAL_DONE_REL * d
             || 2.0 * w.max(next) * (next - w).abs() <= vp_ulp
             || 2.0 * hi_w * (hi_w - lo_w) <= vp_ulp
-            || (next - w).abs() <= 1e-8 * w;
+            || (next - w).abs() <= STEP_DONE_REL * w;
         w = next;
         if done {
             break;

@@ -10,6 +10,7 @@ use crate::fillet::node::CcNode;
 use crate::fillet::orient::{pose_at, smooth_inclinations};
 use crate::fillet::sweep::{pose_between, surface_depth_near};
 use crate::geom::{Cutter, ParametricSurface};
+use crate::numerics::tolerance::ROUNDING_REL;
 
 /// How far (mm) a path's last cutter must travel on past the far end along its feed so that
 /// every point of the far edge within `reach_mm` of the CC curve across is cut as low as the
@@ -85,6 +86,10 @@ pub(super) const LEAD_OUT_CHECK_SHARE: f64 = 0.9;
 /// A path's last node counts as on the along parameter's far end within this fraction of
 /// the along range.
 pub(super) const LEAD_OUT_EDGE_REL: f64 = 1e-9;
+
+/// Shortest step along a path, as a fraction of the longest (`max_step_mm`): where the
+/// curvature would ask for less, the path is sampled at this.
+const MIN_STEP_REL: f64 = 1e-3;
 
 /// Half the chord that gives an offset path's feed at a node, relative to the longest
 /// forward step.
@@ -183,8 +188,8 @@ impl Ctx<'_> {
                 self.opts.chord_tol_mm
             };
             let step = if k > 0.0 { (8.0 * sag / k).sqrt() } else { f64::INFINITY };
-            let step = step.min(self.opts.max_step_mm).max(1e-3 * self.opts.max_step_mm);
-            s = if s + step >= total - 1e-9 * total.max(1.0) { total } else { s + step };
+            let step = step.min(self.opts.max_step_mm).max(MIN_STEP_REL * self.opts.max_step_mm);
+            s = if s + step >= total - ROUNDING_REL * total.max(1.0) { total } else { s + step };
         }
         Ok(samples)
     }

@@ -3,7 +3,7 @@
 use glam::{DVec2, DVec3};
 
 use super::budget::{EXTRAPOLATION_ROOM, check_stop};
-use super::side_step::Step;
+use super::side_step::{SCALLOP_FLOOR_REL, Step};
 use super::{
     CELLS_ESTIMATE_AFTER, CELLS_ESTIMATE_AFTER_SHARE, Ctx, ESTIMATE_AFTER_SHARE, FinishSetup, Layout, PathSet,
     PathStart, Refusal, ScallopFlag, ToolPath, b_of,
@@ -12,6 +12,7 @@ use crate::fillet::FinishError;
 use crate::fillet::node::CcNode;
 use crate::fillet::orient::Strategy;
 use crate::geom::{LocalGeometry, ParametricSurface, Surface};
+use crate::numerics::tolerance::DOMAIN_SLACK;
 
 /// The measured cusp's band (× h) outside which the corrector builds a path again, the
 /// cusp it aims at (× h), the most it scales a side step by in one round, and its rounds.
@@ -273,7 +274,7 @@ impl IsoScallopSteps {
             self.done = true;
             return Ok(true);
         };
-        let slack = 1e-12 * (b1 - b0);
+        let slack = DOMAIN_SLACK * (b1 - b0);
         let on_far_edge = |uv: DVec2| {
             let b = b_of(uv, along);
             if toward > 0.0 { b >= b1 - slack } else { b <= b0 + slack }
@@ -325,7 +326,9 @@ impl IsoScallopSteps {
                 .1
                 .iter()
                 .map(|m| match *m {
-                    Some(c) if off(m) => (CUSP_TARGET * h / c.max(1e-3 * h)).sqrt().clamp(CUSP_SCALE.0, CUSP_SCALE.1),
+                    Some(c) if off(m) => {
+                        (CUSP_TARGET * h / c.max(SCALLOP_FLOOR_REL * h)).sqrt().clamp(CUSP_SCALE.0, CUSP_SCALE.1)
+                    }
                     _ => 1.0,
                 })
                 .collect();

@@ -15,6 +15,11 @@ pub(super) const SIDE_STEP_ROUNDS: usize = 12;
 
 pub(super) const SIDE_STEP_REL: f64 = 0.005;
 
+/// A measured scallop is floored at this fraction of the target height h before a side step
+/// is scaled by √(h / scallop): a scallop of (almost) zero then widens the step by the
+/// clamp's factor, not by infinity.
+pub(super) const SCALLOP_FLOOR_REL: f64 = 1e-3;
+
 /// A side step solved at a node.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Solved {
@@ -142,7 +147,7 @@ impl Ctx<'_> {
             }
             // h ∝ w² near the solution; the step is kept inside the bracket and within a
             // factor 2.
-            let mut next = w * (h / s.max(1e-3 * h)).sqrt().clamp(0.5, 2.0);
+            let mut next = w * (h / s.max(SCALLOP_FLOOR_REL * h)).sqrt().clamp(0.5, 2.0);
             if next <= lo || next >= hi {
                 next = if hi.is_finite() { 0.5 * (lo + hi) } else { 2.0 * lo.max(w) };
             }

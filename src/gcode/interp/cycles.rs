@@ -39,6 +39,8 @@
 use glam::DVec3;
 use thiserror::Error;
 
+use super::INTEGER_SLACK;
+use super::state::MM_PER_INCH;
 use crate::gcode::path::Plane;
 pub use crate::numerics::limits::{MAX_CYCLE_MOVES, MAX_CYCLE_PECKS, MAX_CYCLE_REPEATS};
 
@@ -49,9 +51,12 @@ mod tests;
 /// retract: 0.010 inch (`G83_RAPID_DELTA`), also used as 0.254 mm in metric programs.
 pub const PECK_CLEARANCE_INCH: f64 = 0.010;
 
-/// Tolerance of an L value that must be an integer, as LinuxCNC's `read_integer_value`
-/// (within 1e-4 of an integer).
-const INTEGER_SLACK: f64 = 1e-4;
+/// A G number within this of a whole number of tenths is that cycle's code (`81.0000001`
+/// is G81).
+const G_NUMBER_SLACK: f64 = 1e-6;
+
+/// A program unit within this (mm per unit) of 25.4 is the inch.
+const UNIT_MATCH_SLACK: f64 = 1e-12;
 
 /// The canned cycles.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -100,7 +105,7 @@ impl CycleKind {
     #[must_use]
     pub fn from_g(number: f64) -> Option<Self> {
         let tenths = (number * 10.0).round();
-        if (number * 10.0 - tenths).abs() > 1e-6 {
+        if (number * 10.0 - tenths).abs() > G_NUMBER_SLACK {
             return None;
         }
         Some(match tenths as i64 {
@@ -544,7 +549,7 @@ pub enum CycleError {
 /// The G73/G83 back-off in program units: 0.010 in an inch program, 0.010 · 25.4 in a
 /// metric one — the same products LinuxCNC forms.
 fn peck_clearance(unit: f64) -> f64 {
-    if (unit - 25.4).abs() < 1e-12 { PECK_CLEARANCE_INCH } else { PECK_CLEARANCE_INCH * 25.4 / unit }
+    if (unit - MM_PER_INCH).abs() < UNIT_MATCH_SLACK { PECK_CLEARANCE_INCH } else { PECK_CLEARANCE_INCH * 25.4 / unit }
 }
 
 /// The letter of axis index 0, 1, 2.

@@ -12,7 +12,7 @@ use super::cycles::{self, CycleInput, CycleKind, CycleMove, CycleState, CycleWor
 use super::read::Block;
 use super::splines::{BezierBlock, FinishedSpline, SplineBlock, SplineBuilder, SplineKind, SplineWords};
 use super::state::{Axes, CompSide, MotionMode, State, g_group};
-use super::{Interpreter, Problem, Warning};
+use super::{INTEGER_SLACK, Interpreter, Problem, Warning};
 use crate::gcode::path::Plane;
 
 /// LinuxCNC's arc tolerances (`interp_internal.hh`), in mm: the start and end radius of a
@@ -26,6 +26,10 @@ const SPIRAL_REL_TOL: f64 = 0.001;
 
 /// Most full turns of one arc (`P`): LinuxCNC has no cap; a few thousand turns is a spring.
 const MAX_ARC_TURNS: f64 = 10_000.0;
+/// An R arc whose half chord is within this fraction of its radius is the half circle: the
+/// half chord is set to the radius so the centre's offset, √(r² − (c/2)²), is not the root of
+/// a rounding error.
+const HALF_CIRCLE_REL: f64 = 1e-12;
 
 /// State of execution kept between blocks that the modal [`State`] does not hold.
 #[derive(Debug, Default)]
@@ -661,7 +665,7 @@ fn compensation(it: &mut Interpreter<'_>, loc: Loc, b: &Block, t: i32) -> Result
                 0.5 * it.length(d)
             } else {
                 let n = match b.get(b'd') {
-                    Some(d) if d < 0.0 || (d - d.round()).abs() > 1e-4 => {
+                    Some(d) if d < 0.0 || (d - d.round()).abs() > INTEGER_SLACK => {
                         return Err(Problem::Rule(format!(
                             "{} D{} is not a tool number (a whole number ≥ 0)",
                             gname(t),
@@ -748,7 +752,7 @@ fn setup(it: &mut Interpreter<'_>, b: &Block) -> Result<(), Problem> {
         _ => return Err(Problem::Rule("G10 needs L2 or L20 (coordinate systems) or L1, L10, L11 (tools)".into())),
     }
     let p = b.get(b'p').unwrap_or(0.0);
-    if !(0.0..=9.0).contains(&p.round()) || (p - p.round()).abs() > 1e-4 {
+    if !(0.0..=9.0).contains(&p.round()) || (p - p.round()).abs() > INTEGER_SLACK {
         return Err(Problem::Rule(format!(
             "G10 L{l} P{} is not a coordinate system; use P0 (current) or P1 (G54) to P9 (G59.3)",
             super::error::show(p)
@@ -817,7 +821,7 @@ fn setup(it: &mut Interpreter<'_>, b: &Block) -> Result<(), Problem> {
 /// the offsets that make the current position read as the given values with that tool.
 fn tool_setup(it: &mut Interpreter<'_>, b: &Block, l: i32) -> Result<(), Problem> {
     let p = b.get(b'p').unwrap_or(-1.0);
-    if p < 1.0 || (p - p.round()).abs() > 1e-4 {
+    if p < 1.0 || (p - p.round()).abs() > INTEGER_SLACK {
         return Err(Problem::Rule(format!("G10 L{l} needs P, the tool number (a whole number ≥ 1)")));
     }
     let n = p.round() as i32;
@@ -1138,7 +1142,7 @@ fn arc(it: &mut Interpreter<'_>, loc: Loc, b: &Block, ccw: bool) -> Result<(), P
     let (ea, eb) = (end[ia], end[ib]);
     let sc = st.scale();
     let p = b.get(b'p').unwrap_or(1.0);
-    if p < 1.0 || (p - p.round()).abs() > 1e-4 {
+    if p < 1.0 || (p - p.round()).abs() > INTEGER_SLACK {
         return Err(Problem::Rule(format!("P{} on an arc must be a whole number of turns ≥ 1", super::error::show(p))));
     }
     if p > MAX_ARC_TURNS {
@@ -1176,7 +1180,7 @@ fn arc(it: &mut Interpreter<'_>, loc: Loc, b: &Block, ccw: bool) -> Result<(), P
             // LinuxCNC refuses it; a viewer draws the half circle over the chord and says so.
             notes.push(("R arc", format!("{what} (LinuxCNC refuses it): drawn as the half circle")));
         }
-        if half / abs_r > 1.0 - 1e-12 {
+        if half / abs_r > 1.0 - HALF_CIRCLE_REL {
             half = abs_r;
         }
         let base = (eb - sb).atan2(ea - sa);

@@ -52,6 +52,10 @@ pub const MAX_CALL_DEPTH: usize = 64;
 /// Most open `if`/`while`/`repeat` levels at once.
 pub const MAX_CONTROL_DEPTH: usize = 256;
 
+/// Tolerance of a number that must be an integer (an L, P or D word, a code's tenths), as
+/// LinuxCNC's `read_integer_value`: within 1e-4 of an integer.
+pub(crate) const INTEGER_SLACK: f64 = 1e-4;
+
 /// How to read a program.
 #[derive(Clone, Debug, Default)]
 pub struct Options {

@@ -18,6 +18,9 @@ pub const CALL_ARGS: usize = 30;
 /// makes more is refused rather than allowed to fill the memory with names.
 pub const MAX_NAMED: usize = 100_000;
 
+/// A parameter number within this of an integer names that parameter (`#[1 + 0.0000001]`).
+const INDEX_SLACK: f64 = 1e-6;
+
 /// Why a parameter cannot be read or written.
 #[derive(Clone, Debug, thiserror::Error, PartialEq)]
 pub enum ParamError {
@@ -76,7 +79,7 @@ impl Params {
     pub fn index(value: f64) -> Result<usize, ParamError> {
         let r = value.round();
         // #0 is FANUC's vacant variable: it reads as 0 and cannot be set.
-        if (value - r).abs() < 1e-6 && (0.0..=MAX_NUMBERED as f64).contains(&r) {
+        if (value - r).abs() < INDEX_SLACK && (0.0..=MAX_NUMBERED as f64).contains(&r) {
             Ok(r as usize)
         } else {
             Err(ParamError::OutOfRange(crate::numerics::format::fmt_num(value)))

@@ -20,6 +20,9 @@ const MAX_DEPTH: usize = 64;
 /// Most G or M words on one line.
 const MAX_CODES: usize = 32;
 
+/// Two numbers closer than this are equal to the expression operators `EQ` and `NE`.
+const EQUAL_SLACK: f64 = 1e-6;
+
 /// Values a line's expressions read.
 pub(crate) trait Env {
     /// `#n`.
@@ -649,7 +652,7 @@ impl Parser<'_, '_> {
                     return Err(Problem::TooManyCodes);
                 }
                 let t = (v * 10.0).round();
-                if (v * 10.0 - t).abs() > 1e-4 || !(0.0..=10_000.0).contains(&t) {
+                if (v * 10.0 - t).abs() > super::INTEGER_SLACK || !(0.0..=10_000.0).contains(&t) {
                     return Err(Problem::BadCode('G', v));
                 }
                 b.g.push(t as i32);
@@ -659,7 +662,7 @@ impl Parser<'_, '_> {
                     return Err(Problem::TooManyCodes);
                 }
                 let t = v.round();
-                if (v - t).abs() > 1e-4 || !(0.0..=100_000.0).contains(&t) {
+                if (v - t).abs() > super::INTEGER_SLACK || !(0.0..=100_000.0).contains(&t) {
                     return Err(Problem::BadCode('M', v));
                 }
                 b.m.push(t as i32);
@@ -1069,7 +1072,7 @@ fn finite(v: f64) -> Result<f64, Problem> {
 
 fn apply(op: Op, a: f64, b: f64) -> Result<f64, Problem> {
     let t = |c: bool| f64::from(u8::from(c));
-    let eps = 1e-6;
+    let eps = EQUAL_SLACK;
     let v = match op {
         Op::Pow => {
             if a < 0.0 && b.fract() != 0.0 {
