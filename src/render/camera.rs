@@ -3,6 +3,12 @@
 use glam::camera::rh::{proj::directx, view::look_at_mat4};
 use glam::{Mat4, Vec2, Vec3};
 
+/// Nearest clipping distance of the perspective (scene units, mm), so a camera zoomed onto its
+/// target keeps a positive near plane.
+const MIN_NEAR: f32 = 1e-3;
+/// Smallest aspect ratio (width / height) the projection is built with (a view of no width).
+const MIN_ASPECT: f32 = 1e-3;
+
 /// An orbit camera. Angles in radians, lengths in mm, in the view's local frame (relative to
 /// the scene origin chosen by [`super::geometry::Origin`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -36,10 +42,11 @@ impl OrbitCamera {
     /// `clip_from_world` for a viewport of the given aspect ratio (depth 0..1, as wgpu).
     #[must_use]
     pub fn clip_from_world(&self, aspect: f32) -> Mat4 {
-        let near = (self.distance * 0.01).max(1e-3);
+        let near = (self.distance * 0.01).max(MIN_NEAR);
         let far = self.distance * 20.0 + 1000.0;
         // WebGPU clip space: z in [0, 1], y up (glam's DirectX/WebGPU convention).
-        directx::perspective(self.fov_y, aspect.max(1e-3), near, far) * look_at_mat4(self.eye(), self.target, Vec3::Z)
+        directx::perspective(self.fov_y, aspect.max(MIN_ASPECT), near, far)
+            * look_at_mat4(self.eye(), self.target, Vec3::Z)
     }
 
     /// Turns the camera by screen-space drag (points).

@@ -6,6 +6,12 @@ use egui_plot::{Corner, HLine, Legend, Line, MarkerShape, Plot, PlotPoints, Poin
 use super::{ChordsPanel, CurveKind, SpacingRow, spacing_index};
 use crate::app::{fmt_len, ranges};
 
+/// Smallest span (mm) of the curve's plot, so a degenerate curve still has a scale.
+const MIN_PLOT_SPAN_MM: f64 = 1e-6;
+/// Floor of a chord's squared length (mm²) where the distance to it divides by it: a chord
+/// of two equal points does not divide by zero.
+const MIN_CHORD_LEN2: f64 = 1e-300;
+
 /// Colours of the three shown spacings (equal-error, equal-interval, equal-step).
 pub(super) const SET_COLORS: [egui::Color32; 3] = [
     egui::Color32::from_rgb(120, 230, 120),
@@ -37,7 +43,7 @@ impl ChordsPanel {
                     b[i] = b[i].max(q[i]);
                 }
             }
-            (b[0] - a[0]).max(b[1] - a[1]).max(1e-6)
+            (b[0] - a[0]).max(b[1] - a[1]).max(MIN_PLOT_SPAN_MM)
         };
         let d = c.inputs.tol_mm;
         if self.auto_magnify {
@@ -80,7 +86,7 @@ impl ChordsPanel {
                     for w in row.params.windows(2) {
                         let (a, b) = (curve.point_at(w[0]), curve.point_at(w[1]));
                         let ab = b - a;
-                        let len2 = ab.length_squared().max(1e-300);
+                        let len2 = ab.length_squared().max(MIN_CHORD_LEN2);
                         for j in 0..=24 {
                             let u = w[0] + (w[1] - w[0]) * f64::from(j) / 24.0;
                             let q = curve.point_at(u);

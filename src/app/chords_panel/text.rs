@@ -52,7 +52,7 @@ impl ChordsPanel {
                     Some(Ok(row)) => {
                         ui.label(format!("{}", row.params.len()));
                         let w = row.worst_mm();
-                        let over = w > d * (1.0 + 1e-9);
+                        let over = w > d * (1.0 + crate::numerics::tolerance::ROUNDING_REL);
                         ui.label(
                             egui::RichText::new(format!("{}{}", fmt_len(w), if over { " > d" } else { "" }))
                                 .color(if over { TOL_COLOR } else { ui.visuals().text_color() }),

@@ -53,6 +53,10 @@ fn rgba(c: egui::Color32, a: f32) -> [f32; 4] {
 /// Smallest distance between drawn path points, as a fraction of the scene's radius.
 const DRAW_GAP: f64 = 2.5e-4;
 
+/// Lines drawn on a surface are lifted off it by this fraction of the scene's radius, so the
+/// depth test does not hide them in the surface's own triangles.
+const LINE_LIFT_REL: f64 = 1e-3;
+
 /// Where a period's centre is drawn: on the exact crease plus the deviation × `magnify`.
 fn centre_drawn(p: &Period, magnify: f64) -> DVec3 {
     match p.exact {
@@ -172,7 +176,7 @@ impl CreaseView {
             self.path_for.0 = u64::MAX;
             self.cutters_for.0 = u64::MAX;
         }
-        let lift = 1e-3 * self.scene_radius;
+        let lift = LINE_LIFT_REL * self.scene_radius;
         let mut surfaces = Mesh::default();
         let mut offsets = Mesh::default();
         let mut lines = Vec::new();

@@ -25,6 +25,12 @@ use view::{Click, FilletView};
 pub use work::{CORNER_RANGE_MM, RADIUS_RANGE_MM, SCALLOP_RANGE_UM, TOLERANCE_RANGE_MM};
 use work::{Job, MAX_PICKS, Settings, StartChoice, StrategyChoice, TABLE_ROWS, table_row};
 
+/// The cross-section plot treats a curvature gap between cutter and surface below this
+/// (1/mm) as none: the scallop's half width √(2h/gap) is unbounded.
+const SECTION_MIN_GAP_PER_MM: f64 = 1e-9;
+/// Narrowest half width (mm) of the cross-section plot.
+const SECTION_MIN_HALF_WIDTH_MM: f64 = 1e-3;
+
 /// What a click in the 3D view does.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ClickMode {
@@ -385,8 +391,8 @@ impl FilletPanel {
         let kc = effective_curvature(&tool, &node.pose, theta);
         let h = job.finish.options.scallop_mm;
         let gap = kc - ks;
-        let half = if gap > 1e-9 { (2.0 * h / gap).sqrt() } else { f64::INFINITY };
-        let y_max = (1.6 * half).min(tool.radius_mm).max(1e-3);
+        let half = if gap > SECTION_MIN_GAP_PER_MM { (2.0 * h / gap).sqrt() } else { f64::INFINITY };
+        let y_max = (1.6 * half).min(tool.radius_mm).max(SECTION_MIN_HALF_WIDTH_MM);
         // Height of a circle of curvature k through the origin, tangent to the plane.
         let arc = |k: f64, y: f64| {
             let ky = k * y;
@@ -567,7 +573,7 @@ impl Panel for FilletPanel {
             "strategy": s.strategy.key(),
             "R_mm": s.radius_mm,
             "r_mm": s.corner_mm,
-            "h_mm": s.scallop_um * 1e-3,
+            "h_mm": s.scallop_um * crate::numerics::units::MM_PER_UM,
             "tol_mm": s.tol_mm,
             "error": self.refused,
             "start": s.start.key(),
@@ -677,7 +683,10 @@ impl Panel for FilletPanel {
                 s.corner_mm = r;
             }
             "h" => {
-                let r = (SCALLOP_RANGE_UM.0 * 1e-3, SCALLOP_RANGE_UM.1 * 1e-3);
+                let r = (
+                    SCALLOP_RANGE_UM.0 * crate::numerics::units::MM_PER_UM,
+                    SCALLOP_RANGE_UM.1 * crate::numerics::units::MM_PER_UM,
+                );
                 s.scallop_um = parse_in("h", value, r, "mm")? * 1e3;
             }
             "E" => s.tol_mm = parse_in("E", value, TOLERANCE_RANGE_MM, "mm")?,

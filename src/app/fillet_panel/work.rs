@@ -217,7 +217,7 @@ impl Settings {
         let mut s = FinishScene::from_json(p.json).map_err(|e| e.to_string())?;
         s.finish.cutter.radius = self.radius_mm;
         s.finish.cutter.corner_radius = self.corner_mm;
-        s.finish.scallop = self.scallop_um * 1e-3;
+        s.finish.scallop = self.scallop_um * crate::numerics::units::MM_PER_UM;
         s.finish.tolerance = self.tol_mm;
         let (name, lead) = match self.strategy {
             StrategyChoice::Matched => ("matched", None),

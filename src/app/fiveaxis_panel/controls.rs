@@ -191,7 +191,7 @@ impl FiveAxisPanel {
                         ui.add(egui::DragValue::new(c).speed(0.01).range(-1.0..=1.0).prefix(format!("{n} ")));
                     }
                 });
-                if r.vector.iter().all(|c| c.abs() < 1e-9) {
+                if r.vector.iter().all(|c| c.abs() < crate::numerics::tolerance::MIN_DIRECTION_LENGTH) {
                     ui.colored_label(PROBLEM_TEXT, "The vector is zero: give a direction.");
                 }
             }

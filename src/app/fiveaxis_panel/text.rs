@@ -11,11 +11,15 @@ use crate::fiveaxis::StepNode;
 use crate::numerics::format::fmt_num;
 use crate::plan::StepsTime;
 
+/// A worst deviation is reported over the tolerance only beyond this fraction of it: the
+/// search accepts a node whose error rounds a part in a million above E.
+const OVER_TOLERANCE_REL: f64 = 1e-6;
+
 /// A signed error in words: `+5.00 µm (overcut)`, `−2.00 µm (stock)`; below a picometre
 /// `0 (exact to 1 pm)`.
 pub(super) fn signed(mm: f64) -> String {
     // Below a picometre an error is rounding: say exact.
-    if mm.abs() < 1e-9 {
+    if mm.abs() < crate::numerics::tolerance::MEASUREMENT_FLOOR_MM {
         return "0 (exact to 1 pm)".to_owned();
     }
     let tag = if mm > 0.0 {
@@ -83,7 +87,7 @@ impl FiveAxisPanel {
             });
             ui.end_row();
             if let Some(w) = plan.worst_delta_mm() {
-                let over = w.abs() > plan.inputs.tol_mm * (1.0 + 1e-6);
+                let over = w.abs() > plan.inputs.tol_mm * (1.0 + OVER_TOLERANCE_REL);
                 ui.label("worst δ");
                 ui.label(egui::RichText::new(signed(w)).color(if over {
                     view::OVERCUT_BEYOND
@@ -177,7 +181,7 @@ impl FiveAxisPanel {
                 ui.label(signed(r.nonlinear_mm));
                 ui.end_row();
                 ui.label("gouge / stock");
-                let tiny = |v: f64| if v < 1e-9 { 0.0 } else { v };
+                let tiny = |v: f64| if v < crate::numerics::tolerance::MEASUREMENT_FLOOR_MM { 0.0 } else { v };
                 ui.label(format!("{} / {}", fmt_len(tiny(r.gouge_mm)), fmt_len(tiny(r.stock_mm))));
                 ui.end_row();
                 ui.label("tip off its chord");

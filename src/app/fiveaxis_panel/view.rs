@@ -14,6 +14,14 @@ use crate::app::widgets::SURFACE_COLORS;
 use crate::render::geometry::{Origin, bounds, iso_lines, polyline, tessellate};
 use crate::render::{Layer, LineSegment, Mesh, MeshVertex, OrbitCamera, Renderer3d, SphereInstance, ViewId};
 
+/// Lines drawn on a surface are lifted off it by this fraction of the scene's radius, so the
+/// depth test does not hide them in the surface's own triangles.
+const LINE_LIFT_REL: f64 = 1e-3;
+/// A largest deviation (mm) at or below this is not exaggerated: the factor is 1.
+const MIN_EXAGGERATED_DEV_MM: f64 = 1e-12;
+/// A point whose clip-space w is at or below this lies at or behind the eye: not drawn.
+const MIN_CLIP_W: f32 = 1e-6;
+
 /// The GPU view id of the five-axis view (the crease view uses 0, the NURBS view 2).
 pub const VIEW_ID: ViewId = 1;
 
@@ -88,9 +96,9 @@ pub fn error_color(delta_mm: f64, scale_mm: f64) -> egui::Color32 {
     }
     let x = delta_mm / scale_mm;
     // Past ±E by more than the search's acceptance slack: the "beyond" colours.
-    if x > 1.0 + 1e-3 {
+    if x > 1.0 + crate::numerics::tolerance::STEP_WINDOW_REL {
         OVERCUT_BEYOND
-    } else if x < -1.0 - 1e-3 {
+    } else if x < -1.0 - crate::numerics::tolerance::STEP_WINDOW_REL {
         STOCK_BEYOND
     } else if x >= 0.0 {
         mix(EXACT, OVERCUT, x as f32)
@@ -219,7 +227,7 @@ impl FiveAxisView {
                     for (i, s) in job.surfaces.iter().enumerate() {
                         let c = SURFACE_COLORS[i];
                         mesh.extend(&tessellate(s, self.origin, 64, 0.0, rgba(c, 0.28)));
-                        let lift = 1e-3 * self.radius;
+                        let lift = LINE_LIFT_REL * self.radius;
                         lines.extend(iso_lines(s, self.origin, 10, 80, lift, 1.0, rgba(c.gamma_multiply(0.55), 1.0)));
                     }
                 }
@@ -427,14 +435,14 @@ impl FiveAxisView {
             .flat_map(|sg| sg.samples.iter())
             .map(|x| (x.tip - x.tip_chord).length().max((x.centre - x.centre_chord).length()))
             .fold(0.0f64, f64::max);
-        if dev <= 1e-12 { 1.0 } else { (0.03 * self.radius / dev).clamp(1.0, 10_000.0).round() }
+        if dev <= MIN_EXAGGERATED_DEV_MM { 1.0 } else { (0.03 * self.radius / dev).clamp(1.0, 10_000.0).round() }
     }
 
     /// Where a workpiece point appears in the view's rectangle (`None` behind the eye).
     fn project(&self, p: DVec3, rect: egui::Rect) -> Option<egui::Pos2> {
         let clip = self.camera.clip_from_world(rect.width() / rect.height().max(1.0));
         let q = clip * self.origin.local_vec(p).extend(1.0);
-        if q.w <= 1e-6 {
+        if q.w <= MIN_CLIP_W {
             return None;
         }
         let (x, y) = (q.x / q.w, q.y / q.w);

@@ -528,7 +528,10 @@ impl Plan {
             return;
         }
         let (a, b) = (&self.nodes[k].block, &self.nodes[k + 1].block);
-        let opts = MaxOptions { floor: 1e-3 * self.inputs.tol_mm, ..MaxOptions::default() };
+        let opts = MaxOptions {
+            floor: crate::numerics::tolerance::SWEPT_FLOOR_REL_TOL * self.inputs.tol_mm,
+            ..MaxOptions::default()
+        };
         let d = tip_design_deviation(&self.inputs.machine, self.design.path.as_ref(), a, b, &opts).unwrap_or(f64::NAN);
         self.tip_design_mm.push(d);
     }

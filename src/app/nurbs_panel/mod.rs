@@ -35,6 +35,11 @@ use table::Shown;
 use view::{NurbsView, Overlay};
 use work::{DesignInput, Pending, Point, ProgramInput, RealtimeInput, Source, Wanted, Work};
 
+/// A resolution typed within this (mm) of one of the offered ones is that one.
+const RESOLUTION_MATCH_MM: f64 = 1e-12;
+/// Smallest chord tolerance (mm) the panel's option takes.
+const MIN_CHORD_TOL_MM: f64 = 1e-6;
+
 /// A length in µm with 3 significant digits (at least 3 decimals from 1 µm), e.g. `8.268 µm`,
 /// `0.0618 µm`.
 pub(crate) fn um(mm: f64) -> String {
@@ -378,7 +383,7 @@ impl Panel for NurbsPanel {
                 let r = number()?;
                 s.resolution_mm = [0.01, 0.001, 0.0001]
                     .into_iter()
-                    .find(|x| (x - r).abs() < 1e-12)
+                    .find(|x| (x - r).abs() < RESOLUTION_MATCH_MM)
                     .ok_or_else(|| format!("resolution_mm: {r}; give 0.01, 0.001 or 0.0001"))?;
             }
             "point" => {
@@ -408,7 +413,7 @@ impl Panel for NurbsPanel {
                 if value == "off" {
                     s.chord_limit = false;
                 } else {
-                    s.chord_tol_mm = positive(number()?)?.clamp(1e-6, 0.01);
+                    s.chord_tol_mm = positive(number()?)?.clamp(MIN_CHORD_TOL_MM, 0.01);
                     s.chord_limit = true;
                 }
             }

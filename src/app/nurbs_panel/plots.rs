@@ -8,6 +8,10 @@ use egui_plot::{Corner, HLine, Legend, Line, Plot, PlotPoints, uniform_grid_spac
 use super::view::{LOADED_COLOR, turbo};
 use super::work::Realtime;
 
+/// The feed plot shows at least this fraction of F around F (±1 ppm), so rounding noise is
+/// not blown up.
+const FEED_PLOT_MIN_REL: f64 = 1e-6;
+
 /// What the first plot shows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FeedPlot {
@@ -110,7 +114,9 @@ pub fn plots(
                 match mode {
                     FeedPlot::Feed => {
                         // At least ±1 ppm of F around F, so rounding noise is not blown up.
-                        plot = plot.include_y(feed_mm_per_min * (1.0 - 1e-6)).include_y(feed_mm_per_min * (1.0 + 1e-6));
+                        plot = plot
+                            .include_y(feed_mm_per_min * (1.0 - FEED_PLOT_MIN_REL))
+                            .include_y(feed_mm_per_min * (1.0 + FEED_PLOT_MIN_REL));
                     }
                     FeedPlot::Fluctuation => {
                         plot = plot

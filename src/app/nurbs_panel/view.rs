@@ -21,6 +21,13 @@ use crate::geom::{Curve3, NurbsCurve};
 use crate::render::geometry::{Origin, bounds, polyline};
 use crate::render::{Layer, LineSegment, OrbitCamera, Renderer3d, SphereInstance, ViewId};
 
+/// Floor (mm) of a length the view divides by or takes the logarithm of (a feed per period,
+/// millimetres per point), so a zero never reaches the division.
+const MIN_LENGTH_MM: f64 = 1e-9;
+/// A colour bar's last tick may pass its upper end by this (in the bar's unit) from the
+/// rounding of the tick steps.
+const TICK_SLACK: f64 = 1e-9;
+
 /// GPU view id of this panel (0 is the crease view, 1 the 5-axis view).
 pub const VIEW_ID: ViewId = 2;
 
@@ -323,7 +330,7 @@ impl NurbsView {
             self.built = None;
         }
         let mm_pt = self.mm_per_point(h);
-        let zoom_step = (mm_pt.max(1e-9).ln() / 1.2f64.ln()).floor() as i32;
+        let zoom_step = (mm_pt.max(MIN_LENGTH_MM).ln() / 1.2f64.ln()).floor() as i32;
         let (overlay_gen, deviation_gen) = match overlay {
             Overlay::None => (0, 0),
             Overlay::Row(i) => (work.rows[i].generation, 0),
@@ -612,7 +619,7 @@ impl NurbsView {
 /// so the colour never hides a peak. Returns the dots and the periods per dot.
 fn realtime_dots(rt: &Realtime, spacing_mm: f64, radius: f32, o: Origin) -> (Vec<SphereInstance>, usize) {
     let samples = &rt.run.samples;
-    let every = ((spacing_mm / rt.feed_per_period_mm.max(1e-9)).ceil() as usize).max(1);
+    let every = ((spacing_mm / rt.feed_per_period_mm.max(MIN_LENGTH_MM)).ceil() as usize).max(1);
     let every = every.max(samples.len().div_ceil(20_000));
     let mut dots = Vec::with_capacity(samples.len() / every + 1);
     for chunk in samples.chunks(every) {
@@ -641,7 +648,7 @@ pub(super) fn fluct_legend(painter: &egui::Painter, left_bottom: egui::Pos2, wid
     }
     let small = egui::FontId::proportional(11.0);
     let mut d = lo;
-    while d <= hi + 1e-9 {
+    while d <= hi + TICK_SLACK {
         let x = left_bottom.x + ((d - lo) / (hi - lo)) as f32 * width;
         painter.line_segment(
             [egui::pos2(x, left_bottom.y), egui::pos2(x, left_bottom.y + 3.0)],

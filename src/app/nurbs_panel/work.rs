@@ -30,6 +30,9 @@ use crate::nurbs_path::{FeedStats, Parabola, RealtimeRun, RealtimeStepper, Updat
 use crate::plan::Dynamics;
 use crate::scene::Scene;
 
+/// Finest spacing (mm) of the samples of a design curve drawn in the view.
+const MIN_SAMPLE_SPACING_MM: f64 = 1e-3;
+
 /// Periods of the crease or of a real-time run per step: a few ms natively, ~10 ms in a
 /// browser, so a 10⁵-period path (a slow feed) is spread over frames.
 const PERIODS_PER_STEP: usize = 4000;
@@ -96,7 +99,7 @@ impl Design {
     #[must_use]
     pub fn samples(&self, spacing_mm: f64) -> Vec<DVec3> {
         let (a, b) = self.curve.range();
-        let n = ((self.length_mm / spacing_mm.max(1e-3)).ceil() as usize).clamp(64, 20_000);
+        let n = ((self.length_mm / spacing_mm.max(MIN_SAMPLE_SPACING_MM)).ceil() as usize).clamp(64, 20_000);
         (0..=n).map(|i| self.curve.point_at(a + (b - a) * i as f64 / n as f64)).collect()
     }
 }

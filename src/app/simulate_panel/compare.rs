@@ -123,7 +123,7 @@ pub fn draw_maps(
     b: Option<(&MapImage, u64)>,
     band_um: f64,
 ) -> Vec<(&'static str, egui::Rect)> {
-    let band_mm = band_um * 1e-3;
+    let band_mm = band_um * crate::numerics::units::MM_PER_UM;
     let band_key = band_um.to_bits();
     let mut out = Vec::new();
     // One scale (points per mm) for both, so the same part looks the same size.

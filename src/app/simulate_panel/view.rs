@@ -104,7 +104,7 @@ impl SimView {
         // The measured map when it is current, else the latest keyframe's heights.
         let g = map.grid;
         let (z0, z1) = (s[2], s[5]);
-        let band = band_um * 1e-3;
+        let band = band_um * crate::numerics::units::MM_PER_UM;
         // At most MAX_DRAWN_SIDE vertices a side: every `step`-th ray (and the last), each
         // coloured by the largest deviation (in size) of the rays it stands for, so a gouge
         // or crest narrower than the step still shows. The numbers are every ray's.

@@ -15,6 +15,9 @@ use crate::jobs::user_program;
 use crate::plan::machine::MAX_TOLERANCE_MM;
 use crate::plan::{Dynamics, PRESETS};
 
+/// A limit scale within this of 1 is the machine's own limit (the slider's rounding).
+const SCALE_ONE_SLACK: f64 = 1e-12;
+
 /// What the plot shows.
 const PLOTS: [(&str, &str); 3] = [("feed", "mm/min"), ("acceleration", "mm/s²"), ("jerk", "mm/s³")];
 
@@ -65,7 +68,7 @@ impl Timing {
             m.tolerance_mm = t;
         }
         let [v, a, j] = self.scale();
-        if [v, a, j].iter().any(|f| (f - 1.0).abs() > 1e-12) {
+        if [v, a, j].iter().any(|f| (f - 1.0).abs() > SCALE_ONE_SLACK) {
             for axis in &mut m.axes {
                 axis.velocity *= v;
                 axis.acceleration *= a;
