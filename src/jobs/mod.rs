@@ -66,9 +66,10 @@ pub enum WorkerError {
 
 /// Why a job gives no result: the one error every kind's output carries
 /// (`Result<_, JobError>`). Each kind has its own typed error inside, in the user's terms
-/// ([`program_row::RowError`], [`simulate_run::SimulateError`], …); at the job's edge it is
-/// either a cancellation or a failure with that error's message, because the output crosses
-/// into and out of a Web Worker as text ([`JobError::encode`], [`JobError::decode`]).
+/// ([`program_row::RowError`], [`simulate_run::error::SimulateError`], …); at the job's
+/// edge it is either a cancellation or a failure with that error's message, because the
+/// output crosses into and out of a Web Worker as text ([`JobError::encode`],
+/// [`JobError::decode`]).
 #[derive(Clone, Debug, PartialEq, Eq, Error)]
 pub enum JobError {
     /// The job was cancelled before it finished ([`Progress::cancelled`]).
