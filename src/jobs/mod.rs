@@ -337,7 +337,7 @@ mod tests {
     /// A failure crosses with its message byte for byte, even one that reads "cancelled".
     #[test]
     fn a_failure_round_trips_with_its_message() {
-        for m in ["the scene: no field \"path\"", "cancelled", "", "tool 3: ∅ \u{1f}\n"] {
+        for m in ["the scene: no field \"path\"", "cancelled", "", "tool 3: µ \u{1f}\n"] {
             let e = JobError::Failed(m.to_owned());
             assert_eq!(round_trip(&e), Some(e.clone()));
             assert_eq!(e.to_string(), m);
