@@ -10,12 +10,16 @@ use std::time::Instant;
 use clap::Args;
 use glam::DVec3;
 use interpolab::crease::CreaseJob;
-use interpolab::fillet::PartSamples;
+use interpolab::fillet::program::{FinishProgramError, first_out_of_travel};
+use interpolab::fillet::{FinishJob, FinishSetup, IsoScallopSteps, PartSamples, PathSet, Strategy};
 use interpolab::geom::Cutter;
 use interpolab::scene::Scene;
 use interpolab::simulate::bench::BenchKind;
+use interpolab::simulate::finish::WorkProjection;
 use interpolab::simulate::pipeline::{self, Measures, SampleStep, ToolPoint};
-use interpolab::simulate::{Design, DexelStock, FinishProgram, Program, heights_csv, png_rgb, stock_box_mm};
+use interpolab::simulate::{
+    Design, DexelStock, FinishProgram, Program, Simulation, heights_csv, png_rgb, stock_box_mm,
+};
 use interpolab::simulate::{INTERIOR_END_MM, INTERIOR_SIDE_MM, InteriorStats, interior_mask, interior_stats};
 use serde_json::json;
 
@@ -312,18 +316,24 @@ fn simulate_finish(a: &SimulateArgs, tol: f64) -> Result<ExitCode, Fatal> {
             DexelStock::block([s[0], s[1], s[2]], [s[3], s[4], s[5]], a.pitch).map_err(|e| Fatal(e.to_string()))?
         }
     };
+    // Poses close enough that the sampling's cusps stay under a quarter of h (the app's
+    // hand-over does the same), unless --sample-step says otherwise.
+    let pose_step =
+        a.sample_step.or_else(|| FinishProgram::pose_step_mm(&cutter, job.options.scallop_mm).filter(|s| *s < a.pitch));
+    let how = RunHow {
+        sample_step: pose_step.map_or(SampleStep::Default, SampleStep::Given),
+        point: ToolPoint::Tip,
+        finish_info: None,
+        interior_passes: None,
+    };
     let part = PartSamples::new(&job.surface, job.options.part_grid);
-    let set = super::finish::paths_for(&job, strategy, a.layout, &part, true, &name)?;
+    let set = finish_paths_metered(a, &job, strategy, &part, &stock, &cutter, &how, tol, &name)?;
     let fp = FinishProgram::new(&job, &set, tol).map_err(|e| Fatal(format!("--finish {tol}: {e}")))?;
     let program = fp.program().map_err(|e| Fatal(format!("{name}: {e}")))?;
     // Named once the program exists, so that a refusal of the command stays its only line.
     for line in super::finish::refused_lines(&name, &set.refused, "the simulated program leaves them out") {
         eprintln!("{line}");
     }
-    // Poses close enough that the sampling's cusps stay under a quarter of h (the app's
-    // hand-over does the same), unless --sample-step says otherwise.
-    let pose_step =
-        a.sample_step.or_else(|| FinishProgram::pose_step_mm(&cutter, job.options.scallop_mm).filter(|s| *s < a.pitch));
     let extra = json!({
         "label": fp.label,
         "pose_step_mm": pose_step,
@@ -334,13 +344,57 @@ fn simulate_finish(a: &SimulateArgs, tol: f64) -> Result<ExitCode, Fatal> {
         "step_tol_mm": tol,
         "refused": set.refused.len(),
     });
-    let how = RunHow {
-        sample_step: pose_step.map_or(SampleStep::Default, SampleStep::Given),
-        point: ToolPoint::Tip,
-        finish_info: Some(extra),
-        interior_passes: Some(fp.cc_points()),
-    };
+    let how = RunHow { finish_info: Some(extra), interior_passes: Some(fp.cc_points()), ..how };
     finish(a, &cutter, stock, &program, &fp.design(), how)
+}
+
+/// The paths of `simulate --finish`, as `finish --gcode` builds them (refused at the first
+/// path out of the machine's travel), and refused as soon as the simulation of their
+/// program would pass the work a run may do: by the job's pilot before any path, then
+/// projected from the share of the surface the paths cover
+/// ([`interpolab::simulate::finish::WorkProjection`]). Iso-parametric paths are built
+/// whole, then left to the run's meter.
+#[allow(clippy::too_many_arguments)]
+fn finish_paths_metered(
+    a: &SimulateArgs,
+    job: &FinishJob,
+    strategy: Strategy,
+    part: &PartSamples,
+    stock: &DexelStock,
+    cutter: &Cutter,
+    how: &RunHow,
+    tol: f64,
+    name: &str,
+) -> Result<PathSet, Fatal> {
+    let fail = |e: &dyn std::fmt::Display| Fatal(format!("{name}: {e}"));
+    let setup = FinishSetup { strategy, ..job.setup(part) };
+    let mut sim = Simulation::new(stock.clone(), cutter);
+    if let Some(step) = how.sample_step.resolve(stock.grid().pitch_mm, cutter) {
+        sim = sim.with_sample_step(step);
+    }
+    let mut projection = WorkProjection::new(&job.surface, &job.cutter, &job.machine, strategy, tol);
+    if let Some(pilot) = interpolab::fillet::paths::pilot(&setup).map_err(|e| fail(&e))? {
+        projection.check_pilot(&sim, &pilot).map_err(|e| fail(&e))?;
+    }
+    if !matches!(a.layout, super::finish::LayoutArg::IsoScallop) {
+        return super::finish::paths_for(job, strategy, a.layout, part, true, name);
+    }
+    let mut steps = IsoScallopSteps::start(&setup).map_err(|e| fail(&e))?;
+    let mut checked = 0;
+    loop {
+        for (k, path) in steps.paths().iter().enumerate().skip(checked) {
+            if let Some(source) = first_out_of_travel(&job.machine, &path.nodes) {
+                return Err(fail(&FinishProgramError::Plan { path: k, source }));
+            }
+            projection.add(&sim, path);
+        }
+        checked = steps.paths().len();
+        projection.check(steps.progress(&job.surface)).map_err(|e| fail(&e))?;
+        if steps.is_done() {
+            return Ok(steps.finish());
+        }
+        steps.step(&setup).map_err(|e| fail(&e))?;
+    }
 }
 
 /// The interior band's statistics as the JSON's `interior` (µm to 1e-3).

@@ -166,6 +166,22 @@ pub enum SimError {
         /// The cap ([`MAX_WORK`]).
         max: f64,
     },
+    /// A finishing program's simulation, estimated before or while its paths are built
+    /// ([`finish::WorkProjection`]), passes [`MAX_WORK`] by more than the estimate's room.
+    #[error(
+        "the simulation would take too long on this grid: {}, its program would take about {}, more than the {} a run may do (about 20 s); raise the pitch, shrink the stock, or raise the scallop height",
+        if *share > 0.0 { format!("projected from the paths of the first {:.0} % of the surface", share * 100.0) } else { "estimated before the paths are built (from the finishing job's pilot)".to_owned() },
+        work_units(*projected), work_units(*max)
+    )]
+    TooMuchFinishWork {
+        /// Share of the surface the paths covered when the projection was made (0: the
+        /// pilot's estimate, before any path).
+        share: f64,
+        /// Work projected for the whole program (straight-move ray updates).
+        projected: f64,
+        /// The cap ([`MAX_WORK`]).
+        max: f64,
+    },
 }
 
 /// Work as a message prints it: millions of straight-move ray updates.

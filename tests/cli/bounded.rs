@@ -185,6 +185,18 @@ fn a_finishing_surface_with_a_mistyped_control_point_is_refused_early() {
     }
 }
 
+/// The mould's finishing program on a grid of 0.2 mm would take some 2.7·10⁹ ray updates,
+/// four times a run's cap. The job's pilot says so before the paths are built: the refusal
+/// names the estimate, not moves machined (the run's meter refused it after the paths and
+/// 177 moves, 5.6 s).
+#[test]
+fn a_finishing_simulation_over_its_work_is_refused_before_its_paths() {
+    let o = run(&["simulate", &example_finish("concave-mould"), "--finish", "0.005", "--pitch", "0.2"]);
+    refused(&o, &["before the paths are built", "ray updates", "raise the pitch"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!err.contains(" moves"), "{err}");
+}
+
 #[test]
 fn measuring_many_arcs_against_a_design_is_refused_before_the_work() {
     // 70 000 full circles weigh 1.4 million line-equivalents, over the 1.2 million cap:
