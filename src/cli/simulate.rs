@@ -327,7 +327,7 @@ fn simulate_finish(a: &SimulateArgs, tol: f64) -> Result<ExitCode, Fatal> {
         interior_passes: None,
     };
     let part = PartSamples::new(&job.surface, job.options.part_grid);
-    let set = finish_paths_metered(a, &job, strategy, &part, &stock, &cutter, &how, tol, &name)?;
+    let (set, stock) = finish_paths_metered(a, &job, strategy, &part, stock, &cutter, &how, tol, &name)?;
     let fp = FinishProgram::new(&job, &set, tol).map_err(|e| Fatal(format!("--finish {tol}: {e}")))?;
     let program = fp.program().map_err(|e| Fatal(format!("{name}: {e}")))?;
     // Named once the program exists, so that a refusal of the command stays its only line.
@@ -353,23 +353,24 @@ fn simulate_finish(a: &SimulateArgs, tol: f64) -> Result<ExitCode, Fatal> {
 /// program would pass the work a run may do: by the job's pilot before any path, then
 /// projected from the share of the surface the paths cover
 /// ([`interpolab::simulate::finish::WorkProjection`]). Iso-parametric paths are built
-/// whole, then left to the run's meter.
+/// whole, then left to the run's meter. The stock comes back untouched, for the run.
 #[allow(clippy::too_many_arguments)]
 fn finish_paths_metered(
     a: &SimulateArgs,
     job: &FinishJob,
     strategy: Strategy,
     part: &PartSamples,
-    stock: &DexelStock,
+    stock: DexelStock,
     cutter: &Cutter,
     how: &RunHow,
     tol: f64,
     name: &str,
-) -> Result<PathSet, Fatal> {
+) -> Result<(PathSet, DexelStock), Fatal> {
     let fail = |e: &dyn std::fmt::Display| Fatal(format!("{name}: {e}"));
     let setup = FinishSetup { strategy, ..job.setup(part) };
-    let mut sim = Simulation::new(stock.clone(), cutter);
-    if let Some(step) = how.sample_step.resolve(stock.grid().pitch_mm, cutter) {
+    let pitch = stock.grid().pitch_mm;
+    let mut sim = Simulation::new(stock, cutter);
+    if let Some(step) = how.sample_step.resolve(pitch, cutter) {
         sim = sim.with_sample_step(step);
     }
     let mut projection = WorkProjection::new(&job.surface, &job.cutter, &job.machine, strategy, tol);
@@ -377,7 +378,7 @@ fn finish_paths_metered(
         projection.check_pilot(&sim, &pilot).map_err(|e| fail(&e))?;
     }
     if !matches!(a.layout, super::finish::LayoutArg::IsoScallop) {
-        return super::finish::paths_for(job, strategy, a.layout, part, true, name);
+        return Ok((super::finish::paths_for(job, strategy, a.layout, part, true, name)?, sim.into_stock()));
     }
     let mut steps = IsoScallopSteps::start(&setup).map_err(|e| fail(&e))?;
     let mut checked = 0;
@@ -391,7 +392,7 @@ fn finish_paths_metered(
         checked = steps.paths().len();
         projection.check(steps.progress(&job.surface)).map_err(|e| fail(&e))?;
         if steps.is_done() {
-            return Ok(steps.finish());
+            return Ok((steps.finish(), sim.into_stock()));
         }
         steps.step(&setup).map_err(|e| fail(&e))?;
     }

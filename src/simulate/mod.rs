@@ -376,6 +376,13 @@ impl Simulation {
         &self.stock
     }
 
+    /// The stock as machined so far, the simulation given up (one that only estimated a
+    /// program's work hands its stock, untouched, to the run).
+    #[must_use]
+    pub fn into_stock(self) -> DexelStock {
+        self.stock
+    }
+
     /// The simulated cutter shape.
     #[must_use]
     pub fn tool(&self) -> &ToolShape {
