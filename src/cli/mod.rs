@@ -302,6 +302,31 @@ fn open_app() -> Result<ExitCode, Fatal> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// Writes `bytes` to `path`, or the error naming the file.
+pub(crate) fn write_file(path: &std::path::Path, bytes: &[u8]) -> Result<(), Fatal> {
+    std::fs::write(path, bytes).map_err(|e| Fatal(format!("cannot write {}: {e}", path.display())))
+}
+
+/// The height map's files a `simulate` run was asked for: the CSV to `out`, the PNG (its
+/// deviation band ±`band_um` µm) to `png`; `stats` when the run has a design.
+pub(crate) fn write_height_files(
+    out: Option<&std::path::Path>,
+    png: Option<&std::path::Path>,
+    band_um: f64,
+    map: &interpolab::simulate::HeightMap,
+    stats: Option<&interpolab::simulate::SimStats>,
+    z_range_mm: (f64, f64),
+) -> Result<(), Fatal> {
+    if let Some(out) = out {
+        write_file(out, interpolab::simulate::heights_csv(map, stats).as_bytes())?;
+    }
+    if let Some(png) = png {
+        let band_mm = band_um * interpolab::numerics::units::MM_PER_UM;
+        write_file(png, &interpolab::simulate::png_rgb(map, stats, z_range_mm, band_mm))?;
+    }
+    Ok(())
+}
+
 /// The crashes of a `simulate` run: one line on standard error (counts per kind and the
 /// first), the CSV list written to `path` when given, and the JSON `crashes` object.
 /// `tool_number` names a tool slot's tool (`None`: the one cutter of a plain run).
@@ -323,8 +348,7 @@ pub(crate) fn crash_report(
         eprintln!("interpolab: {line}{lengths}{more}");
     }
     if let Some(path) = path {
-        std::fs::write(path, log.csv(&tool_number))
-            .map_err(|e| Fatal(format!("cannot write {}: {e}", path.display())))?;
+        write_file(path, log.csv(&tool_number).as_bytes())?;
     }
     let nm = |mm: f64| (mm * 1e6).round() / 1e6 + 0.0;
     let mut counts = serde_json::Map::new();

@@ -17,9 +17,7 @@ use interpolab::scene::Scene;
 use interpolab::simulate::bench::BenchKind;
 use interpolab::simulate::finish::WorkProjection;
 use interpolab::simulate::pipeline::{self, Measures, SampleStep, ToolPoint};
-use interpolab::simulate::{
-    Design, DexelStock, FinishProgram, Program, Simulation, heights_csv, png_rgb, stock_box_mm,
-};
+use interpolab::simulate::{Design, DexelStock, FinishProgram, Program, Simulation, stock_box_mm};
 use interpolab::simulate::{INTERIOR_END_MM, INTERIOR_SIDE_MM, InteriorStats, interior_mask, interior_stats};
 use serde_json::json;
 
@@ -186,10 +184,6 @@ fn load_design(a: &SimulateDesign<'_>) -> Result<Design, Fatal> {
     let scene = Scene::from_json(&text).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
     let job = CreaseJob::from_scene(&scene).map_err(|e| Fatal(format!("{}: {e}", path.display())))?;
     Ok(Design::Surfaces(job.surfaces.to_vec()))
-}
-
-fn write(path: &Path, bytes: &[u8]) -> Result<(), Fatal> {
-    fs::write(path, bytes).map_err(|e| Fatal(format!("cannot write {}: {e}", path.display())))
 }
 
 pub(super) fn simulate(a: &SimulateArgs) -> Result<ExitCode, Fatal> {
@@ -479,20 +473,14 @@ fn finish(
     let run_ms = t0.elapsed().as_secs_f64() * 1e3;
     let Ok(Measures { map, stats }) = pipeline::measure(sim.stock(), design, usize::MAX, |_| Ok::<(), Infallible>(()));
     let has_design = !matches!(design, Design::None);
-    if let Some(out) = &a.out {
-        write(out, heights_csv(&map, has_design.then_some(&stats)).as_bytes())?;
-    }
-    if let Some(png) = &a.png {
-        write(
-            png,
-            &png_rgb(
-                &map,
-                has_design.then_some(&stats),
-                sim.stock().z_range_mm(),
-                a.band_um * interpolab::numerics::units::MM_PER_UM,
-            ),
-        )?;
-    }
+    super::write_height_files(
+        a.out.as_deref(),
+        a.png.as_deref(),
+        a.band_um,
+        &map,
+        has_design.then_some(&stats),
+        sim.stock().z_range_mm(),
+    )?;
     let c = sim.counters();
     let crashes = super::crash_report(sim.crashes(), a.crashes.as_deref(), !cutter.body_given, |_| None)?;
     let g = map.grid;

@@ -21,7 +21,7 @@ use interpolab::numerics::limits::MAX_TOOL_TABLE_BYTES;
 use interpolab::simulate::canon::{
     BlockKind, CanonBuilder, CanonOptions, CanonProgram, KinematicsChoice, MachineSetup, RotaryMode,
 };
-use interpolab::simulate::{Design, DexelStock, HeightMap, NO_TOOL, SimStats, Simulation, heights_csv, png_rgb};
+use interpolab::simulate::{Design, DexelStock, HeightMap, NO_TOOL, SimStats, Simulation};
 use serde_json::json;
 
 use super::Fatal;
@@ -431,25 +431,9 @@ pub(crate) fn simulate(r: &SimulateRequest<'_>) -> Result<ExitCode, Fatal> {
     let map = HeightMap::of(sim.stock());
     let stats = SimStats::of(&map, sim.stock(), &r.design);
     let has_design = !matches!(r.design, Design::None);
-    let write = |path: &Path, bytes: &[u8]| {
-        std::fs::write(path, bytes).map_err(|e| Fatal(format!("cannot write {}: {e}", path.display())))
-    };
-    if let Some(out) = r.out {
-        write(out, heights_csv(&map, has_design.then_some(&stats)).as_bytes())?;
-    }
-    if let Some(png) = r.png {
-        write(
-            png,
-            &png_rgb(
-                &map,
-                has_design.then_some(&stats),
-                sim.stock().z_range_mm(),
-                r.band_um * interpolab::numerics::units::MM_PER_UM,
-            ),
-        )?;
-    }
+    super::write_height_files(r.out, r.png, r.band_um, &map, has_design.then_some(&stats), sim.stock().z_range_mm())?;
     if let (Some(path), Some(slots)) = (r.tool_map, sim.tool_map()) {
-        write(path, &tool_map_bytes(path, &map, slots, &p))?;
+        super::write_file(path, &tool_map_bytes(path, &map, slots, &p))?;
     }
     let c = sim.counters();
     let assumed = p.tools.iter().any(|t| !t.cutter.body_given);
