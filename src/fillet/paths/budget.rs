@@ -143,8 +143,19 @@ impl Ctx<'_> {
     /// usable part's ([`MAX_CHECK_CELLS_PER_NODE`], [`MAX_CHECK_CELLS`]), or its work passes
     /// the share a comparison table gave it (`FinishOptions::max_work`).
     pub(super) fn count_check(&self) -> Result<(), FinishError> {
-        let nodes = self.nodes_checked.get() + 1;
-        self.nodes_checked.set(nodes);
+        self.nodes_checked.set(self.nodes_checked.get() + 1);
+        self.check_meter()
+    }
+
+    /// [`Self::count_check`]'s limits without a CC point counted: for the checks a CC point
+    /// runs besides its own, the trial poses of its side step to the next path (up to
+    /// [`SIDE_STEP_ROUNDS`](super::side_step::SIDE_STEP_ROUNDS) + 1 of them, each up to
+    /// [`MAX_ADJUST_CELLS`](crate::fillet::gouge::MAX_ADJUST_CELLS)), so that one point's
+    /// side step cannot spend millions of cells before the point's average is read. A fuzz
+    /// case's mould with one control point raised 360 mm spent 14 million cells in the
+    /// pilot's side steps between two points and was refused after 1.6 s of CPU.
+    pub(super) fn check_meter(&self) -> Result<(), FinishError> {
+        let nodes = self.nodes_checked.get();
         if let Some(max_work) = self.opts.max_work {
             let work = self.part.work_done().saturating_sub(self.work_at_start);
             if work > max_work {
@@ -161,12 +172,13 @@ impl Ctx<'_> {
         // After CHECK_COST_SAMPLE points, or sooner once the cells spent would already put
         // that many points over the average (a first point costing a million cells).
         if (nodes >= CHECK_COST_SAMPLE || cells > CHECK_COST_SAMPLE * MAX_CHECK_CELLS_PER_NODE)
-            && cells / nodes > MAX_CHECK_CELLS_PER_NODE
+            && cells / nodes.max(1) > MAX_CHECK_CELLS_PER_NODE
         {
             return Err(FinishError::TooMuchChecking {
                 detail: format!(
-                    "cost {} cells a CC point over the first {nodes} (more than {MAX_CHECK_CELLS_PER_NODE})",
-                    cells / nodes
+                    "cost {} cells a CC point over the first {} (more than {MAX_CHECK_CELLS_PER_NODE})",
+                    cells / nodes.max(1),
+                    nodes.max(1)
                 ),
             });
         }
@@ -259,9 +271,12 @@ impl Ctx<'_> {
             }
             let Some(side) = side else { continue };
             let ctx = Ctx { side, nodes_checked: std::cell::Cell::new(self.nodes_checked.get()), ..*self };
-            inverse.extend(
-                nodes.iter().map(|n| ctx.side_step(n).width_mm).filter(|w| *w > 0.0 && w.is_finite()).map(|w| 1.0 / w),
-            );
+            for n in &nodes {
+                let w = ctx.side_step(n)?.width_mm;
+                if w > 0.0 && w.is_finite() {
+                    inverse.push(1.0 / w);
+                }
+            }
             self.nodes_checked.set(ctx.nodes_checked.get());
         }
         // The checks' cost per CC point on the pilot (its paths and side steps, as a job's).

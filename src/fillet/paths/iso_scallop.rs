@@ -286,7 +286,7 @@ impl IsoScallopSteps {
         // it reached the far edge).
         let mut steps: Vec<Step> = Vec::with_capacity(last.nodes.len());
         for (i, node) in last.nodes.iter().enumerate().filter(|(_, n)| !n.lead_out) {
-            let solved = ctx.side_step(node);
+            let solved = ctx.side_step(node)?;
             steps.push(Step {
                 node: i,
                 width_mm: solved.width_mm,

@@ -3,6 +3,7 @@
 use glam::DVec2;
 
 use super::Ctx;
+use crate::fillet::FinishError;
 use crate::fillet::contact::{ContactFrame, CrossProfile, Pose, scallop_between};
 use crate::fillet::gouge::adjust;
 use crate::fillet::node::CcNode;
@@ -74,7 +75,16 @@ impl Ctx<'_> {
     /// strategy's within the azimuth window around the node's, α held within the turn rate
     /// of the node's, and (when `checked`) after the gouge checks; with whether the checks
     /// changed it.
-    pub(super) fn next_pose(&self, node: &CcNode, frame_b: &ContactFrame, w_mm: f64, checked: bool) -> (Pose, bool) {
+    ///
+    /// # Errors
+    /// The job's checks over their limits ([`Self::check_meter`]).
+    pub(super) fn next_pose(
+        &self,
+        node: &CcNode,
+        frame_b: &ContactFrame,
+        w_mm: f64,
+        checked: bool,
+    ) -> Result<(Pose, bool), FinishError> {
         let oo = &self.opts.orient;
         let psi = node.pose.azimuth_rad;
         let d = oo.max_turn_rad_per_mm * w_mm;
@@ -82,13 +92,15 @@ impl Ctx<'_> {
         let pose_b = pose_at(&self.strategy, &self.cutter, frame_b, oo, window).map_or(node.pose, |p| p.0);
         let pose_b = Pose { inclination_rad: pose_b.inclination_rad.max(node.pose.inclination_rad - d), ..pose_b };
         if !checked {
-            return (pose_b, false);
+            return Ok((pose_b, false));
         }
         let tool = self.strategy.cutter_for(&self.cutter);
-        match adjust(&tool, self.surface, self.part, frame_b, pose_b, oo, self.opts.gouge_tol_mm) {
+        let verdict = adjust(&tool, self.surface, self.part, frame_b, pose_b, oo, self.opts.gouge_tol_mm);
+        self.check_meter()?;
+        Ok(match verdict {
             Ok((p, adj)) => (p, adj.is_some()),
             Err(_) => (pose_b, false),
-        }
+        })
     }
 
     /// Side step from `node` solved so the scallop is h; the uv of the next path's point,
@@ -96,25 +108,28 @@ impl Ctx<'_> {
     /// first with the next poses unchecked (the gouge checks are the costly part); when the
     /// checks changed this node's pose and change the next one's at the solution, solved
     /// again with every trial pose checked.
-    pub(super) fn side_step(&self, node: &CcNode) -> Solved {
-        let first = self.solve_side_step(node, false);
+    ///
+    /// # Errors
+    /// The job's checks over their limits ([`Self::check_meter`]).
+    pub(super) fn side_step(&self, node: &CcNode) -> Result<Solved, FinishError> {
+        let first = self.solve_side_step(node, false)?;
         let Solved { uv, beyond, width_mm: w, .. } = first;
         if beyond {
-            return first;
+            return Ok(first);
         }
         // The prediction matters only where the checks act: where they left this node as it
         // was, the next one is taken unchecked too (its own checks run when its path is built,
         // so this affects the scallop's accuracy, never the gouge-freedom).
         if node.adjusted.is_none() {
-            return first;
+            return Ok(first);
         }
         match ContactFrame::new(self.surface, uv, node.frame.feed) {
-            Some(frame_b) if self.next_pose(node, &frame_b, w, true).1 => self.solve_side_step(node, true),
-            _ => first,
+            Some(frame_b) if self.next_pose(node, &frame_b, w, true)?.1 => self.solve_side_step(node, true),
+            _ => Ok(first),
         }
     }
 
-    pub(super) fn solve_side_step(&self, node: &CcNode, checked: bool) -> Solved {
+    pub(super) fn solve_side_step(&self, node: &CcNode, checked: bool) -> Result<Solved, FinishError> {
         let h = self.opts.scallop_mm;
         let tool = self.strategy.cutter_for(&self.cutter);
         let a = CrossProfile::new(&tool, self.surface, node.frame, &node.pose);
@@ -128,12 +143,12 @@ impl Ctx<'_> {
             self.part.side_trials.add(1);
             let (uv, beyond) = self.walk(&node.frame, w);
             if beyond {
-                return Solved { uv, beyond: true, width_mm: w, scallop_mm: 0.0 };
+                return Ok(Solved { uv, beyond: true, width_mm: w, scallop_mm: 0.0 });
             }
             let Some(frame_b) = ContactFrame::new(self.surface, uv, node.frame.feed) else {
-                return Solved { uv, beyond, width_mm: w, scallop_mm: 0.0 };
+                return Ok(Solved { uv, beyond, width_mm: w, scallop_mm: 0.0 });
             };
-            let (pose_b, _) = self.next_pose(node, &frame_b, w, checked);
+            let (pose_b, _) = self.next_pose(node, &frame_b, w, checked)?;
             let b = CrossProfile::new(&tool, self.surface, frame_b, &pose_b);
             let s = scallop_between(&a, &b, self.side * w);
             result = Solved { uv, beyond, width_mm: w, scallop_mm: s };
@@ -159,6 +174,6 @@ impl Ctx<'_> {
             }
             w = next;
         }
-        result
+        Ok(result)
     }
 }
