@@ -11,13 +11,13 @@ use clap::Args;
 use glam::DVec3;
 use interpolab::crease::CreaseJob;
 use interpolab::fillet::program::{FinishProgramError, first_out_of_travel};
-use interpolab::fillet::{FinishJob, FinishSetup, IsoScallopSteps, PartSamples, PathSet, Strategy};
+use interpolab::fillet::{Built, FinishError, FinishJob, FinishSetup, PartSamples, PathSet, Strategy, iso_scallop_checked};
 use interpolab::geom::Cutter;
 use interpolab::scene::Scene;
 use interpolab::simulate::bench::BenchKind;
 use interpolab::simulate::finish::WorkProjection;
 use interpolab::simulate::pipeline::{self, Measures, SampleStep, ToolPoint};
-use interpolab::simulate::{Design, DexelStock, FinishProgram, Program, Simulation, stock_box_mm};
+use interpolab::simulate::{Design, DexelStock, FinishProgram, Program, SimError, Simulation, stock_box_mm};
 use interpolab::simulate::{INTERIOR_END_MM, INTERIOR_SIDE_MM, InteriorStats, interior_mask, interior_stats};
 use serde_json::json;
 
@@ -343,9 +343,10 @@ fn simulate_finish(a: &SimulateArgs, tol: f64) -> Result<ExitCode, Fatal> {
 }
 
 /// The paths of `simulate --finish`, as `finish --gcode` builds them (refused at the first
-/// path out of the machine's travel), and refused as soon as the simulation of their
-/// program would pass the work a run may do: by the job's pilot before any path, then
-/// projected from the share of the surface the paths cover
+/// path out of the machine's travel, [`interpolab::fillet::program::iso_scallop_in_travel`]),
+/// and refused as soon as the
+/// simulation of their program would pass the work a run may do: by the job's pilot before
+/// any path, then projected from the share of the surface the paths cover
 /// ([`interpolab::simulate::finish::WorkProjection`]). Iso-parametric paths are built
 /// whole, then left to the run's meter. The stock comes back untouched, for the run.
 #[allow(clippy::too_many_arguments)]
@@ -368,28 +369,38 @@ fn finish_paths_metered(
         sim = sim.with_sample_step(step);
     }
     let mut projection = WorkProjection::new(&job.surface, &job.cutter, &job.machine, strategy, tol);
-    if let Some(pilot) = interpolab::fillet::paths::pilot(&setup).map_err(|e| fail(&e))? {
-        projection.check_pilot(&sim, &pilot).map_err(|e| fail(&e))?;
-    }
     if !matches!(a.layout, super::finish::LayoutArg::IsoScallop) {
+        if let Some(pilot) = interpolab::fillet::paths::pilot(&setup).map_err(|e| fail(&e))? {
+            projection.check_pilot(&sim, &pilot).map_err(|e| fail(&e))?;
+        }
         return Ok((super::finish::paths_for(job, strategy, a.layout, part, true, name)?, sim.into_stock()));
     }
-    let mut steps = IsoScallopSteps::start(&setup).map_err(|e| fail(&e))?;
-    let mut checked = 0;
-    loop {
-        for (k, path) in steps.paths().iter().enumerate().skip(checked) {
-            if let Some(source) = first_out_of_travel(&job.machine, &path.nodes) {
-                return Err(fail(&FinishProgramError::Plan { path: k, source }));
+    let set = iso_scallop_checked(&setup, |built| {
+        match built {
+            Built::Pilot(pilot) => projection.check_pilot(&sim, pilot)?,
+            Built::Path { index, path, covered } => {
+                if let Some(source) = first_out_of_travel(&job.machine, &path.nodes) {
+                    return Err(Stop::Program(FinishProgramError::Plan { path: index, source }));
+                }
+                projection.add(&sim, path);
+                projection.check(covered)?;
             }
-            projection.add(&sim, path);
         }
-        checked = steps.paths().len();
-        projection.check(steps.progress(&job.surface)).map_err(|e| fail(&e))?;
-        if steps.is_done() {
-            return Ok((steps.finish(), sim.into_stock()));
-        }
-        steps.step(&setup).map_err(|e| fail(&e))?;
-    }
+        Ok(())
+    })
+    .map_err(|e| fail(&e))?;
+    Ok((set, sim.into_stock()))
+}
+
+/// Why [`finish_paths_metered`] stopped its paths.
+#[derive(Debug, thiserror::Error)]
+enum Stop {
+    #[error(transparent)]
+    Finish(#[from] FinishError),
+    #[error(transparent)]
+    Program(FinishProgramError),
+    #[error(transparent)]
+    Work(#[from] SimError),
 }
 
 /// The interior band's statistics as the JSON's `interior` (µm to 1e-3).

@@ -46,7 +46,7 @@ pub use gouge::{Adjustment, Clash, ClashPart, PartSamples};
 pub use node::CcNode;
 pub use orient::{OrientOptions, Strategy};
 pub use paths::{
-    Edge, FeedDirection, FinishOptions, FinishSetup, IsoScallopSteps, Layout, PathSet, PathStart, Refusal, ScallopFlag,
+    Built, Edge, FeedDirection, FinishOptions, FinishSetup, IsoScallopSteps, Layout, PathSet, PathStart, Refusal, ScallopFlag,
     Stats, ToolPath, iso_parametric, iso_scallop, iso_scallop_checked,
 };
 

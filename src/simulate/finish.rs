@@ -24,7 +24,7 @@ use super::stock::Grid;
 use super::{Design, MAX_WORK, MoveKind, PROJECTED_WORK_ROOM, Program, SimError, SimMove, Simulation};
 use crate::fillet::paths::Pilot;
 use crate::fillet::program::plan_path;
-use crate::fillet::{CcNode, FinishJob, Layout, PathSet, Strategy, ToolPath};
+use crate::fillet::{CcNode, FinishJob, PathSet, Strategy, ToolPath};
 use crate::fiveaxis::Machine;
 use crate::geom::{Cutter, ParametricSurface, Surface};
 
@@ -121,16 +121,7 @@ impl FinishProgram {
     /// the program grows beyond [`super::program::MAX_MOVES`].
     pub fn plan_pass(&self, k: usize, program: &mut Program) -> Result<(), SimError> {
         let Some(nodes) = self.passes.get(k) else { return Ok(()) };
-        let plan = plan_path(&self.machine, &self.surface, &self.cutter, nodes, self.step_tol_mm)
-            .map_err(|e| SimError::Program(format!("pass {k}: the 5-axis steps cannot be planned — {e}")))?;
-        for w in plan.nodes.windows(2) {
-            program.push(SimMove {
-                kind: MoveKind::Joints { machine: self.machine, from: w[0].block.joints, to: w[1].block.joints },
-                line: 0,
-                rapid: false,
-            })?;
-        }
-        Ok(())
+        push_pass(&self.machine, &self.surface, &self.cutter, (k, nodes), self.step_tol_mm, program)
     }
 
     /// The whole program (every pass planned; see [`FinishProgram::plan_pass`]).
@@ -225,6 +216,31 @@ pub fn part_box(surface: &Surface) -> Option<(DVec3, DVec3)> {
     (lo.is_finite() && hi.is_finite()).then_some((lo, hi))
 }
 
+/// One pass's seed-002 steps on `machine` (`cutter` the one that machines, steps within
+/// `step_tol_mm`) pushed onto `program` as joint moves: [`FinishProgram::plan_pass`]'s
+/// body, which [`WorkProjection`] runs on paths as they are built. `pass`: the pass's index
+/// (for the message) and its nodes.
+fn push_pass(
+    machine: &Machine,
+    surface: &Surface,
+    cutter: &Cutter,
+    pass: (usize, &[CcNode]),
+    step_tol_mm: f64,
+    program: &mut Program,
+) -> Result<(), SimError> {
+    let (k, nodes) = pass;
+    let plan = plan_path(machine, surface, cutter, nodes, step_tol_mm)
+        .map_err(|e| SimError::Program(format!("pass {k}: the 5-axis steps cannot be planned — {e}")))?;
+    for w in plan.nodes.windows(2) {
+        program.push(SimMove {
+            kind: MoveKind::Joints { machine: *machine, from: w[0].block.joints, to: w[1].block.joints },
+            line: 0,
+            rapid: false,
+        })?;
+    }
+    Ok(())
+}
+
 /// A finishing program's simulation work ([`Simulation::work_done`], straight-move ray
 /// updates), estimated before its paths are built and projected while they are: so that a
 /// simulation that would pass [`MAX_WORK`] is refused in the first second of the job, not
@@ -262,22 +278,14 @@ impl<'a> WorkProjection<'a> {
     /// or whose steps cannot be planned: the program itself will say why).
     #[must_use]
     pub fn work_of(&self, sim: &Simulation, paths: &[ToolPath]) -> f64 {
-        let set = PathSet {
-            paths: paths.to_vec(),
-            layout: Layout::IsoScallop,
-            strategy: self.strategy,
-            along: 0,
-            refused: Vec::new(),
-            second_side: None,
-            scallop_flags: Vec::new(),
-        };
-        let Ok(fp) = FinishProgram::of_paths(self.surface, self.cutter, self.machine, &set, self.step_tol_mm) else {
+        if !(self.step_tol_mm > 0.0 && self.step_tol_mm.is_finite()) {
             return 0.0;
-        };
+        }
+        let tool = self.strategy.cutter_for(self.cutter);
         let mut visits = 0.0;
-        for k in 0..fp.passes.len() {
+        for (k, path) in paths.iter().filter(|p| p.nodes.len() >= 2).enumerate() {
             let mut pass = Program::default();
-            if fp.plan_pass(k, &mut pass).is_ok() {
+            if push_pass(self.machine, self.surface, &tool, (k, &path.nodes), self.step_tol_mm, &mut pass).is_ok() {
                 visits += pass.moves.iter().map(|m| sim.estimate_move_visits(m)).sum::<f64>();
             }
         }

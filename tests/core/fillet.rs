@@ -8,8 +8,8 @@ use glam::{DVec2, DVec3};
 use interpolab::fillet::contact::{ContactFrame, CrossProfile, Pose, effective_curvature, gouge_margin, place};
 use interpolab::fillet::orient::{OrientOptions, Strategy, pose_at};
 use interpolab::fillet::paths::{
-    FinishOptions, FinishSetup, Layout, PathSet, PathStart, iso_parametric, iso_scallop, iso_scallop_checked,
-    lead_out_mm,
+    Built, FinishOptions, FinishSetup, Layout, PathSet, PathStart, iso_parametric, iso_scallop, iso_scallop_checked,
+    CHECK_COST_SAMPLE, MAX_CHECK_CELLS_PER_NODE, lead_out_mm,
 };
 use interpolab::fillet::{FinishError, FinishJob, PartSamples, gouge};
 use interpolab::geom::{Cutter, LocalGeometry, ParametricSurface, Plane, ProjectOptions, Surface, project_point};
@@ -1331,16 +1331,30 @@ fn a_per_path_check_sees_each_path_as_built_and_stops_the_job() {
     let part = PartSamples::new(&job.surface, job.options.part_grid);
     let whole = paths_from(&job);
     assert!(whole.paths.len() > 4, "{} paths", whole.paths.len());
-    let mut seen = Vec::new();
-    let checked = iso_scallop_checked(&job.setup(&part), |k, p| {
-        seen.push((k, p.nodes.len(), p.nodes.first().map(|n| n.frame.uv)));
+    let (mut seen, mut pilots, mut shares) = (Vec::new(), 0, Vec::new());
+    let checked = iso_scallop_checked(&job.setup(&part), |built| {
+        match built {
+            Built::Pilot(p) => {
+                assert!(seen.is_empty(), "the pilot after a path");
+                assert!(p.paths >= 1.0 && !p.runs.is_empty(), "{} paths, {} runs", p.paths, p.runs.len());
+                pilots += 1;
+            }
+            Built::Path { index, path, covered } => {
+                seen.push((index, path.nodes.len(), path.nodes.first().map(|n| n.frame.uv)));
+                shares.push(covered);
+            }
+        }
         Ok::<(), FinishError>(())
     })
     .unwrap();
     assert_eq!(checked, whole);
+    assert_eq!(pilots, 1);
     let want: Vec<_> =
         whole.paths.iter().enumerate().map(|(k, p)| (k, p.nodes.len(), p.nodes.first().map(|n| n.frame.uv))).collect();
     assert_eq!(seen, want);
+    // The share covered grows path by path, within 0–1, and is whole at the last.
+    assert!(shares.windows(2).all(|w| w[0] <= w[1]) && shares.iter().all(|c| (0.0..=1.0).contains(c)), "{shares:?}");
+    assert_eq!(shares.last(), Some(&1.0));
 
     #[derive(Debug, PartialEq)]
     enum Stop {
@@ -1353,9 +1367,12 @@ fn a_per_path_check_sees_each_path_as_built_and_stops_the_job() {
         }
     }
     let mut calls = 0;
-    let r = iso_scallop_checked(&job.setup(&part), |k, _| {
-        calls += 1;
-        if k == 2 { Err(Stop::At(k)) } else { Ok(()) }
+    let r = iso_scallop_checked(&job.setup(&part), |built| match built {
+        Built::Path { index, .. } => {
+            calls += 1;
+            if index == 2 { Err(Stop::At(index)) } else { Ok(()) }
+        }
+        Built::Pilot(_) => Ok(()),
     });
     assert_eq!(r.unwrap_err(), Stop::At(2));
     assert_eq!(calls, 3);
@@ -1583,6 +1600,35 @@ fn a_job_whose_costly_band_lies_between_iso_curves_is_refused_by_its_pilot() {
         other => panic!("expected the job refused by its pilot: {:?}", other.map(|s| s.paths.len())),
     }
     assert!(part.cells_checked() < jb.options.max_check_cells / 20, "{} cells checked", part.cells_checked());
+}
+
+/// The mould with one edge control point raised 360 mm (a case the fuzzer found): its
+/// pilot's side steps check their trial poses (up to 13 checks a point, each up to
+/// `MAX_ADJUST_CELLS` and a first check), and with no limit read between two CC points they
+/// spent 1.4·10⁷ cells (1.6 s of CPU) before the average per point refused the job. The
+/// meter is read after every check: the job is refused within one point's adjustment of
+/// the average's limit.
+#[test]
+fn a_job_whose_side_steps_check_too_much_is_refused_within_one_check_of_its_limit() {
+    let p = FINISH_PRESETS.iter().find(|p| p.id == "finish-concave-mould").unwrap();
+    let mut scene: serde_json::Value = serde_json::from_str(p.json).unwrap();
+    scene["surfaces"][0]["points"][1][0][2] = serde_json::json!(360.0);
+    let jb = FinishScene::from_json(&scene.to_string()).unwrap().job().unwrap();
+    let part = PartSamples::new(&jb.surface, jb.options.part_grid);
+    let detail = match iso_scallop(&jb.setup(&part)) {
+        Err(FinishError::TooMuchChecking { detail }) => detail,
+        other => panic!("expected the job refused by its checks: {:?}", other.map(|s| s.paths.len())),
+    };
+    // "cost N cells a CC point over the first M (more than L)"
+    let points: u64 = detail
+        .split("over the first ")
+        .nth(1)
+        .and_then(|t| t.split(' ').next())
+        .and_then(|m| m.parse().ok())
+        .unwrap_or_else(|| panic!("no count of CC points in: {detail}"));
+    let one_point = 2 * gouge::MAX_ADJUST_CELLS;
+    let limit = points.max(CHECK_COST_SAMPLE) * MAX_CHECK_CELLS_PER_NODE + one_point;
+    assert!(part.cells_checked() <= limit, "{} cells checked over {points} points: {detail}", part.cells_checked());
 }
 
 /// The mould with one corner control point folded onto the middle of its edge (a case the

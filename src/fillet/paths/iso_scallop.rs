@@ -6,7 +6,7 @@ use super::budget::{EXTRAPOLATION_ROOM, check_stop};
 use super::side_step::{SCALLOP_FLOOR_REL, Step};
 use super::{
     CELLS_ESTIMATE_AFTER, CELLS_ESTIMATE_AFTER_SHARE, Ctx, ESTIMATE_AFTER_SHARE, FinishSetup, Layout, PathSet,
-    PathStart, Refusal, ScallopFlag, ToolPath, b_of,
+    PathStart, Pilot, Refusal, ScallopFlag, ToolPath, b_of,
 };
 use crate::fillet::FinishError;
 use crate::fillet::node::CcNode;
@@ -100,26 +100,45 @@ pub(super) fn smooth_factors(nodes: &[CcNode], steps: &[Step], factors: &[f64]) 
 /// # Errors
 /// A bad option or start curve, no path at the start, or too many paths or nodes.
 pub fn iso_scallop(setup: &FinishSetup) -> Result<PathSet, FinishError> {
-    iso_scallop_checked(setup, |_, _| Ok(()))
+    iso_scallop_checked(setup, |_| Ok(()))
 }
 
-/// [`iso_scallop`] with `check` called on every path as soon as it is built (its index
-/// in the set and the path, in the order of machining): the first `Err` stops the job there,
-/// before the paths after it are built. A caller that refuses a job for what one path does
-/// (a tool axis its machine cannot reach, say) refuses it at that path, not after all of them.
+/// What [`iso_scallop_checked`] shows its caller as the job goes, in the order of the work.
+#[derive(Clone, Copy, Debug)]
+pub enum Built<'a> {
+    /// The job's pilot, before any path is built (when it solved a side step): its estimate
+    /// of the job and its short runs built as the job's paths are.
+    Pilot(&'a Pilot),
+    /// A path just built.
+    Path {
+        /// Its index in the set, in the order of machining.
+        index: usize,
+        /// The path.
+        path: &'a ToolPath,
+        /// The share of the surface covered so far, 0–1 ([`IsoScallopSteps::progress`]).
+        covered: f64,
+    },
+}
+
+/// [`iso_scallop`] with `check` shown the job's pilot before any path, then every path as
+/// soon as it is built ([`Built`]): the first `Err` stops the job there, before the paths
+/// after it are built. A caller that refuses a job for what one path does (a tool axis its
+/// machine cannot reach, say) refuses it at that path, not after all of them; one that can
+/// judge from the pilot refuses it before the paths.
 ///
 /// # Errors
 /// What [`iso_scallop`] refuses, or the first error of `check`.
 pub fn iso_scallop_checked<E: From<FinishError>>(
     setup: &FinishSetup,
-    mut check: impl FnMut(usize, &ToolPath) -> Result<(), E>,
+    mut check: impl FnMut(Built<'_>) -> Result<(), E>,
 ) -> Result<PathSet, E> {
-    let mut steps = IsoScallopSteps::start(setup)?;
+    let mut steps = IsoScallopSteps::start_checked(setup, |p| check(Built::Pilot(p)))?;
     let mut checked = 0;
     loop {
+        let covered = steps.progress(setup.surface);
         // Every path the last call added.
-        for (k, path) in steps.paths().iter().enumerate().skip(checked) {
-            check(k, path)?;
+        for (index, path) in steps.paths().iter().enumerate().skip(checked) {
+            check(Built::Path { index, path, covered })?;
         }
         checked = steps.paths().len();
         if steps.is_done() {
@@ -177,6 +196,18 @@ impl IsoScallopSteps {
     /// # Errors
     /// A bad option or start curve, or no path at the start.
     pub fn start(setup: &FinishSetup) -> Result<Self, FinishError> {
+        Self::start_checked(setup, |_| Ok(()))
+    }
+
+    /// [`Self::start`] with `check_pilot` shown the job's pilot (when it solved a side step)
+    /// before the first path is built: its first `Err` stops the job there.
+    ///
+    /// # Errors
+    /// What [`Self::start`] refuses, or the error of `check_pilot`.
+    pub fn start_checked<E: From<FinishError>>(
+        setup: &FinishSetup,
+        check_pilot: impl FnOnce(&Pilot) -> Result<(), E>,
+    ) -> Result<Self, E> {
         let FinishSetup { surface, strategy, options: opts, start, .. } = *setup;
         let ctx = Ctx::start(setup)?;
         let along = ctx.along;
@@ -191,12 +222,14 @@ impl IsoScallopSteps {
             PathStart::Curve(_) => poly.iter().map(|&p| b_of(p, along)).fold(b1, f64::min),
             _ => b0,
         };
-        ctx.refuse_oversized(&poly)?;
+        if let Some(pilot) = ctx.refuse_oversized(&poly)? {
+            check_pilot(&pilot)?;
+        }
         let mut refused = Vec::new();
         let mut budget = opts.max_nodes;
         let first = ctx.build_path(&poly, None, &mut refused, &mut budget)?;
         let Some(n0) = first.nodes.iter().find(|n| !n.lead_out) else {
-            return Err(FinishError::NoPath { reason: refused.first().map_or("no CC point", |r| r.reason) });
+            return Err(FinishError::NoPath { reason: refused.first().map_or("no CC point", |r| r.reason) }.into());
         };
         // c toward increasing b?
         let g = LocalGeometry::try_new(surface.derivatives_at(n0.frame.uv));

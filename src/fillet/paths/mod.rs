@@ -63,7 +63,7 @@ pub use budget::{
 };
 pub use build::{BETWEEN_CHECK_SHARE, CHORD_SPLITS, LIFT_HALVING_GAIN, LIFT_SHARE_OF_H, lead_out_frame, lead_out_mm};
 pub use iso_parametric::iso_parametric;
-pub use iso_scallop::{FLAG_ABOVE, IsoScallopSteps, iso_scallop, iso_scallop_checked};
+pub use iso_scallop::{Built, FLAG_ABOVE, IsoScallopSteps, iso_scallop, iso_scallop_checked};
 use start::iso_curve;
 pub use start::{choose_along, curve_along, start_polyline, strip_by_direction};
 
