@@ -11,7 +11,9 @@ use clap::Args;
 use glam::DVec3;
 use interpolab::crease::CreaseJob;
 use interpolab::fillet::program::{FinishProgramError, first_out_of_travel};
-use interpolab::fillet::{Built, FinishError, FinishJob, FinishSetup, PartSamples, PathSet, Strategy, iso_scallop_checked};
+use interpolab::fillet::{
+    Built, FinishError, FinishJob, FinishSetup, PartSamples, PathSet, Strategy, iso_scallop_checked,
+};
 use interpolab::geom::Cutter;
 use interpolab::scene::Scene;
 use interpolab::simulate::bench::BenchKind;

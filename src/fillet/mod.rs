@@ -46,8 +46,8 @@ pub use gouge::{Adjustment, Clash, ClashPart, PartSamples};
 pub use node::CcNode;
 pub use orient::{OrientOptions, Strategy};
 pub use paths::{
-    Built, Edge, FeedDirection, FinishOptions, FinishSetup, IsoScallopSteps, Layout, PathSet, PathStart, Refusal, ScallopFlag,
-    Stats, ToolPath, iso_parametric, iso_scallop, iso_scallop_checked,
+    Built, Edge, FeedDirection, FinishOptions, FinishSetup, IsoScallopSteps, Layout, PathSet, PathStart, Refusal,
+    ScallopFlag, Stats, ToolPath, iso_parametric, iso_scallop, iso_scallop_checked,
 };
 
 /// A finishing scene in core units, ready to compute (what `scene::finish` builds from a

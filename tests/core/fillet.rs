@@ -8,8 +8,8 @@ use glam::{DVec2, DVec3};
 use interpolab::fillet::contact::{ContactFrame, CrossProfile, Pose, effective_curvature, gouge_margin, place};
 use interpolab::fillet::orient::{OrientOptions, Strategy, pose_at};
 use interpolab::fillet::paths::{
-    Built, FinishOptions, FinishSetup, Layout, PathSet, PathStart, iso_parametric, iso_scallop, iso_scallop_checked,
-    CHECK_COST_SAMPLE, MAX_CHECK_CELLS_PER_NODE, lead_out_mm,
+    Built, CHECK_COST_SAMPLE, FinishOptions, FinishSetup, Layout, MAX_CHECK_CELLS_PER_NODE, PathSet, PathStart,
+    iso_parametric, iso_scallop, iso_scallop_checked, lead_out_mm,
 };
 use interpolab::fillet::{FinishError, FinishJob, PartSamples, gouge};
 use interpolab::geom::{Cutter, LocalGeometry, ParametricSurface, Plane, ProjectOptions, Surface, project_point};
