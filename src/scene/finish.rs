@@ -10,6 +10,7 @@ use crate::fillet::paths::{curve_along, start_polyline};
 use crate::fillet::{Edge, FeedDirection, FinishJob, FinishOptions, PathStart, Strategy};
 use crate::fiveaxis::Machine;
 use crate::geom::{Cutter, Surface};
+use crate::numerics::format::fmt_num;
 
 fn positive(path: &str, x: f64, what: &str) -> Result<(), SceneError> {
     if x > 0.0 && x.is_finite() {
@@ -173,7 +174,13 @@ const AREA_GRID: usize = 24;
 /// turned off the feed by more than this meets the surface with the corner's far side.
 pub const MAX_TILT_DEG: f64 = 45.0;
 
-/// Refuses, before any path is built, a surface whose CC points could not stay under the cap
+/// A part whose extent is below this (mm) is not held against its cutter's radius
+/// ([`check_work`]): a small or nearly flat patch may be finished with a cutter larger
+/// than itself.
+pub const MIN_EXTENT_FOR_RADIUS_MM: f64 = 50.0;
+
+/// Refuses, before any path is built, a cutter larger than the whole part (its radius over
+/// the part's extent, corner to corner, or [`MIN_EXTENT_FOR_RADIUS_MM`]), or a surface whose CC points could not stay under the cap
 /// ([`FinishOptions::max_nodes`]): every path has a CC point at least every max step, and no
 /// strip is wider than the cutter's diameter seen at the steepest inclination allowed,
 /// 2R / cos(max inclination), so the paths need at least area / (2R / cos · max step) CC
@@ -186,12 +193,30 @@ fn check_work(surface: &Surface, cutter: &Cutter, options: &FinishOptions) -> Re
     let n = AREA_GRID as f64;
     let (du, dv) = (dom.u.width() / n, dom.v.width() / n);
     let mut area_mm2 = 0.0;
+    let (mut lo, mut hi) = (glam::DVec3::splat(f64::INFINITY), glam::DVec3::splat(f64::NEG_INFINITY));
     for i in 0..AREA_GRID {
         for j in 0..AREA_GRID {
             let uv = glam::DVec2::new(dom.u.min + (i as f64 + 0.5) * du, dom.v.min + (j as f64 + 0.5) * dv);
-            let (_, ru, rv) = surface.tangents_fast_at(uv);
+            let (p, ru, rv) = surface.tangents_fast_at(uv);
             area_mm2 += ru.cross(rv).length() * du * dv;
+            (lo, hi) = (lo.min(p), hi.max(p));
         }
+    }
+    // A cutter wider than the whole part: every gouge check covers all of it and the job's
+    // cost grows with R (a fuzz case's R = 10⁸ mm on the 100 × 80 mm patch ran past 30 s,
+    // R = 1 000 mm was refused by its checks after 9 s), and no such cutter finishes a
+    // curved part. The grid's box is within a cell of the surface's.
+    let extent_mm = (hi - lo).length();
+    if extent_mm.is_finite() && cutter.radius_mm > extent_mm.max(MIN_EXTENT_FOR_RADIUS_MM) {
+        return Err(SceneError::new(
+            "finish.cutter.radius",
+            format!(
+                "{} mm is larger than the whole part (about {} mm corner to corner)",
+                fmt_num(cutter.radius_mm),
+                fmt_num((extent_mm * 10.0).round() / 10.0)
+            ),
+            "give the radius of a cutter that fits the part (a mistyped value?)",
+        ));
     }
     let widest_mm = 2.0 * cutter.radius_mm / options.orient.max_inclination_rad.cos();
     let least = 0.5 * area_mm2 / (widest_mm * options.max_step_mm);

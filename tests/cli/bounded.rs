@@ -185,6 +185,30 @@ fn a_finishing_surface_with_a_mistyped_control_point_is_refused_early() {
     }
 }
 
+/// A cutter wider than the whole part (a fuzz case: R = 10⁸ mm on the 100 × 80 mm patch ran
+/// past 30 s; R = 1 000 mm was refused by its checks after 9 s) is refused when the scene is
+/// read, by every command that finishes; a radius under the part's extent is not.
+#[test]
+fn a_cutter_larger_than_the_part_is_refused_when_read() {
+    let text = std::fs::read_to_string(example_finish("bicubic-patch")).expect("example");
+    for radius in [1e8, 1000.0] {
+        let mut v: serde_json::Value = serde_json::from_str(&text).expect("json");
+        v["finish"]["cutter"]["radius"] = serde_json::json!(radius);
+        let path = temp_file(&format!("patch-r{radius}.json"), v.to_string().as_bytes());
+        let words = &["finish.cutter.radius", "larger than the whole part", "mm corner to corner"][..];
+        refused(&run(&["finish", &path]), words);
+        refused(&run(&["finish", &path, "--table"]), words);
+        refused(&run(&["simulate", &path, "--finish", "0.005", "--pitch", "0.5"]), words);
+    }
+    let mut v: serde_json::Value = serde_json::from_str(&text).expect("json");
+    v["finish"]["cutter"]["radius"] = serde_json::json!(50.0);
+    let path = temp_file("patch-r50.json", v.to_string().as_bytes());
+    let o = run(&["finish", &path, "--format", "json"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!err.contains("finish.cutter.radius"), "{err}");
+    assert!(!o.stdout.is_empty(), "no CL data: {err}");
+}
+
 /// The mould's finishing program on a grid of 0.2 mm would take some 2.7·10⁹ ray updates,
 /// four times a run's cap. The job's pilot says so before the paths are built: the refusal
 /// names the estimate, not moves machined (the run's meter refused it after the paths and
