@@ -1602,6 +1602,28 @@ fn a_job_whose_costly_band_lies_between_iso_curves_is_refused_by_its_pilot() {
     assert!(part.cells_checked() < jb.options.max_check_cells / 20, "{} cells checked", part.cells_checked());
 }
 
+/// The blade with control point [2][0] raised to y = 360 mm (a case the fuzzer found): 80 mm
+/// across at its ends and its middle, 254 mm a quarter of the way along. The paths run the
+/// whole length, so the widest place sets their count: the pilot's width is the widest of
+/// its iso-curves across, and it refuses the job before its paths (with the mean of three
+/// curves it estimated 54 paths and 2.2e7 cells, and the job's checks' extrapolation refused
+/// it after 5 s).
+#[test]
+fn a_job_whose_widest_place_lies_between_its_ends_is_refused_by_its_pilot() {
+    let p = FINISH_PRESETS.iter().find(|p| p.id == "finish-naca-blade").unwrap();
+    let mut scene: serde_json::Value = serde_json::from_str(p.json).unwrap();
+    scene["surfaces"][0]["points"][2][0][1] = serde_json::json!(360.0);
+    let jb = FinishScene::from_json(&scene.to_string()).unwrap().job().unwrap();
+    let part = PartSamples::new(&jb.surface, jb.options.part_grid);
+    match iso_scallop(&jb.setup(&part)) {
+        Err(FinishError::TooMuchChecking { detail }) => {
+            assert!(detail.contains("estimated before the paths are built"), "{detail}");
+        }
+        other => panic!("expected the job refused by its pilot: {:?}", other.map(|s| s.paths.len())),
+    }
+    assert!(part.cells_checked() < jb.options.max_check_cells / 20, "{} cells checked", part.cells_checked());
+}
+
 /// The mould with one edge control point raised 360 mm (a case the fuzzer found): its
 /// pilot's side steps check their trial poses (up to 13 checks a point, each up to
 /// `MAX_ADJUST_CELLS` and a first check), and with no limit read between two CC points they
