@@ -85,7 +85,7 @@ pub fn cbrt(x: f64) -> f64 {
         return x.cbrt();
     }
     let z = y + n * ULP;
-    if !(z >= 1.0 && z < 2.0) {
+    if !(1.0..2.0).contains(&z) {
         return x.cbrt();
     }
     // z·2^k: exact (x normal, so ∛x is far inside the normal range).
