@@ -136,7 +136,7 @@ fn cap_of(b: &Bounds, feed: f64, lim: &JointLimits, share: f64, curved: bool) ->
         // The cube root only where it can bind: at or above v³ (with a margin for the
         // rounding of v³ and of the root) it is at least v.
         if cube.is_finite() && !(cube >= v * v * v * (1.0 + 16.0 * f64::EPSILON)) {
-            v = lower(v, cube.cbrt());
+            v = lower(v, scurve::cbrt(cube));
         }
         for i in 0..6 {
             let q2 = b.lo2[i].abs().max(b.hi2[i].abs());

@@ -1182,6 +1182,9 @@ pub fn piece_bounds(path: &Path, p: &Piece) -> Bounds {
             // whose coefficients past the constant are zero has q' = q'' = 0 exactly, so
             // bounds of zero, which is what evaluating it would give).
             let active: [bool; 6] = std::array::from_fn(|i| (1..6).any(|k| c[k][i] != 0.0));
+            if active == [true, true, true, false, false, false] {
+                return blend_bounds_xyz(c, p.tau.0, dt);
+            }
             for k in 0..SAMPLES {
                 let t = p.tau.0 + dt * k as f64;
                 let mut d1 = [0.0; 6];
@@ -1236,6 +1239,67 @@ pub fn piece_bounds(path: &Path, p: &Piece) -> Bounds {
             if k > 0 {
                 d1 = upper(d1, (q1[k][i] - q1[k - 1][i]).abs());
                 let dd = (q2[k][i] - q2[k - 1][i]).abs();
+                d2 = upper(d2, dd);
+                let ds = sv[k] - sv[k - 1];
+                if ds > 0.0 {
+                    m3 = upper(m3, dd / ds);
+                }
+            }
+        }
+        out.lo1[i] = lo1 - 0.5 * d1;
+        out.hi1[i] = hi1 + 0.5 * d1;
+        out.lo2[i] = lo2 - 0.5 * d2;
+        out.hi2[i] = hi2 + 0.5 * d2;
+        out.m3[i] = m3 * 1.5;
+    }
+    out
+}
+
+/// [`piece_bounds`] of a blend piece that moves X, Y and Z and no rotary joint (most of
+/// them): the same operations in the same order, so the same bits, on three joints without
+/// the per-joint tests (straight-line code the compiler unrolls).
+fn blend_bounds_xyz(c: &[Q; 6], tau0: f64, dt: f64) -> Bounds {
+    // Joint-major: q1[i][k] is joint i's q' at sample k.
+    let mut q1 = [[0.0; SAMPLES]; 3];
+    let mut q2 = [[0.0; SAMPLES]; 3];
+    let mut sig = [0.0; SAMPLES];
+    for k in 0..SAMPLES {
+        let t = tau0 + dt * k as f64;
+        let d1: [f64; 3] = std::array::from_fn(|i| {
+            (((5.0 * c[5][i] * t + 4.0 * c[4][i]) * t + 3.0 * c[3][i]) * t + 2.0 * c[2][i]) * t + c[1][i]
+        });
+        let d2: [f64; 3] =
+            std::array::from_fn(|i| ((20.0 * c[5][i] * t + 12.0 * c[4][i]) * t + 6.0 * c[3][i]) * t + 2.0 * c[2][i]);
+        let sigma = (d1[0] * d1[0] + d1[1] * d1[1] + d1[2] * d1[2]).sqrt();
+        if sigma > 0.0 {
+            let dsigma = (d1[0] * d2[0] + d1[1] * d2[1] + d1[2] * d2[2]) / sigma;
+            let inv = 1.0 / sigma;
+            let cube = sigma * sigma * sigma;
+            for i in 0..3 {
+                q1[i][k] = d1[i] * inv;
+                q2[i][k] = (d2[i] * sigma - d1[i] * dsigma) / cube;
+            }
+            sig[k] = sigma;
+        }
+    }
+    let mut sv = [0.0; SAMPLES];
+    for k in 1..SAMPLES {
+        sv[k] = sv[k - 1] + 0.5 * (sig[k] + sig[k - 1]) * dt;
+    }
+    let mut out = Bounds::default();
+    for i in 0..3 {
+        let (a, b) = (&q1[i], &q2[i]);
+        let (mut lo1, mut hi1) = (f64::INFINITY, f64::NEG_INFINITY);
+        let (mut lo2, mut hi2) = (f64::INFINITY, f64::NEG_INFINITY);
+        let (mut d1, mut d2, mut m3) = (0.0f64, 0.0f64, 0.0f64);
+        for k in 0..SAMPLES {
+            lo1 = lower(lo1, a[k]);
+            hi1 = upper(hi1, a[k]);
+            lo2 = lower(lo2, b[k]);
+            hi2 = upper(hi2, b[k]);
+            if k > 0 {
+                d1 = upper(d1, (a[k] - a[k - 1]).abs());
+                let dd = (b[k] - b[k - 1]).abs();
                 d2 = upper(d2, dd);
                 let ds = sv[k] - sv[k - 1];
                 if ds > 0.0 {

@@ -313,3 +313,44 @@ fn a_program_read_as_it_is_planned_times_the_same_and_stops_at_the_first_read_er
         other => panic!("expected the reader's error, got {other:?}"),
     }
 }
+
+/// The planner's cube root is `f64::cbrt` bit for bit: on random doubles over the whole
+/// exponent range, exact cubes, inputs next to the cubes of midpoints between doubles (where
+/// rounding is closest to a tie), and the special values; and it rarely needs the fallback.
+#[test]
+fn the_planners_cube_root_is_f64_cbrt_bit_for_bit() {
+    use interpolab::plan::scurve::cbrt;
+    let same = |x: f64| {
+        let (a, b) = (cbrt(x), x.cbrt());
+        assert!(a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()), "cbrt({x:e}): {a:e}, f64::cbrt {b:e}");
+    };
+    for x in [0.0, -0.0, 1.0, 8.0, 27.0, 0.125, f64::MIN_POSITIVE, 5e-324, f64::MAX, f64::INFINITY, f64::NAN, -8.0] {
+        same(x);
+        same(-x);
+    }
+    let mut seed = 0x9E37_79B9_7F4A_7C15u64;
+    let mut next = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        seed
+    };
+    for _ in 0..300_000 {
+        // Any positive normal double, and one in the planner's range (1e-6 to 1e12).
+        same(f64::from_bits(next() % 0x7FF0_0000_0000_0000));
+        let x = 10f64.powf(-6.0 + 18.0 * (next() >> 11) as f64 / (1u64 << 53) as f64);
+        same(x);
+        // Near exact cubes and near the cubes of midpoints: y³ and (y + ulp/2)³, rounded,
+        // and their neighbours.
+        let y = 1.0 + (next() >> 12) as f64 / (1u64 << 52) as f64;
+        // (y + ulp/2)³ = y³ + 1.5·y²·ulp + O(ulp²), ulp = 2^-52 on [1, 2).
+        let mid = y * y * y + 1.5 * y * y * f64::EPSILON;
+        for c in [y * y * y, mid, 8.0 * mid, 4.0 * mid, 3.0 * y * y * y * 1.000_000_1] {
+            let b = c.to_bits();
+            for d in 0..3 {
+                same(f64::from_bits(b + d));
+                same(f64::from_bits(b - d));
+            }
+        }
+    }
+}
