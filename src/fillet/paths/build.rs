@@ -111,7 +111,60 @@ pub const LIFT_HALVING_GAIN: f64 = 0.5;
 /// Most halvings of one chord by the chord certification (`docs/fillet.md`, "Between the poses") (up to 2⁴ − 1 nodes put into it).
 pub const CHORD_SPLITS: usize = 4;
 
+/// The strip's reaches at h (mm; toward −c and +c, `CrossProfile::reach`) of the CC nodes
+/// [`Ctx::node`] built, by the bits of their frame and pose: the side steps from a node (its
+/// reach toward the next path is the side step's first guess) and its lead-out (the larger
+/// reach) need the same two numbers its strip width was made of, the same computation on
+/// the same inputs. Kept for the path being built (`current`) and the one before it
+/// (`previous`, the one the side steps start from); [`Reaches::next_path`] drops the rest.
+/// A node not found is computed again, to the same bits.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Reaches {
+    current: std::collections::HashMap<[u64; 13], [f64; 2]>,
+    previous: std::collections::HashMap<[u64; 13], [f64; 2]>,
+}
+
+impl Reaches {
+    /// The key of a node: every number its cross profile is made of (the frame's point,
+    /// normal, feed and parameters, which determine the rest of it, and the pose).
+    fn key(frame: &ContactFrame, pose: &Pose) -> [u64; 13] {
+        let (p, n, f) = (frame.point, frame.normal, frame.feed);
+        [p.x, p.y, p.z, n.x, n.y, n.z, f.x, f.y, f.z, frame.uv.x, frame.uv.y, pose.inclination_rad, pose.azimuth_rad]
+            .map(f64::to_bits)
+    }
+
+    /// The next path is about to be built: the current one's reaches become the previous
+    /// ones, older ones are dropped.
+    pub(super) fn next_path(&mut self) {
+        self.previous = std::mem::take(&mut self.current);
+    }
+
+    fn get(&self, frame: &ContactFrame, pose: &Pose) -> Option<[f64; 2]> {
+        let key = Self::key(frame, pose);
+        self.current.get(&key).or_else(|| self.previous.get(&key)).copied()
+    }
+}
+
 impl Ctx<'_> {
+    /// The strip's reach at h from `node` toward `sign`·c (`sign` ±1), as its cross profile
+    /// gives it: from [`Reaches`] when the node's reaches are there (the same bits).
+    pub(super) fn reach(&self, tool: &Cutter, node: &CcNode, sign: f64) -> f64 {
+        #[expect(clippy::float_cmp, reason = "only the exact signs the memo holds")]
+        let index = if sign == 1.0 {
+            Some(1)
+        } else if sign == -1.0 {
+            Some(0)
+        } else {
+            None
+        };
+        if let (Some(i), Some(memo)) = (index, self.reaches)
+            && let Some(reach) = memo.borrow().get(&node.frame, &node.pose)
+        {
+            return reach[i];
+        }
+        CrossProfile::new(tool, self.surface, node.frame, &node.pose).reach(self.opts.scallop_mm, sign)
+    }
+
     /// Nodes along a uv polyline by the forward step, oriented, smoothed, checked.
     /// `psi_ref`: per polyline vertex, the azimuth window (centre, half width, rad) the
     /// side step assumed for it (offset paths); without it each node's window is centred on
@@ -294,12 +347,16 @@ impl Ctx<'_> {
         let (tip, axis) = place(tool, &frame, &pose);
         let prof = CrossProfile::new(tool, self.surface, frame, &pose);
         let h = self.opts.scallop_mm;
+        let reach = [prof.reach(h, -1.0), prof.reach(h, 1.0)];
+        if let Some(memo) = self.reaches {
+            memo.borrow_mut().current.insert(Reaches::key(&frame, &pose), reach);
+        }
         CcNode {
             frame,
             pose,
             tip,
             axis,
-            strip_mm: prof.reach(h, 1.0) + prof.reach(h, -1.0),
+            strip_mm: reach[1] + reach[0],
             side_step_mm: None,
             scallop_mm: None,
             adjusted,
@@ -407,9 +464,7 @@ impl Ctx<'_> {
             return None;
         }
         let sense = if far { 1.0 } else { -1.0 };
-        let h = self.opts.scallop_mm;
-        let prof = CrossProfile::new(tool, self.surface, last.frame, &last.pose);
-        let reach = prof.reach(h, 1.0).max(prof.reach(h, -1.0));
+        let reach = self.reach(tool, last, 1.0).max(self.reach(tool, last, -1.0));
         // The far edge's slant against the cross direction: tan of its angle from c.
         let der = self.surface.derivatives_at(last.frame.uv);
         let edge = if self.along == 0 { der.dv } else { der.du };

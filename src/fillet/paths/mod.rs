@@ -381,6 +381,9 @@ struct Ctx<'a> {
     cells_at_start: u64,
     work_at_start: u64,
     nodes_checked: std::cell::Cell<u64>,
+    /// The strip's reaches of the nodes built lately ([`build::Reaches`]), where the job
+    /// keeps them between its steps.
+    reaches: Option<&'a std::cell::RefCell<build::Reaches>>,
 }
 
 fn a_of(uv: DVec2, along: usize) -> f64 {
@@ -413,6 +416,7 @@ impl<'a> Ctx<'a> {
             cells_at_start: part.cells_checked(),
             work_at_start: part.work_done(),
             nodes_checked: std::cell::Cell::new(0),
+            reaches: None,
         })
     }
 

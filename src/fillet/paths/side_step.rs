@@ -120,7 +120,7 @@ impl Ctx<'_> {
         let a = CrossProfile::new(&tool, self.surface, node.frame, &node.pose);
         // No strip is wider than the cutter: the side step stays within (0, 2R].
         let w_max = 2.0 * tool.radius_mm;
-        let mut w = (a.reach(h, self.side) * 2.0).min(w_max);
+        let mut w = (self.reach(&tool, node, self.side) * 2.0).min(w_max);
         // Bracket of w: scallop below h at `lo`, above at `hi`.
         let (mut lo, mut hi) = (0.0f64, f64::INFINITY);
         let mut result = Solved { uv: node.frame.uv, beyond: true, width_mm: w, scallop_mm: 0.0 };
