@@ -130,11 +130,11 @@ impl Ctx<'_> {
             if beyond {
                 return Solved { uv, beyond: true, width_mm: w, scallop_mm: 0.0 };
             }
-            let Some(frame_b) = ContactFrame::new(self.surface, uv, node.frame.feed) else {
+            let Some((frame_b, cross_uv)) = ContactFrame::with_cross_uv(self.surface, uv, node.frame.feed) else {
                 return Solved { uv, beyond, width_mm: w, scallop_mm: 0.0 };
             };
             let (pose_b, _) = self.next_pose(node, &frame_b, w, checked);
-            let b = CrossProfile::new(&tool, self.surface, frame_b, &pose_b);
+            let b = CrossProfile::with_cross_uv(&tool, self.surface, frame_b, &pose_b, Some(cross_uv));
             let s = scallop_between(&a, &b, self.side * w);
             result = Solved { uv, beyond, width_mm: w, scallop_mm: s };
             if (s - h).abs() < SIDE_STEP_REL * h {
