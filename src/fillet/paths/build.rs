@@ -260,7 +260,7 @@ impl Ctx<'_> {
         let mut prev: Option<(DVec3, Pose)> = None;
         let oo = &self.opts.orient;
         for (uv, dir, psi_win) in samples {
-            let Some(frame) = ContactFrame::new(self.surface, uv, dir) else {
+            let Some((frame, cross_uv)) = ContactFrame::with_cross_uv(self.surface, uv, dir) else {
                 refused.push(Refusal {
                     uv,
                     point: self.surface.point_at(uv),
@@ -290,19 +290,19 @@ impl Ctx<'_> {
                 continue;
             };
             prev = Some((frame.point, pose));
-            frames.push(frame);
+            frames.push((frame, cross_uv));
             poses.push(pose);
         }
-        let ds: Vec<f64> = frames.windows(2).map(|w| (w[1].point - w[0].point).length()).collect();
+        let ds: Vec<f64> = frames.windows(2).map(|w| (w[1].0.point - w[0].0.point).length()).collect();
         smooth_inclinations(&mut poses, &ds, oo.max_turn_rad_per_mm);
         let tool = self.strategy.cutter_for(&self.cutter);
         // Gouge checks and adjustment, then the inclinations smoothed again (raising only).
-        let mut checked: Vec<(ContactFrame, Pose, Option<Adjustment>)> = Vec::with_capacity(frames.len());
-        for (frame, pose) in frames.into_iter().zip(poses) {
+        let mut checked: Vec<((ContactFrame, DVec2), Pose, Option<Adjustment>)> = Vec::with_capacity(frames.len());
+        for ((frame, cross_uv), pose) in frames.into_iter().zip(poses) {
             let verdict = adjust(&tool, self.surface, self.part, &frame, pose, oo, self.opts.gouge_tol_mm);
             self.count_check()?;
             match verdict {
-                Ok((pose, adjusted)) => checked.push((frame, pose, adjusted)),
+                Ok((pose, adjusted)) => checked.push(((frame, cross_uv), pose, adjusted)),
                 Err(clash) => refused.push(Refusal {
                     uv: frame.uv,
                     point: frame.point,
@@ -325,12 +325,12 @@ impl Ctx<'_> {
             }
         }
         let mut poses: Vec<Pose> = checked.iter().map(|c| c.1).collect();
-        let ds: Vec<f64> = checked.windows(2).map(|w| (w[1].0.point - w[0].0.point).length()).collect();
+        let ds: Vec<f64> = checked.windows(2).map(|w| (w[1].0.0.point - w[0].0.0.point).length()).collect();
         smooth_inclinations(&mut poses, &ds, oo.max_turn_rad_per_mm);
         let nodes: Vec<CcNode> = checked
             .into_iter()
             .zip(poses)
-            .map(|((frame, _, adjusted), pose)| self.node(&tool, frame, pose, adjusted))
+            .map(|(((frame, cross_uv), _, adjusted), pose)| self.node(&tool, frame, Some(cross_uv), pose, adjusted))
             .collect();
         let mut nodes = self.certify_chords(&tool, nodes, refused, budget)?;
         if let Some(lead) = nodes.last().and_then(|last| self.lead_out(&tool, last, true)) {
@@ -343,9 +343,21 @@ impl Ctx<'_> {
     }
 
     /// The CC node of `frame` with the cutter at `pose`: placed, with its strip width.
-    pub(super) fn node(&self, tool: &Cutter, frame: ContactFrame, pose: Pose, adjusted: Option<Adjustment>) -> CcNode {
+    /// `cross_uv`: the frame's cross direction in (u, v) when [`ContactFrame::with_cross_uv`]
+    /// gave it (else evaluated here, the same bits).
+    pub(super) fn node(
+        &self,
+        tool: &Cutter,
+        frame: ContactFrame,
+        cross_uv: Option<DVec2>,
+        pose: Pose,
+        adjusted: Option<Adjustment>,
+    ) -> CcNode {
         let (tip, axis) = place(tool, &frame, &pose);
-        let prof = CrossProfile::new(tool, self.surface, frame, &pose);
+        let prof = match cross_uv {
+            Some(c) => CrossProfile::with_cross_uv(tool, self.surface, frame, &pose, Some(c)),
+            None => CrossProfile::new(tool, self.surface, frame, &pose),
+        };
         let h = self.opts.scallop_mm;
         let reach = [prof.reach(h, -1.0), prof.reach(h, 1.0)];
         if let Some(memo) = self.reaches {
@@ -431,7 +443,8 @@ impl Ctx<'_> {
     /// has no frame there or the checks find no clear pose.
     pub(super) fn node_between(&self, tool: &Cutter, a: &CcNode, b: &CcNode) -> Result<Option<CcNode>, FinishError> {
         let uv = a.frame.uv.lerp(b.frame.uv, 0.5);
-        let Some(frame) = ContactFrame::new(self.surface, uv, b.frame.point - a.frame.point) else {
+        let Some((frame, cross_uv)) = ContactFrame::with_cross_uv(self.surface, uv, b.frame.point - a.frame.point)
+        else {
             return Ok(None);
         };
         // The strategy's pose within the two azimuths (its own rules, such as the matched
@@ -446,7 +459,7 @@ impl Ctx<'_> {
         );
         let verdict = adjust(tool, self.surface, self.part, &frame, pose, &self.opts.orient, self.opts.gouge_tol_mm);
         self.count_check()?;
-        Ok(verdict.ok().map(|(pose, adjusted)| self.node(tool, frame, pose, adjusted)))
+        Ok(verdict.ok().map(|(pose, adjusted)| self.node(tool, frame, Some(cross_uv), pose, adjusted)))
     }
 
     /// The lead-out after `last` when it lies on the along parameter's far end (`far`), or
