@@ -227,13 +227,15 @@ impl Ctx<'_> {
             }
             *budget -= 1;
             let (uv, dir, psi) = at(s);
-            samples.push((uv, dir, psi));
             if s >= total {
+                samples.push((uv, dir, psi, None));
                 break;
             }
             // Normal curvature along the feed, positive where the surface bends toward the
             // cutter (concave): there the chord sag only raises the cutter, E alone bounds it.
-            let ff = ContactFrame::new(self.surface, uv, dir).map_or(0.0, |f| f.surface_form.ff);
+            let frame = ContactFrame::with_cross_uv(self.surface, uv, dir);
+            samples.push((uv, dir, psi, frame));
+            let ff = frame.map_or(0.0, |f| f.0.surface_form.ff);
             let k = ff.abs();
             let sag = if ff < 0.0 {
                 self.opts.chord_tol_mm.min(SAG_SHARE_OF_H * self.opts.scallop_mm)
@@ -259,8 +261,8 @@ impl Ctx<'_> {
         let mut poses: Vec<Pose> = Vec::with_capacity(samples.len());
         let mut prev: Option<(DVec3, Pose)> = None;
         let oo = &self.opts.orient;
-        for (uv, dir, psi_win) in samples {
-            let Some((frame, cross_uv)) = ContactFrame::with_cross_uv(self.surface, uv, dir) else {
+        for (uv, dir, psi_win, found) in samples {
+            let Some((frame, cross_uv)) = found.or_else(|| ContactFrame::with_cross_uv(self.surface, uv, dir)) else {
                 refused.push(Refusal {
                     uv,
                     point: self.surface.point_at(uv),
