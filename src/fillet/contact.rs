@@ -111,6 +111,14 @@ impl ContactFrame {
     /// singular point or when the hint is (almost) normal to the surface.
     #[must_use]
     pub fn new(surface: &Surface, uv: DVec2, feed_hint: DVec3) -> Option<Self> {
+        Self::with_cross_uv(surface, uv, feed_hint).map(|(frame, _)| frame)
+    }
+
+    /// [`Self::new`] with the parameter direction of c (per mm) it found on the way: what
+    /// [`CrossProfile::new`] would evaluate the surface's derivatives at `uv` again for
+    /// ([`CrossProfile::with_cross_uv`]).
+    #[must_use]
+    pub fn with_cross_uv(surface: &Surface, uv: DVec2, feed_hint: DVec3) -> Option<(Self, DVec2)> {
         let d = surface.derivatives_at(uv);
         let geo = LocalGeometry::try_new(d)?;
         let n = d.normal;
@@ -119,7 +127,7 @@ impl ContactFrame {
         let (cf, cc) = (geo.tangent_coords(f), geo.tangent_coords(c));
         let surface_form =
             Form2 { ff: geo.second_form(cf, cf), fc: geo.second_form(cf, cc), cc: geo.second_form(cc, cc) };
-        Some(Self { uv, point: d.point, normal: n, feed: f, cross: c, surface_form })
+        Some((Self { uv, point: d.point, normal: n, feed: f, cross: c, surface_form }, cc))
     }
 
     /// The unit tangent t(θ) = cos θ·f + sin θ·c.
@@ -432,6 +440,20 @@ impl<'a> CrossProfile<'a> {
     /// The profile of the cutter at `frame` with `pose`.
     #[must_use]
     pub fn new(cutter: &'a Cutter, surface: &'a Surface, frame: ContactFrame, pose: &Pose) -> Self {
+        let cross_uv = LocalGeometry::try_new(surface.derivatives_at(frame.uv)).map(|g| g.tangent_coords(frame.cross));
+        Self::with_cross_uv(cutter, surface, frame, pose, cross_uv)
+    }
+
+    /// [`Self::new`] with the parameter direction of c at the frame's point given (per mm;
+    /// `None` at a singular point): from [`ContactFrame::with_cross_uv`], the same bits.
+    #[must_use]
+    pub fn with_cross_uv(
+        cutter: &'a Cutter,
+        surface: &'a Surface,
+        frame: ContactFrame,
+        pose: &Pose,
+        cross_uv: Option<DVec2>,
+    ) -> Self {
         let (tip, axis) = place(cutter, &frame, pose);
         let qc = cutter_form(cutter, pose);
         Self {
@@ -442,7 +464,7 @@ impl<'a> CrossProfile<'a> {
             axis,
             k_proj: qc.silhouette(),
             k_move: qc.minus(&frame.surface_form).silhouette(),
-            cross_uv: LocalGeometry::try_new(surface.derivatives_at(frame.uv)).map(|g| g.tangent_coords(frame.cross)),
+            cross_uv,
         }
     }
 

@@ -225,6 +225,8 @@ impl PartSamples {
 /// Most cells [`bottom_clash`] evaluates; beyond it the cell with the lowest bound is
 /// reported as a clash (a refusal errs on the safe side).
 const MAX_CELLS: usize = 40_000;
+/// Cells [`bottom_clash`] reserves room for at its start (more are added as needed).
+const CELLS_RESERVED: usize = 512;
 /// Deepest subdivision of a first-grid cell: halvings of one side or the other (32, as many
 /// as 16 levels of quarters).
 const MAX_DEPTH: u32 = 32;
@@ -375,8 +377,10 @@ fn bottom_clash(
     let mut evaluated = Tally(&part.checked, n * n);
     let half = DVec2::new(0.5 * dom.u.width() / n as f64, 0.5 * dom.v.width() / n as f64);
     let origin = DVec2::new(dom.u.min, dom.v.min);
-    let mut heap = std::collections::BinaryHeap::new();
-    let mut cells: Vec<Cell> = Vec::with_capacity(64);
+    // Sized for a typical check (the examples' average 185–335 cells), so that the cells
+    // are not copied as the vector grows.
+    let mut heap = std::collections::BinaryHeap::with_capacity(CELLS_RESERVED / 2);
+    let mut cells: Vec<Cell> = Vec::with_capacity(CELLS_RESERVED);
     let open = |heap: &mut std::collections::BinaryHeap<Open>, cells: &mut Vec<Cell>, cell: Cell| {
         heap.push(Open { bound: cell.bound, index: cells.len() });
         cells.push(cell);

@@ -128,14 +128,20 @@ const COMPASS_MOVES: usize = 200;
 #[must_use]
 pub fn surface_depth_near(cutter: &Cutter, surface: &Surface, tip: DVec3, axis: DVec3, uv: DVec2) -> f64 {
     let domain = surface.domain();
-    let d = surface.derivatives_at(uv);
-    let (lu, lv) = (d.du.length(), d.dv.length());
+    // The point and first derivatives only (`tangents_at`: the same bits as
+    // `derivatives_at`'s).
+    let (point, du, dv) = surface.tangents_at(uv);
+    let (lu, lv) = (du.length(), dv.length());
     if !(lu > 0.0 && lv > 0.0 && lu.is_finite() && lv.is_finite()) {
-        return depth_in_cutter(cutter, tip, axis, d.point);
+        return depth_in_cutter(cutter, tip, axis, point);
     }
     let depth = |uv: DVec2| depth_in_cutter(cutter, tip, axis, surface.point_at(uv));
+    let bits = |uv: DVec2| [uv.x.to_bits(), uv.y.to_bits()];
     let mut at = domain.clamp(uv);
     let mut best = depth(at);
+    // The point the last move left (bits): its depth is below `best`, so a trial landing on
+    // it again would not be taken and is not evaluated again.
+    let mut left: Option<[u64; 2]> = None;
     let mut step = COMPASS_FIRST_MM;
     let mut halvings = 0;
     let mut moves = 0;
@@ -144,8 +150,12 @@ pub fn surface_depth_near(cutter: &Cutter, surface: &Surface, tip: DVec3, axis: 
         let mut moved = false;
         for delta in [DVec2::new(su, 0.0), DVec2::new(-su, 0.0), DVec2::new(0.0, sv), DVec2::new(0.0, -sv)] {
             let trial = domain.clamp(at + delta);
+            if left == Some(bits(trial)) {
+                continue;
+            }
             let v = depth(trial);
             if v > best {
+                left = Some(bits(at));
                 best = v;
                 at = trial;
                 moved = true;

@@ -111,7 +111,60 @@ pub const LIFT_HALVING_GAIN: f64 = 0.5;
 /// Most halvings of one chord by the chord certification (`docs/fillet.md`, "Between the poses") (up to 2⁴ − 1 nodes put into it).
 pub const CHORD_SPLITS: usize = 4;
 
+/// The strip's reaches at h (mm; toward −c and +c, `CrossProfile::reach`) of the CC nodes
+/// [`Ctx::node`] built, by the bits of their frame and pose: the side steps from a node (its
+/// reach toward the next path is the side step's first guess) and its lead-out (the larger
+/// reach) need the same two numbers its strip width was made of, the same computation on
+/// the same inputs. Kept for the path being built (`current`) and the one before it
+/// (`previous`, the one the side steps start from); [`Reaches::next_path`] drops the rest.
+/// A node not found is computed again, to the same bits.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Reaches {
+    current: std::collections::HashMap<[u64; 13], [f64; 2]>,
+    previous: std::collections::HashMap<[u64; 13], [f64; 2]>,
+}
+
+impl Reaches {
+    /// The key of a node: every number its cross profile is made of (the frame's point,
+    /// normal, feed and parameters, which determine the rest of it, and the pose).
+    fn key(frame: &ContactFrame, pose: &Pose) -> [u64; 13] {
+        let (p, n, f) = (frame.point, frame.normal, frame.feed);
+        [p.x, p.y, p.z, n.x, n.y, n.z, f.x, f.y, f.z, frame.uv.x, frame.uv.y, pose.inclination_rad, pose.azimuth_rad]
+            .map(f64::to_bits)
+    }
+
+    /// The next path is about to be built: the current one's reaches become the previous
+    /// ones, older ones are dropped.
+    pub(super) fn next_path(&mut self) {
+        self.previous = std::mem::take(&mut self.current);
+    }
+
+    fn get(&self, frame: &ContactFrame, pose: &Pose) -> Option<[f64; 2]> {
+        let key = Self::key(frame, pose);
+        self.current.get(&key).or_else(|| self.previous.get(&key)).copied()
+    }
+}
+
 impl Ctx<'_> {
+    /// The strip's reach at h from `node` toward `sign`·c (`sign` ±1), as its cross profile
+    /// gives it: from [`Reaches`] when the node's reaches are there (the same bits).
+    pub(super) fn reach(&self, tool: &Cutter, node: &CcNode, sign: f64) -> f64 {
+        #[expect(clippy::float_cmp, reason = "only the exact signs the memo holds")]
+        let index = if sign == 1.0 {
+            Some(1)
+        } else if sign == -1.0 {
+            Some(0)
+        } else {
+            None
+        };
+        if let (Some(i), Some(memo)) = (index, self.reaches)
+            && let Some(reach) = memo.borrow().get(&node.frame, &node.pose)
+        {
+            return reach[i];
+        }
+        CrossProfile::new(tool, self.surface, node.frame, &node.pose).reach(self.opts.scallop_mm, sign)
+    }
+
     /// Nodes along a uv polyline by the forward step, oriented, smoothed, checked.
     /// `psi_ref`: per polyline vertex, the azimuth window (centre, half width, rad) the
     /// side step assumed for it (offset paths); without it each node's window is centred on
@@ -174,13 +227,15 @@ impl Ctx<'_> {
             }
             *budget -= 1;
             let (uv, dir, psi) = at(s);
-            samples.push((uv, dir, psi));
             if s >= total {
+                samples.push((uv, dir, psi, None));
                 break;
             }
             // Normal curvature along the feed, positive where the surface bends toward the
             // cutter (concave): there the chord sag only raises the cutter, E alone bounds it.
-            let ff = ContactFrame::new(self.surface, uv, dir).map_or(0.0, |f| f.surface_form.ff);
+            let frame = ContactFrame::with_cross_uv(self.surface, uv, dir);
+            samples.push((uv, dir, psi, frame));
+            let ff = frame.map_or(0.0, |f| f.0.surface_form.ff);
             let k = ff.abs();
             let sag = if ff < 0.0 {
                 self.opts.chord_tol_mm.min(SAG_SHARE_OF_H * self.opts.scallop_mm)
@@ -206,8 +261,8 @@ impl Ctx<'_> {
         let mut poses: Vec<Pose> = Vec::with_capacity(samples.len());
         let mut prev: Option<(DVec3, Pose)> = None;
         let oo = &self.opts.orient;
-        for (uv, dir, psi_win) in samples {
-            let Some(frame) = ContactFrame::new(self.surface, uv, dir) else {
+        for (uv, dir, psi_win, found) in samples {
+            let Some((frame, cross_uv)) = found.or_else(|| ContactFrame::with_cross_uv(self.surface, uv, dir)) else {
                 refused.push(Refusal {
                     uv,
                     point: self.surface.point_at(uv),
@@ -237,19 +292,19 @@ impl Ctx<'_> {
                 continue;
             };
             prev = Some((frame.point, pose));
-            frames.push(frame);
+            frames.push((frame, cross_uv));
             poses.push(pose);
         }
-        let ds: Vec<f64> = frames.windows(2).map(|w| (w[1].point - w[0].point).length()).collect();
+        let ds: Vec<f64> = frames.windows(2).map(|w| (w[1].0.point - w[0].0.point).length()).collect();
         smooth_inclinations(&mut poses, &ds, oo.max_turn_rad_per_mm);
         let tool = self.strategy.cutter_for(&self.cutter);
         // Gouge checks and adjustment, then the inclinations smoothed again (raising only).
-        let mut checked: Vec<(ContactFrame, Pose, Option<Adjustment>)> = Vec::with_capacity(frames.len());
-        for (frame, pose) in frames.into_iter().zip(poses) {
+        let mut checked: Vec<((ContactFrame, DVec2), Pose, Option<Adjustment>)> = Vec::with_capacity(frames.len());
+        for ((frame, cross_uv), pose) in frames.into_iter().zip(poses) {
             let verdict = adjust(&tool, self.surface, self.part, &frame, pose, oo, self.opts.gouge_tol_mm);
             self.count_check()?;
             match verdict {
-                Ok((pose, adjusted)) => checked.push((frame, pose, adjusted)),
+                Ok((pose, adjusted)) => checked.push(((frame, cross_uv), pose, adjusted)),
                 Err(clash) => refused.push(Refusal {
                     uv: frame.uv,
                     point: frame.point,
@@ -272,12 +327,12 @@ impl Ctx<'_> {
             }
         }
         let mut poses: Vec<Pose> = checked.iter().map(|c| c.1).collect();
-        let ds: Vec<f64> = checked.windows(2).map(|w| (w[1].0.point - w[0].0.point).length()).collect();
+        let ds: Vec<f64> = checked.windows(2).map(|w| (w[1].0.0.point - w[0].0.0.point).length()).collect();
         smooth_inclinations(&mut poses, &ds, oo.max_turn_rad_per_mm);
         let nodes: Vec<CcNode> = checked
             .into_iter()
             .zip(poses)
-            .map(|((frame, _, adjusted), pose)| self.node(&tool, frame, pose, adjusted))
+            .map(|(((frame, cross_uv), _, adjusted), pose)| self.node(&tool, frame, Some(cross_uv), pose, adjusted))
             .collect();
         let mut nodes = self.certify_chords(&tool, nodes, refused, budget)?;
         if let Some(lead) = nodes.last().and_then(|last| self.lead_out(&tool, last, true)) {
@@ -290,16 +345,32 @@ impl Ctx<'_> {
     }
 
     /// The CC node of `frame` with the cutter at `pose`: placed, with its strip width.
-    pub(super) fn node(&self, tool: &Cutter, frame: ContactFrame, pose: Pose, adjusted: Option<Adjustment>) -> CcNode {
+    /// `cross_uv`: the frame's cross direction in (u, v) when [`ContactFrame::with_cross_uv`]
+    /// gave it (else evaluated here, the same bits).
+    pub(super) fn node(
+        &self,
+        tool: &Cutter,
+        frame: ContactFrame,
+        cross_uv: Option<DVec2>,
+        pose: Pose,
+        adjusted: Option<Adjustment>,
+    ) -> CcNode {
         let (tip, axis) = place(tool, &frame, &pose);
-        let prof = CrossProfile::new(tool, self.surface, frame, &pose);
+        let prof = match cross_uv {
+            Some(c) => CrossProfile::with_cross_uv(tool, self.surface, frame, &pose, Some(c)),
+            None => CrossProfile::new(tool, self.surface, frame, &pose),
+        };
         let h = self.opts.scallop_mm;
+        let reach = [prof.reach(h, -1.0), prof.reach(h, 1.0)];
+        if let Some(memo) = self.reaches {
+            memo.borrow_mut().current.insert(Reaches::key(&frame, &pose), reach);
+        }
         CcNode {
             frame,
             pose,
             tip,
             axis,
-            strip_mm: prof.reach(h, 1.0) + prof.reach(h, -1.0),
+            strip_mm: reach[1] + reach[0],
             side_step_mm: None,
             scallop_mm: None,
             adjusted,
@@ -374,7 +445,8 @@ impl Ctx<'_> {
     /// has no frame there or the checks find no clear pose.
     pub(super) fn node_between(&self, tool: &Cutter, a: &CcNode, b: &CcNode) -> Result<Option<CcNode>, FinishError> {
         let uv = a.frame.uv.lerp(b.frame.uv, 0.5);
-        let Some(frame) = ContactFrame::new(self.surface, uv, b.frame.point - a.frame.point) else {
+        let Some((frame, cross_uv)) = ContactFrame::with_cross_uv(self.surface, uv, b.frame.point - a.frame.point)
+        else {
             return Ok(None);
         };
         // The strategy's pose within the two azimuths (its own rules, such as the matched
@@ -389,7 +461,7 @@ impl Ctx<'_> {
         );
         let verdict = adjust(tool, self.surface, self.part, &frame, pose, &self.opts.orient, self.opts.gouge_tol_mm);
         self.count_check()?;
-        Ok(verdict.ok().map(|(pose, adjusted)| self.node(tool, frame, pose, adjusted)))
+        Ok(verdict.ok().map(|(pose, adjusted)| self.node(tool, frame, Some(cross_uv), pose, adjusted)))
     }
 
     /// The lead-out after `last` when it lies on the along parameter's far end (`far`), or
@@ -407,9 +479,7 @@ impl Ctx<'_> {
             return None;
         }
         let sense = if far { 1.0 } else { -1.0 };
-        let h = self.opts.scallop_mm;
-        let prof = CrossProfile::new(tool, self.surface, last.frame, &last.pose);
-        let reach = prof.reach(h, 1.0).max(prof.reach(h, -1.0));
+        let reach = self.reach(tool, last, 1.0).max(self.reach(tool, last, -1.0));
         // The far edge's slant against the cross direction: tan of its angle from c.
         let der = self.surface.derivatives_at(last.frame.uv);
         let edge = if self.along == 0 { der.dv } else { der.du };

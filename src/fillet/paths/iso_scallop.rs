@@ -3,6 +3,7 @@
 use glam::{DVec2, DVec3};
 
 use super::budget::{EXTRAPOLATION_ROOM, check_stop};
+use super::build::Reaches;
 use super::side_step::{SCALLOP_FLOOR_REL, Step};
 use super::{
     CELLS_ESTIMATE_AFTER, CELLS_ESTIMATE_AFTER_SHARE, Ctx, ESTIMATE_AFTER_SHARE, FinishSetup, Layout, PathSet,
@@ -187,6 +188,8 @@ pub struct IsoScallopSteps {
     nodes_checked: u64,
     paths: Vec<ToolPath>,
     done: bool,
+    /// The strip's reaches of the last path's nodes, for the next step's side steps.
+    reaches: Reaches,
 }
 
 impl IsoScallopSteps {
@@ -209,7 +212,9 @@ impl IsoScallopSteps {
         check_pilot: impl FnOnce(&Pilot) -> Result<(), E>,
     ) -> Result<Self, E> {
         let FinishSetup { surface, strategy, options: opts, start, .. } = *setup;
-        let ctx = Ctx::start(setup)?;
+        let reaches = std::cell::RefCell::new(Reaches::default());
+        let mut ctx = Ctx::start(setup)?;
+        ctx.reaches = Some(&reaches);
         let along = ctx.along;
         let (_, (b0, b1)) = ctx.ranges();
         let poly = ctx.first_polyline(start)?;
@@ -253,6 +258,7 @@ impl IsoScallopSteps {
             nodes_checked: ctx.nodes_checked.get(),
             paths: vec![first],
             done: false,
+            reaches: reaches.into_inner(),
         })
     }
 
@@ -283,6 +289,10 @@ impl IsoScallopSteps {
         }
         let along = self.along;
         let (side, toward) = (self.c_sign * self.toward, self.toward);
+        // Taken for this step and put back at its end (a step that ends the side early
+        // leaves it empty: the next one computes the reaches again).
+        let reaches = std::cell::RefCell::new(std::mem::take(&mut self.reaches));
+        reaches.borrow_mut().next_path();
         let ctx = Ctx {
             surface,
             cutter: *cutter,
@@ -295,6 +305,7 @@ impl IsoScallopSteps {
             cells_at_start: self.cells_at_start,
             work_at_start: self.work_at_start,
             nodes_checked: std::cell::Cell::new(self.nodes_checked),
+            reaches: Some(&reaches),
         };
         let (_, (b0, b1)) = ctx.ranges();
         if self.paths.len() >= opts.max_paths {
@@ -407,6 +418,7 @@ impl IsoScallopSteps {
             }
         }
         self.nodes_checked = ctx.nodes_checked.get();
+        self.reaches = reaches.into_inner();
         if next.nodes.is_empty() {
             return Ok(self.end_side());
         }

@@ -43,6 +43,7 @@
 use glam::{DVec2, DVec3};
 
 use super::FinishError;
+use super::contact::ContactFrame;
 use super::gouge::PartSamples;
 use super::node::CcNode;
 use super::orient::{OrientOptions, Strategy};
@@ -360,8 +361,10 @@ impl PathSet {
     }
 }
 
-/// A forward-step sample: uv, the polyline's direction there (mm), the azimuth window.
-type Sample = (DVec2, DVec3, Option<(f64, f64)>);
+/// A forward-step sample: uv, the polyline's direction there (mm), the azimuth window, and
+/// the contact frame there with its cross direction in (u, v) when the forward step found
+/// one (`ContactFrame::with_cross_uv` of the same uv and direction: the node's frame).
+type Sample = (DVec2, DVec3, Option<(f64, f64)>, Option<(ContactFrame, DVec2)>);
 
 /// Everything a job needs, borrowed.
 struct Ctx<'a> {
@@ -381,6 +384,9 @@ struct Ctx<'a> {
     cells_at_start: u64,
     work_at_start: u64,
     nodes_checked: std::cell::Cell<u64>,
+    /// The strip's reaches of the nodes built lately ([`build::Reaches`]), where the job
+    /// keeps them between its steps.
+    reaches: Option<&'a std::cell::RefCell<build::Reaches>>,
 }
 
 fn a_of(uv: DVec2, along: usize) -> f64 {
@@ -413,6 +419,7 @@ impl<'a> Ctx<'a> {
             cells_at_start: part.cells_checked(),
             work_at_start: part.work_done(),
             nodes_checked: std::cell::Cell::new(0),
+            reaches: None,
         })
     }
 

@@ -135,7 +135,7 @@ impl Ctx<'_> {
         let a = CrossProfile::new(&tool, self.surface, node.frame, &node.pose);
         // No strip is wider than the cutter: the side step stays within (0, 2R].
         let w_max = 2.0 * tool.radius_mm;
-        let mut w = (a.reach(h, self.side) * 2.0).min(w_max);
+        let mut w = (self.reach(&tool, node, self.side) * 2.0).min(w_max);
         // Bracket of w: scallop below h at `lo`, above at `hi`.
         let (mut lo, mut hi) = (0.0f64, f64::INFINITY);
         let mut result = Solved { uv: node.frame.uv, beyond: true, width_mm: w, scallop_mm: 0.0 };
@@ -145,11 +145,11 @@ impl Ctx<'_> {
             if beyond {
                 return Ok(Solved { uv, beyond: true, width_mm: w, scallop_mm: 0.0 });
             }
-            let Some(frame_b) = ContactFrame::new(self.surface, uv, node.frame.feed) else {
+            let Some((frame_b, cross_uv)) = ContactFrame::with_cross_uv(self.surface, uv, node.frame.feed) else {
                 return Ok(Solved { uv, beyond, width_mm: w, scallop_mm: 0.0 });
             };
             let (pose_b, _) = self.next_pose(node, &frame_b, w, checked)?;
-            let b = CrossProfile::new(&tool, self.surface, frame_b, &pose_b);
+            let b = CrossProfile::with_cross_uv(&tool, self.surface, frame_b, &pose_b, Some(cross_uv));
             let s = scallop_between(&a, &b, self.side * w);
             result = Solved { uv, beyond, width_mm: w, scallop_mm: s };
             if (s - h).abs() < SIDE_STEP_REL * h {
