@@ -175,7 +175,7 @@ const AREA_GRID: usize = 24;
 pub const MAX_TILT_DEG: f64 = 45.0;
 
 /// A part whose extent is below this (mm) is not held against its cutter's radius
-/// ([`check_work`]): a small or nearly flat patch may be finished with a cutter larger
+/// (`check_work`): a small or nearly flat patch may be finished with a cutter larger
 /// than itself.
 pub const MIN_EXTENT_FOR_RADIUS_MM: f64 = 50.0;
 
