@@ -1228,29 +1228,7 @@ pub fn piece_bounds(path: &Path, p: &Piece) -> Bounds {
     }
     let mut out = Bounds::default();
     for i in (0..6).filter(|&i| active[i]) {
-        let (mut lo1, mut hi1) = (f64::INFINITY, f64::NEG_INFINITY);
-        let (mut lo2, mut hi2) = (f64::INFINITY, f64::NEG_INFINITY);
-        let (mut d1, mut d2, mut m3) = (0.0f64, 0.0f64, 0.0f64);
-        for k in 0..SAMPLES {
-            lo1 = lower(lo1, q1[k][i]);
-            hi1 = upper(hi1, q1[k][i]);
-            lo2 = lower(lo2, q2[k][i]);
-            hi2 = upper(hi2, q2[k][i]);
-            if k > 0 {
-                d1 = upper(d1, (q1[k][i] - q1[k - 1][i]).abs());
-                let dd = (q2[k][i] - q2[k - 1][i]).abs();
-                d2 = upper(d2, dd);
-                let ds = sv[k] - sv[k - 1];
-                if ds > 0.0 {
-                    m3 = upper(m3, dd / ds);
-                }
-            }
-        }
-        out.lo1[i] = lo1 - 0.5 * d1;
-        out.hi1[i] = hi1 + 0.5 * d1;
-        out.lo2[i] = lo2 - 0.5 * d2;
-        out.hi2[i] = hi2 + 0.5 * d2;
-        out.m3[i] = m3 * 1.5;
+        joint_bounds(&mut out, i, &std::array::from_fn(|k| q1[k][i]), &std::array::from_fn(|k| q2[k][i]), &sv);
     }
     out
 }
@@ -1288,32 +1266,40 @@ fn blend_bounds_xyz(c: &[Q; 6], tau0: f64, dt: f64) -> Bounds {
     }
     let mut out = Bounds::default();
     for i in 0..3 {
-        let (a, b) = (&q1[i], &q2[i]);
-        let (mut lo1, mut hi1) = (f64::INFINITY, f64::NEG_INFINITY);
-        let (mut lo2, mut hi2) = (f64::INFINITY, f64::NEG_INFINITY);
-        let (mut d1, mut d2, mut m3) = (0.0f64, 0.0f64, 0.0f64);
-        for k in 0..SAMPLES {
-            lo1 = lower(lo1, a[k]);
-            hi1 = upper(hi1, a[k]);
-            lo2 = lower(lo2, b[k]);
-            hi2 = upper(hi2, b[k]);
-            if k > 0 {
-                d1 = upper(d1, (a[k] - a[k - 1]).abs());
-                let dd = (b[k] - b[k - 1]).abs();
-                d2 = upper(d2, dd);
-                let ds = sv[k] - sv[k - 1];
-                if ds > 0.0 {
-                    m3 = upper(m3, dd / ds);
-                }
-            }
-        }
-        out.lo1[i] = lo1 - 0.5 * d1;
-        out.hi1[i] = hi1 + 0.5 * d1;
-        out.lo2[i] = lo2 - 0.5 * d2;
-        out.hi2[i] = hi2 + 0.5 * d2;
-        out.m3[i] = m3 * 1.5;
+        joint_bounds(&mut out, i, &q1[i], &q2[i], &sv);
     }
     out
+}
+
+/// Joint `i`'s bounds in `out` from its q′ (`a`) and q″ (`b`) at a piece's samples, `sv`
+/// the arc length at each: the samples' extremes widened by half the largest step between
+/// two samples, and the largest rate of q″ per mm by half again. Shared by
+/// [`piece_bounds`] and its three-joint blend form, so both give the same bits.
+#[inline]
+fn joint_bounds(out: &mut Bounds, i: usize, a: &[f64; SAMPLES], b: &[f64; SAMPLES], sv: &[f64; SAMPLES]) {
+    let (mut lo1, mut hi1) = (f64::INFINITY, f64::NEG_INFINITY);
+    let (mut lo2, mut hi2) = (f64::INFINITY, f64::NEG_INFINITY);
+    let (mut d1, mut d2, mut m3) = (0.0f64, 0.0f64, 0.0f64);
+    for k in 0..SAMPLES {
+        lo1 = lower(lo1, a[k]);
+        hi1 = upper(hi1, a[k]);
+        lo2 = lower(lo2, b[k]);
+        hi2 = upper(hi2, b[k]);
+        if k > 0 {
+            d1 = upper(d1, (a[k] - a[k - 1]).abs());
+            let dd = (b[k] - b[k - 1]).abs();
+            d2 = upper(d2, dd);
+            let ds = sv[k] - sv[k - 1];
+            if ds > 0.0 {
+                m3 = upper(m3, dd / ds);
+            }
+        }
+    }
+    out.lo1[i] = lo1 - 0.5 * d1;
+    out.hi1[i] = hi1 + 0.5 * d1;
+    out.lo2[i] = lo2 - 0.5 * d2;
+    out.hi2[i] = hi2 + 0.5 * d2;
+    out.m3[i] = m3 * 1.5;
 }
 
 /// Samples a piece's bounds are taken from (a blend's half, an arc's or NURBS' 5°).
