@@ -326,10 +326,6 @@ fn simulate_finish(a: &SimulateArgs, tol: f64) -> Result<ExitCode, Fatal> {
     let (set, stock) = finish_paths_metered(a, &job, strategy, &part, stock, &cutter, &how, tol, &name)?;
     let fp = FinishProgram::new(&job, &set, tol).map_err(|e| Fatal(format!("--finish {tol}: {e}")))?;
     let program = fp.program().map_err(|e| Fatal(format!("{name}: {e}")))?;
-    // Named once the program exists, so that a refusal of the command stays its only line.
-    for line in super::finish::refused_lines(&name, &set.refused, "the simulated program leaves them out") {
-        eprintln!("{line}");
-    }
     let extra = json!({
         "label": fp.label,
         "pose_step_mm": pose_step,
@@ -341,7 +337,13 @@ fn simulate_finish(a: &SimulateArgs, tol: f64) -> Result<ExitCode, Fatal> {
         "refused": set.refused.len(),
     });
     let how = RunHow { finish_info: Some(extra), interior_passes: Some(fp.cc_points()), ..how };
-    finish(a, &cutter, stock, &program, &fp.design(), how)
+    let status = finish(a, &cutter, stock, &program, &fp.design(), how)?;
+    // Named once the run is done, so that a refusal of the command (the run's meter) stays
+    // its only line.
+    for line in super::finish::refused_lines(&name, &set.refused, "the simulated program leaves them out") {
+        eprintln!("{line}");
+    }
+    Ok(status)
 }
 
 /// The paths of `simulate --finish`, as `finish --gcode` builds them (refused at the first
