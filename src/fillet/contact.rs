@@ -148,6 +148,16 @@ pub struct Pose {
 }
 
 impl Pose {
+    /// The pose whose axis is `axis` (unit) at `frame`: α = angle(axis, n), ψ from the feed
+    /// toward c of the axis' part in the tangent plane (0 when the axis is the normal).
+    #[must_use]
+    pub fn from_axis(frame: &ContactFrame, axis: DVec3) -> Self {
+        let inclination_rad = axis.dot(frame.normal).clamp(-1.0, 1.0).acos();
+        let (f, c) = (axis.dot(frame.feed), axis.dot(frame.cross));
+        let azimuth_rad = if f == 0.0 && c == 0.0 { 0.0 } else { c.atan2(f) };
+        Self { inclination_rad, azimuth_rad }
+    }
+
     /// The pose of lead λ (toward the feed) and tilt ω (toward c), radians.
     #[must_use]
     pub fn from_lead_tilt(lead_rad: f64, tilt_rad: f64) -> Self {

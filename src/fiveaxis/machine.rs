@@ -335,6 +335,64 @@ impl Machine {
         if singular { [[tilt, c_prev], [-tilt, c_prev]] } else { [[tilt, c_plus], [-tilt, c_minus]] }
     }
 
+    /// Whether some solution branch puts the tool along `axis_in_workpiece` (any length) with
+    /// every rotary angle at least `margin_rad` inside its travel. The tip does not matter,
+    /// nor the previous joints (an angle lies within travel at some whole turn or at none);
+    /// an axis that is zero or not finite is not judged here (`true`: the planner names it).
+    /// [`Self::joints_from_pose`] finds a solution wherever this holds with a margin of 0.
+    #[must_use]
+    pub fn reaches_axis(&self, axis_in_workpiece: DVec3, margin_rad: f64) -> bool {
+        let Some(t) = axis_in_workpiece.try_normalize() else {
+            return true;
+        };
+        let inside = |angle: f64, limits: Option<[f64; 2]>| match limits {
+            None => true,
+            Some([lo, hi]) => (-3..=3).any(|k| {
+                let a = angle + std::f64::consts::TAU * f64::from(k);
+                a >= lo + margin_rad - tolerance::ANGLE_LIMIT_SLACK_RAD
+                    && a <= hi - margin_rad + tolerance::ANGLE_LIMIT_SLACK_RAD
+            }),
+        };
+        self.orientation_branches(t, 0.0)
+            .iter()
+            .any(|&[tilt, c]| inside(tilt, self.limits_rad[0]) && inside(c, self.limits_rad[1]))
+    }
+
+    /// The unit axis nearest `axis_in_workpiece` whose tilt (the angle from the C axis,
+    /// `acos(z)`, every structure's) lies at least `margin_rad` inside the tilting axis'
+    /// travel: the axis turned toward or away from +z in its own vertical plane, its C kept.
+    /// `None` when the axis is zero or not finite, or the result is still out of reach (a
+    /// limited C, or a travel narrower than twice the margin). Along a path of smooth axes
+    /// the result is smooth: the least change that brings each within reach.
+    #[must_use]
+    pub fn nearest_reachable_axis(&self, axis_in_workpiece: DVec3, margin_rad: f64) -> Option<DVec3> {
+        let t = axis_in_workpiece.try_normalize()?;
+        let polar = t.z.clamp(-1.0, 1.0).acos();
+        let pi = std::f64::consts::PI;
+        // The tilts a branch can take: [lo, hi] and, the other branch, [−hi, −lo], within [0, π].
+        let ranges: Vec<[f64; 2]> = match self.limits_rad[0] {
+            None => vec![[0.0, pi]],
+            Some([lo, hi]) => vec![[lo, hi], [-hi, -lo]],
+        };
+        let mut best: Option<f64> = None;
+        for [lo, hi] in ranges {
+            let (lo, hi) = ((lo + margin_rad).max(0.0), (hi - margin_rad).min(pi));
+            if lo > hi {
+                continue;
+            }
+            let p = polar.clamp(lo, hi);
+            if best.is_none_or(|b| (p - polar).abs() < (b - polar).abs()) {
+                best = Some(p);
+            }
+        }
+        let p = best?;
+        let rho = t.x.hypot(t.y);
+        // On the C axis itself any horizontal direction is as near: +X.
+        let (cx, cy) = if rho > 0.0 { (t.x / rho, t.y / rho) } else { (1.0, 0.0) };
+        let out = DVec3::new(p.sin() * cx, p.sin() * cy, p.cos());
+        self.reaches_axis(out, 0.0).then_some(out)
+    }
+
     /// Inverse kinematics: joint values putting the tool tip at `tip_in_workpiece` with unit
     /// axis `axis_in_workpiece`, choosing among the solution branches (tilt = ±acos, C plus
     /// whole turns) the one within travel nearest `previous` (sum of rotary moves); without

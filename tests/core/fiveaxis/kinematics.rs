@@ -191,3 +191,52 @@ fn machine_kinds_round_trip_their_names() {
     }
     assert_eq!(MachineKind::from_name("table-xy"), None);
 }
+
+/// `reaches_axis` says of a tool axis what the inverse kinematics finds, for every machine
+/// kind with the tilt and C limited, at random axes and at axes within a hair of the tilt's
+/// limit: with no margin, it reaches exactly where `joints_from_pose` finds joints (from any
+/// previous block); with a margin m, it reaches only where the joints lie m inside the limits
+/// — and then the axis reaches with no margin too.
+#[test]
+fn reaching_an_axis_is_what_the_inverse_kinematics_finds() {
+    let mut rng = Rng::new(31);
+    let margin = deg(0.5);
+    for kind in MachineKind::ALL {
+        let mut m = random_machine(kind, &mut rng);
+        m.limits_rad = [Some([deg(-75.0), deg(100.0)]), Some([deg(-150.0), deg(170.0)])];
+        let (mut reached, mut refused) = (0, 0);
+        for i in 0..4000 {
+            let axis = if i % 2 == 0 {
+                // Uniform on the sphere.
+                let z = rng.range(-1.0, 1.0);
+                let phi = rng.range(-std::f64::consts::PI, std::f64::consts::PI);
+                let r = (1.0 - z * z).sqrt();
+                DVec3::new(r * phi.cos(), r * phi.sin(), z)
+            } else {
+                // Near a limit of the tilt, from the forward kinematics.
+                let limit = if i % 4 == 1 { deg(100.0) } else { deg(-75.0) };
+                let tilt = limit + rng.range(-deg(1.0), deg(1.0));
+                let c = rng.range(deg(-150.0), deg(170.0));
+                m.pose_from_joints(&Joints { xyz_mm: DVec3::ZERO, rotary_rad: [tilt, c] }).axis_in_workpiece
+            };
+            let prev = Joints { xyz_mm: DVec3::ZERO, rotary_rad: [rng.range(-1.0, 1.0), rng.range(-2.0, 2.0)] };
+            let ik = m.joints_from_pose(DVec3::ZERO, axis, Some(&prev));
+            let out = matches!(ik, Err(KinematicsError::OutOfTravel { .. }));
+            assert_eq!(m.reaches_axis(axis, 0.0), !out, "{kind:?} axis {axis:?}: {ik:?}");
+            assert_eq!(m.reaches_axis(3.0 * axis, 0.0), !out, "the axis' length matters");
+            if m.reaches_axis(axis, margin) {
+                assert!(!out, "{kind:?}: reached with a margin but not without");
+                // Some branch lies the margin inside: the inverse kinematics within limits
+                // shrunk by the margin still finds joints.
+                let [[a0, a1], [c0, c1]] = [[deg(-75.0), deg(100.0)], [deg(-150.0), deg(170.0)]];
+                let shrunk =
+                    Machine { limits_rad: [Some([a0 + margin, a1 - margin]), Some([c0 + margin, c1 - margin])], ..m };
+                assert!(shrunk.joints_from_pose(DVec3::ZERO, axis, None).is_ok(), "{kind:?} axis {axis:?}");
+                reached += 1;
+            } else {
+                refused += 1;
+            }
+        }
+        assert!(reached > 500 && refused > 500, "{kind:?}: {reached} reached, {refused} not");
+    }
+}
