@@ -16,7 +16,7 @@ use serde_json::{Value, json};
 
 use super::{Fatal, OutFormat};
 
-use interpolab::fillet::program::{FinishGcode, iso_scallop_in_travel};
+use interpolab::fillet::program::{FinishGcode, for_machine};
 use interpolab::fillet::{
     FinishError, FinishJob, FinishSetup, PartSamples, PathSet, PathStart, Strategy, compare, iso_parametric,
     iso_scallop,
@@ -427,9 +427,8 @@ pub(super) fn refused_lines(name: &str, refused: &[interpolab::fillet::Refusal],
         .collect()
 }
 
-/// The job's paths in `layout`; for a program on the scene's machine (`for_program`), each
-/// iso-scallop path's tool axes checked against the machine's travel as it is built, so a job
-/// the program could not follow is refused at its first such path, not after all of them.
+/// The job's paths in `layout`; for a program on the scene's machine (`for_program`), every
+/// pose within its rotary travel ([`for_machine`]).
 pub(super) fn paths_for(
     job: &FinishJob,
     strategy: Strategy,
@@ -440,9 +439,9 @@ pub(super) fn paths_for(
 ) -> Result<PathSet, Fatal> {
     let fail = |e: FinishError| Fatal(format!("{name}: {e}"));
     let setup = FinishSetup { strategy, ..job.setup(part) };
+    let setup = if for_program { for_machine(&job.machine, &setup) } else { setup };
     match layout {
         LayoutArg::IsoParametric => iso_parametric(&setup).map_err(fail),
-        LayoutArg::IsoScallop if !for_program => iso_scallop(&setup).map_err(fail),
-        LayoutArg::IsoScallop => iso_scallop_in_travel(&job.machine, &setup).map_err(|e| Fatal(format!("{name}: {e}"))),
+        LayoutArg::IsoScallop => iso_scallop(&setup).map_err(fail),
     }
 }

@@ -10,7 +10,7 @@ use std::time::Instant;
 use clap::Args;
 use glam::DVec3;
 use interpolab::crease::CreaseJob;
-use interpolab::fillet::program::{FinishProgramError, first_out_of_travel};
+use interpolab::fillet::program::for_machine;
 use interpolab::fillet::{
     Built, FinishError, FinishJob, FinishSetup, PartSamples, PathSet, Strategy, iso_scallop_checked,
 };
@@ -346,9 +346,8 @@ fn simulate_finish(a: &SimulateArgs, tol: f64) -> Result<ExitCode, Fatal> {
     Ok(status)
 }
 
-/// The paths of `simulate --finish`, as `finish --gcode` builds them (refused at the first
-/// path out of the machine's travel, [`interpolab::fillet::program::iso_scallop_in_travel`]),
-/// and refused as soon as the
+/// The paths of `simulate --finish`, as `finish --gcode` builds them (every pose within the
+/// machine's travel, [`interpolab::fillet::program::for_machine`]), and refused as soon as the
 /// simulation of their program would pass the work a run may do: by the job's pilot before
 /// any path, then projected from the share of the surface the paths cover
 /// ([`interpolab::simulate::finish::WorkProjection`]). Iso-parametric paths are built
@@ -367,6 +366,7 @@ fn finish_paths_metered(
 ) -> Result<(PathSet, DexelStock), Fatal> {
     let fail = |e: &dyn std::fmt::Display| Fatal(format!("{name}: {e}"));
     let setup = FinishSetup { strategy, ..job.setup(part) };
+    let setup = for_machine(&job.machine, &setup);
     let pitch = stock.grid().pitch_mm;
     let mut sim = Simulation::new(stock, cutter);
     if let Some(step) = how.sample_step.resolve(pitch, cutter) {
@@ -382,15 +382,12 @@ fn finish_paths_metered(
     let set = iso_scallop_checked(&setup, |built| {
         match built {
             Built::Pilot(pilot) => projection.check_pilot(&sim, pilot)?,
-            Built::Path { index, path, covered } => {
-                if let Some(source) = first_out_of_travel(&job.machine, &path.nodes) {
-                    return Err(Stop::Program(FinishProgramError::Plan { path: index, source }));
-                }
+            Built::Path { path, covered, .. } => {
                 projection.add(&sim, path);
                 projection.check(covered)?;
             }
         }
-        Ok(())
+        Ok::<(), Stop>(())
     })
     .map_err(|e| fail(&e))?;
     Ok((set, sim.into_stock()))
@@ -401,8 +398,6 @@ fn finish_paths_metered(
 enum Stop {
     #[error(transparent)]
     Finish(#[from] FinishError),
-    #[error(transparent)]
-    Program(FinishProgramError),
     #[error(transparent)]
     Work(#[from] SimError),
 }

@@ -16,12 +16,18 @@
 //! Where a check fails the inclination is raised in steps of 0.25° (to the strategy's largest),
 //! then the azimuth turned by ±10°, ±20°, ±30°; the first pose that passes is kept and the
 //! change reported. When none passes the point is refused with the reason.
+//!
+//! For a program on a machine the same search keeps the axis within the machine's rotary
+//! travel: a pose the machine cannot tilt to fails as a clash would (a pose clear of the
+//! part but out of travel is searched on from; [`ClashPart::Travel`] when that is all that
+//! failed).
 
 use glam::{DVec2, DVec3};
 
 use super::contact::{ContactFrame, Pose, gouge_margin, place};
 use super::orient::OrientOptions;
 use super::second_bound::{FIRST_CELLS, SecondBound};
+use crate::fiveaxis::Machine;
 use crate::geom::{Cutter, LocalGeometry, ParametricSurface, Surface};
 
 /// Which part of the cutter met the part.
@@ -35,6 +41,9 @@ pub enum ClashPart {
     Shank,
     /// The holder (an interference).
     Holder,
+    /// No part of the cutter: the machine cannot tilt its axis there (its rotary travel;
+    /// [`adjust`] with a machine to reach).
+    Travel,
 }
 
 impl ClashPart {
@@ -46,6 +55,7 @@ impl ClashPart {
             Self::Flank => "flank",
             Self::Shank => "shank",
             Self::Holder => "holder",
+            Self::Travel => "travel",
         }
     }
 }
@@ -602,6 +612,12 @@ fn widest_between(cutter: &Cutter, lo: f64, hi: f64) -> f64 {
     widest
 }
 
+/// How far inside the machine's rotary travel [`adjust`] keeps a pose's angles (rad; 0.1°):
+/// the axis between two poses, interpolated as the program moves, may swing a little past
+/// both (the chords are checked at their quarters, `certify_chords`), and this room keeps
+/// it within the travel.
+pub const REACH_MARGIN_RAD: f64 = 0.1 * std::f64::consts::PI / 180.0;
+
 /// What [`adjust`] changed.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Adjustment {
@@ -616,8 +632,13 @@ pub struct Adjustment {
 /// Checks and, where needed, adjusts the pose (module docs). `Ok((pose, None))`: clear as
 /// given; `Ok((pose, Some(adj)))`: clear after the adjustment; `Err(clash)`: refused.
 ///
+/// `reach`: the machine whose rotary travel every pose kept must lie within (module docs),
+/// or `None` for no machine.
+///
 /// # Errors
-/// The first clash when no adjusted pose passes.
+/// The first clash when no adjusted pose passes ([`ClashPart::Travel`] when the pose as
+/// given was clear of the part but out of `reach`'s travel).
+#[allow(clippy::too_many_arguments)]
 pub fn adjust(
     cutter: &Cutter,
     surface: &Surface,
@@ -626,16 +647,19 @@ pub fn adjust(
     pose: Pose,
     opts: &OrientOptions,
     tol_mm: f64,
+    reach: Option<&Machine>,
 ) -> Result<(Pose, Option<Adjustment>), Clash> {
     let tol = CHECK_SHARE * tol_mm;
+    let reachable = |p: &Pose| reach.is_none_or(|m| m.reaches_axis(p.axis(frame), REACH_MARGIN_RAD));
     // Where the last pose tried clashed at the bottom: the next one is tried there first
     // (a raise of 0.25° rarely clears the deepest point), which answers a failing trial with
     // one evaluation; a passing one is certified in full as before.
     let mut hint = Hint::default();
     let exhausted_before = part.exhausted.get();
-    let Some(first) = check_hinted(cutter, surface, part, place(cutter, frame, &pose), tol, &mut hint, Find::Deepest)
-    else {
-        return Ok((pose, None));
+    let first = match check_hinted(cutter, surface, part, place(cutter, frame, &pose), tol, &mut hint, Find::Deepest) {
+        Some(clash) => clash,
+        None if reachable(&pose) => return Ok((pose, None)),
+        None => Clash { part: ClashPart::Travel, depth_mm: 0.0, at: frame.point },
     };
     // A check that ran out of cells certifies nothing either way, and the next pose (a
     // quarter degree on) would run out the same: the point is refused at once instead of
@@ -648,15 +672,27 @@ pub fn adjust(
     // trials have cost MAX_ADJUST_CELLS (a fold of the surface under the cutter made every
     // trial search deep before it clashed: 11 million cells a point).
     let cells_before = part.cells_checked();
+    // Out of the machine's reach: first the pose whose axis is the nearest the machine
+    // reaches (the least turn of the axis, so neighbouring points get neighbouring poses),
+    // within the strategy's largest inclination, and the search below starts from it.
+    let start = match reach {
+        Some(m) if !reachable(&pose) => m
+            .nearest_reachable_axis(pose.axis(frame), 2.0 * REACH_MARGIN_RAD)
+            .map(|axis| Pose::from_axis(frame, axis))
+            .filter(|p| p.inclination_rad <= opts.max_inclination_rad)
+            .unwrap_or(pose),
+        _ => pose,
+    };
     let mut ok = |p: &Pose| {
         part.cells_checked() - cells_before <= MAX_ADJUST_CELLS
             && gouge_margin(cutter, frame, p) >= opts.margin_per_mm
+            && reachable(p)
             && check_hinted(cutter, surface, part, place(cutter, frame, p), tol, &mut hint, Find::Any).is_none()
     };
     let deg = 0.25f64.to_radians();
-    let top = opts.max_inclination_rad.max(pose.inclination_rad);
+    let top = opts.max_inclination_rad.max(start.inclination_rad);
     for turn in [0.0, 10.0, -10.0, 20.0, -20.0, 30.0, -30.0] {
-        let mut p = Pose { azimuth_rad: pose.azimuth_rad + f64::to_radians(turn), ..pose };
+        let mut p = Pose { azimuth_rad: start.azimuth_rad + f64::to_radians(turn), ..start };
         for _ in 0..=360 {
             // The pose as given failed the check above (the same computation again).
             if p != pose && ok(&p) {

@@ -83,6 +83,7 @@ impl FinishJob {
             options: &self.options,
             part,
             start: &self.start,
+            reach: None,
         }
     }
 }

@@ -25,56 +25,21 @@ use super::FinishError;
 use super::contact::{ContactFrame, Pose, place};
 use super::node::CcNode;
 use super::orient::Strategy;
-use super::paths::{Built, FinishSetup, PathSet, iso_scallop_checked};
+use super::paths::{FinishSetup, PathSet, ToolPath};
 use crate::fiveaxis::{
-    CutterLocation, DesignPath, FiveAxisError, Joints, KinematicsError, Machine, StepOptions, StepPlan, plan_steps,
+    CutterLocation, DesignPath, FiveAxisError, Joints, KinematicsError, Machine, StepOptions, StepPlan,
 };
 use crate::gcode::{Dialect, safe_comment};
 use crate::geom::{Cutter, Surface};
 use crate::numerics::format::fmt_num;
 
-/// The first CC node of a path whose tool axis `machine` cannot reach within its rotary
-/// travel, as the error the program's planner would stop with there
-/// ([`FiveAxisError::Kinematics`], at the node's s: mm of CC points from the path's first, as
-/// [`FilletDesignPath`] measures). Checked node by node as the path is built, a finishing job
-/// for a program is refused at the first path that leaves the travel instead of after all
-/// of them; a node of another kinematic problem (a degenerate axis) is left to the planner.
+/// The setup of a finishing job for a program on `machine`: every pose within the machine's
+/// rotary travel ([`FinishSetup::reach`]; a point with none is refused, named), so the
+/// program's planner meets the travel only between nodes, where [`FinishGcode::plan`] cuts
+/// the pass instead of refusing the job.
 #[must_use]
-pub fn first_out_of_travel(machine: &Machine, nodes: &[CcNode]) -> Option<FiveAxisError> {
-    let mut previous: Option<Joints> = None;
-    let mut s = 0.0;
-    for (k, n) in nodes.iter().enumerate() {
-        if k > 0 {
-            s += (n.frame.point - nodes[k - 1].frame.point).length();
-        }
-        match machine.joints_from_pose(n.tip, n.axis, previous.as_ref()) {
-            Ok(j) => previous = Some(j),
-            Err(source @ KinematicsError::OutOfTravel { .. }) => return Some(FiveAxisError::Kinematics { s, source }),
-            Err(_) => {}
-        }
-    }
-    None
-}
-
-/// Iso-scallop paths for a program on `machine` ([`iso_scallop_checked`]): the job is refused
-/// at the first path with a node [`first_out_of_travel`], before the paths after it are built.
-///
-/// The travel is not judged before the paths: the pose a strategy gives a point moves with
-/// the gouge checks' adjustments (by 6–40° on fuzz cases' blades whose paths left a ±120°
-/// table, against 0° on the examples), so neither the strategy's pose on a grid nor the
-/// pilot's few runs foretell the paths' poses.
-///
-/// # Errors
-/// What [`iso_scallop`](super::iso_scallop) refuses, or
-/// [`FinishProgramError::Plan`] naming the first path and node out of the machine's travel.
-pub fn iso_scallop_in_travel(machine: &Machine, setup: &FinishSetup) -> Result<PathSet, FinishProgramError> {
-    iso_scallop_checked(setup, |built| match built {
-        Built::Path { index, path, .. } => match first_out_of_travel(machine, &path.nodes) {
-            Some(source) => Err(FinishProgramError::Plan { path: index, source }),
-            None => Ok(()),
-        },
-        Built::Pilot(_) => Ok(()),
-    })
+pub fn for_machine<'a>(machine: &'a Machine, setup: &FinishSetup<'a>) -> FinishSetup<'a> {
+    FinishSetup { reach: Some(machine), ..*setup }
 }
 
 /// One path's CL data as a design path (module docs).
@@ -116,23 +81,37 @@ impl<'a> FilletDesignPath<'a> {
         if t >= 1.0 {
             return Some((b.frame, b.tip, b.axis));
         }
-        if a.lead_out || b.lead_out {
-            // A lead-in or lead-out: the first or last cutter moved along its feed with the
-            // surface's continuation (the axis turned with it), tip and axis linearly as the
-            // machine moves between CL rows.
-            let cc = if a.lead_out { b } else { a };
-            return Some((cc.frame, a.tip.lerp(b.tip, t), a.axis.lerp(b.axis, t).normalize()));
-        }
-        let uv: DVec2 = a.frame.uv.lerp(b.frame.uv, t);
-        let feed = a.frame.feed.lerp(b.frame.feed, t);
-        let frame = ContactFrame::new(self.surface, uv, feed)?;
-        let pose = Pose {
-            inclination_rad: a.pose.inclination_rad + t * (b.pose.inclination_rad - a.pose.inclination_rad),
-            azimuth_rad: a.pose.azimuth_rad + t * (b.pose.azimuth_rad - a.pose.azimuth_rad),
-        };
-        let (tip, axis) = place(&self.cutter, &frame, &pose);
-        Some((frame, tip, axis))
+        design_between(self.surface, &self.cutter, a, b, t)
     }
+}
+
+/// The design between CC nodes `a` and `b` at the fraction `t` in (0, 1) (module docs): the
+/// frame, the tool tip (mm) and the unit axis the program's planner follows there; `None`
+/// where the surface has no frame.
+#[must_use]
+pub fn design_between(
+    surface: &Surface,
+    cutter: &Cutter,
+    a: &CcNode,
+    b: &CcNode,
+    t: f64,
+) -> Option<(ContactFrame, DVec3, DVec3)> {
+    if a.lead_out || b.lead_out {
+        // A lead-in or lead-out: the first or last cutter moved along its feed with the
+        // surface's continuation (the axis turned with it), tip and axis linearly as the
+        // machine moves between CL rows.
+        let cc = if a.lead_out { b } else { a };
+        return Some((cc.frame, a.tip.lerp(b.tip, t), a.axis.lerp(b.axis, t).normalize()));
+    }
+    let uv: DVec2 = a.frame.uv.lerp(b.frame.uv, t);
+    let feed = a.frame.feed.lerp(b.frame.feed, t);
+    let frame = ContactFrame::new(surface, uv, feed)?;
+    let pose = Pose {
+        inclination_rad: a.pose.inclination_rad + t * (b.pose.inclination_rad - a.pose.inclination_rad),
+        azimuth_rad: a.pose.azimuth_rad + t * (b.pose.azimuth_rad - a.pose.azimuth_rad),
+    };
+    let (tip, axis) = place(cutter, &frame, &pose);
+    Some((frame, tip, axis))
 }
 
 impl DesignPath for FilletDesignPath<'_> {
@@ -174,32 +153,6 @@ impl DesignPath for FilletDesignPath<'_> {
     }
 }
 
-/// The seed-002 step plan of one path on `machine` within `tol_mm` (the paper's modified
-/// secant; bisection where it stalls).
-///
-/// # Errors
-/// As [`plan_steps`]; a path of fewer than two nodes is an empty path.
-pub fn plan_path(
-    machine: &Machine,
-    surface: &Surface,
-    cutter: &Cutter,
-    nodes: &[CcNode],
-    tol_mm: f64,
-) -> Result<StepPlan, FiveAxisError> {
-    let path =
-        FilletDesignPath::new(surface, *cutter, nodes).ok_or(FiveAxisError::EmptyPath { start: 0.0, end: 0.0 })?;
-    let mut opts = StepOptions::new(tol_mm);
-    opts.reports = false;
-    match plan_steps(machine, &path, &opts) {
-        // The design is only piecewise smooth (linear between CC nodes): where the secant
-        // stalls at a kink, bisection still brackets the step.
-        Err(FiveAxisError::NoConvergence { .. }) => {
-            plan_steps(machine, &path, &opts.with_method(crate::numerics::roots::RootMethod::Bisection))
-        }
-        other => other,
-    }
-}
-
 /// Most blocks a finishing program may have over all its paths.
 pub const MAX_PROGRAM_BLOCKS: usize = 400_000;
 
@@ -225,7 +178,7 @@ impl Budget {
     }
 }
 
-/// [`plan_path`] within the program's block budget: refused as soon as the blocks planned
+/// The seed-002 steps of one design path within the program's block budget: refused as soon as the blocks planned
 /// so far, in proportion to the design length they cover, say the whole program would need
 /// more than [`MAX_PROGRAM_BLOCKS`].
 fn plan_path_within(
@@ -249,7 +202,8 @@ fn plan_path_within(
         Ok(planner.into_plan())
     };
     let plan = match run(&opts) {
-        // As plan_path: bisection where the secant stalls at a kink.
+        // The design is only piecewise smooth (linear between CC nodes): where the secant
+        // stalls at a kink, bisection still brackets the step.
         Err(FiveAxisError::NoConvergence { .. }) => {
             run(&opts.with_method(crate::numerics::roots::RootMethod::Bisection))
         }
@@ -258,6 +212,121 @@ fn plan_path_within(
     budget.blocks += plan.nodes.len();
     budget.done_mm += end - start;
     Ok(plan)
+}
+
+/// Most cuts the planner's errors make in one run of a path where the axis between its
+/// nodes leaves the machine's travel ([`plan_path_pieces`]); past it the path is refused with the
+/// planner's error.
+pub const MAX_PLANNER_CUTS: usize = 64;
+
+/// Fractions of a chord at which [`plan_pieces`] looks for the design between two nodes
+/// leaving the machine's travel before the planner runs.
+const TRAVEL_SAMPLES_PER_CHORD: u32 = 16;
+
+/// The blocks' joints of one path's program, in pieces: where the design between two nodes
+/// needs a rotary angle outside the machine's travel — across a gap of refused points the
+/// interpolated frame can swing the axis far from both ends — the pass ends at the node
+/// before and the next piece starts at the node after (each piece starts with a rapid
+/// move, as every pass does); a node itself out of travel is an error. It finds
+/// such places first where [`TRAVEL_SAMPLES_PER_CHORD`] samples of a chord show them, then
+/// where the planner stops (its error's s), at most [`MAX_PLANNER_CUTS`] times in a run.
+///
+/// # Errors
+/// The planner's error; [`FiveAxisError::Kinematics`] out of travel past the cuts' cap.
+fn plan_pieces(
+    machine: &Machine,
+    surface: &Surface,
+    tool: &Cutter,
+    nodes: &[CcNode],
+    tol_mm: f64,
+    budget: &mut Budget,
+) -> Result<Vec<Vec<Joints>>, FiveAxisError> {
+    // A node out of travel is the paths' fault (built for no machine, or another), not the
+    // design's between them: the planner's error, as it would stop there.
+    let mut s = 0.0;
+    for (k, n) in nodes.iter().enumerate() {
+        if k > 0 {
+            s += (n.frame.point - nodes[k - 1].frame.point).length();
+        }
+        if let Err(source @ KinematicsError::OutOfTravel { .. }) = machine.joints_from_pose(n.tip, n.axis, None) {
+            return Err(FiveAxisError::Kinematics { s, source });
+        }
+    }
+    let mut pieces = Vec::new();
+    // The runs between chords whose design leaves the travel at one of its samples (most
+    // such places, found without planning); the planner finds the rest.
+    let chord_out = |a: &CcNode, b: &CcNode| {
+        (1..TRAVEL_SAMPLES_PER_CHORD).any(|i| {
+            let t = f64::from(i) / f64::from(TRAVEL_SAMPLES_PER_CHORD);
+            design_between(surface, tool, a, b, t).is_some_and(|d| !machine.reaches_axis(d.2, 0.0))
+        })
+    };
+    let mut first = 0;
+    for k in 1..=nodes.len() {
+        if k == nodes.len() || chord_out(&nodes[k - 1], &nodes[k]) {
+            pieces.extend(plan_run(machine, surface, tool, &nodes[first..k], tol_mm, budget)?);
+            first = k;
+        }
+    }
+    Ok(pieces)
+}
+
+/// [`plan_pieces`] on one run of nodes whose chords' samples are within the travel.
+fn plan_run(
+    machine: &Machine,
+    surface: &Surface,
+    tool: &Cutter,
+    nodes: &[CcNode],
+    tol_mm: f64,
+    budget: &mut Budget,
+) -> Result<Vec<Vec<Joints>>, FiveAxisError> {
+    let mut pieces = Vec::new();
+    let mut rest = nodes;
+    let mut cuts = 0;
+    while rest.len() >= 2 {
+        let Some(path) = FilletDesignPath::new(surface, *tool, rest) else { break };
+        match plan_path_within(machine, &path, tol_mm, budget) {
+            Ok(plan) => {
+                pieces.push(plan.nodes.iter().map(|n| n.block.joints).collect());
+                break;
+            }
+            Err(FiveAxisError::Kinematics { s, source: source @ KinematicsError::OutOfTravel { .. } })
+                if cuts < MAX_PLANNER_CUTS =>
+            {
+                cuts += 1;
+                // The chord (k−1, k) holding s (its nodes are within travel: checked above).
+                let k = path.cum.partition_point(|&c| c <= s).clamp(1, rest.len() - 1);
+                let (head, tail) = (&rest[..k], &rest[k..]);
+                if head.len() >= 2 {
+                    let head_path = FilletDesignPath::new(surface, *tool, head)
+                        .ok_or(FiveAxisError::Kinematics { s, source: source.clone() })?;
+                    let plan = plan_path_within(machine, &head_path, tol_mm, budget)?;
+                    pieces.push(plan.nodes.iter().map(|n| n.block.joints).collect());
+                }
+                rest = tail;
+            }
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(pieces)
+}
+
+/// One path's program in pieces as [`FinishGcode::plan`] writes it (`plan_pieces`: cut
+/// where the axis between two nodes would leave the machine's travel), on its own: no
+/// budget but the blocks' cap, [`MAX_PROGRAM_BLOCKS`]. `cutter`: the one that machines.
+///
+/// # Errors
+/// The planner's error; [`FiveAxisError::Kinematics`] out of travel past
+/// [`MAX_PLANNER_CUTS`] cuts in a run.
+pub fn plan_path_pieces(
+    machine: &Machine,
+    surface: &Surface,
+    cutter: &Cutter,
+    nodes: &[CcNode],
+    tol_mm: f64,
+) -> Result<Vec<Vec<Joints>>, FiveAxisError> {
+    let mut budget = Budget { total_mm: 0.0, done_mm: 0.0, blocks: 0 };
+    plan_pieces(machine, surface, cutter, nodes, tol_mm, &mut budget)
 }
 
 /// Why a finishing program could not be planned.
@@ -294,7 +363,9 @@ pub struct FinishGcode {
     pub tol_mm: f64,
     /// Programmed feed (mm/min).
     pub feed_mm_per_min: f64,
-    /// Per written path: its index in the set and its blocks' joints, first to last.
+    /// Per written pass: the index of its path in the set and its blocks' joints, first to
+    /// last. A path whose axis would leave the machine's travel between two nodes is written
+    /// as several passes of the same index (`plan_pieces`).
     pub passes: Vec<(usize, Vec<Joints>)>,
 }
 
@@ -313,31 +384,15 @@ impl FinishGcode {
         tol_mm: f64,
     ) -> Result<Self, FinishProgramError> {
         let tool = set.strategy.cutter_for(cutter);
-        let paths = set
-            .paths
-            .iter()
-            .enumerate()
-            .filter(|(_, p)| p.nodes.len() >= 2)
-            .map(|(pi, p)| {
-                FilletDesignPath::new(surface, tool, &p.nodes).map(|d| (pi, d)).ok_or(FinishProgramError::Plan {
-                    path: pi,
-                    source: FiveAxisError::EmptyPath { start: 0.0, end: 0.0 },
-                })
-            })
-            .collect::<Result<Vec<_>, _>>()?;
-        let total_mm = paths
-            .iter()
-            .map(|(_, p)| {
-                let (a, b) = p.range();
-                b - a
-            })
-            .sum();
+        let total_mm = set.paths.iter().map(ToolPath::length_mm).sum();
         let mut budget = Budget { total_mm, done_mm: 0.0, blocks: 0 };
         let mut passes = Vec::new();
-        for (pi, path) in &paths {
-            let plan = plan_path_within(machine, path, tol_mm, &mut budget)
-                .map_err(|source| FinishProgramError::Plan { path: *pi, source })?;
-            passes.push((*pi, plan.nodes.iter().map(|n| n.block.joints).collect()));
+        for (pi, p) in set.paths.iter().enumerate().filter(|(_, p)| p.nodes.len() >= 2) {
+            for joints in plan_pieces(machine, surface, &tool, &p.nodes, tol_mm, &mut budget)
+                .map_err(|source| FinishProgramError::Plan { path: pi, source })?
+            {
+                passes.push((pi, joints));
+            }
         }
         Ok(Self {
             machine: *machine,
@@ -374,8 +429,16 @@ impl FinishGcode {
         )));
         text.push_str("G90 G21 G94\n");
         let mut blocks = 0usize;
+        let mut last_path = None;
         for (pi, joints) in &self.passes {
-            text.push_str(&comment(&format!("pass {pi}")));
+            if last_path == Some(*pi) {
+                text.push_str(&comment(&format!(
+                    "pass {pi} goes on past a stretch where the tool axis would leave the machine's travel"
+                )));
+            } else {
+                text.push_str(&comment(&format!("pass {pi}")));
+            }
+            last_path = Some(*pi);
             for (k, j) in joints.iter().enumerate() {
                 let word = if k == 0 { "G00" } else { "G01" };
                 text.push_str(&format!(

@@ -1,7 +1,7 @@
 //! Seed 001's finishing programs as the simulation runs them: the CL paths of
 //! [`crate::fillet`] (a fillet-end mill, or a ball, on one machined surface) turned into the
 //! five-axis program `interpolab finish --gcode` writes — per pass, the seed-002 step
-//! selection on the scene's machine ([`crate::fillet::program::plan_path`]), and between
+//! selection on the scene's machine ([`crate::fillet::program::plan_path_pieces`]), and between
 //! its blocks the joints interpolated linearly ([`MoveKind::Joints`]), so the simulated cut
 //! is what the machine sweeps, nonlinear error included.
 //!
@@ -23,7 +23,7 @@ use super::interior::{INTERIOR_END_MM, INTERIOR_SIDE_MM, interior_mask};
 use super::stock::Grid;
 use super::{Design, MAX_WORK, MoveKind, PROJECTED_WORK_ROOM, Program, SimError, SimMove, Simulation};
 use crate::fillet::paths::Pilot;
-use crate::fillet::program::plan_path;
+use crate::fillet::program::plan_path_pieces;
 use crate::fillet::{CcNode, FinishJob, PathSet, Strategy, ToolPath};
 use crate::fiveaxis::Machine;
 use crate::geom::{Cutter, ParametricSurface, Surface};
@@ -229,14 +229,18 @@ fn push_pass(
     program: &mut Program,
 ) -> Result<(), SimError> {
     let (k, nodes) = pass;
-    let plan = plan_path(machine, surface, cutter, nodes, step_tol_mm)
+    let pieces = plan_path_pieces(machine, surface, cutter, nodes, step_tol_mm)
         .map_err(|e| SimError::Program(format!("pass {k}: the 5-axis steps cannot be planned — {e}")))?;
-    for w in plan.nodes.windows(2) {
-        program.push(SimMove {
-            kind: MoveKind::Joints { machine: *machine, from: w[0].block.joints, to: w[1].block.joints },
-            line: 0,
-            rapid: false,
-        })?;
+    // A pass cut where the axis would leave the travel goes on after a rapid move, which
+    // is left out as the linking moves are.
+    for joints in &pieces {
+        for w in joints.windows(2) {
+            program.push(SimMove {
+                kind: MoveKind::Joints { machine: *machine, from: w[0], to: w[1] },
+                line: 0,
+                rapid: false,
+            })?;
+        }
     }
     Ok(())
 }

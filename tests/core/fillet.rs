@@ -382,7 +382,8 @@ fn matched_poses_clear_the_surface_in_every_direction() {
                 // After the checks and adjustment, nothing of the cutter is below the
                 // surface by more than the tolerance (dense brute force).
                 let (pose, _) =
-                    gouge::adjust(&j.cutter, &j.surface, &part, &frame, pose, &oo, j.options.gouge_tol_mm).unwrap();
+                    gouge::adjust(&j.cutter, &j.surface, &part, &frame, pose, &oo, j.options.gouge_tol_mm, None)
+                        .unwrap();
                 let (tip, axis) = place(&j.cutter, &frame, &pose);
                 let depth = deepest_below(&j.cutter, &j.surface, uv, tip, axis);
                 assert!(
@@ -392,6 +393,96 @@ fn matched_poses_clear_the_surface_in_every_direction() {
             }
         }
     }
+}
+
+/// The gouge checks' search keeps a pose within a machine's rotary travel. On the mould's
+/// sloped side the strategy's pose is clear of the part; a table whose A stops 3° short of
+/// that pose's axis gets a pose within its travel (by the margin) that still passes the
+/// checks; the pose as given is kept for no machine; a table whose A starts a degree past
+/// the normal's tilt plus the largest inclination (the axis cannot lean that far from the
+/// normal) refuses the point as out of travel, not as a gouge.
+#[test]
+fn the_checks_keep_a_pose_within_the_machine_s_travel() {
+    use interpolab::fiveaxis::Machine;
+    let j = job("finish-concave-mould");
+    let oo = j.options.orient;
+    let part = PartSamples::new(&j.surface, 48);
+    let uv = DVec2::new(0.9, 0.5);
+    let d = j.surface.derivatives_at(uv);
+    let frame = ContactFrame::new(&j.surface, uv, d.du).unwrap();
+    let (pose, _) = pose_at(&Strategy::Matched, &j.cutter, &frame, &oo, (-1.0, 1.0)).unwrap();
+    let tol = j.options.gouge_tol_mm;
+    assert!(gouge::check(&j.cutter, &j.surface, &part, &frame, &pose, tol).is_none(), "the pose should be clear");
+    let tilt = pose.axis(&frame).z.acos();
+    assert!(tilt.to_degrees() > 20.0, "the side should slope: A = {}°", tilt.to_degrees());
+    let table = |limit: f64| Machine { limits_rad: [Some([-limit, limit]), None], ..Machine::default() };
+    let (kept, adj) = gouge::adjust(&j.cutter, &j.surface, &part, &frame, pose, &oo, tol, None).unwrap();
+    assert!(kept == pose && adj.is_none());
+    let near = table(tilt - 3f64.to_radians());
+    assert!(!near.reaches_axis(pose.axis(&frame), 0.0));
+    let (within, adj) = gouge::adjust(&j.cutter, &j.surface, &part, &frame, pose, &oo, tol, Some(&near)).unwrap();
+    let adj = adj.expect("an adjustment");
+    assert_eq!(adj.clash.part, gouge::ClashPart::Travel);
+    assert!(near.reaches_axis(within.axis(&frame), gouge::REACH_MARGIN_RAD), "{within:?}");
+    assert!(
+        gouge::check(&j.cutter, &j.surface, &part, &frame, &within, tol).is_none(),
+        "the pose within travel gouges"
+    );
+    // The axis leans at most the largest inclination from the normal: a table whose A
+    // starts a degree past that cannot reach any pose the search tries.
+    let lean = oo.max_inclination_rad.max(pose.inclination_rad);
+    let past = frame.normal.z.acos() + lean + 1f64.to_radians();
+    let far = Machine { limits_rad: [Some([past, past + 1f64.to_radians()]), None], ..Machine::default() };
+    let clash = gouge::adjust(&j.cutter, &j.surface, &part, &frame, pose, &oo, tol, Some(&far)).unwrap_err();
+    assert_eq!(clash.part, gouge::ClashPart::Travel);
+}
+
+/// A program on a machine whose tilt stops short of the job's axes: the blade's CL data, built
+/// for no machine, reaches A = 94°; on a table whose A stops at ±92° its program cannot be
+/// planned (a node out of travel, the planner's error), while the paths built for that
+/// machine (`program::for_machine`) are planned, every block's A within ±92°, poses moved
+/// for the travel and none out of it; the moved poses turn little from one node to the
+/// next (each the nearest the machine reaches, not the first the search finds). Natively:
+/// two whole jobs, seconds in a debug build.
+#[cfg(not(target_arch = "wasm32"))]
+#[test]
+fn paths_for_a_machine_keep_its_travel_and_plan_where_the_others_cannot() {
+    use interpolab::fillet::program::{FinishGcode, FinishProgramError, for_machine};
+    use interpolab::fiveaxis::{FiveAxisError, KinematicsError};
+    let j = job("finish-naca-blade");
+    let limit = 92f64.to_radians();
+    let machine = interpolab::fiveaxis::Machine { limits_rad: [Some([-limit, limit]), None], ..j.machine };
+    let part = PartSamples::new(&j.surface, j.options.part_grid);
+    let free = iso_scallop(&j.setup(&part)).unwrap();
+    let steepest = free.paths.iter().flat_map(|p| &p.nodes).map(|n| n.axis.z.acos()).fold(0.0, f64::max);
+    assert!(steepest > limit + 0.02, "the blade's axes reach {}° only", steepest.to_degrees());
+    match FinishGcode::plan(&machine, &j.surface, &j.cutter, &free, 1000.0, 0.01) {
+        Err(FinishProgramError::Plan {
+            source: FiveAxisError::Kinematics { source: KinematicsError::OutOfTravel { .. }, .. },
+            ..
+        }) => {}
+        other => panic!("expected a node out of travel, got {other:?}"),
+    }
+    let setup = j.setup(&part);
+    let within = iso_scallop(&for_machine(&machine, &setup)).unwrap();
+    let mut moved = 0;
+    for path in &within.paths {
+        assert!(path.nodes.iter().all(|n| machine.reaches_axis(n.axis, 0.0)), "a node out of travel");
+        for w in path.nodes.windows(2) {
+            let travel =
+                |n: &interpolab::fillet::CcNode| n.adjusted.is_some_and(|a| a.clash.part == gouge::ClashPart::Travel);
+            if travel(&w[0]) && travel(&w[1]) {
+                moved += 1;
+                let turn = w[0].axis.angle_between(w[1].axis).to_degrees();
+                assert!(turn < 5.0, "two neighbouring poses moved for the travel turn {turn}° apart");
+            }
+        }
+    }
+    assert!(moved > 10, "{moved} neighbouring poses moved for the travel");
+    let program = FinishGcode::plan(&machine, &j.surface, &j.cutter, &within, 1000.0, 0.01).unwrap();
+    let blocks: Vec<_> = program.passes.iter().flat_map(|p| &p.1).collect();
+    assert!(blocks.len() > 100);
+    assert!(blocks.iter().all(|b| b.rotary_rad[0].abs() <= limit + 1e-9), "a block past ±92°");
 }
 
 #[test]
@@ -413,7 +504,7 @@ fn a_careless_lead_gouges_the_mould_and_the_checks_fix_it() {
     let clash = gouge::check(&j.cutter, &j.surface, &part, &frame, &careless, j.options.gouge_tol_mm);
     assert!(clash.is_some());
     let (fixed, adj) =
-        gouge::adjust(&j.cutter, &j.surface, &part, &frame, careless, &oo, j.options.gouge_tol_mm).unwrap();
+        gouge::adjust(&j.cutter, &j.surface, &part, &frame, careless, &oo, j.options.gouge_tol_mm, None).unwrap();
     let adj = adj.expect("an adjustment");
     assert!(adj.raised_rad > 0.0);
     let (tip, axis) = place(&j.cutter, &frame, &fixed);
@@ -445,7 +536,7 @@ fn a_bore_narrower_than_the_cutter_is_refused() {
     let frame = ContactFrame::new(&bore, DVec2::new(0.0, 10.0), DVec3::Z).unwrap();
     let part = PartSamples::new(&bore, 24);
     let (pose, _) = pose_at(&Strategy::Matched, &cutter, &frame, &OrientOptions::default(), (-1.0, 1.0)).unwrap();
-    let clash = gouge::adjust(&cutter, &bore, &part, &frame, pose, &OrientOptions::default(), 0.01).unwrap_err();
+    let clash = gouge::adjust(&cutter, &bore, &part, &frame, pose, &OrientOptions::default(), 0.01, None).unwrap_err();
     assert!(clash.depth_mm > 0.1, "{clash:?}");
     let mut opts = FinishOptions::new(0.01, 0.01);
     opts.direction = interpolab::fillet::FeedDirection::V;
@@ -456,6 +547,7 @@ fn a_bore_narrower_than_the_cutter_is_refused() {
         options: &opts,
         part: &part,
         start: &PathStart::FirstBoundary,
+        reach: None,
     })
     .unwrap_err();
     let msg = err.to_string();

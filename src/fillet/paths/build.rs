@@ -5,9 +5,10 @@ use glam::{DVec2, DVec3};
 use super::{Ctx, Refusal, Sample, ToolPath, a_of};
 use crate::fillet::FinishError;
 use crate::fillet::contact::{ContactFrame, CrossProfile, Pose, place};
-use crate::fillet::gouge::{Adjustment, adjust, check};
+use crate::fillet::gouge::{Adjustment, REACH_MARGIN_RAD, adjust, check};
 use crate::fillet::node::CcNode;
 use crate::fillet::orient::{pose_at, smooth_inclinations};
+use crate::fillet::program::design_between;
 use crate::fillet::sweep::{pose_between, surface_depth_near};
 use crate::geom::{Cutter, ParametricSurface};
 use crate::numerics::tolerance::ROUNDING_REL;
@@ -301,7 +302,7 @@ impl Ctx<'_> {
         // Gouge checks and adjustment, then the inclinations smoothed again (raising only).
         let mut checked: Vec<((ContactFrame, DVec2), Pose, Option<Adjustment>)> = Vec::with_capacity(frames.len());
         for ((frame, cross_uv), pose) in frames.into_iter().zip(poses) {
-            let verdict = adjust(&tool, self.surface, self.part, &frame, pose, oo, self.opts.gouge_tol_mm);
+            let verdict = adjust(&tool, self.surface, self.part, &frame, pose, oo, self.opts.gouge_tol_mm, self.reach);
             self.count_check()?;
             match verdict {
                 Ok((pose, adjusted)) => checked.push(((frame, cross_uv), pose, adjusted)),
@@ -321,6 +322,9 @@ impl Ctx<'_> {
                         crate::fillet::gouge::ClashPart::Holder => {
                             "the holder collides with the part at every inclination tried"
                         }
+                        crate::fillet::gouge::ClashPart::Travel => {
+                            "the machine cannot tilt the tool axis to any clear inclination tried (its rotary travel)"
+                        }
                     },
                     depth_mm: clash.depth_mm,
                 }),
@@ -329,6 +333,16 @@ impl Ctx<'_> {
         let mut poses: Vec<Pose> = checked.iter().map(|c| c.1).collect();
         let ds: Vec<f64> = checked.windows(2).map(|w| (w[1].0.0.point - w[0].0.0.point).length()).collect();
         smooth_inclinations(&mut poses, &ds, oo.max_turn_rad_per_mm);
+        if let Some(machine) = self.reach {
+            // A raise that tilts the axis out of the machine's travel is taken back: the
+            // checked pose was within it (the turn rate is then over its limit there, which
+            // only the smoothness asks for; travel the machine must have).
+            for (pose, c) in poses.iter_mut().zip(&checked) {
+                if !machine.reaches_axis(pose.axis(&c.0.0), REACH_MARGIN_RAD) {
+                    *pose = c.1;
+                }
+            }
+        }
         let nodes: Vec<CcNode> = checked
             .into_iter()
             .zip(poses)
@@ -409,12 +423,21 @@ impl Ctx<'_> {
                 let (tip, axis) = pose_between(&a, &b, 0.5);
                 let uv = a.frame.uv.lerp(b.frame.uv, 0.5);
                 let deep = surface_depth_near(tool, self.surface, tip, axis, uv);
+                // For a machine: the axis the program's planner follows at the chord's
+                // quarters within its travel, with half the nodes' room (the axis swings past
+                // its samples by ≪ that between them).
+                let swung = self.reach.is_some_and(|m| {
+                    [0.25, 0.5, 0.75].iter().any(|&t| {
+                        design_between(self.surface, tool, &a, &b, t)
+                            .is_some_and(|d| !m.reaches_axis(d.2, 0.5 * REACH_MARGIN_RAD))
+                    })
+                });
                 // A lift is halved only while halving helps (a chord's sag falls fourfold with
                 // its length; a lift that does not fall to half its parent's is the strategy's
                 // own stand-off, which more nodes would not lower, only check).
                 let lifted = -deep > self.opts.chord_tol_mm.max(LIFT_SHARE_OF_H * self.opts.scallop_mm)
                     && -deep < LIFT_HALVING_GAIN * parent_lift;
-                if (deep > tol || lifted) && !a.lead_out && !b.lead_out {
+                if (deep > tol || lifted || swung) && !a.lead_out && !b.lead_out {
                     let placed = if depth < CHORD_SPLITS { self.node_between(tool, &a, &b)? } else { None };
                     if let Some(mid) = placed {
                         if *budget == 0 {
@@ -432,6 +455,13 @@ impl Ctx<'_> {
                         point: self.surface.point_at(uv),
                         reason: "the cutter swept between two poses reaches below the surface and no pose between them clears it",
                         depth_mm: deep,
+                    });
+                } else if swung && !a.lead_out && !b.lead_out {
+                    refused.push(Refusal {
+                        uv,
+                        point: self.surface.point_at(uv),
+                        reason: "the tool axis between two poses leaves the machine's rotary travel and no pose between them is within it",
+                        depth_mm: 0.0,
                     });
                 }
                 out.push(b);
@@ -459,7 +489,8 @@ impl Ctx<'_> {
             },
             |p| p.0,
         );
-        let verdict = adjust(tool, self.surface, self.part, &frame, pose, &self.opts.orient, self.opts.gouge_tol_mm);
+        let verdict =
+            adjust(tool, self.surface, self.part, &frame, pose, &self.opts.orient, self.opts.gouge_tol_mm, self.reach);
         self.count_check()?;
         Ok(verdict.ok().map(|(pose, adjusted)| self.node(tool, frame, Some(cross_uv), pose, adjusted)))
     }
@@ -497,8 +528,11 @@ impl Ctx<'_> {
             // The cutter continued with the surface past the end (its twist and its curvature
             // along the feed), not moved straight: see `lead_out_frame`.
             let frame = lead_out_frame(&last.frame, sense * d);
-            if check(tool, self.surface, self.part, &frame, &last.pose, tol).is_none() {
-                let (tip, axis) = place(tool, &frame, &last.pose);
+            let (tip, axis) = place(tool, &frame, &last.pose);
+            // The continued frame turns the axis with it: for a machine, within its travel.
+            if self.reach.is_none_or(|m| m.reaches_axis(axis, REACH_MARGIN_RAD))
+                && check(tool, self.surface, self.part, &frame, &last.pose, tol).is_none()
+            {
                 return Some(CcNode {
                     frame,
                     tip,

@@ -283,7 +283,7 @@ impl IsoScallopSteps {
     /// # Errors
     /// Too many paths or nodes.
     pub fn step(&mut self, setup: &FinishSetup) -> Result<bool, FinishError> {
-        let FinishSetup { surface, cutter, options: opts, part, .. } = *setup;
+        let FinishSetup { surface, cutter, options: opts, part, reach, .. } = *setup;
         if self.done {
             return Ok(true);
         }
@@ -306,6 +306,7 @@ impl IsoScallopSteps {
             work_at_start: self.work_at_start,
             nodes_checked: std::cell::Cell::new(self.nodes_checked),
             reaches: Some(&reaches),
+            reach,
         };
         let (_, (b0, b1)) = ctx.ranges();
         if self.paths.len() >= opts.max_paths {

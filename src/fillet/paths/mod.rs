@@ -47,6 +47,7 @@ use super::contact::ContactFrame;
 use super::gouge::PartSamples;
 use super::node::CcNode;
 use super::orient::{OrientOptions, Strategy};
+use crate::fiveaxis::Machine;
 use crate::geom::{Cutter, ParametricSurface, Surface};
 
 mod budget;
@@ -246,6 +247,10 @@ pub struct FinishSetup<'a> {
     /// Where the iso-scallop paths start; the iso-parametric paths run along the same
     /// parameter ([`PathStart::along`]).
     pub start: &'a PathStart,
+    /// The machine the paths are for, whose rotary travel every pose must lie within (the
+    /// gouge checks' search keeps the axis there, [`crate::fillet::gouge::adjust`]; a point
+    /// with no such pose is refused), or `None`: the CL data alone, for no machine.
+    pub reach: Option<&'a Machine>,
 }
 
 /// One path: its nodes in the order of travel.
@@ -387,6 +392,8 @@ struct Ctx<'a> {
     /// The strip's reaches of the nodes built lately ([`build::Reaches`]), where the job
     /// keeps them between its steps.
     reaches: Option<&'a std::cell::RefCell<build::Reaches>>,
+    /// [`FinishSetup::reach`].
+    reach: Option<&'a Machine>,
 }
 
 fn a_of(uv: DVec2, along: usize) -> f64 {
@@ -404,7 +411,7 @@ impl<'a> Ctx<'a> {
     /// ([`PathStart::along`]), c taken toward increasing b until the first path says
     /// otherwise.
     fn start(setup: &FinishSetup<'a>) -> Result<Self, FinishError> {
-        let FinishSetup { surface, cutter, strategy, options: opts, part, start } = *setup;
+        let FinishSetup { surface, cutter, strategy, options: opts, part, start, reach } = *setup;
         check_options(opts)?;
         let along = start.along(surface, cutter, &strategy, opts);
         Ok(Self {
@@ -420,6 +427,7 @@ impl<'a> Ctx<'a> {
             work_at_start: part.work_done(),
             nodes_checked: std::cell::Cell::new(0),
             reaches: None,
+            reach,
         })
     }
 

@@ -95,7 +95,7 @@ impl Ctx<'_> {
             return Ok((pose_b, false));
         }
         let tool = self.strategy.cutter_for(&self.cutter);
-        let verdict = adjust(&tool, self.surface, self.part, frame_b, pose_b, oo, self.opts.gouge_tol_mm);
+        let verdict = adjust(&tool, self.surface, self.part, frame_b, pose_b, oo, self.opts.gouge_tol_mm, self.reach);
         self.check_meter()?;
         Ok(match verdict {
             Ok((p, adj)) => (p, adj.is_some()),
