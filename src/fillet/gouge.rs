@@ -18,9 +18,10 @@
 //! change reported. When none passes the point is refused with the reason.
 //!
 //! For a program on a machine the same search keeps the axis within the machine's rotary
-//! travel: a pose the machine cannot tilt to fails as a clash would (a pose clear of the
-//! part but out of travel is searched on from; [`ClashPart::Travel`] when that is all that
-//! failed).
+//! travel: a pose out of travel is first turned to the nearest axis the machine reaches
+//! (within the strategy's largest inclination) and the search starts there; a pose the
+//! machine cannot tilt to fails as a clash would ([`ClashPart::Travel`] when that is all
+//! that failed).
 
 use glam::{DVec2, DVec3};
 
