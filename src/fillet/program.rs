@@ -252,7 +252,6 @@ fn plan_pieces(
             return Err(FiveAxisError::Kinematics { s, source });
         }
     }
-    let mut pieces = Vec::new();
     // The runs between chords whose design leaves the travel at one of its samples (most
     // such places, found without planning); the planner finds the rest.
     let chord_out = |a: &CcNode, b: &CcNode| {
@@ -261,51 +260,32 @@ fn plan_pieces(
             design_between(surface, tool, a, b, t).is_some_and(|d| !machine.reaches_axis(d.2, 0.0))
         })
     };
+    let mut pieces = Vec::new();
     let mut first = 0;
     for k in 1..=nodes.len() {
-        if k == nodes.len() || chord_out(&nodes[k - 1], &nodes[k]) {
-            pieces.extend(plan_run(machine, surface, tool, &nodes[first..k], tol_mm, budget)?);
-            first = k;
+        if k < nodes.len() && !chord_out(&nodes[k - 1], &nodes[k]) {
+            continue;
         }
-    }
-    Ok(pieces)
-}
-
-/// [`plan_pieces`] on one run of nodes whose chords' samples are within the travel.
-fn plan_run(
-    machine: &Machine,
-    surface: &Surface,
-    tool: &Cutter,
-    nodes: &[CcNode],
-    tol_mm: f64,
-    budget: &mut Budget,
-) -> Result<Vec<Vec<Joints>>, FiveAxisError> {
-    let mut pieces = Vec::new();
-    let mut rest = nodes;
-    let mut cuts = 0;
-    while rest.len() >= 2 {
-        let Some(path) = FilletDesignPath::new(surface, *tool, rest) else { break };
-        match plan_path_within(machine, &path, tol_mm, budget) {
-            Ok(plan) => {
-                pieces.push(plan.nodes.iter().map(|n| n.block.joints).collect());
-                break;
-            }
-            Err(FiveAxisError::Kinematics { s, source: source @ KinematicsError::OutOfTravel { .. } })
-                if cuts < MAX_PLANNER_CUTS =>
-            {
-                cuts += 1;
-                // The chord (k−1, k) holding s (its nodes are within travel: checked above).
-                let k = path.cum.partition_point(|&c| c <= s).clamp(1, rest.len() - 1);
-                let (head, tail) = (&rest[..k], &rest[k..]);
-                if head.len() >= 2 {
-                    let head_path = FilletDesignPath::new(surface, *tool, head)
-                        .ok_or(FiveAxisError::Kinematics { s, source: source.clone() })?;
-                    let plan = plan_path_within(machine, &head_path, tol_mm, budget)?;
-                    pieces.push(plan.nodes.iter().map(|n| n.block.joints).collect());
+        // One run, cut where the planner stops out of travel: the part before the chord
+        // holding its s is planned next, then the part after (its nodes are within travel:
+        // checked above).
+        let mut pending = vec![&nodes[first..k]];
+        first = k;
+        let mut cuts = 0;
+        while let Some(run) = pending.pop() {
+            let Some(path) = FilletDesignPath::new(surface, *tool, run) else { continue };
+            match plan_path_within(machine, &path, tol_mm, budget) {
+                Ok(plan) => pieces.push(plan.nodes.iter().map(|n| n.block.joints).collect()),
+                Err(FiveAxisError::Kinematics { s, source: KinematicsError::OutOfTravel { .. } })
+                    if cuts < MAX_PLANNER_CUTS =>
+                {
+                    cuts += 1;
+                    let c = path.cum.partition_point(|&c| c <= s).clamp(1, run.len() - 1);
+                    pending.push(&run[c..]);
+                    pending.push(&run[..c]);
                 }
-                rest = tail;
+                Err(e) => return Err(e),
             }
-            Err(e) => return Err(e),
         }
     }
     Ok(pieces)
