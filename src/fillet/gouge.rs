@@ -15,7 +15,10 @@
 //!
 //! Where a check fails the inclination is raised in steps of 0.25° (to the strategy's largest),
 //! then the azimuth turned by ±10°, ±20°, ±30°; the first pose that passes is kept and the
-//! change reported. When none passes the point is refused with the reason.
+//! change reported. When none passes the point is refused with the reason. The raises are
+//! tried one by one while a failing one costs nothing (it clashes where the last one did);
+//! once checks get costly the search strides over 2° and halves back, and at every azimuth
+//! before it looks between the strides (`adjust`).
 //!
 //! For a program on a machine the same search keeps the axis within the machine's rotary
 //! travel: a pose out of travel is first turned to the nearest axis the machine reaches
@@ -460,7 +463,7 @@ pub const MAX_ADJUST_CELLS: u64 = 4 * MAX_CELLS as u64;
 /// part reaches into the cutter, the independent re-computation how deep the cutter reaches
 /// below the part; the two agree at the deepest point to first order, and the share keeps
 /// the print's rounding and that second-order difference inside the tolerance.
-const CHECK_SHARE: f64 = 0.9;
+pub const CHECK_SHARE: f64 = 0.9;
 
 /// Checks the cutter placed at `frame` with `pose` (module docs); the deepest clash, or
 /// `None` when it is clear to `tol_mm`.
@@ -690,13 +693,38 @@ pub fn adjust(
             && reachable(p)
             && check_hinted(cutter, surface, part, place(cutter, frame, p), tol, &mut hint, Find::Any).is_none()
     };
+    // The inclinations tried at each azimuth: the start's, then a quarter degree more each
+    // time up to the largest.
     let deg = 0.25f64.to_radians();
     let top = opts.max_inclination_rad.max(start.inclination_rad);
-    for turn in [0.0, 10.0, -10.0, 20.0, -20.0, 30.0, -30.0] {
-        let mut p = Pose { azimuth_rad: start.azimuth_rad + f64::to_radians(turn), ..start };
-        for _ in 0..=360 {
-            // The pose as given failed the check above (the same computation again).
-            if p != pose && ok(&p) {
+    let mut raises = [0.0; RAISES];
+    let mut n = 0;
+    let mut inclination = start.inclination_rad;
+    while n < RAISES {
+        raises[n] = inclination;
+        n += 1;
+        if inclination >= top {
+            break;
+        }
+        inclination = (inclination + deg).min(top);
+    }
+    // Every azimuth's raises as `Raises::first_strided` tries them first, then, when none
+    // passed, those it left out.
+    const TURNS_DEG: [f64; 7] = [0.0, 10.0, -10.0, 20.0, -20.0, 30.0, -30.0];
+    let mut tried = [Raises::new(n); TURNS_DEG.len()];
+    for between in [false, true] {
+        for (turn, tried) in TURNS_DEG.into_iter().zip(&mut tried) {
+            let at =
+                |i: usize| Pose { azimuth_rad: start.azimuth_rad + f64::to_radians(turn), inclination_rad: raises[i] };
+            // The pose as given failed the check above (the same computation again). A
+            // check is cheap when it searched nothing: it failed where the last one clashed.
+            let mut passes = |i: usize| {
+                let (p, cells) = (at(i), part.cells_checked());
+                (p != pose && ok(&p), part.cells_checked() == cells)
+            };
+            let found = if between { tried.first_left(&mut passes) } else { tried.first_strided(&mut passes) };
+            if let Some(i) = found {
+                let p = at(i);
                 return Ok((
                     p,
                     Some(Adjustment {
@@ -706,11 +734,144 @@ pub fn adjust(
                     }),
                 ));
             }
-            if p.inclination_rad >= top {
-                break;
-            }
-            p.inclination_rad = (p.inclination_rad + deg).min(top);
         }
     }
     Err(first)
+}
+
+/// Most inclinations [`adjust`] tries at one azimuth: a quarter degree apart from the
+/// start's, 90° in all.
+const RAISES: usize = 361;
+
+/// Raises [`adjust`] strides over at a time once the checks get costly: 2°.
+pub const RAISE_STRIDE: usize = 8;
+
+/// The raises `0..n` of one azimuth in [`adjust`] (index i: a raise of i quarter degrees),
+/// and which of them have been tried.
+#[derive(Clone, Copy, Debug)]
+struct Raises {
+    n: usize,
+    tried: [u64; RAISES.div_ceil(64)],
+}
+
+impl Raises {
+    fn new(n: usize) -> Self {
+        Self { n: n.min(RAISES), tried: [0; RAISES.div_ceil(64)] }
+    }
+
+    /// `passes(i)`: whether raise i passes, and whether its check was cheap (it failed at
+    /// once where the last one clashed, searching nothing).
+    fn try_one(&mut self, i: usize, passes: &mut impl FnMut(usize) -> (bool, bool)) -> (bool, bool) {
+        self.tried[i / 64] |= 1 << (i % 64);
+        passes(i)
+    }
+
+    /// The first raise that passes, as a scan one by one finds it where the raises that
+    /// pass follow those that fail (a gouge at the bottom or the rear clears as the axis
+    /// tilts further), with fewer checks where they are costly. One by one up to
+    /// [`RAISE_STRIDE`], and on while each failing check is cheap (the examples' raises, the
+    /// same checks as a scan); from the first costly failure after that, every
+    /// [`RAISE_STRIDE`]-th raise and the last up to the first that passes, then halving the
+    /// stride between it and the last that failed. `None` when none of those passes
+    /// ([`Self::first_left`] tries the others).
+    fn first_strided(&mut self, passes: &mut impl FnMut(usize) -> (bool, bool)) -> Option<usize> {
+        let last = self.n.checked_sub(1)?;
+        let mut i = 0;
+        let mut lo = loop {
+            let (pass, cheap) = self.try_one(i, passes);
+            if pass {
+                return Some(i);
+            }
+            if i == last {
+                return None;
+            }
+            if i >= RAISE_STRIDE && !cheap {
+                break i;
+            }
+            i += 1;
+        };
+        let mut hi = loop {
+            if lo == last {
+                return None;
+            }
+            let i = (lo + RAISE_STRIDE).min(last);
+            if self.try_one(i, passes).0 {
+                break i;
+            }
+            lo = i;
+        };
+        while hi - lo > 1 {
+            let mid = lo + (hi - lo) / 2;
+            if self.try_one(mid, passes).0 {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        Some(hi)
+    }
+
+    /// The first raise not yet tried that passes, trying them in order: one between two
+    /// that fail (the holder meeting the part as the axis tilts further) that
+    /// [`Self::first_strided`] strode over. With it a point is refused only where a scan
+    /// one by one refuses it.
+    fn first_left(&mut self, passes: &mut impl FnMut(usize) -> (bool, bool)) -> Option<usize> {
+        let tried = self.tried;
+        (0..self.n).filter(|&i| tried[i / 64] & (1 << (i % 64)) == 0).find(|&i| self.try_one(i, passes).0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{RAISE_STRIDE, Raises};
+
+    /// The strided search and the raises it leaves: where the raises that pass follow
+    /// those that fail, the first that passes, one by one while the failures are cheap and
+    /// with at most a stride's raises one by one, one a stride after and a halving of the
+    /// stride once they are not; where passing and failing raises are mixed, a raise that
+    /// passes whenever one does.
+    #[test]
+    fn the_strided_search_finds_the_first_raise_that_passes() {
+        let halvings = RAISE_STRIDE.ilog2() as usize;
+        for n in 0..=361 {
+            for k in 0..=n {
+                for cheap in [true, false] {
+                    let mut calls = 0;
+                    let mut passes = |i: usize| {
+                        calls += 1;
+                        (i >= k, cheap)
+                    };
+                    let mut raises = Raises::new(n);
+                    let found = raises.first_strided(&mut passes);
+                    if k == n {
+                        assert_eq!(found, None, "n {n}");
+                        assert_eq!(raises.first_left(&mut passes), None, "n {n}");
+                        continue;
+                    }
+                    assert_eq!(found, Some(k), "n {n} k {k}");
+                    let most = if cheap {
+                        k + 1
+                    } else {
+                        RAISE_STRIDE + 1 + k.saturating_sub(RAISE_STRIDE).div_ceil(RAISE_STRIDE) + halvings
+                    };
+                    assert!(calls <= most, "n {n} k {k}: {calls} checks, more than {most}");
+                }
+            }
+        }
+        // Mixed: passing raises among the first 40 as a seed draws them, and cheap failures.
+        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+        for _ in 0..20_000 {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            // One set in eight passes nowhere.
+            let (n, set, none) = (1 + (seed % 40) as usize, seed >> 8, seed >> 61 == 0);
+            let pass = |i: usize| !none && (set >> i) & 1 == 1;
+            let mut passes = |i: usize| (pass(i), (seed >> (i % 64)) & 2 == 0);
+            let mut raises = Raises::new(n);
+            let found = raises.first_strided(&mut passes).or_else(|| raises.first_left(&mut passes));
+            assert_eq!(found.is_some(), (0..n).any(pass), "n {n} set {set:x}");
+            assert!(found.is_none_or(|i| i < n && pass(i)), "n {n} set {set:x}: {found:?}");
+        }
+    }
 }

@@ -1833,3 +1833,61 @@ fn a_table_over_its_shared_budget_is_refused_before_any_plan() {
         fresh.cells_checked()
     );
 }
+
+/// The checks' search ([`gouge::adjust`]) keeps the pose a scan one by one keeps: at each
+/// azimuth in turn (0°, ±10°, ±20°, ±30°) the first raise, a quarter degree at a time up to
+/// the largest inclination, whose cutter clears the part (to [`gouge::CHECK_SHARE`] of the
+/// tolerance) with the margin. On the mould with its middle control point pulled 30 mm
+/// across (a fuzz case whose points needed raises of some 20°), where the search strides
+/// over raises and halves back, and on the mould itself.
+#[test]
+fn the_checks_search_keeps_the_pose_a_scan_one_by_one_keeps() {
+    let preset = FINISH_PRESETS.iter().find(|p| p.id == "finish-concave-mould").unwrap();
+    let mut scene: serde_json::Value = serde_json::from_str(preset.json).unwrap();
+    scene["surfaces"][0]["points"][2][2][0] = serde_json::json!(0.0);
+    let pulled = FinishScene::from_json(&scene.to_string()).unwrap().job().unwrap();
+    let mut large = 0;
+    for j in [&pulled, &job("finish-concave-mould")] {
+        let oo = j.options.orient;
+        let tol = j.options.gouge_tol_mm;
+        let part = PartSamples::new(&j.surface, j.options.part_grid);
+        let clear = |frame: &ContactFrame, p: &Pose| {
+            gouge_margin(&j.cutter, frame, p) >= oo.margin_per_mm
+                && gouge::check(&j.cutter, &j.surface, &part, frame, p, gouge::CHECK_SHARE * tol).is_none()
+        };
+        for i in 1..12 {
+            for k in 1..12 {
+                let uv = DVec2::new(f64::from(i) / 12.0, f64::from(k) / 12.0);
+                let d = j.surface.derivatives_at(uv);
+                let Some(frame) = ContactFrame::new(&j.surface, uv, d.du) else { continue };
+                let Some((pose, _)) = pose_at(&Strategy::Matched, &j.cutter, &frame, &oo, (-1.0, 1.0)) else {
+                    continue;
+                };
+                let found = gouge::adjust(&j.cutter, &j.surface, &part, &frame, pose, &oo, tol, None);
+                if clear(&frame, &pose) {
+                    assert_eq!(found.map(|f| f.0), Ok(pose), "{uv}: a clear pose is kept");
+                    continue;
+                }
+                let top = oo.max_inclination_rad.max(pose.inclination_rad);
+                let scan = [0.0f64, 10.0, -10.0, 20.0, -20.0, 30.0, -30.0].into_iter().find_map(|turn| {
+                    let mut p = Pose { azimuth_rad: pose.azimuth_rad + turn.to_radians(), ..pose };
+                    for _ in 0..=360 {
+                        if p != pose && clear(&frame, &p) {
+                            return Some(p);
+                        }
+                        if p.inclination_rad >= top {
+                            return None;
+                        }
+                        p.inclination_rad = (p.inclination_rad + 0.25f64.to_radians()).min(top);
+                    }
+                    None
+                });
+                assert_eq!(found.ok().map(|f| f.0), scan, "{uv}");
+                if scan.is_some_and(|p| p.inclination_rad - pose.inclination_rad > 2.1f64.to_radians()) {
+                    large += 1;
+                }
+            }
+        }
+    }
+    assert!(large >= 5, "only {large} points were raised by more than 2°");
+}
