@@ -370,9 +370,9 @@ impl Machine {
         let polar = t.z.clamp(-1.0, 1.0).acos();
         let pi = std::f64::consts::PI;
         // The tilts a branch can take: [lo, hi] and, the other branch, [−hi, −lo], within [0, π].
-        let ranges: Vec<[f64; 2]> = match self.limits_rad[0] {
-            None => vec![[0.0, pi]],
-            Some([lo, hi]) => vec![[lo, hi], [-hi, -lo]],
+        let ranges: [[f64; 2]; 2] = match self.limits_rad[0] {
+            None => [[0.0, pi]; 2],
+            Some([lo, hi]) => [[lo, hi], [-hi, -lo]],
         };
         let mut best: Option<f64> = None;
         for [lo, hi] in ranges {

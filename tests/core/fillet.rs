@@ -146,6 +146,15 @@ fn job(id: &str) -> FinishJob {
     FinishScene::from_json(p.json).unwrap().job().unwrap()
 }
 
+/// The concave mould's job, its part sampled 48 × 48, and the contact frame at `uv` (feed
+/// along u).
+fn mould_at(uv: DVec2) -> (FinishJob, PartSamples, ContactFrame) {
+    let j = job("finish-concave-mould");
+    let part = PartSamples::new(&j.surface, 48);
+    let frame = ContactFrame::new(&j.surface, uv, j.surface.derivatives_at(uv).du).unwrap();
+    (j, part, frame)
+}
+
 fn paths(job: &FinishJob, strategy: Strategy) -> PathSet {
     let part = PartSamples::new(&job.surface, job.options.part_grid);
     iso_scallop(&FinishSetup { strategy, start: &PathStart::FirstBoundary, ..job.setup(&part) }).unwrap()
@@ -404,12 +413,8 @@ fn matched_poses_clear_the_surface_in_every_direction() {
 #[test]
 fn the_checks_keep_a_pose_within_the_machine_s_travel() {
     use interpolab::fiveaxis::Machine;
-    let j = job("finish-concave-mould");
+    let (j, part, frame) = mould_at(DVec2::new(0.9, 0.5));
     let oo = j.options.orient;
-    let part = PartSamples::new(&j.surface, 48);
-    let uv = DVec2::new(0.9, 0.5);
-    let d = j.surface.derivatives_at(uv);
-    let frame = ContactFrame::new(&j.surface, uv, d.du).unwrap();
     let (pose, _) = pose_at(&Strategy::Matched, &j.cutter, &frame, &oo, (-1.0, 1.0)).unwrap();
     let tol = j.options.gouge_tol_mm;
     assert!(gouge::check(&j.cutter, &j.surface, &part, &frame, &pose, tol).is_none(), "the pose should be clear");
@@ -487,12 +492,9 @@ fn paths_for_a_machine_keep_its_travel_and_plan_where_the_others_cannot() {
 
 #[test]
 fn a_careless_lead_gouges_the_mould_and_the_checks_fix_it() {
-    let j = job("finish-concave-mould");
-    let oo = j.options.orient;
-    let part = PartSamples::new(&j.surface, 48);
     let uv = DVec2::new(0.5, 0.5);
-    let d = j.surface.derivatives_at(uv);
-    let frame = ContactFrame::new(&j.surface, uv, d.du).unwrap();
+    let (j, part, frame) = mould_at(uv);
+    let oo = j.options.orient;
     // Fixed lead 5°: the cutter's effective curvature across the feed, sin 5°/(4 + sin 5°) =
     // 0.0213 /mm, is below the bowl's 1/30 /mm: a local gouge, measured by brute force.
     let careless = Pose::from_lead_tilt(5f64.to_radians(), 0.0);

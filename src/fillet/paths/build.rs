@@ -423,21 +423,26 @@ impl Ctx<'_> {
                 let (tip, axis) = pose_between(&a, &b, 0.5);
                 let uv = a.frame.uv.lerp(b.frame.uv, 0.5);
                 let deep = surface_depth_near(tool, self.surface, tip, axis, uv);
+                // Lead-ins and lead-outs are neither split nor refused.
+                let interior = !a.lead_out && !b.lead_out;
                 // For a machine: the axis the program's planner follows at the chord's
                 // quarters within its travel, with half the nodes' room (the axis swings past
-                // its samples by ≪ that between them).
-                let swung = self.reach.is_some_and(|m| {
-                    [0.25, 0.5, 0.75].iter().any(|&t| {
-                        design_between(self.surface, tool, &a, &b, t)
-                            .is_some_and(|d| !m.reaches_axis(d.2, 0.5 * REACH_MARGIN_RAD))
-                    })
-                });
+                // its samples by ≪ that between them). Sampled only where it decides: a chord
+                // too deep is split or refused for that.
+                let swung = interior
+                    && !(deep > tol)
+                    && self.reach.is_some_and(|m| {
+                        [0.25, 0.5, 0.75].iter().any(|&t| {
+                            design_between(self.surface, tool, &a, &b, t)
+                                .is_some_and(|d| !m.reaches_axis(d.2, 0.5 * REACH_MARGIN_RAD))
+                        })
+                    });
                 // A lift is halved only while halving helps (a chord's sag falls fourfold with
                 // its length; a lift that does not fall to half its parent's is the strategy's
                 // own stand-off, which more nodes would not lower, only check).
                 let lifted = -deep > self.opts.chord_tol_mm.max(LIFT_SHARE_OF_H * self.opts.scallop_mm)
                     && -deep < LIFT_HALVING_GAIN * parent_lift;
-                if (deep > tol || lifted || swung) && !a.lead_out && !b.lead_out {
+                if (deep > tol || lifted || swung) && interior {
                     let placed = if depth < CHORD_SPLITS { self.node_between(tool, &a, &b)? } else { None };
                     if let Some(mid) = placed {
                         if *budget == 0 {
@@ -449,14 +454,14 @@ impl Ctx<'_> {
                         continue;
                     }
                 }
-                if deep > tol && !a.lead_out && !b.lead_out {
+                if deep > tol && interior {
                     refused.push(Refusal {
                         uv,
                         point: self.surface.point_at(uv),
                         reason: "the cutter swept between two poses reaches below the surface and no pose between them clears it",
                         depth_mm: deep,
                     });
-                } else if swung && !a.lead_out && !b.lead_out {
+                } else if swung {
                     refused.push(Refusal {
                         uv,
                         point: self.surface.point_at(uv),
