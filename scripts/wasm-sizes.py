@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Where a wasm module's code is: function body sizes from the code section, named by the
 name section (a module before wasm-opt, e.g. target/wasm32-unknown-unknown/web-release/
-interpolab.wasm), summed by crate (and by module for interpolab). Usage:
+interpolab.wasm), summed by crate (and by module for interpolab; a trait impl counts for the
+crate of its type). Usage:
     python3 scripts/wasm-sizes.py MODULE.wasm
 """
 import sys, re, collections
@@ -63,6 +64,10 @@ def crate(n):
                 m2 = re.match(r'(\d+)([a-z_][a-z0-9_]*)', rest)
                 if m2: return 'interpolab::' + m2.group(2)[:int(m2.group(1))]
             return c
+    # A trait impl, `<Type as Trait>::method`: the crate (and module) of the type.
+    m = re.match(r'_ZN\d+_\$LT\$([A-Za-z_][A-Za-z0-9_]*)\.\.([A-Za-z_][A-Za-z0-9_]*)', n)
+    if m:
+        return 'interpolab::' + m.group(2) if m.group(1) == 'interpolab' else m.group(1)
     m = re.match(r'_ZN(\d+)(\w+)', n)
     if m:
         L = int(m.group(1)); c = m.group(2)[:L]
