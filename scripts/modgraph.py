@@ -53,7 +53,7 @@ LAYERS = [
     ("assembly and output", ["scene", "report"]),
     ("background jobs", ["jobs"]),
     ("the app", ["render", "app"]),
-    ("crate root and binaries", ["lib", "main", "cli", "worker_main"]),
+    ("crate root and binaries", ["lib", "main", "cli", "worker_main", "webgpu_main"]),
 ]
 
 # Arrows up a floor tolerated for now: {(importer, imported): "why, and the issue to remove

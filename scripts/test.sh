@@ -31,6 +31,8 @@ cargo clippy --tests --benches --locked -- -D warnings -A clippy::unwrap_used -A
 say "lints: the core for wasm32, and the app for wasm32"
 cargo clippy --no-default-features --target wasm32-unknown-unknown --lib --locked -- -D warnings
 cargo clippy --target wasm32-unknown-unknown --lib --bins --locked -- -D warnings
+# The page's WebGPU build (feature `webgpu`, binary interpolab-webgpu; web/index.html).
+cargo clippy --no-default-features --features webgpu --target wasm32-unknown-unknown --lib --bins --locked -- -D warnings
 # The Web Worker's module (the core alone, feature `worker`; Trunk builds it beside the app).
 cargo clippy --no-default-features --features worker --target wasm32-unknown-unknown --lib --bins --locked -- -D warnings
 

@@ -9,9 +9,19 @@ export const checks = [
   {
     name: "the page loads, computes the preset and draws its first frame",
     run: async ({ context, url, state }) => {
+      // Which of the page's two builds this browser (WebGL2, no WebGPU adapter) fetches.
+      const wasms = [];
+      const onRequest = (r) => { if (/_bg\.wasm(\?|$)/.test(r.url())) wasms.push(new URL(r.url()).pathname.slice(1)); };
+      context.on("request", onRequest);
       const t0 = Date.now();
       const { page, s } = await openSettled(context, url, "the first computed path");
       const loadMs = Date.now() - t0;
+      context.off("request", onRequest);
+      const build = await page.evaluate(() => window.interpolabBuild);
+      const pageWasms = wasms.filter((w) => !w.startsWith("interpolab-worker"));
+      check("without a WebGPU adapter the page loads its build with WebGL2, and only that one",
+        build === "interpolab" && pageWasms.length === 1 && pageWasms[0] === "interpolab_bg.wasm" && s.gpu_backend === "Gl",
+        `build ${build}, page wasm fetched: ${pageWasms.join(", ")}, backend ${s.gpu_backend}`);
       const variety = await drawnVariety(page, "01-first-frame.png", VIEW, 40);
       check("page loads and computes the preset", s.periods > 100, `${s.periods} periods, ${s.scene}`);
       check("first frame is drawn (3D view not blank)", variety > 40, `${variety} distinct colours in the view`);

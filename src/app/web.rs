@@ -30,6 +30,22 @@ fn show_failure(message: &str) {
     }
 }
 
+/// The WebGPU-only build could not start: asks the page's loader (`web/index.html`,
+/// `interpolabLoadWebGlPage`) to load the build with WebGL2 on a fresh canvas. False when the
+/// page has no such loader.
+fn hand_over_to_webgl_page(message: &str) -> bool {
+    let Some(window) = web_sys::window() else {
+        return false;
+    };
+    let Ok(f) = js_sys::Reflect::get(&window, &"interpolabLoadWebGlPage".into()) else {
+        return false;
+    };
+    let Ok(f) = f.dyn_into::<js_sys::Function>() else {
+        return false;
+    };
+    f.call1(&window, &message.into()).is_ok()
+}
+
 /// Starts the app (called from `main` on wasm32).
 pub fn start() {
     eframe::WebLogger::init(log::LevelFilter::Info).ok();
@@ -67,7 +83,13 @@ pub fn start() {
                 // leaving a frozen canvas.
                 watch_for_panic(runner);
             }
-            Err(e) => show_failure(&format!("It could not start: {e:?}. A browser with WebGPU or WebGL2 is needed.")),
+            Err(e) => {
+                let message = format!("It could not start: {e:?}. A browser with WebGPU or WebGL2 is needed.");
+                // The WebGPU-only page hands over to the page with WebGL2 (web/index.html).
+                if cfg!(feature = "webgl") || !hand_over_to_webgl_page(&message) {
+                    show_failure(&message);
+                }
+            }
         }
     });
 }
