@@ -14,7 +14,14 @@ export async function openBrowser() {
     ],
   });
   const context = await browser.newContext({ viewport: { width: 1400, height: 900 }, deviceScaleFactor: 1 });
-  await context.addInitScript(() => {
+  await recordFrameGaps(context);
+  return { browser, context };
+}
+
+// Records the gaps between animation frames on every page of a context, or on one page
+// (`window.__frameGaps`, ms; harness.mjs's resetFrames / recordFrames read them).
+export async function recordFrameGaps(contextOrPage) {
+  await contextOrPage.addInitScript(() => {
     window.__frameGaps = [];
     let last = null;
     const tick = (t) => {
@@ -24,5 +31,4 @@ export async function openBrowser() {
     };
     requestAnimationFrame(tick);
   });
-  return { browser, context };
 }

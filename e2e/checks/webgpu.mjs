@@ -4,7 +4,8 @@
 // page loads its WebGPU build here (web/index.html), and its build with WebGL2 when that
 // one cannot be fetched.
 import { chromium } from "playwright-core";
-import { VIEW, check, drawnVariety, waitFor, settled } from "../harness.mjs";
+import { recordFrameGaps } from "../browser.mjs";
+import { VIEW, check, drawnVariety, recordFrames, resetFrames, waitFor, settled } from "../harness.mjs";
 
 const launchWithWebGpu = () => chromium.launch({
   executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium",
@@ -37,6 +38,7 @@ export const checks = [
         const gpuErrors = [];
         gpuPage.on("console", (m) => { if (m.type() === "error") gpuErrors.push(m.text()); });
         const wasms = recordPageWasms(gpuPage);
+        await recordFrameGaps(gpuPage);
         await gpuPage.goto(url);
         const sg = await waitFor(gpuPage, "the first path on WebGPU", settled);
         const varietyG = await drawnVariety(gpuPage, "10-webgpu.png", VIEW, 40);
@@ -46,6 +48,19 @@ export const checks = [
         check("on WebGPU: the page's WebGPU build runs, and no other page build was fetched",
           build === "interpolab-webgpu" && wasms.length === 1 && wasms[0] === "interpolab-webgpu_bg.wasm",
           `build ${build}, page wasm fetched: ${wasms.join(", ")}`);
+        // The crease's feed slider, as crease.mjs drags it on WebGL2: the frames most
+        // browsers meet (the WebGPU build), reported beside WebGL2's.
+        const [x, y, , h] = sg.ui.feed_slider;
+        await resetFrames(gpuPage);
+        await gpuPage.mouse.move(x + 40, y + h / 2);
+        await gpuPage.mouse.down();
+        await gpuPage.mouse.move(x + 70, y + h / 2, { steps: 8 });
+        await gpuPage.mouse.up();
+        const s1 = await waitFor(gpuPage, "the path after moving the feed slider on WebGPU",
+          (s) => s.feed_mm_per_min !== sg.feed_mm_per_min && settled(s));
+        await recordFrames(gpuPage, "dragging the crease's feed slider on WebGPU", "crease on WebGPU");
+        check("on WebGPU: moving the feed slider changes the number of periods", s1.periods !== sg.periods,
+          `feed ${sg.feed_mm_per_min} → ${s1.feed_mm_per_min.toFixed(1)} mm/min, periods ${sg.periods} → ${s1.periods}`);
         check("on WebGPU: no console error", gpuErrors.length === 0, gpuErrors.slice(0, 3).join(" | "));
       } catch (e) {
         check("on WebGPU: the app runs", false, e.message);
