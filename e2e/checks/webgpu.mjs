@@ -1,8 +1,8 @@
 // WebGPU where the browser has it. These flags give headless Chromium a SwiftShader WebGPU
 // adapter that really renders (with --enable-unsafe-webgpu alone it draws nothing); the
 // other checks run on WebGL2, wgpu's fallback. A browser of its own for each check. The
-// page loads its WebGPU build here (web/index.html), and its build with WebGL2 when that
-// one cannot be fetched.
+// page loads its WebGPU build here (web/index.html), and its WebGL2 build when that one
+// cannot be fetched or cannot start.
 import { chromium } from "playwright-core";
 import { recordFrameGaps } from "../browser.mjs";
 import { VIEW, check, drawnVariety, recordFrames, resetFrames, waitFor, settled } from "../harness.mjs";
@@ -87,6 +87,36 @@ export const checks = [
           `build ${build}, page wasm fetched: ${wasms.join(", ")}, backend ${s.gpu_backend}, ${s.periods} periods, ${variety} colours`);
       } catch (e) {
         check("the WebGPU build blocked: the app runs", false, e.message);
+      } finally {
+        if (gpuBrowser) await gpuBrowser.close();
+      }
+    },
+  },
+  {
+    name: "when the WebGPU build fetched cannot start, it hands over to the WebGL2 build",
+    run: async ({ url }) => {
+      let gpuBrowser = null;
+      try {
+        gpuBrowser = await launchWithWebGpu();
+        const page = await gpuBrowser.newPage({ viewport: { width: 1400, height: 900 } });
+        // The page's loader is given an adapter, the app's wgpu none: the WebGPU build is
+        // fetched, fails to start and calls the loader's interpolabLoadWebGlPage.
+        await page.addInitScript(() => {
+          const gpu = navigator.gpu;
+          const real = gpu.requestAdapter.bind(gpu);
+          let asked = 0;
+          gpu.requestAdapter = (o) => (asked++ === 0 ? real(o) : Promise.resolve(null));
+        });
+        const wasms = recordPageWasms(page);
+        await page.goto(url);
+        const s = await waitFor(page, "the first path after the hand-over", settled);
+        const variety = await drawnVariety(page, "10c-webgpu-hand-over.png", VIEW, 40);
+        const build = await page.evaluate(() => window.interpolabBuild);
+        check("the WebGPU build could not start: the WebGL2 build runs on a fresh canvas and draws",
+          build === "interpolab" && wasms.join() === "interpolab-webgpu_bg.wasm,interpolab_bg.wasm" && s.gpu_backend === "Gl" && variety > 40,
+          `build ${build}, page wasm fetched: ${wasms.join(", ")}, backend ${s.gpu_backend}, ${variety} colours`);
+      } catch (e) {
+        check("the WebGPU build could not start: the app runs", false, e.message);
       } finally {
         if (gpuBrowser) await gpuBrowser.close();
       }
