@@ -34,6 +34,10 @@ export const checks = [
       // The help box opens above the tab strip: the tab's button moves down.
       await clickUntil(page, "the help box open", (s) => s.ui.help, (s) => s.ui[TAB][1] > h0.ui[TAB][1]);
       await page.screenshot({ path: shotPath("08b-chords-help.png") });
+      // Help says what draws the frames: here WebGL2 on SwiftShader, so a software rasteriser.
+      const h1 = await status(page);
+      check("Help names the graphics API and that a software rasteriser draws here",
+        /^• Drawn with WebGL2 by a software rasteriser/.test(h1.graphics ?? ""), h1.graphics);
       await page.close();
     },
   },

@@ -45,6 +45,8 @@ export const checks = [
         const build = await gpuPage.evaluate(() => window.interpolabBuild);
         check("on WebGPU: the app chose the WebGPU backend and drew its first frame",
           sg.gpu_backend === "BrowserWebGpu" && varietyG > 40, `backend ${sg.gpu_backend}, ${varietyG} distinct colours`);
+        check("on WebGPU: Help says the app draws with WebGPU, by a software rasteriser here",
+          /^• Drawn with WebGPU by a software rasteriser/.test(sg.graphics ?? ""), sg.graphics);
         check("on WebGPU: the page's WebGPU build runs, and no other page build was fetched",
           build === "interpolab-webgpu" && wasms.length === 1 && wasms[0] === "interpolab-webgpu_bg.wasm",
           `build ${build}, page wasm fetched: ${wasms.join(", ")}`);

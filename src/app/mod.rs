@@ -461,6 +461,7 @@ impl InterpolabApp {
                 "background": jobs::finished_counts().0,
                 "on_page": jobs::finished_counts().1,
             },
+            "graphics": graphics_line(self.render_state.as_ref()),
             "gpu_adapter": self.render_state.as_ref().map(|rs| {
                 let i = rs.adapter.get_info();
                 format!("{} ({:?}{})", i.name, i.device_type, if crate::render::gpu::is_software(&i) { ", software: no MSAA" } else { "" })
@@ -609,7 +610,7 @@ impl eframe::App for InterpolabApp {
             self.banner(ui);
             if self.show_help {
                 let shown = self.panels.get(self.tab).map(|p| (p.title(), p.paper()));
-                help(ui, shown);
+                help(ui, shown, graphics_line(self.render_state.as_ref()).as_deref());
             }
             if !ablate::hidden(ablate::Part::Tabs) {
                 ui.horizontal(|ui| {
@@ -666,7 +667,30 @@ impl eframe::App for InterpolabApp {
 
 /// The help box: how to use the app, then the shown tab's paper (`shown`: its title and
 /// [`Panel::paper`]).
-fn help(ui: &mut egui::Ui, shown: Option<(&str, Option<&str>)>) {
+/// Help's line on the graphics: the API the app draws with, and whether a software
+/// rasteriser draws it (a browser without a usable GPU), which makes every frame slower.
+fn graphics_line(rs: Option<&eframe::egui_wgpu::RenderState>) -> Option<String> {
+    use eframe::wgpu::Backend;
+    let info = rs?.adapter.get_info();
+    let api = match info.backend {
+        Backend::BrowserWebGpu => "WebGPU",
+        Backend::Gl if cfg!(target_arch = "wasm32") => "WebGL2",
+        Backend::Gl => "OpenGL",
+        Backend::Vulkan => "Vulkan",
+        Backend::Metal => "Metal",
+        Backend::Dx12 => "Direct3D 12",
+        Backend::Noop => return None,
+    };
+    let by = if crate::render::gpu::is_software(&info) {
+        "by a software rasteriser on the CPU (no GPU in use here), so frames are slower than on a GPU"
+    } else {
+        "on the GPU"
+    };
+    let name = if info.name.is_empty() { String::new() } else { format!(" ({})", info.name) };
+    Some(format!("• Drawn with {api} {by}{name}."))
+}
+
+fn help(ui: &mut egui::Ui, shown: Option<(&str, Option<&str>)>, graphics: Option<&str>) {
     egui::Frame::group(ui.style()).show(ui, |ui| {
         ui.label(egui::RichText::new("How to use interpolab").strong());
         ui.label("• Pick an example at the top, or open / drop a scene file. Every change recomputes the path at once.");
@@ -675,6 +699,9 @@ fn help(ui: &mut egui::Ui, shown: Option<(&str, Option<&str>)>) {
         ui.label("• Each period the centre advances by f = F·Ts. The plots show the measured errors e1, e2 against the allowed ±b·T and the paper's steady-state bound (16).");
         ui.label("• Playback moves the cutter at the machine's speed (× the speed factor); the plots' cursor follows it.");
         ui.label("• 🔗 Share link copies a URL that opens this exact scene; the last scene is kept across reloads.");
+        if let Some(g) = graphics {
+            ui.label(egui::RichText::new(g).weak());
+        }
         match shown {
             Some((title, Some(paper))) => {
                 ui.separator();
