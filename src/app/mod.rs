@@ -665,8 +665,6 @@ impl eframe::App for InterpolabApp {
     }
 }
 
-/// The help box: how to use the app, then the shown tab's paper (`shown`: its title and
-/// [`Panel::paper`]).
 /// Help's line on the graphics: the API the app draws with, and whether a software
 /// rasteriser draws it (a browser without a usable GPU), which makes every frame slower.
 fn graphics_line(rs: Option<&eframe::egui_wgpu::RenderState>) -> Option<String> {
@@ -690,6 +688,8 @@ fn graphics_line(rs: Option<&eframe::egui_wgpu::RenderState>) -> Option<String> 
     Some(format!("• Drawn with {api} {by}{name}."))
 }
 
+/// The help box: how to use the app, what draws its frames (`graphics`, from
+/// [`graphics_line`]), then the shown tab's paper (`shown`: its title and [`Panel::paper`]).
 fn help(ui: &mut egui::Ui, shown: Option<(&str, Option<&str>)>, graphics: Option<&str>) {
     egui::Frame::group(ui.style()).show(ui, |ui| {
         ui.label(egui::RichText::new("How to use interpolab").strong());
