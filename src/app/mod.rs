@@ -88,6 +88,8 @@ pub struct InterpolabApp {
     notice: Option<Notice>,
     platform: Platform,
     render_state: Option<eframe::egui_wgpu::RenderState>,
+    /// Help's line on what draws the frames ([`graphics_line`]; the adapter never changes).
+    graphics: Option<String>,
     /// The tab shown: an index into `panels`.
     tab: usize,
     /// The tabs (crease, 5-axis, chords, NURBS & G-code, simulation, fillet, the user's
@@ -154,6 +156,7 @@ impl InterpolabApp {
             playback: Playback::default(),
             notice,
             platform,
+            graphics: graphics_line(render_state.as_ref()),
             render_state,
             tab: 0,
             panels: panels(),
@@ -461,7 +464,7 @@ impl InterpolabApp {
                 "background": jobs::finished_counts().0,
                 "on_page": jobs::finished_counts().1,
             },
-            "graphics": graphics_line(self.render_state.as_ref()),
+            "graphics": self.graphics,
             "gpu_adapter": self.render_state.as_ref().map(|rs| {
                 let i = rs.adapter.get_info();
                 format!("{} ({:?}{})", i.name, i.device_type, if crate::render::gpu::is_software(&i) { ", software: no MSAA" } else { "" })
@@ -610,7 +613,7 @@ impl eframe::App for InterpolabApp {
             self.banner(ui);
             if self.show_help {
                 let shown = self.panels.get(self.tab).map(|p| (p.title(), p.paper()));
-                help(ui, shown, graphics_line(self.render_state.as_ref()).as_deref());
+                help(ui, shown, self.graphics.as_deref());
             }
             if !ablate::hidden(ablate::Part::Tabs) {
                 ui.horizontal(|ui| {

@@ -370,12 +370,12 @@ impl Machine {
         let polar = t.z.clamp(-1.0, 1.0).acos();
         let pi = std::f64::consts::PI;
         // The tilts a branch can take: [lo, hi] and, the other branch, [−hi, −lo], within [0, π].
-        let ranges: [[f64; 2]; 2] = match self.limits_rad[0] {
-            None => [[0.0, pi]; 2],
-            Some([lo, hi]) => [[lo, hi], [-hi, -lo]],
+        let (ranges, n): ([[f64; 2]; 2], usize) = match self.limits_rad[0] {
+            None => ([[0.0, pi]; 2], 1),
+            Some([lo, hi]) => ([[lo, hi], [-hi, -lo]], 2),
         };
         let mut best: Option<f64> = None;
-        for [lo, hi] in ranges {
+        for &[lo, hi] in &ranges[..n] {
             let (lo, hi) = ((lo + margin_rad).max(0.0), (hi - margin_rad).min(pi));
             if lo > hi {
                 continue;
