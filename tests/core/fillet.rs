@@ -8,8 +8,8 @@ use glam::{DVec2, DVec3};
 use interpolab::fillet::contact::{ContactFrame, CrossProfile, Pose, effective_curvature, gouge_margin, place};
 use interpolab::fillet::orient::{OrientOptions, Strategy, pose_at};
 use interpolab::fillet::paths::{
-    Built, CHECK_COST_SAMPLE, FinishOptions, FinishSetup, Layout, MAX_CHECK_CELLS_PER_NODE, PathSet, PathStart,
-    iso_parametric, iso_scallop, iso_scallop_checked, lead_out_mm,
+    Built, CHECK_COST_SAMPLE, FinishOptions, FinishSetup, IsoScallopSteps, Layout, MAX_CHECK_CELLS_PER_NODE, PathSet,
+    PathStart, check_stop, iso_parametric, iso_scallop, iso_scallop_checked, lead_out_mm,
 };
 use interpolab::fillet::{FinishError, FinishJob, PartSamples, gouge};
 use interpolab::geom::{Cutter, LocalGeometry, ParametricSurface, Plane, ProjectOptions, Surface, project_point};
@@ -1741,6 +1741,53 @@ fn a_job_whose_side_steps_check_too_much_is_refused_within_one_check_of_its_limi
     let one_point = 2 * gouge::MAX_ADJUST_CELLS;
     let limit = points.max(CHECK_COST_SAMPLE) * MAX_CHECK_CELLS_PER_NODE + one_point;
     assert!(part.cells_checked() <= limit, "{} cells checked over {points} points: {detail}", part.cells_checked());
+}
+
+/// The patch with its middle control point [2][2] raised to z = 360 mm (a case the fuzzer
+/// found): its pilot estimates 4.7·10⁷ cells, under the budget, and the job passes its
+/// checks' stop (10⁸ cells, after 18 s of CPU). The cost per CC point of the paths built,
+/// projected over the points the pilot estimated, refuses it within a tenth of the stop.
+#[test]
+fn a_job_whose_points_cost_more_than_its_pilot_said_is_refused_early() {
+    let p = FINISH_PRESETS.iter().find(|p| p.id == "finish-bicubic-patch").unwrap();
+    let mut scene: serde_json::Value = serde_json::from_str(p.json).unwrap();
+    scene["surfaces"][0]["points"][2][2][2] = serde_json::json!(360.0);
+    let jb = FinishScene::from_json(&scene.to_string()).unwrap().job().unwrap();
+    let part = PartSamples::new(&jb.surface, jb.options.part_grid);
+    match iso_scallop(&jb.setup(&part)) {
+        Err(FinishError::TooMuchChecking { detail }) => {
+            assert!(detail.contains("cells a CC point on the"), "{detail}");
+        }
+        other => panic!("expected the job refused by its checks' projection: {:?}", other.map(|s| s.paths.len())),
+    }
+    let stop = check_stop(jb.options.max_check_cells);
+    assert!(part.cells_checked() < stop / 10, "{} cells checked", part.cells_checked());
+}
+
+/// The patch with its corner control point [0][3] moved onto [0][0] (a case the fuzzer
+/// found): the first paths' far end hardly moves, so the share of the surface covered
+/// (their nearest point) grows slowly, and the checks' cost extrapolated from it read over
+/// twice the stop; the job, built whole, takes 1.5·10⁷ cells, under its budget. Its first
+/// 16 paths are built without a refusal while that extrapolation reads over twice the stop.
+#[test]
+fn a_job_whose_first_paths_cover_little_of_the_surface_is_not_refused_for_it() {
+    let p = FINISH_PRESETS.iter().find(|p| p.id == "finish-bicubic-patch").unwrap();
+    let mut scene: serde_json::Value = serde_json::from_str(p.json).unwrap();
+    scene["surfaces"][0]["points"][0][3] = serde_json::json!([0.0, 0.0, 0.0]);
+    let jb = FinishScene::from_json(&scene.to_string()).unwrap().job().unwrap();
+    let part = PartSamples::new(&jb.surface, jb.options.part_grid);
+    let setup = jb.setup(&part);
+    let mut steps = IsoScallopSteps::start(&setup).unwrap();
+    let stop = check_stop(jb.options.max_check_cells) as f64;
+    let mut misread = 0;
+    for _ in 0..15 {
+        assert!(!steps.step(&setup).unwrap(), "the job ended after {} paths", steps.paths().len());
+        let share = steps.progress(&jb.surface);
+        if share >= 0.01 && part.cells_checked() as f64 / share > 2.0 * stop {
+            misread += 1;
+        }
+    }
+    assert!(misread > 0, "the share covered never read over twice the stop: the case no longer shows it");
 }
 
 /// The mould with one corner control point folded onto the middle of its edge (a case the

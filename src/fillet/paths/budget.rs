@@ -84,10 +84,23 @@ pub const CHECK_STOP_FACTOR: f64 = 2.0;
 /// pilot's at the median ([`CHECK_STOP_FACTOR`]'s jobs).
 pub const PILOT_CELLS_FACTOR: f64 = 1.7;
 
-/// An iso-scallop job's cells extrapolated from the share of the surface it has covered
-/// refuse it when they read this many times its stop: the extrapolation's own error (the
-/// mould's fixed-lead plan reads 1.45–2.1 times its final cost at 6–9 % of its surface).
+/// An iso-scallop job without a pilot (none of its pilot's side steps could be solved) is
+/// refused when its cells extrapolated from the share of the surface it has covered read
+/// this many times its stop: the extrapolation's own error (the mould's fixed-lead plan
+/// reads 1.45–2.1 times its final cost at 6–9 % of its surface, the unseen surfaces up to
+/// 3.9 times early on). A job with a pilot projects its cost per CC point over the pilot's
+/// CC points instead (`IsoScallopSteps::refuse_costly_checks`).
 pub(super) const EXTRAPOLATION_ROOM: f64 = 2.0;
+
+/// Share of the checks' stop up to which an iso-scallop job's cost per CC point is
+/// projected over its pilot's CC points (`IsoScallopSteps::refuse_costly_checks`): the
+/// projection is there to spare the work, and is read while it can (a tenth of the stop is
+/// about 1.5 s of checks). Later it has little left to spare, and it reads high on a job
+/// that covers less of the surface than its pilot: a fuzz patch with an edge control point
+/// pulled 360 mm out, folded, whose far part is refused point by point, completes with
+/// 4.0·10⁷ cells over 5 700 CC points where its pilot counted 19 600, and its projection
+/// passes the stop from 1.2·10⁷ cells on.
+pub(super) const PROJECT_CELLS_UNTIL: f64 = 0.1;
 
 /// Where a job's checks stop: [`CHECK_STOP_FACTOR`] × its budget.
 #[must_use]
@@ -104,9 +117,10 @@ pub const ESTIMATE_MARGIN: f64 = 1.25;
 /// from the share, and the job refused when the estimate passes the cap.
 pub const ESTIMATE_AFTER_SHARE: f64 = 0.05;
 
-/// Share of the surface, and cells checked, after which the checks' total cost is
-/// estimated from the share (refused above twice [`MAX_CHECK_CELLS`] below
-/// [`ESTIMATE_AFTER_SHARE`], above it from there).
+/// Cells checked after which an iso-scallop job's checks' total cost is projected: from
+/// the cost per CC point over its pilot's CC points (refused above the checks' stop); a job
+/// without a pilot from the share of the surface covered, from this share on (refused at
+/// twice the stop).
 pub const CELLS_ESTIMATE_AFTER_SHARE: f64 = 0.01;
 
 /// See [`CELLS_ESTIMATE_AFTER_SHARE`].
@@ -144,6 +158,30 @@ pub(super) const PILOT_LINES: usize = 7;
 pub(super) const WIDTH_CURVES: usize = 17;
 
 pub(super) const WIDTH_POINTS: usize = 64;
+
+/// One pilot line's measures ([`Ctx::pilot`]).
+#[derive(Clone, Copy, Debug, Default)]
+struct LineTally {
+    /// Its forward steps.
+    samples: f64,
+    /// Its runs' forward steps, and the CC points they ended with (their certified chords'
+    /// inserted points included, lead-outs not).
+    run_samples: f64,
+    run_nodes: f64,
+    /// Cells its runs and their points' side steps checked.
+    cells: f64,
+    /// The sum and count of 1 / side step (1/mm) over its points whose side step was solved.
+    inverse_sum: f64,
+    inverse_count: usize,
+}
+
+impl LineTally {
+    /// Paths a mm across where the line lies: its own points' mean, or `overall` (every
+    /// line's) when none of its side steps was solved.
+    fn per_mm(&self, overall: f64) -> f64 {
+        if self.inverse_count > 0 { self.inverse_sum / self.inverse_count as f64 } else { overall }
+    }
+}
 
 impl Ctx<'_> {
     /// Counts a checked CC point and stops the job once its checks cost far more than any
@@ -198,8 +236,12 @@ impl Ctx<'_> {
     /// line's forward steps counted (no orientation or check), [`PILOT_RUNS`] runs of
     /// [`PILOT_RUN`] of them built as paths (oriented, checked, chords certified) and their
     /// side steps solved. The paths across are the surface's width across times the mean of
-    /// 1/side step, each with the lines' mean forward steps times the runs' CC points per
-    /// step, each point checked at the runs' mean cost.
+    /// 1/side step; the CC points and cells are the width times the mean over the lines of
+    /// the line's forward steps × its 1/side step × its runs' CC points (or cells) per step:
+    /// each line stands for the paths where it lies. Taken as the product of the lines'
+    /// means instead, two fuzz jobs whose paths crowd and lengthen toward a wall read
+    /// 4.0·10⁷ and 4.6·10⁷ cells, under the budget, and ran 14–19 s to the checks' stop;
+    /// this reads 6.1·10⁷ and 5.4·10⁷ and refuses them.
     pub(super) fn refuse_oversized(&self, poly: &[DVec2]) -> Result<Option<Pilot>, FinishError> {
         let Some(est) = self.pilot(poly)? else { return Ok(None) };
         let (paths, nodes) = (est.paths, est.cc_points);
@@ -233,16 +275,14 @@ impl Ctx<'_> {
             lines.push(iso_curve((a0, a1), b0 + (b1 - b0) * k as f64 / (PILOT_LINES - 1) as f64, self.along));
         }
         let mut side = None;
-        let (mut inverse, mut samples_sum, mut pilot_nodes) = (Vec::new(), 0usize, 0usize);
-        // CC points the pilot's runs end with (their certified chords' inserted points
-        // included, lead-outs not) per forward step they began with.
-        let (mut run_samples, mut run_nodes) = (0usize, 0usize);
+        let mut tallies: Vec<LineTally> = Vec::with_capacity(lines.len());
         let (mut run_paths, mut lines_mm) = (Vec::new(), 0.0);
-        let cells_before = self.part.cells_checked();
         for line in &lines {
+            let cells_before = self.part.cells_checked();
+            let mut tally = LineTally::default();
             let mut budget = self.opts.max_nodes;
             let samples = self.forward_samples(line, None, &mut budget)?;
-            samples_sum += samples.len();
+            tally.samples = samples.len() as f64;
             let points: Vec<DVec3> = samples.iter().map(|s| self.surface.point_at(s.0)).collect();
             lines_mm += points.windows(2).map(|w| (w[1] - w[0]).length()).sum::<f64>();
             // PILOT_RUNS runs of PILOT_RUN consecutive forward steps spread along the line,
@@ -255,14 +295,13 @@ impl Ctx<'_> {
             for r in 0..runs {
                 let first = if runs == 1 { 0 } else { (samples.len() - PILOT_RUN.min(samples.len())) * r / (runs - 1) };
                 let run: Vec<Sample> = samples.iter().skip(first).take(PILOT_RUN).copied().collect();
-                run_samples += run.len();
+                tally.run_samples += run.len() as f64;
                 let path = self.path_from_samples(run, &mut scratch, &mut budget)?;
                 let cut: Vec<CcNode> = path.nodes.into_iter().filter(|n| !n.lead_out).collect();
-                run_nodes += cut.len();
+                tally.run_nodes += cut.len() as f64;
                 nodes.extend_from_slice(&cut);
                 run_paths.push(ToolPath { nodes: cut });
             }
-            pilot_nodes += nodes.len();
             // Not one of the points tried along the first path can be cut: the job stops
             // here, as it would after trying every point of that path.
             if side.is_none() && samples.len() > PILOT_RUNS * PILOT_RUN && nodes.is_empty() {
@@ -276,23 +315,26 @@ impl Ctx<'_> {
                 let tc = g.map_or(DVec2::ZERO, |g| g.tangent_coords(n0.frame.cross));
                 side = Some(if b_of(tc, self.along) >= 0.0 { 1.0 } else { -1.0 } * self.toward);
             }
-            let Some(side) = side else { continue };
-            let ctx = Ctx { side, nodes_checked: std::cell::Cell::new(self.nodes_checked.get()), ..*self };
-            for n in &nodes {
-                let w = ctx.side_step(n)?.width_mm;
-                if w > 0.0 && w.is_finite() {
-                    inverse.push(1.0 / w);
+            if let Some(side) = side {
+                let ctx = Ctx { side, nodes_checked: std::cell::Cell::new(self.nodes_checked.get()), ..*self };
+                for n in &nodes {
+                    let inverse = 1.0 / ctx.side_step(n)?.width_mm;
+                    if inverse > 0.0 && inverse.is_finite() {
+                        tally.inverse_sum += inverse;
+                        tally.inverse_count += 1;
+                    }
                 }
+                self.nodes_checked.set(ctx.nodes_checked.get());
             }
-            self.nodes_checked.set(ctx.nodes_checked.get());
+            tally.cells = self.part.cells_checked().saturating_sub(cells_before) as f64;
+            tallies.push(tally);
         }
-        // The checks' cost per CC point on the pilot (its paths and side steps, as a job's).
-        let cells_per_node = self.part.cells_checked().saturating_sub(cells_before) as f64 / pilot_nodes.max(1) as f64;
-        let samples_per_path = samples_sum as f64 / lines.len() as f64 * run_nodes as f64 / run_samples.max(1) as f64;
-        if inverse.is_empty() {
+        let count: usize = tallies.iter().map(|t| t.inverse_count).sum();
+        if count == 0 {
             return Ok(None);
         }
-        let per_mm = inverse.iter().sum::<f64>() / inverse.len() as f64;
+        // Paths a mm across, from every side step solved.
+        let per_mm = tallies.iter().map(|t| t.inverse_sum).sum::<f64>() / count as f64;
         let mut width = 0.0;
         for i in 0..WIDTH_CURVES {
             let a = a0 + (a1 - a0) * i as f64 / (WIDTH_CURVES - 1) as f64;
@@ -306,14 +348,26 @@ impl Ctx<'_> {
             }
             width = f64::max(width, across);
         }
-        let paths = (width * per_mm).max(1.0);
-        let nodes = paths * samples_per_path;
-        let cells_per_node = cells_per_node * PILOT_CELLS_FACTOR;
+        // At least one path's width.
+        let across = (width * per_mm).max(1.0) / per_mm;
+        // Each line stands for the paths where it lies: its forward steps times its paths a
+        // mm across, times its runs' CC points and cells per forward step, so that paths
+        // that are longer, denser and costlier in the same place (toward a wall) are counted
+        // as such, not as the product of the lines' means.
+        let n = tallies.len() as f64;
+        let nodes = across
+            * tallies.iter().map(|t| t.per_mm(per_mm) * t.samples * t.run_nodes / t.run_samples.max(1.0)).sum::<f64>()
+            / n;
+        let cells = across
+            * tallies.iter().map(|t| t.per_mm(per_mm) * t.samples * t.cells / t.run_samples.max(1.0)).sum::<f64>()
+            / n
+            * PILOT_CELLS_FACTOR;
+        let paths = across * per_mm;
         Ok(Some(Pilot {
             paths,
             cc_points: nodes,
-            check_cells: nodes * cells_per_node,
-            cells_per_point: cells_per_node,
+            check_cells: cells,
+            cells_per_point: cells / nodes.max(1.0),
             length_mm: paths * lines_mm / lines.len() as f64,
             runs: run_paths,
         }))
