@@ -88,8 +88,9 @@ pub const PILOT_CELLS_FACTOR: f64 = 1.7;
 /// refused when its cells extrapolated from the share of the surface it has covered read
 /// this many times its stop: the extrapolation's own error (the mould's fixed-lead plan
 /// reads 1.45–2.1 times its final cost at 6–9 % of its surface, the unseen surfaces up to
-/// 3.9 times early on). A job with a pilot projects its cost per CC point over the pilot's
-/// CC points instead (`IsoScallopSteps::refuse_costly_checks`).
+/// 3.9 times early on). A job with a pilot reads it only past [`PROJECT_CELLS_UNTIL`] of
+/// the stop; before, it projects its cost per CC point over the pilot's CC points
+/// (`IsoScallopSteps::refuse_costly_checks`).
 pub(super) const EXTRAPOLATION_ROOM: f64 = 2.0;
 
 /// Share of the checks' stop up to which an iso-scallop job's cost per CC point is
@@ -99,7 +100,8 @@ pub(super) const EXTRAPOLATION_ROOM: f64 = 2.0;
 /// that covers less of the surface than its pilot: a fuzz patch with an edge control point
 /// pulled 360 mm out, folded, whose far part is refused point by point, completes with
 /// 4.0·10⁷ cells over 5 700 CC points where its pilot counted 19 600, and its projection
-/// passes the stop from 1.2·10⁷ cells on.
+/// passes the stop from 1.2·10⁷ cells on. Past it the share of the surface covered is
+/// read, as before ([`EXTRAPOLATION_ROOM`]).
 pub(super) const PROJECT_CELLS_UNTIL: f64 = 0.1;
 
 /// Where a job's checks stop: [`CHECK_STOP_FACTOR`] × its budget.
@@ -118,9 +120,9 @@ pub const ESTIMATE_MARGIN: f64 = 1.25;
 pub const ESTIMATE_AFTER_SHARE: f64 = 0.05;
 
 /// Cells checked after which an iso-scallop job's checks' total cost is projected: from
-/// the cost per CC point over its pilot's CC points (refused above the checks' stop); a job
-/// without a pilot from the share of the surface covered, from this share on (refused at
-/// twice the stop).
+/// the cost per CC point over its pilot's CC points (refused above the checks' stop), and
+/// from the share of the surface covered, from this share on (refused at twice the stop;
+/// for a job with a pilot past `PROJECT_CELLS_UNTIL` of the stop).
 pub const CELLS_ESTIMATE_AFTER_SHARE: f64 = 0.01;
 
 /// See [`CELLS_ESTIMATE_AFTER_SHARE`].

@@ -444,10 +444,16 @@ impl IsoScallopSteps {
                     max_nodes: opts.max_nodes,
                 });
             }
-            // Without a pilot, the checks' cost from an earlier share, refused when it reads
-            // twice the stop.
+            // The checks' cost from the share covered, refused when it reads twice the stop:
+            // without a pilot, or past the window where the cost per CC point is projected
+            // over the pilot's (`refuse_costly_checks`). Read earlier, it refused jobs whose
+            // first paths cover little of the surface; read later, it still stops what it
+            // stopped before: a fuzz patch folded by an edge control point, its paths built
+            // within a table's reach, is refused after 17.6 s, where without it the job ran
+            // 50 s to a program that could not be written.
             let cells = part.cells_checked().saturating_sub(self.cells_at_start) as f64;
-            if self.pilot_nodes == 0.0
+            let stop = check_stop(opts.max_check_cells) as f64;
+            if (self.pilot_nodes == 0.0 || cells > PROJECT_CELLS_UNTIL * stop)
                 && share >= CELLS_ESTIMATE_AFTER_SHARE
                 && cells >= CELLS_ESTIMATE_AFTER
                 && cells / share > EXTRAPOLATION_ROOM * check_stop(opts.max_check_cells) as f64
@@ -482,9 +488,10 @@ impl IsoScallopSteps {
     /// refused jobs that complete in 4 s under the budget (fuzz cases with a corner of the
     /// patch pulled onto another, whose first paths' far end hardly moves), and let one whose
     /// pilot was low (the patch with its middle raised 360 mm) run to the stop, 18 s; this
-    /// refuses it after 5.6·10⁶ cells, 1.2 s. It reads high where the job covers less of the
+    /// refuses it after 5.6·10⁶ cells, 1.2–1.4 s. It reads high where the job covers less of the
     /// surface than its pilot (a fold whose far part is refused point by point): hence the
-    /// window.
+    /// window. Past it the share of the surface covered is read again, as before (refused at
+    /// twice the stop).
     fn refuse_costly_checks(&self, part: &PartSamples, opts: &FinishOptions) -> Result<(), FinishError> {
         let cells = part.cells_checked().saturating_sub(self.cells_at_start) as f64;
         let used = (opts.max_nodes - self.budget) as f64;
