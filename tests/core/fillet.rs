@@ -1744,7 +1744,7 @@ fn a_job_whose_side_steps_check_too_much_is_refused_within_one_check_of_its_limi
 }
 
 /// The patch with its middle control point [2][2] raised to z = 360 mm (a case the fuzzer
-/// found): its pilot estimates 4.7·10⁷ cells, under the budget, and the job passes its
+/// found): its pilot estimates 3.5·10⁷ cells, under the budget, and the job passes its
 /// checks' stop (10⁸ cells, after 18 s of CPU). The cost per CC point of the paths built,
 /// projected over the points the pilot estimated, refuses it within a tenth of the stop.
 #[test]
