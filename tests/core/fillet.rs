@@ -1675,14 +1675,20 @@ fn the_nearest_point_by_runs_is_the_full_scan_s() {
     }
 }
 
+/// The finishing job of the preset `id` with its control point `at` ([row][column]) given
+/// to `edit` (a fuzz case's mutation).
+fn job_with_point(id: &str, at: [usize; 2], edit: impl FnOnce(&mut serde_json::Value)) -> FinishJob {
+    let p = FINISH_PRESETS.iter().find(|p| p.id == id).unwrap();
+    let mut scene: serde_json::Value = serde_json::from_str(p.json).unwrap();
+    edit(&mut scene["surfaces"][0]["points"][at[0]][at[1]]);
+    FinishScene::from_json(&scene.to_string()).unwrap().job().unwrap()
+}
+
 /// The preset `id` with the control point coordinate `at` ([row][column][x, y or z]) set to
 /// `value`: its iso-scallop job is refused by its pilot, before its paths, having checked
 /// under a twentieth of its budget.
 fn assert_refused_by_its_pilot(id: &str, at: [usize; 3], value: f64) {
-    let p = FINISH_PRESETS.iter().find(|p| p.id == id).unwrap();
-    let mut scene: serde_json::Value = serde_json::from_str(p.json).unwrap();
-    scene["surfaces"][0]["points"][at[0]][at[1]][at[2]] = serde_json::json!(value);
-    let jb = FinishScene::from_json(&scene.to_string()).unwrap().job().unwrap();
+    let jb = job_with_point(id, [at[0], at[1]], |p| p[at[2]] = serde_json::json!(value));
     let part = PartSamples::new(&jb.surface, jb.options.part_grid);
     match iso_scallop(&jb.setup(&part)) {
         Err(FinishError::TooMuchChecking { detail }) => {
@@ -1749,10 +1755,7 @@ fn a_job_whose_side_steps_check_too_much_is_refused_within_one_check_of_its_limi
 /// projected over the points the pilot estimated, refuses it within a tenth of the stop.
 #[test]
 fn a_job_whose_points_cost_more_than_its_pilot_said_is_refused_early() {
-    let p = FINISH_PRESETS.iter().find(|p| p.id == "finish-bicubic-patch").unwrap();
-    let mut scene: serde_json::Value = serde_json::from_str(p.json).unwrap();
-    scene["surfaces"][0]["points"][2][2][2] = serde_json::json!(360.0);
-    let jb = FinishScene::from_json(&scene.to_string()).unwrap().job().unwrap();
+    let jb = job_with_point("finish-bicubic-patch", [2, 2], |p| p[2] = serde_json::json!(360.0));
     let part = PartSamples::new(&jb.surface, jb.options.part_grid);
     match iso_scallop(&jb.setup(&part)) {
         Err(FinishError::TooMuchChecking { detail }) => {
@@ -1771,10 +1774,7 @@ fn a_job_whose_points_cost_more_than_its_pilot_said_is_refused_early() {
 /// 16 paths are built without a refusal while that extrapolation reads over twice the stop.
 #[test]
 fn a_job_whose_first_paths_cover_little_of_the_surface_is_not_refused_for_it() {
-    let p = FINISH_PRESETS.iter().find(|p| p.id == "finish-bicubic-patch").unwrap();
-    let mut scene: serde_json::Value = serde_json::from_str(p.json).unwrap();
-    scene["surfaces"][0]["points"][0][3] = serde_json::json!([0.0, 0.0, 0.0]);
-    let jb = FinishScene::from_json(&scene.to_string()).unwrap().job().unwrap();
+    let jb = job_with_point("finish-bicubic-patch", [0, 3], |p| *p = serde_json::json!([0.0, 0.0, 0.0]));
     let part = PartSamples::new(&jb.surface, jb.options.part_grid);
     let setup = jb.setup(&part);
     let mut steps = IsoScallopSteps::start(&setup).unwrap();

@@ -456,12 +456,11 @@ impl IsoScallopSteps {
             if (self.pilot_nodes == 0.0 || cells > PROJECT_CELLS_UNTIL * stop)
                 && share >= CELLS_ESTIMATE_AFTER_SHARE
                 && cells >= CELLS_ESTIMATE_AFTER
-                && cells / share > EXTRAPOLATION_ROOM * check_stop(opts.max_check_cells) as f64
+                && cells / share > EXTRAPOLATION_ROOM * stop
             {
                 return Err(FinishError::TooMuchChecking {
                     detail: format!(
-                        "would pass {} cells: about {:.2e} (estimated from the {:.0} % of the surface covered)",
-                        check_stop(opts.max_check_cells),
+                        "would pass {stop} cells: about {:.2e} (estimated from the {:.0} % of the surface covered)",
                         cells / share,
                         share * 100.0
                     ),
