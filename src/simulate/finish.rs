@@ -36,11 +36,23 @@ pub const POSE_CUSP_SHARE: f64 = 0.25;
 pub const MIN_POSE_STEP_MM: f64 = 0.02;
 
 /// The work a finishing program's 5-axis moves do ([`Simulation::work_done`]) per ray their
-/// boxes visit ([`Simulation::estimate_move_visits`]): 16.1–21.0 on the three examples'
-/// programs at pitch 0.5 and 1 mm and a fuzz case's (the concave mould with a corner moved)
-/// at 1 mm. The least, so that [`WorkProjection`] errs low rather than refuse a program that
-/// fits.
-pub const WORK_PER_VISIT: f64 = 16.0;
+/// boxes visit ([`Simulation::estimate_move_visits`]) where the cutter is sampled pose by
+/// pose (flat and fillet end mills): 3.85–5.03 on the three examples' programs (matched and
+/// fixed-lead orientation) at pitch 0.5 and 1 mm, 7.2–8.3 on the concave mould's, whose
+/// holder checks visit more rays than the cutter updates. The least, so that
+/// [`WorkProjection`] errs low rather than refuse a program that fits.
+pub const WORK_PER_VISIT: f64 = 3.8;
+
+/// [`WORK_PER_VISIT`] for the ball's closed-form swept segments: 2.15–3.04 on the examples'
+/// programs at pitch 0.5 and 1 mm (18.6–20.9 on the concave mould's, its holder checks).
+pub const WORK_PER_SEGMENT_VISIT: f64 = 2.1;
+
+/// The work per estimated ray visit [`WorkProjection`] counts on `sim`: [`WORK_PER_VISIT`],
+/// or [`WORK_PER_SEGMENT_VISIT`] where `sim` sweeps the ball's segments.
+#[must_use]
+pub fn work_per_visit(sim: &Simulation) -> f64 {
+    if sim.sweep_tol_mm().is_some() { WORK_PER_SEGMENT_VISIT } else { WORK_PER_VISIT }
+}
 
 /// Share of the surface a finishing job's paths cover before [`WorkProjection::check`]
 /// projects the whole program's work from it (before: the work so far alone).
@@ -250,7 +262,7 @@ fn push_pass(
 /// simulation that would pass [`MAX_WORK`] is refused in the first second of the job, not
 /// after its paths (seconds) and the first moves of the run. Each path's pass is planned as
 /// the program's will be; its moves' estimated ray visits ([`Simulation::estimate_move_visits`])
-/// times [`WORK_PER_VISIT`] are its work.
+/// times [`work_per_visit`] are its work.
 #[derive(Clone, Debug)]
 pub struct WorkProjection<'a> {
     surface: &'a Surface,
@@ -293,7 +305,7 @@ impl<'a> WorkProjection<'a> {
                 visits += pass.moves.iter().map(|m| sim.estimate_move_visits(m)).sum::<f64>();
             }
         }
-        WORK_PER_VISIT * visits
+        work_per_visit(sim) * visits
     }
 
     /// Refuses the program when the job's `pilot` says its simulation on `sim` would pass

@@ -91,13 +91,20 @@ const PRE_SAMPLES: usize = 32;
 /// program estimated above it is refused before it starts (about a minute of work).
 pub const MAX_RAY_VISITS: f64 = 4e9;
 
-/// What a ray update of a 5-axis move costs in ray updates of straight 3-axis moves: measured
-/// 0.5–1.0 µs against 0.03 µs (the finishing examples' programs at pitch 0.5 and 1 mm, and a
-/// 20 000-move raster at 0.1 mm, on the 2-core development machine).
-pub const JOINT_UPDATE_COST: f64 = 25.0;
+/// What a ray update of a 5-axis move costs in ray updates of straight 3-axis moves:
+/// measured 0.11–0.19 µs for a fillet end mill's poses (the corner solved by Newton's steps)
+/// and 0.06–0.10 µs for the ball's swept segments, against 0.03 µs (the finishing examples'
+/// programs at pitch 0.5 and 1 mm with each strategy, on the 2-core development machine).
+pub const JOINT_UPDATE_COST: f64 = 6.0;
+
+/// What a ray the shank and holder checks of a 5-axis move visit costs in ray updates of
+/// straight moves ([`Counters::crash_visits`]): measured 0.043–0.050 µs against 0.03 µs (the
+/// concave mould's programs, whose holder passes over the stock's walls: 16–81 million
+/// such visits, more than the cutter's own updates).
+pub const CRASH_VISIT_COST: f64 = 1.5;
 
 /// Most work a run does ([`Simulation::work_done`], in straight-move ray updates): about
-/// 20 s at the measured costs (25 million updates of 5-axis moves, or 600 million of
+/// 20 s at the measured costs (100 million updates of 5-axis moves, or 600 million of
 /// straight ones). A run is refused ([`pipeline::WorkMeter`]) as soon as what it has done,
 /// scaled by the moves still to come, reads [`PROJECTED_WORK_ROOM`] times it, and stopped
 /// when what it has done does.
@@ -203,6 +210,9 @@ pub struct Counters {
     pub ray_updates: u64,
     /// The part of `ray_updates` made by 5-axis moves.
     pub joint_updates: u64,
+    /// Rays the shank and holder checks of 5-axis moves visited (inside a part's box at a
+    /// checked pose, above the stock's lowest point there).
+    pub crash_visits: u64,
     /// Material removed (mm³).
     pub removed_mm3: f64,
     /// Rapid moves (G00) that removed material.
@@ -604,12 +614,15 @@ impl Simulation {
         removed
     }
 
-    /// The work done so far, in ray updates of straight moves: those of 3-axis moves, and
-    /// those of 5-axis moves weighed by [`JOINT_UPDATE_COST`].
+    /// The work done so far, in ray updates of straight moves: those of 3-axis moves, those
+    /// of 5-axis moves weighed by [`JOINT_UPDATE_COST`] and the rays their shank and holder
+    /// checks visited, by [`CRASH_VISIT_COST`].
     #[must_use]
     pub fn work_done(&self) -> f64 {
         let c = &self.counters;
-        (c.ray_updates - c.joint_updates) as f64 + JOINT_UPDATE_COST * c.joint_updates as f64
+        (c.ray_updates - c.joint_updates) as f64
+            + JOINT_UPDATE_COST * c.joint_updates as f64
+            + CRASH_VISIT_COST * c.crash_visits as f64
     }
 
     fn apply_move(&mut self, m: &SimMove) -> f64 {
@@ -886,6 +899,7 @@ impl Simulation {
                         if self.stock.top_mm(k).is_none_or(|t| t <= lo.z) {
                             continue;
                         }
+                        self.counters.crash_visits += 1;
                         let (touched, whole) = if *kind == CrashKind::Rapid {
                             (
                                 tilted_span(&touch, tip + TOUCH_MM * axis, axis, x, y),

@@ -17,9 +17,8 @@
 //!   r_t + h·tan α at height h), and the cylinder of radius R from T + h_c·a to T + H·a.
 //!
 //! Each body is convex, so a ray crosses it in one interval, found in closed form (sphere,
-//! cylinder, cone: a quadratic) or, for the fillet's corner, by minimising the convex distance
-//! along the ray to the centre disk and bisecting for its two roots to
-//! [`super::ROOT_TOL_MM`].
+//! cylinder, cone: a quadratic) or, for the fillet's corner, by Newton's steps on the convex
+//! distance along the ray to the centre disk, from both ends, to [`super::ROOT_TOL_MM`].
 
 use glam::DVec3;
 
@@ -468,46 +467,71 @@ fn quadratic_le_zero(qa: f64, qb: f64, qc: f64, lo: f64, hi: f64) -> Option<(f64
 }
 
 /// The ray against the points within r of the centre disk (radius R0 at T + r·a, normal a).
+///
+/// The excess e(z) = (distance from the ray's point to the disk) − r is convex along the ray
+/// (the distance to a convex set is), so Newton's steps from either end of the bracket (the
+/// cylinder of radius R around the corner) move monotonically toward the root on that side,
+/// each landing short of it (a convex function lies above its tangents), and a slope that
+/// turns before the excess reaches 0 shows the ray misses. A handful of steps a root where
+/// golden sections for the minimum and two bisections took some ninety evaluations.
 fn fillet_corner(tool: &ToolShape, tip: DVec3, axis: DVec3, x: f64, y: f64) -> Option<(f64, f64)> {
     let r = tool.corner_mm;
     let r0 = tool.torus_mm();
     // The corner body lies inside the cylinder of radius R from T to T + 2r·a.
     let (zl, zh) = ray_cylinder(tip, axis, 2.0 * r, tool.radius_mm, x, y)?;
     let centre = tip + r * axis;
+    // The excess and its derivative in z. With v the point from the centre, h = v·a its
+    // height over the disk's plane and u = v − h·a its radial part (ρ = |u|): h' = a_z and
+    // ρ' = u_z / ρ.
     let excess = |z: f64| {
         let v = DVec3::new(x, y, z) - centre;
         let h = v.dot(axis);
-        let rho = (v - h * axis).length();
-        // sqrt rather than hypot: IEEE-exact, so the rays are bit-identical across platforms.
-        let d = if rho <= r0 { h.abs() } else { (h * h + (rho - r0) * (rho - r0)).sqrt() };
-        d - r
+        let u = v - h * axis;
+        let rho = u.length();
+        if rho <= r0 {
+            (h.abs() - r, if h >= 0.0 { axis.z } else { -axis.z })
+        } else {
+            let e = rho - r0;
+            // sqrt rather than hypot: IEEE-exact, so the rays are bit-identical across platforms.
+            let d = (h * h + e * e).sqrt();
+            (d - r, (h * axis.z + e * u.z / rho) / d)
+        }
     };
-    let (zm, m) = golden_min(excess, zl, zh, ROOT_TOL_MM);
-    if m > 0.0 {
-        return None;
-    }
-    Some((bisect_root(&excess, zl, zm), bisect_root(&excess, zh, zm)))
+    let lo = newton_root(&excess, zl, zh)?;
+    // The ray enters the body, so it leaves it: from the top, the same steps downward.
+    let hi = newton_root(&excess, zh, lo).unwrap_or(lo);
+    Some((lo, hi))
 }
 
-/// The point between `outside` (excess > 0, or the bracket's end) and `inside` (excess ≤ 0)
-/// where the excess crosses zero, to [`ROOT_TOL_MM`]; returns the inside end of the bracket.
-fn bisect_root(excess: &impl Fn(f64) -> f64, outside: f64, inside: f64) -> f64 {
-    if excess(outside) <= 0.0 {
-        return outside;
-    }
-    let (mut o, mut i) = (outside, inside);
+/// The root of a convex `excess` (value, derivative) met first walking from `from` toward
+/// `toward` (either direction), by Newton's steps, which for a convex function never pass
+/// it: `from` itself when the excess is ≤ 0 there, `None` when the excess turns upward (or
+/// the walk passes `toward`) before it reaches 0. Stops once a step is under
+/// [`ROOT_TOL_MM`] (the root is then nearer than that: the steps shrink at least as fast as
+/// the distance left), or after [`MAX_SOLVE_ITERATIONS`] steps.
+fn newton_root(excess: &impl Fn(f64) -> (f64, f64), from: f64, toward: f64) -> Option<f64> {
+    let dir = if toward >= from { 1.0 } else { -1.0 };
+    let mut z = from;
     for _ in 0..MAX_SOLVE_ITERATIONS {
-        if (o - i).abs() <= ROOT_TOL_MM {
-            break;
+        let (e, de) = excess(z);
+        if e <= 0.0 {
+            return Some(z);
         }
-        let m = 0.5 * (o + i);
-        if excess(m) <= 0.0 {
-            i = m;
-        } else {
-            o = m;
+        // The slope toward `toward`: the excess must fall that way for a root to lie ahead.
+        let fall = -de * dir;
+        if !(fall > 0.0) {
+            return None;
+        }
+        let step = e / fall;
+        z += dir * step;
+        if (z - toward) * dir > 0.0 {
+            return None;
+        }
+        if step <= ROOT_TOL_MM {
+            return Some(z);
         }
     }
-    i
+    Some(z)
 }
 
 /// The ray at (x, y) against a part of a tilted tool (tip, unit axis): the interval of z

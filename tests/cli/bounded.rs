@@ -209,13 +209,12 @@ fn a_cutter_larger_than_the_part_is_refused_when_read() {
     assert!(!o.stdout.is_empty(), "no CL data: {err}");
 }
 
-/// The mould's finishing program on a grid of 0.2 mm would take some 2.7·10⁹ ray updates,
-/// four times a run's cap. The job's pilot says so before the paths are built: the refusal
-/// names the estimate, not moves machined (the run's meter refused it after the paths and
-/// 177 moves, 5.6 s).
+/// The mould's finishing program on a grid of 0.1 mm would do some 4·10⁹ units of work
+/// (100 times its run at 1 mm), six times a run's cap. The job's pilot says so before the
+/// paths are built: the refusal names the estimate, not moves machined.
 #[test]
 fn a_finishing_simulation_over_its_work_is_refused_before_its_paths() {
-    let o = run(&["simulate", &example_finish("concave-mould"), "--finish", "0.005", "--pitch", "0.2"]);
+    let o = run(&["simulate", &example_finish("concave-mould"), "--finish", "0.005", "--pitch", "0.1"]);
     refused(&o, &["before the paths are built", "ray updates", "raise the pitch"]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(!err.contains(" moves"), "{err}");

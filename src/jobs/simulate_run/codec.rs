@@ -384,6 +384,7 @@ pub(crate) fn counters_value(c: &Counters) -> Value {
         "rays_visited": c.rays_visited,
         "ray_updates": c.ray_updates,
         "joint_updates": c.joint_updates,
+        "crash_visits": c.crash_visits,
         "removed_mm3": num(c.removed_mm3),
         "rapid_cuts": c.rapid_cuts,
         "first_rapid_cut_line": c.first_rapid_cut_line,
@@ -403,6 +404,7 @@ pub(crate) fn counters_of(v: &Value) -> Result<Counters, DecodeError> {
         rays_visited: u64_of("rays_visited")?,
         ray_updates: u64_of("ray_updates")?,
         joint_updates: u64_of("joint_updates")?,
+        crash_visits: u64_of("crash_visits")?,
         removed_mm3: c.f64("removed_mm3")?,
         rapid_cuts: c.usize("rapid_cuts")?,
         first_rapid_cut_line: match c.value("first_rapid_cut_line")? {

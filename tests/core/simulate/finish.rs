@@ -127,15 +127,16 @@ fn a_finishing_program_is_the_seed_002_steps_of_every_pass() {
 
 /// A finishing program's simulation work as `simulate --finish` projects it to refuse a run
 /// before its paths: on the small patch every path's estimate is its pass's moves' visits
-/// times `WORK_PER_VISIT`, the projection sampling one path in `PROJECT_EVERY` is within a
-/// quarter of every path's, and the run does at least that work (the constant is the least
-/// the examples' runs measured); the mould's pilot lets the example's grid (1 mm) through and
-/// refuses one of 0.2 mm, whose run its meter stopped after 177 of 3 967 moves.
+/// times `work_per_visit` (the poses' `WORK_PER_VISIT`), the projection sampling one path in
+/// `PROJECT_EVERY` is within a quarter of every path's, and the run does at least that work
+/// (the constant is the least the examples' runs measured); the mould's pilot lets the
+/// example's grid (1 mm) through and refuses one of 0.1 mm (its run would do some 25 times
+/// the 1 mm run's 4.2·10⁷ units of work).
 #[test]
 fn a_finishing_programs_work_is_projected_from_its_pilot_and_its_paths() {
     use interpolab::fillet::paths::pilot;
     use interpolab::simulate::SimError;
-    use interpolab::simulate::finish::{PROJECT_EVERY, WORK_PER_VISIT, WorkProjection};
+    use interpolab::simulate::finish::{PROJECT_EVERY, WORK_PER_VISIT, WorkProjection, work_per_visit};
     let job = FinishScene::from_json(SMALL_FINISH).unwrap().job().unwrap();
     let part = PartSamples::new(&job.surface, job.options.part_grid);
     let setup = job.setup(&part);
@@ -155,6 +156,7 @@ fn a_finishing_programs_work_is_projected_from_its_pilot_and_its_paths() {
     assert!(set.paths.len() > PROJECT_EVERY, "{} paths", set.paths.len());
     let program = fp.program().unwrap();
     let visits: f64 = program.moves.iter().map(|m| sim.estimate_move_visits(m)).sum();
+    assert_eq!(work_per_visit(&sim), WORK_PER_VISIT);
     assert!((every - WORK_PER_VISIT * visits).abs() <= 1e-9 * every, "{every} vs {}", WORK_PER_VISIT * visits);
     assert!((projection.work() - every).abs() < 0.25 * every, "sampled {} vs every path {every}", projection.work());
     sim.run(&program).unwrap();
@@ -169,7 +171,7 @@ fn a_finishing_programs_work_is_projected_from_its_pilot_and_its_paths() {
     let s = interpolab::simulate::stock_box_mm(&job.surface, &cutter, 2.0).unwrap();
     let projection = WorkProjection::new(&job.surface, &job.cutter, &job.machine, job.strategy, tol);
     let step = FinishProgram::pose_step_mm(&cutter, job.options.scallop_mm).unwrap();
-    for (pitch, fits) in [(1.0, true), (0.2, false)] {
+    for (pitch, fits) in [(1.0, true), (0.1, false)] {
         let stock = DexelStock::block([s[0], s[1], s[2]], [s[3], s[4], s[5]], pitch).unwrap();
         let sim = Simulation::new(stock, &cutter).with_sample_step(step);
         match projection.check_pilot(&sim, &plan) {
