@@ -130,6 +130,24 @@ impl ContactFrame {
         Some((Self { uv, point: d.point, normal: n, feed: f, cross: c, surface_form }, cc))
     }
 
+    /// [`Self::new`] without the surface's second form (`surface_form` zero): the same
+    /// point, normal, feed and cross directions to the last bit, `None` at the same places,
+    /// for half the evaluation on a NURBS surface (no second derivatives). For placing a
+    /// cutter ([`place`]), which needs no curvature; never for a curvature or a gouge margin.
+    #[must_use]
+    pub fn first_order(surface: &Surface, uv: DVec2, feed_hint: DVec3) -> Option<Self> {
+        let d = surface.first_order_at(uv);
+        // LocalGeometry::try_new's test of a regular point, on the same first derivatives.
+        let (e, f, g) = (d.du.dot(d.du), d.du.dot(d.dv), d.dv.dot(d.dv));
+        if !(e * g - f * f > tolerance::MIN_AREA_ELEMENT * tolerance::MIN_AREA_ELEMENT) || d.normal == DVec3::ZERO {
+            return None;
+        }
+        let n = d.normal;
+        let feed = (feed_hint - feed_hint.dot(n) * n).try_normalize()?;
+        let surface_form = Form2 { ff: 0.0, fc: 0.0, cc: 0.0 };
+        Some(Self { uv, point: d.point, normal: n, feed, cross: n.cross(feed), surface_form })
+    }
+
     /// The unit tangent t(θ) = cos θ·f + sin θ·c.
     #[must_use]
     pub fn direction(&self, theta: f64) -> DVec3 {

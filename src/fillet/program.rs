@@ -87,7 +87,8 @@ impl<'a> FilletDesignPath<'a> {
 
 /// The design between CC nodes `a` and `b` at the fraction `t` in (0, 1) (module docs): the
 /// frame, the tool tip (mm) and the unit axis the program's planner follows there; `None`
-/// where the surface has no frame.
+/// where the surface has no frame. The frame is [`ContactFrame::first_order`]'s (no
+/// second form): the planner evaluates it at every sample of every trial step.
 #[must_use]
 pub fn design_between(
     surface: &Surface,
@@ -105,7 +106,7 @@ pub fn design_between(
     }
     let uv: DVec2 = a.frame.uv.lerp(b.frame.uv, t);
     let feed = a.frame.feed.lerp(b.frame.feed, t);
-    let frame = ContactFrame::new(surface, uv, feed)?;
+    let frame = ContactFrame::first_order(surface, uv, feed)?;
     let pose = Pose {
         inclination_rad: a.pose.inclination_rad + t * (b.pose.inclination_rad - a.pose.inclination_rad),
         azimuth_rad: a.pose.azimuth_rad + t * (b.pose.azimuth_rad - a.pose.azimuth_rad),

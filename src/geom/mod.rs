@@ -33,7 +33,7 @@ pub use domain::{Domain, ParamRange, ParamUnit};
 pub use frame::{Frame, any_perpendicular};
 pub use nurbs::{NurbsCurve, NurbsError, NurbsSurface};
 pub use parabola::Parabola;
-pub use parametric::{ParametricSurface, SurfaceDerivs};
+pub use parametric::{FirstOrder, ParametricSurface, SurfaceDerivs};
 pub use project::{Foot, ProjectOptions, project_point, project_point_from, project_point_global};
 pub use ray::{RAY_GRID_MAX, RAY_NEWTON_STEPS, RayHit, ray_hit};
 pub use surface::{Cylinder, Plane, Sphere, Surface, Torus};

@@ -31,6 +31,20 @@ pub struct SurfaceDerivs {
     pub normal: DVec3,
 }
 
+/// Point, first partial derivatives and oriented unit normal at one parameter pair: a
+/// [`SurfaceDerivs`] without the second derivatives ([`ParametricSurface::first_order_at`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FirstOrder {
+    /// r(u, v) (mm).
+    pub point: DVec3,
+    /// ∂r/∂u (mm per internal unit).
+    pub du: DVec3,
+    /// ∂r/∂v (mm per internal unit).
+    pub dv: DVec3,
+    /// Oriented unit normal, zero where [`SurfaceDerivs::normal`] is.
+    pub normal: DVec3,
+}
+
 /// A parametric surface with derivatives and an oriented normal.
 pub trait ParametricSurface {
     /// r(u, v) in mm; `uv` in internal units.
@@ -43,6 +57,14 @@ pub trait ParametricSurface {
     fn tangents_at(&self, uv: DVec2) -> (DVec3, DVec3, DVec3) {
         let d = self.derivatives_at(uv);
         (d.point, d.du, d.dv)
+    }
+    /// Point, first derivatives and normal at `uv`, the same values as
+    /// [`Self::derivatives_at`]'s to the last bit; surfaces where the second derivatives cost
+    /// extra work (NURBS) skip it. For callers that place a cutter on the surface and need
+    /// no curvature.
+    fn first_order_at(&self, uv: DVec2) -> FirstOrder {
+        let d = self.derivatives_at(uv);
+        FirstOrder { point: d.point, du: d.du, dv: d.dv, normal: d.normal }
     }
     /// [`Self::tangents_at`] to rounding, not necessarily to the last bit: a NURBS evaluates
     /// its power form ([`super::nurbs`]), several times faster. For callers whose answer

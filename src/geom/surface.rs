@@ -20,7 +20,7 @@ use glam::{DVec2, DVec3};
 use super::domain::{Domain, ParamRange, ParamUnit};
 use super::frame::Frame;
 use super::nurbs::NurbsSurface;
-use super::parametric::{ParametricSurface, SurfaceDerivs};
+use super::parametric::{FirstOrder, ParametricSurface, SurfaceDerivs};
 
 /// A plane `r = o + u·e1 + v·e2`, `e2 = n × e1`, normal `n`; u, v in mm.
 #[derive(Clone, Debug, PartialEq)]
@@ -256,6 +256,16 @@ impl ParametricSurface for Surface {
             Self::Sphere(s) => s.tangents_at(uv),
             Self::Torus(s) => s.tangents_at(uv),
             Self::Nurbs(s) => s.tangents_at(uv),
+        }
+    }
+    #[inline]
+    fn first_order_at(&self, uv: DVec2) -> FirstOrder {
+        match self {
+            Self::Nurbs(s) => s.first_order_at(uv),
+            _ => {
+                let d = self.derivatives_at(uv);
+                FirstOrder { point: d.point, du: d.du, dv: d.dv, normal: d.normal }
+            }
         }
     }
     #[inline]

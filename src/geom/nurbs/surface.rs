@@ -7,7 +7,7 @@ use super::basis::{basis_derivatives_sized, basis_functions_of};
 use super::power::PowerPatches;
 use super::{MAX_ORDER, NurbsError, find_span, validate_knots};
 use crate::geom::domain::{Domain, ParamRange, ParamUnit};
-use crate::geom::parametric::{ParametricSurface, SurfaceDerivs};
+use crate::geom::parametric::{FirstOrder, ParametricSurface, SurfaceDerivs};
 use crate::numerics::tolerance;
 
 /// A tensor-product NURBS surface. `points[i][j]`: i runs along u, j along v.
@@ -145,6 +145,11 @@ impl ParametricSurface for NurbsSurface {
         }
     }
 
+    fn first_order_at(&self, uv: DVec2) -> FirstOrder {
+        let (point, du, dv) = self.tangents_at(uv);
+        FirstOrder { point, du, dv, normal: self.normal_of(du, dv) }
+    }
+
     fn tangents_fast_at(&self, uv: DVec2) -> (DVec3, DVec3, DVec3) {
         match self.degree {
             [3, 3] => self.tangents_fast_of::<4, 4>(uv),
@@ -258,9 +263,15 @@ impl NurbsSurface {
         let suu = (a20.truncate() - 2.0 * a10.w * su_ - a20.w * s) / w;
         let suv = (a11.truncate() - a10.w * sv_ - a01.w * su_ - a11.w * s) / w;
         let svv = (a02.truncate() - 2.0 * a01.w * sv_ - a02.w * s) / w;
-        let cross = su_.cross(sv_);
-        let len = cross.length();
-        let normal = if len > tolerance::MIN_AREA_ELEMENT { self.sign * cross / len } else { DVec3::ZERO };
+        let normal = self.normal_of(su_, sv_);
         SurfaceDerivs { point: s, du: su_, dv: sv_, duu: suu, duv: suv, dvv: svv, normal }
+    }
+
+    /// The oriented unit normal from r_u and r_v (zero where they are parallel).
+    #[inline(always)]
+    fn normal_of(&self, du: DVec3, dv: DVec3) -> DVec3 {
+        let cross = du.cross(dv);
+        let len = cross.length();
+        if len > tolerance::MIN_AREA_ELEMENT { self.sign * cross / len } else { DVec3::ZERO }
     }
 }

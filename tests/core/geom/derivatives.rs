@@ -179,3 +179,36 @@ fn analytic_surfaces_lie_where_their_definitions_say() {
         }
     }
 }
+
+/// `first_order_at` gives `derivatives_at`'s point, first derivatives and normal to the last
+/// bit on every surface type (a NURBS by its own first-derivative sums), and a contact frame
+/// built from it (`ContactFrame::first_order`, what a finishing program's planner places the
+/// cutter on) equals the full frame in everything but the second form, `None` at the same
+/// places: a planner that switched to it plans the same steps.
+#[test]
+fn first_order_evaluation_agrees_with_the_full_one_to_the_bit() {
+    use interpolab::fillet::ContactFrame;
+    let mut rng = Rng::new(29);
+    for (name, s) in surfaces() {
+        for _ in 0..300 {
+            let uv = random_uv(&s, &mut rng);
+            let (d, f) = (s.derivatives_at(uv), s.first_order_at(uv));
+            assert_eq!((d.point, d.du, d.dv, d.normal), (f.point, f.du, f.dv, f.normal), "{name} at {uv}");
+            let hint = DVec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
+            let (full, light) = (ContactFrame::new(&s, uv, hint), ContactFrame::first_order(&s, uv, hint));
+            assert_eq!(full.is_some(), light.is_some(), "{name} at {uv}");
+            if let (Some(a), Some(b)) = (full, light) {
+                assert_eq!(
+                    (a.uv, a.point, a.normal, a.feed, a.cross),
+                    (b.uv, b.point, b.normal, b.feed, b.cross),
+                    "{name}"
+                );
+            }
+        }
+        // A hint along the normal leaves (almost) no tangential part: both frames alike.
+        let uv = random_uv(&s, &mut rng);
+        let n = s.derivatives_at(uv).normal;
+        let (full, light) = (ContactFrame::new(&s, uv, n), ContactFrame::first_order(&s, uv, n));
+        assert_eq!(full.map(|a| (a.feed, a.cross)), light.map(|b| (b.feed, b.cross)), "{name}");
+    }
+}
