@@ -43,7 +43,13 @@ fn simulate(program: &Program) -> Simulation {
 
 /// With or without the crash checks (`simulate::crash`), to measure what they cost.
 fn simulate_checked(program: &Program, checks: bool) -> Simulation {
-    let mut sim = Simulation::new(stock(), &ball());
+    simulate_with(program, &ball(), checks)
+}
+
+/// `program` machined by `cutter` (a fillet end mill's 5-axis moves are sampled pose by
+/// pose, each pose's corner solved ray by ray: `simulate::sweep`).
+fn simulate_with(program: &Program, cutter: &Cutter, checks: bool) -> Simulation {
+    let mut sim = Simulation::new(stock(), cutter);
     if !checks {
         sim = sim.without_crash_checks();
     }
@@ -220,6 +226,12 @@ fn benches(c: &mut Criterion) {
     // criterion repeats its first 1 000 moves.
     let p5 = five_axis(1_000);
     g.bench_function("five_axis_1000_moves", |b| b.iter(|| black_box(simulate(&p5))));
+    // The same moves with a fillet end mill (R 3, r 1 mm): poses one pitch apart.
+    let fillet = match Cutter::fillet(BALL_MM, 1.0) {
+        Ok(c) => c,
+        Err(e) => panic!("cutter: {e}"),
+    };
+    g.bench_function("five_axis_1000_moves_fillet", |b| b.iter(|| black_box(simulate_with(&p5, &fillet, true))));
     // The crash checks' worst case: the shank in the stock on every move, with and without.
     let deep3 = lowered(three_axis(5_000), 10.0);
     g.bench_function("three_axis_5000_deep_checked", |b| b.iter(|| black_box(simulate_checked(&deep3, true))));
