@@ -47,7 +47,7 @@
 
 use glam::{DVec2, DVec3};
 
-use crate::geom::{Cutter, LocalGeometry, ParametricSurface, Surface};
+use crate::geom::{Cutter, LocalGeometry, ParametricSurface, Surface, first_form_if_regular};
 use crate::numerics::tolerance;
 
 /// A symmetric 2×2 form in the basis (f, c) of the tangent plane (1/mm).
@@ -89,6 +89,13 @@ impl Form2 {
     }
 }
 
+/// The unit feed f (the tangential part of `feed_hint`) and cross direction c = n × f at a
+/// point of unit normal `n`; `None` when the hint is (almost) normal to the surface.
+fn feed_and_cross(n: DVec3, feed_hint: DVec3) -> Option<(DVec3, DVec3)> {
+    let f = (feed_hint - feed_hint.dot(n) * n).try_normalize()?;
+    Some((f, n.cross(f)))
+}
+
 /// The local frame at a CC point (module docs).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactFrame {
@@ -122,8 +129,7 @@ impl ContactFrame {
         let d = surface.derivatives_at(uv);
         let geo = LocalGeometry::try_new(d)?;
         let n = d.normal;
-        let f = (feed_hint - feed_hint.dot(n) * n).try_normalize()?;
-        let c = n.cross(f);
+        let (f, c) = feed_and_cross(n, feed_hint)?;
         let (cf, cc) = (geo.tangent_coords(f), geo.tangent_coords(c));
         let surface_form =
             Form2 { ff: geo.second_form(cf, cf), fc: geo.second_form(cf, cc), cc: geo.second_form(cc, cc) };
@@ -137,15 +143,10 @@ impl ContactFrame {
     #[must_use]
     pub fn first_order(surface: &Surface, uv: DVec2, feed_hint: DVec3) -> Option<Self> {
         let d = surface.first_order_at(uv);
-        // LocalGeometry::try_new's test of a regular point, on the same first derivatives.
-        let (e, f, g) = (d.du.dot(d.du), d.du.dot(d.dv), d.dv.dot(d.dv));
-        if !(e * g - f * f > tolerance::MIN_AREA_ELEMENT * tolerance::MIN_AREA_ELEMENT) || d.normal == DVec3::ZERO {
-            return None;
-        }
-        let n = d.normal;
-        let feed = (feed_hint - feed_hint.dot(n) * n).try_normalize()?;
+        first_form_if_regular(d.du, d.dv, d.normal)?;
+        let (feed, cross) = feed_and_cross(d.normal, feed_hint)?;
         let surface_form = Form2 { ff: 0.0, fc: 0.0, cc: 0.0 };
-        Some(Self { uv, point: d.point, normal: n, feed, cross: n.cross(feed), surface_form })
+        Some(Self { uv, point: d.point, normal: d.normal, feed, cross, surface_form })
     }
 
     /// The unit tangent t(θ) = cos θ·f + sin θ·c.

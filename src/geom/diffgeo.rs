@@ -31,6 +31,19 @@ pub struct Principal {
     pub dir_min: DVec3,
 }
 
+/// The first fundamental form `(E, F, G, EG − F²)` of `r_u`, `r_v`, or `None` at a singular
+/// point of the parametrisation (`|r_u × r_v| ≈ 0`, or no normal there): the test of
+/// [`LocalGeometry::try_new`], shared with frames built from first derivatives alone.
+#[must_use]
+pub(crate) fn first_form_if_regular(du: DVec3, dv: DVec3, normal: DVec3) -> Option<(f64, f64, f64, f64)> {
+    let e = du.dot(du);
+    let f = du.dot(dv);
+    let g = dv.dot(dv);
+    let det_i = e * g - f * f;
+    (det_i > tolerance::MIN_AREA_ELEMENT * tolerance::MIN_AREA_ELEMENT && normal != DVec3::ZERO)
+        .then_some((e, f, g, det_i))
+}
+
 /// Fundamental forms at a regular point, from which every local quantity follows.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LocalGeometry {
@@ -57,13 +70,7 @@ impl LocalGeometry {
     /// e.g. a sphere pole) where the first fundamental form cannot be inverted.
     #[must_use]
     pub fn try_new(d: SurfaceDerivs) -> Option<Self> {
-        let e = d.du.dot(d.du);
-        let f = d.du.dot(d.dv);
-        let g = d.dv.dot(d.dv);
-        let det_i = e * g - f * f;
-        if !(det_i > tolerance::MIN_AREA_ELEMENT * tolerance::MIN_AREA_ELEMENT) || d.normal == DVec3::ZERO {
-            return None;
-        }
+        let (e, f, g, det_i) = first_form_if_regular(d.du, d.dv, d.normal)?;
         let nrm = d.normal;
         Some(Self { d, e, f, g, l: d.duu.dot(nrm), m: d.duv.dot(nrm), n: d.dvv.dot(nrm), det_i })
     }

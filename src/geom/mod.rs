@@ -27,8 +27,8 @@ mod surface;
 
 pub use curve::{Curve3, HermitePath};
 pub use cutter::{BodySpec, Cutter, CutterError, CutterKind, Taper};
-pub(crate) use diffgeo::solve_tangent;
 pub use diffgeo::{LocalGeometry, Principal};
+pub(crate) use diffgeo::{first_form_if_regular, solve_tangent};
 pub use domain::{Domain, ParamRange, ParamUnit};
 pub use frame::{Frame, any_perpendicular};
 pub use nurbs::{NurbsCurve, NurbsError, NurbsSurface};

@@ -45,6 +45,12 @@ pub struct FirstOrder {
     pub normal: DVec3,
 }
 
+impl From<SurfaceDerivs> for FirstOrder {
+    fn from(d: SurfaceDerivs) -> Self {
+        Self { point: d.point, du: d.du, dv: d.dv, normal: d.normal }
+    }
+}
+
 /// A parametric surface with derivatives and an oriented normal.
 pub trait ParametricSurface {
     /// r(u, v) in mm; `uv` in internal units.
@@ -63,8 +69,7 @@ pub trait ParametricSurface {
     /// extra work (NURBS) skip it. For callers that place a cutter on the surface and need
     /// no curvature.
     fn first_order_at(&self, uv: DVec2) -> FirstOrder {
-        let d = self.derivatives_at(uv);
-        FirstOrder { point: d.point, du: d.du, dv: d.dv, normal: d.normal }
+        self.derivatives_at(uv).into()
     }
     /// [`Self::tangents_at`] to rounding, not necessarily to the last bit: a NURBS evaluates
     /// its power form ([`super::nurbs`]), several times faster. For callers whose answer

@@ -262,10 +262,7 @@ impl ParametricSurface for Surface {
     fn first_order_at(&self, uv: DVec2) -> FirstOrder {
         match self {
             Self::Nurbs(s) => s.first_order_at(uv),
-            _ => {
-                let d = self.derivatives_at(uv);
-                FirstOrder { point: d.point, du: d.du, dv: d.dv, normal: d.normal }
-            }
+            _ => self.derivatives_at(uv).into(),
         }
     }
     #[inline]

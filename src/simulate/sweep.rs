@@ -472,8 +472,9 @@ fn quadratic_le_zero(qa: f64, qb: f64, qc: f64, lo: f64, hi: f64) -> Option<(f64
 /// (the distance to a convex set is), so Newton's steps from either end of the bracket (the
 /// cylinder of radius R around the corner) move monotonically toward the root on that side,
 /// each landing short of it (a convex function lies above its tangents), and a slope that
-/// turns before the excess reaches 0 shows the ray misses. A handful of steps a root where
-/// golden sections for the minimum and two bisections took some ninety evaluations.
+/// turns before the excess reaches 0 shows the ray misses: 2.0–3.7 evaluations a root on the
+/// examples' programs, where golden sections for the minimum and two bisections took some
+/// ninety.
 fn fillet_corner(tool: &ToolShape, tip: DVec3, axis: DVec3, x: f64, y: f64) -> Option<(f64, f64)> {
     let r = tool.corner_mm;
     let r0 = tool.torus_mm();

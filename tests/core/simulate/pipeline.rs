@@ -146,7 +146,7 @@ fn the_work_of_five_axis_moves_is_weighed_by_their_measured_cost() {
     use glam::DVec3;
     use interpolab::fiveaxis::Joints;
     use interpolab::simulate::canon::MachineSetup;
-    use interpolab::simulate::{DexelStock, JOINT_UPDATE_COST, MoveKind, SimMove, Simulation};
+    use interpolab::simulate::{CRASH_VISIT_COST, DexelStock, JOINT_UPDATE_COST, MoveKind, SimMove, Simulation};
     let m = MachineSetup::from_name("head-bc", 0.0).unwrap().machine;
     let joints = |x: f64| Joints { xyz_mm: DVec3::new(x, 0.0, -0.5), rotary_rad: [0.2, 0.0] };
     let stock = DexelStock::block([-10.0, -10.0, -5.0], [10.0, 10.0, 0.0], 0.1).unwrap();
@@ -168,4 +168,24 @@ fn the_work_of_five_axis_moves_is_weighed_by_their_measured_cost() {
     assert!(straight > 1000 && joint > 1000, "{c:?}");
     assert_eq!(c.joint_updates, joint);
     assert_eq!(sim.work_done(), straight as f64 + JOINT_UPDATE_COST * joint as f64);
+
+    // A cutter whose shank starts 1 mm above the tip, run 4 mm deep: its 5-axis move's part
+    // checks visit rays of stock above the shank's lowest point, and they count too.
+    let short = Cutter::try_new(2.0, 0.0, 1.0, 2.0, 6.0, 5.0, 10.0).unwrap();
+    let stock = DexelStock::block([-10.0, -10.0, -5.0], [10.0, 10.0, 0.0], 0.1).unwrap();
+    let mut deep = Simulation::new(stock, &short);
+    let low = |x: f64| Joints { xyz_mm: DVec3::new(x, 0.0, -4.0), rotary_rad: [0.2, 0.0] };
+    deep.apply(&SimMove {
+        kind: MoveKind::Joints { machine: m, from: low(-8.0), to: low(8.0) },
+        line: 1,
+        rapid: false,
+    });
+    let c = *deep.counters();
+    assert!(c.crash_visits > 1000 && c.crash_visits <= c.rays_visited, "{c:?}");
+    assert_eq!(
+        deep.work_done(),
+        (c.ray_updates - c.joint_updates) as f64
+            + JOINT_UPDATE_COST * c.joint_updates as f64
+            + CRASH_VISIT_COST * c.crash_visits as f64
+    );
 }
