@@ -8,8 +8,9 @@ use glam::{DVec2, DVec3};
 use interpolab::fillet::contact::{ContactFrame, CrossProfile, Pose, effective_curvature, gouge_margin, place};
 use interpolab::fillet::orient::{OrientOptions, Strategy, pose_at};
 use interpolab::fillet::paths::{
-    Built, CHECK_COST_SAMPLE, FinishOptions, FinishSetup, IsoScallopSteps, Layout, MAX_CHECK_CELLS_PER_NODE, PathSet,
-    PathStart, check_stop, iso_parametric, iso_scallop, iso_scallop_checked, lead_out_mm,
+    Built, CHECK_COST_SAMPLE, CHECK_STOP_FACTOR, FinishOptions, FinishSetup, IsoScallopSteps, Layout,
+    MAX_CHECK_CELLS_PER_NODE, PILOT_LOW_BY, PathSet, PathStart, check_stop, estimate_check_cells, iso_parametric,
+    iso_scallop, iso_scallop_checked, lead_out_mm,
 };
 use interpolab::fillet::{FinishError, FinishJob, PartSamples, gouge};
 use interpolab::geom::{Cutter, LocalGeometry, ParametricSurface, Plane, ProjectOptions, Surface, project_point};
@@ -1751,20 +1752,37 @@ fn a_job_whose_side_steps_check_too_much_is_refused_within_one_check_of_its_limi
 
 /// The patch with its middle control point [2][2] raised to z = 360 mm (a case the fuzzer
 /// found): its pilot estimates 3.5·10⁷ cells, under the budget, and the job passes its
-/// checks' stop (10⁸ cells, after 18 s of CPU). The cost per CC point of the paths built,
-/// projected over the points the pilot estimated, refuses it within a tenth of the stop.
+/// checks' stop (10⁸ cells, after 18 s of CPU). A pilot can read a folded surface's job 2–3
+/// times low, so at the defaults the pilot refuses it before its paths (three times its
+/// estimate passes the stop). With a budget whose stop lets that estimate through, the cost
+/// per CC point of the paths built, projected over the points the pilot estimated, refuses
+/// it within a tenth of the stop.
 #[test]
 fn a_job_whose_points_cost_more_than_its_pilot_said_is_refused_early() {
     let jb = job_with_point("finish-bicubic-patch", [2, 2], |p| p[2] = serde_json::json!(360.0));
     let part = PartSamples::new(&jb.surface, jb.options.part_grid);
     match iso_scallop(&jb.setup(&part)) {
         Err(FinishError::TooMuchChecking { detail }) => {
+            assert!(detail.contains("estimated before the paths are built"), "{detail}");
+        }
+        other => panic!("expected the job refused by its pilot: {:?}", other.map(|s| s.paths.len())),
+    }
+    assert!(part.cells_checked() < jb.options.max_check_cells / 20, "{} cells checked", part.cells_checked());
+    // The least budget whose stop lets the pilot's estimate through.
+    let estimate = estimate_check_cells(&jb.setup(&PartSamples::new(&jb.surface, jb.options.part_grid))).unwrap();
+    let opts = FinishOptions {
+        max_check_cells: (PILOT_LOW_BY * estimate / CHECK_STOP_FACTOR).ceil() as u64 + 1,
+        ..jb.options
+    };
+    let part = PartSamples::new(&jb.surface, jb.options.part_grid);
+    match iso_scallop(&FinishSetup { options: &opts, ..jb.setup(&part) }) {
+        Err(FinishError::TooMuchChecking { detail }) => {
             assert!(detail.contains("cells a CC point on the"), "{detail}");
         }
         other => panic!("expected the job refused by its checks' projection: {:?}", other.map(|s| s.paths.len())),
     }
-    let stop = check_stop(jb.options.max_check_cells);
-    assert!(part.cells_checked() < stop / 10, "{} cells checked", part.cells_checked());
+    let stop = check_stop(opts.max_check_cells);
+    assert!(part.cells_checked() < stop / 10, "{} cells checked, stop {stop}", part.cells_checked());
 }
 
 /// The patch with its corner control point [0][3] moved onto [0][0] (a case the fuzzer

@@ -30,13 +30,17 @@ pub struct Pilot {
 
 /// The certified check cells the iso-scallop job `setup` would spend, estimated by the
 /// pilot its own start runs ([`MAX_CHECK_CELLS`]): for a comparison table, which refuses
-/// before any plan when its plans together would pass the budget they share. 0 when the
-/// pilot solved no side step.
+/// before any plan when its plans together would pass the budget they share (so the pilot
+/// does not refuse the job for its cells here, only for its paths and CC points). 0 when
+/// the pilot solved no side step.
 ///
 /// # Errors
-/// A bad option or start, no path at the start, or a job refused by its own pilot.
+/// A bad option or start, no path at the start, or a job whose pilot's paths or CC points
+/// pass their caps.
 pub fn estimate_check_cells(setup: &FinishSetup) -> Result<f64, FinishError> {
-    Ok(pilot(setup)?.map_or(0.0, |p| p.check_cells))
+    let ctx = Ctx::start(setup)?;
+    let poly = ctx.first_polyline(setup.start)?;
+    Ok(ctx.sized_pilot(&poly)?.map_or(0.0, |p| p.check_cells))
 }
 
 /// The pilot the iso-scallop job `setup` starts with (as its own start runs it), for an
@@ -78,6 +82,17 @@ pub const MAX_CHECK_CELLS: u64 = 50_000_000;
 /// take 0.34–9.3 times its estimate (0.78 at the median).
 pub const CHECK_STOP_FACTOR: f64 = 2.0;
 
+/// How many times low a job's pilot may read and its job still be built: a job is refused
+/// by its pilot when this many times its estimate passes the checks' stop ([`check_stop`];
+/// at the defaults an estimate over 3.3·10⁷ cells, a third of the stop), within a second,
+/// rather than stopped after most of its work. The pilot's runs do not see the side-step
+/// corrector's paths built again, and on a strongly folded surface the job checks 2–3 times
+/// the cells a CC point its pilot measured: the bicubic patch with one control point raised
+/// 360 mm (fuzz cases; [2][0], [0][2], [1][2], [2][3], [3][2]) reads 3.5–4.3·10⁷ cells and
+/// takes 8.2·10⁷ to over 10⁸ (more than 1.1·10⁸ where it reaches the stop). The examples'
+/// jobs read 0.9–12·10⁶.
+pub const PILOT_LOW_BY: f64 = 3.0;
+
 /// The pilot's cells, measured on its runs, are multiplied by this: the job builds paths
 /// the pilot does not (the side-step corrector builds a path again where the measured cusp
 /// leaves its band, and its narrower steps make more paths), measured 1.7 times the
@@ -88,9 +103,12 @@ pub const PILOT_CELLS_FACTOR: f64 = 1.7;
 /// refused when its cells extrapolated from the share of the surface it has covered read
 /// this many times its stop: the extrapolation's own error (the mould's fixed-lead plan
 /// reads 1.45–2.1 times its final cost at 6–9 % of its surface, the unseen surfaces up to
-/// 3.9 times early on). A job with a pilot reads it only past [`PROJECT_CELLS_UNTIL`] of
-/// the stop; before, it projects its cost per CC point over the pilot's CC points
-/// (`IsoScallopSteps::refuse_costly_checks`).
+/// 3.9 times early on). A job with a pilot does not read it: it projects its cost per CC
+/// point over the pilot's CC points (`IsoScallopSteps::refuse_costly_checks`), and past
+/// [`PROJECT_CELLS_UNTIL`] of the stop only the stop stops it. Read there, the share refused
+/// fuzz jobs after 2–5 s that complete in 8–20 s: their checks' cost is not spread evenly
+/// over the surface (the patch with a corner moved onto another reads 10–13 times its
+/// final cells at 1–5 % of its surface, the blade with [2][0] moved to x = 3, 7–16 times).
 pub(super) const EXTRAPOLATION_ROOM: f64 = 2.0;
 
 /// Share of the checks' stop up to which an iso-scallop job's cost per CC point is
@@ -100,8 +118,7 @@ pub(super) const EXTRAPOLATION_ROOM: f64 = 2.0;
 /// that covers less of the surface than its pilot: a fuzz patch with an edge control point
 /// pulled 360 mm out, folded, whose far part is refused point by point, completes with
 /// 4.0·10⁷ cells over 5 700 CC points where its pilot counted 19 600, and its projection
-/// passes the stop from 1.2·10⁷ cells on. Past it the share of the surface covered is
-/// read, as before ([`EXTRAPOLATION_ROOM`]).
+/// passes the stop from 1.2·10⁷ cells on. Past it only the stop itself stops the job.
 pub(super) const PROJECT_CELLS_UNTIL: f64 = 0.1;
 
 /// Where a job's checks stop: [`CHECK_STOP_FACTOR`] × its budget.
@@ -120,9 +137,9 @@ pub const ESTIMATE_MARGIN: f64 = 1.25;
 pub const ESTIMATE_AFTER_SHARE: f64 = 0.05;
 
 /// Cells checked after which an iso-scallop job's checks' total cost is projected: from
-/// the cost per CC point over its pilot's CC points (refused above the checks' stop), and
-/// from the share of the surface covered, from this share on (refused at twice the stop;
-/// for a job with a pilot past `PROJECT_CELLS_UNTIL` of the stop).
+/// the cost per CC point over its pilot's CC points (refused above the checks' stop), and,
+/// for a job without a pilot, from the share of the surface covered, from this share on
+/// (refused at twice the stop).
 pub const CELLS_ESTIMATE_AFTER_SHARE: f64 = 0.01;
 
 /// See [`CELLS_ESTIMATE_AFTER_SHARE`].
@@ -233,7 +250,8 @@ impl Ctx<'_> {
     }
 
     /// Refuses a job whose paths would pass their caps by more than [`ESTIMATE_MARGIN`], or
-    /// whose checks would pass [`MAX_CHECK_CELLS`], before they are built. A pilot on the
+    /// whose checks could pass their stop ([`PILOT_LOW_BY`] times the estimate over
+    /// [`check_stop`]), before they are built. A pilot on the
     /// first path's polyline and on [`PILOT_LINES`] − 1 iso-curves across the surface: each
     /// line's forward steps counted (no orientation or check), [`PILOT_RUNS`] runs of
     /// [`PILOT_RUN`] of them built as paths (oriented, checked, chords certified) and their
@@ -245,6 +263,22 @@ impl Ctx<'_> {
     /// 4.0·10⁷ and 4.6·10⁷ cells, under the budget, and ran 14–19 s to the checks' stop;
     /// this reads 6.1·10⁷ and 5.4·10⁷ and refuses them.
     pub(super) fn refuse_oversized(&self, poly: &[DVec2]) -> Result<Option<Pilot>, FinishError> {
+        let Some(est) = self.sized_pilot(poly)? else { return Ok(None) };
+        let (cells, cells_per_node, nodes) = (est.check_cells, est.cells_per_point, est.cc_points);
+        let stop = check_stop(self.opts.max_check_cells);
+        if PILOT_LOW_BY * cells > stop as f64 {
+            return Err(FinishError::TooMuchChecking {
+                detail: format!(
+                    "could pass their stop of {stop} cells: about {cells:.2e} over about {nodes:.0} CC points (estimated before the paths are built, {cells_per_node:.0} cells a point on a pilot, with the paths it does not build), and a job can take {PILOT_LOW_BY} times its estimate"
+                ),
+            });
+        }
+        Ok(Some(est))
+    }
+
+    /// The pilot of [`Self::refuse_oversized`], refused only for its paths or CC points (a
+    /// comparison table weighs its plans' cells together).
+    fn sized_pilot(&self, poly: &[DVec2]) -> Result<Option<Pilot>, FinishError> {
         let Some(est) = self.pilot(poly)? else { return Ok(None) };
         let (paths, nodes) = (est.paths, est.cc_points);
         if paths > ESTIMATE_MARGIN * self.opts.max_paths as f64 || nodes > ESTIMATE_MARGIN * self.opts.max_nodes as f64
@@ -254,15 +288,6 @@ impl Ctx<'_> {
                 nodes,
                 max_paths: self.opts.max_paths,
                 max_nodes: self.opts.max_nodes,
-            });
-        }
-        let (cells, cells_per_node) = (est.check_cells, est.cells_per_point);
-        let max = self.opts.max_check_cells;
-        if cells > max as f64 {
-            return Err(FinishError::TooMuchChecking {
-                detail: format!(
-                    "would pass {max} cells: about {cells:.2e} over about {nodes:.0} CC points (estimated before the paths are built, {cells_per_node:.0} cells a point on a pilot, with the paths it does not build)"
-                ),
             });
         }
         Ok(Some(est))

@@ -444,16 +444,15 @@ impl IsoScallopSteps {
                     max_nodes: opts.max_nodes,
                 });
             }
-            // The checks' cost from the share covered, refused when it reads twice the stop:
-            // without a pilot, or past the window where the cost per CC point is projected
-            // over the pilot's (`refuse_costly_checks`). Read earlier, it refused jobs whose
-            // first paths cover little of the surface; read later, it still stops what it
-            // stopped before: a fuzz patch folded by an edge control point, its paths built
-            // within a table's reach, is refused after 17.6 s, where without it the job ran
-            // 50 s to a program that could not be written.
+            // The checks' cost from the share covered, refused when it reads twice the stop,
+            // for a job without a pilot only. With one, the cost per CC point is projected
+            // over the pilot's points early on (`refuse_costly_checks`), and later the stop
+            // itself stops the job: the share read early is far out where the checks' cost
+            // is not spread evenly over the surface (fuzz jobs that complete in 8–20 s read
+            // 7–16 times their final cells early on, and were refused by it after 2–5 s).
             let cells = part.cells_checked().saturating_sub(self.cells_at_start) as f64;
             let stop = check_stop(opts.max_check_cells) as f64;
-            if (self.pilot_nodes == 0.0 || cells > PROJECT_CELLS_UNTIL * stop)
+            if self.pilot_nodes == 0.0
                 && share >= CELLS_ESTIMATE_AFTER_SHARE
                 && cells >= CELLS_ESTIMATE_AFTER
                 && cells / share > EXTRAPOLATION_ROOM * stop
@@ -486,11 +485,10 @@ impl IsoScallopSteps {
     /// from the share of the surface covered it read up to 3.9 times. That extrapolation
     /// refused jobs that complete in 4 s under the budget (fuzz cases with a corner of the
     /// patch pulled onto another, whose first paths' far end hardly moves), and let one whose
-    /// pilot was low (the patch with its middle raised 360 mm) run to the stop, 18 s; this
-    /// refuses it after 5.6·10⁶ cells, 1.2–1.4 s. It reads high where the job covers less of the
-    /// surface than its pilot (a fold whose far part is refused point by point): hence the
-    /// window. Past it the share of the surface covered is read again, as before (refused at
-    /// twice the stop).
+    /// pilot was low (the patch with its middle raised 360 mm) run to the stop, 18 s (that
+    /// job's pilot now refuses it, [`PILOT_LOW_BY`](super::PILOT_LOW_BY)). It reads
+    /// high where the job covers less of the surface than its pilot (a fold whose far part
+    /// is refused point by point): hence the window. Past it only the stop stops the job.
     fn refuse_costly_checks(&self, part: &PartSamples, opts: &FinishOptions) -> Result<(), FinishError> {
         let cells = part.cells_checked().saturating_sub(self.cells_at_start) as f64;
         let used = (opts.max_nodes - self.budget) as f64;
