@@ -4,7 +4,8 @@
 //! Between two CC nodes the design is the cutter placed at the CC point interpolated
 //! linearly in (u, v) with the orientation (α, ψ) and the feed interpolated linearly too —
 //! what the orientation would be if computed there. The path parameter s is the cumulative
-//! CC chord length (mm).
+//! CC chord length (mm), or a share of the tool tips' chord where the tip moves far more
+//! than the contact point ([`TIP_CHORD_SHARE`]).
 //!
 //! A lead-in or lead-out node ([`CcNode::lead_out`]) is the first or last cutter moved along
 //! its feed with the surface's continuation; between it and its CC node tip and axis are
@@ -42,6 +43,16 @@ pub fn for_machine<'a>(machine: &'a Machine, setup: &FinishSetup<'a>) -> FinishS
     FinishSetup { reach: Some(machine), ..*setup }
 }
 
+/// A chord's length in the design path's parameter s is its CC points' distance, or this
+/// share of its tool tips' distance when that is more. Two neighbouring nodes can hold
+/// (nearly) the same CC point in different poses (on a folded surface, the gouge checks
+/// turning one of them): the tip jumps while s does not move, and the program's steps
+/// underflow at the jump. A fuzz patch (the example's control point [3][1] moved to
+/// y = 360 mm) has a chord of 1.4·10⁻⁷ mm over which the tip moves 2.7 mm; its program was
+/// refused after 19 s. Elsewhere the tips move about as far as the CC points, and s is
+/// the CC chord length as before.
+pub const TIP_CHORD_SHARE: f64 = 0.1;
+
 /// One path's CL data as a design path (module docs).
 #[derive(Clone, Debug)]
 pub struct FilletDesignPath<'a> {
@@ -60,7 +71,9 @@ impl<'a> FilletDesignPath<'a> {
         }
         let mut cum = vec![0.0];
         for w in nodes.windows(2) {
-            let l = cum.last().copied().unwrap_or(0.0) + (w[1].frame.point - w[0].frame.point).length();
+            let contact = (w[1].frame.point - w[0].frame.point).length();
+            let tip = (w[1].tip - w[0].tip).length();
+            let l = cum.last().copied().unwrap_or(0.0) + contact.max(TIP_CHORD_SHARE * tip);
             cum.push(l);
         }
         Some(Self { surface, cutter, nodes, cum })

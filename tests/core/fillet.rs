@@ -491,6 +491,37 @@ fn paths_for_a_machine_keep_its_travel_and_plan_where_the_others_cannot() {
     assert!(blocks.iter().all(|b| b.rotary_rad[0].abs() <= limit + 1e-9), "a block past ±92°");
 }
 
+/// Two neighbouring nodes at one CC point in two poses (on a folded surface the gouge
+/// checks can turn one of two points a hair apart: a fuzz patch had a chord of 1.4·10⁻⁷ mm
+/// over which the tip moves 2.7 mm, and its program was refused, the steps underflowing at
+/// the jump). The design path's parameter grows with the tip there
+/// (`program::TIP_CHORD_SHARE`): the program turns the tool about the point in steps, each
+/// within the tolerance, where it used to refuse the path.
+#[test]
+fn a_pose_turned_at_one_cc_point_is_planned_in_steps() {
+    use interpolab::fillet::program::plan_path_pieces;
+    let j = job("finish-bicubic-patch");
+    let part = PartSamples::new(&j.surface, j.options.part_grid);
+    let set = iso_scallop(&j.setup(&part)).unwrap();
+    let tool = j.strategy.cutter_for(&j.cutter);
+    let path = &set.paths[set.paths.len() / 2];
+    let k = path.nodes.len() / 2;
+    assert!(!path.nodes[k].lead_out);
+    let plain = plan_path_pieces(&j.machine, &j.surface, &tool, &path.nodes, 0.01).unwrap();
+    let mut turned = path.nodes[k];
+    turned.pose = Pose { inclination_rad: turned.pose.inclination_rad + 0.3, ..turned.pose };
+    (turned.tip, turned.axis) = place(&tool, &turned.frame, &turned.pose);
+    let jump = (turned.tip - path.nodes[k].tip).length();
+    assert!(jump > 1.0, "the tip moves {jump} mm");
+    let mut nodes = path.nodes.clone();
+    nodes.insert(k + 1, turned);
+    let pieces = plan_path_pieces(&j.machine, &j.surface, &tool, &nodes, 0.01).unwrap();
+    let count = |p: &[Vec<interpolab::fiveaxis::Joints>]| p.iter().map(Vec::len).sum::<usize>();
+    // The turn is stepped: more blocks than the path without it, in as many pieces.
+    assert_eq!(pieces.len(), plain.len());
+    assert!(count(&pieces) > count(&plain) + 2, "{} blocks, {} without the turn", count(&pieces), count(&plain));
+}
+
 #[test]
 fn a_careless_lead_gouges_the_mould_and_the_checks_fix_it() {
     let uv = DVec2::new(0.5, 0.5);
