@@ -47,7 +47,7 @@ pub fn for_machine<'a>(machine: &'a Machine, setup: &FinishSetup<'a>) -> FinishS
 /// share of its tool tips' distance when that is more. Two neighbouring nodes can hold
 /// (nearly) the same CC point in different poses (on a folded surface, the gouge checks
 /// turning one of them): the tip jumps while s does not move, and the program's steps
-/// underflow at the jump. A fuzz patch (the example's control point [3][1] moved to
+/// underflow at the jump. A fuzz patch (the example's control point `[3][1]` moved to
 /// y = 360 mm) has a chord of 1.4·10⁻⁷ mm over which the tip moves 2.7 mm; its program was
 /// refused after 19 s. Elsewhere the tips move about as far as the CC points, and s is
 /// the CC chord length as before.

@@ -88,7 +88,7 @@ pub const CHECK_STOP_FACTOR: f64 = 2.0;
 /// rather than stopped after most of its work. The pilot's runs do not see the side-step
 /// corrector's paths built again, and on a strongly folded surface the job checks 2–3 times
 /// the cells a CC point its pilot measured: the bicubic patch with one control point raised
-/// 360 mm (fuzz cases; [2][0], [0][2], [1][2], [2][3], [3][2]) reads 3.5–4.3·10⁷ cells and
+/// 360 mm (fuzz cases; `[2][0]`, `[0][2]`, `[1][2]`, `[2][3]`, `[3][2]`) reads 3.5–4.3·10⁷ cells and
 /// takes 8.2·10⁷ to over 10⁸ (more than 1.1·10⁸ where it reaches the stop). The examples'
 /// jobs read 0.9–12·10⁶.
 pub const PILOT_LOW_BY: f64 = 3.0;
@@ -108,7 +108,7 @@ pub const PILOT_CELLS_FACTOR: f64 = 1.7;
 /// [`PROJECT_CELLS_UNTIL`] of the stop only the stop stops it. Read there, the share refused
 /// fuzz jobs after 2–5 s that complete in 8–20 s: their checks' cost is not spread evenly
 /// over the surface (the patch with a corner moved onto another reads 10–13 times its
-/// final cells at 1–5 % of its surface, the blade with [2][0] moved to x = 3, 7–16 times).
+/// final cells at 1–5 % of its surface, the blade with `[2][0]` moved to x = 3, 7–16 times).
 pub(super) const EXTRAPOLATION_ROOM: f64 = 2.0;
 
 /// Share of the checks' stop up to which an iso-scallop job's cost per CC point is
