@@ -258,7 +258,7 @@ pub fn compare(job: &FinishSetup) -> Result<Vec<Comparison>, FinishError> {
     let mut estimated = 0.0;
     for s in strategies {
         each.push(2.0 * paths::estimate_check_cells(&setup(s))?);
-        estimated = each.iter().sum();
+        estimated += each[each.len() - 1];
         if estimated > opts.max_check_cells as f64 {
             return Err(FinishError::TooMuchChecking {
                 detail: format!(
