@@ -16,11 +16,14 @@ use serde_json::{Value, json};
 
 use super::{Fatal, OutFormat};
 
-use interpolab::fillet::program::{FinishGcode, for_machine};
+use interpolab::fillet::paths::share_after_paths;
+use interpolab::fillet::program::{FinishGcode, FinishProgramError, MAX_PLAN_DESIGNS, for_machine};
 use interpolab::fillet::{
     FinishError, FinishJob, FinishSetup, PartSamples, PathSet, PathStart, Strategy, compare, iso_parametric,
     iso_scallop,
 };
+use interpolab::fiveaxis::FiveAxisError;
+use interpolab::numerics::limits::CommandShare;
 use interpolab::report::{fmt_fixed, fmt_num, one_line};
 use interpolab::scene::finish::FinishScene;
 
@@ -298,7 +301,7 @@ pub(super) fn finish(a: &FinishArgs) -> Result<ExitCode, Fatal> {
     // The 5-axis program is planned before the CL data is written: a tolerance it cannot
     // meet within its bounds is refused with nothing written.
     let gcode = match &a.gcode {
-        Some(g) => Some((g, plan_gcode(&job, &set, &name, a.gcode_tolerance)?)),
+        Some(g) => Some((g, plan_gcode(&job, &set, &name, a.gcode_tolerance, part.cells_checked())?)),
         None => None,
     };
     let data = rows(&job, &set);
@@ -396,9 +399,39 @@ pub(super) fn finish(a: &FinishArgs) -> Result<ExitCode, Fatal> {
     Ok(if set.refused.is_empty() { ExitCode::SUCCESS } else { ExitCode::from(1) })
 }
 
-fn plan_gcode(job: &FinishJob, set: &PathSet, name: &str, tol_mm: f64) -> Result<FinishGcode, Fatal> {
-    FinishGcode::plan(&job.machine, &job.surface, &job.cutter, set, job.options.feed_mm_per_min, tol_mm)
-        .map_err(|e| Fatal(format!("{name}: {e}")))
+/// The program of `set`, planned within the share of the command's work its paths left
+/// (their `cells_checked`: [`share_after_paths`]).
+fn plan_gcode(
+    job: &FinishJob,
+    set: &PathSet,
+    name: &str,
+    tol_mm: f64,
+    cells_checked: u64,
+) -> Result<FinishGcode, Fatal> {
+    let share = share_after_paths(cells_checked, job.options.max_check_cells);
+    let max_designs = share.cap(MAX_PLAN_DESIGNS);
+    FinishGcode::plan_within(
+        &job.machine,
+        &job.surface,
+        &job.cutter,
+        set,
+        job.options.feed_mm_per_min,
+        tol_mm,
+        max_designs,
+    )
+    .map_err(|e| {
+        let over = matches!(e, FinishProgramError::Plan { source: FiveAxisError::TooMuchWork { .. }, .. });
+        Fatal(format!("{name}: {e}{}", if over { left_note(share) } else { String::new() }))
+    })
+}
+
+/// What a refusal adds when the command's paths spent part of its work: how much they left.
+pub(super) fn left_note(share: CommandShare) -> String {
+    if share.left() < 1.0 {
+        format!(" (the paths' checks spent {:.0} % of the command's work)", 100.0 * (1.0 - share.left()))
+    } else {
+        String::new()
+    }
 }
 
 /// The refused CC points of a job on standard error's terms: one line per reason with how many,

@@ -10,16 +10,18 @@ use std::time::Instant;
 use clap::Args;
 use glam::DVec3;
 use interpolab::crease::CreaseJob;
-use interpolab::fillet::program::for_machine;
+use interpolab::fillet::paths::share_after_paths;
+use interpolab::fillet::program::{MAX_PLAN_DESIGNS, for_machine};
 use interpolab::fillet::{
     Built, FinishError, FinishJob, FinishSetup, PartSamples, PathSet, Strategy, iso_scallop_checked,
 };
 use interpolab::geom::Cutter;
+use interpolab::numerics::limits::CommandShare;
 use interpolab::scene::Scene;
 use interpolab::simulate::bench::BenchKind;
 use interpolab::simulate::finish::WorkProjection;
 use interpolab::simulate::pipeline::{self, Measures, SampleStep, ToolPoint};
-use interpolab::simulate::{Design, DexelStock, FinishProgram, Program, SimError, Simulation, stock_box_mm};
+use interpolab::simulate::{Design, DexelStock, FinishProgram, MAX_WORK, Program, SimError, Simulation, stock_box_mm};
 use interpolab::simulate::{INTERIOR_END_MM, INTERIOR_SIDE_MM, InteriorStats, interior_mask, interior_stats};
 use serde_json::json;
 
@@ -321,11 +323,19 @@ fn simulate_finish(a: &SimulateArgs, tol: f64) -> Result<ExitCode, Fatal> {
         point: ToolPoint::Tip,
         finish_info: None,
         interior_passes: None,
+        work_share: CommandShare::whole(),
     };
     let part = PartSamples::new(&job.surface, job.options.part_grid);
     let (set, stock) = finish_paths_metered(a, &job, strategy, &part, stock, &cutter, &how, tol, &name)?;
     let fp = FinishProgram::new(&job, &set, tol).map_err(|e| Fatal(format!("--finish {tol}: {e}")))?;
-    let program = fp.program().map_err(|e| Fatal(format!("{name}: {e}")))?;
+    // One command's work: the program is planned within what the paths left, and the run
+    // within what both left.
+    let mut share = share_after_paths(part.cells_checked(), job.options.max_check_cells);
+    let (program, designs) = fp.program_within(share.cap(MAX_PLAN_DESIGNS)).map_err(|e| {
+        let over = matches!(e, SimError::PlanWork { .. });
+        Fatal(format!("{name}: {e}{}", if over { super::finish::left_note(share) } else { String::new() }))
+    })?;
+    share.spend(designs as f64, MAX_PLAN_DESIGNS);
     let extra = json!({
         "label": fp.label,
         "pose_step_mm": pose_step,
@@ -336,7 +346,7 @@ fn simulate_finish(a: &SimulateArgs, tol: f64) -> Result<ExitCode, Fatal> {
         "step_tol_mm": tol,
         "refused": set.refused.len(),
     });
-    let how = RunHow { finish_info: Some(extra), interior_passes: Some(fp.cc_points()), ..how };
+    let how = RunHow { finish_info: Some(extra), interior_passes: Some(fp.cc_points()), work_share: share, ..how };
     let status = finish(a, &cutter, stock, &program, &fp.design(), how)?;
     // Named once the run is done, so that a refusal of the command (the run's meter) stays
     // its only line.
@@ -347,11 +357,11 @@ fn simulate_finish(a: &SimulateArgs, tol: f64) -> Result<ExitCode, Fatal> {
 }
 
 /// The paths of `simulate --finish`, as `finish --gcode` builds them (every pose within the
-/// machine's travel, [`interpolab::fillet::program::for_machine`]), and refused as soon as the
-/// simulation of their program would pass the work a run may do: by the job's pilot before
-/// any path, then projected from the share of the surface the paths cover
-/// ([`interpolab::simulate::finish::WorkProjection`]). Iso-parametric paths are built
-/// whole, then left to the run's meter. The stock comes back untouched, for the run.
+/// machine's travel, [`interpolab::fillet::program::for_machine`]), refused before any path
+/// when the job's pilot says the simulation of their program would pass the work a run may
+/// do by far ([`interpolab::simulate::finish::WorkProjection`]); what it misses, the run's
+/// meter stops, within what the paths and the program left of the command's work. The
+/// stock comes back untouched, for the run.
 #[allow(clippy::too_many_arguments)]
 fn finish_paths_metered(
     a: &SimulateArgs,
@@ -372,7 +382,7 @@ fn finish_paths_metered(
     if let Some(step) = how.sample_step.resolve(pitch, cutter) {
         sim = sim.with_sample_step(step);
     }
-    let mut projection = WorkProjection::new(&job.surface, &job.cutter, &job.machine, strategy, tol);
+    let projection = WorkProjection::new(&job.surface, &job.cutter, &job.machine, strategy, tol);
     if !matches!(a.layout, super::finish::LayoutArg::IsoScallop) {
         if let Some(pilot) = interpolab::fillet::paths::pilot(&setup).map_err(|e| fail(&e))? {
             projection.check_pilot(&sim, &pilot).map_err(|e| fail(&e))?;
@@ -380,12 +390,8 @@ fn finish_paths_metered(
         return Ok((super::finish::paths_for(job, strategy, a.layout, part, true, name)?, sim.into_stock()));
     }
     let set = iso_scallop_checked(&setup, |built| {
-        match built {
-            Built::Pilot(pilot) => projection.check_pilot(&sim, pilot)?,
-            Built::Path { path, covered, .. } => {
-                projection.add(&sim, path);
-                projection.check(covered)?;
-            }
+        if let Built::Pilot(pilot) = built {
+            projection.check_pilot(&sim, pilot)?;
         }
         Ok::<(), Stop>(())
     })
@@ -444,6 +450,9 @@ struct RunHow {
     /// The finishing program's contact points per pass: its interior band's statistics
     /// are added to the JSON (`interior`).
     interior_passes: Option<Vec<Vec<DVec3>>>,
+    /// The share of the command's work left for the run (a finishing program's paths and
+    /// planning spent the rest).
+    work_share: CommandShare,
 }
 
 impl RunHow {
@@ -455,6 +464,7 @@ impl RunHow {
             point: ToolPoint::Tip,
             finish_info: None,
             interior_passes: None,
+            work_share: CommandShare::whole(),
         }
     }
 }
@@ -467,19 +477,31 @@ fn finish(
     design: &Design,
     how: RunHow,
 ) -> Result<ExitCode, Fatal> {
-    let RunHow { sample_step, point, finish_info, interior_passes } = how;
+    let RunHow { sample_step, point, finish_info, interior_passes, work_share } = how;
     let chord_tol = chord_tol_mm(a);
     let sample_step = sample_step.resolve(stock.grid().pitch_mm, cutter);
     let t0 = Instant::now();
     // A run that would pass its work bound is refused as soon as its projection shows it.
     let (mut sim, meter) = pipeline::start_metered(stock, cutter, sample_step, program)
         .map_err(|e| Fatal(format!("{}: {e}", program_name(a))))?;
+    // After a finishing job's paths and program, the run has what they left.
+    let meter = meter.with_cap(work_share.cap(MAX_WORK));
     let mut done = 0;
     pipeline::machine(&mut sim, &program.moves, |sim| {
         done += 1;
         meter.check(sim, &program.moves, done)
     })
-    .map_err(|e| Fatal(format!("{}: {e}", program_name(a))))?;
+    .map_err(|e| {
+        let note = if matches!(e, SimError::TooMuchWorkDone { .. }) && work_share.left() < 1.0 {
+            format!(
+                " (the finishing job's paths and program spent {:.0} % of the command's work)",
+                100.0 * (1.0 - work_share.left())
+            )
+        } else {
+            String::new()
+        };
+        Fatal(format!("{}: {e}{note}", program_name(a)))
+    })?;
     let run_ms = t0.elapsed().as_secs_f64() * 1e3;
     let Ok(Measures { map, stats }) = pipeline::measure(sim.stock(), design, usize::MAX, |_| Ok::<(), Infallible>(()));
     let has_design = !matches!(design, Design::None);

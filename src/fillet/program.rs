@@ -19,6 +19,8 @@
 //! swept tool tip within E of its design path (the nonlinear error of seed 002, here on the
 //! tip of the fillet-end mill).
 
+use std::cell::Cell;
+
 use glam::{DVec2, DVec3};
 use thiserror::Error;
 
@@ -26,7 +28,7 @@ use super::FinishError;
 use super::contact::{ContactFrame, Pose, place};
 use super::node::CcNode;
 use super::orient::Strategy;
-use super::paths::{FinishSetup, PathSet, ToolPath};
+use super::paths::{FinishSetup, PathSet};
 use crate::fiveaxis::{
     CutterLocation, DesignPath, FiveAxisError, Joints, KinematicsError, Machine, StepOptions, StepPlan,
 };
@@ -60,6 +62,8 @@ pub struct FilletDesignPath<'a> {
     cutter: Cutter,
     nodes: &'a [CcNode],
     cum: Vec<f64>,
+    /// Designs evaluated between nodes so far (the planner's work, [`PlanBudget`]).
+    evaluations: Cell<u64>,
 }
 
 impl<'a> FilletDesignPath<'a> {
@@ -76,7 +80,7 @@ impl<'a> FilletDesignPath<'a> {
             let l = cum.last().copied().unwrap_or(0.0) + contact.max(TIP_CHORD_SHARE * tip);
             cum.push(l);
         }
-        Some(Self { surface, cutter, nodes, cum })
+        Some(Self { surface, cutter, nodes, cum, evaluations: Cell::new(0) })
     }
 
     fn segment(&self, s: f64) -> (usize, f64) {
@@ -94,6 +98,7 @@ impl<'a> FilletDesignPath<'a> {
         if t >= 1.0 {
             return Some((b.frame, b.tip, b.axis));
         }
+        self.evaluations.set(self.evaluations.get() + 1);
         design_between(self.surface, &self.cutter, a, b, t)
     }
 }
@@ -170,25 +175,69 @@ impl DesignPath for FilletDesignPath<'_> {
 /// Most blocks a finishing program may have over all its paths.
 pub const MAX_PROGRAM_BLOCKS: usize = 400_000;
 
-/// Blocks planned before the program's size is estimated from them.
+/// Most designs between CC nodes ([`design_between`]: a surface frame, the tool placed on
+/// it) a finishing program's planning may evaluate, over all its paths: its work, for
+/// each block's trial steps and their sampled errors evaluate the design 70–440 times
+/// (the examples' programs 80–450 times, the fuzz cases' 280–460). About 0.28 µs each
+/// natively (fuzz-case programs of 5–44 million evaluations), so some 28 s: about what the
+/// paths' checks may spend ([`super::paths::check_stop`]). A command that builds the paths
+/// first plans within the share of its work they left
+/// ([`crate::numerics::limits::CommandShare`]).
+pub const MAX_PLAN_DESIGNS: f64 = 1e8;
+
+/// Blocks planned before the program's size and work are estimated from them.
 const ESTIMATE_AFTER_BLOCKS: usize = 2_000;
 
-/// The program's block budget as its paths are planned: the design length (mm) of all
-/// paths, the length and the blocks planned so far.
-struct Budget {
+/// What a finishing program's planning may spend and has spent: its blocks (at most
+/// [`MAX_PROGRAM_BLOCKS`]) and its design evaluations (at most the budget's own cap), both
+/// projected over the whole design length from the part planned once
+/// 2 000 blocks are, so that a program on course to pass either is refused then.
+#[derive(Clone, Debug)]
+pub struct PlanBudget {
     total_mm: f64,
     done_mm: f64,
     blocks: usize,
+    designs: u64,
+    max_designs: f64,
 }
 
-impl Budget {
-    /// Whether, `blocks` more on `done_mm` more of the design, the program is on course to
-    /// exceed [`MAX_PROGRAM_BLOCKS`] (estimated in proportion to the length planned, once
-    /// [`ESTIMATE_AFTER_BLOCKS`] are).
-    fn over(&self, blocks: usize, done_mm: f64) -> bool {
-        let (b, d) = (self.blocks + blocks, self.done_mm + done_mm);
-        b >= MAX_PROGRAM_BLOCKS
-            || (b >= ESTIMATE_AFTER_BLOCKS && d > 0.0 && b as f64 * self.total_mm / d > MAX_PROGRAM_BLOCKS as f64)
+impl PlanBudget {
+    /// The budget of a program whose paths' design length is `total_mm` (mm; 0 when not
+    /// known: nothing is then projected, only what is spent is judged), which may evaluate
+    /// `max_designs` designs.
+    #[must_use]
+    pub fn new(total_mm: f64, max_designs: f64) -> Self {
+        Self { total_mm, done_mm: 0.0, blocks: 0, designs: 0, max_designs }
+    }
+
+    /// Design evaluations spent so far.
+    #[must_use]
+    pub fn designs(&self) -> u64 {
+        self.designs
+    }
+
+    /// Blocks planned so far.
+    #[must_use]
+    pub fn blocks(&self) -> usize {
+        self.blocks
+    }
+
+    /// The error that stops the program when, `blocks` more and `designs` more evaluations
+    /// on `done_mm` more of the design (the path being planned, up to `s`), it is on course
+    /// to pass [`MAX_PROGRAM_BLOCKS`] or its design evaluations.
+    fn over(&self, blocks: usize, done_mm: f64, designs: u64, tol_mm: f64, s: f64) -> Option<FiveAxisError> {
+        let (b, d, e) = (self.blocks + blocks, self.done_mm + done_mm, self.designs + designs);
+        let share = (b >= ESTIMATE_AFTER_BLOCKS && d > 0.0 && self.total_mm > d).then(|| self.total_mm / d);
+        if b >= MAX_PROGRAM_BLOCKS || share.is_some_and(|k| b as f64 * k > MAX_PROGRAM_BLOCKS as f64) {
+            return Some(FiveAxisError::TooManyNodes { tol_mm, max_nodes: MAX_PROGRAM_BLOCKS, s });
+        }
+        let projected = e as f64 * share.unwrap_or(1.0);
+        (!(projected <= self.max_designs)).then_some(FiveAxisError::TooMuchWork {
+            s,
+            evaluations: e,
+            projected,
+            max: self.max_designs,
+        })
     }
 }
 
@@ -199,7 +248,7 @@ fn plan_path_within(
     machine: &Machine,
     path: &FilletDesignPath<'_>,
     tol_mm: f64,
-    budget: &mut Budget,
+    budget: &mut PlanBudget,
 ) -> Result<StepPlan, FiveAxisError> {
     let mut opts = StepOptions::new(tol_mm);
     opts.reports = false;
@@ -209,8 +258,10 @@ fn plan_path_within(
         while !planner.is_done() {
             let node = planner.next_node(machine, path)?;
             let s = node.block.location.s;
-            if planner.nodes().len() % 256 == 0 && budget.over(planner.nodes().len(), s - start) {
-                return Err(FiveAxisError::TooManyNodes { tol_mm, max_nodes: MAX_PROGRAM_BLOCKS, s });
+            if planner.nodes().len() % 256 == 0
+                && let Some(e) = budget.over(planner.nodes().len(), s - start, path.evaluations.get(), tol_mm, s)
+            {
+                return Err(e);
             }
         }
         Ok(planner.into_plan())
@@ -222,10 +273,26 @@ fn plan_path_within(
             run(&opts.with_method(crate::numerics::roots::RootMethod::Bisection))
         }
         other => other,
-    }?;
+    };
+    // Spent whether or not the path was planned (a run cut out of travel is planned again
+    // in parts).
+    budget.designs += path.evaluations.get();
+    let plan = plan?;
     budget.blocks += plan.nodes.len();
     budget.done_mm += end - start;
+    // Judged once more at the path's end: a path of fewer than 256 blocks is not judged
+    // inside its loop.
+    if let Some(e) = budget.over(0, 0.0, 0, tol_mm, end) {
+        return Err(e);
+    }
     Ok(plan)
+}
+
+/// The design length (s, mm: [`FilletDesignPath`]'s parameter) of paths of `nodes`, cut by
+/// `tool` (the one that machines), for a [`PlanBudget`].
+#[must_use]
+pub fn design_length_mm<'a>(surface: &Surface, tool: &Cutter, paths: impl Iterator<Item = &'a [CcNode]>) -> f64 {
+    paths.filter_map(|nodes| FilletDesignPath::new(surface, *tool, nodes)).map(|p| p.range().1).sum()
 }
 
 /// Most cuts the planner's errors make in one run of a path where the axis between its
@@ -253,7 +320,7 @@ fn plan_pieces(
     tool: &Cutter,
     nodes: &[CcNode],
     tol_mm: f64,
-    budget: &mut Budget,
+    budget: &mut PlanBudget,
 ) -> Result<Vec<Vec<Joints>>, FiveAxisError> {
     // A node out of travel is the paths' fault (built for no machine, or another), not the
     // design's between them: the planner's error, as it would stop there.
@@ -268,6 +335,7 @@ fn plan_pieces(
     }
     // The runs between chords whose design leaves the travel at one of its samples (most
     // such places, found without planning); the planner finds the rest.
+    budget.designs += u64::from(TRAVEL_SAMPLES_PER_CHORD - 1) * nodes.len().saturating_sub(1) as u64;
     let chord_out = |a: &CcNode, b: &CcNode| {
         (1..TRAVEL_SAMPLES_PER_CHORD).any(|i| {
             let t = f64::from(i) / f64::from(TRAVEL_SAMPLES_PER_CHORD);
@@ -307,7 +375,8 @@ fn plan_pieces(
 
 /// One path's program in pieces as [`FinishGcode::plan`] writes it (`plan_pieces`: cut
 /// where the axis between two nodes would leave the machine's travel), on its own: no
-/// budget but the blocks' cap, [`MAX_PROGRAM_BLOCKS`]. `cutter`: the one that machines.
+/// budget but the blocks' cap, [`MAX_PROGRAM_BLOCKS`], and [`MAX_PLAN_DESIGNS`].
+/// `cutter`: the one that machines.
 ///
 /// # Errors
 /// The planner's error; [`FiveAxisError::Kinematics`] out of travel past
@@ -319,8 +388,23 @@ pub fn plan_path_pieces(
     nodes: &[CcNode],
     tol_mm: f64,
 ) -> Result<Vec<Vec<Joints>>, FiveAxisError> {
-    let mut budget = Budget { total_mm: 0.0, done_mm: 0.0, blocks: 0 };
-    plan_pieces(machine, surface, cutter, nodes, tol_mm, &mut budget)
+    plan_path_pieces_within(machine, surface, cutter, nodes, tol_mm, &mut PlanBudget::new(0.0, MAX_PLAN_DESIGNS))
+}
+
+/// [`plan_path_pieces`] within a program's `budget`, which it spends.
+///
+/// # Errors
+/// As [`plan_path_pieces`]; [`FiveAxisError::TooManyNodes`] or
+/// [`FiveAxisError::TooMuchWork`] when the budget is passed.
+pub fn plan_path_pieces_within(
+    machine: &Machine,
+    surface: &Surface,
+    cutter: &Cutter,
+    nodes: &[CcNode],
+    tol_mm: f64,
+    budget: &mut PlanBudget,
+) -> Result<Vec<Vec<Joints>>, FiveAxisError> {
+    plan_pieces(machine, surface, cutter, nodes, tol_mm, budget)
 }
 
 /// Why a finishing program could not be planned.
@@ -361,11 +445,13 @@ pub struct FinishGcode {
     /// last. A path whose axis would leave the machine's travel between two nodes is written
     /// as several passes of the same index (`plan_pieces`).
     pub passes: Vec<(usize, Vec<Joints>)>,
+    /// Designs its planning evaluated ([`MAX_PLAN_DESIGNS`]).
+    pub designs: u64,
 }
 
 impl FinishGcode {
     /// Plans the steps of every path of `set` (cut by the strategy's cutter from `cutter`)
-    /// on `machine` within `tol_mm`.
+    /// on `machine` within `tol_mm`, evaluating at most [`MAX_PLAN_DESIGNS`] designs.
     ///
     /// # Errors
     /// [`FinishProgramError::Plan`] naming the path whose steps failed.
@@ -377,9 +463,27 @@ impl FinishGcode {
         feed_mm_per_min: f64,
         tol_mm: f64,
     ) -> Result<Self, FinishProgramError> {
+        Self::plan_within(machine, surface, cutter, set, feed_mm_per_min, tol_mm, MAX_PLAN_DESIGNS)
+    }
+
+    /// [`FinishGcode::plan`] evaluating at most `max_designs` designs (what a command's
+    /// paths left of its work: [`crate::numerics::limits::CommandShare`]).
+    ///
+    /// # Errors
+    /// As [`FinishGcode::plan`]; the path being planned when the program is on course to
+    /// pass `max_designs` ([`FiveAxisError::TooMuchWork`]).
+    pub fn plan_within(
+        machine: &Machine,
+        surface: &Surface,
+        cutter: &Cutter,
+        set: &PathSet,
+        feed_mm_per_min: f64,
+        tol_mm: f64,
+        max_designs: f64,
+    ) -> Result<Self, FinishProgramError> {
         let tool = set.strategy.cutter_for(cutter);
-        let total_mm = set.paths.iter().map(ToolPath::length_mm).sum();
-        let mut budget = Budget { total_mm, done_mm: 0.0, blocks: 0 };
+        let total_mm = design_length_mm(surface, &tool, set.paths.iter().map(|p| p.nodes.as_slice()));
+        let mut budget = PlanBudget::new(total_mm, max_designs);
         let mut passes = Vec::new();
         for (pi, p) in set.paths.iter().enumerate().filter(|(_, p)| p.nodes.len() >= 2) {
             for joints in plan_pieces(machine, surface, &tool, &p.nodes, tol_mm, &mut budget)
@@ -396,6 +500,7 @@ impl FinishGcode {
             tol_mm,
             feed_mm_per_min,
             passes,
+            designs: budget.designs(),
         })
     }
 

@@ -125,4 +125,20 @@ pub enum FiveAxisError {
         /// How far the nodes got.
         s: f64,
     },
+    /// Planning a program's steps would pass the design evaluations it may spend (a
+    /// finishing program: [`crate::fillet::program::MAX_PLAN_DESIGNS`], less what the
+    /// command's paths spent).
+    #[error(
+        "planning the steps would pass the {max:.2e} design evaluations left for it: {evaluations} by s = {s:.4}, on course for about {projected:.2e} over the whole program; raise the tolerance, or the scallop height for fewer paths"
+    )]
+    TooMuchWork {
+        /// Path parameter where the planning stopped.
+        s: f64,
+        /// Design evaluations spent so far.
+        evaluations: u64,
+        /// The whole program's, projected from those (at least the evaluations spent).
+        projected: f64,
+        /// What the planning may spend.
+        max: f64,
+    },
 }

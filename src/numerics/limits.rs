@@ -166,3 +166,49 @@ mod tests {
         assert!(read_text(&b"exactly!"[..], 7, "scene").is_err());
     }
 }
+
+/// The share of one command's work its parts have left, when one command runs several
+/// bounded parts in turn (`finish --gcode`: a finishing job's paths, then its program's
+/// planning; `simulate --finish`: those, then the simulation's run). Each part has a cap of
+/// its own (check cells, design evaluations, ray updates), each about the work of a whole
+/// command; alone each bounds its part, but not their sum. So what a part spent, as a share
+/// of its own cap, is taken from what the next ones may spend: the next part's cap is its
+/// own times the share left ([`CommandShare::cap`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CommandShare {
+    left: f64,
+}
+
+impl Default for CommandShare {
+    fn default() -> Self {
+        Self::whole()
+    }
+}
+
+impl CommandShare {
+    /// A command with nothing spent yet.
+    #[must_use]
+    pub const fn whole() -> Self {
+        Self { left: 1.0 }
+    }
+
+    /// Takes `spent` of a part whose cap is `cap` (the same unit) from the share left. A
+    /// cap that is not a positive number takes nothing; the share never goes below 0.
+    pub fn spend(&mut self, spent: f64, cap: f64) {
+        if cap > 0.0 && spent > 0.0 {
+            self.left = (self.left - spent / cap).max(0.0);
+        }
+    }
+
+    /// The share of the command's work left, in [0, 1].
+    #[must_use]
+    pub fn left(&self) -> f64 {
+        self.left
+    }
+
+    /// The cap of the next part whose own cap is `cap`: `cap` times the share left.
+    #[must_use]
+    pub fn cap(&self, cap: f64) -> f64 {
+        cap * self.left
+    }
+}

@@ -23,7 +23,7 @@ use super::interior::{INTERIOR_END_MM, INTERIOR_SIDE_MM, interior_mask};
 use super::stock::Grid;
 use super::{Design, MAX_WORK, MoveKind, PROJECTED_WORK_ROOM, Program, SimError, SimMove, Simulation};
 use crate::fillet::paths::Pilot;
-use crate::fillet::program::plan_path_pieces;
+use crate::fillet::program::{MAX_PLAN_DESIGNS, PlanBudget, design_length_mm, plan_path_pieces_within};
 use crate::fillet::{CcNode, FinishJob, PathSet, Strategy, ToolPath};
 use crate::fiveaxis::Machine;
 use crate::geom::{Cutter, ParametricSurface, Surface};
@@ -53,14 +53,6 @@ pub const WORK_PER_SEGMENT_VISIT: f64 = 2.1;
 pub fn work_per_visit(sim: &Simulation) -> f64 {
     if sim.sweep_tol_mm().is_some() { WORK_PER_SEGMENT_VISIT } else { WORK_PER_VISIT }
 }
-
-/// Share of the surface a finishing job's paths cover before [`WorkProjection::check`]
-/// projects the whole program's work from it (before: the work so far alone).
-pub const PROJECT_AFTER_SHARE: f64 = 0.05;
-
-/// One path in this many is planned and estimated by [`WorkProjection::add`]: with every
-/// path the projection added 10–37 % to `simulate --finish` on the examples (pitch 0.5–2 mm).
-pub const PROJECT_EVERY: usize = 4;
 
 /// How far over a run's stop ([`PROJECTED_WORK_ROOM`] × [`MAX_WORK`]) a finishing program's
 /// projected work may read before it is refused ([`WorkProjection`]): the room for the
@@ -133,7 +125,8 @@ impl FinishProgram {
     /// the program grows beyond [`super::program::MAX_MOVES`].
     pub fn plan_pass(&self, k: usize, program: &mut Program) -> Result<(), SimError> {
         let Some(nodes) = self.passes.get(k) else { return Ok(()) };
-        push_pass(&self.machine, &self.surface, &self.cutter, (k, nodes), self.step_tol_mm, program)
+        let mut budget = PlanBudget::new(0.0, MAX_PLAN_DESIGNS);
+        push_pass(&self.machine, &self.surface, &self.cutter, (k, nodes), self.step_tol_mm, program, &mut budget)
     }
 
     /// The whole program (every pass planned; see [`FinishProgram::plan_pass`]).
@@ -141,11 +134,24 @@ impl FinishProgram {
     /// # Errors
     /// As [`FinishProgram::plan_pass`].
     pub fn program(&self) -> Result<Program, SimError> {
+        self.program_within(MAX_PLAN_DESIGNS).map(|(program, _)| program)
+    }
+
+    /// The whole program, its planning evaluating at most `max_designs` designs (what a
+    /// command's paths left of its work: [`crate::numerics::limits::CommandShare`]), and the
+    /// designs it evaluated.
+    ///
+    /// # Errors
+    /// As [`FinishProgram::plan_pass`]; [`SimError::PlanWork`] naming the pass being planned
+    /// when the program is on course to pass `max_designs`.
+    pub fn program_within(&self, max_designs: f64) -> Result<(Program, u64), SimError> {
+        let total_mm = design_length_mm(&self.surface, &self.cutter, self.passes.iter().map(Vec::as_slice));
+        let mut budget = PlanBudget::new(total_mm, max_designs);
         let mut out = Program::default();
-        for k in 0..self.passes.len() {
-            self.plan_pass(k, &mut out)?;
+        for (k, nodes) in self.passes.iter().enumerate() {
+            push_pass(&self.machine, &self.surface, &self.cutter, (k, nodes), self.step_tol_mm, &mut out, &mut budget)?;
         }
-        Ok(out)
+        Ok((out, budget.designs()))
     }
 
     /// The contact points of every pass (mm), in travel order (lead-in and lead-out rows,
@@ -229,9 +235,9 @@ pub fn part_box(surface: &Surface) -> Option<(DVec3, DVec3)> {
 }
 
 /// One pass's seed-002 steps on `machine` (`cutter` the one that machines, steps within
-/// `step_tol_mm`) pushed onto `program` as joint moves: [`FinishProgram::plan_pass`]'s
-/// body, which [`WorkProjection`] runs on paths as they are built. `pass`: the pass's index
-/// (for the message) and its nodes.
+/// `step_tol_mm`, spending `budget`) pushed onto `program` as joint moves:
+/// [`FinishProgram::plan_pass`]'s body, which [`WorkProjection`] runs on the pilot's runs.
+/// `pass`: the pass's index (for the message) and its nodes.
 fn push_pass(
     machine: &Machine,
     surface: &Surface,
@@ -239,10 +245,14 @@ fn push_pass(
     pass: (usize, &[CcNode]),
     step_tol_mm: f64,
     program: &mut Program,
+    budget: &mut PlanBudget,
 ) -> Result<(), SimError> {
     let (k, nodes) = pass;
-    let pieces = plan_path_pieces(machine, surface, cutter, nodes, step_tol_mm)
-        .map_err(|e| SimError::Program(format!("pass {k}: the 5-axis steps cannot be planned — {e}")))?;
+    let pieces =
+        plan_path_pieces_within(machine, surface, cutter, nodes, step_tol_mm, budget).map_err(|e| match e {
+            e @ crate::fiveaxis::FiveAxisError::TooMuchWork { .. } => SimError::PlanWork { pass: k, source: e },
+            e => SimError::Program(format!("pass {k}: the 5-axis steps cannot be planned — {e}")),
+        })?;
     // A pass cut where the axis would leave the travel goes on after a rapid move, which
     // is left out as the linking moves are.
     for joints in &pieces {
@@ -258,11 +268,15 @@ fn push_pass(
 }
 
 /// A finishing program's simulation work ([`Simulation::work_done`], straight-move ray
-/// updates), estimated before its paths are built and projected while they are: so that a
-/// simulation that would pass [`MAX_WORK`] is refused in the first second of the job, not
-/// after its paths (seconds) and the first moves of the run. Each path's pass is planned as
-/// the program's will be; its moves' estimated ray visits ([`Simulation::estimate_move_visits`])
-/// times [`work_per_visit`] are its work.
+/// updates), estimated before its paths are built from the job's pilot: so that a
+/// simulation that would pass [`MAX_WORK`] by far is refused in the first second of the
+/// job, not after its paths (seconds). The pilot's runs are planned as the program's
+/// passes will be; their moves' estimated ray visits ([`Simulation::estimate_move_visits`])
+/// times [`work_per_visit`] are their work. (The work was also projected from the share of
+/// the surface the paths had covered as they were built: on fuzz jobs whose cost is not
+/// spread evenly over the surface that read up to ten times the run's work and refused,
+/// after 5–8 s, runs that complete in 10–24 s. What the pilot misses, the run's own meter
+/// stops, within what the paths and the program left of the command's work.)
 #[derive(Clone, Debug)]
 pub struct WorkProjection<'a> {
     surface: &'a Surface,
@@ -270,10 +284,6 @@ pub struct WorkProjection<'a> {
     machine: &'a Machine,
     strategy: Strategy,
     step_tol_mm: f64,
-    /// Paths added, paths whose work was estimated, and their work.
-    added: usize,
-    sampled: usize,
-    sampled_work: f64,
 }
 
 impl<'a> WorkProjection<'a> {
@@ -287,7 +297,7 @@ impl<'a> WorkProjection<'a> {
         strategy: Strategy,
         step_tol_mm: f64,
     ) -> Self {
-        Self { surface, cutter, machine, strategy, step_tol_mm, added: 0, sampled: 0, sampled_work: 0.0 }
+        Self { surface, cutter, machine, strategy, step_tol_mm }
     }
 
     /// The estimated work of `paths`' passes on `sim` (0 for a path too short to be a pass,
@@ -299,9 +309,12 @@ impl<'a> WorkProjection<'a> {
         }
         let tool = self.strategy.cutter_for(self.cutter);
         let mut visits = 0.0;
+        let mut budget = PlanBudget::new(0.0, MAX_PLAN_DESIGNS);
         for (k, path) in paths.iter().filter(|p| p.nodes.len() >= 2).enumerate() {
             let mut pass = Program::default();
-            if push_pass(self.machine, self.surface, &tool, (k, &path.nodes), self.step_tol_mm, &mut pass).is_ok() {
+            if push_pass(self.machine, self.surface, &tool, (k, &path.nodes), self.step_tol_mm, &mut pass, &mut budget)
+                .is_ok()
+            {
                 visits += pass.moves.iter().map(|m| sim.estimate_move_visits(m)).sum::<f64>();
             }
         }
@@ -313,48 +326,15 @@ impl<'a> WorkProjection<'a> {
     /// per mm of run, times the job's estimated length.
     ///
     /// # Errors
-    /// [`SimError::TooMuchFinishWork`] (share 0).
+    /// [`SimError::TooMuchFinishWork`].
     pub fn check_pilot(&self, sim: &Simulation, pilot: &Pilot) -> Result<(), SimError> {
         let runs_mm: f64 = pilot.runs.iter().map(ToolPath::length_mm).sum();
         if !(runs_mm > 0.0 && pilot.length_mm.is_finite()) {
             return Ok(());
         }
         let projected = self.work_of(sim, &pilot.runs) / runs_mm * pilot.length_mm;
-        Self::judge(0.0, projected)
-    }
-
-    /// Adds a path just built to the work so far: one path in [`PROJECT_EVERY`] is planned
-    /// and estimated, the others are taken to cost as much as those (neighbouring paths
-    /// differ little), so that the projection costs a fraction of the program's planning.
-    pub fn add(&mut self, sim: &Simulation, path: &ToolPath) {
-        if self.added.is_multiple_of(PROJECT_EVERY) {
-            self.sampled_work += self.work_of(sim, std::slice::from_ref(path));
-            self.sampled += 1;
-        }
-        self.added += 1;
-    }
-
-    /// The estimated work of the paths added so far.
-    #[must_use]
-    pub fn work(&self) -> f64 {
-        if self.sampled == 0 { 0.0 } else { self.sampled_work * self.added as f64 / self.sampled as f64 }
-    }
-
-    /// Refuses the program once the work of the paths so far, divided by the `share` of the
-    /// surface they cover (from [`PROJECT_AFTER_SHARE`] on), or that work itself, passes
-    /// [`PROJECTION_ROOM`] × [`PROJECTED_WORK_ROOM`] × [`MAX_WORK`].
-    ///
-    /// # Errors
-    /// [`SimError::TooMuchFinishWork`].
-    pub fn check(&self, share: f64) -> Result<(), SimError> {
-        let work = self.work();
-        let projected = if share >= PROJECT_AFTER_SHARE { work / share } else { work };
-        Self::judge(share.clamp(0.0, 1.0), projected)
-    }
-
-    fn judge(share: f64, projected: f64) -> Result<(), SimError> {
         if projected > PROJECTION_ROOM * PROJECTED_WORK_ROOM * MAX_WORK {
-            return Err(SimError::TooMuchFinishWork { share, projected, max: MAX_WORK });
+            return Err(SimError::TooMuchFinishWork { projected, max: MAX_WORK });
         }
         Ok(())
     }

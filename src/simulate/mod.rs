@@ -155,9 +155,10 @@ pub enum SimError {
     },
     /// A run's work passes [`MAX_WORK`], as done or as projected from the moves done.
     #[error(
-        "the simulation would take too long on this grid: after {done} of {moves} moves{} it has done {} and projects {} for the whole program, more than the {} it may do (about 20 s); raise the pitch, shrink the stock or split the program",
+        "the simulation would take too long on this grid: after {done} of {moves} moves{} it has done {} and projects {} for the whole program, more than the {} it may do ({}); raise the pitch, shrink the stock or split the program",
         if *line > 0 { format!(" (line {line})") } else { String::new() },
-        work_units(*work), work_units(*projected), work_units(*max)
+        work_units(*work), work_units(*projected), work_units(*max),
+        if *max < MAX_WORK { "what the command's earlier work left it" } else { "about 20 s" }
     )]
     TooMuchWorkDone {
         /// Moves machined.
@@ -173,17 +174,22 @@ pub enum SimError {
         /// The cap ([`MAX_WORK`]).
         max: f64,
     },
-    /// A finishing program's simulation, estimated before or while its paths are built
+    /// A finishing program's planning would pass the design evaluations it may spend
+    /// ([`crate::fiveaxis::FiveAxisError::TooMuchWork`]).
+    #[error("pass {pass}: {source}")]
+    PlanWork {
+        /// The pass being planned.
+        pass: usize,
+        /// The planner's refusal.
+        source: crate::fiveaxis::FiveAxisError,
+    },
+    /// A finishing program's simulation, estimated before its paths are built
     /// ([`finish::WorkProjection`]), passes [`MAX_WORK`] by more than the estimate's room.
     #[error(
-        "the simulation would take too long on this grid: {}, its program would take about {}, more than the {} a run may do (about 20 s); raise the pitch, shrink the stock, or raise the scallop height",
-        if *share > 0.0 { format!("projected from the paths of the first {:.0} % of the surface", share * 100.0) } else { "estimated before the paths are built (from the finishing job's pilot)".to_owned() },
+        "the simulation would take too long on this grid: estimated before the paths are built (from the finishing job's pilot), its program would take about {}, more than the {} a run may do (about 20 s); raise the pitch, shrink the stock, or raise the scallop height",
         work_units(*projected), work_units(*max)
     )]
     TooMuchFinishWork {
-        /// Share of the surface the paths covered when the projection was made (0: the
-        /// pilot's estimate, before any path).
-        share: f64,
         /// Work projected for the whole program (straight-move ray updates).
         projected: f64,
         /// The cap ([`MAX_WORK`]).

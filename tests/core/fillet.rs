@@ -522,6 +522,49 @@ fn a_pose_turned_at_one_cc_point_is_planned_in_steps() {
     assert!(count(&pieces) > count(&plain) + 2, "{} blocks, {} without the turn", count(&pieces), count(&plain));
 }
 
+/// A finishing program planned within a share of its work (`FinishGcode::plan_within`,
+/// what a command's paths left, `paths::share_after_paths`): with twice the designs the
+/// whole program evaluates (room for the projection) it is the same program; with a third of them it is refused, naming the
+/// path, before it has evaluated them all, the evaluations it spent at most the cap plus
+/// one judging's worth (every 256 blocks and at each path's end).
+#[test]
+fn a_program_is_planned_within_the_work_its_paths_left() {
+    use interpolab::fillet::paths::{check_stop, share_after_paths};
+    use interpolab::fillet::program::{FinishGcode, FinishProgramError, MAX_PLAN_DESIGNS};
+    use interpolab::fiveaxis::FiveAxisError;
+    let j = job("finish-bicubic-patch");
+    let part = PartSamples::new(&j.surface, j.options.part_grid);
+    let set = iso_scallop(&j.setup(&part)).unwrap();
+    let whole = FinishGcode::plan(&j.machine, &j.surface, &j.cutter, &set, 1000.0, 0.01).unwrap();
+    let designs = whole.designs as f64;
+    // Some hundred evaluations a block, and far under the cap.
+    let blocks: usize = whole.passes.iter().map(|p| p.1.len()).sum();
+    assert!(designs > 20.0 * blocks as f64 && designs < 1e-2 * MAX_PLAN_DESIGNS, "{designs} for {blocks} blocks");
+    let same = FinishGcode::plan_within(&j.machine, &j.surface, &j.cutter, &set, 1000.0, 0.01, 2.0 * designs).unwrap();
+    assert_eq!(same.passes, whole.passes);
+    assert_eq!(same.designs, whole.designs);
+    let max = designs / 3.0;
+    match FinishGcode::plan_within(&j.machine, &j.surface, &j.cutter, &set, 1000.0, 0.01, max) {
+        Err(FinishProgramError::Plan {
+            path,
+            source: FiveAxisError::TooMuchWork { evaluations, projected, max: m, s },
+        }) => {
+            assert!(path < set.paths.len() && s.is_finite());
+            assert_eq!(m, max);
+            assert!(projected > max && projected >= evaluations as f64, "{projected} of {max}");
+            assert!((evaluations as f64) < designs, "refused after {evaluations} of the whole program's {designs}");
+        }
+        other => panic!("expected the planning refused, got {:?}", other.map(|p| p.designs)),
+    }
+    // The share the paths leave: the checks' cells over their stop, never below nothing.
+    let stop = check_stop(j.options.max_check_cells);
+    assert_eq!(share_after_paths(0, j.options.max_check_cells).left(), 1.0);
+    assert!((share_after_paths(stop / 4, j.options.max_check_cells).left() - 0.75).abs() < 1e-9);
+    assert_eq!(share_after_paths(2 * stop, j.options.max_check_cells).cap(MAX_PLAN_DESIGNS), 0.0);
+    let e = FinishGcode::plan_within(&j.machine, &j.surface, &j.cutter, &set, 1000.0, 0.01, 0.0).unwrap_err();
+    assert!(e.to_string().contains("design evaluations left for it"), "{e}");
+}
+
 #[test]
 fn a_careless_lead_gouges_the_mould_and_the_checks_fix_it() {
     let uv = DVec2::new(0.5, 0.5);

@@ -248,7 +248,8 @@ fn error_s(e: &FiveAxisError) -> Option<f64> {
         | FiveAxisError::NotFinite { s }
         | FiveAxisError::Underflow { s, .. }
         | FiveAxisError::NoConvergence { s, .. }
-        | FiveAxisError::TooManyNodes { s, .. } => Some(*s),
+        | FiveAxisError::TooManyNodes { s, .. }
+        | FiveAxisError::TooMuchWork { s, .. } => Some(*s),
         FiveAxisError::BadTolerance { .. } | FiveAxisError::EmptyPath { .. } => None,
     }
 }

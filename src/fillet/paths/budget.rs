@@ -6,6 +6,7 @@ use super::{Ctx, FinishSetup, Sample, ToolPath, b_of, iso_curve, make_uv};
 use crate::fillet::FinishError;
 use crate::fillet::node::CcNode;
 use crate::geom::{LocalGeometry, ParametricSurface};
+use crate::numerics::limits::CommandShare;
 
 /// What a job's pilot says it will take, and the short paths it built to say so
 /// ([`pilot`]).
@@ -125,6 +126,17 @@ pub(super) const PROJECT_CELLS_UNTIL: f64 = 0.1;
 #[must_use]
 pub fn check_stop(max_check_cells: u64) -> u64 {
     (CHECK_STOP_FACTOR * max_check_cells as f64) as u64
+}
+
+/// The share of a command's work a finishing job's paths leave to what follows them (its
+/// program's planning, a simulation of it): the command's whole less the `cells_checked`
+/// as a share of the checks' stop ([`check_stop`] of `max_check_cells`), the cap the paths
+/// alone may reach.
+#[must_use]
+pub fn share_after_paths(cells_checked: u64, max_check_cells: u64) -> CommandShare {
+    let mut share = CommandShare::whole();
+    share.spend(cells_checked as f64, check_stop(max_check_cells) as f64);
+    share
 }
 
 /// A job whose paths or CC points, estimated before they are built

@@ -61,7 +61,7 @@ mod start;
 pub use budget::{
     CELLS_ESTIMATE_AFTER, CELLS_ESTIMATE_AFTER_SHARE, CHECK_COST_SAMPLE, CHECK_STOP_FACTOR, ESTIMATE_AFTER_SHARE,
     ESTIMATE_MARGIN, MAX_CHECK_CELLS, MAX_CHECK_CELLS_PER_NODE, PILOT_CELLS_FACTOR, PILOT_LOW_BY, Pilot, check_stop,
-    estimate_check_cells, pilot,
+    estimate_check_cells, pilot, share_after_paths,
 };
 pub use build::{BETWEEN_CHECK_SHARE, CHORD_SPLITS, LIFT_HALVING_GAIN, LIFT_SHARE_OF_H, lead_out_frame, lead_out_mm};
 pub use iso_parametric::iso_parametric;

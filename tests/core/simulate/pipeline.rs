@@ -138,6 +138,9 @@ mod work {
         );
         let text = err.to_string();
         assert!(text.contains("after 10 of 200 moves (line 10)") && text.contains("raise the pitch"), "{text}");
+        // A cap under a run's own (what a finishing command's paths and program left) is not
+        // called 20 s.
+        assert!(text.contains("what the command's earlier work left it") && !text.contains("20 s"), "{text}");
     }
 }
 
