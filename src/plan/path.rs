@@ -429,6 +429,13 @@ impl Element {
             }
             return (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
         }
+        if let Shape::Arc(c) = &self.shape {
+            // dq/dτ's X Y Z is radial·dr + tangent·(r·sweep) + w·dn over orthonormal axes,
+            // so its length needs no sine or cosine (they were most of an arc's table).
+            let r = c.r0 + c.dr * t;
+            let v = r * c.sweep;
+            return (c.dr * c.dr + v * v + c.dn * c.dn).sqrt();
+        }
         let d = self.shape.eval(curves, t);
         if self.is_deg() { norm_abc(&d[1]) * 180.0 / std::f64::consts::PI } else { norm3(&d[1]) }
     }

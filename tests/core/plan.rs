@@ -354,3 +354,41 @@ fn the_planners_cube_root_is_f64_cbrt_bit_for_bit() {
         }
     }
 }
+
+/// An arc's length as the path builds it (its pieces' table, from the speed along the arc
+/// without a sine or cosine) against closed forms: a helix of two turns, r = 5 mm, rising
+/// 3 mm, is √((2·2π·5)² + 3²); a half turn whose radius grows from 5 to 5.004 mm (an end
+/// point off the circle, as rounded programs have, within the interpreter's tolerance) is the integral of √(dr² + r(t)²·π²)
+/// over t, summed here by Simpson's rule on 20 000 intervals.
+#[test]
+fn arc_lengths_match_their_closed_forms() {
+    let rules = interpolab::plan::JunctionRules { tol_mm: 0.01, exact_stop: true, jerk_limited: true };
+    let text = "G21 G90 G17\nG0 X5 Y0 Z0\nG3 X5 Y0 Z3 I-5 J0 P2 F600\nM30\n";
+    let path = interpolab::plan::path::build(read(text), &rules).expect("a path");
+    let helix = (2.0 * std::f64::consts::TAU * 5.0f64).hypot(3.0);
+    let arc = path.blocks.iter().find(|b| !b.rapid).expect("the arc's block");
+    assert!((arc.len - helix).abs() < 1e-9 * helix, "{} against {helix}", arc.len);
+
+    let text = "G21 G90 G17\nG0 X5 Y0 Z0\nG3 X-5.004 Y0 I-5 J0 F600\nM30\n";
+    let path = interpolab::plan::path::build(read(text), &rules).expect("a path");
+    let (dr, sweep) = (0.004f64, std::f64::consts::PI);
+    let speed = |t: f64| (dr * dr + ((5.0 + dr * t) * sweep).powi(2)).sqrt();
+    let n = 20_000;
+    let h = 1.0 / f64::from(n);
+    let simpson = (0..=n)
+        .map(|k| {
+            let w = if k == 0 || k == n {
+                1.0
+            } else if k % 2 == 1 {
+                4.0
+            } else {
+                2.0
+            };
+            w * speed(f64::from(k) * h)
+        })
+        .sum::<f64>()
+        * h
+        / 3.0;
+    let arc = path.blocks.iter().find(|b| !b.rapid).expect("the arc's block");
+    assert!((arc.len - simpson).abs() < 1e-9 * simpson, "{} against {simpson}", arc.len);
+}
