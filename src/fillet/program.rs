@@ -177,8 +177,8 @@ pub const MAX_PROGRAM_BLOCKS: usize = 400_000;
 
 /// Most designs between CC nodes ([`design_between`]: a surface frame, the tool placed on
 /// it) a finishing program's planning may evaluate, over all its paths: its work, for
-/// each block's trial steps and their sampled errors evaluate the design 70–440 times
-/// (the examples' programs 80–450 times, the fuzz cases' 280–460). About 0.28 µs each
+/// each block's trial steps and their sampled errors evaluate the design some 230–460
+/// times (the examples' programs 230–450 times a block, three fuzz cases' 340–460). About 0.28 µs each
 /// natively (fuzz-case programs of 5–44 million evaluations), so some 28 s: about what the
 /// paths' checks may spend ([`super::paths::check_stop`]). A command that builds the paths
 /// first plans within the share of its work they left
