@@ -137,7 +137,15 @@ def main():
     os.makedirs(out, exist_ok=True)
     end, runs, fails = time.time() + 60 * a.minutes, 0, 0
     lo, hi = KINDS[a.only] if a.only else (0.0, 1.0)
+    # A campaign stopped early (Ctrl-C, SIGTERM) still says how far it got.
+    def stopped(_sig, _frame):
+        print(f"stopped: {runs} runs, {fails} failures (seed {a.seed}); failures in {out}", flush=True)
+        sys.exit(1 if fails else 0)
+    signal.signal(signal.SIGTERM, stopped)
+    signal.signal(signal.SIGINT, stopped)
     while time.time() < end:
+        if runs and runs % 100 == 0:
+            print(f"{runs} runs, {fails} failures so far", flush=True)
         roll = lo + (hi - lo) * rng.random()
         readback = None
         if roll < 0.05:
