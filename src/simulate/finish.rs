@@ -275,7 +275,7 @@ fn push_pass(
 /// times [`work_per_visit`] are their work. (The work was also projected from the share of
 /// the surface the paths had covered as they were built: on fuzz jobs whose cost is not
 /// spread evenly over the surface that read up to ten times the run's work and refused,
-/// after 5–8 s, runs that complete in 10–24 s. What the pilot misses, the run's own meter
+/// after 3–8 s, runs that complete in 11–24 s. What the pilot misses, the run's own meter
 /// stops, within what the paths and the program left of the command's work.)
 #[derive(Clone, Debug)]
 pub struct WorkProjection<'a> {
