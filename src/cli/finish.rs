@@ -421,14 +421,15 @@ fn plan_gcode(
     )
     .map_err(|e| {
         let over = matches!(e, FinishProgramError::Plan { source: FiveAxisError::TooMuchWork { .. }, .. });
-        Fatal(format!("{name}: {e}{}", if over { left_note(share) } else { String::new() }))
+        Fatal(format!("{name}: {e}{}", if over { spent_note(share, "the paths' checks") } else { String::new() }))
     })
 }
 
-/// What a refusal adds when the command's paths spent part of its work: how much they left.
-pub(super) fn left_note(share: CommandShare) -> String {
+/// What a refusal for a part's share adds when the command's earlier parts (`what`) spent
+/// some of its work: how much.
+pub(super) fn spent_note(share: CommandShare, what: &str) -> String {
     if share.left() < 1.0 {
-        format!(" (the paths' checks spent {:.0} % of the command's work)", 100.0 * (1.0 - share.left()))
+        format!(" ({what} spent {:.0} % of the command's work)", 100.0 * (1.0 - share.left()))
     } else {
         String::new()
     }

@@ -333,7 +333,10 @@ fn simulate_finish(a: &SimulateArgs, tol: f64) -> Result<ExitCode, Fatal> {
     let mut share = share_after_paths(part.cells_checked(), job.options.max_check_cells);
     let (program, designs) = fp.program_within(share.cap(MAX_PLAN_DESIGNS)).map_err(|e| {
         let over = matches!(e, SimError::PlanWork { .. });
-        Fatal(format!("{name}: {e}{}", if over { super::finish::left_note(share) } else { String::new() }))
+        Fatal(format!(
+            "{name}: {e}{}",
+            if over { super::finish::spent_note(share, "the paths' checks") } else { String::new() }
+        ))
     })?;
     share.spend(designs as f64, MAX_PLAN_DESIGNS);
     let extra = json!({
@@ -492,11 +495,8 @@ fn finish(
         meter.check(sim, &program.moves, done)
     })
     .map_err(|e| {
-        let note = if matches!(e, SimError::TooMuchWorkDone { .. }) && work_share.left() < 1.0 {
-            format!(
-                " (the finishing job's paths and program spent {:.0} % of the command's work)",
-                100.0 * (1.0 - work_share.left())
-            )
+        let note = if matches!(e, SimError::TooMuchWorkDone { .. }) {
+            super::finish::spent_note(work_share, "the finishing job's paths and program")
         } else {
             String::new()
         };

@@ -300,7 +300,7 @@ pub fn design_length_mm<'a>(surface: &Surface, tool: &Cutter, paths: impl Iterat
 /// planner's error.
 pub const MAX_PLANNER_CUTS: usize = 64;
 
-/// Fractions of a chord at which [`plan_pieces`] looks for the design between two nodes
+/// Fractions of a chord at which [`plan_path_pieces_within`] looks for the design between two nodes
 /// leaving the machine's travel before the planner runs.
 const TRAVEL_SAMPLES_PER_CHORD: u32 = 16;
 
@@ -309,12 +309,16 @@ const TRAVEL_SAMPLES_PER_CHORD: u32 = 16;
 /// interpolated frame can swing the axis far from both ends — the pass ends at the node
 /// before and the next piece starts at the node after (each piece starts with a rapid
 /// move, as every pass does); a node itself out of travel is an error. It finds
-/// such places first where [`TRAVEL_SAMPLES_PER_CHORD`] samples of a chord show them, then
+/// such places first where `TRAVEL_SAMPLES_PER_CHORD` (16) samples of a chord show them, then
 /// where the planner stops (its error's s), at most [`MAX_PLANNER_CUTS`] times in a run.
 ///
+/// It spends the program's `budget` (`tool`: the cutter that machines).
+///
 /// # Errors
-/// The planner's error; [`FiveAxisError::Kinematics`] out of travel past the cuts' cap.
-fn plan_pieces(
+/// The planner's error; [`FiveAxisError::Kinematics`] out of travel past the cuts' cap;
+/// [`FiveAxisError::TooManyNodes`] or [`FiveAxisError::TooMuchWork`] when the budget is
+/// passed.
+pub fn plan_path_pieces_within(
     machine: &Machine,
     surface: &Surface,
     tool: &Cutter,
@@ -373,7 +377,7 @@ fn plan_pieces(
     Ok(pieces)
 }
 
-/// One path's program in pieces as [`FinishGcode::plan`] writes it (`plan_pieces`: cut
+/// One path's program in pieces as [`FinishGcode::plan`] writes it ([`plan_path_pieces_within`]: cut
 /// where the axis between two nodes would leave the machine's travel), on its own: no
 /// budget but the blocks' cap, [`MAX_PROGRAM_BLOCKS`], and [`MAX_PLAN_DESIGNS`].
 /// `cutter`: the one that machines.
@@ -389,22 +393,6 @@ pub fn plan_path_pieces(
     tol_mm: f64,
 ) -> Result<Vec<Vec<Joints>>, FiveAxisError> {
     plan_path_pieces_within(machine, surface, cutter, nodes, tol_mm, &mut PlanBudget::new(0.0, MAX_PLAN_DESIGNS))
-}
-
-/// [`plan_path_pieces`] within a program's `budget`, which it spends.
-///
-/// # Errors
-/// As [`plan_path_pieces`]; [`FiveAxisError::TooManyNodes`] or
-/// [`FiveAxisError::TooMuchWork`] when the budget is passed.
-pub fn plan_path_pieces_within(
-    machine: &Machine,
-    surface: &Surface,
-    cutter: &Cutter,
-    nodes: &[CcNode],
-    tol_mm: f64,
-    budget: &mut PlanBudget,
-) -> Result<Vec<Vec<Joints>>, FiveAxisError> {
-    plan_pieces(machine, surface, cutter, nodes, tol_mm, budget)
 }
 
 /// Why a finishing program could not be planned.
@@ -443,7 +431,7 @@ pub struct FinishGcode {
     pub feed_mm_per_min: f64,
     /// Per written pass: the index of its path in the set and its blocks' joints, first to
     /// last. A path whose axis would leave the machine's travel between two nodes is written
-    /// as several passes of the same index (`plan_pieces`).
+    /// as several passes of the same index ([`plan_path_pieces_within`]).
     pub passes: Vec<(usize, Vec<Joints>)>,
     /// Designs its planning evaluated ([`MAX_PLAN_DESIGNS`]).
     pub designs: u64,
@@ -486,7 +474,7 @@ impl FinishGcode {
         let mut budget = PlanBudget::new(total_mm, max_designs);
         let mut passes = Vec::new();
         for (pi, p) in set.paths.iter().enumerate().filter(|(_, p)| p.nodes.len() >= 2) {
-            for joints in plan_pieces(machine, surface, &tool, &p.nodes, tol_mm, &mut budget)
+            for joints in plan_path_pieces_within(machine, surface, &tool, &p.nodes, tol_mm, &mut budget)
                 .map_err(|source| FinishProgramError::Plan { path: pi, source })?
             {
                 passes.push((pi, joints));
