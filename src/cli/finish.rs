@@ -360,6 +360,10 @@ pub(super) fn finish(a: &FinishArgs) -> Result<ExitCode, Fatal> {
                     .collect::<Vec<_>>()
                     .into();
             }
+            // Only when the corrector stopped, so other output is as before.
+            if let Some(k) = set.corrector_stopped_at {
+                doc["corrector_stopped_at_path"] = k.into();
+            }
             // Only when the scene has `finish.start`, so the output of other scenes is as before.
             if let Some(start) = start_json(&job, &set) {
                 doc["start"] = start;
@@ -386,9 +390,10 @@ pub(super) fn finish(a: &FinishArgs) -> Result<ExitCode, Fatal> {
         let h = job.options.scallop_mm;
         let _ = writeln!(
             err,
-            "interpolab: {name}: the scallop stays above {:.2}·h at {} place(s) (measured between neighbouring paths after the side steps' correction; the worst {:.2}·h at ({:.3}, {:.3}, {:.3}) mm, after path {}); use a smaller max step or scallop height, or a cutter with a larger corner radius",
+            "interpolab: {name}: the scallop stays above {:.2}·h at {} place(s) (measured between neighbouring paths after the side steps' correction{}; the worst {:.2}·h at ({:.3}, {:.3}, {:.3}) mm, after path {}); use a smaller max step or scallop height, or a cutter with a larger corner radius",
             interpolab::fillet::paths::FLAG_ABOVE,
             set.scallop_flags.len(),
+            corrector_note(set.corrector_stopped_at),
             worst.scallop_mm / h,
             worst.point.x,
             worst.point.y,
@@ -478,4 +483,14 @@ pub(super) fn paths_for(
         LayoutArg::IsoParametric => iso_parametric(&setup).map_err(fail),
         LayoutArg::IsoScallop => iso_scallop(&setup).map_err(fail),
     }
+}
+
+/// The scallop warning's note when the corrector stopped correcting (empty otherwise).
+fn corrector_note(stopped_at: Option<usize>) -> String {
+    stopped_at.map_or_else(String::new, |k| {
+        format!(
+            ", which stopped from path {k} on: its rebuilds had checked {:.0} % of the checks' budget, where the surface folds or turns tighter than the cutter",
+            interpolab::fillet::paths::CORRECTOR_CELLS_SHARE * 100.0
+        )
+    })
 }

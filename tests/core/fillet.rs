@@ -2032,3 +2032,37 @@ fn the_checks_search_keeps_the_pose_a_scan_one_by_one_keeps() {
     }
     assert!(large >= 5, "only {large} points were raised by more than 2°");
 }
+
+/// The side steps' corrector spends at most its share of the checks' budget
+/// (`FinishOptions::corrector_share`): with none, the concave mould's paths are the same up
+/// to the first path the corrector would have built again, which is named, and from there
+/// each path is built once (fewer cells checked, every cusp still measured); with the
+/// default share its corrector (some 6·10⁴ cells) is never stopped.
+#[test]
+fn the_corrector_stops_at_its_share_of_the_checks() {
+    let jb = job("finish-concave-mould");
+    let run = |share: f64| {
+        let part = PartSamples::new(&jb.surface, jb.options.part_grid);
+        let opts = FinishOptions { corrector_share: share, ..jb.options };
+        let set = iso_scallop(&FinishSetup {
+            strategy: Strategy::Matched,
+            start: &PathStart::FirstBoundary,
+            options: &opts,
+            ..jb.setup(&part)
+        })
+        .unwrap();
+        (set, part.cells_checked())
+    };
+    let (full, full_cells) = run(jb.options.corrector_share);
+    let (none, none_cells) = run(0.0);
+    assert_eq!(full.corrector_stopped_at, None, "the default share stopped the mould's corrector");
+    let k = none.corrector_stopped_at.expect("the mould's corrector builds some path again");
+    assert!(k >= 1 && k < full.paths.len(), "stopped at path {k} of {}", full.paths.len());
+    // Path k − 1 keeps its side steps to path k, the corrected ones or not.
+    assert_eq!(full.paths[..k - 1], none.paths[..k - 1], "the paths before the first correction differ");
+    let frames =
+        |p: &interpolab::fillet::paths::ToolPath| p.nodes.iter().map(|n| (n.frame.uv, n.pose)).collect::<Vec<_>>();
+    assert_eq!(frames(&full.paths[k - 1]), frames(&none.paths[k - 1]), "path {} differs", k - 1);
+    assert_ne!(full.paths[k], none.paths[k], "path {k} was corrected with the default share");
+    assert!(none_cells < full_cells, "without the corrector {none_cells} cells, with it {full_cells}");
+}

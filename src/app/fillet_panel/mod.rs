@@ -278,11 +278,14 @@ impl FilletPanel {
                     ui.colored_label(
                         ui.visuals().warn_fg_color,
                         format!(
-                            "The scallop stays above {:.2}·h at {} place(s), measured between neighbouring paths (the worst {:.1} µm, {:.2}·h): use a smaller max step or scallop height, or the matched orientation",
+                            "The scallop stays above {:.2}·h at {} place(s), measured between neighbouring paths (the worst {:.1} µm, {:.2}·h{}): use a smaller max step or scallop height, or the matched orientation",
                             crate::fillet::paths::FLAG_ABOVE,
                             r.scallop_flags.len(),
                             worst * 1e3,
-                            worst / job.finish.options.scallop_mm
+                            worst / job.finish.options.scallop_mm,
+                            r.corrector_stopped_at.map_or_else(String::new, |k| format!(
+                                "; the corrector stopped from path {k} on, its rebuilds past their share of the checks"
+                            ))
                         ),
                     );
                 }
@@ -623,6 +626,7 @@ impl Panel for FilletPanel {
             v["adjusted"] = st.adjusted.into();
             v["refused"] = r.refused.len().into();
             v["scallop_flags"] = r.scallop_flags.len().into();
+            v["corrector_stopped_at"] = r.corrector_stopped_at.into();
             v["second_side"] = r.second_side.into();
         }
         if let Some((p, k, n)) = self.selected() {

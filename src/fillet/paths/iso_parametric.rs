@@ -91,6 +91,7 @@ pub fn iso_parametric(setup: &FinishSetup) -> Result<PathSet, FinishError> {
                 refused,
                 second_side: None,
                 scallop_flags: Vec::new(),
+                corrector_stopped_at: None,
             });
         }
         db = spacing * (h / worst).sqrt() * 0.999;

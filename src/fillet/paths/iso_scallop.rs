@@ -26,6 +26,19 @@ pub(super) const CUSP_SCALE: (f64, f64) = (0.6, 1.0);
 
 pub(super) const CUSP_CORRECTIONS: usize = 4;
 
+/// The share of the checks' budget (`FinishOptions::max_check_cells`) the corrector's
+/// rebuilds may spend over a whole job, by default (`FinishOptions::corrector_share`); past
+/// it the paths are built once each, their cusps still measured and named
+/// ([`PathSet::scallop_flags`], [`PathSet::corrector_stopped_at`]).
+///
+/// Where a fold defeats it, the corrector rebuilds nearly every path four times and the
+/// cusps stay at 60–640·h all the same: on fuzz blades and patches with a control point
+/// moved 360 mm its rebuilds cost 2.4–4.3 times the paths' first builds (3–7·10⁷ cells,
+/// measured by a probe), which the pilot (first builds and side steps, times
+/// [`PILOT_CELLS_FACTOR`](super::PILOT_CELLS_FACTOR)) does not see, and such jobs ran to the
+/// checks' stop after 20–24 s of CPU. The examples' correctors spend at most 6·10⁴ cells.
+pub const CORRECTOR_CELLS_SHARE: f64 = 0.5;
+
 /// A measured cusp above this many h after the corrector is named in
 /// [`PathSet::scallop_flags`].
 pub const FLAG_ABOVE: f64 = 1.10;
@@ -194,6 +207,10 @@ pub struct IsoScallopSteps {
     /// The CC points the job's pilot estimated (0 without a pilot): what the checks' cost
     /// per point so far is projected over.
     pilot_nodes: f64,
+    /// Cells the corrector's rebuilds have checked so far, and the first path it left
+    /// uncorrected for [`CORRECTOR_CELLS_SHARE`].
+    corrector_cells: u64,
+    corrector_stopped_at: Option<usize>,
 }
 
 impl IsoScallopSteps {
@@ -265,6 +282,8 @@ impl IsoScallopSteps {
             done: false,
             reaches: reaches.into_inner(),
             pilot_nodes: pilot.map_or(0.0, |p| p.cc_points),
+            corrector_cells: 0,
+            corrector_stopped_at: None,
         })
     }
 
@@ -321,6 +340,8 @@ impl IsoScallopSteps {
         // The side steps from the start curve toward decreasing b are not stored on it: it
         // keeps those to the next path in the order of machining.
         let keep = !(self.in_second_side && self.frontier == 0);
+        // The index the path built here will have.
+        let next_index = self.paths.len();
         let Some(last) = self.paths.get_mut(self.frontier) else {
             self.done = true;
             return Ok(true);
@@ -369,8 +390,15 @@ impl IsoScallopSteps {
         // curvature by their definition, and correcting them only spends checks (on the
         // mould, past the job's budget): their cusps are measured and named.
         let rounds = if matches!(self.strategy, Strategy::Matched | Strategy::Ball) { CUSP_CORRECTIONS } else { 0 };
+        // The rebuilds' cells over the job, against their share of the checks' budget.
+        let corrector_cap = (opts.corrector_share * opts.max_check_cells as f64) as u64;
+        let cells_before_rounds = part.cells_checked();
         for _ in 0..rounds {
             if !current.1.iter().any(off) {
+                break;
+            }
+            if self.corrector_cells + part.cells_checked().saturating_sub(cells_before_rounds) >= corrector_cap {
+                self.corrector_stopped_at.get_or_insert(next_index);
                 break;
             }
             let factors: Vec<f64> = current
@@ -403,6 +431,7 @@ impl IsoScallopSteps {
             }
             current = (trial, again_measured);
         }
+        self.corrector_cells += part.cells_checked().saturating_sub(cells_before_rounds);
         // Where no round brought the cusp within FLAG_ABOVE·h, the place is named.
         for (st, m) in steps.iter().zip(&measured) {
             if let (Some(c), Some(node)) = (*m, last.nodes.get(st.node))
@@ -569,6 +598,7 @@ impl IsoScallopSteps {
             refused: self.refused,
             second_side: self.second_side_at,
             scallop_flags: self.flags,
+            corrector_stopped_at: self.corrector_stopped_at,
         }
     }
 }

@@ -65,7 +65,7 @@ pub use budget::{
 };
 pub use build::{BETWEEN_CHECK_SHARE, CHORD_SPLITS, LIFT_HALVING_GAIN, LIFT_SHARE_OF_H, lead_out_frame, lead_out_mm};
 pub use iso_parametric::iso_parametric;
-pub use iso_scallop::{Built, FLAG_ABOVE, IsoScallopSteps, iso_scallop, iso_scallop_checked};
+pub use iso_scallop::{Built, CORRECTOR_CELLS_SHARE, FLAG_ABOVE, IsoScallopSteps, iso_scallop, iso_scallop_checked};
 use start::iso_curve;
 pub use start::{choose_along, curve_along, start_polyline, strip_by_direction};
 
@@ -203,6 +203,10 @@ pub struct FinishOptions {
     /// checks' caps bound it), a table has [`TABLE_WORK_FACTOR`](crate::fillet::TABLE_WORK_FACTOR)
     /// times `max_check_cells`.
     pub max_work: Option<u64>,
+    /// The share of `max_check_cells` the side steps' corrector may spend rebuilding paths
+    /// over the whole job (default [`CORRECTOR_CELLS_SHARE`]); past it each path is built
+    /// once and its cusps measured and named ([`PathSet::corrector_stopped_at`]).
+    pub corrector_share: f64,
 }
 
 impl FinishOptions {
@@ -223,6 +227,7 @@ impl FinishOptions {
             max_nodes: 400_000,
             max_check_cells: MAX_CHECK_CELLS,
             max_work: None,
+            corrector_share: CORRECTOR_CELLS_SHARE,
         }
     }
 }
@@ -301,6 +306,11 @@ pub struct PathSet {
     /// Places where the cusp measured between two neighbouring paths stayed above
     /// [`FLAG_ABOVE`]·h after the side steps' correction (iso-scallop paths only).
     pub scallop_flags: Vec<ScallopFlag>,
+    /// The first path the corrector left as first built, its rebuilds having spent their
+    /// share of the checks' budget ([`CORRECTOR_CELLS_SHARE`]); that path's cusps and every
+    /// later path's are measured and flagged, not corrected. `None` when it corrected every
+    /// path that needed it.
+    pub corrector_stopped_at: Option<usize>,
 }
 
 /// A place where the scallop could not be held at h: the cusp measured between a path's node
