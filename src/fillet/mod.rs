@@ -201,6 +201,9 @@ pub enum LeftOutCause {
     /// It needs more paths or CC points than allowed ([`FinishError::Oversized`],
     /// [`FinishError::TooManyPaths`], [`FinishError::TooManyNodes`]).
     Size,
+    /// Its first path could not be started, or its iso-parametric spacing did not settle
+    /// ([`FinishError::NoPath`]): a strategy's cutter or a layout the surface does not suit.
+    NoStart,
 }
 
 impl LeftOutCause {
@@ -211,6 +214,23 @@ impl LeftOutCause {
             Self::Share => "past its share of the budget",
             Self::Checks => "its gouge checks would pass their stop",
             Self::Size => "more paths or CC points than allowed",
+            Self::NoStart => "no path could be started, or its spacing did not settle",
+        }
+    }
+
+    /// The cause for which a table leaves out a plan that failed with `e`; `None` for an
+    /// error that is not the plan's own (a bad option, a bad start curve), which ends the
+    /// table.
+    #[must_use]
+    pub fn of(e: &FinishError) -> Option<Self> {
+        match e {
+            FinishError::OverShare { .. } => Some(Self::Share),
+            FinishError::TooMuchChecking { .. } => Some(Self::Checks),
+            FinishError::Oversized { .. } | FinishError::TooManyPaths { .. } | FinishError::TooManyNodes { .. } => {
+                Some(Self::Size)
+            }
+            FinishError::NoPath { .. } => Some(Self::NoStart),
+            _ => None,
         }
     }
 }
@@ -301,13 +321,10 @@ pub fn compare(job: &FinishSetup) -> Result<Vec<Comparison>, FinishError> {
                     Err(FinishError::OverShare { work, max_work }) => {
                         Err(LeftOut { work, share: max_work, cause: LeftOutCause::Share })
                     }
-                    Err(FinishError::TooMuchChecking { .. }) => left_out(LeftOutCause::Checks),
-                    Err(
-                        FinishError::Oversized { .. }
-                        | FinishError::TooManyPaths { .. }
-                        | FinishError::TooManyNodes { .. },
-                    ) => left_out(LeftOutCause::Size),
-                    Err(e) => return Err(e),
+                    Err(e) => match LeftOutCause::of(&e) {
+                        Some(cause) => left_out(cause),
+                        None => return Err(e),
+                    },
                 }
             };
             rows.push(Comparison { strategy: s, layout, plan });
@@ -316,7 +333,7 @@ pub fn compare(job: &FinishSetup) -> Result<Vec<Comparison>, FinishError> {
     if rows.iter().all(|r| r.plan.is_err()) {
         return Err(FinishError::TooMuchChecking {
             detail: format!(
-                "of the table's ten plans each passed its share of the table's budget of {:.2e} units of work or its own caps (estimated before any was built at {estimated:.2e} cells)",
+                "of the table's ten plans each passed its share of the table's budget of {:.2e} units of work or its own caps, or could not be started (estimated before any was built at {estimated:.2e} cells)",
                 budget as f64
             ),
         });

@@ -2066,3 +2066,21 @@ fn the_corrector_stops_at_its_share_of_the_checks() {
     assert_ne!(full.paths[k], none.paths[k], "path {k} was corrected with the default share");
     assert!(none_cells < full_cells, "without the corrector {none_cells} cells, with it {full_cells}");
 }
+
+/// A comparison table leaves out a plan for the plan's own failures — its share, its caps,
+/// and a first path it cannot start or a spacing that does not settle (a fuzz blade's
+/// iso-parametric plan failed that way after 14 s, and the whole table was refused) — and
+/// ends only for what concerns every plan (a bad option or start curve).
+#[test]
+fn a_table_leaves_out_a_plan_that_cannot_start_and_stops_for_bad_input() {
+    use interpolab::fillet::LeftOutCause;
+    let no_start = FinishError::NoPath { reason: "the iso-parametric spacing did not settle in 8 rounds" };
+    assert_eq!(LeftOutCause::of(&no_start), Some(LeftOutCause::NoStart));
+    assert_eq!(LeftOutCause::of(&FinishError::TooManyPaths { max_paths: 2000 }), Some(LeftOutCause::Size));
+    assert_eq!(LeftOutCause::of(&FinishError::TooManyNodes { max_nodes: 9 }), Some(LeftOutCause::Size));
+    assert_eq!(LeftOutCause::of(&FinishError::TooMuchChecking { detail: String::new() }), Some(LeftOutCause::Checks));
+    assert_eq!(LeftOutCause::of(&FinishError::OverShare { work: 2, max_work: 1 }), Some(LeftOutCause::Share));
+    assert_eq!(LeftOutCause::of(&FinishError::BadOption { name: "scallop height", value: -1.0 }), None);
+    assert_eq!(LeftOutCause::of(&FinishError::BadStart { reason: "a start curve of one point".into() }), None);
+    assert!(LeftOutCause::NoStart.describe().contains("started"));
+}
