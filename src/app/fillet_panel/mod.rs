@@ -626,7 +626,7 @@ impl Panel for FilletPanel {
             v["adjusted"] = st.adjusted.into();
             v["refused"] = r.refused.len().into();
             v["scallop_flags"] = r.scallop_flags.len().into();
-            v["corrector_stopped_at"] = r.corrector_stopped_at.into();
+            v["corrector_stopped_at_path"] = r.corrector_stopped_at.into();
             v["second_side"] = r.second_side.into();
         }
         if let Some((p, k, n)) = self.selected() {

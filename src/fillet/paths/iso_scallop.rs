@@ -32,7 +32,7 @@ pub(super) const CUSP_CORRECTIONS: usize = 4;
 /// ([`PathSet::scallop_flags`], [`PathSet::corrector_stopped_at`]).
 ///
 /// Where a fold defeats it, the corrector rebuilds nearly every path four times and the
-/// cusps stay at 60–640·h all the same: on fuzz blades and patches with a control point
+/// cusps stay at 40–640·h all the same: on fuzz blades and patches with a control point
 /// moved 360 mm its rebuilds cost 2.4–4.3 times the paths' first builds (3–7·10⁷ cells,
 /// measured by a probe), which the pilot (first builds and side steps, times
 /// [`PILOT_CELLS_FACTOR`](super::PILOT_CELLS_FACTOR)) does not see, and such jobs ran to the
