@@ -393,7 +393,7 @@ pub(super) fn finish(a: &FinishArgs) -> Result<ExitCode, Fatal> {
             "interpolab: {name}: the scallop stays above {:.2}·h at {} place(s) (measured between neighbouring paths after the side steps' correction{}; the worst {:.2}·h at ({:.3}, {:.3}, {:.3}) mm, after path {}); use a smaller max step or scallop height, or a cutter with a larger corner radius",
             interpolab::fillet::paths::FLAG_ABOVE,
             set.scallop_flags.len(),
-            corrector_note(set.corrector_stopped_at),
+            corrector_note(set.corrector_stopped_at, job.options.corrector_share),
             worst.scallop_mm / h,
             worst.point.x,
             worst.point.y,
@@ -485,12 +485,13 @@ pub(super) fn paths_for(
     }
 }
 
-/// The scallop warning's note when the corrector stopped correcting (empty otherwise).
-fn corrector_note(stopped_at: Option<usize>) -> String {
+/// The scallop warning's note when the corrector stopped correcting (empty otherwise):
+/// `share`, the job's `FinishOptions::corrector_share`.
+fn corrector_note(stopped_at: Option<usize>, share: f64) -> String {
     stopped_at.map_or_else(String::new, |k| {
         format!(
             ", which stopped from path {k} on: its rebuilds had checked {:.0} % of the checks' budget, where the surface folds or turns tighter than the cutter",
-            interpolab::fillet::paths::CORRECTOR_CELLS_SHARE * 100.0
+            share * 100.0
         )
     })
 }
