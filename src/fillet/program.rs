@@ -35,6 +35,7 @@ use crate::fiveaxis::{
 use crate::gcode::{Dialect, safe_comment};
 use crate::geom::{Cutter, Surface};
 use crate::numerics::format::fmt_num;
+use crate::numerics::roots::RootMethod;
 
 /// The setup of a finishing job for a program on `machine`: every pose within the machine's
 /// rotary travel ([`FinishSetup::reach`]; a point with none is refused, named), so the
@@ -177,13 +178,25 @@ pub const MAX_PROGRAM_BLOCKS: usize = 400_000;
 
 /// Most designs between CC nodes ([`design_between`]: a surface frame, the tool placed on
 /// it) a finishing program's planning may evaluate, over all its paths: its work, for
-/// each block's trial steps and their sampled errors evaluate the design some 230–460
-/// times (the examples' programs 230–450 times a block, three fuzz cases' 340–460). About 0.28 µs each
+/// each block's trial steps and their sampled errors evaluate the design some 120–270
+/// times (the examples' programs 118–272 times a block, two fuzz cases' 130–175; 209–471
+/// with the paper's modified secant, before [`FINISH_STEP_METHOD`]). About 0.28 µs each
 /// natively (fuzz-case programs of 5–44 million evaluations), so some 28 s: about what the
 /// paths' checks may spend ([`super::paths::check_stop`]). A command that builds the paths
 /// first plans within the share of its work they left
 /// ([`crate::numerics::limits::CommandShare`]).
 pub const MAX_PLAN_DESIGNS: f64 = 1e8;
+
+/// How a finishing program's planning solves each step's δ(s) = E (within the paper's
+/// window): Anderson–Björck's regula falsi. The paper's modified secant (plain regula falsi,
+/// the 5-axis tab's default, which shows the paper's iteration counts) keeps one end of its
+/// bracket for many steps where δ is convex in the step, as it is on these paths: it took
+/// 8.3–10.2 errors a block on the examples' programs and 13.8–14.9 on two folded fuzz jobs,
+/// where Anderson–Björck takes 4.8–6.8 and 5.2–5.9, for the same window and as many blocks
+/// (±0.03 %). Each error evaluates the design some 25–42 times: the examples' `finish
+/// --gcode` takes 0.40–0.86 s of CPU instead of 0.42–0.94, the folded patch's 15.8 s instead
+/// of 29.4 (docs/fillet.md, "Command line").
+pub const FINISH_STEP_METHOD: RootMethod = RootMethod::AndersonBjorck;
 
 /// Blocks planned before the program's size and work are estimated from them.
 const ESTIMATE_AFTER_BLOCKS: usize = 2_000;
@@ -244,13 +257,17 @@ impl PlanBudget {
 /// The seed-002 steps of one design path within the program's block budget: refused as soon as the blocks planned
 /// so far, in proportion to the design length they cover, say the whole program would need
 /// more than [`MAX_PROGRAM_BLOCKS`].
+///
+/// Each step is found as seed 002 finds it — its error δ brought into the paper's window
+/// `[E − ε, E]` — by Anderson–Björck's regula falsi rather than the paper's plain one
+/// ([`FINISH_STEP_METHOD`]).
 fn plan_path_within(
     machine: &Machine,
     path: &FilletDesignPath<'_>,
     tol_mm: f64,
     budget: &mut PlanBudget,
 ) -> Result<StepPlan, FiveAxisError> {
-    let mut opts = StepOptions::new(tol_mm);
+    let mut opts = StepOptions::new(tol_mm).with_method(FINISH_STEP_METHOD);
     opts.reports = false;
     let (start, end) = path.range();
     let run = |opts: &StepOptions| -> Result<StepPlan, FiveAxisError> {
@@ -267,11 +284,9 @@ fn plan_path_within(
         Ok(planner.into_plan())
     };
     let plan = match run(&opts) {
-        // The design is only piecewise smooth (linear between CC nodes): where the secant
-        // stalls at a kink, bisection still brackets the step.
-        Err(FiveAxisError::NoConvergence { .. }) => {
-            run(&opts.with_method(crate::numerics::roots::RootMethod::Bisection))
-        }
+        // The design is only piecewise smooth (linear between CC nodes): where the regula
+        // falsi stalls at a kink, bisection still brackets the step.
+        Err(FiveAxisError::NoConvergence { .. }) => run(&opts.with_method(RootMethod::Bisection)),
         other => other,
     };
     // Spent whether or not the path was planned (a run cut out of travel is planned again

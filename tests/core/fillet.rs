@@ -522,6 +522,53 @@ fn a_pose_turned_at_one_cc_point_is_planned_in_steps() {
     assert!(count(&pieces) > count(&plain) + 2, "{} blocks, {} without the turn", count(&pieces), count(&plain));
 }
 
+/// The finishing program's steps (`program::FINISH_STEP_METHOD`, Anderson–Björck) land in
+/// the paper's window as its modified secant's do, as many of them, for far fewer error
+/// evaluations: the secant keeps one end of its bracket while δ is convex in the step.
+#[test]
+fn the_program_s_steps_keep_the_paper_s_window_for_fewer_evaluations() {
+    use interpolab::fillet::program::{FINISH_STEP_METHOD, FilletDesignPath};
+    use interpolab::fiveaxis::stepsel::{StepOptions, StepPlan, plan_steps};
+    use interpolab::numerics::roots::RootMethod;
+    let j = job("finish-bicubic-patch");
+    let part = PartSamples::new(&j.surface, j.options.part_grid);
+    let set = iso_scallop(&j.setup(&part)).unwrap();
+    let tool = j.strategy.cutter_for(&j.cutter);
+    let tol = 0.01;
+    let plan = |method: RootMethod| -> (StepPlan, f64) {
+        let mut total = None::<StepPlan>;
+        let mut window = 0.0;
+        for path in [&set.paths[0], &set.paths[set.paths.len() / 2]] {
+            let design = FilletDesignPath::new(&j.surface, tool, &path.nodes).unwrap();
+            let opts = StepOptions { reports: false, ..StepOptions::new(tol).with_method(method) };
+            window = opts.search.window_for(tol);
+            let p = plan_steps(&j.machine, &design, &opts).unwrap();
+            match &mut total {
+                Some(t) => t.nodes.extend(p.nodes),
+                None => total = Some(p),
+            }
+        }
+        (total.unwrap(), window)
+    };
+    let (paper, window) = plan(RootMethod::Secant);
+    let (ours, _) = plan(FINISH_STEP_METHOD);
+    assert_eq!(FINISH_STEP_METHOD, RootMethod::AndersonBjorck);
+    // In the window: every step's δ at most E, and as many at E − ε or more.
+    let in_window = |p: &StepPlan| {
+        for n in &p.nodes {
+            let d = n.total_mm.unwrap_or(0.0).abs();
+            assert!(d <= tol * (1.0 + 1e-12), "a step's δ {d} mm over E {tol}");
+        }
+        p.nodes.iter().filter(|n| n.total_mm.is_some_and(|d| d.abs() >= tol - window * (1.0 + 1e-9))).count()
+    };
+    let (a, b) = (in_window(&paper), in_window(&ours));
+    assert!(a > paper.nodes.len() / 2, "{a} of {} steps in the window", paper.nodes.len());
+    assert!(b.abs_diff(a) * 100 <= a, "{b} steps in the window, the paper's method {a}");
+    assert!(ours.nodes.len().abs_diff(paper.nodes.len()) * 100 <= paper.nodes.len());
+    let (ea, eb) = (paper.total_evaluations(), ours.total_evaluations());
+    assert!(4 * eb < 3 * ea, "{eb} evaluations against the paper's method's {ea}");
+}
+
 /// A finishing program planned within a share of its work (`FinishGcode::plan_within`,
 /// what a command's paths left, `paths::share_after_paths`): with twice the designs the
 /// whole program evaluates (room for the projection) it is the same program; with a third of them it is refused, naming the
