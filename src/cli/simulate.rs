@@ -16,11 +16,12 @@ use interpolab::fillet::{
     Built, FinishError, FinishJob, FinishSetup, PartSamples, PathSet, Strategy, iso_scallop_checked,
 };
 use interpolab::geom::Cutter;
+use interpolab::numerics::format::fmt_num;
 use interpolab::numerics::limits::CommandShare;
 use interpolab::scene::Scene;
 use interpolab::simulate::bench::BenchKind;
 use interpolab::simulate::finish::WorkProjection;
-use interpolab::simulate::pipeline::{self, Measures, SampleStep, ToolPoint};
+use interpolab::simulate::pipeline::{self, CoarserGrid, Measures, SampleStep, ToolPoint};
 use interpolab::simulate::{Design, DexelStock, FinishProgram, MAX_WORK, Program, SimError, Simulation, stock_box_mm};
 use interpolab::simulate::{INTERIOR_END_MM, INTERIOR_SIDE_MM, InteriorStats, interior_mask, interior_stats};
 use serde_json::json;
@@ -89,6 +90,7 @@ pub(crate) struct SimulateArgs {
     /// PROGRAM is a finishing scene (a `finish` key): simulate the five-axis
     /// program `interpolab finish --gcode` writes for it, steps within this tolerance (mm),
     /// joints interpolated linearly on the scene's machine; the design is the finish surface.
+    /// A run too fine for the work the paths left is run on a coarser grid (said on stderr).
     #[arg(value_parser = super::finite, long, conflicts_with_all = ["design_z", "scene", "steps"])]
     finish: Option<f64>,
     /// With --finish: the orientation strategy (default: the scene's `finish.strategy`).
@@ -305,15 +307,16 @@ fn simulate_finish(a: &SimulateArgs, tol: f64) -> Result<ExitCode, Fatal> {
         Some(c) => parse_cutter(c)?,
         None => strategy.cutter_for(&job.cutter),
     };
-    let stock = match &a.stock {
-        Some(s) => super::stock_block(s, a.pitch)?,
-        None => {
-            let s = stock_box_mm(&job.surface, &strategy.cutter_for(&job.cutter), a.margin).ok_or_else(|| {
+    let block = match &a.stock {
+        Some(s) => super::numbers(s, "stock", 6)?,
+        None => stock_box_mm(&job.surface, &strategy.cutter_for(&job.cutter), a.margin)
+            .ok_or_else(|| {
                 Fatal(format!("{name}: the surface has no finite points to size the stock from; give --stock"))
-            })?;
-            DexelStock::block([s[0], s[1], s[2]], [s[3], s[4], s[5]], a.pitch).map_err(|e| Fatal(e.to_string()))?
-        }
+            })?
+            .to_vec(),
     };
+    let block = ([block[0], block[1], block[2]], [block[3], block[4], block[5]]);
+    let stock = DexelStock::block(block.0, block.1, a.pitch).map_err(|e| Fatal(e.to_string()))?;
     // Poses close enough that the sampling's cusps stay under a quarter of h (the app's
     // hand-over does the same), unless --sample-step says otherwise.
     let pose_step =
@@ -324,6 +327,7 @@ fn simulate_finish(a: &SimulateArgs, tol: f64) -> Result<ExitCode, Fatal> {
         finish_info: None,
         interior_passes: None,
         work_share: CommandShare::whole(),
+        coarser: Some(block),
     };
     let part = PartSamples::new(&job.surface, job.options.part_grid);
     let (set, stock) = finish_paths_metered(a, &job, strategy, &part, stock, &cutter, &how, tol, &name)?;
@@ -442,6 +446,11 @@ fn chord_tol_mm(a: &SimulateArgs) -> f64 {
     a.chord_tol.unwrap_or_else(|| pipeline::default_chord_tol_mm(a.pitch))
 }
 
+/// The coarsest grid a finishing program's run stopped by its meter is run again on, in
+/// cutter radii: half a radius, so the cutter still spans four rays. Coarser, the command is
+/// refused as before.
+const COARSEST_PITCH_RADII: f64 = 0.5;
+
 /// How a program is run and reported besides its arguments.
 struct RunHow {
     /// How 5-axis moves are sampled.
@@ -456,6 +465,10 @@ struct RunHow {
     /// The share of the command's work left for the run (a finishing program's paths and
     /// planning spent the rest).
     work_share: CommandShare,
+    /// The stock block's corners (mm) when a run its meter stops may be run again on a
+    /// coarser grid of the same block ([`pipeline::coarser_pitch`]): a finishing program,
+    /// whose paths and planning came first. `None`: the meter's refusal ends the command.
+    coarser: Option<([f64; 3], [f64; 3])>,
 }
 
 impl RunHow {
@@ -468,6 +481,7 @@ impl RunHow {
             finish_info: None,
             interior_passes: None,
             work_share: CommandShare::whole(),
+            coarser: None,
         }
     }
 }
@@ -480,28 +494,35 @@ fn finish(
     design: &Design,
     how: RunHow,
 ) -> Result<ExitCode, Fatal> {
-    let RunHow { sample_step, point, finish_info, interior_passes, work_share } = how;
+    let RunHow { sample_step, point, finish_info, interior_passes, work_share, coarser } = how;
     let chord_tol = chord_tol_mm(a);
-    let sample_step = sample_step.resolve(stock.grid().pitch_mm, cutter);
     let t0 = Instant::now();
-    // A run that would pass its work bound is refused as soon as its projection shows it.
-    let (mut sim, meter) = pipeline::start_metered(stock, cutter, sample_step, program)
-        .map_err(|e| Fatal(format!("{}: {e}", program_name(a))))?;
-    // After a finishing job's paths and program, the run has what they left.
-    let meter = meter.with_cap(work_share.cap(MAX_WORK));
-    let mut done = 0;
-    pipeline::machine(&mut sim, &program.moves, |sim| {
-        done += 1;
-        meter.check(sim, &program.moves, done)
-    })
-    .map_err(|e| {
-        let note = if matches!(e, SimError::TooMuchWorkDone { .. }) {
-            super::finish::spent_note(work_share, "the finishing job's paths and program")
-        } else {
-            String::new()
-        };
-        Fatal(format!("{}: {e}{note}", program_name(a)))
-    })?;
+    // After a finishing job's paths and program, the run has what they left; stopped by its
+    // meter, it runs again on a grid coarse enough for what is left then, if there is one.
+    let coarser = coarser.map(|(lo_mm, hi_mm)| CoarserGrid {
+        lo_mm,
+        hi_mm,
+        max_pitch_mm: COARSEST_PITCH_RADII * cutter.radius_mm,
+    });
+    let spent = || super::finish::spent_note(work_share, "the finishing job's paths and program");
+    let (sim, coarsened) =
+        pipeline::run_metered(stock, cutter, sample_step, program, work_share.cap(MAX_WORK), coarser).map_err(|e| {
+            let note = if matches!(e, SimError::TooMuchWorkDone { .. }) { spent() } else { String::new() };
+            Fatal(format!("{}: {e}{note}", program_name(a)))
+        })?;
+    if let Some(c) = coarsened {
+        let pitch = sim.stock().grid().pitch_mm;
+        eprintln!(
+            "interpolab: {}: at pitch {} mm the run would take about {} million ray updates, more than the {} million the command had left{}; simulated at pitch {} mm instead (a --pitch of {} or more runs at once)",
+            program_name(a),
+            fmt_num(c.asked_pitch_mm),
+            (c.projected / 1e6).round(),
+            (c.left / 1e6).round().max(0.0),
+            spent(),
+            fmt_num(pitch),
+            fmt_num(pitch),
+        );
+    }
     let run_ms = t0.elapsed().as_secs_f64() * 1e3;
     let Ok(Measures { map, stats }) = pipeline::measure(sim.stock(), design, usize::MAX, |_| Ok::<(), Infallible>(()));
     let has_design = !matches!(design, Design::None);
@@ -550,6 +571,9 @@ fn finish(
         "gouge": stats.worst_gouge.map(|(d, p)| json!({ "worst_um": um(d), "x_mm": nm(p.x), "y_mm": nm(p.y), "rays": stats.gouge_rays })),
     });
     let mut summary = summary;
+    if let (Some(c), Some(obj)) = (coarsened, summary.as_object_mut()) {
+        obj.insert("pitch_asked_mm".to_owned(), json!(nm(c.asked_pitch_mm)));
+    }
     if let (Some(info), Some(obj)) = (finish_info, summary.as_object_mut()) {
         obj.insert("finish".to_owned(), info);
     }

@@ -193,6 +193,37 @@ pub fn start_metered(
     Ok((sim, meter))
 }
 
+/// Share of the work left that a run on a coarser grid ([`coarser_pitch`]) is sized to
+/// project: the room for the meter's projection, which reads the rest of the program by its
+/// estimated ray visits, and for the work not scaling exactly as 1/pitch² (the rays a cutter
+/// covers grow by its rim as well as its area).
+pub const COARSER_RUN_SHARE: f64 = 0.6;
+
+/// The pitch (mm) of a grid on which a run its meter stopped at `pitch_mm`, projecting
+/// `projected` units of work, would fit in the `left` units it has left: the work scales as
+/// the rays under the cutter, 1/pitch², so `pitch_mm · √(projected / (COARSER_RUN_SHARE ·
+/// left))`, rounded up to two significant digits. `None` when nothing is left, the inputs
+/// are not finite and positive, or the pitch would pass `max_pitch_mm` (a grid that coarse
+/// shows little of the cut: the caller refuses as before).
+#[must_use]
+pub fn coarser_pitch(pitch_mm: f64, projected: f64, left: f64, max_pitch_mm: f64) -> Option<f64> {
+    if !(pitch_mm > 0.0 && pitch_mm.is_finite() && projected.is_finite() && left > 0.0 && left.is_finite()) {
+        return None;
+    }
+    let exact = pitch_mm * (projected / (COARSER_RUN_SHARE * left)).sqrt();
+    if !(exact > pitch_mm) {
+        return None;
+    }
+    // Two significant digits, rounded up (0.9713 → 0.98, 1.234 → 1.3), and the nearest
+    // double to that decimal, so it prints as it reads.
+    let magnitude = exact.log10().floor() as i32;
+    let unit = 10f64.powi(magnitude - 1);
+    let decimals = usize::try_from(1 - magnitude).unwrap_or(0);
+    let pitch = (exact / unit).ceil() * unit;
+    let pitch = format!("{pitch:.decimals$}").parse().unwrap_or(pitch);
+    (pitch <= max_pitch_mm).then_some(pitch)
+}
+
 /// The bound on a run's work ([`MAX_WORK`]): refuses it once the work done, scaled by the
 /// estimated ray visits of the moves still to come, reads [`PROJECTED_WORK_ROOM`] times the
 /// cap (judged once a twentieth of the estimated visits is done), and stops it when the work
@@ -275,6 +306,71 @@ pub fn machine<E>(
         after(sim)?;
     }
     Ok(())
+}
+
+/// The same stock block on a coarser grid, for a run its meter stops ([`run_metered`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CoarserGrid {
+    /// The block's lower corner (mm).
+    pub lo_mm: [f64; 3],
+    /// Its upper corner (mm).
+    pub hi_mm: [f64; 3],
+    /// The coarsest pitch offered (mm); coarser, the run is refused as before.
+    pub max_pitch_mm: f64,
+}
+
+/// A run [`run_metered`] gave up for a coarser grid.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Coarsened {
+    /// The pitch asked for (mm).
+    pub asked_pitch_mm: f64,
+    /// The work its meter projected ([`Simulation::work_done`] units).
+    pub projected: f64,
+    /// The work left after it, which the coarser run was sized for.
+    pub left: f64,
+}
+
+/// Machines `program` on `stock` within `cap` units of work ([`WorkMeter`], refused as it
+/// says); when its meter stops it and `coarser` is given, once more on the block's grid at
+/// [`coarser_pitch`] within what is left (`None` there: the meter's refusal). Returns the
+/// simulation and, when it ran again, what it gave up.
+///
+/// # Errors
+/// [`start_metered`]'s, and the meter's [`SimError::TooMuchWorkDone`].
+pub fn run_metered(
+    stock: DexelStock,
+    cutter: &Cutter,
+    sample_step: SampleStep,
+    program: &Program,
+    cap: f64,
+    coarser: Option<CoarserGrid>,
+) -> Result<(Simulation, Option<Coarsened>), SimError> {
+    let run = |stock: DexelStock, cap: f64| -> Result<Simulation, SimError> {
+        let step = sample_step.resolve(stock.grid().pitch_mm, cutter);
+        let (mut sim, meter) = start_metered(stock, cutter, step, program)?;
+        let meter = meter.with_cap(cap);
+        let mut done = 0;
+        machine(&mut sim, &program.moves, |sim| {
+            done += 1;
+            meter.check(sim, &program.moves, done)
+        })?;
+        Ok(sim)
+    };
+    let asked_pitch_mm = stock.grid().pitch_mm;
+    let e = match run(stock, cap) {
+        Ok(sim) => return Ok((sim, None)),
+        Err(e) => e,
+    };
+    let SimError::TooMuchWorkDone { work, projected, .. } = e else { return Err(e) };
+    let left = cap - work;
+    let Some((g, pitch)) =
+        coarser.and_then(|g| Some((g, coarser_pitch(asked_pitch_mm, projected, left, g.max_pitch_mm)?)))
+    else {
+        return Err(e);
+    };
+    let Ok(stock) = DexelStock::block(g.lo_mm, g.hi_mm, pitch) else { return Err(e) };
+    let sim = run(stock, left)?;
+    Ok((sim, Some(Coarsened { asked_pitch_mm, projected, left })))
 }
 
 /// A machined stock's height map and its measures against a design.

@@ -222,6 +222,47 @@ fn the_crease_programs_of_a_scene_gouge_no_deeper_than_their_tolerance() {
 const SMALL_FINISH: &str = r#"{"format":"interpolab-scene/1","name":"small convex cylinder","surfaces":[{"type":"cylinder","origin":[0,0,-40],"axis":[0,1,0],"radius":40,"domain":{"u":[265,275],"v":[0,6]},"normal":"outward"}],
 "finish":{"cutter":{"radius":3,"corner_radius":1},"scallop":0.01,"tolerance":0.0005,"direction":"u"}}"#;
 
+/// A finishing program whose run, at the pitch asked, would pass what the command has left
+/// (its meter stops it a twentieth of the way in) is simulated on a coarser grid of the same
+/// stock instead, said in one line and in the JSON (`pitch_asked_mm`), not refused after
+/// its paths and planning.
+#[test]
+fn a_finishing_run_too_fine_for_the_work_left_runs_on_a_coarser_grid() {
+    let scene = temp("small-finish-fine.json", SMALL_FINISH);
+    let asked = 0.015;
+    let (code, out, err) = run(&[
+        "simulate",
+        scene.to_str().unwrap(),
+        "--finish",
+        "0.001",
+        "--pitch",
+        &asked.to_string(),
+        "--sample-step",
+        "0.05",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let s: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let pitch = s["grid"]["pitch_mm"].as_f64().unwrap();
+    assert_eq!(s["pitch_asked_mm"].as_f64(), Some(asked), "{s}");
+    assert!(pitch > asked && pitch < 0.1, "{s}");
+    let lines: Vec<&str> = err.lines().filter(|l| l.contains("simulated at pitch")).collect();
+    assert_eq!(lines.len(), 1, "{err}");
+    assert!(
+        lines[0].contains(&format!("at pitch {asked} mm the run would take about"))
+            && lines[0].contains(&format!("simulated at pitch {pitch} mm instead")),
+        "{err}"
+    );
+    // The coarser run machined the whole program on the same stock block.
+    assert!(s["removed_volume_mm3"].as_f64().unwrap() > 10.0, "{s}");
+    let x0 = -40.0 * 5f64.to_radians().sin() - 3.0 - 2.0;
+    assert!((s["grid"]["x0_mm"].as_f64().unwrap() - x0).abs() < 1e-3, "{s}");
+    // At a pitch that fits, no such line and no such key.
+    let (code, out, err) = run(&["simulate", scene.to_str().unwrap(), "--finish", "0.001", "--pitch", "0.1"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!err.contains("simulated at pitch"), "{err}");
+    assert!(!out.contains("pitch_asked_mm"), "{out}");
+}
+
 #[test]
 fn a_finishing_program_leaves_its_scallop_and_no_gouge_beyond_its_tolerances() {
     // The five-axis program `finish --gcode` writes for the scene (steps within 1 µm, joints

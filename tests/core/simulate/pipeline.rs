@@ -142,6 +142,37 @@ mod work {
         // called 20 s.
         assert!(text.contains("what the command's earlier work left it") && !text.contains("20 s"), "{text}");
     }
+
+    /// A run its meter stops is run again, once, on the same block at the coarser pitch
+    /// `coarser_pitch` gives for the work left: every move machined within what is left;
+    /// without a coarser grid, or with none within its coarsest pitch, the meter's refusal.
+    #[test]
+    fn a_run_its_meter_stops_runs_again_on_a_grid_coarse_enough_for_what_is_left() {
+        use interpolab::simulate::pipeline::{CoarserGrid, SampleStep, coarser_pitch, run_metered};
+        let program = passes(200);
+        let ball = Cutter::ball(2.0).unwrap();
+        let stock = || DexelStock::block([-10.0, -10.0, -5.0], [10.0, 10.0, 0.0], 0.1).unwrap();
+        let (whole, none) = run_metered(stock(), &ball, SampleStep::Default, &program, f64::INFINITY, None).unwrap();
+        assert_eq!(none, None);
+        let cap = whole.work_done() / 5.0;
+        let grid = CoarserGrid { lo_mm: [-10.0, -10.0, -5.0], hi_mm: [10.0, 10.0, 0.0], max_pitch_mm: 1.0 };
+        let (sim, coarsened) = run_metered(stock(), &ball, SampleStep::Default, &program, cap, Some(grid)).unwrap();
+        let c = coarsened.unwrap();
+        let pitch = sim.stock().grid().pitch_mm;
+        assert_eq!(c.asked_pitch_mm, 0.1);
+        assert!(c.projected > PROJECTED_WORK_ROOM * cap && c.left < cap && c.left > 0.0, "{c:?}");
+        assert_eq!(Some(pitch), coarser_pitch(0.1, c.projected, c.left, 1.0));
+        assert!(pitch > 0.1 && pitch < 0.5, "{pitch}");
+        assert_eq!(sim.counters().moves, 200);
+        assert!(sim.work_done() <= c.left, "{} of {}", sim.work_done(), c.left);
+        let (lo, hi) = (sim.stock().grid().x0_mm, sim.stock().z_range_mm());
+        assert!((lo - -10.0).abs() <= pitch && hi == (-5.0, 0.0), "{lo} {hi:?}");
+        // No coarser grid, or none as fine as needed: the meter's refusal.
+        for coarser in [None, Some(CoarserGrid { max_pitch_mm: 0.15, ..grid })] {
+            let err = run_metered(stock(), &ball, SampleStep::Default, &program, cap, coarser).unwrap_err();
+            assert!(matches!(err, SimError::TooMuchWorkDone { done: 10, .. }), "{err}");
+        }
+    }
 }
 
 #[test]
@@ -191,4 +222,36 @@ fn the_work_of_five_axis_moves_is_weighed_by_their_measured_cost() {
             + JOINT_UPDATE_COST * c.joint_updates as f64
             + CRASH_VISIT_COST * c.crash_visits as f64
     );
+}
+
+/// The coarser grid a run its meter stopped is run on again: the work, scaled as 1/pitch²,
+/// fits the share of what is left, the pitch is at most a tenth above the exact one and has
+/// two significant digits, and none is offered when nothing is left, when the run fits, or
+/// past the largest pitch asked.
+#[test]
+fn a_coarser_pitch_fits_the_work_left_in_two_digits() {
+    use interpolab::simulate::pipeline::{COARSER_RUN_SHARE, coarser_pitch};
+    for &pitch in &[0.05, 0.1, 0.25, 0.5, 0.7, 1.0, 2.0, 3.3] {
+        for &ratio in &[0.7, 1.0, 1.3, 2.0, 3.3, 10.0, 97.0, 1e4] {
+            let left = 3.7e8;
+            let projected = ratio * left;
+            let exact = pitch * (projected / (COARSER_RUN_SHARE * left)).sqrt();
+            let got = coarser_pitch(pitch, projected, left, f64::INFINITY);
+            if exact <= pitch {
+                assert_eq!(got, None, "a run that fits gets no coarser grid ({pitch}, {ratio})");
+                continue;
+            }
+            let p = got.unwrap();
+            assert!(p >= exact && p <= 1.1 * exact, "{p} for an exact {exact}");
+            assert!(projected * (pitch / p).powi(2) <= COARSER_RUN_SHARE * left * (1.0 + 1e-12));
+            let text = p.to_string();
+            let digits = text.trim_start_matches(['0', '.']).replace('.', "");
+            assert!(digits.trim_end_matches('0').len() <= 2, "{text}");
+            assert_eq!(coarser_pitch(pitch, projected, left, 0.999 * p), None);
+        }
+    }
+    assert_eq!(coarser_pitch(0.5, 1e9, 0.0, 10.0), None);
+    assert_eq!(coarser_pitch(0.5, f64::NAN, 1e8, 10.0), None);
+    assert_eq!(coarser_pitch(0.5, 1e9, -1.0, 10.0), None);
+    assert_eq!(coarser_pitch(0.0, 1e9, 1e8, 10.0), None);
 }
